@@ -1,0 +1,37 @@
+//! Collision detection: colliders (our [`Shape`](crate::shape::Shape)s on owners), a
+//! sort-and-sweep broad phase and parry's narrow phase with persistent multi-point
+//! manifolds.
+//!
+//! The [`System`](crate::system::System) owns one [`CollisionWorld`] and calls
+//! [`CollisionWorld::detect`] each step with the world poses of the owners (rigid bodies).
+//!
+//! # Conventions
+//!
+//! - A [`ContactPoint`] joins collider A and collider B with `A < B` (by [`ColliderId`]).
+//!   Its `normal` is the world unit normal **from A towards B**; `distance` is the signed
+//!   gap along it (negative = penetration) and `point_b - point_a == distance * normal`.
+//! - The envelope `delta` (m): contacts are reported while `distance < delta`, so the solver
+//!   sees contacts a little before they close (NSC with `Phi/h` stabilization).
+//! - [`ContactKey`] is stable across steps for the same touching feature pair (warm start,
+//!   SMC history).
+//! - Manifolds: a box resting on a box or on a half-space gives its 4 corner contacts.
+//!
+//! # Modules
+//!
+//! - `convert`: nalgebra <-> glam and [`Shape`](crate::shape::Shape) -> parry, the only
+//!   place where both math libraries meet.
+//! - `broad_phase`: sort-and-sweep of bounding boxes, half-spaces kept apart.
+//! - `narrow_phase`: per-pair persistent state, analytic sphere fast paths, parry manifolds.
+//! - `world`: [`CollisionWorld`] and [`Collider`].
+
+mod broad_phase;
+mod contact;
+pub(crate) mod convert;
+mod narrow_phase;
+mod world;
+
+#[cfg(test)]
+mod tests;
+
+pub use contact::{ColliderId, ContactKey, ContactPoint};
+pub use world::{Collider, CollisionWorld};

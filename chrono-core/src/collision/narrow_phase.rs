@@ -1,0 +1,222 @@
+//! Narrow phase: contact points of one candidate pair.
+//!
+//! Sphere–sphere and sphere–half-space are analytic. Every other pair goes through parry's
+//! persistent `contact_manifolds` (the manifolds and workspace live in the [`PairState`] and
+//! are handed back to parry on the next step so it can reuse them). If parry's manifolds do
+//! not support a pair, one closest-point contact from `query::contact` is used instead; if
+//! that is unsupported too, the pair is an error ([`ChronoError::Collision`]).
+//!
+//! Points of one manifold that coincide (within 1 micrometer on both shapes) are merged,
+//! keeping the first: parry reports a corner twice when the edges of two touching faces
+//! coincide (two equal boxes stacked exactly).
+
+use parry3d_f64::math::{Pose, Vector};
+use parry3d_f64::query::{self, ContactManifold, ContactManifoldsWorkspace, DefaultQueryDispatcher, PersistentQueryDispatcher};
+use parry3d_f64::shape::PackedFeatureId;
+
+use super::contact::{ColliderId, ContactKey, ContactPoint};
+use super::convert::{vec_from_glam, vec_to_glam};
+use super::world::{Collider, ColliderKind};
+use crate::error::ChronoError;
+
+/// Feature id used by the analytic contacts (parry's `face(0)`).
+const FACE0: u32 = 0xC000_0000;
+
+/// Points of one manifold closer than this (m, squared) on both shapes are merged.
+const MERGE_DISTANCE_SQ: f64 = 1e-12;
+
+/// How a pair is computed.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum PairKind {
+    /// Two spheres, analytic.
+    SphereSphere,
+    /// A sphere and a half-space, analytic; `sphere_is_a` tells which is which.
+    SphereHalfSpace {
+        /// True if collider A is the sphere.
+        sphere_is_a: bool,
+    },
+    /// Parry's persistent contact manifolds.
+    Manifolds,
+}
+
+impl PairKind {
+    pub(crate) fn of(a: &ColliderKind, b: &ColliderKind) -> PairKind {
+        match (a, b) {
+            (ColliderKind::Sphere { .. }, ColliderKind::Sphere { .. }) => PairKind::SphereSphere,
+            (ColliderKind::Sphere { .. }, ColliderKind::HalfSpace { .. }) => PairKind::SphereHalfSpace { sphere_is_a: true },
+            (ColliderKind::HalfSpace { .. }, ColliderKind::Sphere { .. }) => PairKind::SphereHalfSpace { sphere_is_a: false },
+            _ => PairKind::Manifolds,
+        }
+    }
+}
+
+/// Everything kept per candidate pair across steps.
+pub(crate) struct PairState {
+    /// Collider A (`a < b`).
+    pub a: u32,
+    /// Collider B.
+    pub b: u32,
+    /// How the pair is computed.
+    pub kind: PairKind,
+    /// Parry's persistent manifolds.
+    manifolds: Vec<ContactManifold<(), ()>>,
+    /// Parry's persistent workspace (composite shapes).
+    workspace: Option<ContactManifoldsWorkspace>,
+    /// This step's contacts of the pair.
+    pub contacts: Vec<ContactPoint>,
+    /// This step's error, if any.
+    pub error: Option<ChronoError>,
+}
+
+impl PairState {
+    /// A fresh state for the pair `(a, b)`.
+    pub(crate) fn new(a: u32, b: u32, kind: PairKind) -> Self {
+        Self { a, b, kind, manifolds: Vec::new(), workspace: None, contacts: Vec::new(), error: None }
+    }
+
+    /// Forget the pair (keeps the buffers' capacity for reuse by another pair).
+    pub(crate) fn reset(&mut self, a: u32, b: u32, kind: PairKind) {
+        self.a = a;
+        self.b = b;
+        self.kind = kind;
+        self.manifolds.clear();
+        self.workspace = None;
+        self.contacts.clear();
+        self.error = None;
+    }
+
+    /// Compute this step's contacts. `poses[i]` is the world pose of collider `i`'s parry
+    /// shape. Errors are stored in `self.error` (so parallel runs stay deterministic).
+    pub(crate) fn update(&mut self, colliders: &[Collider], poses: &[Pose], envelope: f64) {
+        self.contacts.clear();
+        self.error = None;
+        let (ca, cb) = (&colliders[self.a as usize], &colliders[self.b as usize]);
+        let (pa, pb) = (&poses[self.a as usize], &poses[self.b as usize]);
+        let out = Output { a: self.a, b: self.b, ca, cb, envelope, material: ca.material().combine(&cb.material()) };
+        match self.kind {
+            PairKind::SphereSphere => {
+                let (ColliderKind::Sphere { radius: ra }, ColliderKind::Sphere { radius: rb }) = (&ca.kind, &cb.kind) else {
+                    unreachable!("pair kind matches collider kinds")
+                };
+                let delta = pb.translation - pa.translation;
+                let len = delta.length();
+                let n = if len > 0.0 { delta / len } else { Vector::Z };
+                let p1 = pa.translation + n * *ra;
+                let p2 = pb.translation - n * *rb;
+                out.push(&mut self.contacts, p1, p2, n, FACE0, FACE0);
+            }
+            PairKind::SphereHalfSpace { sphere_is_a } => {
+                let (sphere, plane, ps, ph) = if sphere_is_a { (ca, cb, pa, pb) } else { (cb, ca, pb, pa) };
+                let (ColliderKind::Sphere { radius }, ColliderKind::HalfSpace { normal }) = (&sphere.kind, &plane.kind) else {
+                    unreachable!("pair kind matches collider kinds")
+                };
+                let n = ph.rotation * *normal;
+                let c = ps.translation;
+                let height = (c - ph.translation).dot(n);
+                let on_sphere = c - n * *radius;
+                let on_plane = c - n * height;
+                if sphere_is_a {
+                    out.push(&mut self.contacts, on_sphere, on_plane, -n, FACE0, FACE0);
+                } else {
+                    out.push(&mut self.contacts, on_plane, on_sphere, n, FACE0, FACE0);
+                }
+            }
+            PairKind::Manifolds => {
+                let pos12 = pa.inv_mul(pb);
+                let (sa, sb) = (ca.parry.as_ref(), cb.parry.as_ref());
+                let res = DefaultQueryDispatcher.contact_manifolds(&pos12, sa, sb, envelope, &mut self.manifolds, &mut self.workspace);
+                match res {
+                    Ok(()) => {
+                        for m in &self.manifolds {
+                            let wa = m.subshape_pos1().map_or(*pa, |p| *pa * *p);
+                            let wb = m.subshape_pos2().map_or(*pb, |p| *pb * *p);
+                            let n = wa.rotation * m.local_n1;
+                            let first = self.contacts.len();
+                            for c in &m.points {
+                                // Parry reports each corner twice (vertex-face and
+                                // face-vertex) when edges of the two faces coincide, e.g.
+                                // equal boxes stacked: keep the first of coincident points.
+                                let (p1, p2) = (wa * c.local_p1, wb * c.local_p2);
+                                let dup = self.contacts[first..].iter().any(|k| {
+                                    (vec_to_glam(&k.point_a) - p1).length_squared() <= MERGE_DISTANCE_SQ
+                                        && (vec_to_glam(&k.point_b) - p2).length_squared() <= MERGE_DISTANCE_SQ
+                                });
+                                if dup {
+                                    continue;
+                                }
+                                let fa = feature_key(c.fid1, m.subshape1, ca.composite);
+                                let fb = feature_key(c.fid2, m.subshape2, cb.composite);
+                                out.push(&mut self.contacts, p1, p2, n, fa, fb);
+                            }
+                        }
+                    }
+                    Err(_) => match query::contact(pa, sa, pb, sb, envelope) {
+                        Ok(Some(c)) => out.push(&mut self.contacts, c.point1, c.point2, c.normal1, 0, 0),
+                        Ok(None) => {}
+                        Err(e) => {
+                            self.error = Some(ChronoError::Collision {
+                                a: describe(self.a, ca),
+                                b: describe(self.b, cb),
+                                reason: format!("{e} (parry has no contact query for this pair)"),
+                            });
+                        }
+                    },
+                }
+            }
+        }
+    }
+}
+
+/// Persistence feature of a contact (see [`ContactKey`]).
+#[inline]
+fn feature_key(fid: PackedFeatureId, subshape: u32, composite: bool) -> u32 {
+    if composite { (subshape << 4) | ((fid.0 >> 30) << 2) | (fid.0 & 3) } else { fid.0 }
+}
+
+/// `collider 3 (box, owner 1)`.
+pub(crate) fn describe(id: u32, c: &Collider) -> String {
+    format!("collider {id} ({}, owner {})", c.shape().kind_name(), c.owner())
+}
+
+/// What a pair's contacts share.
+struct Output<'a> {
+    a: u32,
+    b: u32,
+    ca: &'a Collider,
+    cb: &'a Collider,
+    envelope: f64,
+    material: crate::material::ContactMaterial,
+}
+
+impl Output<'_> {
+    /// Convert one contact to our types, if closer than the envelope.
+    ///
+    /// The two points are put on a common normal line: parry's pair may be offset
+    /// tangentially (pfm-pfm clipping with cylinders and capsules, by centimeters), which
+    /// would make equal and opposite contact forces form a spurious couple. Each point moves
+    /// by half the tangential offset; the distance along the normal is unchanged.
+    #[inline]
+    fn push(&self, out: &mut Vec<ContactPoint>, p1: Vector, p2: Vector, n: Vector, fa: u32, fb: u32) {
+        let gap = p2 - p1;
+        let distance = gap.dot(n);
+        if distance.is_nan() || distance >= self.envelope {
+            return;
+        }
+        let half_offset = (gap - n * distance) * 0.5;
+        let (point_a, point_b) = (vec_from_glam(p1 + half_offset), vec_from_glam(p2 - half_offset));
+        let normal = vec_from_glam(n);
+        out.push(ContactPoint {
+            collider_a: ColliderId(self.a),
+            collider_b: ColliderId(self.b),
+            owner_a: self.ca.owner(),
+            owner_b: self.cb.owner(),
+            point_a,
+            point_b,
+            normal,
+            distance,
+            key: ContactKey { collider_a: self.a, collider_b: self.b, feature_a: fa, feature_b: fb },
+            material: self.material,
+        });
+    }
+}
+

@@ -1,0 +1,328 @@
+//! The collision world: colliders attached to owners (rigid bodies), and one `detect` per
+//! step that runs the broad phase, keeps per-pair state and runs the narrow phase.
+
+use parry3d_f64::bounding_volume::BoundingVolume;
+use parry3d_f64::math::{Pose, Vector};
+use parry3d_f64::shape::SharedShape;
+use rayon::prelude::*;
+
+use super::broad_phase::{Bound, SweepAndPrune};
+use super::contact::{ColliderId, ContactPoint};
+use super::convert::{pose_to_glam, to_parry, vec_to_glam};
+use super::narrow_phase::{PairKind, PairState};
+use crate::error::{ChronoError, Result, check_non_negative};
+use crate::material::ContactMaterial;
+use crate::math::Isometry3;
+use crate::shape::Shape;
+
+/// Below this many candidate pairs the narrow phase runs serially.
+pub(crate) const PARALLEL_MIN_PAIRS: usize = 128;
+/// Pairs per rayon task.
+const PARALLEL_CHUNK: usize = 32;
+
+/// Which fast path a collider can take.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum ColliderKind {
+    /// A sphere (analytic contacts against spheres and half-spaces).
+    Sphere {
+        /// Radius (m).
+        radius: f64,
+    },
+    /// A half-space with this unit outward normal in the collider's local frame.
+    HalfSpace {
+        /// Unit normal.
+        normal: Vector,
+    },
+    /// Anything else (parry manifolds).
+    Other,
+}
+
+/// A shape attached to an owner (a rigid body) at a local pose, with a material.
+#[derive(Clone)]
+pub struct Collider {
+    owner: u32,
+    local_pose: Isometry3<f64>,
+    material: ContactMaterial,
+    shape: Shape,
+    /// The parry shape, built once.
+    pub(crate) parry: SharedShape,
+    /// Pose of the parry shape in the owner frame (local pose times the shape offset).
+    pub(crate) parry_local: Pose,
+    pub(crate) kind: ColliderKind,
+    /// Triangle mesh or height field (features carry a triangle index).
+    pub(crate) composite: bool,
+}
+
+impl std::fmt::Debug for Collider {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Collider")
+            .field("owner", &self.owner)
+            .field("local_pose", &self.local_pose)
+            .field("material", &self.material)
+            .field("shape", &self.shape)
+            .finish_non_exhaustive()
+    }
+}
+
+impl Collider {
+    /// The owner (rigid body index) of this collider.
+    pub fn owner(&self) -> u32 {
+        self.owner
+    }
+
+    /// Pose of the shape in the owner's frame.
+    pub fn local_pose(&self) -> &Isometry3<f64> {
+        &self.local_pose
+    }
+
+    /// The surface material.
+    pub fn material(&self) -> ContactMaterial {
+        self.material
+    }
+
+    /// The shape (local frame).
+    pub fn shape(&self) -> &Shape {
+        &self.shape
+    }
+}
+
+/// Colliders and the persistent state of collision detection.
+///
+/// The broad phase is a sort-and-sweep (see the `broad_phase` module docs); candidate pairs
+/// keep parry's contact manifolds from one [`detect`](Self::detect) to the next. Buffers are
+/// reused, so a steady scene does not allocate in `detect` (except inside parry).
+pub struct CollisionWorld {
+    envelope: f64,
+    colliders: Vec<Collider>,
+    /// Excluded owner pairs `(min, max)`, sorted.
+    excluded: Vec<(u32, u32)>,
+    poses: Vec<Pose>,
+    bounds: Vec<Bound>,
+    sap: SweepAndPrune,
+    candidates: Vec<(u32, u32)>,
+    /// Live pair states, sorted by `(a, b)`.
+    pairs: Vec<PairState>,
+    /// The other buffer for `pairs` (double buffering).
+    next_pairs: Vec<PairState>,
+    /// Dropped pair states kept for their buffers.
+    spare: Vec<PairState>,
+}
+
+impl std::fmt::Debug for CollisionWorld {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("CollisionWorld")
+            .field("envelope", &self.envelope)
+            .field("colliders", &self.colliders.len())
+            .field("excluded", &self.excluded)
+            .field("pairs", &self.pairs.len())
+            .finish_non_exhaustive()
+    }
+}
+
+impl CollisionWorld {
+    /// An empty world. `envelope` (m, >= 0): contacts are reported when the signed
+    /// distance is `< envelope` (so 0 reports only penetrating pairs).
+    pub fn new(envelope: f64) -> Result<Self> {
+        check_non_negative("collision.envelope", envelope)?;
+        Ok(Self {
+            envelope,
+            colliders: Vec::new(),
+            excluded: Vec::new(),
+            poses: Vec::new(),
+            bounds: Vec::new(),
+            sap: SweepAndPrune::default(),
+            candidates: Vec::new(),
+            pairs: Vec::new(),
+            next_pairs: Vec::new(),
+            spare: Vec::new(),
+        })
+    }
+
+    /// The envelope (m).
+    pub fn envelope(&self) -> f64 {
+        self.envelope
+    }
+
+    /// Change the envelope (m, >= 0).
+    pub fn set_envelope(&mut self, envelope: f64) -> Result<()> {
+        self.envelope = check_non_negative("collision.envelope", envelope)?;
+        Ok(())
+    }
+
+    /// Add a collider owned by `owner` (a rigid body index into the arrays passed to
+    /// [`detect`](Self::detect)), placed at `local_pose` in the owner's frame. The shape
+    /// and material are validated and the parry shape is built here, once.
+    pub fn add_collider(
+        &mut self,
+        owner: u32,
+        shape: &Shape,
+        local_pose: Isometry3<f64>,
+        material: ContactMaterial,
+    ) -> Result<ColliderId> {
+        shape.validate("collider.shape")?;
+        material.validate()?;
+        let finite = local_pose.translation.vector.iter().chain(local_pose.rotation.coords.iter()).all(|c| c.is_finite());
+        if !finite {
+            return Err(ChronoError::invalid("collider.local_pose", local_pose, "must be finite"));
+        }
+        let id = u32::try_from(self.colliders.len())
+            .map_err(|_| ChronoError::invalid("collider", self.colliders.len(), "too many colliders"))?;
+        let parry = to_parry(shape, "collider.shape")?;
+        let kind = match shape {
+            Shape::Sphere { radius } => ColliderKind::Sphere { radius: *radius },
+            Shape::HalfSpace { normal } => ColliderKind::HalfSpace { normal: vec_to_glam(&normal.normalize()) },
+            _ => ColliderKind::Other,
+        };
+        self.colliders.push(Collider {
+            owner,
+            local_pose,
+            material,
+            shape: shape.clone(),
+            parry: parry.shape,
+            parry_local: pose_to_glam(&(local_pose * parry.offset)),
+            kind,
+            composite: matches!(shape, Shape::TriMesh { .. } | Shape::HeightField { .. }),
+        });
+        Ok(ColliderId(id))
+    }
+
+    /// The collider `id`, if it exists.
+    pub fn collider(&self, id: ColliderId) -> Option<&Collider> {
+        self.colliders.get(id.0 as usize)
+    }
+
+    /// All colliders, indexed by [`ColliderId`].
+    pub fn colliders(&self) -> &[Collider] {
+        &self.colliders
+    }
+
+    /// Number of colliders.
+    pub fn len(&self) -> usize {
+        self.colliders.len()
+    }
+
+    /// True if there is no collider.
+    pub fn is_empty(&self) -> bool {
+        self.colliders.is_empty()
+    }
+
+    /// Never report contacts between the colliders of `owner_a` and those of `owner_b`
+    /// (e.g. two bodies connected by a joint). Symmetric; idempotent.
+    pub fn exclude_pair(&mut self, owner_a: u32, owner_b: u32) {
+        let key = (owner_a.min(owner_b), owner_a.max(owner_b));
+        if let Err(at) = self.excluded.binary_search(&key) {
+            self.excluded.insert(at, key);
+        }
+    }
+
+    /// Number of live candidate pairs (after filtering) of the last `detect`.
+    #[cfg(test)]
+    pub(crate) fn num_pairs(&self) -> usize {
+        self.pairs.len()
+    }
+
+    /// Whether the owner pair was excluded with [`exclude_pair`](Self::exclude_pair).
+    pub fn is_pair_excluded(&self, owner_a: u32, owner_b: u32) -> bool {
+        self.excluded.binary_search(&(owner_a.min(owner_b), owner_a.max(owner_b))).is_ok()
+    }
+
+    /// Find all contacts of this step, written into `out` (cleared first).
+    ///
+    /// `owner_poses[owner]` is the world pose of each owner, `owner_active[owner]` is false
+    /// for fixed or kinematic owners. Skipped pairs: two colliders of the same owner, two
+    /// inactive owners, and excluded owner pairs. Output order is deterministic (by pair
+    /// `(collider_a, collider_b)`, then parry's order within a pair) and does not depend on
+    /// the number of threads. Errors: an owner out of range of either slice, a non-finite
+    /// owner pose, or a pair parry cannot handle ([`ChronoError::Collision`]); on error
+    /// `out` holds a partial result.
+    pub fn detect(&mut self, owner_poses: &[Isometry3<f64>], owner_active: &[bool], out: &mut Vec<ContactPoint>) -> Result<()> {
+        out.clear();
+        self.update_bounds(owner_poses, owner_active)?;
+        self.sap.find_pairs(&self.bounds, &mut self.candidates);
+        self.update_pairs(owner_active);
+
+        let (colliders, poses, envelope) = (&self.colliders, &self.poses, self.envelope);
+        if self.pairs.len() >= PARALLEL_MIN_PAIRS {
+            self.pairs.par_iter_mut().with_min_len(PARALLEL_CHUNK).for_each(|p| p.update(colliders, poses, envelope));
+        } else {
+            self.pairs.iter_mut().for_each(|p| p.update(colliders, poses, envelope));
+        }
+        for p in &mut self.pairs {
+            if let Some(e) = p.error.take() {
+                return Err(e);
+            }
+            out.extend_from_slice(&p.contacts);
+        }
+        Ok(())
+    }
+
+    /// World poses of the parry shapes and their broad-phase bounds.
+    fn update_bounds(&mut self, owner_poses: &[Isometry3<f64>], owner_active: &[bool]) -> Result<()> {
+        self.poses.clear();
+        self.bounds.clear();
+        let half = 0.5 * self.envelope;
+        for (i, c) in self.colliders.iter().enumerate() {
+            let o = c.owner as usize;
+            let unknown = |field: &str| ChronoError::UnknownHandle {
+                kind: "body",
+                index: o,
+                field: format!("{field} (owner of collider {i})"),
+            };
+            let owner_pose = owner_poses.get(o).ok_or_else(|| unknown("owner_poses"))?;
+            if o >= owner_active.len() {
+                return Err(unknown("owner_active"));
+            }
+            let g = pose_to_glam(owner_pose);
+            if !g.is_finite() {
+                return Err(ChronoError::invalid(format!("owner_poses[{o}]"), owner_pose, "must be finite"));
+            }
+            let pose = g * c.parry_local;
+            self.poses.push(pose);
+            self.bounds.push(match c.kind {
+                ColliderKind::HalfSpace { normal } => {
+                    let n = pose.rotation * normal;
+                    Bound::HalfSpace { origin: pose.translation + n * half, normal: n }
+                }
+                _ => Bound::Box(c.parry.compute_aabb(&pose).loosened(half)),
+            });
+        }
+        Ok(())
+    }
+
+    /// Filter the candidates and match them with last step's pair states (both sorted).
+    fn update_pairs(&mut self, owner_active: &[bool]) {
+        let mut old = std::mem::take(&mut self.pairs);
+        self.pairs = std::mem::take(&mut self.next_pairs);
+        self.pairs.clear();
+        let mut old_it = old.drain(..).peekable();
+        for &(a, b) in &self.candidates {
+            let (ca, cb) = (&self.colliders[a as usize], &self.colliders[b as usize]);
+            let (oa, ob) = (ca.owner, cb.owner);
+            if oa == ob || !(owner_active[oa as usize] || owner_active[ob as usize]) {
+                continue;
+            }
+            if self.excluded.binary_search(&(oa.min(ob), oa.max(ob))).is_ok() {
+                continue;
+            }
+            while let Some(stale) = old_it.next_if(|s| (s.a, s.b) < (a, b)) {
+                self.spare.push(stale);
+            }
+            let state = match old_it.next_if(|s| (s.a, s.b) == (a, b)) {
+                Some(s) => s,
+                None => {
+                    let kind = PairKind::of(&ca.kind, &cb.kind);
+                    match self.spare.pop() {
+                        Some(mut s) => {
+                            s.reset(a, b, kind);
+                            s
+                        }
+                        None => PairState::new(a, b, kind),
+                    }
+                }
+            };
+            self.pairs.push(state);
+        }
+        self.spare.extend(old_it);
+        self.next_pairs = old;
+    }
+}

@@ -1,0 +1,28 @@
+//! The descriptor: what a solver sees, and nothing more.
+//!
+//! - [`Variables`]: contiguous generalized velocities in blocks, each with a mass operator
+//!   that applies `M` and `M^-1` ([`MassOperator`]).
+//! - [`ConstraintRows`]: sparse Jacobian rows `D_i'` (one per row of the problem, seed
+//!   notation: `D` has one column per row), each with a right-hand side `b_i` and a compliance
+//!   `eps_i`, grouped by kind: bilateral (free), box-bounded, unilateral (`>= 0`), and
+//!   friction cones (3 rows `n, u, w` with `mu`).
+//! - [`CcpProblem`]: `N = D'M^-1 D + E`, `r = b + D'M^-1 k` and the cone of each row group,
+//!   with allocation-free, rayon-parallel, deterministic `apply_n`, `project` and `residual`.
+//! - [`CcpSolver`]: the trait solvers implement (in `chrono-ccp`).
+//!
+//! The problem solved is the cone complementarity problem of Anitescu and Tasora,
+//! equivalently the conic QP `min 1/2 g'N g + r'g, g_i in Y_i`; the new velocities are
+//! `v+ = M^-1 (k + D g)`.
+
+mod cone;
+mod problem;
+pub mod reduce;
+mod rows;
+mod solver;
+mod variables;
+
+pub use cone::{project_box, project_friction_cone, project_unilateral};
+pub use problem::{CcpProblem, CcpWork, Sections};
+pub use rows::{ConstraintRows, RowEntry, RowGroup, RowId};
+pub use solver::{CcpSolver, IterationRecord, SolveStats, SolverSettings};
+pub use variables::{BlockId, MassOperator, Variables};

@@ -1,0 +1,72 @@
+//! Deterministic parallel reductions.
+//!
+//! Floating-point addition is not associative, and rayon's adaptive splitting would make a
+//! plain parallel `sum` depend on scheduling. Here the index range is cut into fixed chunks
+//! of [`CHUNK`] items; each chunk is summed in order (in parallel across chunks when the
+//! range is large) and the chunk sums are added in order. The result is bit-identical for
+//! any thread count, sequential or parallel.
+
+use rayon::prelude::*;
+
+/// Items per chunk of a reduction.
+pub const CHUNK: usize = 2048;
+
+/// Ranges shorter than this are reduced on the calling thread (same chunking, same result).
+pub const PAR_MIN: usize = 16 * CHUNK;
+
+/// `sum_{i < n} f(i)` in a fixed order. `partials` is scratch space (reused, so no
+/// allocation once it has grown to `n / CHUNK + 1`).
+pub fn sum_by(n: usize, partials: &mut Vec<f64>, f: impl Fn(usize) -> f64 + Sync) -> f64 {
+    let chunks = n.div_ceil(CHUNK);
+    let chunk_sum = |c: usize| {
+        let end = ((c + 1) * CHUNK).min(n);
+        let mut s = 0.0;
+        for i in c * CHUNK..end {
+            s += f(i);
+        }
+        s
+    };
+    if n < PAR_MIN {
+        let mut total = 0.0;
+        for c in 0..chunks {
+            total += chunk_sum(c);
+        }
+        return total;
+    }
+    partials.clear();
+    partials.resize(chunks, 0.0);
+    partials.par_iter_mut().enumerate().for_each(|(c, p)| *p = chunk_sum(c));
+    partials.iter().sum()
+}
+
+/// Dot product `a'b` in a fixed order (see [`sum_by`]).
+pub fn dot(a: &[f64], b: &[f64], partials: &mut Vec<f64>) -> f64 {
+    assert_eq!(a.len(), b.len());
+    sum_by(a.len(), partials, |i| a[i] * b[i])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn same_result_for_any_thread_count() {
+        let n = 200_003;
+        let a: Vec<f64> = (0..n).map(|i| ((i as f64) * 0.37).sin() * 1e3).collect();
+        let b: Vec<f64> = (0..n).map(|i| ((i as f64) * 0.11).cos()).collect();
+        let mut p = Vec::new();
+        let d_default = dot(&a, &b, &mut p);
+        let one = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap();
+        let d_one = one.install(|| dot(&a, &b, &mut Vec::new()));
+        assert_eq!(d_default.to_bits(), d_one.to_bits());
+        let naive: f64 = a.iter().zip(&b).map(|(x, y)| x * y).sum();
+        assert!((d_default - naive).abs() < 1e-9 * naive.abs().max(1.0));
+    }
+
+    #[test]
+    fn small_and_empty() {
+        let mut p = Vec::new();
+        assert_eq!(dot(&[], &[], &mut p), 0.0);
+        assert_eq!(dot(&[1.0, 2.0], &[3.0, 4.0], &mut p), 11.0);
+    }
+}

@@ -1,0 +1,158 @@
+//! Constraint rows: sparse Jacobian rows grouped by kind, built by bodies, joints, contacts
+//! and physics items every step.
+
+use super::variables::BlockId;
+
+/// The kind of a row group, which fixes the admissible set of its multipliers.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum RowGroup {
+    /// Free multiplier (joints, density constraints): `c_i = 0`.
+    Bilateral = 0,
+    /// Multiplier in `[lo, hi]` (motors with force limits).
+    Box = 1,
+    /// Multiplier `>= 0` (frictionless contact, joint limits).
+    Unilateral = 2,
+    /// Triplets `(n, u, w)` in the Coulomb cone `|(g_u, g_w)| <= mu g_n`.
+    Friction = 3,
+}
+
+/// One block of a row: the coefficients of `D_i'` on the dof of one variable block.
+#[derive(Debug, Clone, Copy)]
+pub struct RowEntry<'a> {
+    /// The variable block.
+    pub block: BlockId,
+    /// One coefficient per dof of the block.
+    pub coefs: &'a [f64],
+}
+
+/// A row as pushed: its group and its index in that group (for friction, the normal row of
+/// the triplet; `u` and `w` follow it). [`CcpProblem::row_index`](super::CcpProblem::row_index)
+/// maps it to the global row after assembly.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct RowId {
+    /// The group.
+    pub group: RowGroup,
+    /// Index of the row within its group.
+    pub index: u32,
+}
+
+#[derive(Debug, Clone, Default)]
+pub(crate) struct GroupRows {
+    pub row_ptr: Vec<u32>,
+    pub ent_block: Vec<u32>,
+    pub ent_coef: Vec<u32>,
+    pub coefs: Vec<f64>,
+    pub b: Vec<f64>,
+    pub eps: Vec<f64>,
+    /// Box bounds (Box group only).
+    pub lo: Vec<f64>,
+    pub hi: Vec<f64>,
+    /// One friction coefficient per triplet (Friction group only).
+    pub mu: Vec<f64>,
+}
+
+impl GroupRows {
+    fn clear(&mut self) {
+        self.row_ptr.clear();
+        self.row_ptr.push(0);
+        self.ent_block.clear();
+        self.ent_coef.clear();
+        self.coefs.clear();
+        self.b.clear();
+        self.eps.clear();
+        self.lo.clear();
+        self.hi.clear();
+        self.mu.clear();
+    }
+
+    pub fn n_rows(&self) -> usize {
+        self.b.len()
+    }
+
+    fn push(&mut self, entries: &[RowEntry], b: f64, eps: f64) -> u32 {
+        if self.row_ptr.is_empty() {
+            self.row_ptr.push(0);
+        }
+        for e in entries {
+            self.ent_block.push(e.block.0);
+            self.ent_coef.push(self.coefs.len() as u32);
+            self.coefs.extend_from_slice(e.coefs);
+        }
+        self.row_ptr.push(self.ent_block.len() as u32);
+        self.b.push(b);
+        self.eps.push(eps);
+        (self.b.len() - 1) as u32
+    }
+}
+
+/// The rows of one step, in four groups. Reused across steps: [`clear`](Self::clear) keeps
+/// the allocations.
+///
+/// Row `i` stands for the constraint velocity `c_i = D_i' v + b_i + eps_i g_i`:
+/// bilateral rows require `c_i = 0`, unilateral `0 <= g_i ⊥ c_i >= 0`, friction triplets the
+/// cone complementarity of the seed. `b_i` carries stabilization (`Phi_i / h`) and known
+/// velocities (e.g. of kinematic bodies); `eps_i >= 0` is the compliance (regularization).
+#[derive(Debug, Clone, Default)]
+pub struct ConstraintRows {
+    pub(crate) groups: [GroupRows; 4],
+}
+
+impl ConstraintRows {
+    /// An empty set.
+    pub fn new() -> Self {
+        let mut s = Self::default();
+        s.clear();
+        s
+    }
+
+    /// Remove all rows, keeping the allocations.
+    pub fn clear(&mut self) {
+        for g in &mut self.groups {
+            g.clear();
+        }
+    }
+
+    /// Number of rows in a group.
+    pub fn n_rows(&self, group: RowGroup) -> usize {
+        self.groups[group as usize].n_rows()
+    }
+
+    /// Total number of rows.
+    pub fn total_rows(&self) -> usize {
+        self.groups.iter().map(|g| g.n_rows()).sum()
+    }
+
+    /// Add a bilateral row `D_i' v + b + eps g = 0`.
+    pub fn push_bilateral(&mut self, entries: &[RowEntry], b: f64, eps: f64) -> RowId {
+        let index = self.groups[RowGroup::Bilateral as usize].push(entries, b, eps);
+        RowId { group: RowGroup::Bilateral, index }
+    }
+
+    /// Add a unilateral row `0 <= g ⊥ D_i' v + b + eps g >= 0`.
+    pub fn push_unilateral(&mut self, entries: &[RowEntry], b: f64, eps: f64) -> RowId {
+        let index = self.groups[RowGroup::Unilateral as usize].push(entries, b, eps);
+        RowId { group: RowGroup::Unilateral, index }
+    }
+
+    /// Add a box-bounded row: `g` in `[lo, hi]` (impulse bounds, N s), with the mixed
+    /// complementarity conditions of a box (e.g. a motor with a torque limit).
+    pub fn push_box(&mut self, entries: &[RowEntry], b: f64, eps: f64, lo: f64, hi: f64) -> RowId {
+        let g = &mut self.groups[RowGroup::Box as usize];
+        let index = g.push(entries, b, eps);
+        g.lo.push(lo);
+        g.hi.push(hi);
+        RowId { group: RowGroup::Box, index }
+    }
+
+    /// Add a frictional contact: three rows (normal `n`, tangents `u`, `w`), each with its
+    /// entries, right-hand side and compliance, and the friction coefficient `mu`.
+    /// Returns the id of the normal row; the tangent rows are the next two of the group.
+    pub fn push_friction(&mut self, mu: f64, rows: [&[RowEntry]; 3], b: [f64; 3], eps: [f64; 3]) -> RowId {
+        let g = &mut self.groups[RowGroup::Friction as usize];
+        let index = g.push(rows[0], b[0], eps[0]);
+        g.push(rows[1], b[1], eps[1]);
+        g.push(rows[2], b[2], eps[2]);
+        g.mu.push(mu);
+        RowId { group: RowGroup::Friction, index }
+    }
+}

@@ -1,0 +1,114 @@
+//! The error type of chrono-core.
+
+use thiserror::Error;
+
+/// Errors from building or stepping a system. Every variant names what was wrong.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum ChronoError {
+    /// A parameter is out of its valid range (or not finite).
+    #[error("invalid parameter `{field}` = {value}: {reason}")]
+    InvalidParameter {
+        /// The field or argument, e.g. `body.mass`.
+        field: String,
+        /// The rejected value, as text.
+        value: String,
+        /// What a valid value is.
+        reason: String,
+    },
+    /// A handle (body, collider, joint, item) that does not exist in this system.
+    #[error("unknown {kind} handle {index} in `{field}`")]
+    UnknownHandle {
+        /// `body`, `joint`, `collider` ...
+        kind: &'static str,
+        /// The index of the handle.
+        index: usize,
+        /// The field that named it.
+        field: String,
+    },
+    /// The state became non-finite (NaN or infinity) during a step.
+    #[error("non-finite state in {item} at step {step} (t = {time} s): {what}")]
+    NonFinite {
+        /// The body or item, e.g. `body 3 ("box")`.
+        item: String,
+        /// The step index at which it was detected.
+        step: u64,
+        /// Simulation time at the start of that step, s.
+        time: f64,
+        /// Which quantity (position, velocity, impulse ...).
+        what: String,
+    },
+    /// The collision library could not handle a pair of shapes.
+    #[error("collision between {a} and {b} is not supported: {reason}")]
+    Collision {
+        /// The first collider.
+        a: String,
+        /// The second collider.
+        b: String,
+        /// Why.
+        reason: String,
+    },
+    /// Reading or writing a file failed.
+    #[error("i/o error on {path}: {message}")]
+    Io {
+        /// The file.
+        path: String,
+        /// The underlying error.
+        message: String,
+    },
+}
+
+/// Result alias of chrono-core.
+pub type Result<T> = std::result::Result<T, ChronoError>;
+
+impl ChronoError {
+    /// Convenience constructor for [`ChronoError::InvalidParameter`].
+    pub fn invalid(field: impl Into<String>, value: impl std::fmt::Display, reason: impl Into<String>) -> Self {
+        ChronoError::InvalidParameter { field: field.into(), value: value.to_string(), reason: reason.into() }
+    }
+}
+
+/// Check that `value` is finite; `field` names it in the error.
+pub fn check_finite(field: &str, value: f64) -> Result<f64> {
+    if value.is_finite() { Ok(value) } else { Err(ChronoError::invalid(field, value, "must be finite")) }
+}
+
+/// Check that `value` is finite and strictly positive.
+pub fn check_positive(field: &str, value: f64) -> Result<f64> {
+    if value.is_finite() && value > 0.0 {
+        Ok(value)
+    } else {
+        Err(ChronoError::invalid(field, value, "must be finite and > 0"))
+    }
+}
+
+/// Check that `value` is finite and >= 0.
+pub fn check_non_negative(field: &str, value: f64) -> Result<f64> {
+    if value.is_finite() && value >= 0.0 {
+        Ok(value)
+    } else {
+        Err(ChronoError::invalid(field, value, "must be finite and >= 0"))
+    }
+}
+
+/// Check that every component of a vector is finite.
+pub fn check_finite3(field: &str, v: &nalgebra::Vector3<f64>) -> Result<()> {
+    if crate::math::is_finite3(v) {
+        Ok(())
+    } else {
+        Err(ChronoError::invalid(field, format!("[{}, {}, {}]", v.x, v.y, v.z), "must be finite"))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn errors_name_the_field_and_value() {
+        let e = check_positive("body.mass", -1.0).unwrap_err();
+        let s = e.to_string();
+        assert!(s.contains("body.mass") && s.contains("-1"), "{s}");
+        assert!(check_finite("h", f64::NAN).unwrap_err().to_string().contains("NaN"));
+        assert!(check_non_negative("mu", 0.0).is_ok());
+    }
+}

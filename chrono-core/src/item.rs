@@ -1,0 +1,76 @@
+//! How domain crates plug into a [`System`](crate::system::System).
+//!
+//! A [`PhysicsItem`] (a fluid container, an MPM body, an FEA mesh ...) brings its own
+//! variable blocks, forces, constraint rows and state update; the system puts them into
+//! the same CCP as the rigid bodies, joints and contacts. A [`Contactable`] is anything a
+//! contact point can sit on: it provides the Jacobian of the velocity of a world point.
+
+use nalgebra::Vector3;
+
+use crate::descriptor::{BlockId, CcpProblem, ConstraintRows, Variables};
+use crate::error::Result;
+
+/// What an item needs to know about the current step.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StepContext {
+    /// Step size, s.
+    pub h: f64,
+    /// Time at the start of the step, s.
+    pub time: f64,
+    /// Index of the step (0-based).
+    pub step: u64,
+    /// Gravity, m/s^2.
+    pub gravity: Vector3<f64>,
+}
+
+/// A physics item of a domain crate, stepped inside the system's NSC step.
+///
+/// Call order each step: [`add_variables`](Self::add_variables),
+/// [`load_momentum`](Self::load_momentum), [`add_constraints`](Self::add_constraints),
+/// (solve), [`update`](Self::update).
+pub trait PhysicsItem: Send + Sync {
+    /// A name for messages ("fluid", "tire mesh" ...).
+    fn name(&self) -> &str;
+
+    /// Append this item's variable blocks (remember their ids for the other calls).
+    fn add_variables(&mut self, vars: &mut Variables);
+
+    /// Add `M v + h f` for the item's blocks into `k` (applied and internal forces: gravity,
+    /// elasticity, pressure ...).
+    fn load_momentum(&self, ctx: &StepContext, vars: &Variables, k: &mut [f64]);
+
+    /// Add the item's own rows (density, element, internal links). Default: none.
+    fn add_constraints(&mut self, _ctx: &StepContext, _vars: &Variables, _rows: &mut ConstraintRows) -> Result<()> {
+        Ok(())
+    }
+
+    /// Take the new velocities `v` (all dof of the step; the item reads its blocks) and the
+    /// solution `gamma` of `problem`, and advance positions and internal state by `h`.
+    /// Return [`ChronoError::NonFinite`](crate::ChronoError::NonFinite) naming the item if
+    /// its state is no longer finite.
+    fn update(&mut self, ctx: &StepContext, vars: &Variables, v: &[f64], problem: &CcpProblem, gamma: &[f64]) -> Result<()>;
+}
+
+/// Anything a contact point can sit on.
+pub trait Contactable {
+    /// Jacobian of `d . (velocity of the material point at world point p)` for each of the
+    /// three directions `dirs` (contact normal and tangents): calls `entry(block, rows)` once
+    /// per variable block touched, with `rows[k]` the coefficients for `dirs[k]` (length =
+    /// the block's ndof). A rigid body gives one block `[d; r_b x R'd]`, a particle `d`,
+    /// an FE triangle its three nodes weighted by the shape functions.
+    /// Returns the known part of the velocity (e.g. of a kinematic body) along each direction.
+    fn contact_jacobian(&self, p: &Vector3<f64>, dirs: &[Vector3<f64>; 3], entry: &mut dyn FnMut(BlockId, [&[f64]; 3])) -> [f64; 3];
+}
+
+impl Contactable for crate::body::RigidBody {
+    fn contact_jacobian(&self, p: &Vector3<f64>, dirs: &[Vector3<f64>; 3], entry: &mut dyn FnMut(BlockId, [&[f64]; 3])) -> [f64; 3] {
+        let j = dirs.map(|d| self.point_jacobian(p, &d));
+        match self.block {
+            Some(block) => {
+                entry(block, [&j[0], &j[1], &j[2]]);
+                [0.0; 3]
+            }
+            None => j.map(|jk| self.jacobian_times_velocity(&jk)),
+        }
+    }
+}

@@ -1,0 +1,36 @@
+//! # chrono-core
+//!
+//! The foundation of chrono-rs: math, the *descriptor* (variables with mass operators and
+//! constraint rows, assembled into one cone complementarity problem), rigid bodies, joints,
+//! collision through parry, contact, the [`System`](system::System) with its NSC time
+//! stepper, and io (CSV, VTK).
+//!
+//! The method is the one of Anitescu and Tasora (M. Anitescu, "Optimization-based simulation
+//! of nonsmooth rigid multibody dynamics", Math. Program. 105(1), 2006): each step solves
+//!
+//! ```text
+//! min 1/2 g'N g + r'g   s.t. g_i in Y_i,    N = D'M^-1 D + E,  r = b + D'M^-1 k
+//! ```
+//!
+//! then `v+ = M^-1 (k + D g)` and `q+ = q + h L(q) v+`.
+
+pub mod body;
+pub mod collision;
+pub mod contact;
+pub mod descriptor;
+pub mod error;
+pub mod io;
+pub mod item;
+pub mod joint;
+pub mod material;
+pub mod math;
+pub mod shape;
+pub mod system;
+
+pub use error::{ChronoError, Result};
+
+pub use body::{BodyHandle, BodyMotion, RigidBody, RigidBodyBuilder};
+pub use joint::{Drive, Joint, JointBuilder, JointHandle, JointKind};
+pub use material::ContactMaterial;
+pub use shape::Shape;
+pub use system::{StepReport, System, SystemSettings};

@@ -1,0 +1,429 @@
+//! Our public description of collision and visualization shapes.
+//!
+//! A [`Shape`] is plain data (serde-friendly, comparable). The collision world converts it
+//! once into a parry shape ([`crate::collision`]); the VTK writer triangulates it
+//! ([`Shape::to_trimesh`]). Every size is in meters and every vector is in the local frame of
+//! the collider (which is placed on its owner body by the collider's local pose).
+//!
+//! Axis conventions (the engine is Z up, parry is not always):
+//! - [`Shape::Capsule`] and [`Shape::Cylinder`] have their axis along local **Y** (parry's
+//!   convention). Rotate the collider's local pose to stand them up along Z.
+//! - [`Shape::HeightField`] is Z up: heights are along local Z over a grid in the local XY
+//!   plane. The conversion to parry's Y-up heightfield applies a fixed local rotation.
+
+use serde::{Deserialize, Serialize};
+
+use crate::error::{ChronoError, Result, check_finite3, check_positive};
+use crate::math::{Vector3, tangent_frame};
+
+/// A triangle mesh as `(vertices, triangles)`: positions (m) and counter-clockwise
+/// vertex index triples.
+pub type TriangleMesh = (Vec<Vector3<f64>>, Vec<[u32; 3]>);
+
+/// A collision / visualization shape, in its local frame.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub enum Shape {
+    /// A ball centered at the local origin.
+    Sphere {
+        /// Radius (m), > 0.
+        radius: f64,
+    },
+    /// A box centered at the local origin, aligned with the local axes.
+    Box {
+        /// Half side lengths along local X, Y, Z (m), each > 0.
+        half_extents: Vector3<f64>,
+    },
+    /// A capsule (cylinder with hemispherical caps) centered at the local origin, with its
+    /// axis along local **Y**: the segment from `(0, -half_length, 0)` to
+    /// `(0, half_length, 0)` swept by a ball of `radius`. Total length
+    /// `2 (half_length + radius)`.
+    Capsule {
+        /// Half length of the inner segment (m), > 0.
+        half_length: f64,
+        /// Radius (m), > 0.
+        radius: f64,
+    },
+    /// A solid circular cylinder centered at the local origin, axis along local **Y**,
+    /// spanning `y` in `[-half_length, half_length]`.
+    Cylinder {
+        /// Half length along the axis (m), > 0.
+        half_length: f64,
+        /// Radius (m), > 0.
+        radius: f64,
+    },
+    /// The convex hull of a point cloud (at least 4 points, not all coplanar).
+    ConvexHull {
+        /// The points (m, local frame); interior points are allowed and ignored.
+        points: Vec<Vector3<f64>>,
+    },
+    /// A triangle mesh (possibly open). Triangles are oriented counter-clockwise seen from
+    /// outside (the outward normal is `(b - a) x (c - a)`).
+    TriMesh {
+        /// Vertex positions (m, local frame).
+        vertices: Vec<Vector3<f64>>,
+        /// Vertex indices of each triangle.
+        indices: Vec<[u32; 3]>,
+    },
+    /// A height field, **Z up**, over a regular grid centered at the local origin.
+    ///
+    /// Layout: row-major, `heights[i * ncols + j]` is the height of grid node `(i, j)`,
+    /// row `i` in `0..nrows` along local +Y and column `j` in `0..ncols` along local +X.
+    /// Node `(i, j)` is at
+    /// `x = scale.x * (j / (ncols - 1) - 1/2)`, `y = scale.y * (i / (nrows - 1) - 1/2)`,
+    /// `z = scale.z * heights[i * ncols + j]`.
+    /// So the field covers `scale.x` by `scale.y` meters, and `scale.z` scales the heights.
+    /// Each grid cell is split into two triangles. Everything below the surface is not
+    /// solid: contacts are with the surface, their normal is the upward triangle normal.
+    HeightField {
+        /// `nrows * ncols` heights (multiplied by `scale.z`).
+        heights: Vec<f64>,
+        /// Number of grid rows (along local Y), >= 2.
+        nrows: usize,
+        /// Number of grid columns (along local X), >= 2.
+        ncols: usize,
+        /// Extent along X, extent along Y, height scale along Z (m), each > 0.
+        scale: Vector3<f64>,
+    },
+    /// A half-space: the solid below the plane through the local origin with outward
+    /// normal `normal` (local frame; need not be unit length, must be non-zero).
+    HalfSpace {
+        /// Outward normal (local frame).
+        normal: Vector3<f64>,
+    },
+}
+
+impl Shape {
+    /// A short name of the variant (`sphere`, `box`, ...), for messages.
+    pub fn kind_name(&self) -> &'static str {
+        match self {
+            Shape::Sphere { .. } => "sphere",
+            Shape::Box { .. } => "box",
+            Shape::Capsule { .. } => "capsule",
+            Shape::Cylinder { .. } => "cylinder",
+            Shape::ConvexHull { .. } => "convex hull",
+            Shape::TriMesh { .. } => "trimesh",
+            Shape::HeightField { .. } => "heightfield",
+            Shape::HalfSpace { .. } => "half-space",
+        }
+    }
+
+    /// Check the shape. `field` is the name of the shape in the caller's terms (e.g.
+    /// `collider.shape`); errors name the offending sub-field (e.g.
+    /// `collider.shape.radius`) and its value.
+    ///
+    /// Rejected: non-finite or non-positive sizes; convex hulls with fewer than 4 points,
+    /// non-finite or (nearly) coplanar points; meshes with no triangles, non-finite
+    /// vertices, out-of-range indices or zero-area triangles; height fields with fewer
+    /// than 2 rows or columns, a size mismatch, non-finite heights or a non-positive
+    /// scale; a zero or non-finite half-space normal.
+    pub fn validate(&self, field: &str) -> Result<()> {
+        match self {
+            Shape::Sphere { radius } => {
+                check_positive(&format!("{field}.radius"), *radius)?;
+            }
+            Shape::Box { half_extents } => {
+                check_positive_vec(&format!("{field}.half_extents"), half_extents)?;
+            }
+            Shape::Capsule { half_length, radius } | Shape::Cylinder { half_length, radius } => {
+                check_positive(&format!("{field}.half_length"), *half_length)?;
+                check_positive(&format!("{field}.radius"), *radius)?;
+            }
+            Shape::ConvexHull { points } => validate_hull(field, points)?,
+            Shape::TriMesh { vertices, indices } => validate_mesh(field, vertices, indices)?,
+            Shape::HeightField { heights, nrows, ncols, scale } => {
+                if *nrows < 2 {
+                    return Err(ChronoError::invalid(format!("{field}.nrows"), nrows, "must be >= 2"));
+                }
+                if *ncols < 2 {
+                    return Err(ChronoError::invalid(format!("{field}.ncols"), ncols, "must be >= 2"));
+                }
+                if heights.len() != nrows * ncols {
+                    return Err(ChronoError::invalid(
+                        format!("{field}.heights.len()"),
+                        heights.len(),
+                        format!("must be nrows * ncols = {nrows} * {ncols} = {}", nrows * ncols),
+                    ));
+                }
+                if let Some(k) = heights.iter().position(|h| !h.is_finite()) {
+                    return Err(ChronoError::invalid(format!("{field}.heights[{k}]"), heights[k], "must be finite"));
+                }
+                check_positive_vec(&format!("{field}.scale"), scale)?;
+            }
+            Shape::HalfSpace { normal } => {
+                let f = format!("{field}.normal");
+                check_finite3(&f, normal)?;
+                if normal.norm() <= f64::MIN_POSITIVE {
+                    return Err(ChronoError::invalid(f, fmt_vec(normal), "must be non-zero"));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The volume (m^3) of a closed solid: `Some` for sphere, box, capsule, cylinder and
+    /// convex hull; `None` for meshes (possibly open), height fields and half-spaces.
+    /// The shape is assumed valid ([`Shape::validate`]); an invalid hull gives `None`.
+    pub fn volume(&self) -> Option<f64> {
+        use std::f64::consts::PI;
+        match self {
+            Shape::Sphere { radius: r } => Some(4.0 / 3.0 * PI * r.powi(3)),
+            Shape::Box { half_extents: e } => Some(8.0 * e.x * e.y * e.z),
+            Shape::Capsule { half_length: h, radius: r } => Some(PI * r * r * (2.0 * h) + 4.0 / 3.0 * PI * r.powi(3)),
+            Shape::Cylinder { half_length: h, radius: r } => Some(PI * r * r * 2.0 * h),
+            Shape::ConvexHull { .. } => crate::collision::convert::convex_hull_volume(self),
+            Shape::TriMesh { .. } | Shape::HeightField { .. } | Shape::HalfSpace { .. } => None,
+        }
+    }
+
+    /// Principal moments of inertia per unit mass (m^2), about the centroid (the local
+    /// origin), in the local frame: `(Ixx, Iyy, Izz) / m` for a homogeneous solid.
+    /// Multiply by the mass (`density * volume`) to get the body inertia.
+    ///
+    /// `Some` for sphere, box, capsule and cylinder (their local axes are principal);
+    /// `None` for the other shapes (their centroid is not the local origin in general).
+    pub fn unit_inertia(&self) -> Option<Vector3<f64>> {
+        match self {
+            Shape::Sphere { radius: r } => Some(Vector3::repeat(0.4 * r * r)),
+            Shape::Box { half_extents: e } => {
+                let (x2, y2, z2) = (e.x * e.x, e.y * e.y, e.z * e.z);
+                Some(Vector3::new(y2 + z2, x2 + z2, x2 + y2) / 3.0)
+            }
+            Shape::Cylinder { half_length: h, radius: r } => {
+                let t = r * r / 4.0 + h * h / 3.0;
+                Some(Vector3::new(t, r * r / 2.0, t))
+            }
+            Shape::Capsule { half_length: h, radius: r } => {
+                // Mass fractions of the cylinder and of the two hemispheres (one ball).
+                let vc = 2.0 * h;
+                let vs = 4.0 / 3.0 * r;
+                let (mc, ms) = (vc / (vc + vs), vs / (vc + vs));
+                let axial = mc * r * r / 2.0 + ms * 0.4 * r * r;
+                // Hemispheres: 2/5 r^2 about their flat face, centroid 3r/8 from it,
+                // face at distance h from the center (parallel-axis theorem).
+                let transverse = mc * (r * r / 4.0 + h * h / 3.0) + ms * (0.4 * r * r + h * h + 0.75 * h * r);
+                Some(Vector3::new(transverse, axial, transverse))
+            }
+            _ => None,
+        }
+    }
+
+    /// A triangle mesh of the boundary, in the local frame (for visualization).
+    ///
+    /// `subdivisions` (>= 3) sets the angular resolution of spheres, capsules and
+    /// cylinders (parry's `to_trimesh`). A half-space becomes a square of side
+    /// `half_space_size` (m) centered at the local origin, in its plane, facing along the
+    /// normal. Triangle meshes are returned as they are; height fields are split into two
+    /// triangles per cell.
+    pub fn to_trimesh(&self, subdivisions: u32, half_space_size: f64) -> Result<TriangleMesh> {
+        match self {
+            Shape::TriMesh { vertices, indices } => Ok((vertices.clone(), indices.clone())),
+            Shape::HeightField { heights, nrows, ncols, scale } => Ok(heightfield_mesh(heights, *nrows, *ncols, scale)),
+            Shape::HalfSpace { normal } => {
+                check_positive("half_space_size", half_space_size)?;
+                let n = normal.normalize();
+                let (u, w) = tangent_frame(&n);
+                let a = 0.5 * half_space_size;
+                let vertices = vec![-a * u - a * w, a * u - a * w, a * u + a * w, -a * u + a * w];
+                Ok((vertices, vec![[0, 1, 2], [0, 2, 3]]))
+            }
+            _ => crate::collision::convert::parry_trimesh(self, subdivisions.max(3)),
+        }
+    }
+}
+
+/// Triangles of a height field in our Z-up layout (see [`Shape::HeightField`]).
+fn heightfield_mesh(heights: &[f64], nrows: usize, ncols: usize, scale: &Vector3<f64>) -> TriangleMesh {
+    let mut vertices = Vec::with_capacity(nrows * ncols);
+    for i in 0..nrows {
+        for j in 0..ncols {
+            let x = scale.x * (j as f64 / (ncols - 1) as f64 - 0.5);
+            let y = scale.y * (i as f64 / (nrows - 1) as f64 - 0.5);
+            vertices.push(Vector3::new(x, y, scale.z * heights[i * ncols + j]));
+        }
+    }
+    let mut indices = Vec::with_capacity(2 * (nrows - 1) * (ncols - 1));
+    let id = |i: usize, j: usize| (i * ncols + j) as u32;
+    for i in 0..nrows - 1 {
+        for j in 0..ncols - 1 {
+            // Counter-clockwise seen from +Z.
+            indices.push([id(i, j), id(i, j + 1), id(i + 1, j + 1)]);
+            indices.push([id(i, j), id(i + 1, j + 1), id(i + 1, j)]);
+        }
+    }
+    (vertices, indices)
+}
+
+fn fmt_vec(v: &Vector3<f64>) -> String {
+    format!("[{}, {}, {}]", v.x, v.y, v.z)
+}
+
+fn check_positive_vec(field: &str, v: &Vector3<f64>) -> Result<()> {
+    if v.iter().all(|c| c.is_finite() && *c > 0.0) {
+        Ok(())
+    } else {
+        Err(ChronoError::invalid(field, fmt_vec(v), "every component must be finite and > 0"))
+    }
+}
+
+fn check_points_finite(field: &str, points: &[Vector3<f64>]) -> Result<()> {
+    for (k, p) in points.iter().enumerate() {
+        check_finite3(&format!("{field}[{k}]"), p)?;
+    }
+    Ok(())
+}
+
+fn validate_hull(field: &str, points: &[Vector3<f64>]) -> Result<()> {
+    let f = format!("{field}.points");
+    if points.len() < 4 {
+        return Err(ChronoError::invalid(format!("{f}.len()"), points.len(), "a convex hull needs at least 4 points"));
+    }
+    check_points_finite(&f, points)?;
+    // Non-degeneracy: the largest tetrahedron found greedily must have a volume that is
+    // not negligible against the cube of the cloud's size.
+    let p0 = points[0];
+    let far = |score: &dyn Fn(&Vector3<f64>) -> f64| {
+        points.iter().copied().max_by(|a, b| score(a).total_cmp(&score(b))).unwrap_or(p0)
+    };
+    let p1 = far(&|p| (p - p0).norm_squared());
+    let size = (p1 - p0).norm();
+    let d1 = p1 - p0;
+    let p2 = far(&|p| d1.cross(&(p - p0)).norm_squared());
+    let nrm = d1.cross(&(p2 - p0));
+    let p3 = far(&|p| nrm.dot(&(p - p0)).abs());
+    let vol6 = nrm.dot(&(p3 - p0)).abs();
+    if !(size > 0.0 && vol6 > 1e-12 * size.powi(3)) {
+        return Err(ChronoError::invalid(
+            f,
+            format!("{} points spanning {size} m", points.len()),
+            "points are coincident, collinear or coplanar: the hull has no volume",
+        ));
+    }
+    Ok(())
+}
+
+fn validate_mesh(field: &str, vertices: &[Vector3<f64>], indices: &[[u32; 3]]) -> Result<()> {
+    if vertices.len() < 3 {
+        return Err(ChronoError::invalid(format!("{field}.vertices.len()"), vertices.len(), "a mesh needs at least 3 vertices"));
+    }
+    if indices.is_empty() {
+        return Err(ChronoError::invalid(format!("{field}.indices.len()"), 0, "a mesh needs at least one triangle"));
+    }
+    check_points_finite(&format!("{field}.vertices"), vertices)?;
+    let n = vertices.len();
+    for (k, t) in indices.iter().enumerate() {
+        let f = || format!("{field}.indices[{k}]");
+        let v = || format!("[{}, {}, {}]", t[0], t[1], t[2]);
+        if let Some(bad) = t.iter().find(|&&i| i as usize >= n) {
+            return Err(ChronoError::invalid(f(), v(), format!("vertex index {bad} out of range ({n} vertices)")));
+        }
+        let [a, b, c] = t.map(|i| vertices[i as usize]);
+        if (b - a).cross(&(c - a)).norm_squared() == 0.0 {
+            return Err(ChronoError::invalid(f(), v(), "degenerate triangle (zero area)"));
+        }
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::f64::consts::PI;
+
+    fn err(s: &Shape) -> String {
+        s.validate("collider.shape").unwrap_err().to_string()
+    }
+
+    #[test]
+    fn validation_names_field_and_value() {
+        let e = err(&Shape::Sphere { radius: -0.5 });
+        assert!(e.contains("collider.shape.radius") && e.contains("-0.5"), "{e}");
+        let e = err(&Shape::Box { half_extents: Vector3::new(1.0, f64::NAN, 1.0) });
+        assert!(e.contains("collider.shape.half_extents") && e.contains("NaN"), "{e}");
+        let e = err(&Shape::Capsule { half_length: 0.0, radius: 1.0 });
+        assert!(e.contains("collider.shape.half_length") && e.contains('0'), "{e}");
+        let e = err(&Shape::Cylinder { half_length: 1.0, radius: f64::INFINITY });
+        assert!(e.contains("collider.shape.radius") && e.contains("inf"), "{e}");
+        let e = err(&Shape::HalfSpace { normal: Vector3::zeros() });
+        assert!(e.contains("collider.shape.normal") && e.contains("[0, 0, 0]"), "{e}");
+        let flat = vec![Vector3::new(0.0, 0.0, 0.0), Vector3::new(1.0, 0.0, 0.0), Vector3::new(0.0, 1.0, 0.0), Vector3::new(1.0, 1.0, 0.0)];
+        let e = err(&Shape::ConvexHull { points: flat });
+        assert!(e.contains("collider.shape.points") && e.contains("coplanar"), "{e}");
+        let e = err(&Shape::ConvexHull { points: vec![Vector3::zeros(); 2] });
+        assert!(e.contains("collider.shape.points.len()") && e.contains('2'), "{e}");
+        let verts = vec![Vector3::new(0.0, 0.0, 0.0), Vector3::new(1.0, 0.0, 0.0), Vector3::new(0.0, 1.0, 0.0)];
+        let e = err(&Shape::TriMesh { vertices: verts.clone(), indices: vec![[0, 1, 2], [0, 1, 7]] });
+        assert!(e.contains("collider.shape.indices[1]") && e.contains("[0, 1, 7]") && e.contains("out of range"), "{e}");
+        let e = err(&Shape::TriMesh { vertices: verts.clone(), indices: vec![] });
+        assert!(e.contains("collider.shape.indices.len()"), "{e}");
+        let e = err(&Shape::TriMesh { vertices: verts, indices: vec![[0, 1, 1]] });
+        assert!(e.contains("collider.shape.indices[0]") && e.contains("degenerate"), "{e}");
+        let e = err(&Shape::HeightField { heights: vec![0.0; 5], nrows: 2, ncols: 3, scale: Vector3::repeat(1.0) });
+        assert!(e.contains("collider.shape.heights.len()") && e.contains('5'), "{e}");
+        let e = err(&Shape::HeightField { heights: vec![0.0; 6], nrows: 2, ncols: 3, scale: Vector3::new(1.0, -1.0, 1.0) });
+        assert!(e.contains("collider.shape.scale") && e.contains("-1"), "{e}");
+    }
+
+    #[test]
+    fn valid_shapes_pass() {
+        let cube: Vec<_> = (0..8).map(|k| Vector3::new((k & 1) as f64, ((k >> 1) & 1) as f64, ((k >> 2) & 1) as f64)).collect();
+        for s in [
+            Shape::Sphere { radius: 0.1 },
+            Shape::Box { half_extents: Vector3::new(1.0, 2.0, 3.0) },
+            Shape::Capsule { half_length: 0.5, radius: 0.1 },
+            Shape::Cylinder { half_length: 0.5, radius: 0.1 },
+            Shape::ConvexHull { points: cube },
+            Shape::HeightField { heights: vec![0.0; 6], nrows: 2, ncols: 3, scale: Vector3::repeat(1.0) },
+            Shape::HalfSpace { normal: Vector3::new(0.0, 0.0, 2.0) },
+        ] {
+            s.validate("s").unwrap();
+        }
+    }
+
+    #[test]
+    fn volumes_match_formulas() {
+        let close = |a: f64, b: f64| (a - b).abs() <= 1e-9 * b.abs();
+        assert!(close(Shape::Sphere { radius: 2.0 }.volume().unwrap(), 32.0 / 3.0 * PI));
+        assert!(close(Shape::Box { half_extents: Vector3::new(0.5, 1.0, 1.5) }.volume().unwrap(), 6.0));
+        assert!(close(Shape::Cylinder { half_length: 1.0, radius: 0.5 }.volume().unwrap(), 0.5 * PI));
+        let cap = Shape::Capsule { half_length: 1.0, radius: 0.5 }.volume().unwrap();
+        assert!(close(cap, 0.5 * PI + 4.0 / 3.0 * PI / 8.0));
+        let cube: Vec<_> = (0..8).map(|k| Vector3::new((k & 1) as f64, ((k >> 1) & 1) as f64, 2.0 * ((k >> 2) & 1) as f64)).collect();
+        assert!(close(Shape::ConvexHull { points: cube }.volume().unwrap(), 2.0));
+        assert!(Shape::HalfSpace { normal: Vector3::z() }.volume().is_none());
+    }
+
+    #[test]
+    fn unit_inertia_matches_textbook() {
+        let close = |a: Vector3<f64>, b: Vector3<f64>| (a - b).norm() <= 1e-12 * b.norm();
+        // Solid sphere: 2/5 m r^2.
+        assert!(close(Shape::Sphere { radius: 2.0 }.unit_inertia().unwrap(), Vector3::repeat(1.6)));
+        // Box with sides a, b, c: m (b^2 + c^2) / 12 ...
+        let (a, b, c) = (1.0, 2.0, 3.0);
+        let i = Shape::Box { half_extents: Vector3::new(a / 2.0, b / 2.0, c / 2.0) }.unit_inertia().unwrap();
+        assert!(close(i, Vector3::new(b * b + c * c, a * a + c * c, a * a + b * b) / 12.0), "{i:?}");
+        // Cylinder of length L along Y: axial m r^2 / 2, transverse m (3 r^2 + L^2) / 12.
+        let (r, l) = (0.5, 2.0);
+        let i = Shape::Cylinder { half_length: l / 2.0, radius: r }.unit_inertia().unwrap();
+        let t = (3.0 * r * r + l * l) / 12.0;
+        assert!(close(i, Vector3::new(t, r * r / 2.0, t)), "{i:?}");
+        // Capsule with a vanishing segment is a sphere; with a vanishing radius a rod.
+        let i = Shape::Capsule { half_length: 1e-9, radius: 1.0 }.unit_inertia().unwrap();
+        assert!((i - Vector3::repeat(0.4)).norm() < 1e-8, "{i:?}");
+        let i = Shape::Capsule { half_length: 1.0, radius: 1e-6 }.unit_inertia().unwrap();
+        assert!((i.x - 4.0 / 12.0).abs() < 1e-5 && i.y < 1e-11, "{i:?}");
+        assert!(Shape::HalfSpace { normal: Vector3::z() }.unit_inertia().is_none());
+    }
+
+    #[test]
+    fn heightfield_and_halfspace_meshes() {
+        let hf = Shape::HeightField { heights: vec![0.0, 1.0, 2.0, 3.0, 4.0, 5.0], nrows: 2, ncols: 3, scale: Vector3::new(4.0, 2.0, 0.5) };
+        let (v, t) = hf.to_trimesh(8, 1.0).unwrap();
+        assert_eq!((v.len(), t.len()), (6, 4));
+        // Node (1, 2): last row (y = +1), last column (x = +2), height 5 * 0.5.
+        assert!((v[5] - Vector3::new(2.0, 1.0, 2.5)).norm() < 1e-12);
+        let (v, t) = Shape::HalfSpace { normal: Vector3::new(0.0, 0.0, 3.0) }.to_trimesh(8, 20.0).unwrap();
+        let n = (v[t[0][1] as usize] - v[t[0][0] as usize]).cross(&(v[t[0][2] as usize] - v[t[0][0] as usize]));
+        assert!(n.z > 0.0 && v.iter().all(|p| p.z.abs() < 1e-12 && p.x.abs() <= 10.0 + 1e-12));
+        assert!((v[0] - v[2]).norm() > 28.0);
+    }
+}

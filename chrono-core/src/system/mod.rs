@@ -1,0 +1,254 @@
+//! The [`System`]: bodies, joints, collision, contact, physics items, a CCP solver, and the
+//! NSC time stepper ([`System::step`]).
+//!
+//! ```no_run
+//! # fn solver() -> Box<dyn chrono_core::descriptor::CcpSolver> { unimplemented!() }
+//! use chrono_core::{ContactMaterial, RigidBodyBuilder, Shape, System, SystemSettings};
+//! use chrono_core::math::{Isometry3, Vector3};
+//! let mut sys = System::new(SystemSettings::default(), solver()).unwrap();
+//! let mat = ContactMaterial::with_friction(0.5);
+//! sys.add_body(RigidBodyBuilder::fixed().collider(Shape::HalfSpace { normal: Vector3::z() }, Isometry3::identity(), mat)).unwrap();
+//! let b = Shape::Box { half_extents: Vector3::new(0.5, 0.5, 0.5) };
+//! let bx = sys.add_body(RigidBodyBuilder::dynamic().mass_from_shape(&b, 1000.0).unwrap()
+//!     .position(Vector3::new(0.0, 0.0, 2.0)).collider(b, Isometry3::identity(), mat)).unwrap();
+//! for _ in 0..100 { sys.step(0.01).unwrap(); }
+//! println!("{}", sys.body(bx).unwrap().position());
+//! ```
+
+mod step;
+
+use nalgebra::Vector3;
+use serde::{Deserialize, Serialize};
+
+use crate::body::{BodyHandle, RigidBody, RigidBodyBuilder};
+use crate::collision::{CollisionWorld, ContactPoint};
+use crate::contact::nsc::{NscContact, WarmStartCache};
+use crate::descriptor::{CcpProblem, CcpSolver, ConstraintRows, SolveStats, Variables};
+use crate::error::{ChronoError, Result, check_finite3, check_non_negative, check_positive};
+use crate::item::PhysicsItem;
+use crate::joint::{Joint, JointBuilder, JointHandle};
+
+/// Settings of a [`System`].
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SystemSettings {
+    /// Gravity, m/s^2 (Z up).
+    pub gravity: Vector3<f64>,
+    /// Collision envelope `delta`, m: contacts enter the problem while the gap is below it.
+    pub envelope: f64,
+    /// Maximum speed at which penetration is recovered, m/s (Chrono's default 0.6).
+    pub max_recovery_speed: f64,
+    /// Warm-start the solver with the previous step's impulses (contacts by persistence key,
+    /// joints by row).
+    pub warm_start: bool,
+}
+
+impl Default for SystemSettings {
+    fn default() -> Self {
+        Self { gravity: crate::math::GRAVITY, envelope: 0.005, max_recovery_speed: 0.6, warm_start: true }
+    }
+}
+
+impl SystemSettings {
+    /// Check every field.
+    pub fn validate(&self) -> Result<()> {
+        check_finite3("settings.gravity", &self.gravity)?;
+        check_non_negative("settings.envelope", self.envelope)?;
+        check_positive("settings.max_recovery_speed", self.max_recovery_speed)?;
+        Ok(())
+    }
+}
+
+/// What one step did.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct StepReport {
+    /// Number of contact points in the problem.
+    pub contacts: usize,
+    /// Number of rows of the CCP.
+    pub rows: usize,
+    /// The solver's statistics.
+    pub solve: SolveStats,
+}
+
+/// A multibody system stepped by the NSC (complementarity) method.
+pub struct System {
+    pub(crate) settings: SystemSettings,
+    pub(crate) bodies: Vec<RigidBody>,
+    pub(crate) joints: Vec<Joint>,
+    pub(crate) items: Vec<Box<dyn PhysicsItem>>,
+    pub(crate) collision: CollisionWorld,
+    pub(crate) solver: Box<dyn CcpSolver>,
+    pub(crate) time: f64,
+    pub(crate) step_count: u64,
+    // per-step buffers, reused
+    pub(crate) vars: Variables,
+    pub(crate) rows: ConstraintRows,
+    pub(crate) problem: CcpProblem,
+    pub(crate) k: Vec<f64>,
+    pub(crate) v: Vec<f64>,
+    pub(crate) gamma: Vec<f64>,
+    pub(crate) points: Vec<ContactPoint>,
+    pub(crate) contacts: Vec<NscContact>,
+    pub(crate) cache: WarmStartCache,
+    pub(crate) poses: Vec<nalgebra::Isometry3<f64>>,
+    pub(crate) active: Vec<bool>,
+}
+
+impl System {
+    /// A new empty system with the given settings and CCP solver (e.g. from `chrono-ccp`).
+    pub fn new(settings: SystemSettings, solver: Box<dyn CcpSolver>) -> Result<Self> {
+        settings.validate()?;
+        let collision = CollisionWorld::new(settings.envelope)?;
+        Ok(Self {
+            settings,
+            bodies: Vec::new(),
+            joints: Vec::new(),
+            items: Vec::new(),
+            collision,
+            solver,
+            time: 0.0,
+            step_count: 0,
+            vars: Variables::new(),
+            rows: ConstraintRows::new(),
+            problem: CcpProblem::new(),
+            k: Vec::new(),
+            v: Vec::new(),
+            gamma: Vec::new(),
+            points: Vec::new(),
+            contacts: Vec::new(),
+            cache: WarmStartCache::default(),
+            poses: Vec::new(),
+            active: Vec::new(),
+        })
+    }
+
+    /// The settings.
+    pub fn settings(&self) -> &SystemSettings {
+        &self.settings
+    }
+
+    /// Change the settings (validated).
+    pub fn set_settings(&mut self, settings: SystemSettings) -> Result<()> {
+        settings.validate()?;
+        self.collision.set_envelope(settings.envelope)?;
+        self.settings = settings;
+        Ok(())
+    }
+
+    /// The solver.
+    pub fn solver(&self) -> &dyn CcpSolver {
+        self.solver.as_ref()
+    }
+
+    /// The solver, mutable (to change its settings).
+    pub fn solver_mut(&mut self) -> &mut dyn CcpSolver {
+        self.solver.as_mut()
+    }
+
+    /// Replace the solver.
+    pub fn set_solver(&mut self, solver: Box<dyn CcpSolver>) {
+        self.solver = solver;
+    }
+
+    /// Add a body (checked by its builder) and its colliders.
+    pub fn add_body(&mut self, builder: RigidBodyBuilder) -> Result<BodyHandle> {
+        let body = builder.build()?;
+        let handle = BodyHandle(self.bodies.len() as u32);
+        for c in body.colliders() {
+            self.collision.add_collider(handle.0, &c.shape, c.local_pose, c.material)?;
+        }
+        self.bodies.push(body);
+        Ok(handle)
+    }
+
+    /// Add a joint; an error if it names a body that is not in the system or has bad
+    /// parameters. Contacts between the two bodies are disabled (they are joined).
+    pub fn add_joint(&mut self, builder: JointBuilder) -> Result<JointHandle> {
+        let joint = builder.build(&self.bodies)?;
+        let (a, b) = joint.bodies();
+        self.collision.exclude_pair(a.0, b.0);
+        let handle = JointHandle(self.joints.len() as u32);
+        self.joints.push(joint);
+        Ok(handle)
+    }
+
+    /// Add a physics item of a domain crate.
+    pub fn add_item(&mut self, item: Box<dyn PhysicsItem>) -> usize {
+        self.items.push(item);
+        self.items.len() - 1
+    }
+
+    /// A body.
+    pub fn body(&self, h: BodyHandle) -> Result<&RigidBody> {
+        self.bodies.get(h.0 as usize).ok_or(ChronoError::UnknownHandle { kind: "body", index: h.0 as usize, field: "body".into() })
+    }
+
+    /// A body, mutable (to set forces or prescribed velocities between steps).
+    pub fn body_mut(&mut self, h: BodyHandle) -> Result<&mut RigidBody> {
+        self.bodies.get_mut(h.0 as usize).ok_or(ChronoError::UnknownHandle { kind: "body", index: h.0 as usize, field: "body".into() })
+    }
+
+    /// All bodies, in handle order.
+    pub fn bodies(&self) -> &[RigidBody] {
+        &self.bodies
+    }
+
+    /// A joint.
+    pub fn joint(&self, h: JointHandle) -> Result<&Joint> {
+        self.joints.get(h.0 as usize).ok_or(ChronoError::UnknownHandle { kind: "joint", index: h.0 as usize, field: "joint".into() })
+    }
+
+    /// A joint, mutable (to change a drive).
+    pub fn joint_mut(&mut self, h: JointHandle) -> Result<&mut Joint> {
+        self.joints.get_mut(h.0 as usize).ok_or(ChronoError::UnknownHandle { kind: "joint", index: h.0 as usize, field: "joint".into() })
+    }
+
+    /// All joints.
+    pub fn joints(&self) -> &[Joint] {
+        &self.joints
+    }
+
+    /// The physics items.
+    pub fn items(&self) -> &[Box<dyn PhysicsItem>] {
+        &self.items
+    }
+
+    /// The collision world.
+    pub fn collision(&self) -> &CollisionWorld {
+        &self.collision
+    }
+
+    /// The contacts of the last step.
+    pub fn contacts(&self) -> &[NscContact] {
+        &self.contacts
+    }
+
+    /// The CCP of the last step (for inspection, capture, or solver experiments).
+    pub fn last_problem(&self) -> &CcpProblem {
+        &self.problem
+    }
+
+    /// The solution of the last step's CCP.
+    pub fn last_gamma(&self) -> &[f64] {
+        &self.gamma
+    }
+
+    /// Simulation time, s.
+    pub fn time(&self) -> f64 {
+        self.time
+    }
+
+    /// Number of steps taken.
+    pub fn step_count(&self) -> u64 {
+        self.step_count
+    }
+
+    /// Largest position-level violation over all joints.
+    pub fn max_joint_violation(&self) -> f64 {
+        self.joints.iter().map(|j| j.violation(&self.bodies)).fold(0.0, f64::max)
+    }
+
+    /// Total kinetic energy of the dynamic bodies, J.
+    pub fn kinetic_energy(&self) -> f64 {
+        self.bodies.iter().filter(|b| b.is_dynamic()).map(|b| b.kinetic_energy()).sum()
+    }
+}

@@ -1,0 +1,162 @@
+//! The NSC time step (Anitescu–Tasora, seed "Complementarity Approach: The Math").
+
+use nalgebra::Vector3;
+
+use super::{StepReport, System};
+use crate::body::BodyMotion;
+use crate::contact::nsc::{self, NscRowSettings};
+use crate::error::{ChronoError, Result};
+use crate::item::StepContext;
+
+impl System {
+    /// Advance by one step of size `h` (s):
+    ///
+    /// 1. collide at `q(l)` (contacts within the envelope);
+    /// 2. assemble `k = M v(l) + h f(t, q, v)` and the rows: joints (`D'v + C/h = 0`),
+    ///    contacts (friction cones, `b_n = max(Phi/h, -v_rec)`), the items' rows;
+    /// 3. solve the CCP for the impulses `g`, warm-started from the last step;
+    /// 4. `v(l+1) = M^-1 (k + D g)`, then `q(l+1) = q(l) + h L(q) v(l+1)`
+    ///    (quaternions by the exponential map).
+    ///
+    /// Errors: `h` not finite and > 0; a non-finite state after the step (the error names the
+    /// body or item and the step, and the state is left as it was computed).
+    pub fn step(&mut self, h: f64) -> Result<StepReport> {
+        if !(h.is_finite() && h > 0.0) {
+            return Err(ChronoError::invalid("h", h, "the step size must be finite and > 0"));
+        }
+        let ctx = StepContext { h, time: self.time, step: self.step_count, gravity: self.settings.gravity };
+
+        // Variables: dynamic bodies, then items.
+        self.vars.clear();
+        for b in &mut self.bodies {
+            b.block = match b.motion {
+                BodyMotion::Dynamic => Some(self.vars.add(b.mass_operator()?)),
+                _ => None,
+            };
+        }
+        for item in &mut self.items {
+            item.add_variables(&mut self.vars);
+        }
+
+        // Momentum k = M v + h f.
+        let ndof = self.vars.ndof();
+        self.k.clear();
+        self.k.resize(ndof, 0.0);
+        for b in &self.bodies {
+            if let Some(blk) = b.block {
+                let r = self.vars.range(blk);
+                b.free_momentum(h, &self.settings.gravity, &mut self.k[r]);
+            }
+        }
+        for j in &self.joints {
+            if let Some((force, torque, pa, pb)) = j.effort(&self.bodies) {
+                let (ha, hb) = j.bodies();
+                for (handle, sign, p) in [(hb, 1.0, pb), (ha, -1.0, pa)] {
+                    let body = &self.bodies[handle.0 as usize];
+                    if let Some(blk) = body.block {
+                        let r = self.vars.range(blk);
+                        let tau_w = sign * (torque + (p - body.position).cross(&force));
+                        let tau_b = body.rotation.inverse() * tau_w;
+                        let k = &mut self.k[r];
+                        for d in 0..3 {
+                            k[d] += h * sign * force[d];
+                            k[3 + d] += h * tau_b[d];
+                        }
+                    }
+                }
+            }
+        }
+        for item in &self.items {
+            item.load_momentum(&ctx, &self.vars, &mut self.k);
+        }
+
+        // Collision at q(l).
+        self.poses.clear();
+        self.active.clear();
+        for b in &self.bodies {
+            self.poses.push(b.pose());
+            self.active.push(b.motion == BodyMotion::Dynamic);
+        }
+        self.points.clear();
+        self.collision.detect(&self.poses, &self.active, &mut self.points)?;
+
+        // Rows.
+        self.rows.clear();
+        for j in &mut self.joints {
+            j.add_rows(&self.bodies, h, &mut self.rows);
+        }
+        self.contacts.clear();
+        let row_settings = NscRowSettings { h, max_recovery_speed: self.settings.max_recovery_speed };
+        nsc::add_contact_rows(&self.points, &self.bodies, row_settings, &mut self.rows, &mut self.contacts);
+        for item in &mut self.items {
+            item.add_constraints(&ctx, &self.vars, &mut self.rows)?;
+        }
+
+        // Assemble and solve.
+        self.problem.assemble(&self.vars, &self.rows, &self.k)?;
+        let m = self.problem.n_rows();
+        self.gamma.clear();
+        self.gamma.resize(m, 0.0);
+        if self.settings.warm_start {
+            nsc::warm_start(&self.contacts, &self.cache, &self.problem, &mut self.gamma);
+            for j in &self.joints {
+                if j.impulses.len() == j.row_ids.len() {
+                    for (id, g) in j.row_ids.iter().zip(&j.impulses) {
+                        self.gamma[self.problem.row_index(*id)] = *g;
+                    }
+                }
+            }
+        }
+        let solve = self.solver.solve(&self.problem, &mut self.gamma);
+        if let Some(i) = self.gamma.iter().position(|g| !g.is_finite()) {
+            return Err(ChronoError::NonFinite {
+                item: format!("CCP row {i}"),
+                step: self.step_count,
+                time: self.time,
+                what: format!("impulse from solver `{}`", self.solver.name()),
+            });
+        }
+
+        // v(l+1) and q(l+1).
+        self.v.clear();
+        self.v.resize(ndof, 0.0);
+        self.problem.velocities(&self.gamma, &mut self.v);
+        for b in &mut self.bodies {
+            if let Some(blk) = b.block {
+                let r = self.vars.range(blk);
+                let v = &self.v[r];
+                b.linear_velocity = Vector3::new(v[0], v[1], v[2]);
+                b.angular_velocity = Vector3::new(v[3], v[4], v[5]);
+            }
+            if b.motion != BodyMotion::Fixed {
+                b.integrate_pose(h);
+            }
+        }
+        for item in &mut self.items {
+            item.update(&ctx, &self.vars, &self.v, &self.problem, &self.gamma)?;
+        }
+
+        // Caches for the next step.
+        nsc::store(&self.contacts, &self.problem, &self.gamma, &mut self.cache);
+        for j in &mut self.joints {
+            j.impulses.clear();
+            for id in &j.row_ids {
+                j.impulses.push(self.gamma[self.problem.row_index(*id)]);
+            }
+        }
+
+        for (i, b) in self.bodies.iter().enumerate() {
+            if !b.state_is_finite() {
+                return Err(ChronoError::NonFinite {
+                    item: format!("body {i} (\"{}\")", b.name),
+                    step: self.step_count,
+                    time: self.time,
+                    what: "position or velocity".into(),
+                });
+            }
+        }
+        self.time += h;
+        self.step_count += 1;
+        Ok(StepReport { contacts: self.contacts.len(), rows: m, solve })
+    }
+}

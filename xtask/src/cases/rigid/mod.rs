@@ -1,0 +1,55 @@
+//! Rigid-body validation cases (NSC): analytic references for friction, joints, stacking,
+//! free fall and torque-free rotation.
+
+pub mod free_fall;
+pub mod incline;
+pub mod pendulum;
+pub mod spin;
+pub mod stack;
+
+use chrono_ccp::{Apgd, CcpSolver, Psor, SolverSettings};
+use chrono_core::{System, SystemSettings};
+
+/// A CCP solver by name (`psor` or `apgd`), with a tolerance (m/s) and an iteration cap.
+pub fn make_solver(
+    name: &str,
+    tolerance: f64,
+    max_iterations: usize,
+) -> anyhow::Result<Box<dyn CcpSolver>> {
+    anyhow::ensure!(
+        tolerance.is_finite() && tolerance > 0.0,
+        "parameter `tolerance` must be > 0, got {tolerance}"
+    );
+    anyhow::ensure!(max_iterations > 0, "parameter `max_iterations` must be > 0");
+    let settings = SolverSettings {
+        tolerance,
+        max_iterations,
+        record_history: false,
+    };
+    Ok(match name {
+        "psor" => Box::new(Psor::new(settings)),
+        "apgd" => Box::new(Apgd::new(settings)),
+        other => anyhow::bail!("parameter `solver` must be `psor` or `apgd`, got `{other}`"),
+    })
+}
+
+/// A system with default settings and the named solver.
+pub fn make_system(solver: &str, tolerance: f64, max_iterations: usize) -> anyhow::Result<System> {
+    Ok(System::new(
+        SystemSettings::default(),
+        make_solver(solver, tolerance, max_iterations)?,
+    )?)
+}
+
+/// Number of steps of size `h` to cover `t_end`, checking both.
+pub fn n_steps(h: f64, t_end: f64) -> anyhow::Result<u64> {
+    anyhow::ensure!(
+        h.is_finite() && h > 0.0,
+        "parameter `h` must be > 0, got {h}"
+    );
+    anyhow::ensure!(
+        t_end.is_finite() && t_end > 0.0,
+        "parameter `t_end` must be > 0, got {t_end}"
+    );
+    Ok((t_end / h).round().max(1.0) as u64)
+}
