@@ -1,1 +1,60 @@
-fn main() {}
+//! Cost of the building blocks on a granular-like problem: ~10k particles on a lattice with
+//! frictional contacts between lattice neighbours and with the ground (~31k triplets,
+//! ~93k rows).
+//!
+//! - `apply_n`: one product `N g` (the unit of cost of every iterative solver);
+//! - `psor/solve_k`, `apgd/solve_k`: a cold solve capped at k iterations (tolerance 0). A solve
+//!   has a fixed cost (projection, `M^-1 D g`, the initial and final gradients, and APGD's
+//!   power iterations), so the cost of one iteration is `(t(11) - t(1)) / 10`.
+
+#[path = "../tests/common/mod.rs"]
+mod common;
+
+use std::hint::black_box;
+
+use chrono_ccp::{Apgd, CcpSolver, Psor, SolverSettings};
+use chrono_core::descriptor::CcpWork;
+use criterion::{Criterion, criterion_group, criterion_main};
+
+fn bench(c: &mut Criterion) {
+    let problem = common::lattice(22, 22, 21, 1);
+    let m = problem.n_rows();
+    let mut work = CcpWork::for_problem(&problem);
+    let gamma: Vec<f64> = (0..m)
+        .map(|i| if i % 3 == 0 { 0.01 } else { 0.0 })
+        .collect();
+    let mut out = vec![0.0; m];
+    c.bench_function("apply_n", |b| {
+        b.iter(|| problem.apply_n(black_box(&gamma), &mut out, &mut work))
+    });
+
+    for k in [1, 11] {
+        let settings = SolverSettings {
+            tolerance: 0.0,
+            max_iterations: k,
+            record_history: false,
+        };
+        let mut psor = Psor::new(settings.clone()).with_check_every(k);
+        let mut apgd = Apgd::new(settings);
+        let mut g = vec![0.0; m];
+        c.bench_function(&format!("psor/solve_{k}"), |b| {
+            b.iter(|| {
+                g.fill(0.0);
+                psor.solve(&problem, &mut g)
+            })
+        });
+        c.bench_function(&format!("apgd/solve_{k}"), |b| {
+            b.iter(|| {
+                g.fill(0.0);
+                apgd.solve(&problem, &mut g)
+            })
+        });
+    }
+}
+
+criterion_group! {
+    name = benches;
+    config = Criterion::default().sample_size(20);
+    targets = bench
+}
+criterion_main!(benches);

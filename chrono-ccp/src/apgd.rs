@@ -5,7 +5,9 @@
 //! Chrono::Multicore's `ChSolverMulticoreAPGD` — on `min f(g) = 1/2 g'N g + r'g, g ∈ Y`
 //! (gradient `N g + r`), with an optional diagonal (Jacobi) metric.
 
-use chrono_core::descriptor::{CcpProblem, CcpSolver, CcpWork, SolveStats, SolverSettings, reduce::sum_by};
+use chrono_core::descriptor::{
+    CcpProblem, CcpSolver, CcpWork, SolveStats, SolverSettings, reduce::sum_by,
+};
 use serde::{Deserialize, Serialize};
 
 use crate::util::{History, empty_stats, fill_with, fill2_with, final_stats, sanitize_and_project};
@@ -40,13 +42,20 @@ pub struct ApgdOptions {
 
 impl Default for ApgdOptions {
     fn default() -> Self {
-        Self { preconditioned: true, power_iterations: 2, adaptive_restart: true }
+        Self {
+            preconditioned: true,
+            power_iterations: 2,
+            adaptive_restart: true,
+        }
     }
 }
 
 impl ApgdOptions {
     fn validate(&self) {
-        assert!(self.power_iterations >= 1, "ApgdOptions.power_iterations must be >= 1");
+        assert!(
+            self.power_iterations >= 1,
+            "ApgdOptions.power_iterations must be >= 1"
+        );
     }
 }
 
@@ -100,7 +109,10 @@ pub struct Apgd {
 impl Apgd {
     /// A solver with the common settings `settings` and default [`ApgdOptions`].
     pub fn new(settings: SolverSettings) -> Self {
-        Self { settings, ..Self::default() }
+        Self {
+            settings,
+            ..Self::default()
+        }
     }
 
     /// Use the diagonal (Jacobi) metric or not (see [`ApgdOptions::preconditioned`]).
@@ -169,7 +181,9 @@ impl Apgd {
         let m = self.s.len();
         // A fixed, "random-ish" positive start (golden-ratio sequence), not aligned with
         // any structure of the rows.
-        fill_with(&mut self.y, |i| 0.5 + ((i as f64 + 1.0) * 0.618_033_988_749_895).fract());
+        fill_with(&mut self.y, |i| {
+            0.5 + ((i as f64 + 1.0) * 0.618_033_988_749_895).fract()
+        });
         let mut lambda = 0.0;
         for _ in 0..self.options.power_iterations {
             let norm = problem.dot(&self.y, &self.y, &mut self.work).sqrt();
@@ -183,7 +197,11 @@ impl Apgd {
             fill_with(&mut self.y, |i| s[i].sqrt() * nq[i]);
             lambda = sum_by(m, &mut self.work.partials, |i| self.y[i] * self.y[i]).sqrt();
         }
-        if lambda > 0.0 && lambda.is_finite() { lambda } else { 1.0 }
+        if lambda > 0.0 && lambda.is_finite() {
+            lambda
+        } else {
+            1.0
+        }
     }
 
     /// Fill `g_new = P_Y(y - P grad_y / l)` and `grad_new = N g_new + r`; return
@@ -195,7 +213,9 @@ impl Apgd {
         problem.project(&mut self.g_new);
         problem.gradient(&self.g_new, &mut self.grad_new, &mut self.work);
         let (gn, grn) = (&self.g_new, &self.grad_new);
-        let dnd = sum_by(gn.len(), &mut self.work.partials, |i| (gn[i] - y[i]) * (grn[i] - gy[i]));
+        let dnd = sum_by(gn.len(), &mut self.work.partials, |i| {
+            (gn[i] - y[i]) * (grn[i] - gy[i])
+        });
         let dpd = sum_by(gn.len(), &mut self.work.partials, |i| {
             let d = gn[i] - y[i];
             if s[i] > 0.0 { d * d / s[i] } else { 0.0 }
@@ -221,7 +241,11 @@ impl CcpSolver for Apgd {
     /// (non-finite entries are replaced by 0, then it is projected onto `Y`) and receives the
     /// best iterate.
     fn solve(&mut self, problem: &CcpProblem, gamma: &mut [f64]) -> SolveStats {
-        assert_eq!(gamma.len(), problem.n_rows(), "gamma.len() must equal problem.n_rows()");
+        assert_eq!(
+            gamma.len(),
+            problem.n_rows(),
+            "gamma.len() must equal problem.n_rows()"
+        );
         self.options.validate();
         let m = problem.n_rows();
         if m == 0 {
@@ -254,7 +278,15 @@ impl CcpSolver for Apgd {
         problem.gradient(&self.g, &mut self.grad, &mut self.work);
         let mut best_res = problem.residual(&self.g, &self.grad, &mut self.work);
         if !best_res.is_finite() || best_res <= tol {
-            return final_stats(problem, gamma, &self.grad, &mut self.work, 0, tol, history.into_records());
+            return final_stats(
+                problem,
+                gamma,
+                &self.grad,
+                &mut self.work,
+                0,
+                tol,
+                history.into_records(),
+            );
         }
         let mut l = self.estimate_lipschitz(problem);
         self.y.copy_from_slice(&self.g);
@@ -279,7 +311,11 @@ impl CcpSolver for Apgd {
                 }
                 l *= 2.0;
             }
-            let res = if ok { problem.residual(&self.g_new, &self.grad_new, &mut self.work) } else { f64::NAN };
+            let res = if ok {
+                problem.residual(&self.g_new, &self.grad_new, &mut self.work)
+            } else {
+                f64::NAN
+            };
             history.push(it, res);
             if !res.is_finite() {
                 break;
@@ -308,7 +344,10 @@ impl CcpSolver for Apgd {
             // y = g+ + beta (g+ - g), and by linearity N y + r likewise.
             let (gn, g, grn, gr) = (&self.g_new, &self.g, &self.grad_new, &self.grad);
             fill2_with(&mut self.y, &mut self.grad_y, |i| {
-                (gn[i] + beta * (gn[i] - g[i]), grn[i] + beta * (grn[i] - gr[i]))
+                (
+                    gn[i] + beta * (gn[i] - g[i]),
+                    grn[i] + beta * (grn[i] - gr[i]),
+                )
             });
             std::mem::swap(&mut self.g, &mut self.g_new);
             std::mem::swap(&mut self.grad, &mut self.grad_new);
@@ -320,6 +359,14 @@ impl CcpSolver for Apgd {
         if !have_grad {
             problem.gradient(gamma, &mut self.grad_new, &mut self.work);
         }
-        final_stats(problem, gamma, &self.grad_new, &mut self.work, iterations, tol, history.into_records())
+        final_stats(
+            problem,
+            gamma,
+            &self.grad_new,
+            &mut self.work,
+            iterations,
+            tol,
+            history.into_records(),
+        )
     }
 }

@@ -7,7 +7,9 @@
 //! `c_i = (N g + r)_i = D_i' w + eps_i g_i + r_i` (equivalently `D_i' v + b_i + eps_i g_i`
 //! with `v = M^-1 k + w` the new velocity) at the cost of one sparse row.
 
-use chrono_core::descriptor::{CcpProblem, CcpSolver, CcpWork, SolveStats, SolverSettings, project_friction_cone};
+use chrono_core::descriptor::{
+    CcpProblem, CcpSolver, CcpWork, SolveStats, SolverSettings, project_friction_cone,
+};
 use serde::{Deserialize, Serialize};
 
 use crate::util::{History, empty_stats, final_stats, sanitize_and_project};
@@ -51,14 +53,26 @@ pub struct PsorOptions {
 
 impl Default for PsorOptions {
     fn default() -> Self {
-        Self { omega: 1.0, symmetric: false, check_every: 1, triplet_step: TripletStep::MaxEigen }
+        Self {
+            omega: 1.0,
+            symmetric: false,
+            check_every: 1,
+            triplet_step: TripletStep::MaxEigen,
+        }
     }
 }
 
 impl PsorOptions {
     fn validate(&self) {
-        assert!(self.omega > 0.0 && self.omega < 2.0, "PsorOptions.omega = {} must be in (0, 2)", self.omega);
-        assert!(self.check_every >= 1, "PsorOptions.check_every must be >= 1");
+        assert!(
+            self.omega > 0.0 && self.omega < 2.0,
+            "PsorOptions.omega = {} must be in (0, 2)",
+            self.omega
+        );
+        assert!(
+            self.check_every >= 1,
+            "PsorOptions.check_every must be >= 1"
+        );
     }
 }
 
@@ -107,7 +121,10 @@ pub struct Psor {
 impl Psor {
     /// A solver with the common settings `settings` and default [`PsorOptions`].
     pub fn new(settings: SolverSettings) -> Self {
-        Self { settings, ..Self::default() }
+        Self {
+            settings,
+            ..Self::default()
+        }
     }
 
     /// Set the relaxation factor `omega` (see [`PsorOptions::omega`]).
@@ -320,7 +337,11 @@ impl CcpSolver for Psor {
     /// Solve by projected SOR; see [`Psor`]. `gamma` is the warm start (non-finite entries
     /// are replaced by 0, then it is projected onto `Y`) and receives the solution.
     fn solve(&mut self, problem: &CcpProblem, gamma: &mut [f64]) -> SolveStats {
-        assert_eq!(gamma.len(), problem.n_rows(), "gamma.len() must equal problem.n_rows()");
+        assert_eq!(
+            gamma.len(),
+            problem.n_rows(),
+            "gamma.len() must equal problem.n_rows()"
+        );
         self.options.validate();
         let m = problem.n_rows();
         if m == 0 {
@@ -346,7 +367,15 @@ impl CcpSolver for Psor {
         let mut grad_is_best = true;
         let mut iterations = 0;
         if !best_res.is_finite() || best_res <= tol {
-            return final_stats(problem, gamma, &self.grad, &mut self.work, 0, tol, history.into_records());
+            return final_stats(
+                problem,
+                gamma,
+                &self.grad,
+                &mut self.work,
+                0,
+                tol,
+                history.into_records(),
+            );
         }
 
         for it in 1..=max_it {
@@ -379,7 +408,15 @@ impl CcpSolver for Psor {
         if !grad_is_best {
             problem.gradient(gamma, &mut self.grad, &mut self.work);
         }
-        final_stats(problem, gamma, &self.grad, &mut self.work, iterations, tol, history.into_records())
+        final_stats(
+            problem,
+            gamma,
+            &self.grad,
+            &mut self.work,
+            iterations,
+            tol,
+            history.into_records(),
+        )
     }
 }
 

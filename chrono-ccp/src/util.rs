@@ -26,10 +26,17 @@ pub(crate) fn fill_with(out: &mut [f64], f: impl Fn(usize) -> f64 + Sync + Send)
 }
 
 /// `(a[i], b[i]) = f(i)` for every `i` (two outputs of one pass), in parallel for long vectors.
-pub(crate) fn fill2_with(a: &mut [f64], b: &mut [f64], f: impl Fn(usize) -> (f64, f64) + Sync + Send) {
+pub(crate) fn fill2_with(
+    a: &mut [f64],
+    b: &mut [f64],
+    f: impl Fn(usize) -> (f64, f64) + Sync + Send,
+) {
     assert_eq!(a.len(), b.len());
     if a.len() >= PAR_MIN {
-        a.par_iter_mut().zip(b.par_iter_mut()).enumerate().for_each(|(i, (x, y))| (*x, *y) = f(i));
+        a.par_iter_mut()
+            .zip(b.par_iter_mut())
+            .enumerate()
+            .for_each(|(i, (x, y))| (*x, *y) = f(i));
     } else {
         for (i, (x, y)) in a.iter_mut().zip(b.iter_mut()).enumerate() {
             (*x, *y) = f(i);
@@ -49,7 +56,13 @@ pub(crate) fn sanitize_and_project(problem: &CcpProblem, gamma: &mut [f64]) {
 
 /// Statistics of a problem with no rows: nothing to do, trivially converged.
 pub(crate) fn empty_stats() -> SolveStats {
-    SolveStats { iterations: 0, residual: 0.0, objective: 0.0, converged: true, history: Vec::new() }
+    SolveStats {
+        iterations: 0,
+        residual: 0.0,
+        objective: 0.0,
+        converged: true,
+        history: Vec::new(),
+    }
 }
 
 /// Statistics of the returned `gamma`, whose gradient `N g + r` is `grad`.
@@ -82,14 +95,25 @@ pub(crate) struct History {
 impl History {
     /// A recorder; `enabled = false` makes every call a no-op.
     pub(crate) fn new(enabled: bool, max_iterations: usize) -> Self {
-        let records = if enabled { Vec::with_capacity(max_iterations.min(1 << 16)) } else { Vec::new() };
-        Self { start: enabled.then(Instant::now), records }
+        let records = if enabled {
+            Vec::with_capacity(max_iterations.min(1 << 16))
+        } else {
+            Vec::new()
+        };
+        Self {
+            start: enabled.then(Instant::now),
+            records,
+        }
     }
 
     /// Record the residual after `iteration`.
     pub(crate) fn push(&mut self, iteration: usize, residual: f64) {
         if let Some(t0) = self.start {
-            self.records.push(IterationRecord { iteration, residual, time_s: t0.elapsed().as_secs_f64() });
+            self.records.push(IterationRecord {
+                iteration,
+                residual,
+                time_s: t0.elapsed().as_secs_f64(),
+            });
         }
     }
 

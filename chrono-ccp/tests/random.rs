@@ -13,16 +13,28 @@ const SOLVE_TOL: f64 = 1e-11;
 const CHECK_TOL: f64 = 1e-9;
 
 fn settings() -> SolverSettings {
-    SolverSettings { tolerance: SOLVE_TOL, max_iterations: 200_000, record_history: false }
+    SolverSettings {
+        tolerance: SOLVE_TOL,
+        max_iterations: 200_000,
+        record_history: false,
+    }
 }
 
 fn run(solver: &mut dyn CcpSolver, seed: u64) -> Result<(Vec<f64>, f64), TestCaseError> {
     let problem = random_problem(seed);
     let mut gamma = vec![0.0; problem.n_rows()];
     let stats = solver.solve(&problem, &mut gamma);
-    prop_assert!(stats.converged, "{} did not converge: {:?}", solver.name(), (stats.iterations, stats.residual));
+    prop_assert!(
+        stats.converged,
+        "{} did not converge: {:?}",
+        solver.name(),
+        (stats.iterations, stats.residual)
+    );
     if let Err(e) = check_complementarity(&problem, &gamma, CHECK_TOL) {
-        return Err(TestCaseError::fail(format!("{}: {e}\ngamma = {gamma:?}", solver.name())));
+        return Err(TestCaseError::fail(format!(
+            "{}: {e}\ngamma = {gamma:?}",
+            solver.name()
+        )));
     }
     let f = objective(&problem, &gamma);
     prop_assert!((f - stats.objective).abs() <= 1e-12 * (1.0 + f.abs()));

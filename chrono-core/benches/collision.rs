@@ -25,21 +25,39 @@ fn scene() -> (CollisionWorld, Vec<Isometry3<f64>>, Vec<bool>) {
         (Vector3::new(0.0, -1.0, 0.0), Vector3::new(0.0, extent, 0.0)),
     ];
     for (n, p) in walls {
-        w.add_collider(0, &Shape::HalfSpace { normal: n }, Isometry3::translation(p.x, p.y, p.z), mat).unwrap();
+        w.add_collider(
+            0,
+            &Shape::HalfSpace { normal: n },
+            Isometry3::translation(p.x, p.y, p.z),
+            mat,
+        )
+        .unwrap();
     }
     let mut poses = vec![Isometry3::identity()];
     let mut seed = 12345u64;
     let mut jitter = move || {
-        seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
         ((seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 0.004
     };
     for i in 0..side {
         for j in 0..side {
             for k in 0..side {
                 let owner = poses.len() as u32;
-                w.add_collider(owner, &Shape::Sphere { radius: 0.05 }, Isometry3::identity(), mat).unwrap();
+                w.add_collider(
+                    owner,
+                    &Shape::Sphere { radius: 0.05 },
+                    Isometry3::identity(),
+                    mat,
+                )
+                .unwrap();
                 let c = Vector3::new(i as f64 + 0.5, j as f64 + 0.5, k as f64 + 0.5) * h;
-                poses.push(Isometry3::translation(c.x + jitter(), c.y + jitter(), c.z + jitter()));
+                poses.push(Isometry3::translation(
+                    c.x + jitter(),
+                    c.y + jitter(),
+                    c.z + jitter(),
+                ));
             }
         }
     }

@@ -110,11 +110,17 @@ impl RigidBody {
     /// Kinetic energy `1/2 m v.v + 1/2 w.J w`, J.
     pub fn kinetic_energy(&self) -> f64 {
         0.5 * self.mass * self.linear_velocity.norm_squared()
-            + 0.5 * self.angular_velocity.dot(&(self.inertia * self.angular_velocity))
+            + 0.5
+                * self
+                    .angular_velocity
+                    .dot(&(self.inertia * self.angular_velocity))
     }
     /// Velocity of a world point rigidly attached to the body, m/s.
     pub fn point_velocity(&self, world_point: &Vector3<f64>) -> Vector3<f64> {
-        self.linear_velocity + self.angular_velocity().cross(&(world_point - self.position))
+        self.linear_velocity
+            + self
+                .angular_velocity()
+                .cross(&(world_point - self.position))
     }
     /// The colliders attached to the body.
     pub fn colliders(&self) -> &[ColliderDesc] {
@@ -154,10 +160,18 @@ impl RigidBody {
         Ok(())
     }
     /// Set the pose (e.g. to reset a scene).
-    pub fn set_pose(&mut self, position: Vector3<f64>, rotation: UnitQuaternion<f64>) -> Result<()> {
+    pub fn set_pose(
+        &mut self,
+        position: Vector3<f64>,
+        rotation: UnitQuaternion<f64>,
+    ) -> Result<()> {
         check_finite3("body.position", &position)?;
         if rotation.coords.iter().any(|c| !c.is_finite()) {
-            return Err(ChronoError::invalid("body.rotation", format!("{:?}", rotation.coords), "must be finite"));
+            return Err(ChronoError::invalid(
+                "body.rotation",
+                format!("{:?}", rotation.coords),
+                "must be finite",
+            ));
         }
         self.position = position;
         self.rotation = rotation;
@@ -303,7 +317,8 @@ impl RigidBodyBuilder {
     pub fn mass_from_shape(mut self, shape: &Shape, density: f64) -> Result<Self> {
         check_positive("density", density)?;
         shape.validate("shape")?;
-        let no_closed_form = || ChronoError::invalid("shape", format!("{shape:?}"), "has no closed-form inertia");
+        let no_closed_form =
+            || ChronoError::invalid("shape", format!("{shape:?}"), "has no closed-form inertia");
         let unit = shape.unit_inertia().ok_or_else(no_closed_form)?;
         let volume = shape.volume().ok_or_else(no_closed_form)?;
         self.mass = density * volume;
@@ -331,36 +346,69 @@ impl RigidBodyBuilder {
         self
     }
     /// Attach a collision shape at `local_pose` in the body frame.
-    pub fn collider(mut self, shape: Shape, local_pose: Isometry3<f64>, material: ContactMaterial) -> Self {
-        self.colliders.push(ColliderDesc { shape, local_pose, material });
+    pub fn collider(
+        mut self,
+        shape: Shape,
+        local_pose: Isometry3<f64>,
+        material: ContactMaterial,
+    ) -> Self {
+        self.colliders.push(ColliderDesc {
+            shape,
+            local_pose,
+            material,
+        });
         self
     }
 
     /// Check every field and make the body. Errors name the field (`body.mass`,
     /// `body.inertia`, `body.position`, `body.colliders[2].shape.radius` ...).
     pub fn build(self) -> Result<RigidBody> {
-        let field = |f: &str| if self.name.is_empty() { format!("body.{f}") } else { format!("body \"{}\".{f}", self.name) };
+        let field = |f: &str| {
+            if self.name.is_empty() {
+                format!("body.{f}")
+            } else {
+                format!("body \"{}\".{f}", self.name)
+            }
+        };
         if self.motion == BodyMotion::Dynamic {
             check_positive(&field("mass"), self.mass)?;
-            crate::descriptor::MassOperator::rigid_body(self.mass, self.inertia).map_err(|e| match e {
-                ChronoError::InvalidParameter { field: f, value, reason } => {
-                    ChronoError::InvalidParameter { field: field(&f), value, reason }
+            crate::descriptor::MassOperator::rigid_body(self.mass, self.inertia).map_err(|e| {
+                match e {
+                    ChronoError::InvalidParameter {
+                        field: f,
+                        value,
+                        reason,
+                    } => ChronoError::InvalidParameter {
+                        field: field(&f),
+                        value,
+                        reason,
+                    },
+                    other => other,
                 }
-                other => other,
             })?;
         }
         check_finite3(&field("position"), &self.position)?;
         check_finite3(&field("linear_velocity"), &self.linear_velocity)?;
         check_finite3(&field("angular_velocity"), &self.angular_velocity_world)?;
         if self.rotation.coords.iter().any(|c| !c.is_finite()) {
-            return Err(ChronoError::invalid(field("rotation"), format!("{:?}", self.rotation.coords), "must be finite"));
+            return Err(ChronoError::invalid(
+                field("rotation"),
+                format!("{:?}", self.rotation.coords),
+                "must be finite",
+            ));
         }
         for (i, c) in self.colliders.iter().enumerate() {
             c.shape.validate(&field(&format!("colliders[{i}].shape")))?;
             c.material.validate().map_err(|e| match e {
-                ChronoError::InvalidParameter { field: f, value, reason } => {
-                    ChronoError::InvalidParameter { field: field(&format!("colliders[{i}].{f}")), value, reason }
-                }
+                ChronoError::InvalidParameter {
+                    field: f,
+                    value,
+                    reason,
+                } => ChronoError::InvalidParameter {
+                    field: field(&format!("colliders[{i}].{f}")),
+                    value,
+                    reason,
+                },
                 other => other,
             })?;
         }
@@ -370,8 +418,16 @@ impl RigidBodyBuilder {
             _ => (self.mass.max(f64::MIN_POSITIVE), self.inertia),
         };
         let angular_velocity = self.rotation.inverse() * self.angular_velocity_world;
-        let linear_velocity = if self.motion == BodyMotion::Fixed { Vector3::zeros() } else { self.linear_velocity };
-        let angular_velocity = if self.motion == BodyMotion::Fixed { Vector3::zeros() } else { angular_velocity };
+        let linear_velocity = if self.motion == BodyMotion::Fixed {
+            Vector3::zeros()
+        } else {
+            self.linear_velocity
+        };
+        let angular_velocity = if self.motion == BodyMotion::Fixed {
+            Vector3::zeros()
+        } else {
+            angular_velocity
+        };
         Ok(RigidBody {
             name: self.name,
             motion: self.motion,
@@ -395,15 +451,26 @@ mod tests {
 
     #[test]
     fn builder_rejects_bad_input_naming_the_field() {
-        let e = RigidBodyBuilder::dynamic().name("box").mass(-2.0).build().unwrap_err().to_string();
+        let e = RigidBodyBuilder::dynamic()
+            .name("box")
+            .mass(-2.0)
+            .build()
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("body \"box\".mass") && e.contains("-2"), "{e}");
         let e = RigidBodyBuilder::dynamic()
             .inertia_diagonal(Vector3::new(1.0, 0.0, 1.0))
             .build()
             .unwrap_err()
             .to_string();
-        assert!(e.contains("inertia") && e.contains("positive definite"), "{e}");
-        let e = RigidBodyBuilder::dynamic().position(Vector3::new(0.0, f64::NAN, 0.0)).build().unwrap_err();
+        assert!(
+            e.contains("inertia") && e.contains("positive definite"),
+            "{e}"
+        );
+        let e = RigidBodyBuilder::dynamic()
+            .position(Vector3::new(0.0, f64::NAN, 0.0))
+            .build()
+            .unwrap_err();
         assert!(e.to_string().contains("body.position"), "{e}");
         // fixed bodies need no mass
         assert!(RigidBodyBuilder::fixed().mass(0.0).build().is_ok());
@@ -453,7 +520,10 @@ pub(crate) fn push_pair_row(
     eps: f64,
 ) -> Option<crate::descriptor::RowId> {
     use crate::descriptor::RowEntry;
-    let mut buf = [RowEntry { block: BlockId(0), coefs: &[] }; 2];
+    let mut buf = [RowEntry {
+        block: BlockId(0),
+        coefs: &[],
+    }; 2];
     let mut n = 0;
     for (body, j) in [(a, ja), (b, jb)] {
         match body.block {

@@ -62,14 +62,26 @@ pub type Result<T> = std::result::Result<T, ChronoError>;
 
 impl ChronoError {
     /// Convenience constructor for [`ChronoError::InvalidParameter`].
-    pub fn invalid(field: impl Into<String>, value: impl std::fmt::Display, reason: impl Into<String>) -> Self {
-        ChronoError::InvalidParameter { field: field.into(), value: value.to_string(), reason: reason.into() }
+    pub fn invalid(
+        field: impl Into<String>,
+        value: impl std::fmt::Display,
+        reason: impl Into<String>,
+    ) -> Self {
+        ChronoError::InvalidParameter {
+            field: field.into(),
+            value: value.to_string(),
+            reason: reason.into(),
+        }
     }
 }
 
 /// Check that `value` is finite; `field` names it in the error.
 pub fn check_finite(field: &str, value: f64) -> Result<f64> {
-    if value.is_finite() { Ok(value) } else { Err(ChronoError::invalid(field, value, "must be finite")) }
+    if value.is_finite() {
+        Ok(value)
+    } else {
+        Err(ChronoError::invalid(field, value, "must be finite"))
+    }
 }
 
 /// Check that `value` is finite and strictly positive.
@@ -86,7 +98,11 @@ pub fn check_non_negative(field: &str, value: f64) -> Result<f64> {
     if value.is_finite() && value >= 0.0 {
         Ok(value)
     } else {
-        Err(ChronoError::invalid(field, value, "must be finite and >= 0"))
+        Err(ChronoError::invalid(
+            field,
+            value,
+            "must be finite and >= 0",
+        ))
     }
 }
 
@@ -95,7 +111,11 @@ pub fn check_finite3(field: &str, v: &nalgebra::Vector3<f64>) -> Result<()> {
     if crate::math::is_finite3(v) {
         Ok(())
     } else {
-        Err(ChronoError::invalid(field, format!("[{}, {}, {}]", v.x, v.y, v.z), "must be finite"))
+        Err(ChronoError::invalid(
+            field,
+            format!("[{}, {}, {}]", v.x, v.y, v.z),
+            "must be finite",
+        ))
     }
 }
 
@@ -108,7 +128,12 @@ mod tests {
         let e = check_positive("body.mass", -1.0).unwrap_err();
         let s = e.to_string();
         assert!(s.contains("body.mass") && s.contains("-1"), "{s}");
-        assert!(check_finite("h", f64::NAN).unwrap_err().to_string().contains("NaN"));
+        assert!(
+            check_finite("h", f64::NAN)
+                .unwrap_err()
+                .to_string()
+                .contains("NaN")
+        );
         assert!(check_non_negative("mu", 0.0).is_ok());
     }
 }

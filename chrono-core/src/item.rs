@@ -40,7 +40,12 @@ pub trait PhysicsItem: Send + Sync {
     fn load_momentum(&self, ctx: &StepContext, vars: &Variables, k: &mut [f64]);
 
     /// Add the item's own rows (density, element, internal links). Default: none.
-    fn add_constraints(&mut self, _ctx: &StepContext, _vars: &Variables, _rows: &mut ConstraintRows) -> Result<()> {
+    fn add_constraints(
+        &mut self,
+        _ctx: &StepContext,
+        _vars: &Variables,
+        _rows: &mut ConstraintRows,
+    ) -> Result<()> {
         Ok(())
     }
 
@@ -48,7 +53,14 @@ pub trait PhysicsItem: Send + Sync {
     /// solution `gamma` of `problem`, and advance positions and internal state by `h`.
     /// Return [`ChronoError::NonFinite`](crate::ChronoError::NonFinite) naming the item if
     /// its state is no longer finite.
-    fn update(&mut self, ctx: &StepContext, vars: &Variables, v: &[f64], problem: &CcpProblem, gamma: &[f64]) -> Result<()>;
+    fn update(
+        &mut self,
+        ctx: &StepContext,
+        vars: &Variables,
+        v: &[f64],
+        problem: &CcpProblem,
+        gamma: &[f64],
+    ) -> Result<()>;
 }
 
 /// Anything a contact point can sit on.
@@ -59,11 +71,21 @@ pub trait Contactable {
     /// the block's ndof). A rigid body gives one block `[d; r_b x R'd]`, a particle `d`,
     /// an FE triangle its three nodes weighted by the shape functions.
     /// Returns the known part of the velocity (e.g. of a kinematic body) along each direction.
-    fn contact_jacobian(&self, p: &Vector3<f64>, dirs: &[Vector3<f64>; 3], entry: &mut dyn FnMut(BlockId, [&[f64]; 3])) -> [f64; 3];
+    fn contact_jacobian(
+        &self,
+        p: &Vector3<f64>,
+        dirs: &[Vector3<f64>; 3],
+        entry: &mut dyn FnMut(BlockId, [&[f64]; 3]),
+    ) -> [f64; 3];
 }
 
 impl Contactable for crate::body::RigidBody {
-    fn contact_jacobian(&self, p: &Vector3<f64>, dirs: &[Vector3<f64>; 3], entry: &mut dyn FnMut(BlockId, [&[f64]; 3])) -> [f64; 3] {
+    fn contact_jacobian(
+        &self,
+        p: &Vector3<f64>,
+        dirs: &[Vector3<f64>; 3],
+        entry: &mut dyn FnMut(BlockId, [&[f64]; 3]),
+    ) -> [f64; 3] {
         let j = dirs.map(|d| self.point_jacobian(p, &d));
         match self.block {
             Some(block) => {

@@ -27,14 +27,23 @@ pub struct ContactMaterial {
 
 impl Default for ContactMaterial {
     fn default() -> Self {
-        Self { friction: 0.6, restitution: 0.0, compliance: 0.0, young_modulus: 2e7, poisson_ratio: 0.3 }
+        Self {
+            friction: 0.6,
+            restitution: 0.0,
+            compliance: 0.0,
+            young_modulus: 2e7,
+            poisson_ratio: 0.3,
+        }
     }
 }
 
 impl ContactMaterial {
     /// A rigid NSC material with friction coefficient `mu`.
     pub fn with_friction(mu: f64) -> Self {
-        Self { friction: mu, ..Self::default() }
+        Self {
+            friction: mu,
+            ..Self::default()
+        }
     }
 
     /// Check every field; the error names the field and the value.
@@ -43,10 +52,18 @@ impl ContactMaterial {
         check_non_negative("material.compliance", self.compliance)?;
         check_positive("material.young_modulus", self.young_modulus)?;
         if !(self.restitution.is_finite() && (0.0..=1.0).contains(&self.restitution)) {
-            return Err(ChronoError::invalid("material.restitution", self.restitution, "must be in [0, 1]"));
+            return Err(ChronoError::invalid(
+                "material.restitution",
+                self.restitution,
+                "must be in [0, 1]",
+            ));
         }
         if !(self.poisson_ratio.is_finite() && (0.0..0.5).contains(&self.poisson_ratio)) {
-            return Err(ChronoError::invalid("material.poisson_ratio", self.poisson_ratio, "must be in [0, 0.5)"));
+            return Err(ChronoError::invalid(
+                "material.poisson_ratio",
+                self.poisson_ratio,
+                "must be in [0, 0.5)",
+            ));
         }
         Ok(())
     }
@@ -77,8 +94,16 @@ mod tests {
 
     #[test]
     fn combine_takes_min_friction_and_sums_compliance() {
-        let a = ContactMaterial { friction: 0.3, compliance: 1e-6, ..Default::default() };
-        let b = ContactMaterial { friction: 0.5, compliance: 2e-6, ..Default::default() };
+        let a = ContactMaterial {
+            friction: 0.3,
+            compliance: 1e-6,
+            ..Default::default()
+        };
+        let b = ContactMaterial {
+            friction: 0.5,
+            compliance: 2e-6,
+            ..Default::default()
+        };
         let c = a.combine(&b);
         assert_eq!(c.friction, 0.3);
         assert!((c.compliance - 3e-6).abs() < 1e-18);

@@ -14,7 +14,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::error::{ChronoError, Result, check_finite3, check_positive};
-use crate::math::{Vector3, tangent_frame};
+use crate::math::Vector3;
 
 /// A triangle mesh as `(vertices, triangles)`: positions (m) and counter-clockwise
 /// vertex index triples.
@@ -124,28 +124,55 @@ impl Shape {
             Shape::Box { half_extents } => {
                 check_positive_vec(&format!("{field}.half_extents"), half_extents)?;
             }
-            Shape::Capsule { half_length, radius } | Shape::Cylinder { half_length, radius } => {
+            Shape::Capsule {
+                half_length,
+                radius,
+            }
+            | Shape::Cylinder {
+                half_length,
+                radius,
+            } => {
                 check_positive(&format!("{field}.half_length"), *half_length)?;
                 check_positive(&format!("{field}.radius"), *radius)?;
             }
             Shape::ConvexHull { points } => validate_hull(field, points)?,
             Shape::TriMesh { vertices, indices } => validate_mesh(field, vertices, indices)?,
-            Shape::HeightField { heights, nrows, ncols, scale } => {
+            Shape::HeightField {
+                heights,
+                nrows,
+                ncols,
+                scale,
+            } => {
                 if *nrows < 2 {
-                    return Err(ChronoError::invalid(format!("{field}.nrows"), nrows, "must be >= 2"));
+                    return Err(ChronoError::invalid(
+                        format!("{field}.nrows"),
+                        nrows,
+                        "must be >= 2",
+                    ));
                 }
                 if *ncols < 2 {
-                    return Err(ChronoError::invalid(format!("{field}.ncols"), ncols, "must be >= 2"));
+                    return Err(ChronoError::invalid(
+                        format!("{field}.ncols"),
+                        ncols,
+                        "must be >= 2",
+                    ));
                 }
                 if heights.len() != nrows * ncols {
                     return Err(ChronoError::invalid(
                         format!("{field}.heights.len()"),
                         heights.len(),
-                        format!("must be nrows * ncols = {nrows} * {ncols} = {}", nrows * ncols),
+                        format!(
+                            "must be nrows * ncols = {nrows} * {ncols} = {}",
+                            nrows * ncols
+                        ),
                     ));
                 }
                 if let Some(k) = heights.iter().position(|h| !h.is_finite()) {
-                    return Err(ChronoError::invalid(format!("{field}.heights[{k}]"), heights[k], "must be finite"));
+                    return Err(ChronoError::invalid(
+                        format!("{field}.heights[{k}]"),
+                        heights[k],
+                        "must be finite",
+                    ));
                 }
                 check_positive_vec(&format!("{field}.scale"), scale)?;
             }
@@ -168,8 +195,14 @@ impl Shape {
         match self {
             Shape::Sphere { radius: r } => Some(4.0 / 3.0 * PI * r.powi(3)),
             Shape::Box { half_extents: e } => Some(8.0 * e.x * e.y * e.z),
-            Shape::Capsule { half_length: h, radius: r } => Some(PI * r * r * (2.0 * h) + 4.0 / 3.0 * PI * r.powi(3)),
-            Shape::Cylinder { half_length: h, radius: r } => Some(PI * r * r * 2.0 * h),
+            Shape::Capsule {
+                half_length: h,
+                radius: r,
+            } => Some(PI * r * r * (2.0 * h) + 4.0 / 3.0 * PI * r.powi(3)),
+            Shape::Cylinder {
+                half_length: h,
+                radius: r,
+            } => Some(PI * r * r * 2.0 * h),
             Shape::ConvexHull { .. } => crate::collision::convert::convex_hull_volume(self),
             Shape::TriMesh { .. } | Shape::HeightField { .. } | Shape::HalfSpace { .. } => None,
         }
@@ -188,11 +221,17 @@ impl Shape {
                 let (x2, y2, z2) = (e.x * e.x, e.y * e.y, e.z * e.z);
                 Some(Vector3::new(y2 + z2, x2 + z2, x2 + y2) / 3.0)
             }
-            Shape::Cylinder { half_length: h, radius: r } => {
+            Shape::Cylinder {
+                half_length: h,
+                radius: r,
+            } => {
                 let t = r * r / 4.0 + h * h / 3.0;
                 Some(Vector3::new(t, r * r / 2.0, t))
             }
-            Shape::Capsule { half_length: h, radius: r } => {
+            Shape::Capsule {
+                half_length: h,
+                radius: r,
+            } => {
                 // Mass fractions of the cylinder and of the two hemispheres (one ball).
                 let vc = 2.0 * h;
                 let vs = 4.0 / 3.0 * r;
@@ -200,7 +239,8 @@ impl Shape {
                 let axial = mc * r * r / 2.0 + ms * 0.4 * r * r;
                 // Hemispheres: 2/5 r^2 about their flat face, centroid 3r/8 from it,
                 // face at distance h from the center (parallel-axis theorem).
-                let transverse = mc * (r * r / 4.0 + h * h / 3.0) + ms * (0.4 * r * r + h * h + 0.75 * h * r);
+                let transverse =
+                    mc * (r * r / 4.0 + h * h / 3.0) + ms * (0.4 * r * r + h * h + 0.75 * h * r);
                 Some(Vector3::new(transverse, axial, transverse))
             }
             _ => None,
@@ -215,42 +255,8 @@ impl Shape {
     /// normal. Triangle meshes are returned as they are; height fields are split into two
     /// triangles per cell.
     pub fn to_trimesh(&self, subdivisions: u32, half_space_size: f64) -> Result<TriangleMesh> {
-        match self {
-            Shape::TriMesh { vertices, indices } => Ok((vertices.clone(), indices.clone())),
-            Shape::HeightField { heights, nrows, ncols, scale } => Ok(heightfield_mesh(heights, *nrows, *ncols, scale)),
-            Shape::HalfSpace { normal } => {
-                check_positive("half_space_size", half_space_size)?;
-                let n = normal.normalize();
-                let (u, w) = tangent_frame(&n);
-                let a = 0.5 * half_space_size;
-                let vertices = vec![-a * u - a * w, a * u - a * w, a * u + a * w, -a * u + a * w];
-                Ok((vertices, vec![[0, 1, 2], [0, 2, 3]]))
-            }
-            _ => crate::collision::convert::parry_trimesh(self, subdivisions.max(3)),
-        }
+        crate::collision::mesh::triangulate(self, subdivisions, half_space_size)
     }
-}
-
-/// Triangles of a height field in our Z-up layout (see [`Shape::HeightField`]).
-fn heightfield_mesh(heights: &[f64], nrows: usize, ncols: usize, scale: &Vector3<f64>) -> TriangleMesh {
-    let mut vertices = Vec::with_capacity(nrows * ncols);
-    for i in 0..nrows {
-        for j in 0..ncols {
-            let x = scale.x * (j as f64 / (ncols - 1) as f64 - 0.5);
-            let y = scale.y * (i as f64 / (nrows - 1) as f64 - 0.5);
-            vertices.push(Vector3::new(x, y, scale.z * heights[i * ncols + j]));
-        }
-    }
-    let mut indices = Vec::with_capacity(2 * (nrows - 1) * (ncols - 1));
-    let id = |i: usize, j: usize| (i * ncols + j) as u32;
-    for i in 0..nrows - 1 {
-        for j in 0..ncols - 1 {
-            // Counter-clockwise seen from +Z.
-            indices.push([id(i, j), id(i, j + 1), id(i + 1, j + 1)]);
-            indices.push([id(i, j), id(i + 1, j + 1), id(i + 1, j)]);
-        }
-    }
-    (vertices, indices)
 }
 
 fn fmt_vec(v: &Vector3<f64>) -> String {
@@ -261,7 +267,11 @@ fn check_positive_vec(field: &str, v: &Vector3<f64>) -> Result<()> {
     if v.iter().all(|c| c.is_finite() && *c > 0.0) {
         Ok(())
     } else {
-        Err(ChronoError::invalid(field, fmt_vec(v), "every component must be finite and > 0"))
+        Err(ChronoError::invalid(
+            field,
+            fmt_vec(v),
+            "every component must be finite and > 0",
+        ))
     }
 }
 
@@ -275,14 +285,22 @@ fn check_points_finite(field: &str, points: &[Vector3<f64>]) -> Result<()> {
 fn validate_hull(field: &str, points: &[Vector3<f64>]) -> Result<()> {
     let f = format!("{field}.points");
     if points.len() < 4 {
-        return Err(ChronoError::invalid(format!("{f}.len()"), points.len(), "a convex hull needs at least 4 points"));
+        return Err(ChronoError::invalid(
+            format!("{f}.len()"),
+            points.len(),
+            "a convex hull needs at least 4 points",
+        ));
     }
     check_points_finite(&f, points)?;
     // Non-degeneracy: the largest tetrahedron found greedily must have a volume that is
     // not negligible against the cube of the cloud's size.
     let p0 = points[0];
     let far = |score: &dyn Fn(&Vector3<f64>) -> f64| {
-        points.iter().copied().max_by(|a, b| score(a).total_cmp(&score(b))).unwrap_or(p0)
+        points
+            .iter()
+            .copied()
+            .max_by(|a, b| score(a).total_cmp(&score(b)))
+            .unwrap_or(p0)
     };
     let p1 = far(&|p| (p - p0).norm_squared());
     let size = (p1 - p0).norm();
@@ -303,10 +321,18 @@ fn validate_hull(field: &str, points: &[Vector3<f64>]) -> Result<()> {
 
 fn validate_mesh(field: &str, vertices: &[Vector3<f64>], indices: &[[u32; 3]]) -> Result<()> {
     if vertices.len() < 3 {
-        return Err(ChronoError::invalid(format!("{field}.vertices.len()"), vertices.len(), "a mesh needs at least 3 vertices"));
+        return Err(ChronoError::invalid(
+            format!("{field}.vertices.len()"),
+            vertices.len(),
+            "a mesh needs at least 3 vertices",
+        ));
     }
     if indices.is_empty() {
-        return Err(ChronoError::invalid(format!("{field}.indices.len()"), 0, "a mesh needs at least one triangle"));
+        return Err(ChronoError::invalid(
+            format!("{field}.indices.len()"),
+            0,
+            "a mesh needs at least one triangle",
+        ));
     }
     check_points_finite(&format!("{field}.vertices"), vertices)?;
     let n = vertices.len();
@@ -314,11 +340,19 @@ fn validate_mesh(field: &str, vertices: &[Vector3<f64>], indices: &[[u32; 3]]) -
         let f = || format!("{field}.indices[{k}]");
         let v = || format!("[{}, {}, {}]", t[0], t[1], t[2]);
         if let Some(bad) = t.iter().find(|&&i| i as usize >= n) {
-            return Err(ChronoError::invalid(f(), v(), format!("vertex index {bad} out of range ({n} vertices)")));
+            return Err(ChronoError::invalid(
+                f(),
+                v(),
+                format!("vertex index {bad} out of range ({n} vertices)"),
+            ));
         }
         let [a, b, c] = t.map(|i| vertices[i as usize]);
         if (b - a).cross(&(c - a)).norm_squared() == 0.0 {
-            return Err(ChronoError::invalid(f(), v(), "degenerate triangle (zero area)"));
+            return Err(ChronoError::invalid(
+                f(),
+                v(),
+                "degenerate triangle (zero area)",
+            ));
         }
     }
     Ok(())
@@ -329,101 +363,168 @@ mod tests {
     use super::*;
     use std::f64::consts::PI;
 
-    fn err(s: &Shape) -> String {
-        s.validate("collider.shape").unwrap_err().to_string()
+    fn sphere(radius: f64) -> Shape {
+        Shape::Sphere { radius }
+    }
+    fn cuboid(x: f64, y: f64, z: f64) -> Shape {
+        Shape::Box {
+            half_extents: Vector3::new(x, y, z),
+        }
+    }
+    fn capsule(half_length: f64, radius: f64) -> Shape {
+        Shape::Capsule {
+            half_length,
+            radius,
+        }
+    }
+    fn cylinder(half_length: f64, radius: f64) -> Shape {
+        Shape::Cylinder {
+            half_length,
+            radius,
+        }
+    }
+    fn hull(z: f64) -> Shape {
+        let p = |k: i32| {
+            Vector3::new(
+                (k & 1) as f64,
+                ((k >> 1) & 1) as f64,
+                z * ((k >> 2) & 1) as f64,
+            )
+        };
+        Shape::ConvexHull {
+            points: (0..8).map(p).collect(),
+        }
+    }
+    fn mesh(indices: Vec<[u32; 3]>) -> Shape {
+        let vertices = vec![Vector3::zeros(), Vector3::x(), Vector3::y()];
+        Shape::TriMesh { vertices, indices }
+    }
+    fn field(n: usize, scale: Vector3<f64>) -> Shape {
+        Shape::HeightField {
+            heights: vec![0.0; n],
+            nrows: 2,
+            ncols: 3,
+            scale,
+        }
+    }
+    fn plane(normal: Vector3<f64>) -> Shape {
+        Shape::HalfSpace { normal }
     }
 
     #[test]
     fn validation_names_field_and_value() {
-        let e = err(&Shape::Sphere { radius: -0.5 });
-        assert!(e.contains("collider.shape.radius") && e.contains("-0.5"), "{e}");
-        let e = err(&Shape::Box { half_extents: Vector3::new(1.0, f64::NAN, 1.0) });
-        assert!(e.contains("collider.shape.half_extents") && e.contains("NaN"), "{e}");
-        let e = err(&Shape::Capsule { half_length: 0.0, radius: 1.0 });
-        assert!(e.contains("collider.shape.half_length") && e.contains('0'), "{e}");
-        let e = err(&Shape::Cylinder { half_length: 1.0, radius: f64::INFINITY });
-        assert!(e.contains("collider.shape.radius") && e.contains("inf"), "{e}");
-        let e = err(&Shape::HalfSpace { normal: Vector3::zeros() });
-        assert!(e.contains("collider.shape.normal") && e.contains("[0, 0, 0]"), "{e}");
-        let flat = vec![Vector3::new(0.0, 0.0, 0.0), Vector3::new(1.0, 0.0, 0.0), Vector3::new(0.0, 1.0, 0.0), Vector3::new(1.0, 1.0, 0.0)];
-        let e = err(&Shape::ConvexHull { points: flat });
-        assert!(e.contains("collider.shape.points") && e.contains("coplanar"), "{e}");
-        let e = err(&Shape::ConvexHull { points: vec![Vector3::zeros(); 2] });
-        assert!(e.contains("collider.shape.points.len()") && e.contains('2'), "{e}");
-        let verts = vec![Vector3::new(0.0, 0.0, 0.0), Vector3::new(1.0, 0.0, 0.0), Vector3::new(0.0, 1.0, 0.0)];
-        let e = err(&Shape::TriMesh { vertices: verts.clone(), indices: vec![[0, 1, 2], [0, 1, 7]] });
-        assert!(e.contains("collider.shape.indices[1]") && e.contains("[0, 1, 7]") && e.contains("out of range"), "{e}");
-        let e = err(&Shape::TriMesh { vertices: verts.clone(), indices: vec![] });
-        assert!(e.contains("collider.shape.indices.len()"), "{e}");
-        let e = err(&Shape::TriMesh { vertices: verts, indices: vec![[0, 1, 1]] });
-        assert!(e.contains("collider.shape.indices[0]") && e.contains("degenerate"), "{e}");
-        let e = err(&Shape::HeightField { heights: vec![0.0; 5], nrows: 2, ncols: 3, scale: Vector3::repeat(1.0) });
-        assert!(e.contains("collider.shape.heights.len()") && e.contains('5'), "{e}");
-        let e = err(&Shape::HeightField { heights: vec![0.0; 6], nrows: 2, ncols: 3, scale: Vector3::new(1.0, -1.0, 1.0) });
-        assert!(e.contains("collider.shape.scale") && e.contains("-1"), "{e}");
-    }
-
-    #[test]
-    fn valid_shapes_pass() {
-        let cube: Vec<_> = (0..8).map(|k| Vector3::new((k & 1) as f64, ((k >> 1) & 1) as f64, ((k >> 2) & 1) as f64)).collect();
-        for s in [
-            Shape::Sphere { radius: 0.1 },
-            Shape::Box { half_extents: Vector3::new(1.0, 2.0, 3.0) },
-            Shape::Capsule { half_length: 0.5, radius: 0.1 },
-            Shape::Cylinder { half_length: 0.5, radius: 0.1 },
-            Shape::ConvexHull { points: cube },
-            Shape::HeightField { heights: vec![0.0; 6], nrows: 2, ncols: 3, scale: Vector3::repeat(1.0) },
-            Shape::HalfSpace { normal: Vector3::new(0.0, 0.0, 2.0) },
-        ] {
+        let cases: Vec<(Shape, &[&str])> = vec![
+            (sphere(-0.5), &["collider.shape.radius", "-0.5"]),
+            (
+                cuboid(1.0, f64::NAN, 1.0),
+                &["collider.shape.half_extents", "NaN"],
+            ),
+            (capsule(0.0, 1.0), &["collider.shape.half_length", "= 0"]),
+            (
+                cylinder(1.0, f64::INFINITY),
+                &["collider.shape.radius", "inf"],
+            ),
+            (
+                plane(Vector3::zeros()),
+                &["collider.shape.normal", "[0, 0, 0]"],
+            ),
+            (hull(0.0), &["collider.shape.points", "coplanar"]),
+            (
+                Shape::ConvexHull {
+                    points: vec![Vector3::zeros(); 2],
+                },
+                &["collider.shape.points.len()", "= 2"],
+            ),
+            (
+                mesh(vec![[0, 1, 2], [0, 1, 7]]),
+                &["collider.shape.indices[1]", "[0, 1, 7]", "out of range"],
+            ),
+            (mesh(vec![]), &["collider.shape.indices.len()"]),
+            (
+                mesh(vec![[0, 1, 1]]),
+                &["collider.shape.indices[0]", "degenerate"],
+            ),
+            (
+                field(5, Vector3::repeat(1.0)),
+                &["collider.shape.heights.len()", "= 5"],
+            ),
+            (
+                field(6, Vector3::new(1.0, -1.0, 1.0)),
+                &["collider.shape.scale", "-1"],
+            ),
+        ];
+        for (shape, needles) in cases {
+            let e = shape.validate("collider.shape").unwrap_err().to_string();
+            assert!(needles.iter().all(|n| e.contains(n)), "{shape:?}: {e}");
+        }
+        let valid = [
+            sphere(0.1),
+            cuboid(1.0, 2.0, 3.0),
+            capsule(0.5, 0.1),
+            cylinder(0.5, 0.1),
+            hull(1.0),
+            mesh(vec![[0, 1, 2]]),
+            field(6, Vector3::repeat(1.0)),
+            plane(Vector3::new(0.0, 0.0, 2.0)),
+        ];
+        for s in valid {
             s.validate("s").unwrap();
         }
     }
 
     #[test]
     fn volumes_match_formulas() {
-        let close = |a: f64, b: f64| (a - b).abs() <= 1e-9 * b.abs();
-        assert!(close(Shape::Sphere { radius: 2.0 }.volume().unwrap(), 32.0 / 3.0 * PI));
-        assert!(close(Shape::Box { half_extents: Vector3::new(0.5, 1.0, 1.5) }.volume().unwrap(), 6.0));
-        assert!(close(Shape::Cylinder { half_length: 1.0, radius: 0.5 }.volume().unwrap(), 0.5 * PI));
-        let cap = Shape::Capsule { half_length: 1.0, radius: 0.5 }.volume().unwrap();
-        assert!(close(cap, 0.5 * PI + 4.0 / 3.0 * PI / 8.0));
-        let cube: Vec<_> = (0..8).map(|k| Vector3::new((k & 1) as f64, ((k >> 1) & 1) as f64, 2.0 * ((k >> 2) & 1) as f64)).collect();
-        assert!(close(Shape::ConvexHull { points: cube }.volume().unwrap(), 2.0));
-        assert!(Shape::HalfSpace { normal: Vector3::z() }.volume().is_none());
+        let cases = [
+            (sphere(2.0), 32.0 / 3.0 * PI),
+            (cuboid(0.5, 1.0, 1.5), 6.0),
+            (cylinder(1.0, 0.5), 0.5 * PI),
+            (capsule(1.0, 0.5), 0.5 * PI + 4.0 / 3.0 * PI / 8.0),
+            (hull(2.0), 2.0),
+        ];
+        for (s, v) in cases {
+            let got = s.volume().unwrap();
+            assert!((got - v).abs() <= 1e-9 * v, "{s:?}: {got} != {v}");
+        }
+        assert!(plane(Vector3::z()).volume().is_none());
     }
 
     #[test]
     fn unit_inertia_matches_textbook() {
-        let close = |a: Vector3<f64>, b: Vector3<f64>| (a - b).norm() <= 1e-12 * b.norm();
-        // Solid sphere: 2/5 m r^2.
-        assert!(close(Shape::Sphere { radius: 2.0 }.unit_inertia().unwrap(), Vector3::repeat(1.6)));
-        // Box with sides a, b, c: m (b^2 + c^2) / 12 ...
         let (a, b, c) = (1.0, 2.0, 3.0);
-        let i = Shape::Box { half_extents: Vector3::new(a / 2.0, b / 2.0, c / 2.0) }.unit_inertia().unwrap();
-        assert!(close(i, Vector3::new(b * b + c * c, a * a + c * c, a * a + b * b) / 12.0), "{i:?}");
-        // Cylinder of length L along Y: axial m r^2 / 2, transverse m (3 r^2 + L^2) / 12.
         let (r, l) = (0.5, 2.0);
-        let i = Shape::Cylinder { half_length: l / 2.0, radius: r }.unit_inertia().unwrap();
         let t = (3.0 * r * r + l * l) / 12.0;
-        assert!(close(i, Vector3::new(t, r * r / 2.0, t)), "{i:?}");
-        // Capsule with a vanishing segment is a sphere; with a vanishing radius a rod.
-        let i = Shape::Capsule { half_length: 1e-9, radius: 1.0 }.unit_inertia().unwrap();
-        assert!((i - Vector3::repeat(0.4)).norm() < 1e-8, "{i:?}");
-        let i = Shape::Capsule { half_length: 1.0, radius: 1e-6 }.unit_inertia().unwrap();
-        assert!((i.x - 4.0 / 12.0).abs() < 1e-5 && i.y < 1e-11, "{i:?}");
-        assert!(Shape::HalfSpace { normal: Vector3::z() }.unit_inertia().is_none());
-    }
-
-    #[test]
-    fn heightfield_and_halfspace_meshes() {
-        let hf = Shape::HeightField { heights: vec![0.0, 1.0, 2.0, 3.0, 4.0, 5.0], nrows: 2, ncols: 3, scale: Vector3::new(4.0, 2.0, 0.5) };
-        let (v, t) = hf.to_trimesh(8, 1.0).unwrap();
-        assert_eq!((v.len(), t.len()), (6, 4));
-        // Node (1, 2): last row (y = +1), last column (x = +2), height 5 * 0.5.
-        assert!((v[5] - Vector3::new(2.0, 1.0, 2.5)).norm() < 1e-12);
-        let (v, t) = Shape::HalfSpace { normal: Vector3::new(0.0, 0.0, 3.0) }.to_trimesh(8, 20.0).unwrap();
-        let n = (v[t[0][1] as usize] - v[t[0][0] as usize]).cross(&(v[t[0][2] as usize] - v[t[0][0] as usize]));
-        assert!(n.z > 0.0 && v.iter().all(|p| p.z.abs() < 1e-12 && p.x.abs() <= 10.0 + 1e-12));
-        assert!((v[0] - v[2]).norm() > 28.0);
+        let cases = [
+            // Solid sphere: 2/5 m r^2.
+            (sphere(2.0), Vector3::repeat(1.6)),
+            // Box with sides a, b, c: m (b^2 + c^2) / 12 ...
+            (
+                cuboid(a / 2.0, b / 2.0, c / 2.0),
+                Vector3::new(b * b + c * c, a * a + c * c, a * a + b * b) / 12.0,
+            ),
+            // Cylinder of length L along Y: axial m r^2 / 2, transverse m (3 r^2 + L^2) / 12.
+            (cylinder(l / 2.0, r), Vector3::new(t, r * r / 2.0, t)),
+            // Capsule with a vanishing segment is a sphere; with a vanishing radius a rod.
+            (capsule(1e-12, 1.0), Vector3::repeat(0.4)),
+            (
+                capsule(1.0, 1e-9),
+                Vector3::new(4.0 / 12.0, 0.0, 4.0 / 12.0),
+            ),
+        ];
+        for (s, i) in cases {
+            let got = s.unit_inertia().unwrap();
+            assert!(
+                (got - i).norm() <= 1e-8 * i.norm(),
+                "{s:?}: {got:?} != {i:?}"
+            );
+        }
+        // A capsule between the two limits: cylinder + hemispheres (r = h = 1, m = 1).
+        let (mc, ms) = (2.0 / (2.0 + 4.0 / 3.0), (4.0 / 3.0) / (2.0 + 4.0 / 3.0));
+        let got = capsule(1.0, 1.0).unit_inertia().unwrap();
+        assert!((got.y - (mc / 2.0 + ms * 0.4)).abs() < 1e-12, "{got:?}");
+        assert!(
+            (got.x - (mc * (0.25 + 1.0 / 3.0) + ms * (0.4 + 1.0 + 0.75))).abs() < 1e-12,
+            "{got:?}"
+        );
+        assert!(plane(Vector3::z()).unit_inertia().is_none());
     }
 }

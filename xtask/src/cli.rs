@@ -11,7 +11,7 @@ use crate::runner::{self, RunOptions};
 
 /// `cargo xtask`: validation runs, benches and reports for chrono-rs.
 #[derive(Debug, Parser)]
-#[command(name = "cargo xtask", version, about)]
+#[command(name = "cargo xtask", bin_name = "cargo xtask", version, about)]
 pub struct Cli {
     /// The command to run.
     #[command(subcommand)]
@@ -104,7 +104,7 @@ fn describe(out: &mut String, case: &dyn Case) {
     use std::fmt::Write as _;
     let _ = writeln!(
         out,
-        "  {}  [{}]\n    {}",
+        "\n  {}  [{}]\n    {}",
         case.name(),
         case.area(),
         case.description()

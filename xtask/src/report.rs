@@ -14,6 +14,12 @@ use crate::runner::CaseResult;
 
 /// A number for tables: about 6 significant digits, scientific when very large or small.
 pub fn fmt_num(v: f64) -> String {
+    fmt_sig(v, 6)
+}
+
+/// A number with at most `sig` significant digits (4 in scientific notation, used when
+/// `|v|` is below 1e-3 or from 1e6 up), trailing zeros removed.
+pub fn fmt_sig(v: f64, sig: usize) -> String {
     if v.is_nan() {
         return "NaN".into();
     }
@@ -24,16 +30,21 @@ pub fn fmt_num(v: f64) -> String {
     if a == 0.0 {
         return "0".into();
     }
+    let trim = |m: &str| -> String {
+        if m.contains('.') {
+            m.trim_end_matches('0').trim_end_matches('.').to_string()
+        } else {
+            m.to_string()
+        }
+    };
+    let sig = sig.max(1);
     if !(1e-3..1e6).contains(&a) {
-        return format!("{v:.3e}");
+        let s = format!("{v:.*e}", (sig - 1).min(3));
+        let (mantissa, exp) = s.split_once('e').expect("scientific format");
+        return format!("{}e{exp}", trim(mantissa));
     }
-    let decimals = (5 - a.log10().floor() as i32).clamp(0, 9) as usize;
-    let s = format!("{v:.decimals$}");
-    if s.contains('.') {
-        s.trim_end_matches('0').trim_end_matches('.').to_string()
-    } else {
-        s
-    }
+    let decimals = (sig as i32 - 1 - a.log10().floor() as i32).clamp(0, 9) as usize;
+    trim(&format!("{v:.decimals$}"))
 }
 
 /// A JSON number, or `null` when not finite.
@@ -144,8 +155,8 @@ fn pass_text(pass: bool) -> &'static str {
 pub fn table_rows(results: &[CaseResult]) -> Vec<[String; 9]> {
     let mut rows = Vec::new();
     for r in results {
-        let wall = fmt_num(r.wall_s);
-        let rate = r.steps_per_s().map_or("-".into(), fmt_num);
+        let wall = fmt_sig(r.wall_s, 3);
+        let rate = r.steps_per_s().map_or("-".into(), |v| fmt_sig(v, 3));
         for c in r.checks() {
             let (err, tol) = err_tol(c);
             let reference = match c.kind {
@@ -203,7 +214,7 @@ pub fn write_report_md(dir: &Path, title: &str, results: &[CaseResult]) -> anyho
         md,
         "Mode `{mode}` · cases: {} · checks: {checks} · failed cases: {failed} · run time: {} s\n",
         results.len(),
-        fmt_num(wall)
+        fmt_sig(wall, 3)
     )?;
     writeln!(
         md,
@@ -327,7 +338,11 @@ mod tests {
         assert_eq!(fmt_num(0.25), "0.25");
         assert_eq!(fmt_num(123456.7), "123457");
         assert_eq!(fmt_num(1.0 / 3.0), "0.333333");
-        assert_eq!(fmt_num(2.5e-7), "2.500e-7");
+        assert_eq!(fmt_num(2.5e-7), "2.5e-7");
+        assert_eq!(fmt_num(1.23456e9), "1.235e9");
+        assert_eq!(fmt_sig(0.00644603, 3), "0.00645");
+        assert_eq!(fmt_sig(213519.0, 3), "213519");
+        assert_eq!(fmt_sig(1.334e6, 3), "1.33e6");
         assert_eq!(fmt_num(f64::NAN), "NaN");
         assert_eq!(fmt_num(f64::NEG_INFINITY), "-inf");
         assert_eq!(json_num(f64::NAN), Value::Null);

@@ -246,10 +246,10 @@ fn finished_line(label: &str, r: &CaseResult) -> String {
     let mut line = format!(
         "{label}  {}  {} s",
         if r.passed() { "PASS" } else { "FAIL" },
-        report::fmt_num(r.wall_s)
+        report::fmt_sig(r.wall_s, 3)
     );
     if let Some(rate) = r.steps_per_s() {
-        line += &format!("  {} steps/s", report::fmt_num(rate));
+        line += &format!("  {} steps/s", report::fmt_sig(rate, 3));
     }
     let failed = r.checks().iter().filter(|c| !c.pass).count();
     if failed > 0 {

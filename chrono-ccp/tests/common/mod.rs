@@ -2,7 +2,9 @@
 //! through chrono-core's public descriptor API, as a physics item would.
 #![allow(dead_code)]
 
-use chrono_core::descriptor::{BlockId, CcpProblem, CcpWork, ConstraintRows, MassOperator, RowEntry, Variables};
+use chrono_core::descriptor::{
+    BlockId, CcpProblem, CcpWork, ConstraintRows, MassOperator, RowEntry, Variables,
+};
 use chrono_core::math::{Matrix3, Vector3};
 use nalgebra::DMatrix;
 
@@ -65,7 +67,12 @@ pub fn gradient(problem: &CcpProblem, gamma: &[f64]) -> Vec<f64> {
 /// The objective `1/2 g'N g + r'g`.
 pub fn objective(problem: &CcpProblem, gamma: &[f64]) -> f64 {
     let c = gradient(problem, gamma);
-    gamma.iter().zip(&c).zip(problem.r()).map(|((g, c), r)| 0.5 * g * (c + r)).sum()
+    gamma
+        .iter()
+        .zip(&c)
+        .zip(problem.r())
+        .map(|((g, c), r)| 0.5 * g * (c + r))
+        .sum()
 }
 
 /// The common residual of `gamma`.
@@ -83,19 +90,28 @@ pub fn check_complementarity(problem: &CcpProblem, gamma: &[f64], tol: f64) -> R
     let (lo, hi) = problem.box_bounds();
     for i in 0..problem.n_rows() {
         if !gamma[i].is_finite() || !c[i].is_finite() {
-            return Err(format!("row {i}: non-finite g = {} or c = {}", gamma[i], c[i]));
+            return Err(format!(
+                "row {i}: non-finite g = {} or c = {}",
+                gamma[i], c[i]
+            ));
         }
     }
     for i in s.bilateral.clone() {
         if c[i].abs() > tol {
-            return Err(format!("bilateral row {i}: |c| = {:e} > {tol:e}", c[i].abs()));
+            return Err(format!(
+                "bilateral row {i}: |c| = {:e} > {tol:e}",
+                c[i].abs()
+            ));
         }
     }
     for i in s.boxed.clone() {
         let k = i - s.boxed.start;
         let (g, tg) = (gamma[i], tol * problem.residual_scale(i));
         if g < lo[k] || g > hi[k] {
-            return Err(format!("box row {i}: g = {g} outside [{}, {}]", lo[k], hi[k]));
+            return Err(format!(
+                "box row {i}: g = {g} outside [{}, {}]",
+                lo[k], hi[k]
+            ));
         }
         let (at_lo, at_hi) = (g - lo[k] <= tg, hi[k] - g <= tg);
         let ok = match (at_lo, at_hi) {
@@ -105,7 +121,10 @@ pub fn check_complementarity(problem: &CcpProblem, gamma: &[f64], tol: f64) -> R
             (false, false) => c[i].abs() <= tol,
         };
         if !ok {
-            return Err(format!("box row {i}: g = {g} in [{}, {}] with c = {:e}", lo[k], hi[k], c[i]));
+            return Err(format!(
+                "box row {i}: g = {g} in [{}, {}] with c = {:e}",
+                lo[k], hi[k], c[i]
+            ));
         }
     }
     for i in s.unilateral.clone() {
@@ -117,26 +136,40 @@ pub fn check_complementarity(problem: &CcpProblem, gamma: &[f64], tol: f64) -> R
             return Err(format!("unilateral row {i}: c = {:e} < -{tol:e}", c[i]));
         }
         if (g * c[i]).abs() > tol * (g + sc * c[i].abs() + sc * tol) {
-            return Err(format!("unilateral row {i}: g c = {:e} (g = {g:e}, c = {:e})", g * c[i], c[i]));
+            return Err(format!(
+                "unilateral row {i}: g c = {:e} (g = {g:e}, c = {:e})",
+                g * c[i],
+                c[i]
+            ));
         }
     }
     for (k, t) in s.friction.clone().step_by(3).enumerate() {
         let mu = problem.friction_mu()[k];
         let (gn, gt) = (gamma[t], gamma[t + 1].hypot(gamma[t + 2]));
         if gn < 0.0 || gt > mu * gn * (1.0 + 1e-12) + 1e-300 {
-            return Err(format!("triplet {t}: g = {:?} outside the cone mu = {mu}", &gamma[t..t + 3]));
+            return Err(format!(
+                "triplet {t}: g = {:?} outside the cone mu = {mu}",
+                &gamma[t..t + 3]
+            ));
         }
         let (cn, ct) = (c[t], c[t + 1].hypot(c[t + 2]));
         // -c in the polar cone  <=>  mu |c_t| <= c_n
         if mu * ct - cn > tol * (1.0 + mu) {
-            return Err(format!("triplet {t}: -c = {:?} not in the polar cone (mu = {mu})", &c[t..t + 3]));
+            return Err(format!(
+                "triplet {t}: -c = {:?} not in the polar cone (mu = {mu})",
+                &c[t..t + 3]
+            ));
         }
         let sc = problem.residual_scale(t);
         let gc: f64 = (0..3).map(|j| gamma[t + j] * c[t + j]).sum();
         let gnorm = (gn * gn + gt * gt).sqrt();
         let cnorm = (cn * cn + ct * ct).sqrt();
         if gc.abs() > 2.0 * tol * (gnorm + sc * cnorm + sc * tol) {
-            return Err(format!("triplet {t}: g'c = {gc:e} (g = {:?}, c = {:?})", &gamma[t..t + 3], &c[t..t + 3]));
+            return Err(format!(
+                "triplet {t}: g'c = {gc:e} (g = {:?}, c = {:?})",
+                &gamma[t..t + 3],
+                &c[t..t + 3]
+            ));
         }
     }
     Ok(())
@@ -148,9 +181,18 @@ pub fn particle_on_ground(m: f64, mu: f64, v: [f64; 3], h: f64) -> CcpProblem {
     let mut vars = Variables::new();
     let p = vars.add(MassOperator::particle(m).unwrap());
     let mut rows = ConstraintRows::new();
-    let n = [RowEntry { block: p, coefs: &[0.0, 0.0, 1.0] }];
-    let u = [RowEntry { block: p, coefs: &[1.0, 0.0, 0.0] }];
-    let w = [RowEntry { block: p, coefs: &[0.0, 1.0, 0.0] }];
+    let n = [RowEntry {
+        block: p,
+        coefs: &[0.0, 0.0, 1.0],
+    }];
+    let u = [RowEntry {
+        block: p,
+        coefs: &[1.0, 0.0, 0.0],
+    }];
+    let w = [RowEntry {
+        block: p,
+        coefs: &[0.0, 1.0, 0.0],
+    }];
     rows.push_friction(mu, [&n, &u, &w], [0.0; 3], [0.0; 3]);
     let k = [m * v[0], m * v[1], m * (v[2] - G * h)];
     let mut problem = CcpProblem::new();
@@ -186,9 +228,15 @@ pub fn box_stack_ratio(levels: usize, ratio: f64, mu: f64, h: f64) -> CcpProblem
             let up: Vec<[f64; 6]> = dirs.iter().map(|d| rigid_coefs(r_up, *d)).collect();
             let down: Vec<[f64; 6]> = dirs.iter().map(|d| rigid_coefs(r_down, -d)).collect();
             let row = |j: usize| {
-                let mut e = vec![RowEntry { block: ids[level], coefs: &up[j] }];
+                let mut e = vec![RowEntry {
+                    block: ids[level],
+                    coefs: &up[j],
+                }];
                 if level > 0 {
-                    e.push(RowEntry { block: ids[level - 1], coefs: &down[j] });
+                    e.push(RowEntry {
+                        block: ids[level - 1],
+                        coefs: &down[j],
+                    });
                 }
                 e
             };
@@ -234,7 +282,11 @@ pub fn random_problem(seed: u64) -> CcpProblem {
         }
     }
     let counts = [rng.int(0, 2), rng.int(0, 2), rng.int(0, 3), rng.int(0, 3)];
-    let counts = if counts.iter().all(|&c| c == 0) { [0, 0, 1, 1] } else { counts };
+    let counts = if counts.iter().all(|&c| c == 0) {
+        [0, 0, 1, 1]
+    } else {
+        counts
+    };
     let row = |rng: &mut Rng| -> Vec<(BlockId, Vec<f64>)> {
         let first = rng.int(0, nb - 1);
         let mut blocks = vec![first];
@@ -262,7 +314,15 @@ pub fn random_problem(seed: u64) -> CcpProblem {
             spec_rows.push((group, e, b, lo, hi));
         }
     }
-    let mus: Vec<f64> = (0..counts[3]).map(|_| if rng.int(0, 5) == 0 { 0.0 } else { rng.uniform(0.0, 1.0) }).collect();
+    let mus: Vec<f64> = (0..counts[3])
+        .map(|_| {
+            if rng.int(0, 5) == 0 {
+                0.0
+            } else {
+                rng.uniform(0.0, 1.0)
+            }
+        })
+        .collect();
     let k: Vec<f64> = (0..vars.ndof()).map(|_| rng.uniform(-1.0, 1.0)).collect();
     let force_eps = rng.int(0, 2) == 0;
     let eps_frac = rng.uniform(0.01, 0.1);
@@ -270,7 +330,12 @@ pub fn random_problem(seed: u64) -> CcpProblem {
     let build = |eps: f64| {
         let mut rows = ConstraintRows::new();
         fn entries(e: &[(BlockId, Vec<f64>)]) -> Vec<RowEntry<'_>> {
-            e.iter().map(|(b, c)| RowEntry { block: *b, coefs: c }).collect()
+            e.iter()
+                .map(|(b, c)| RowEntry {
+                    block: *b,
+                    coefs: c,
+                })
+                .collect()
         }
         let mut t = 0;
         let mut i = 0;
@@ -289,7 +354,12 @@ pub fn random_problem(seed: u64) -> CcpProblem {
                 _ => {
                     let (e1, e2) = (&spec_rows[i + 1].1, &spec_rows[i + 2].1);
                     let bs = [*b, spec_rows[i + 1].2, spec_rows[i + 2].2];
-                    rows.push_friction(mus[t], [&entries(e), &entries(e1), &entries(e2)], bs, [eps; 3]);
+                    rows.push_friction(
+                        mus[t],
+                        [&entries(e), &entries(e1), &entries(e2)],
+                        bs,
+                        [eps; 3],
+                    );
                     t += 1;
                     i += 2;
                 }
@@ -305,5 +375,107 @@ pub fn random_problem(seed: u64) -> CcpProblem {
     let mean_diag = p.diag().iter().sum::<f64>() / p.n_rows() as f64;
     let eig = n.symmetric_eigenvalues();
     let (lmin, lmax) = (eig.min(), eig.max());
-    if force_eps || lmin < 1e-3 * lmax { build(eps_frac * mean_diag) } else { p }
+    if force_eps || lmin < 1e-3 * lmax {
+        build(eps_frac * mean_diag)
+    } else {
+        p
+    }
+}
+
+/// Particles on a lattice (spacing 1), frictional contacts between lattice neighbours and
+/// with the ground, random small gaps `b` and random velocities.
+pub fn lattice(nx: usize, ny: usize, nz: usize, seed: u64) -> CcpProblem {
+    let mut rng = Rng(seed);
+    let mut vars = Variables::new();
+    let idx = |x: usize, y: usize, z: usize| (z * ny + y) * nx + x;
+    let mut ids = Vec::new();
+    for _ in 0..nx * ny * nz {
+        ids.push(vars.add(MassOperator::particle(rng.uniform(0.5, 1.5)).unwrap()));
+    }
+    let axes: [[f64; 3]; 3] = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+    let neg = |a: [f64; 3]| [-a[0], -a[1], -a[2]];
+    let frame = |a: usize| (axes[a], axes[(a + 1) % 3], axes[(a + 2) % 3]);
+    let mut rows = ConstraintRows::new();
+    for z in 0..nz {
+        for y in 0..ny {
+            for x in 0..nx {
+                let i = ids[idx(x, y, z)];
+                let gap = |rng: &mut Rng| rng.uniform(-0.01, 0.01);
+                if z == 0 {
+                    let (n, u, w) = frame(2);
+                    let rn = [RowEntry {
+                        block: i,
+                        coefs: &n,
+                    }];
+                    let ru = [RowEntry {
+                        block: i,
+                        coefs: &u,
+                    }];
+                    let rw = [RowEntry {
+                        block: i,
+                        coefs: &w,
+                    }];
+                    rows.push_friction(0.5, [&rn, &ru, &rw], [gap(&mut rng), 0.0, 0.0], [0.0; 3]);
+                }
+                for (a, (dx, dy, dz)) in [(1, 0, 0), (0, 1, 0), (0, 0, 1)].into_iter().enumerate() {
+                    let (x2, y2, z2) = (x + dx, y + dy, z + dz);
+                    if x2 >= nx || y2 >= ny || z2 >= nz {
+                        continue;
+                    }
+                    let j = ids[idx(x2, y2, z2)];
+                    let (n, u, w) = frame(a);
+                    let (nn, nu, nw) = (neg(n), neg(u), neg(w));
+                    let rn = [
+                        RowEntry {
+                            block: j,
+                            coefs: &n,
+                        },
+                        RowEntry {
+                            block: i,
+                            coefs: &nn,
+                        },
+                    ];
+                    let ru = [
+                        RowEntry {
+                            block: j,
+                            coefs: &u,
+                        },
+                        RowEntry {
+                            block: i,
+                            coefs: &nu,
+                        },
+                    ];
+                    let rw = [
+                        RowEntry {
+                            block: j,
+                            coefs: &w,
+                        },
+                        RowEntry {
+                            block: i,
+                            coefs: &nw,
+                        },
+                    ];
+                    rows.push_friction(
+                        0.3,
+                        [&rn, &ru, &rw],
+                        [gap(&mut rng), 0.0, 0.0],
+                        [0.0, 1e-6, 1e-6],
+                    );
+                }
+            }
+        }
+    }
+    let mut k = vec![0.0; vars.ndof()];
+    for (p, kp) in k.chunks_mut(3).enumerate() {
+        let m = match vars.mass(ids[p]) {
+            MassOperator::Particle { mass } => *mass,
+            _ => unreachable!(),
+        };
+        kp[0] = m * rng.uniform(-0.1, 0.1);
+        kp[1] = m * rng.uniform(-0.1, 0.1);
+        kp[2] = m * (rng.uniform(-0.1, 0.1) - G * 0.01);
+    }
+    let mut problem = CcpProblem::new();
+    problem.assemble(&vars, &rows, &k).unwrap();
+    problem
 }

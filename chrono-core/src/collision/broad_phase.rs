@@ -42,7 +42,8 @@ impl Bound {
 pub(crate) fn bounds_overlap(a: &Bound, b: &Bound) -> bool {
     match (a, b) {
         (Bound::Box(a), Bound::Box(b)) => a.intersects(b),
-        (Bound::Box(bx), Bound::HalfSpace { origin, normal }) | (Bound::HalfSpace { origin, normal }, Bound::Box(bx)) => {
+        (Bound::Box(bx), Bound::HalfSpace { origin, normal })
+        | (Bound::HalfSpace { origin, normal }, Bound::Box(bx)) => {
             // The corner of the box deepest along -normal.
             let corner = Vector::select(normal.cmpgt(Vector::ZERO), bx.mins, bx.maxs);
             (corner - *origin).dot(*normal) <= 0.0
@@ -70,7 +71,10 @@ impl SweepAndPrune {
         let n = bounds.len();
         // Axis of largest spread of the finite box centers (serial sums: deterministic).
         let (mut count, mut sum, mut sum2) = (0.0, Vector::ZERO, Vector::ZERO);
-        let (mut lo, mut hi) = (Vector::splat(f64::INFINITY), Vector::splat(f64::NEG_INFINITY));
+        let (mut lo, mut hi) = (
+            Vector::splat(f64::INFINITY),
+            Vector::splat(f64::NEG_INFINITY),
+        );
         for b in bounds.iter().filter_map(Bound::finite_box) {
             let c = b.center();
             count += 1.0;
@@ -79,7 +83,11 @@ impl SweepAndPrune {
             lo = lo.min(b.mins);
             hi = hi.max(b.maxs);
         }
-        let var = if count > 0.0 { sum2 / count - (sum / count) * (sum / count) } else { Vector::ZERO };
+        let var = if count > 0.0 {
+            sum2 / count - (sum / count) * (sum / count)
+        } else {
+            Vector::ZERO
+        };
         let axis = if var.x >= var.y && var.x >= var.z {
             0
         } else if var.y >= var.z {
@@ -104,22 +112,29 @@ impl SweepAndPrune {
         }
         // Keep the previous order of the swept proxies, drop the stale ones, add new ones.
         let is_large = &self.is_large;
-        self.order.retain(|&i| (i as usize) < n && !is_large[i as usize]);
+        self.order
+            .retain(|&i| (i as usize) < n && !is_large[i as usize]);
         if self.order.len() + self.large.len() != n {
             self.order.clear();
-            self.order.extend((0..n as u32).filter(|&i| !is_large[i as usize]));
+            self.order
+                .extend((0..n as u32).filter(|&i| !is_large[i as usize]));
         }
         let mins = |i: u32| match &bounds[i as usize] {
             Bound::Box(b) => b.mins[axis],
             Bound::HalfSpace { .. } => f64::NEG_INFINITY,
         };
-        self.order.sort_unstable_by(|&i, &j| mins(i).total_cmp(&mins(j)).then(i.cmp(&j)));
+        self.order
+            .sort_unstable_by(|&i, &j| mins(i).total_cmp(&mins(j)).then(i.cmp(&j)));
 
         // Sweep.
         for (k, &i) in self.order.iter().enumerate() {
-            let Bound::Box(bi) = &bounds[i as usize] else { continue };
+            let Bound::Box(bi) = &bounds[i as usize] else {
+                continue;
+            };
             for &j in &self.order[k + 1..] {
-                let Bound::Box(bj) = &bounds[j as usize] else { continue };
+                let Bound::Box(bj) = &bounds[j as usize] else {
+                    continue;
+                };
                 if bj.mins[axis] > bi.maxs[axis] {
                     break;
                 }
@@ -161,14 +176,21 @@ mod tests {
     }
 
     fn boxes_strategy() -> impl Strategy<Value = Vec<Bound>> {
-        let one = (prop::array::uniform3(-10.0..10.0f64), prop::array::uniform3(0.01..2.0f64), 0..20u32);
+        let one = (
+            prop::array::uniform3(-10.0..10.0f64),
+            prop::array::uniform3(0.01..2.0f64),
+            0..20u32,
+        );
         prop::collection::vec(one, 0..80).prop_map(|v| {
             v.into_iter()
                 .map(|(c, h, kind)| {
                     let (c, h) = (Vector::from_array(c), Vector::from_array(h));
                     match kind {
                         // A few half-spaces and a few very large boxes.
-                        0 => Bound::HalfSpace { origin: c, normal: (h - Vector::splat(1.0)).normalize_or(Vector::Z) },
+                        0 => Bound::HalfSpace {
+                            origin: c,
+                            normal: (h - Vector::splat(1.0)).normalize_or(Vector::Z),
+                        },
                         1 => Bound::Box(Aabb::new(c - h * 10.0, c + h * 10.0)),
                         _ => Bound::Box(Aabb::new(c - h, c + h)),
                     }
@@ -196,9 +218,18 @@ mod tests {
 
     #[test]
     fn halfspace_bound_test() {
-        let plane = Bound::HalfSpace { origin: Vector::ZERO, normal: Vector::Z };
-        let above = Bound::Box(Aabb::new(Vector::new(0.0, 0.0, 0.1), Vector::new(1.0, 1.0, 1.0)));
-        let touching = Bound::Box(Aabb::new(Vector::new(0.0, 0.0, -0.1), Vector::new(1.0, 1.0, 1.0)));
+        let plane = Bound::HalfSpace {
+            origin: Vector::ZERO,
+            normal: Vector::Z,
+        };
+        let above = Bound::Box(Aabb::new(
+            Vector::new(0.0, 0.0, 0.1),
+            Vector::new(1.0, 1.0, 1.0),
+        ));
+        let touching = Bound::Box(Aabb::new(
+            Vector::new(0.0, 0.0, -0.1),
+            Vector::new(1.0, 1.0, 1.0),
+        ));
         assert!(!bounds_overlap(&plane, &above));
         assert!(bounds_overlap(&touching, &plane));
     }

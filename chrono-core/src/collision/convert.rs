@@ -62,14 +62,37 @@ pub(crate) fn to_parry(shape: &Shape, field: &str) -> Result<ParryShape> {
     let s = match shape {
         Shape::Sphere { radius } => SharedShape::ball(*radius),
         Shape::Box { half_extents: e } => SharedShape::cuboid(e.x, e.y, e.z),
-        Shape::Capsule { half_length, radius } => SharedShape::capsule_y(*half_length, *radius),
-        Shape::Cylinder { half_length, radius } => SharedShape::cylinder(*half_length, *radius),
-        Shape::ConvexHull { points } => SharedShape::convex_hull(&points_to_glam(points)).ok_or_else(|| {
-            ChronoError::invalid(format!("{field}.points"), points.len(), "parry could not build a convex hull")
-        })?,
-        Shape::TriMesh { vertices, indices } => SharedShape::trimesh(points_to_glam(vertices), indices.clone())
-            .map_err(|e| ChronoError::invalid(format!("{field}.indices"), indices.len(), format!("parry rejected the mesh: {e:?}")))?,
-        Shape::HeightField { heights, nrows, ncols, scale } => {
+        Shape::Capsule {
+            half_length,
+            radius,
+        } => SharedShape::capsule_y(*half_length, *radius),
+        Shape::Cylinder {
+            half_length,
+            radius,
+        } => SharedShape::cylinder(*half_length, *radius),
+        Shape::ConvexHull { points } => SharedShape::convex_hull(&points_to_glam(points))
+            .ok_or_else(|| {
+                ChronoError::invalid(
+                    format!("{field}.points"),
+                    points.len(),
+                    "parry could not build a convex hull",
+                )
+            })?,
+        Shape::TriMesh { vertices, indices } => {
+            SharedShape::trimesh(points_to_glam(vertices), indices.clone()).map_err(|e| {
+                ChronoError::invalid(
+                    format!("{field}.indices"),
+                    indices.len(),
+                    format!("parry rejected the mesh: {e:?}"),
+                )
+            })?
+        }
+        Shape::HeightField {
+            heights,
+            nrows,
+            ncols,
+            scale,
+        } => {
             // Parry: rows along its +Z (= our -Y), columns along X, heights along its Y.
             let (nr, nc) = (*nrows, *ncols);
             let array = Array2::from_fn(nr, nc, |i, j| heights[(nr - 1 - i) * nc + j]);
@@ -84,17 +107,35 @@ pub(crate) fn to_parry(shape: &Shape, field: &str) -> Result<ParryShape> {
 /// Triangulate a sphere, box, capsule, cylinder or convex hull with parry's `to_trimesh`.
 pub(crate) fn parry_trimesh(shape: &Shape, subdivisions: u32) -> Result<TriangleMesh> {
     let (v, i) = match shape {
-        Shape::Sphere { radius } => Ball::new(*radius).to_trimesh(subdivisions, subdivisions.div_ceil(2)),
+        Shape::Sphere { radius } => {
+            Ball::new(*radius).to_trimesh(subdivisions, subdivisions.div_ceil(2))
+        }
         Shape::Box { half_extents } => Cuboid::new(vec_to_glam(half_extents)).to_trimesh(),
-        Shape::Capsule { half_length, radius } => {
+        Shape::Capsule {
+            half_length,
+            radius,
+        } => {
             Capsule::new_y(*half_length, *radius).to_trimesh(subdivisions, subdivisions.div_ceil(2))
         }
-        Shape::Cylinder { half_length, radius } => Cylinder::new(*half_length, *radius).to_trimesh(subdivisions),
+        Shape::Cylinder {
+            half_length,
+            radius,
+        } => Cylinder::new(*half_length, *radius).to_trimesh(subdivisions),
         Shape::ConvexHull { points } => ConvexPolyhedron::from_convex_hull(&points_to_glam(points))
-            .ok_or_else(|| ChronoError::invalid("shape.points", points.len(), "parry could not build a convex hull"))?
+            .ok_or_else(|| {
+                ChronoError::invalid(
+                    "shape.points",
+                    points.len(),
+                    "parry could not build a convex hull",
+                )
+            })?
             .to_trimesh(),
         other => {
-            return Err(ChronoError::invalid("shape", other.kind_name(), "not triangulated by parry"));
+            return Err(ChronoError::invalid(
+                "shape",
+                other.kind_name(),
+                "not triangulated by parry",
+            ));
         }
     };
     Ok((v.into_iter().map(vec_from_glam).collect(), i))

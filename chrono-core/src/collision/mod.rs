@@ -23,10 +23,12 @@
 //! - `broad_phase`: sort-and-sweep of bounding boxes, half-spaces kept apart.
 //! - `narrow_phase`: per-pair persistent state, analytic sphere fast paths, parry manifolds.
 //! - `world`: [`CollisionWorld`] and [`Collider`].
+//! - `mesh`: triangulation of shapes for visualization.
 
 mod broad_phase;
 mod contact;
 pub(crate) mod convert;
+pub(crate) mod mesh;
 mod narrow_phase;
 mod world;
 

@@ -11,7 +11,10 @@
 //! coincide (two equal boxes stacked exactly).
 
 use parry3d_f64::math::{Pose, Vector};
-use parry3d_f64::query::{self, ContactManifold, ContactManifoldsWorkspace, DefaultQueryDispatcher, PersistentQueryDispatcher};
+use parry3d_f64::query::{
+    self, ContactManifold, ContactManifoldsWorkspace, DefaultQueryDispatcher,
+    PersistentQueryDispatcher,
+};
 use parry3d_f64::shape::PackedFeatureId;
 
 use super::contact::{ColliderId, ContactKey, ContactPoint};
@@ -43,8 +46,12 @@ impl PairKind {
     pub(crate) fn of(a: &ColliderKind, b: &ColliderKind) -> PairKind {
         match (a, b) {
             (ColliderKind::Sphere { .. }, ColliderKind::Sphere { .. }) => PairKind::SphereSphere,
-            (ColliderKind::Sphere { .. }, ColliderKind::HalfSpace { .. }) => PairKind::SphereHalfSpace { sphere_is_a: true },
-            (ColliderKind::HalfSpace { .. }, ColliderKind::Sphere { .. }) => PairKind::SphereHalfSpace { sphere_is_a: false },
+            (ColliderKind::Sphere { .. }, ColliderKind::HalfSpace { .. }) => {
+                PairKind::SphereHalfSpace { sphere_is_a: true }
+            }
+            (ColliderKind::HalfSpace { .. }, ColliderKind::Sphere { .. }) => {
+                PairKind::SphereHalfSpace { sphere_is_a: false }
+            }
             _ => PairKind::Manifolds,
         }
     }
@@ -71,7 +78,15 @@ pub(crate) struct PairState {
 impl PairState {
     /// A fresh state for the pair `(a, b)`.
     pub(crate) fn new(a: u32, b: u32, kind: PairKind) -> Self {
-        Self { a, b, kind, manifolds: Vec::new(), workspace: None, contacts: Vec::new(), error: None }
+        Self {
+            a,
+            b,
+            kind,
+            manifolds: Vec::new(),
+            workspace: None,
+            contacts: Vec::new(),
+            error: None,
+        }
     }
 
     /// Forget the pair (keeps the buffers' capacity for reuse by another pair).
@@ -92,10 +107,19 @@ impl PairState {
         self.error = None;
         let (ca, cb) = (&colliders[self.a as usize], &colliders[self.b as usize]);
         let (pa, pb) = (&poses[self.a as usize], &poses[self.b as usize]);
-        let out = Output { a: self.a, b: self.b, ca, cb, envelope, material: ca.material().combine(&cb.material()) };
+        let out = Output {
+            a: self.a,
+            b: self.b,
+            ca,
+            cb,
+            envelope,
+            material: ca.material().combine(&cb.material()),
+        };
         match self.kind {
             PairKind::SphereSphere => {
-                let (ColliderKind::Sphere { radius: ra }, ColliderKind::Sphere { radius: rb }) = (&ca.kind, &cb.kind) else {
+                let (ColliderKind::Sphere { radius: ra }, ColliderKind::Sphere { radius: rb }) =
+                    (&ca.kind, &cb.kind)
+                else {
                     unreachable!("pair kind matches collider kinds")
                 };
                 let delta = pb.translation - pa.translation;
@@ -106,8 +130,14 @@ impl PairState {
                 out.push(&mut self.contacts, p1, p2, n, FACE0, FACE0);
             }
             PairKind::SphereHalfSpace { sphere_is_a } => {
-                let (sphere, plane, ps, ph) = if sphere_is_a { (ca, cb, pa, pb) } else { (cb, ca, pb, pa) };
-                let (ColliderKind::Sphere { radius }, ColliderKind::HalfSpace { normal }) = (&sphere.kind, &plane.kind) else {
+                let (sphere, plane, ps, ph) = if sphere_is_a {
+                    (ca, cb, pa, pb)
+                } else {
+                    (cb, ca, pb, pa)
+                };
+                let (ColliderKind::Sphere { radius }, ColliderKind::HalfSpace { normal }) =
+                    (&sphere.kind, &plane.kind)
+                else {
                     unreachable!("pair kind matches collider kinds")
                 };
                 let n = ph.rotation * *normal;
@@ -124,7 +154,14 @@ impl PairState {
             PairKind::Manifolds => {
                 let pos12 = pa.inv_mul(pb);
                 let (sa, sb) = (ca.parry.as_ref(), cb.parry.as_ref());
-                let res = DefaultQueryDispatcher.contact_manifolds(&pos12, sa, sb, envelope, &mut self.manifolds, &mut self.workspace);
+                let res = DefaultQueryDispatcher.contact_manifolds(
+                    &pos12,
+                    sa,
+                    sb,
+                    envelope,
+                    &mut self.manifolds,
+                    &mut self.workspace,
+                );
                 match res {
                     Ok(()) => {
                         for m in &self.manifolds {
@@ -138,8 +175,10 @@ impl PairState {
                                 // equal boxes stacked: keep the first of coincident points.
                                 let (p1, p2) = (wa * c.local_p1, wb * c.local_p2);
                                 let dup = self.contacts[first..].iter().any(|k| {
-                                    (vec_to_glam(&k.point_a) - p1).length_squared() <= MERGE_DISTANCE_SQ
-                                        && (vec_to_glam(&k.point_b) - p2).length_squared() <= MERGE_DISTANCE_SQ
+                                    (vec_to_glam(&k.point_a) - p1).length_squared()
+                                        <= MERGE_DISTANCE_SQ
+                                        && (vec_to_glam(&k.point_b) - p2).length_squared()
+                                            <= MERGE_DISTANCE_SQ
                                 });
                                 if dup {
                                     continue;
@@ -151,7 +190,9 @@ impl PairState {
                         }
                     }
                     Err(_) => match query::contact(pa, sa, pb, sb, envelope) {
-                        Ok(Some(c)) => out.push(&mut self.contacts, c.point1, c.point2, c.normal1, 0, 0),
+                        Ok(Some(c)) => {
+                            out.push(&mut self.contacts, c.point1, c.point2, c.normal1, 0, 0)
+                        }
                         Ok(None) => {}
                         Err(e) => {
                             self.error = Some(ChronoError::Collision {
@@ -170,12 +211,20 @@ impl PairState {
 /// Persistence feature of a contact (see [`ContactKey`]).
 #[inline]
 fn feature_key(fid: PackedFeatureId, subshape: u32, composite: bool) -> u32 {
-    if composite { (subshape << 4) | ((fid.0 >> 30) << 2) | (fid.0 & 3) } else { fid.0 }
+    if composite {
+        (subshape << 4) | ((fid.0 >> 30) << 2) | (fid.0 & 3)
+    } else {
+        fid.0
+    }
 }
 
 /// `collider 3 (box, owner 1)`.
 pub(crate) fn describe(id: u32, c: &Collider) -> String {
-    format!("collider {id} ({}, owner {})", c.shape().kind_name(), c.owner())
+    format!(
+        "collider {id} ({}, owner {})",
+        c.shape().kind_name(),
+        c.owner()
+    )
 }
 
 /// What a pair's contacts share.
@@ -196,14 +245,25 @@ impl Output<'_> {
     /// would make equal and opposite contact forces form a spurious couple. Each point moves
     /// by half the tangential offset; the distance along the normal is unchanged.
     #[inline]
-    fn push(&self, out: &mut Vec<ContactPoint>, p1: Vector, p2: Vector, n: Vector, fa: u32, fb: u32) {
+    fn push(
+        &self,
+        out: &mut Vec<ContactPoint>,
+        p1: Vector,
+        p2: Vector,
+        n: Vector,
+        fa: u32,
+        fb: u32,
+    ) {
         let gap = p2 - p1;
         let distance = gap.dot(n);
         if distance.is_nan() || distance >= self.envelope {
             return;
         }
         let half_offset = (gap - n * distance) * 0.5;
-        let (point_a, point_b) = (vec_from_glam(p1 + half_offset), vec_from_glam(p2 - half_offset));
+        let (point_a, point_b) = (
+            vec_from_glam(p1 + half_offset),
+            vec_from_glam(p2 - half_offset),
+        );
         let normal = vec_from_glam(n);
         out.push(ContactPoint {
             collider_a: ColliderId(self.a),
@@ -214,9 +274,13 @@ impl Output<'_> {
             point_b,
             normal,
             distance,
-            key: ContactKey { collider_a: self.a, collider_b: self.b, feature_a: fa, feature_b: fb },
+            key: ContactKey {
+                collider_a: self.a,
+                collider_b: self.b,
+                feature_a: fa,
+                feature_b: fb,
+            },
             material: self.material,
         });
     }
 }
-

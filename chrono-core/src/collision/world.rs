@@ -161,16 +161,28 @@ impl CollisionWorld {
     ) -> Result<ColliderId> {
         shape.validate("collider.shape")?;
         material.validate()?;
-        let finite = local_pose.translation.vector.iter().chain(local_pose.rotation.coords.iter()).all(|c| c.is_finite());
+        let finite = local_pose
+            .translation
+            .vector
+            .iter()
+            .chain(local_pose.rotation.coords.iter())
+            .all(|c| c.is_finite());
         if !finite {
-            return Err(ChronoError::invalid("collider.local_pose", local_pose, "must be finite"));
+            return Err(ChronoError::invalid(
+                "collider.local_pose",
+                local_pose,
+                "must be finite",
+            ));
         }
-        let id = u32::try_from(self.colliders.len())
-            .map_err(|_| ChronoError::invalid("collider", self.colliders.len(), "too many colliders"))?;
+        let id = u32::try_from(self.colliders.len()).map_err(|_| {
+            ChronoError::invalid("collider", self.colliders.len(), "too many colliders")
+        })?;
         let parry = to_parry(shape, "collider.shape")?;
         let kind = match shape {
             Shape::Sphere { radius } => ColliderKind::Sphere { radius: *radius },
-            Shape::HalfSpace { normal } => ColliderKind::HalfSpace { normal: vec_to_glam(&normal.normalize()) },
+            Shape::HalfSpace { normal } => ColliderKind::HalfSpace {
+                normal: vec_to_glam(&normal.normalize()),
+            },
             _ => ColliderKind::Other,
         };
         self.colliders.push(Collider {
@@ -223,7 +235,9 @@ impl CollisionWorld {
 
     /// Whether the owner pair was excluded with [`exclude_pair`](Self::exclude_pair).
     pub fn is_pair_excluded(&self, owner_a: u32, owner_b: u32) -> bool {
-        self.excluded.binary_search(&(owner_a.min(owner_b), owner_a.max(owner_b))).is_ok()
+        self.excluded
+            .binary_search(&(owner_a.min(owner_b), owner_a.max(owner_b)))
+            .is_ok()
     }
 
     /// Find all contacts of this step, written into `out` (cleared first).
@@ -235,7 +249,12 @@ impl CollisionWorld {
     /// the number of threads. Errors: an owner out of range of either slice, a non-finite
     /// owner pose, or a pair parry cannot handle ([`ChronoError::Collision`]); on error
     /// `out` holds a partial result.
-    pub fn detect(&mut self, owner_poses: &[Isometry3<f64>], owner_active: &[bool], out: &mut Vec<ContactPoint>) -> Result<()> {
+    pub fn detect(
+        &mut self,
+        owner_poses: &[Isometry3<f64>],
+        owner_active: &[bool],
+        out: &mut Vec<ContactPoint>,
+    ) -> Result<()> {
         out.clear();
         self.update_bounds(owner_poses, owner_active)?;
         self.sap.find_pairs(&self.bounds, &mut self.candidates);
@@ -243,9 +262,14 @@ impl CollisionWorld {
 
         let (colliders, poses, envelope) = (&self.colliders, &self.poses, self.envelope);
         if self.pairs.len() >= PARALLEL_MIN_PAIRS {
-            self.pairs.par_iter_mut().with_min_len(PARALLEL_CHUNK).for_each(|p| p.update(colliders, poses, envelope));
+            self.pairs
+                .par_iter_mut()
+                .with_min_len(PARALLEL_CHUNK)
+                .for_each(|p| p.update(colliders, poses, envelope));
         } else {
-            self.pairs.iter_mut().for_each(|p| p.update(colliders, poses, envelope));
+            self.pairs
+                .iter_mut()
+                .for_each(|p| p.update(colliders, poses, envelope));
         }
         for p in &mut self.pairs {
             if let Some(e) = p.error.take() {
@@ -257,7 +281,11 @@ impl CollisionWorld {
     }
 
     /// World poses of the parry shapes and their broad-phase bounds.
-    fn update_bounds(&mut self, owner_poses: &[Isometry3<f64>], owner_active: &[bool]) -> Result<()> {
+    fn update_bounds(
+        &mut self,
+        owner_poses: &[Isometry3<f64>],
+        owner_active: &[bool],
+    ) -> Result<()> {
         self.poses.clear();
         self.bounds.clear();
         let half = 0.5 * self.envelope;
@@ -274,14 +302,21 @@ impl CollisionWorld {
             }
             let g = pose_to_glam(owner_pose);
             if !g.is_finite() {
-                return Err(ChronoError::invalid(format!("owner_poses[{o}]"), owner_pose, "must be finite"));
+                return Err(ChronoError::invalid(
+                    format!("owner_poses[{o}]"),
+                    owner_pose,
+                    "must be finite",
+                ));
             }
             let pose = g * c.parry_local;
             self.poses.push(pose);
             self.bounds.push(match c.kind {
                 ColliderKind::HalfSpace { normal } => {
                     let n = pose.rotation * normal;
-                    Bound::HalfSpace { origin: pose.translation + n * half, normal: n }
+                    Bound::HalfSpace {
+                        origin: pose.translation + n * half,
+                        normal: n,
+                    }
                 }
                 _ => Bound::Box(c.parry.compute_aabb(&pose).loosened(half)),
             });
@@ -301,7 +336,11 @@ impl CollisionWorld {
             if oa == ob || !(owner_active[oa as usize] || owner_active[ob as usize]) {
                 continue;
             }
-            if self.excluded.binary_search(&(oa.min(ob), oa.max(ob))).is_ok() {
+            if self
+                .excluded
+                .binary_search(&(oa.min(ob), oa.max(ob)))
+                .is_ok()
+            {
                 continue;
             }
             while let Some(stale) = old_it.next_if(|s| (s.a, s.b) < (a, b)) {

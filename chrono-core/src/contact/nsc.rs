@@ -98,18 +98,36 @@ pub fn add_contact_rows(
         if nb == 0 {
             continue;
         }
-        let e = |r: usize, i: usize| RowEntry { block: blocks[i].0, coefs: &blocks[i].1[r][..blocks[i].2] };
+        let e = |r: usize, i: usize| RowEntry {
+            block: blocks[i].0,
+            coefs: &blocks[i].1[r][..blocks[i].2],
+        };
         let (rn, ru, rw) = ([e(0, 0), e(0, 1)], [e(1, 0), e(1, 1)], [e(2, 0), e(2, 1)]);
         let (rn, ru, rw) = (&rn[..nb], &ru[..nb], &rw[..nb]);
         let bn = (cp.distance / h).max(-settings.max_recovery_speed) + known[0];
         let eps_n = cp.material.compliance / (h * h);
-        let row = rows.push_friction(cp.material.friction, [rn, ru, rw], [bn, known[1], known[2]], [eps_n, 0.0, 0.0]);
-        out.push(NscContact { point: cp.clone(), u, w, row });
+        let row = rows.push_friction(
+            cp.material.friction,
+            [rn, ru, rw],
+            [bn, known[1], known[2]],
+            [eps_n, 0.0, 0.0],
+        );
+        out.push(NscContact {
+            point: *cp,
+            u,
+            w,
+            row,
+        });
     }
 }
 
 /// Fill the contacts' part of `gamma` from the cache (keys not found start at zero).
-pub fn warm_start(contacts: &[NscContact], cache: &WarmStartCache, problem: &CcpProblem, gamma: &mut [f64]) {
+pub fn warm_start(
+    contacts: &[NscContact],
+    cache: &WarmStartCache,
+    problem: &CcpProblem,
+    gamma: &mut [f64],
+) {
     for c in contacts {
         let i = problem.row_index(c.row);
         match cache.map.get(&c.point.key) {
@@ -128,10 +146,18 @@ pub fn warm_start(contacts: &[NscContact], cache: &WarmStartCache, problem: &Ccp
 }
 
 /// Store the contacts' impulses for the next step (replacing the cache).
-pub fn store(contacts: &[NscContact], problem: &CcpProblem, gamma: &[f64], cache: &mut WarmStartCache) {
+pub fn store(
+    contacts: &[NscContact],
+    problem: &CcpProblem,
+    gamma: &[f64],
+    cache: &mut WarmStartCache,
+) {
     cache.map.clear();
     for c in contacts {
         let i = problem.row_index(c.row);
-        cache.map.insert(c.point.key, (gamma[i], c.u * gamma[i + 1] + c.w * gamma[i + 2]));
+        cache.map.insert(
+            c.point.key,
+            (gamma[i], c.u * gamma[i + 1] + c.w * gamma[i + 2]),
+        );
     }
 }

@@ -92,7 +92,12 @@ pub struct CcpProblem {
     group_start: [usize; 4],
 }
 
-const GROUP_ORDER: [RowGroup; 4] = [RowGroup::Bilateral, RowGroup::Box, RowGroup::Unilateral, RowGroup::Friction];
+const GROUP_ORDER: [RowGroup; 4] = [
+    RowGroup::Bilateral,
+    RowGroup::Box,
+    RowGroup::Unilateral,
+    RowGroup::Friction,
+];
 
 fn group_name(g: RowGroup) -> &'static str {
     match g {
@@ -115,17 +120,39 @@ impl CcpProblem {
     /// compliance or friction, `lo > hi`) with an error naming the row.
     pub fn assemble(&mut self, vars: &Variables, rows: &ConstraintRows, k: &[f64]) -> Result<()> {
         if k.len() != vars.ndof() {
-            return Err(ChronoError::invalid("k.len()", k.len(), format!("must equal ndof = {}", vars.ndof())));
+            return Err(ChronoError::invalid(
+                "k.len()",
+                k.len(),
+                format!("must equal ndof = {}", vars.ndof()),
+            ));
         }
         if let Some(i) = k.iter().position(|x| !x.is_finite()) {
-            return Err(ChronoError::invalid(format!("k[{i}]"), k[i], "must be finite"));
+            return Err(ChronoError::invalid(
+                format!("k[{i}]"),
+                k[i],
+                "must be finite",
+            ));
         }
         self.vars.clone_from(vars);
         let nblocks = vars.len();
-        for v in [&mut self.row_ptr, &mut self.ent_row, &mut self.ent_block, &mut self.ent_off, &mut self.ent_coef] {
+        for v in [
+            &mut self.row_ptr,
+            &mut self.ent_row,
+            &mut self.ent_block,
+            &mut self.ent_off,
+            &mut self.ent_coef,
+        ] {
             v.clear();
         }
-        for v in [&mut self.coefs, &mut self.minv, &mut self.b, &mut self.eps, &mut self.lo, &mut self.hi, &mut self.mu] {
+        for v in [
+            &mut self.coefs,
+            &mut self.minv,
+            &mut self.b,
+            &mut self.eps,
+            &mut self.lo,
+            &mut self.hi,
+            &mut self.mu,
+        ] {
             v.clear();
         }
         self.row_ptr.push(0);
@@ -148,7 +175,11 @@ impl CcpProblem {
                     }
                     let nd = vars.block_ndof(BlockId(blk as u32));
                     let c0 = g.ent_coef[e] as usize;
-                    let c1 = if e + 1 < g.ent_coef.len() { g.ent_coef[e + 1] as usize } else { g.coefs.len() };
+                    let c1 = if e + 1 < g.ent_coef.len() {
+                        g.ent_coef[e + 1] as usize
+                    } else {
+                        g.coefs.len()
+                    };
                     if c1 - c0 != nd {
                         return Err(ChronoError::invalid(
                             format!("rows.{name}[{i}].coefs.len()"),
@@ -158,7 +189,11 @@ impl CcpProblem {
                     }
                     let c = &g.coefs[c0..c1];
                     if let Some(j) = c.iter().position(|x| !x.is_finite()) {
-                        return Err(ChronoError::invalid(format!("rows.{name}[{i}].coefs[{j}]"), c[j], "must be finite"));
+                        return Err(ChronoError::invalid(
+                            format!("rows.{name}[{i}].coefs[{j}]"),
+                            c[j],
+                            "must be finite",
+                        ));
                     }
                     self.ent_row.push(row as u32);
                     self.ent_block.push(blk as u32);
@@ -167,14 +202,23 @@ impl CcpProblem {
                     self.coefs.extend_from_slice(c);
                     let start = self.minv.len();
                     self.minv.resize(start + nd, 0.0);
-                    vars.mass(BlockId(blk as u32)).apply_inverse(c, &mut self.minv[start..]);
+                    vars.mass(BlockId(blk as u32))
+                        .apply_inverse(c, &mut self.minv[start..]);
                 }
                 self.row_ptr.push(self.ent_row.len() as u32);
                 if !g.b[i].is_finite() {
-                    return Err(ChronoError::invalid(format!("rows.{name}[{i}].b"), g.b[i], "must be finite"));
+                    return Err(ChronoError::invalid(
+                        format!("rows.{name}[{i}].b"),
+                        g.b[i],
+                        "must be finite",
+                    ));
                 }
                 if !(g.eps[i].is_finite() && g.eps[i] >= 0.0) {
-                    return Err(ChronoError::invalid(format!("rows.{name}[{i}].eps"), g.eps[i], "must be finite and >= 0"));
+                    return Err(ChronoError::invalid(
+                        format!("rows.{name}[{i}].eps"),
+                        g.eps[i],
+                        "must be finite and >= 0",
+                    ));
                 }
                 self.b.push(g.b[i]);
                 self.eps.push(g.eps[i]);
@@ -196,7 +240,11 @@ impl CcpProblem {
                 }
                 RowGroup::Friction => {
                     if let Some(i) = g.mu.iter().position(|m| !(m.is_finite() && *m >= 0.0)) {
-                        return Err(ChronoError::invalid(format!("rows.friction[{i}].mu"), g.mu[i], "must be finite and >= 0"));
+                        return Err(ChronoError::invalid(
+                            format!("rows.friction[{i}].mu"),
+                            g.mu[i],
+                            "must be finite and >= 0",
+                        ));
                     }
                     self.mu.extend_from_slice(&g.mu);
                 }
@@ -382,7 +430,10 @@ impl CcpProblem {
         for run in self.vars.runs() {
             let range = run.dof_offset..run.dof_offset + run.n_blocks * run.ndof;
             if par {
-                v[range].par_chunks_mut(run.ndof).enumerate().for_each(|(i, o)| gather(run.first_block + i, o));
+                v[range]
+                    .par_chunks_mut(run.ndof)
+                    .enumerate()
+                    .for_each(|(i, o)| gather(run.first_block + i, o));
             } else {
                 for (i, o) in v[range].chunks_mut(run.ndof).enumerate() {
                     gather(run.first_block + i, o);
@@ -410,7 +461,9 @@ impl CcpProblem {
         self.apply_n(gamma, out, work);
         let r = &self.r;
         if self.n_rows >= PAR_MIN_ROWS {
-            out.par_iter_mut().zip(r.par_iter()).for_each(|(o, ri)| *o += ri);
+            out.par_iter_mut()
+                .zip(r.par_iter())
+                .for_each(|(o, ri)| *o += ri);
         } else {
             out.iter_mut().zip(r).for_each(|(o, ri)| *o += ri);
         }
@@ -419,7 +472,9 @@ impl CcpProblem {
     /// The objective `f(g) = 1/2 g'N g + r'g`, given the gradient `grad = N g + r`.
     pub fn objective_from_gradient(&self, gamma: &[f64], grad: &[f64], work: &mut CcpWork) -> f64 {
         let r = &self.r;
-        sum_by(self.n_rows, &mut work.partials, |i| 0.5 * gamma[i] * (grad[i] + r[i]))
+        sum_by(self.n_rows, &mut work.partials, |i| {
+            0.5 * gamma[i] * (grad[i] + r[i])
+        })
     }
 
     /// The objective `f(g)`, computing the gradient into `grad`.
@@ -445,9 +500,13 @@ impl CcpProblem {
         }
         let fr = &mut gamma[s.friction.clone()];
         if par {
-            fr.par_chunks_mut(3).zip(self.mu.par_iter()).for_each(|(g, &mu)| project_friction_cone(mu, g));
+            fr.par_chunks_mut(3)
+                .zip(self.mu.par_iter())
+                .for_each(|(g, &mu)| project_friction_cone(mu, g));
         } else {
-            fr.chunks_mut(3).zip(&self.mu).for_each(|(g, &mu)| project_friction_cone(mu, g));
+            fr.chunks_mut(3)
+                .zip(&self.mu)
+                .for_each(|(g, &mu)| project_friction_cone(mu, g));
         }
     }
 
@@ -488,14 +547,26 @@ impl CcpProblem {
                 grad[i]
             } else if s.boxed.contains(&i) {
                 let k = i - s.boxed.start;
-                if sc > 0.0 { (gamma[i] - project_box(gamma[i] - sc * grad[i], lo[k], hi[k])) / sc } else { 0.0 }
+                if sc > 0.0 {
+                    (gamma[i] - project_box(gamma[i] - sc * grad[i], lo[k], hi[k])) / sc
+                } else {
+                    0.0
+                }
             } else if s.unilateral.contains(&i) {
-                if sc > 0.0 { (gamma[i] - project_unilateral(gamma[i] - sc * grad[i])) / sc } else { grad[i].min(0.0) }
+                if sc > 0.0 {
+                    (gamma[i] - project_unilateral(gamma[i] - sc * grad[i])) / sc
+                } else {
+                    grad[i].min(0.0)
+                }
             } else {
                 let t = s.friction.start + 3 * ((i - s.friction.start) / 3);
                 let j = i - t;
                 if sc > 0.0 {
-                    let mut z = [gamma[t] - sc * grad[t], gamma[t + 1] - sc * grad[t + 1], gamma[t + 2] - sc * grad[t + 2]];
+                    let mut z = [
+                        gamma[t] - sc * grad[t],
+                        gamma[t + 1] - sc * grad[t + 1],
+                        gamma[t + 2] - sc * grad[t + 2],
+                    ];
                     project_friction_cone(self.mu[(t - s.friction.start) / 3], &mut z);
                     (gamma[i] - z[j]) / sc
                 } else {

@@ -35,7 +35,10 @@ pub fn sum_by(n: usize, partials: &mut Vec<f64>, f: impl Fn(usize) -> f64 + Sync
     }
     partials.clear();
     partials.resize(chunks, 0.0);
-    partials.par_iter_mut().enumerate().for_each(|(c, p)| *p = chunk_sum(c));
+    partials
+        .par_iter_mut()
+        .enumerate()
+        .for_each(|(c, p)| *p = chunk_sum(c));
     partials.iter().sum()
 }
 
@@ -56,7 +59,10 @@ mod tests {
         let b: Vec<f64> = (0..n).map(|i| ((i as f64) * 0.11).cos()).collect();
         let mut p = Vec::new();
         let d_default = dot(&a, &b, &mut p);
-        let one = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap();
+        let one = rayon::ThreadPoolBuilder::new()
+            .num_threads(1)
+            .build()
+            .unwrap();
         let d_one = one.install(|| dot(&a, &b, &mut Vec::new()));
         assert_eq!(d_default.to_bits(), d_one.to_bits());
         let naive: f64 = a.iter().zip(&b).map(|(x, y)| x * y).sum();

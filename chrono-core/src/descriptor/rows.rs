@@ -125,13 +125,19 @@ impl ConstraintRows {
     /// Add a bilateral row `D_i' v + b + eps g = 0`.
     pub fn push_bilateral(&mut self, entries: &[RowEntry], b: f64, eps: f64) -> RowId {
         let index = self.groups[RowGroup::Bilateral as usize].push(entries, b, eps);
-        RowId { group: RowGroup::Bilateral, index }
+        RowId {
+            group: RowGroup::Bilateral,
+            index,
+        }
     }
 
     /// Add a unilateral row `0 <= g ⊥ D_i' v + b + eps g >= 0`.
     pub fn push_unilateral(&mut self, entries: &[RowEntry], b: f64, eps: f64) -> RowId {
         let index = self.groups[RowGroup::Unilateral as usize].push(entries, b, eps);
-        RowId { group: RowGroup::Unilateral, index }
+        RowId {
+            group: RowGroup::Unilateral,
+            index,
+        }
     }
 
     /// Add a box-bounded row: `g` in `[lo, hi]` (impulse bounds, N s), with the mixed
@@ -141,18 +147,30 @@ impl ConstraintRows {
         let index = g.push(entries, b, eps);
         g.lo.push(lo);
         g.hi.push(hi);
-        RowId { group: RowGroup::Box, index }
+        RowId {
+            group: RowGroup::Box,
+            index,
+        }
     }
 
     /// Add a frictional contact: three rows (normal `n`, tangents `u`, `w`), each with its
     /// entries, right-hand side and compliance, and the friction coefficient `mu`.
     /// Returns the id of the normal row; the tangent rows are the next two of the group.
-    pub fn push_friction(&mut self, mu: f64, rows: [&[RowEntry]; 3], b: [f64; 3], eps: [f64; 3]) -> RowId {
+    pub fn push_friction(
+        &mut self,
+        mu: f64,
+        rows: [&[RowEntry]; 3],
+        b: [f64; 3],
+        eps: [f64; 3],
+    ) -> RowId {
         let g = &mut self.groups[RowGroup::Friction as usize];
         let index = g.push(rows[0], b[0], eps[0]);
         g.push(rows[1], b[1], eps[1]);
         g.push(rows[2], b[2], eps[2]);
         g.mu.push(mu);
-        RowId { group: RowGroup::Friction, index }
+        RowId {
+            group: RowGroup::Friction,
+            index,
+        }
     }
 }

@@ -17,7 +17,11 @@ pub struct SolverSettings {
 
 impl Default for SolverSettings {
     fn default() -> Self {
-        Self { tolerance: 1e-6, max_iterations: 200, record_history: false }
+        Self {
+            tolerance: 1e-6,
+            max_iterations: 200,
+            record_history: false,
+        }
     }
 }
 

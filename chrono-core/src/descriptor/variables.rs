@@ -42,7 +42,11 @@ impl MassOperator {
     pub fn rigid_body(mass: f64, inertia: Matrix3<f64>) -> Result<Self> {
         check_positive("mass", mass)?;
         let inv_inertia = check_inertia("inertia", &inertia)?;
-        Ok(MassOperator::RigidBody { mass, inertia, inv_inertia })
+        Ok(MassOperator::RigidBody {
+            mass,
+            inertia,
+            inv_inertia,
+        })
     }
 
     /// Number of degrees of freedom of the block.
@@ -64,7 +68,9 @@ impl MassOperator {
                 out[1] = x[1] * im;
                 out[2] = x[2] * im;
             }
-            MassOperator::RigidBody { mass, inv_inertia, .. } => {
+            MassOperator::RigidBody {
+                mass, inv_inertia, ..
+            } => {
                 let im = 1.0 / mass;
                 out[0] = x[0] * im;
                 out[1] = x[1] * im;
@@ -110,9 +116,14 @@ pub(crate) fn check_inertia(field: &str, j: &Matrix3<f64>) -> Result<Matrix3<f64
         return Err(ChronoError::invalid(field, show(), "must be symmetric"));
     }
     if j.cholesky().is_none() {
-        return Err(ChronoError::invalid(field, show(), "must be positive definite"));
+        return Err(ChronoError::invalid(
+            field,
+            show(),
+            "must be positive definite",
+        ));
     }
-    j.try_inverse().ok_or_else(|| ChronoError::invalid(field, show(), "must be invertible"))
+    j.try_inverse()
+        .ok_or_else(|| ChronoError::invalid(field, show(), "must be invertible"))
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -162,9 +173,17 @@ impl Variables {
         let id = self.blocks.len();
         match self.runs.last_mut() {
             Some(run) if run.ndof == ndof => run.n_blocks += 1,
-            _ => self.runs.push(Run { first_block: id, n_blocks: 1, ndof, dof_offset: self.ndof }),
+            _ => self.runs.push(Run {
+                first_block: id,
+                n_blocks: 1,
+                ndof,
+                dof_offset: self.ndof,
+            }),
         }
-        self.blocks.push(Block { offset: self.ndof, mass });
+        self.blocks.push(Block {
+            offset: self.ndof,
+            mass,
+        });
         self.ndof += ndof;
         BlockId(id as u32)
     }
@@ -226,7 +245,12 @@ impl Variables {
         self.blockwise(x, out, |m, xi, oi| m.apply(xi, oi));
     }
 
-    fn blockwise(&self, x: &[f64], out: &mut [f64], f: impl Fn(&MassOperator, &[f64], &mut [f64]) + Sync) {
+    fn blockwise(
+        &self,
+        x: &[f64],
+        out: &mut [f64],
+        f: impl Fn(&MassOperator, &[f64], &mut [f64]) + Sync,
+    ) {
         assert_eq!(x.len(), self.ndof, "x has the wrong length");
         assert_eq!(out.len(), self.ndof, "out has the wrong length");
         for run in &self.runs {
@@ -239,7 +263,11 @@ impl Variables {
                     .zip(blocks.par_iter())
                     .for_each(|((o, xi), b)| f(&b.mass, xi, o));
             } else {
-                for ((o, xi), b) in out[r.clone()].chunks_mut(run.ndof).zip(x[r].chunks(run.ndof)).zip(blocks) {
+                for ((o, xi), b) in out[r.clone()]
+                    .chunks_mut(run.ndof)
+                    .zip(x[r].chunks(run.ndof))
+                    .zip(blocks)
+                {
                     f(&b.mass, xi, o);
                 }
             }
@@ -272,11 +300,26 @@ mod tests {
 
     #[test]
     fn rejects_bad_mass_and_inertia() {
-        assert!(MassOperator::particle(0.0).unwrap_err().to_string().contains("mass"));
+        assert!(
+            MassOperator::particle(0.0)
+                .unwrap_err()
+                .to_string()
+                .contains("mass")
+        );
         let not_pd = Matrix3::from_diagonal(&Vector3::new(1.0, -1.0, 1.0));
-        let e = MassOperator::rigid_body(1.0, not_pd).unwrap_err().to_string();
-        assert!(e.contains("inertia") && e.contains("positive definite"), "{e}");
+        let e = MassOperator::rigid_body(1.0, not_pd)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("inertia") && e.contains("positive definite"),
+            "{e}"
+        );
         let asym = Matrix3::new(1.0, 0.5, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0);
-        assert!(MassOperator::rigid_body(1.0, asym).unwrap_err().to_string().contains("symmetric"));
+        assert!(
+            MassOperator::rigid_body(1.0, asym)
+                .unwrap_err()
+                .to_string()
+                .contains("symmetric")
+        );
     }
 }

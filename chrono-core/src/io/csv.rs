@@ -27,10 +27,19 @@ impl CsvWriter {
     pub fn create(path: impl AsRef<Path>, columns: &[&str]) -> Result<Self> {
         let path = path.as_ref().to_path_buf();
         if columns.is_empty() {
-            return Err(ChronoError::invalid("columns", "[]", "a CSV file needs at least one column"));
+            return Err(ChronoError::invalid(
+                "columns",
+                "[]",
+                "a CSV file needs at least one column",
+            ));
         }
         let file = File::create(&path).map_err(|e| io_error(&path, e))?;
-        let mut w = Self { writer: BufWriter::new(file), ncols: columns.len(), line: String::new(), path };
+        let mut w = Self {
+            writer: BufWriter::new(file),
+            ncols: columns.len(),
+            line: String::new(),
+            path,
+        };
         for (k, c) in columns.iter().enumerate() {
             if k > 0 {
                 w.line.push(',');
@@ -58,7 +67,11 @@ impl CsvWriter {
             return Err(ChronoError::invalid(
                 "row.len()",
                 row.len(),
-                format!("must equal the number of columns ({}) of {}", self.ncols, self.path.display()),
+                format!(
+                    "must equal the number of columns ({}) of {}",
+                    self.ncols,
+                    self.path.display()
+                ),
             ));
         }
         for (k, x) in row.iter().enumerate() {
@@ -82,14 +95,21 @@ impl CsvWriter {
 
     fn write_line(&mut self) -> Result<()> {
         self.line.push('\n');
-        let res = self.writer.write_all(self.line.as_bytes()).map_err(|e| io_error(&self.path, e));
+        let res = self
+            .writer
+            .write_all(self.line.as_bytes())
+            .map_err(|e| io_error(&self.path, e));
         self.line.clear();
         res
     }
 }
 
 /// Write a whole table at once: a header of `columns` and the `rows`.
-pub fn write_csv<R: AsRef<[f64]>>(path: impl AsRef<Path>, columns: &[&str], rows: &[R]) -> Result<()> {
+pub fn write_csv<R: AsRef<[f64]>>(
+    path: impl AsRef<Path>,
+    columns: &[&str],
+    rows: &[R],
+) -> Result<()> {
     let mut w = CsvWriter::create(path, columns)?;
     for r in rows {
         w.write_row(r.as_ref())?;
@@ -114,7 +134,10 @@ mod tests {
         w.write_row(&[0.0, 1.0 / 3.0, -2.5e-12]).unwrap();
         w.write_row(&[0.001, 1e20, f64::NAN]).unwrap();
         let e = w.write_row(&[1.0]).unwrap_err().to_string();
-        assert!(e.contains("row.len()") && e.contains('1') && e.contains('3'), "{e}");
+        assert!(
+            e.contains("row.len()") && e.contains('1') && e.contains('3'),
+            "{e}"
+        );
         w.finish().unwrap();
         let text = std::fs::read_to_string(&path).unwrap();
         let lines: Vec<&str> = text.lines().collect();
@@ -133,6 +156,9 @@ mod tests {
         assert_eq!(std::fs::read_to_string(&path).unwrap(), "a,b\n1,2\n3,4\n");
         let bad = temp("no/such/dir/x.csv");
         let e = write_csv(&bad, &["a"], &[[1.0]]).unwrap_err();
-        assert!(matches!(&e, ChronoError::Io { path, .. } if path.contains("no/such/dir")), "{e}");
+        assert!(
+            matches!(&e, ChronoError::Io { path, .. } if path.contains("no/such/dir")),
+            "{e}"
+        );
     }
 }

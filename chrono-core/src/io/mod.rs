@@ -5,13 +5,15 @@
 //!   ([`write_points_vtp`]), and the `.pvd` collection ([`write_pvd`]) that lets ParaView
 //!   play a series of frames.
 //!
-//! Errors are [`ChronoError::Io`](crate::error::ChronoError::Io) naming the file.
+//! Errors are [`ChronoError::Io`] naming the file.
 
 pub mod csv;
 pub mod vtk;
 
 pub use csv::{CsvWriter, write_csv};
-pub use vtk::{ShapeMeshOptions, write_points_vtp, write_pvd, write_shapes_vtp, write_shapes_vtp_with};
+pub use vtk::{
+    ShapeMeshOptions, write_points_vtp, write_pvd, write_shapes_vtp, write_shapes_vtp_with,
+};
 
 use std::path::Path;
 
@@ -19,7 +21,10 @@ use crate::error::ChronoError;
 
 /// A [`ChronoError::Io`] for `path`.
 pub(crate) fn io_error(path: &Path, err: impl std::fmt::Display) -> ChronoError {
-    ChronoError::Io { path: path.display().to_string(), message: err.to_string() }
+    ChronoError::Io {
+        path: path.display().to_string(),
+        message: err.to_string(),
+    }
 }
 
 /// Format a float for text output: shortest representation that parses back to the same
@@ -38,7 +43,20 @@ pub(crate) fn fmt_f64(x: f64, out: &mut String) {
 mod tests {
     #[test]
     fn floats_round_trip() {
-        for x in [0.0, -0.0, 1.0, 0.1, -1.0 / 3.0, 1e-300, 6.02e23, 123456.789, f64::MAX, f64::MIN_POSITIVE, 1e-5, 1e15] {
+        for x in [
+            0.0,
+            -0.0,
+            1.0,
+            0.1,
+            -1.0 / 3.0,
+            1e-300,
+            6.02e23,
+            123456.789,
+            f64::MAX,
+            f64::MIN_POSITIVE,
+            1e-5,
+            1e15,
+        ] {
             let mut s = String::new();
             super::fmt_f64(x, &mut s);
             assert_eq!(s.parse::<f64>().unwrap().to_bits(), x.to_bits(), "{s}");

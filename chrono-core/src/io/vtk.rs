@@ -28,25 +28,36 @@ pub struct ShapeMeshOptions {
 
 impl Default for ShapeMeshOptions {
     fn default() -> Self {
-        Self { subdivisions: 16, half_space_size: 20.0 }
+        Self {
+            subdivisions: 16,
+            half_space_size: 20.0,
+        }
     }
 }
 
 /// Write rigid shapes at their world poses, with the default [`ShapeMeshOptions`].
 /// Each entry is `(world pose of the shape, shape, body id)`.
-pub fn write_shapes_vtp(path: impl AsRef<Path>, shapes: &[(Isometry3<f64>, &Shape, u32)]) -> Result<()> {
+pub fn write_shapes_vtp(
+    path: impl AsRef<Path>,
+    shapes: &[(Isometry3<f64>, &Shape, u32)],
+) -> Result<()> {
     write_shapes_vtp_with(path, shapes, &ShapeMeshOptions::default())
 }
 
 /// [`write_shapes_vtp`] with explicit meshing options.
-pub fn write_shapes_vtp_with(path: impl AsRef<Path>, shapes: &[(Isometry3<f64>, &Shape, u32)], options: &ShapeMeshOptions) -> Result<()> {
+pub fn write_shapes_vtp_with(
+    path: impl AsRef<Path>,
+    shapes: &[(Isometry3<f64>, &Shape, u32)],
+    options: &ShapeMeshOptions,
+) -> Result<()> {
     let mut points: Vec<Vector3<f64>> = Vec::new();
     let mut triangles: Vec<[u32; 3]> = Vec::new();
     let mut body_ids: Vec<u32> = Vec::new();
     for (k, (pose, shape, body)) in shapes.iter().enumerate() {
         shape.validate(&format!("shapes[{k}].shape"))?;
         let (v, t) = shape.to_trimesh(options.subdivisions, options.half_space_size)?;
-        let base = u32::try_from(points.len()).map_err(|_| ChronoError::invalid("shapes", points.len(), "too many points"))?;
+        let base = u32::try_from(points.len())
+            .map_err(|_| ChronoError::invalid("shapes", points.len(), "too many points"))?;
         points.extend(v.iter().map(|p| (pose * Point3::from(*p)).coords));
         triangles.extend(t.iter().map(|tri| tri.map(|i| i + base)));
         body_ids.extend(std::iter::repeat_n(*body, t.len()));
@@ -61,8 +72,16 @@ pub fn write_shapes_vtp_with(path: impl AsRef<Path>, shapes: &[(Isometry3<f64>, 
     x.s.push_str("      <CellData Scalars=\"body_id\">\n");
     x.ints("UInt32", "body_id", body_ids.iter().map(|&b| b as u64));
     x.s.push_str("      </CellData>\n      <Polys>\n");
-    x.ints("Int64", "connectivity", triangles.iter().flatten().map(|&i| i as u64));
-    x.ints("Int64", "offsets", (1..=triangles.len() as u64).map(|k| 3 * k));
+    x.ints(
+        "Int64",
+        "connectivity",
+        triangles.iter().flatten().map(|&i| i as u64),
+    );
+    x.ints(
+        "Int64",
+        "offsets",
+        (1..=triangles.len() as u64).map(|k| 3 * k),
+    );
     x.s.push_str("      </Polys>\n    </Piece>\n");
     x.finish(path.as_ref())
 }
@@ -78,12 +97,20 @@ pub fn write_points_vtp(
     let n = points.len();
     for (name, v) in scalars {
         if v.len() != n {
-            return Err(ChronoError::invalid(format!("scalars[\"{name}\"].len()"), v.len(), format!("must equal the number of points ({n})")));
+            return Err(ChronoError::invalid(
+                format!("scalars[\"{name}\"].len()"),
+                v.len(),
+                format!("must equal the number of points ({n})"),
+            ));
         }
     }
     for (name, v) in vectors {
         if v.len() != n {
-            return Err(ChronoError::invalid(format!("vectors[\"{name}\"].len()"), v.len(), format!("must equal the number of points ({n})")));
+            return Err(ChronoError::invalid(
+                format!("vectors[\"{name}\"].len()"),
+                v.len(),
+                format!("must equal the number of points ({n})"),
+            ));
         }
     }
     let mut x = Xml::new("PolyData");
@@ -111,18 +138,28 @@ pub fn write_pvd(path: impl AsRef<Path>, frames: &[(f64, &str)]) -> Result<()> {
     let mut x = Xml::new("Collection");
     for (k, (t, file)) in frames.iter().enumerate() {
         if !t.is_finite() {
-            return Err(ChronoError::invalid(format!("frames[{k}].time"), t, "must be finite"));
+            return Err(ChronoError::invalid(
+                format!("frames[{k}].time"),
+                t,
+                "must be finite",
+            ));
         }
         let mut time = String::new();
         fmt_f64(*t, &mut time);
-        x.s.push_str(&format!("    <DataSet timestep=\"{time}\" group=\"\" part=\"0\" file=\"{}\"/>\n", escape(file)));
+        x.s.push_str(&format!(
+            "    <DataSet timestep=\"{time}\" group=\"\" part=\"0\" file=\"{}\"/>\n",
+            escape(file)
+        ));
     }
     x.finish(path.as_ref())
 }
 
 /// Escape text for an XML attribute.
 fn escape(s: &str) -> String {
-    s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;")
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
 }
 
 /// A VTK XML document being built in memory.
@@ -134,7 +171,9 @@ struct Xml {
 impl Xml {
     fn new(kind: &'static str) -> Self {
         let mut s = String::from("<?xml version=\"1.0\"?>\n");
-        s.push_str(&format!("<VTKFile type=\"{kind}\" version=\"0.1\" byte_order=\"LittleEndian\">\n  <{kind}>\n"));
+        s.push_str(&format!(
+            "<VTKFile type=\"{kind}\" version=\"0.1\" byte_order=\"LittleEndian\">\n  <{kind}>\n"
+        ));
         Self { s, kind }
     }
 
@@ -145,16 +184,29 @@ impl Xml {
         Ok(())
     }
 
-    fn floats(&mut self, name: &str, components: usize, values: impl Iterator<Item = f64>) -> Result<()> {
+    fn floats(
+        &mut self,
+        name: &str,
+        components: usize,
+        values: impl Iterator<Item = f64>,
+    ) -> Result<()> {
         self.s.push_str(&format!(
             "        <DataArray type=\"Float64\" Name=\"{}\" NumberOfComponents=\"{components}\" format=\"ascii\">\n",
             escape(name)
         ));
         for (k, v) in values.enumerate() {
             if !v.is_finite() {
-                return Err(ChronoError::invalid(format!("{name}[{}]", k / components), v, "must be finite"));
+                return Err(ChronoError::invalid(
+                    format!("{name}[{}]", k / components),
+                    v,
+                    "must be finite",
+                ));
             }
-            self.s.push_str(if k % (3 * components.max(1)) == 0 { "          " } else { " " });
+            self.s.push_str(if k % (3 * components.max(1)) == 0 {
+                "          "
+            } else {
+                " "
+            });
             fmt_f64(v, &mut self.s);
             if (k + 1) % (3 * components.max(1)) == 0 {
                 self.s.push('\n');
@@ -165,9 +217,12 @@ impl Xml {
     }
 
     fn ints(&mut self, ty: &str, name: &str, values: impl Iterator<Item = u64>) {
-        self.s.push_str(&format!("        <DataArray type=\"{ty}\" Name=\"{name}\" format=\"ascii\">\n"));
+        self.s.push_str(&format!(
+            "        <DataArray type=\"{ty}\" Name=\"{name}\" format=\"ascii\">\n"
+        ));
         for (k, v) in values.enumerate() {
-            self.s.push_str(if k % 12 == 0 { "          " } else { " " });
+            self.s
+                .push_str(if k % 12 == 0 { "          " } else { " " });
             self.s.push_str(&v.to_string());
             if (k + 1) % 12 == 0 {
                 self.s.push('\n');
@@ -177,7 +232,8 @@ impl Xml {
     }
 
     fn finish(mut self, path: &Path) -> Result<()> {
-        self.s.push_str(&format!("  </{}>\n</VTKFile>\n", self.kind));
+        self.s
+            .push_str(&format!("  </{}>\n</VTKFile>\n", self.kind));
         std::fs::write(path, self.s).map_err(|e| io_error(path, e))
     }
 }
@@ -205,17 +261,31 @@ mod tests {
         let at = text.find(&key).unwrap_or_else(|| panic!("no array {name}"));
         let body = &text[at..];
         let body = &body[body.find('>').unwrap() + 1..body.find("</DataArray>").unwrap()];
-        body.split_whitespace().map(|s| s.parse().unwrap()).collect()
+        body.split_whitespace()
+            .map(|s| s.parse().unwrap())
+            .collect()
     }
 
     #[test]
     fn shapes_file_has_consistent_counts() {
         let path = temp("shapes.vtp");
         let ball = Shape::Sphere { radius: 0.5 };
-        let cube = Shape::Box { half_extents: Vector3::new(1.0, 2.0, 3.0) };
-        let ground = Shape::HalfSpace { normal: Vector3::z() };
+        let cube = Shape::Box {
+            half_extents: Vector3::new(1.0, 2.0, 3.0),
+        };
+        let ground = Shape::HalfSpace {
+            normal: Vector3::z(),
+        };
         let pose = Isometry3::translation(0.0, 0.0, 10.0);
-        write_shapes_vtp(&path, &[(pose, &ball, 3), (Isometry3::identity(), &cube, 4), (Isometry3::identity(), &ground, 0)]).unwrap();
+        write_shapes_vtp(
+            &path,
+            &[
+                (pose, &ball, 3),
+                (Isometry3::identity(), &cube, 4),
+                (Isometry3::identity(), &ground, 0),
+            ],
+        )
+        .unwrap();
         let text = std::fs::read_to_string(&path).unwrap();
         assert!(text.starts_with("<?xml") && text.trim_end().ends_with("</VTKFile>"));
         let (np, nc) = (attr(&text, "NumberOfPoints"), attr(&text, "NumberOfPolys"));
@@ -227,7 +297,10 @@ mod tests {
         let conn = array(&text, "connectivity");
         assert_eq!(conn.len(), 3 * nc);
         assert!(conn.iter().all(|&i| (i as usize) < np));
-        assert_eq!(array(&text, "offsets").last().copied(), Some(3.0 * nc as f64));
+        assert_eq!(
+            array(&text, "offsets").last().copied(),
+            Some(3.0 * nc as f64)
+        );
         // The box has 12 triangles, the half-space 2; the sphere sits around z = 10.
         assert_eq!(ids.iter().filter(|&&b| b == 4.0).count(), 12);
         assert_eq!(ids.iter().filter(|&&b| b == 0.0).count(), 2);
@@ -243,12 +316,22 @@ mod tests {
         let vel = vec![Vector3::new(0.1, 0.0, 0.0), Vector3::new(0.0, -0.2, 0.0)];
         write_points_vtp(&path, &pts, &[("density", &rho)], &[("velocity", &vel)]).unwrap();
         let text = std::fs::read_to_string(&path).unwrap();
-        assert_eq!((attr(&text, "NumberOfPoints"), attr(&text, "NumberOfVerts")), (2, 2));
+        assert_eq!(
+            (attr(&text, "NumberOfPoints"), attr(&text, "NumberOfVerts")),
+            (2, 2)
+        );
         assert_eq!(array(&text, "density"), rho.to_vec());
-        assert_eq!(array(&text, "velocity"), vec![0.1, 0.0, 0.0, 0.0, -0.2, 0.0]);
-        let e = write_points_vtp(&path, &pts, &[("density", &rho[..1])], &[]).unwrap_err().to_string();
+        assert_eq!(
+            array(&text, "velocity"),
+            vec![0.1, 0.0, 0.0, 0.0, -0.2, 0.0]
+        );
+        let e = write_points_vtp(&path, &pts, &[("density", &rho[..1])], &[])
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("density") && e.contains('1'), "{e}");
-        let e = write_points_vtp(&path, &pts, &[("p", &[0.0, f64::NAN])], &[]).unwrap_err().to_string();
+        let e = write_points_vtp(&path, &pts, &[("p", &[0.0, f64::NAN])], &[])
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("p[1]") && e.contains("NaN"), "{e}");
 
         let pvd = temp("series.pvd");

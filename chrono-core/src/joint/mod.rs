@@ -26,7 +26,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::body::{BodyHandle, PairRowKind, RigidBody, push_pair_row};
 use crate::descriptor::{ConstraintRows, RowId};
-use crate::error::{ChronoError, Result, check_finite, check_finite3, check_non_negative};
+use crate::error::{ChronoError, Result, check_finite, check_finite3};
 
 /// Handle of a joint in a [`System`](crate::system::System).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
@@ -121,12 +121,25 @@ impl JointBuilder {
     /// A joint of `kind` between bodies `a` and `b` whose frame is `frame_world` (origin and
     /// axes in world coordinates at the bodies' current poses).
     pub fn new(kind: JointKind, a: BodyHandle, b: BodyHandle, frame_world: Isometry3<f64>) -> Self {
-        Self { name: String::new(), body_a: a, body_b: b, frame_world, kind }
+        Self {
+            name: String::new(),
+            body_a: a,
+            body_b: b,
+            frame_world,
+            kind,
+        }
     }
     /// A joint whose frame is at world point `origin` with its z axis along `axis` (world).
-    pub fn at_axis(kind: JointKind, a: BodyHandle, b: BodyHandle, origin: Vector3<f64>, axis: Vector3<f64>) -> Self {
-        let rot = UnitQuaternion::rotation_between(&Vector3::z(), &axis)
-            .unwrap_or_else(|| UnitQuaternion::from_axis_angle(&Vector3::x_axis(), std::f64::consts::PI));
+    pub fn at_axis(
+        kind: JointKind,
+        a: BodyHandle,
+        b: BodyHandle,
+        origin: Vector3<f64>,
+        axis: Vector3<f64>,
+    ) -> Self {
+        let rot = UnitQuaternion::rotation_between(&Vector3::z(), &axis).unwrap_or_else(|| {
+            UnitQuaternion::from_axis_angle(&Vector3::x_axis(), std::f64::consts::PI)
+        });
         Self::new(kind, a, b, Isometry3::from_parts(origin.into(), rot))
     }
     /// Name for messages.
@@ -137,51 +150,95 @@ impl JointBuilder {
 
     /// Check the parameters against the bodies and make the joint (the System calls this).
     pub(crate) fn build(self, bodies: &[RigidBody]) -> Result<Joint> {
-        let field = |f: &str| if self.name.is_empty() { format!("joint.{f}") } else { format!("joint \"{}\".{f}", self.name) };
+        let field = |f: &str| {
+            if self.name.is_empty() {
+                format!("joint.{f}")
+            } else {
+                format!("joint \"{}\".{f}", self.name)
+            }
+        };
         for (h, f) in [(self.body_a, "body_a"), (self.body_b, "body_b")] {
             if h.0 as usize >= bodies.len() {
-                return Err(ChronoError::UnknownHandle { kind: "body", index: h.0 as usize, field: field(f) });
+                return Err(ChronoError::UnknownHandle {
+                    kind: "body",
+                    index: h.0 as usize,
+                    field: field(f),
+                });
             }
         }
         if self.body_a == self.body_b {
-            return Err(ChronoError::invalid(field("body_b"), self.body_b.0, "must differ from body_a"));
+            return Err(ChronoError::invalid(
+                field("body_b"),
+                self.body_b.0,
+                "must differ from body_a",
+            ));
         }
         check_finite3(&field("frame.origin"), &self.frame_world.translation.vector)?;
-        if self.frame_world.rotation.coords.iter().any(|c| !c.is_finite()) {
-            return Err(ChronoError::invalid(field("frame.rotation"), format!("{:?}", self.frame_world.rotation.coords), "must be finite"));
+        if self
+            .frame_world
+            .rotation
+            .coords
+            .iter()
+            .any(|c| !c.is_finite())
+        {
+            return Err(ChronoError::invalid(
+                field("frame.rotation"),
+                format!("{:?}", self.frame_world.rotation.coords),
+                "must be finite",
+            ));
         }
         let check_drive = |d: &Drive, name: &str| -> Result<()> {
             match d {
-                Drive::Speed(x) | Drive::Position(x) | Drive::Effort(x) => check_finite(&field(name), *x).map(|_| ()),
+                Drive::Speed(x) | Drive::Position(x) | Drive::Effort(x) => {
+                    check_finite(&field(name), *x).map(|_| ())
+                }
             }
         };
         match &self.kind {
             JointKind::Distance { distance } => {
                 crate::error::check_positive(&field("distance"), *distance)?;
             }
-            JointKind::RotationalMotor { drive, max_torque, limits } => {
+            JointKind::RotationalMotor {
+                drive,
+                max_torque,
+                limits,
+            } => {
                 check_drive(drive, "drive")?;
                 if max_torque.is_nan() || *max_torque < 0.0 {
-                    return Err(ChronoError::invalid(field("max_torque"), max_torque, "must be >= 0"));
+                    return Err(ChronoError::invalid(
+                        field("max_torque"),
+                        max_torque,
+                        "must be >= 0",
+                    ));
                 }
-                if let Some((lo, hi)) = limits {
-                    if !(lo.is_finite() && hi.is_finite() && lo < hi) {
-                        return Err(ChronoError::invalid(field("limits"), format!("({lo}, {hi})"), "need finite min < max"));
-                    }
+                if let Some((lo, hi)) = limits
+                    && !(lo.is_finite() && hi.is_finite() && lo < hi)
+                {
+                    return Err(ChronoError::invalid(
+                        field("limits"),
+                        format!("({lo}, {hi})"),
+                        "need finite min < max",
+                    ));
                 }
             }
             JointKind::LinearActuator { drive, max_force } => {
                 check_drive(drive, "drive")?;
                 if max_force.is_nan() || *max_force < 0.0 {
-                    return Err(ChronoError::invalid(field("max_force"), max_force, "must be >= 0"));
+                    return Err(ChronoError::invalid(
+                        field("max_force"),
+                        max_force,
+                        "must be >= 0",
+                    ));
                 }
             }
             _ => {}
         }
-        let (a, b) = (&bodies[self.body_a.0 as usize], &bodies[self.body_b.0 as usize]);
+        let (a, b) = (
+            &bodies[self.body_a.0 as usize],
+            &bodies[self.body_b.0 as usize],
+        );
         let frame_a = a.pose().inverse() * self.frame_world;
         let frame_b = b.pose().inverse() * self.frame_world;
-        let _ = check_non_negative; // (kept for symmetry of the checks above)
         Ok(Joint {
             name: self.name,
             body_a: self.body_a,
@@ -196,6 +253,18 @@ impl JointBuilder {
             h: 0.0,
         })
     }
+}
+
+/// The row sink used while building a joint's rows: (joint, kind, J_a, J_b, C/h, meaning).
+type PushRow<'a> = dyn FnMut(&mut Joint, PairRowKind, [f64; 6], [f64; 6], f64, RowMeaning) + 'a;
+
+/// An effort drive's load for one step: world force and torque on B (A gets the opposite),
+/// and the two frame origins where they act.
+pub(crate) struct EffortLoad {
+    pub force: Vector3<f64>,
+    pub torque: Vector3<f64>,
+    pub point_a: Vector3<f64>,
+    pub point_b: Vector3<f64>,
 }
 
 /// World frames of the two sides of a joint.
@@ -224,15 +293,22 @@ impl Joint {
     }
     /// Change the drive of a motor or actuator (e.g. from a controller between steps).
     pub fn set_drive(&mut self, new: Drive) -> Result<()> {
-        check_finite("joint.drive", match new {
-            Drive::Speed(x) | Drive::Position(x) | Drive::Effort(x) => x,
-        })?;
+        check_finite(
+            "joint.drive",
+            match new {
+                Drive::Speed(x) | Drive::Position(x) | Drive::Effort(x) => x,
+            },
+        )?;
         match &mut self.kind {
             JointKind::RotationalMotor { drive, .. } | JointKind::LinearActuator { drive, .. } => {
                 *drive = new;
                 Ok(())
             }
-            _ => Err(ChronoError::invalid("joint.drive", format!("{new:?}"), "this joint has no drive")),
+            _ => Err(ChronoError::invalid(
+                "joint.drive",
+                format!("{new:?}"),
+                "this joint has no drive",
+            )),
         }
     }
 
@@ -260,16 +336,26 @@ impl Joint {
     /// The largest violation of the position-level constraints (m for points, rad-ish for
     /// axes), at the bodies' current poses.
     pub fn violation(&self, bodies: &[RigidBody]) -> f64 {
-        let (a, b) = (&bodies[self.body_a.0 as usize], &bodies[self.body_b.0 as usize]);
+        let (a, b) = (
+            &bodies[self.body_a.0 as usize],
+            &bodies[self.body_b.0 as usize],
+        );
         let f = self.frames(a, b);
         let dp = f.pb - f.pa;
         let rb_z = (b.pose() * self.frame_b).rotation * Vector3::z();
         match &self.kind {
             JointKind::Spherical => dp.norm(),
-            JointKind::Revolute | JointKind::RotationalMotor { .. } => dp.norm().max(f.za.dot(&f.xb).abs()).max(f.za.dot(&f.yb).abs()),
+            JointKind::Revolute | JointKind::RotationalMotor { .. } => dp
+                .norm()
+                .max(f.za.dot(&f.xb).abs())
+                .max(f.za.dot(&f.yb).abs()),
             JointKind::Universal => dp.norm().max(f.xa.dot(&f.yb).abs()),
             JointKind::Distance { distance } => (dp.norm() - distance).abs(),
-            JointKind::Lock => dp.norm().max(f.za.dot(&f.xb).abs()).max(f.za.dot(&f.yb).abs()).max(f.xa.dot(&f.yb).abs()),
+            JointKind::Lock => dp
+                .norm()
+                .max(f.za.dot(&f.xb).abs())
+                .max(f.za.dot(&f.yb).abs())
+                .max(f.xa.dot(&f.yb).abs()),
             JointKind::Prismatic | JointKind::LinearActuator { .. } => dp
                 .dot(&f.xa)
                 .abs()
@@ -300,7 +386,10 @@ impl Joint {
         self.row_ids.clear();
         self.row_kinds.clear();
         self.h = h;
-        let (a, b) = (&bodies[self.body_a.0 as usize], &bodies[self.body_b.0 as usize]);
+        let (a, b) = (
+            &bodies[self.body_a.0 as usize],
+            &bodies[self.body_b.0 as usize],
+        );
         let f = self.frames(a, b);
         let dp = f.pb - f.pa;
         let inv_h = 1.0 / h;
@@ -311,30 +400,50 @@ impl Joint {
         let wraps = ((self.angle - raw) / two_pi).round();
         self.angle = raw + wraps * two_pi;
 
-        let mut push = |joint: &mut Joint, kind: PairRowKind, ja: [f64; 6], jb: [f64; 6], c: f64, meaning: RowMeaning| {
+        let mut push = |joint: &mut Joint,
+                        kind: PairRowKind,
+                        ja: [f64; 6],
+                        jb: [f64; 6],
+                        c: f64,
+                        meaning: RowMeaning| {
             if let Some(id) = push_pair_row(rows, kind, a, &ja, b, &jb, c, 0.0) {
                 joint.row_ids.push(id);
                 joint.row_kinds.push(meaning);
             }
         };
         let neg = |j: [f64; 6]| j.map(|x| -x);
-        let point_row = |joint: &mut Joint, push: &mut dyn FnMut(&mut Joint, PairRowKind, [f64; 6], [f64; 6], f64, RowMeaning), d: Vector3<f64>, rotating_a: bool| {
-            let mut ja = neg(a.point_jacobian(&f.pa, &d));
-            if rotating_a {
-                // d rotates with A: d_dot.(p_B - p_A) = w_A.(d x dp)
-                let extra = a.angular_jacobian(&d.cross(&dp));
-                for k in 3..6 {
-                    ja[k] += extra[k];
+        let point_row =
+            |joint: &mut Joint, push: &mut PushRow, d: Vector3<f64>, rotating_a: bool| {
+                let mut ja = neg(a.point_jacobian(&f.pa, &d));
+                if rotating_a {
+                    // d rotates with A: d_dot.(p_B - p_A) = w_A.(d x dp)
+                    let extra = a.angular_jacobian(&d.cross(&dp));
+                    for k in 3..6 {
+                        ja[k] += extra[k];
+                    }
                 }
-            }
-            let jb = b.point_jacobian(&f.pb, &d);
-            push(joint, PairRowKind::Bilateral, ja, jb, d.dot(&dp) * inv_h, RowMeaning::Force(d));
-        };
-        let perp_row = |joint: &mut Joint, push: &mut dyn FnMut(&mut Joint, PairRowKind, [f64; 6], [f64; 6], f64, RowMeaning), u: Vector3<f64>, v: Vector3<f64>| {
+                let jb = b.point_jacobian(&f.pb, &d);
+                push(
+                    joint,
+                    PairRowKind::Bilateral,
+                    ja,
+                    jb,
+                    d.dot(&dp) * inv_h,
+                    RowMeaning::Force(d),
+                );
+            };
+        let perp_row = |joint: &mut Joint, push: &mut PushRow, u: Vector3<f64>, v: Vector3<f64>| {
             let axis = u.cross(&v);
             let ja = a.angular_jacobian(&axis);
             let jb = neg(b.angular_jacobian(&axis));
-            push(joint, PairRowKind::Bilateral, ja, jb, u.dot(&v) * inv_h, RowMeaning::Torque(-axis));
+            push(
+                joint,
+                PairRowKind::Bilateral,
+                ja,
+                jb,
+                u.dot(&v) * inv_h,
+                RowMeaning::Torque(-axis),
+            );
         };
         let world = [Vector3::x(), Vector3::y(), Vector3::z()];
         let kind = self.kind.clone();
@@ -377,28 +486,65 @@ impl Joint {
                 let d = if len > 1e-12 { dp / len } else { Vector3::z() };
                 let ja = neg(a.point_jacobian(&f.pa, &d));
                 let jb = b.point_jacobian(&f.pb, &d);
-                push(self, PairRowKind::Bilateral, ja, jb, (len - distance) * inv_h, RowMeaning::Force(d));
+                push(
+                    self,
+                    PairRowKind::Bilateral,
+                    ja,
+                    jb,
+                    (len - distance) * inv_h,
+                    RowMeaning::Force(d),
+                );
             }
         }
         // drives and limits
         match &kind {
-            JointKind::RotationalMotor { drive, max_torque, limits } => {
+            JointKind::RotationalMotor {
+                drive,
+                max_torque,
+                limits,
+            } => {
                 // relative spin rate s = (w_B - w_A).z_A (z_A's own rotation is orthogonal to the
                 // perpendicular rows, which keep z_A = z_B)
                 let ja = neg(a.angular_jacobian(&f.za));
                 let jb = b.angular_jacobian(&f.za);
                 let lim = max_torque * h;
                 match *drive {
-                    Drive::Speed(w) => push(self, PairRowKind::Box { lo: -lim, hi: lim }, ja, jb, -w, RowMeaning::Torque(f.za)),
-                    Drive::Position(th) => {
-                        push(self, PairRowKind::Box { lo: -lim, hi: lim }, ja, jb, (self.angle - th) * inv_h, RowMeaning::Torque(f.za))
-                    }
+                    Drive::Speed(w) => push(
+                        self,
+                        PairRowKind::Box { lo: -lim, hi: lim },
+                        ja,
+                        jb,
+                        -w,
+                        RowMeaning::Torque(f.za),
+                    ),
+                    Drive::Position(th) => push(
+                        self,
+                        PairRowKind::Box { lo: -lim, hi: lim },
+                        ja,
+                        jb,
+                        (self.angle - th) * inv_h,
+                        RowMeaning::Torque(f.za),
+                    ),
                     Drive::Effort(_) => {}
                 }
                 if let Some((lo, hi)) = *limits {
                     // theta + h s >= lo  and  theta + h s <= hi
-                    push(self, PairRowKind::Unilateral, ja, jb, (self.angle - lo) * inv_h, RowMeaning::Torque(f.za));
-                    push(self, PairRowKind::Unilateral, ja.map(|x| -x), jb.map(|x| -x), (hi - self.angle) * inv_h, RowMeaning::Torque(-f.za));
+                    push(
+                        self,
+                        PairRowKind::Unilateral,
+                        ja,
+                        jb,
+                        (self.angle - lo) * inv_h,
+                        RowMeaning::Torque(f.za),
+                    );
+                    push(
+                        self,
+                        PairRowKind::Unilateral,
+                        ja.map(|x| -x),
+                        jb.map(|x| -x),
+                        (hi - self.angle) * inv_h,
+                        RowMeaning::Torque(-f.za),
+                    );
                 }
             }
             JointKind::LinearActuator { drive, max_force } => {
@@ -411,8 +557,22 @@ impl Joint {
                 let lim = max_force * h;
                 let s = dp.dot(&f.za);
                 match *drive {
-                    Drive::Speed(v) => push(self, PairRowKind::Box { lo: -lim, hi: lim }, ja, jb, -v, RowMeaning::Force(f.za)),
-                    Drive::Position(x) => push(self, PairRowKind::Box { lo: -lim, hi: lim }, ja, jb, (s - x) * inv_h, RowMeaning::Force(f.za)),
+                    Drive::Speed(v) => push(
+                        self,
+                        PairRowKind::Box { lo: -lim, hi: lim },
+                        ja,
+                        jb,
+                        -v,
+                        RowMeaning::Force(f.za),
+                    ),
+                    Drive::Position(x) => push(
+                        self,
+                        PairRowKind::Box { lo: -lim, hi: lim },
+                        ja,
+                        jb,
+                        (s - x) * inv_h,
+                        RowMeaning::Force(f.za),
+                    ),
                     Drive::Effort(_) => {}
                 }
             }
@@ -422,14 +582,31 @@ impl Joint {
 
     /// Effort drives: the torque/force pair to apply this step, as (world force on B at its
     /// frame origin, world torque on B); A gets the opposite.
-    pub(crate) fn effort(&self, bodies: &[RigidBody]) -> Option<(Vector3<f64>, Vector3<f64>, Vector3<f64>, Vector3<f64>)> {
-        let (a, b) = (&bodies[self.body_a.0 as usize], &bodies[self.body_b.0 as usize]);
+    pub(crate) fn effort(&self, bodies: &[RigidBody]) -> Option<EffortLoad> {
+        let (a, b) = (
+            &bodies[self.body_a.0 as usize],
+            &bodies[self.body_b.0 as usize],
+        );
         let f = self.frames(a, b);
         match self.kind {
-            JointKind::RotationalMotor { drive: Drive::Effort(t), .. } => {
-                Some((Vector3::zeros(), f.za * t, f.pa, f.pb))
-            }
-            JointKind::LinearActuator { drive: Drive::Effort(force), .. } => Some((f.za * force, Vector3::zeros(), f.pa, f.pb)),
+            JointKind::RotationalMotor {
+                drive: Drive::Effort(t),
+                ..
+            } => Some(EffortLoad {
+                force: Vector3::zeros(),
+                torque: f.za * t,
+                point_a: f.pa,
+                point_b: f.pb,
+            }),
+            JointKind::LinearActuator {
+                drive: Drive::Effort(force),
+                ..
+            } => Some(EffortLoad {
+                force: f.za * force,
+                torque: Vector3::zeros(),
+                point_a: f.pa,
+                point_b: f.pb,
+            }),
             _ => None,
         }
     }

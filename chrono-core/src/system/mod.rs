@@ -44,7 +44,12 @@ pub struct SystemSettings {
 
 impl Default for SystemSettings {
     fn default() -> Self {
-        Self { gravity: crate::math::GRAVITY, envelope: 0.005, max_recovery_speed: 0.6, warm_start: true }
+        Self {
+            gravity: crate::math::GRAVITY,
+            envelope: 0.005,
+            max_recovery_speed: 0.6,
+            warm_start: true,
+        }
     }
 }
 
@@ -154,7 +159,8 @@ impl System {
         let body = builder.build()?;
         let handle = BodyHandle(self.bodies.len() as u32);
         for c in body.colliders() {
-            self.collision.add_collider(handle.0, &c.shape, c.local_pose, c.material)?;
+            self.collision
+                .add_collider(handle.0, &c.shape, c.local_pose, c.material)?;
         }
         self.bodies.push(body);
         Ok(handle)
@@ -179,12 +185,24 @@ impl System {
 
     /// A body.
     pub fn body(&self, h: BodyHandle) -> Result<&RigidBody> {
-        self.bodies.get(h.0 as usize).ok_or(ChronoError::UnknownHandle { kind: "body", index: h.0 as usize, field: "body".into() })
+        self.bodies
+            .get(h.0 as usize)
+            .ok_or(ChronoError::UnknownHandle {
+                kind: "body",
+                index: h.0 as usize,
+                field: "body".into(),
+            })
     }
 
     /// A body, mutable (to set forces or prescribed velocities between steps).
     pub fn body_mut(&mut self, h: BodyHandle) -> Result<&mut RigidBody> {
-        self.bodies.get_mut(h.0 as usize).ok_or(ChronoError::UnknownHandle { kind: "body", index: h.0 as usize, field: "body".into() })
+        self.bodies
+            .get_mut(h.0 as usize)
+            .ok_or(ChronoError::UnknownHandle {
+                kind: "body",
+                index: h.0 as usize,
+                field: "body".into(),
+            })
     }
 
     /// All bodies, in handle order.
@@ -194,12 +212,24 @@ impl System {
 
     /// A joint.
     pub fn joint(&self, h: JointHandle) -> Result<&Joint> {
-        self.joints.get(h.0 as usize).ok_or(ChronoError::UnknownHandle { kind: "joint", index: h.0 as usize, field: "joint".into() })
+        self.joints
+            .get(h.0 as usize)
+            .ok_or(ChronoError::UnknownHandle {
+                kind: "joint",
+                index: h.0 as usize,
+                field: "joint".into(),
+            })
     }
 
     /// A joint, mutable (to change a drive).
     pub fn joint_mut(&mut self, h: JointHandle) -> Result<&mut Joint> {
-        self.joints.get_mut(h.0 as usize).ok_or(ChronoError::UnknownHandle { kind: "joint", index: h.0 as usize, field: "joint".into() })
+        self.joints
+            .get_mut(h.0 as usize)
+            .ok_or(ChronoError::UnknownHandle {
+                kind: "joint",
+                index: h.0 as usize,
+                field: "joint".into(),
+            })
     }
 
     /// All joints.
@@ -244,11 +274,18 @@ impl System {
 
     /// Largest position-level violation over all joints.
     pub fn max_joint_violation(&self) -> f64 {
-        self.joints.iter().map(|j| j.violation(&self.bodies)).fold(0.0, f64::max)
+        self.joints
+            .iter()
+            .map(|j| j.violation(&self.bodies))
+            .fold(0.0, f64::max)
     }
 
     /// Total kinetic energy of the dynamic bodies, J.
     pub fn kinetic_energy(&self) -> f64 {
-        self.bodies.iter().filter(|b| b.is_dynamic()).map(|b| b.kinetic_energy()).sum()
+        self.bodies
+            .iter()
+            .filter(|b| b.is_dynamic())
+            .map(|b| b.kinetic_energy())
+            .sum()
     }
 }

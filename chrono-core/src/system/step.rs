@@ -22,9 +22,18 @@ impl System {
     /// body or item and the step, and the state is left as it was computed).
     pub fn step(&mut self, h: f64) -> Result<StepReport> {
         if !(h.is_finite() && h > 0.0) {
-            return Err(ChronoError::invalid("h", h, "the step size must be finite and > 0"));
+            return Err(ChronoError::invalid(
+                "h",
+                h,
+                "the step size must be finite and > 0",
+            ));
         }
-        let ctx = StepContext { h, time: self.time, step: self.step_count, gravity: self.settings.gravity };
+        let ctx = StepContext {
+            h,
+            time: self.time,
+            step: self.step_count,
+            gravity: self.settings.gravity,
+        };
 
         // Variables: dynamic bodies, then items.
         self.vars.clear();
@@ -42,14 +51,23 @@ impl System {
         let ndof = self.vars.ndof();
         self.k.clear();
         self.k.resize(ndof, 0.0);
-        for b in &self.bodies {
+        for (i, b) in self.bodies.iter().enumerate() {
             if let Some(blk) = b.block {
                 let r = self.vars.range(blk);
-                b.free_momentum(h, &self.settings.gravity, &mut self.k[r]);
+                b.free_momentum(h, &self.settings.gravity, &mut self.k[r.clone()]);
+                if self.k[r].iter().any(|x| !x.is_finite()) {
+                    return Err(ChronoError::NonFinite {
+                        item: format!("body {i} (\"{}\")", b.name),
+                        step: self.step_count,
+                        time: self.time,
+                        what: "momentum M v + h f (velocity or applied force too large)".into(),
+                    });
+                }
             }
         }
         for j in &self.joints {
-            if let Some((force, torque, pa, pb)) = j.effort(&self.bodies) {
+            if let Some(load) = j.effort(&self.bodies) {
+                let (force, torque, pa, pb) = (load.force, load.torque, load.point_a, load.point_b);
                 let (ha, hb) = j.bodies();
                 for (handle, sign, p) in [(hb, 1.0, pb), (ha, -1.0, pa)] {
                     let body = &self.bodies[handle.0 as usize];
@@ -78,7 +96,8 @@ impl System {
             self.active.push(b.motion == BodyMotion::Dynamic);
         }
         self.points.clear();
-        self.collision.detect(&self.poses, &self.active, &mut self.points)?;
+        self.collision
+            .detect(&self.poses, &self.active, &mut self.points)?;
 
         // Rows.
         self.rows.clear();
@@ -86,8 +105,17 @@ impl System {
             j.add_rows(&self.bodies, h, &mut self.rows);
         }
         self.contacts.clear();
-        let row_settings = NscRowSettings { h, max_recovery_speed: self.settings.max_recovery_speed };
-        nsc::add_contact_rows(&self.points, &self.bodies, row_settings, &mut self.rows, &mut self.contacts);
+        let row_settings = NscRowSettings {
+            h,
+            max_recovery_speed: self.settings.max_recovery_speed,
+        };
+        nsc::add_contact_rows(
+            &self.points,
+            &self.bodies,
+            row_settings,
+            &mut self.rows,
+            &mut self.contacts,
+        );
         for item in &mut self.items {
             item.add_constraints(&ctx, &self.vars, &mut self.rows)?;
         }
@@ -157,6 +185,10 @@ impl System {
         }
         self.time += h;
         self.step_count += 1;
-        Ok(StepReport { contacts: self.contacts.len(), rows: m, solve })
+        Ok(StepReport {
+            contacts: self.contacts.len(),
+            rows: m,
+            solve,
+        })
     }
 }

@@ -5,7 +5,7 @@ use chrono_core::math::{Isometry3, Vector3};
 use chrono_core::{ContactMaterial, RigidBodyBuilder, Shape};
 use serde::{Deserialize, Serialize};
 
-use super::{make_system, n_steps};
+use super::{VtkFrames, make_system, n_steps};
 use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series};
 use crate::params::{CaseParams, ParamCase, ParamInfo};
 
@@ -83,8 +83,10 @@ fn run(p: &FreeFallParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     let mut series = Series::new(["t", "z_bottom", "z_exact", "vz"]);
     let mut t_land = None;
     let (mut max_bounce, mut max_sink) = (0.0f64, 0.0f64);
+    let mut vtk = VtkFrames::new(ctx, (0.02 / p.h).round() as u64);
     for i in 1..=n {
         sys.step(p.h)?;
+        vtk.record(i, &sys)?;
         let b = sys.body(bx)?;
         let (t, z, vz) = (sys.time(), b.position().z - half, b.linear_velocity().z);
         let z_exact = (p.height - 0.5 * g * t * t).max(0.0);
@@ -100,6 +102,7 @@ fn run(p: &FreeFallParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         ctx.progress_steps(i, n);
     }
     let t_land = t_land.ok_or_else(|| anyhow::anyhow!("the box never came to rest"))?;
+    vtk.finish()?;
     let mut out = CaseOutput::new();
     // semi-implicit Euler lands within one step of the exact time
     out.check(Check::absolute(

@@ -7,7 +7,7 @@ use chrono_core::math::{Isometry3, UnitQuaternion, Vector3};
 use chrono_core::{ContactMaterial, RigidBodyBuilder, Shape};
 use serde::{Deserialize, Serialize};
 
-use super::{make_system, n_steps};
+use super::{VtkFrames, make_system, n_steps};
 use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series};
 use crate::params::{CaseParams, ParamCase, ParamInfo};
 
@@ -96,8 +96,10 @@ fn run(p: &InclineParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         0.0
     };
     let (mut t1, mut s1, mut v1) = (None, 0.0, 0.0);
+    let mut vtk = VtkFrames::new(ctx, (0.02 / p.h).round() as u64);
     for i in 1..=n {
         sys.step(p.h)?;
+        vtk.record(i, &sys)?;
         let b = sys.body(bx)?;
         let t = sys.time();
         let s = b.position().dot(&down_slope);
@@ -114,6 +116,7 @@ fn run(p: &InclineParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     let (t_end, v_end) = (sys.time(), b.linear_velocity().dot(&down_slope));
     let t1 = t1.unwrap_or(0.0);
     let accel = (v_end - v1) / (t_end - t1);
+    vtk.finish()?;
     let mut out = CaseOutput::new();
     if a_exact > 0.0 {
         out.check(Check::relative("accel", accel, a_exact, 0.02));

@@ -53,3 +53,52 @@ pub fn n_steps(h: f64, t_end: f64) -> anyhow::Result<u64> {
     );
     Ok((t_end / h).round().max(1.0) as u64)
 }
+
+/// Writes VTK frames of a system's bodies every `every` steps when the run asked for them
+/// (`--vtk`), and the `.pvd` collection at the end.
+pub struct VtkFrames {
+    dir: Option<std::path::PathBuf>,
+    every: u64,
+    frames: Vec<(f64, String)>,
+}
+
+impl VtkFrames {
+    /// Frames every `every` steps into the case's VTK directory, if any.
+    pub fn new(ctx: &crate::case::RunContext, every: u64) -> Self {
+        Self {
+            dir: ctx.vtk_dir(),
+            every: every.max(1),
+            frames: Vec::new(),
+        }
+    }
+
+    /// Write a frame if VTK output is on and `step` is a multiple of `every`.
+    pub fn record(&mut self, step: u64, sys: &System) -> anyhow::Result<()> {
+        let Some(dir) = &self.dir else { return Ok(()) };
+        if !step.is_multiple_of(self.every) {
+            return Ok(());
+        }
+        let shapes: Vec<_> = sys
+            .bodies()
+            .iter()
+            .enumerate()
+            .flat_map(|(i, b)| {
+                b.colliders()
+                    .iter()
+                    .map(move |c| (b.pose() * c.local_pose, &c.shape, i as u32))
+            })
+            .collect();
+        let name = format!("frame_{:06}.vtp", self.frames.len());
+        chrono_core::io::vtk::write_shapes_vtp(dir.join(&name), &shapes)?;
+        self.frames.push((sys.time(), name));
+        Ok(())
+    }
+
+    /// Write the `.pvd` collection (ParaView opens it as an animation).
+    pub fn finish(&self) -> anyhow::Result<()> {
+        let Some(dir) = &self.dir else { return Ok(()) };
+        let frames: Vec<(f64, &str)> = self.frames.iter().map(|(t, n)| (*t, n.as_str())).collect();
+        chrono_core::io::vtk::write_pvd(dir.join("frames.pvd"), &frames)?;
+        Ok(())
+    }
+}

@@ -10,7 +10,7 @@ use chrono_core::math::{Isometry3, Vector3};
 use chrono_core::{JointBuilder, JointKind, RigidBodyBuilder};
 use serde::{Deserialize, Serialize};
 
-use super::{make_system, n_steps};
+use super::{VtkFrames, make_system, n_steps};
 use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series};
 use crate::params::{CaseParams, ParamCase, ParamInfo};
 
@@ -120,8 +120,10 @@ fn run(p: &PendulumParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     let (mut drift, mut e_drift) = (0.0f64, 0.0f64);
     let mut crossings = Vec::new(); // upward zero crossings of x (interpolated)
     let mut prev = (0.0, sys.body(bob)?.position().x);
+    let mut vtk = VtkFrames::new(ctx, (0.02 / p.h).round() as u64);
     for i in 1..=n {
         sys.step(p.h)?;
+        vtk.record(i, &sys)?;
         let t = sys.time();
         let x = sys.body(bob)?.position().x;
         let z = sys.body(bob)?.position().z;
@@ -141,6 +143,7 @@ fn run(p: &PendulumParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         "fewer than two periods simulated; increase `t_end`"
     );
     let period = (crossings[crossings.len() - 1] - crossings[0]) / (crossings.len() - 1) as f64;
+    vtk.finish()?;
     let mut out = CaseOutput::new();
     out.check(Check::relative("period", period, period_exact, 0.005));
     out.check(Check::below("constraint_drift", drift, 1e-5));

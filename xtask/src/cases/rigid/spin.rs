@@ -8,7 +8,7 @@ use chrono_core::RigidBodyBuilder;
 use chrono_core::math::Vector3;
 use serde::{Deserialize, Serialize};
 
-use super::{make_system, n_steps};
+use super::{VtkFrames, make_system, n_steps};
 use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series};
 use crate::params::{CaseParams, ParamCase, ParamInfo};
 
@@ -79,8 +79,10 @@ fn run(p: &SpinParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     let (mut l_drift, mut e_drift) = (0.0f64, 0.0f64);
     let mut flips = 0usize;
     let mut sign = w0.y.signum();
+    let mut vtk = VtkFrames::new(ctx, (0.05 / p.h).round() as u64);
     for i in 1..=n {
         sys.step(p.h)?;
+        vtk.record(i, &sys)?;
         let b = sys.body(body)?;
         let w = b.angular_velocity_body();
         let dl = (b.angular_momentum() - l0).norm() / l0.norm();
@@ -94,6 +96,7 @@ fn run(p: &SpinParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         series.push(&[sys.time(), w.x, w.y, w.z, dl, de]);
         ctx.progress_steps(i, n);
     }
+    vtk.finish()?;
     let mut out = CaseOutput::new();
     // the angular update conserves R J w by construction: round-off only
     out.check(Check::below("momentum_drift", l_drift, 1e-9));

@@ -7,7 +7,7 @@ use chrono_core::math::{Isometry3, Vector3};
 use chrono_core::{ContactMaterial, RigidBodyBuilder, Shape};
 use serde::{Deserialize, Serialize};
 
-use super::{make_system, n_steps};
+use super::{VtkFrames, make_system, n_steps};
 use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series};
 use crate::params::{CaseParams, ParamCase, ParamInfo};
 
@@ -146,8 +146,10 @@ fn run(p: &StackParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     ]);
     let (mut max_drift, mut max_pen) = (0.0f64, 0.0f64);
     let mut iters_total = 0usize;
+    let mut vtk = VtkFrames::new(ctx, (0.05 / p.h).round() as u64);
     for i in 1..=n {
         let rep = sys.step(p.h)?;
+        vtk.record(i, &sys)?;
         iters_total += rep.solve.iterations;
         let pen = sys
             .contacts()
@@ -175,6 +177,7 @@ fn run(p: &StackParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         ]);
         ctx.progress_steps(i, n);
     }
+    vtk.finish()?;
     let mut out = CaseOutput::new();
     out.check(Check::below("max_drift", max_drift, 1e-3));
     out.check(Check::below("max_penetration", max_pen, 1e-3));

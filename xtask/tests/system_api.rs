@@ -1,0 +1,174 @@
+//! Integration tests of the public System API with a real solver: bad input is rejected with
+//! an error that names the field, and runs are bit-for-bit reproducible.
+
+use chrono_ccp::{Apgd, Psor, SolverSettings};
+use chrono_core::math::{Isometry3, Vector3};
+use chrono_core::{
+    BodyHandle, ChronoError, ContactMaterial, JointBuilder, JointKind, RigidBodyBuilder, Shape,
+    System, SystemSettings,
+};
+use xtask::case::{Mode, RunContext};
+
+fn system() -> System {
+    let settings = SolverSettings {
+        tolerance: 1e-10,
+        max_iterations: 1000,
+        record_history: false,
+    };
+    System::new(SystemSettings::default(), Box::new(Apgd::new(settings))).unwrap()
+}
+
+#[test]
+fn joint_naming_a_missing_body_is_rejected() {
+    let mut sys = system();
+    let a = sys.add_body(RigidBodyBuilder::fixed()).unwrap();
+    let e = sys
+        .add_joint(
+            JointBuilder::at_axis(
+                JointKind::Revolute,
+                a,
+                BodyHandle(7),
+                Vector3::zeros(),
+                Vector3::z(),
+            )
+            .name("hinge"),
+        )
+        .unwrap_err();
+    assert!(
+        matches!(e, ChronoError::UnknownHandle { index: 7, .. }),
+        "{e}"
+    );
+    assert!(e.to_string().contains("joint \"hinge\".body_b"), "{e}");
+}
+
+#[test]
+fn bad_step_size_and_settings_are_rejected() {
+    let mut sys = system();
+    for h in [0.0, -1e-3, f64::NAN, f64::INFINITY] {
+        let e = sys.step(h).unwrap_err().to_string();
+        assert!(e.contains("`h`"), "{e}");
+    }
+    let s = SystemSettings {
+        envelope: -0.1,
+        ..SystemSettings::default()
+    };
+    let e = System::new(s, Box::new(Psor::new(SolverSettings::default())))
+        .err()
+        .unwrap()
+        .to_string();
+    assert!(e.contains("settings.envelope") && e.contains("-0.1"), "{e}");
+}
+
+#[test]
+fn bad_bodies_and_materials_are_rejected() {
+    let mut sys = system();
+    let e = sys
+        .add_body(RigidBodyBuilder::dynamic().name("b").mass(0.0))
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("body \"b\".mass"), "{e}");
+    let e = sys
+        .add_body(RigidBodyBuilder::dynamic().collider(
+            Shape::Sphere { radius: 0.1 },
+            Isometry3::identity(),
+            ContactMaterial::with_friction(-0.5),
+        ))
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("friction") && e.contains("-0.5"), "{e}");
+    let e = sys
+        .add_body(RigidBodyBuilder::dynamic().collider(
+            Shape::Sphere { radius: -1.0 },
+            Isometry3::identity(),
+            ContactMaterial::default(),
+        ))
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("radius") && e.contains("-1"), "{e}");
+}
+
+#[test]
+fn a_diverging_state_stops_with_an_error_naming_the_body_and_step() {
+    let mut sys = system();
+    let b = sys
+        .add_body(RigidBodyBuilder::dynamic().name("rocket"))
+        .unwrap();
+    sys.step(1e-3).unwrap();
+    // an enormous but finite force overflows the velocity to infinity
+    sys.body_mut(b)
+        .unwrap()
+        .set_applied_force(Vector3::new(f64::MAX, 0.0, 0.0))
+        .unwrap();
+    let mut err = None;
+    for _ in 0..5 {
+        if let Err(e) = sys.step(1.0) {
+            err = Some(e);
+            break;
+        }
+    }
+    let e = err.expect("the step must fail").to_string();
+    assert!(e.contains("rocket") && e.contains("step"), "{e}");
+}
+
+#[test]
+fn a_ball_settles_on_the_ground() {
+    let mut sys = system();
+    let mat = ContactMaterial::with_friction(0.4);
+    sys.add_body(RigidBodyBuilder::fixed().collider(
+        Shape::HalfSpace {
+            normal: Vector3::z(),
+        },
+        Isometry3::identity(),
+        mat,
+    ))
+    .unwrap();
+    let s = Shape::Sphere { radius: 0.1 };
+    let ball = sys
+        .add_body(
+            RigidBodyBuilder::dynamic()
+                .mass_from_shape(&s, 1000.0)
+                .unwrap()
+                .position(Vector3::new(0.0, 0.0, 0.5))
+                .collider(s, Isometry3::identity(), mat),
+        )
+        .unwrap();
+    for _ in 0..1000 {
+        sys.step(1e-3).unwrap();
+    }
+    let b = sys.body(ball).unwrap();
+    assert!(
+        (b.position().z - 0.1).abs() < 1e-6,
+        "z = {}",
+        b.position().z
+    );
+    assert!(b.linear_velocity().norm() < 1e-6);
+}
+
+/// Two runs of the same case with the same thread count give bit-identical series.
+#[test]
+fn runs_are_bit_for_bit_reproducible() {
+    let dir = std::env::temp_dir().join(format!("chrono-rs-determinism-{}", std::process::id()));
+    let run = |name: &str| {
+        let mut case = xtask::cases::all_cases()
+            .into_iter()
+            .find(|c| c.name() == name)
+            .unwrap();
+        case.apply_mode(Mode::Quick);
+        let mut p = case.params_json();
+        p["t_end"] = serde_json::json!(0.3);
+        case.set_params_json(p).unwrap();
+        case.run(&RunContext::new(Mode::Quick, &dir, false))
+            .unwrap()
+            .series
+    };
+    for name in ["rigid-stack-heavy", "rigid-incline"] {
+        let (a, b) = (run(name), run(name));
+        assert_eq!(a.rows.len(), b.rows.len());
+        for (ra, rb) in a.rows.iter().zip(&b.rows) {
+            for (x, y) in ra.iter().zip(rb) {
+                assert_eq!(x.to_bits(), y.to_bits(), "{name}: runs differ");
+            }
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
