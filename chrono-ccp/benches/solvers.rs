@@ -2,7 +2,8 @@
 //! frictional contacts between lattice neighbours and with the ground (~31k triplets,
 //! ~93k rows).
 //!
-//! - `apply_n`: one product `N g` (the unit of cost of every iterative solver);
+//! - `apply_n`: one product `N g` (the unit of cost of every iterative solver); `residual`
+//!   and `project`, the other per-iteration operations of the problem;
 //! - `psor/solve_k`, `apgd/solve_k`: a cold solve capped at k iterations (tolerance 0). A solve
 //!   has a fixed cost (projection, `M^-1 D g`, the initial and final gradients, and APGD's
 //!   power iterations), so the cost of one iteration is `(t(11) - t(1)) / 10`.
@@ -27,6 +28,12 @@ fn bench(c: &mut Criterion) {
     c.bench_function("apply_n", |b| {
         b.iter(|| problem.apply_n(black_box(&gamma), &mut out, &mut work))
     });
+    problem.gradient(&gamma, &mut out, &mut work);
+    c.bench_function("residual", |b| {
+        b.iter(|| problem.residual(black_box(&gamma), &out, &mut work))
+    });
+    let mut projected = gamma.clone();
+    c.bench_function("project", |b| b.iter(|| problem.project(black_box(&mut projected))));
 
     for k in [1, 11] {
         let settings = SolverSettings {

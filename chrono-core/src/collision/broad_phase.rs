@@ -62,6 +62,20 @@ pub(crate) struct SweepAndPrune {
     large: Vec<u32>,
     /// Per proxy: is it in `large`.
     is_large: Vec<bool>,
+    /// The swept boxes in `order`, laid out for the sweep.
+    swept: Vec<SweepEntry>,
+    /// Counting-sort buckets.
+    counts: Vec<u32>,
+    /// Counting-sort output.
+    scratch: Vec<(u32, u32)>,
+}
+
+/// A box in the sweep: bounds with the sweep axis first.
+#[derive(Clone, Copy, Debug)]
+struct SweepEntry {
+    lo: [f64; 3],
+    hi: [f64; 3],
+    id: u32,
 }
 
 impl SweepAndPrune {
@@ -126,20 +140,33 @@ impl SweepAndPrune {
         self.order
             .sort_unstable_by(|&i, &j| mins(i).total_cmp(&mins(j)).then(i.cmp(&j)));
 
-        // Sweep.
-        for (k, &i) in self.order.iter().enumerate() {
-            let Bound::Box(bi) = &bounds[i as usize] else {
-                continue;
-            };
-            for &j in &self.order[k + 1..] {
-                let Bound::Box(bj) = &bounds[j as usize] else {
-                    continue;
-                };
-                if bj.mins[axis] > bi.maxs[axis] {
+        // Sweep over a compact copy in sorted order (sweep axis first, then the other two),
+        // with a branch-free test on the two other axes.
+        let (a1, a2) = ((axis + 1) % 3, (axis + 2) % 3);
+        self.swept.clear();
+        self.swept.extend(
+            self.order
+                .iter()
+                .filter_map(|&i| match &bounds[i as usize] {
+                    Bound::Box(b) => Some(SweepEntry {
+                        lo: [b.mins[axis], b.mins[a1], b.mins[a2]],
+                        hi: [b.maxs[axis], b.maxs[a1], b.maxs[a2]],
+                        id: i,
+                    }),
+                    Bound::HalfSpace { .. } => None,
+                }),
+        );
+        for (k, ei) in self.swept.iter().enumerate() {
+            for ej in &self.swept[k + 1..] {
+                if ej.lo[0] > ei.hi[0] {
                     break;
                 }
-                if bi.intersects(bj) {
-                    out.push((i.min(j), i.max(j)));
+                let overlap = (ej.lo[1] <= ei.hi[1])
+                    & (ei.lo[1] <= ej.hi[1])
+                    & (ej.lo[2] <= ei.hi[2])
+                    & (ei.lo[2] <= ej.hi[2]);
+                if overlap {
+                    out.push((ei.id.min(ej.id), ei.id.max(ej.id)));
                 }
             }
         }
@@ -154,7 +181,31 @@ impl SweepAndPrune {
                 }
             }
         }
-        out.sort_unstable();
+        self.sort_pairs(n, out);
+    }
+
+    /// Sort pairs by `(a, b)`: a counting sort on `a` (linear), then each run of equal `a`
+    /// (a few entries) by `b`.
+    fn sort_pairs(&mut self, n: usize, pairs: &mut Vec<(u32, u32)>) {
+        self.counts.clear();
+        self.counts.resize(n + 1, 0);
+        for &(a, _) in pairs.iter() {
+            self.counts[a as usize + 1] += 1;
+        }
+        for i in 0..n {
+            self.counts[i + 1] += self.counts[i];
+        }
+        self.scratch.clear();
+        self.scratch.resize(pairs.len(), (0, 0));
+        for &p in pairs.iter() {
+            let slot = &mut self.counts[p.0 as usize];
+            self.scratch[*slot as usize] = p;
+            *slot += 1;
+        }
+        std::mem::swap(pairs, &mut self.scratch);
+        for run in pairs.chunk_by_mut(|x, y| x.0 == y.0) {
+            run.sort_unstable();
+        }
     }
 }
 

@@ -71,8 +71,8 @@ pub(crate) struct PairState {
     workspace: Option<ContactManifoldsWorkspace>,
     /// This step's contacts of the pair.
     pub contacts: Vec<ContactPoint>,
-    /// This step's error, if any.
-    pub error: Option<ChronoError>,
+    /// This step's error, if any (boxed: keeps the state small to move).
+    pub error: Option<Box<ChronoError>>,
 }
 
 impl PairState {
@@ -195,11 +195,11 @@ impl PairState {
                         }
                         Ok(None) => {}
                         Err(e) => {
-                            self.error = Some(ChronoError::Collision {
+                            self.error = Some(Box::new(ChronoError::Collision {
                                 a: describe(self.a, ca),
                                 b: describe(self.b, cb),
                                 reason: format!("{e} (parry has no contact query for this pair)"),
-                            });
+                            }));
                         }
                     },
                 }

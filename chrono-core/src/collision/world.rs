@@ -273,7 +273,7 @@ impl CollisionWorld {
         }
         for p in &mut self.pairs {
             if let Some(e) = p.error.take() {
-                return Err(e);
+                return Err(*e);
             }
             out.extend_from_slice(&p.contacts);
         }
