@@ -33,7 +33,9 @@ fn bench(c: &mut Criterion) {
         b.iter(|| problem.residual(black_box(&gamma), &out, &mut work))
     });
     let mut projected = gamma.clone();
-    c.bench_function("project", |b| b.iter(|| problem.project(black_box(&mut projected))));
+    c.bench_function("project", |b| {
+        b.iter(|| problem.project(black_box(&mut projected)))
+    });
 
     for k in [1, 11] {
         let settings = SolverSettings {

@@ -23,6 +23,7 @@ pub const MAX_BACKTRACKS: usize = 60;
 
 /// Options of [`Apgd`] beyond the common [`SolverSettings`].
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
 pub struct ApgdOptions {
     /// Use the diagonal metric `P = diag(N)^-1` (averaged over the three rows of a friction
     /// triplet, [`CcpProblem::residual_scale`], so cones stay cones): the step is

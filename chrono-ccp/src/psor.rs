@@ -36,6 +36,7 @@ pub enum TripletStep {
 
 /// Options of [`Psor`] beyond the common [`SolverSettings`].
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
 pub struct PsorOptions {
     /// Relaxation factor `omega` in `(0, 2)`: `g_i <- P(g_i - omega c_i / N_ii)`. `1` is plain
     /// projected Gauss–Seidel (exact minimization along each unilateral/box/bilateral row);

@@ -37,6 +37,18 @@ pub enum ChronoError {
         /// Which quantity (position, velocity, impulse ...).
         what: String,
     },
+    /// The state left its plausible range (a diverging simulation), though still finite.
+    #[error("diverged: {item} at step {step} (t = {time} s): {what}")]
+    Diverged {
+        /// The body or item.
+        item: String,
+        /// The step index at which it was detected.
+        step: u64,
+        /// Simulation time at the start of that step, s.
+        time: f64,
+        /// Which quantity and its value against the limit.
+        what: String,
+    },
     /// The collision library could not handle a pair of shapes.
     #[error("collision between {a} and {b} is not supported: {reason}")]
     Collision {

@@ -111,6 +111,59 @@ fn a_diverging_state_stops_with_an_error_naming_the_body_and_step() {
 }
 
 #[test]
+fn a_finite_but_runaway_state_stops_with_a_diverged_error() {
+    let mut sys = system();
+    let b = sys
+        .add_body(RigidBodyBuilder::dynamic().name("runaway"))
+        .unwrap();
+    // 1e6 N on 1 kg: passes the speed limit (1e4 m/s) after about 10 ms
+    sys.body_mut(b)
+        .unwrap()
+        .set_applied_force(Vector3::new(1e6, 0.0, 0.0))
+        .unwrap();
+    let mut err = None;
+    for _ in 0..100 {
+        if let Err(e) = sys.step(1e-3) {
+            err = Some(e);
+            break;
+        }
+    }
+    let e = err.expect("the step must fail");
+    // v after step k (0-based) is 1e3 (k + 1) m/s: the limit is crossed at step 9 or 10
+    assert!(
+        matches!(e, ChronoError::Diverged { step: 9..=10, .. }),
+        "{e}"
+    );
+    assert!(
+        e.to_string().contains("runaway") && e.to_string().contains("m/s"),
+        "{e}"
+    );
+}
+
+#[test]
+fn a_distance_joint_between_two_anchors_holds_its_length() {
+    let mut sys = system();
+    let pivot = sys.add_body(RigidBodyBuilder::fixed()).unwrap();
+    let bob = sys
+        .add_body(RigidBodyBuilder::dynamic().position(Vector3::new(0.6, 0.0, -0.8)))
+        .unwrap();
+    sys.add_joint(JointBuilder::distance_between(
+        pivot,
+        bob,
+        Vector3::zeros(),
+        Vector3::new(0.6, 0.0, -0.8),
+    ))
+    .unwrap();
+    for _ in 0..1000 {
+        sys.step(1e-3).unwrap();
+        let d = sys.body(bob).unwrap().position().norm();
+        assert!((d - 1.0).abs() < 1e-5, "length {d}");
+    }
+    // it swung through the bottom
+    assert!(sys.body(bob).unwrap().position().x < 0.3);
+}
+
+#[test]
 fn a_ball_settles_on_the_ground() {
     let mut sys = system();
     let mat = ContactMaterial::with_friction(0.4);

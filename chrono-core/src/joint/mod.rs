@@ -114,6 +114,8 @@ pub struct JointBuilder {
     body_a: BodyHandle,
     body_b: BodyHandle,
     frame_world: Isometry3<f64>,
+    /// B's frame when it differs from A's (distance joints between two anchors).
+    frame_b_world: Option<Isometry3<f64>>,
     kind: JointKind,
 }
 
@@ -126,6 +128,7 @@ impl JointBuilder {
             body_a: a,
             body_b: b,
             frame_world,
+            frame_b_world: None,
             kind,
         }
     }
@@ -142,6 +145,25 @@ impl JointBuilder {
         });
         Self::new(kind, a, b, Isometry3::from_parts(origin.into(), rot))
     }
+    /// A distance joint between world point `anchor_a` on body `a` and world point
+    /// `anchor_b` on body `b`, keeping them at their current distance `|anchor_b - anchor_a|`.
+    pub fn distance_between(
+        a: BodyHandle,
+        b: BodyHandle,
+        anchor_a: Vector3<f64>,
+        anchor_b: Vector3<f64>,
+    ) -> Self {
+        let distance = (anchor_b - anchor_a).norm();
+        let mut s = Self::new(
+            JointKind::Distance { distance },
+            a,
+            b,
+            Isometry3::translation(anchor_a.x, anchor_a.y, anchor_a.z),
+        );
+        s.frame_b_world = Some(Isometry3::translation(anchor_b.x, anchor_b.y, anchor_b.z));
+        s
+    }
+
     /// Name for messages.
     pub fn name(mut self, name: impl Into<String>) -> Self {
         self.name = name.into();
@@ -238,7 +260,10 @@ impl JointBuilder {
             &bodies[self.body_b.0 as usize],
         );
         let frame_a = a.pose().inverse() * self.frame_world;
-        let frame_b = b.pose().inverse() * self.frame_world;
+        if let Some(fb) = &self.frame_b_world {
+            check_finite3(&field("frame_b.origin"), &fb.translation.vector)?;
+        }
+        let frame_b = b.pose().inverse() * self.frame_b_world.unwrap_or(self.frame_world);
         Ok(Joint {
             name: self.name,
             body_a: self.body_a,

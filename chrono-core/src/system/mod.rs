@@ -40,6 +40,11 @@ pub struct SystemSettings {
     /// Warm-start the solver with the previous step's impulses (contacts by persistence key,
     /// joints by row).
     pub warm_start: bool,
+    /// A body faster than this (m/s) means the simulation diverged: the step returns
+    /// [`ChronoError::Diverged`] naming it.
+    pub max_speed: f64,
+    /// A body spinning faster than this (rad/s) means the simulation diverged.
+    pub max_angular_speed: f64,
 }
 
 impl Default for SystemSettings {
@@ -49,6 +54,8 @@ impl Default for SystemSettings {
             envelope: 0.005,
             max_recovery_speed: 0.6,
             warm_start: true,
+            max_speed: 1e4,
+            max_angular_speed: 1e5,
         }
     }
 }
@@ -59,6 +66,8 @@ impl SystemSettings {
         check_finite3("settings.gravity", &self.gravity)?;
         check_non_negative("settings.envelope", self.envelope)?;
         check_positive("settings.max_recovery_speed", self.max_recovery_speed)?;
+        check_positive("settings.max_speed", self.max_speed)?;
+        check_positive("settings.max_angular_speed", self.max_angular_speed)?;
         Ok(())
     }
 }

@@ -383,3 +383,108 @@ fn convex_pairs_satisfy_the_contact_conventions() {
     }
     assert!(total > 1000, "{total}");
 }
+
+#[test]
+fn composite_shapes_against_each_other() {
+    let ground_mesh = Shape::TriMesh {
+        vertices: vec![
+            Vector3::new(-5.0, -5.0, 0.0),
+            Vector3::new(5.0, -5.0, 0.0),
+            Vector3::new(5.0, 5.0, 0.0),
+            Vector3::new(-5.0, 5.0, 0.0),
+        ],
+        indices: vec![[0, 1, 2], [0, 2, 3]],
+    };
+    let field = Shape::HeightField {
+        heights: vec![0.0; 16],
+        nrows: 4,
+        ncols: 4,
+        scale: Vector3::new(10.0, 10.0, 1.0),
+    };
+    // A closed tetrahedron mesh with its base at z = 0 in its frame.
+    let tetra = Shape::TriMesh {
+        vertices: vec![
+            Vector3::new(-0.5, -0.5, 0.0),
+            Vector3::new(0.5, -0.5, 0.0),
+            Vector3::new(0.0, 0.5, 0.0),
+            Vector3::new(0.0, 0.0, 0.5),
+        ],
+        indices: vec![[0, 2, 1], [0, 1, 3], [1, 2, 3], [2, 0, 3]],
+    };
+    let cases = [
+        (field.clone(), unit_box(), 0.5),
+        (ground_mesh.clone(), tetra.clone(), 0.0),
+        (field.clone(), tetra.clone(), 0.0),
+        (ground_mesh, field, 0.0),
+    ];
+    for (lower, upper, bottom) in cases {
+        let name = format!("{} / {}", lower.kind_name(), upper.kind_name());
+        let mut w = world(0.01, &[lower, upper]);
+        let cs = detect(&mut w, &[at(0.0, 0.0, 0.0), at(0.1, 0.2, bottom - 0.002)]);
+        check_invariants(&cs);
+        assert!(!cs.is_empty(), "{name}");
+        for c in &cs {
+            assert!(c.distance < 0.01 && c.distance > -0.01, "{name}: {c:?}");
+            assert!(c.normal.z.abs() > 0.99, "{name}: {c:?}");
+        }
+    }
+}
+
+#[test]
+fn tmp_probe_hf_mesh() {
+    use parry3d_f64::query::{ContactManifold, DefaultQueryDispatcher, PersistentQueryDispatcher};
+    let field = Shape::HeightField {
+        heights: vec![0.0; 16],
+        nrows: 4,
+        ncols: 4,
+        scale: Vector3::new(10.0, 10.0, 1.0),
+    };
+    let tetra = Shape::TriMesh {
+        vertices: vec![
+            Vector3::new(-0.5, -0.5, 0.0),
+            Vector3::new(0.5, -0.5, 0.0),
+            Vector3::new(0.0, 0.5, 0.0),
+            Vector3::new(0.0, 0.0, 0.5),
+        ],
+        indices: vec![[0, 2, 1], [0, 1, 3], [1, 2, 3], [2, 0, 3]],
+    };
+    let a = super::super::convert::to_parry(&field, "a").unwrap();
+    let b = super::super::convert::to_parry(&tetra, "b").unwrap();
+    for (dz, label) in [(-0.002, "below"), (0.005, "above"), (-0.1, "deep")] {
+        let pa = super::super::convert::pose_to_glam(&Isometry3::from_parts(
+            Default::default(),
+            a.offset.rotation,
+        ));
+        let pb = super::super::convert::pose_to_glam(&at(0.1, 0.2, dz));
+        let mut ms: Vec<ContactManifold<(), ()>> = Vec::new();
+        let mut ws = None;
+        let r = DefaultQueryDispatcher.contact_manifolds(
+            &pa.inv_mul(&pb),
+            a.shape.as_ref(),
+            b.shape.as_ref(),
+            0.01,
+            &mut ms,
+            &mut ws,
+        );
+        println!(
+            "{label}: {r:?} manifolds {} points {:?}",
+            ms.len(),
+            ms.iter().map(|m| m.points.len()).collect::<Vec<_>>()
+        );
+        let mut ms2: Vec<ContactManifold<(), ()>> = Vec::new();
+        let mut ws2 = None;
+        let r = DefaultQueryDispatcher.contact_manifolds(
+            &pb.inv_mul(&pa),
+            b.shape.as_ref(),
+            a.shape.as_ref(),
+            0.01,
+            &mut ms2,
+            &mut ws2,
+        );
+        println!(
+            "  flipped {r:?} manifolds {} points {:?}",
+            ms2.len(),
+            ms2.iter().map(|m| m.points.len()).collect::<Vec<_>>()
+        );
+    }
+}
