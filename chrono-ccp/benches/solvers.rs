@@ -1,6 +1,6 @@
 //! Cost of the building blocks on a granular-like problem: ~10k particles on a lattice with
-//! frictional contacts between lattice neighbours and with the ground (~31k triplets,
-//! ~93k rows).
+//! frictional contacts between lattice neighbours and with the ground (~29.6k triplets,
+//! ~89k rows).
 //!
 //! - `apply_n`: one product `N g` (the unit of cost of every iterative solver); `residual`
 //!   and `project`, the other per-iteration operations of the problem;

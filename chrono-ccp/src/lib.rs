@@ -14,7 +14,7 @@
 //! Comput. Optim. Appl. 47(2)). `g` are impulses (N s), `N g + r` constraint velocities (m/s).
 //!
 //! Solvers see only the `CcpProblem` (no physics types) and implement
-//! [`CcpSolver`](chrono_core::descriptor::CcpSolver):
+//! [`CcpSolver`]:
 //!
 //! - [`Psor`]: projected Gauss–Seidel / SOR, matrix-free, sequential sweeps.
 //! - [`Apgd`]: Nesterov accelerated projected gradient with backtracking, adaptive restart

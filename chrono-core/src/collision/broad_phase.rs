@@ -3,7 +3,10 @@
 //! Why sort-and-sweep: the scenes this serves (rigid bodies, vehicles, a few hundred to a few
 //! thousand mixed shapes) are small; one sort of nearly sorted data per step (temporal
 //! coherence) plus a sweep is simple, allocation-free in steady state and deterministic.
-//! The uniform grid for many equal spheres / particles comes with the particle module.
+//! Its weak spot is a dense packing: every box is tested against a slab of neighbors one
+//! box thick (1000 spheres on a lattice: about 150 000 box tests and 13 000 candidate pairs,
+//! about 1 ms per `detect` with the narrow phase on this 2-core machine). The uniform grid
+//! for many equal spheres / particles comes in a later issue (the particle module).
 //!
 //! Bounds are already inflated by the caller (by half the envelope each, so two bounds
 //! overlap whenever their shapes are closer than the envelope). The sweep runs along the

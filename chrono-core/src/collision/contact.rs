@@ -24,8 +24,9 @@ pub struct ColliderId(pub u32);
 /// - For triangle meshes and height fields the triangle index is folded in:
 ///   `triangle << 4 | kind << 2 | feature-in-triangle` (wraps past 2^28 triangles).
 /// - Analytic sphere / half-space contacts use the face feature 0 (`0xC000_0000`) on both.
-/// - A pair that parry's manifolds do not support falls back to one closest-point contact
-///   with features `0` (unknown) on both.
+/// - A pair that parry's manifolds do not support (or a height field against a mesh, whose
+///   manifolds parry 0.31 leaves empty) falls back to one closest-point contact with the
+///   unknown feature `0` (and the triangle index folded in for meshes and height fields).
 #[derive(Clone, Copy, PartialEq, Eq, Hash, Debug, PartialOrd, Ord, Serialize, Deserialize)]
 pub struct ContactKey {
     /// Index of the first collider (the smaller one).

@@ -3,8 +3,10 @@
 //! Sphere–sphere and sphere–half-space are analytic. Every other pair goes through parry's
 //! persistent `contact_manifolds` (the manifolds and workspace live in the [`PairState`] and
 //! are handed back to parry on the next step so it can reuse them). If parry's manifolds do
-//! not support a pair, one closest-point contact from `query::contact` is used instead; if
-//! that is unsupported too, the pair is an error ([`ChronoError::Collision`]).
+//! not support a pair, or return no point for a height field against a triangle mesh or
+//! height field (parry 0.31 does that), one closest-point contact from `query::contact` is
+//! used instead; if that is unsupported too, the pair is an error
+//! ([`ChronoError::Collision`]).
 //!
 //! Points of one manifold that coincide (within 1 micrometer on both shapes) are merged,
 //! keeping the first: parry reports a corner twice when the edges of two touching faces
@@ -21,6 +23,7 @@ use super::contact::{ColliderId, ContactKey, ContactPoint};
 use super::convert::{vec_from_glam, vec_to_glam};
 use super::world::{Collider, ColliderKind};
 use crate::error::ChronoError;
+use crate::shape::Shape;
 
 /// Feature id used by the analytic contacts (parry's `face(0)`).
 const FACE0: u32 = 0xC000_0000;
@@ -38,13 +41,18 @@ pub(crate) enum PairKind {
         /// True if collider A is the sphere.
         sphere_is_a: bool,
     },
-    /// Parry's persistent contact manifolds.
-    Manifolds,
+    /// Parry's persistent contact manifolds. With `closest_fallback`, a step where the
+    /// manifolds hold no point asks `query::contact` for the closest pair instead: parry
+    /// 0.31 returns empty manifolds for a height field against a triangle mesh.
+    Manifolds {
+        /// Use the closest-point query when the manifolds are empty.
+        closest_fallback: bool,
+    },
 }
 
 impl PairKind {
-    pub(crate) fn of(a: &ColliderKind, b: &ColliderKind) -> PairKind {
-        match (a, b) {
+    pub(crate) fn of(a: &Collider, b: &Collider) -> PairKind {
+        match (&a.kind, &b.kind) {
             (ColliderKind::Sphere { .. }, ColliderKind::Sphere { .. }) => PairKind::SphereSphere,
             (ColliderKind::Sphere { .. }, ColliderKind::HalfSpace { .. }) => {
                 PairKind::SphereHalfSpace { sphere_is_a: true }
@@ -52,7 +60,12 @@ impl PairKind {
             (ColliderKind::HalfSpace { .. }, ColliderKind::Sphere { .. }) => {
                 PairKind::SphereHalfSpace { sphere_is_a: false }
             }
-            _ => PairKind::Manifolds,
+            _ => PairKind::Manifolds {
+                closest_fallback: a.composite
+                    && b.composite
+                    && (matches!(a.shape(), Shape::HeightField { .. })
+                        || matches!(b.shape(), Shape::HeightField { .. })),
+            },
         }
     }
 }
@@ -151,7 +164,7 @@ impl PairState {
                     out.push(&mut self.contacts, on_plane, on_sphere, n, FACE0, FACE0);
                 }
             }
-            PairKind::Manifolds => {
+            PairKind::Manifolds { closest_fallback } => {
                 let pos12 = pa.inv_mul(pb);
                 let (sa, sb) = (ca.parry.as_ref(), cb.parry.as_ref());
                 let res = DefaultQueryDispatcher.contact_manifolds(
@@ -162,47 +175,56 @@ impl PairState {
                     &mut self.manifolds,
                     &mut self.workspace,
                 );
-                match res {
-                    Ok(()) => {
-                        for m in &self.manifolds {
-                            let wa = m.subshape_pos1().map_or(*pa, |p| *pa * *p);
-                            let wb = m.subshape_pos2().map_or(*pb, |p| *pb * *p);
-                            let n = wa.rotation * m.local_n1;
-                            let first = self.contacts.len();
-                            for c in &m.points {
-                                // Parry reports each corner twice (vertex-face and
-                                // face-vertex) when edges of the two faces coincide, e.g.
-                                // equal boxes stacked: keep the first of coincident points.
-                                let (p1, p2) = (wa * c.local_p1, wb * c.local_p2);
-                                let dup = self.contacts[first..].iter().any(|k| {
-                                    (vec_to_glam(&k.point_a) - p1).length_squared()
-                                        <= MERGE_DISTANCE_SQ
-                                        && (vec_to_glam(&k.point_b) - p2).length_squared()
-                                            <= MERGE_DISTANCE_SQ
-                                });
-                                if dup {
-                                    continue;
-                                }
-                                let fa = feature_key(c.fid1, m.subshape1, ca.composite);
-                                let fb = feature_key(c.fid2, m.subshape2, cb.composite);
-                                out.push(&mut self.contacts, p1, p2, n, fa, fb);
-                            }
-                        }
-                    }
-                    Err(_) => match query::contact(pa, sa, pb, sb, envelope) {
-                        Ok(Some(c)) => {
-                            out.push(&mut self.contacts, c.point1, c.point2, c.normal1, 0, 0)
-                        }
-                        Ok(None) => {}
-                        Err(e) => {
-                            self.error = Some(Box::new(ChronoError::Collision {
-                                a: describe(self.a, ca),
-                                b: describe(self.b, cb),
-                                reason: format!("{e} (parry has no contact query for this pair)"),
-                            }));
-                        }
-                    },
+                let empty = self.manifolds.iter().all(|m| m.points.is_empty());
+                if res.is_err() || (closest_fallback && empty) {
+                    self.closest_contact(&out, pa, pb);
+                } else {
+                    self.manifold_contacts(&out, pa, pb);
                 }
+            }
+        }
+    }
+
+    /// The points of parry's manifolds.
+    fn manifold_contacts(&mut self, out: &Output<'_>, pa: &Pose, pb: &Pose) {
+        for m in &self.manifolds {
+            let wa = m.subshape_pos1().map_or(*pa, |p| *pa * *p);
+            let wb = m.subshape_pos2().map_or(*pb, |p| *pb * *p);
+            let n = wa.rotation * m.local_n1;
+            let first = self.contacts.len();
+            for c in &m.points {
+                // Parry reports each corner twice (vertex-face and face-vertex) when edges
+                // of the two faces coincide, e.g. equal boxes stacked: keep the first.
+                let (p1, p2) = (wa * c.local_p1, wb * c.local_p2);
+                let dup = self.contacts[first..].iter().any(|k| {
+                    (vec_to_glam(&k.point_a) - p1).length_squared() <= MERGE_DISTANCE_SQ
+                        && (vec_to_glam(&k.point_b) - p2).length_squared() <= MERGE_DISTANCE_SQ
+                });
+                if !dup {
+                    let fa = feature_key(c.fid1, m.subshape1, out.ca.composite);
+                    let fb = feature_key(c.fid2, m.subshape2, out.cb.composite);
+                    out.push(&mut self.contacts, p1, p2, n, fa, fb);
+                }
+            }
+        }
+    }
+
+    /// One closest-point contact from `query::contact`, or the pair's error.
+    fn closest_contact(&mut self, out: &Output<'_>, pa: &Pose, pb: &Pose) {
+        let (ca, cb) = (out.ca, out.cb);
+        match query::contact(pa, ca.parry.as_ref(), pb, cb.parry.as_ref(), out.envelope) {
+            Ok(Some(c)) => {
+                let fa = feature_key(PackedFeatureId::UNKNOWN, c.subshape1, ca.composite);
+                let fb = feature_key(PackedFeatureId::UNKNOWN, c.subshape2, cb.composite);
+                out.push(&mut self.contacts, c.point1, c.point2, c.normal1, fa, fb);
+            }
+            Ok(None) => {}
+            Err(e) => {
+                self.error = Some(Box::new(ChronoError::Collision {
+                    a: describe(self.a, ca),
+                    b: describe(self.b, cb),
+                    reason: format!("{e} (parry has no contact query for this pair)"),
+                }));
             }
         }
     }

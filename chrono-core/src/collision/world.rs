@@ -349,7 +349,7 @@ impl CollisionWorld {
             let state = match old_it.next_if(|s| (s.a, s.b) == (a, b)) {
                 Some(s) => s,
                 None => {
-                    let kind = PairKind::of(&ca.kind, &cb.kind);
+                    let kind = PairKind::of(ca, cb);
                     match self.spare.pop() {
                         Some(mut s) => {
                             s.reset(a, b, kind);
