@@ -7,8 +7,13 @@
 
 use nalgebra::Vector3;
 
+use crate::collision::CollisionProxy;
 use crate::descriptor::{BlockId, CcpProblem, ConstraintRows, Variables};
 use crate::error::Result;
+
+/// The callback of a contact Jacobian: `entry(block, rows)` with `rows[k]` the
+/// coefficients of direction `k` on that block (see [`Contactable::contact_jacobian`]).
+pub type JacobianSink<'a> = dyn FnMut(BlockId, [&[f64]; 3]) + 'a;
 
 /// What an item needs to know about the current step.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -25,10 +30,15 @@ pub struct StepContext {
 
 /// A physics item of a domain crate, stepped inside the system's NSC step.
 ///
+/// Items are `Any`, so the owner of a [`System`](crate::system::System) reads its item
+/// back with its type: [`System::item`](crate::system::System::item).
+///
 /// Call order each step: [`add_variables`](Self::add_variables),
-/// [`load_momentum`](Self::load_momentum), [`add_constraints`](Self::add_constraints),
-/// (solve), [`update`](Self::update).
-pub trait PhysicsItem: Send + Sync {
+/// [`load_momentum`](Self::load_momentum), [`collision_proxies`](Self::collision_proxies)
+/// (the system finds their contacts with the body colliders and builds friction rows whose
+/// item side comes from [`proxy_jacobian`](Self::proxy_jacobian)),
+/// [`add_constraints`](Self::add_constraints), (solve), [`update`](Self::update).
+pub trait PhysicsItem: std::any::Any + Send + Sync {
     /// A name for messages ("fluid", "tire mesh" ...).
     fn name(&self) -> &str;
 
@@ -38,6 +48,28 @@ pub trait PhysicsItem: Send + Sync {
     /// Add `M v + h f` for the item's blocks into `k` (applied and internal forces: gravity,
     /// elasticity, pressure ...).
     fn load_momentum(&self, ctx: &StepContext, vars: &Variables, k: &mut [f64]);
+
+    /// Append the spheres and thick triangles this item exposes to the body colliders
+    /// (particles, beam nodes, shell or tet faces), at the positions of the start of the
+    /// step. Default: none. An item that returns proxies must implement
+    /// [`proxy_jacobian`](Self::proxy_jacobian).
+    fn collision_proxies(&self, _out: &mut Vec<CollisionProxy>) {}
+
+    /// The [`Contactable`] Jacobian of the proxy with id `proxy` at world point `p` along
+    /// `dirs` (see [`Contactable::contact_jacobian`]): a particle gives its block with
+    /// `d`, a triangle its three nodes with `N_i(p) d` (barycentric weights). `vars` is the
+    /// layout of this step (after [`add_variables`](Self::add_variables)). Returns the
+    /// known velocity along each direction (a proxy moving with a prescribed motion).
+    /// Default: no variables and no known velocity (a fixed proxy).
+    fn proxy_jacobian(
+        &self,
+        _proxy: u32,
+        _p: &Vector3<f64>,
+        _dirs: &[Vector3<f64>; 3],
+        _entry: &mut dyn FnMut(BlockId, [&[f64]; 3]),
+    ) -> [f64; 3] {
+        [0.0; 3]
+    }
 
     /// Add the item's own rows (density, element, internal links). Default: none.
     fn add_constraints(

@@ -23,6 +23,7 @@
 //! - `broad_phase`: sort-and-sweep of bounding boxes, half-spaces kept apart.
 //! - `narrow_phase`: per-pair persistent state, analytic sphere fast paths, parry manifolds.
 //! - `world`: [`CollisionWorld`] and [`Collider`].
+//! - `proxy`: spheres and thick triangles of physics items against the body colliders.
 //! - `mesh`: triangulation of shapes for visualization.
 
 mod broad_phase;
@@ -30,10 +31,12 @@ mod contact;
 pub(crate) mod convert;
 pub(crate) mod mesh;
 mod narrow_phase;
+mod proxy;
 mod world;
 
 #[cfg(test)]
 mod tests;
 
 pub use contact::{ColliderId, ContactKey, ContactPoint};
+pub use proxy::{CollisionProxy, ProxyContact, ProxyKey, ProxyShape};
 pub use world::{Collider, CollisionWorld};

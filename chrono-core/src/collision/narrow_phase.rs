@@ -232,7 +232,7 @@ impl PairState {
 
 /// Persistence feature of a contact (see [`ContactKey`]).
 #[inline]
-fn feature_key(fid: PackedFeatureId, subshape: u32, composite: bool) -> u32 {
+pub(crate) fn feature_key(fid: PackedFeatureId, subshape: u32, composite: bool) -> u32 {
     if composite {
         (subshape << 4) | ((fid.0 >> 30) << 2) | (fid.0 & 3)
     } else {

@@ -10,6 +10,7 @@ use super::broad_phase::{Bound, SweepAndPrune};
 use super::contact::{ColliderId, ContactPoint};
 use super::convert::{pose_to_glam, to_parry, vec_to_glam};
 use super::narrow_phase::{PairKind, PairState};
+use super::proxy::ProxyScratch;
 use crate::error::{ChronoError, Result, check_non_negative};
 use crate::material::ContactMaterial;
 use crate::math::Isometry3;
@@ -92,12 +93,14 @@ impl Collider {
 /// keep parry's contact manifolds from one [`detect`](Self::detect) to the next. Buffers are
 /// reused, so a steady scene does not allocate in `detect` (except inside parry).
 pub struct CollisionWorld {
-    envelope: f64,
-    colliders: Vec<Collider>,
+    pub(super) envelope: f64,
+    pub(super) colliders: Vec<Collider>,
     /// Excluded owner pairs `(min, max)`, sorted.
     excluded: Vec<(u32, u32)>,
-    poses: Vec<Pose>,
-    bounds: Vec<Bound>,
+    /// World poses of the parry shapes (last `detect`).
+    pub(super) poses: Vec<Pose>,
+    /// Broad-phase bounds (last `detect`).
+    pub(super) bounds: Vec<Bound>,
     sap: SweepAndPrune,
     candidates: Vec<(u32, u32)>,
     /// Live pair states, sorted by `(a, b)`.
@@ -106,6 +109,8 @@ pub struct CollisionWorld {
     next_pairs: Vec<PairState>,
     /// Dropped pair states kept for their buffers.
     spare: Vec<PairState>,
+    /// Buffers of `detect_proxies`.
+    pub(super) proxy_scratch: ProxyScratch,
 }
 
 impl std::fmt::Debug for CollisionWorld {
@@ -135,6 +140,7 @@ impl CollisionWorld {
             pairs: Vec::new(),
             next_pairs: Vec::new(),
             spare: Vec::new(),
+            proxy_scratch: ProxyScratch::default(),
         })
     }
 

@@ -21,8 +21,8 @@ use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
 use crate::body::{BodyHandle, RigidBody, RigidBodyBuilder};
-use crate::collision::{CollisionWorld, ContactPoint};
-use crate::contact::nsc::{NscContact, WarmStartCache};
+use crate::collision::{CollisionProxy, CollisionWorld, ContactPoint, ProxyContact};
+use crate::contact::nsc::{NscContact, NscProxyContact, TripletScratch, WarmStartCache};
 use crate::descriptor::{CcpProblem, CcpSolver, ConstraintRows, SolveStats, Variables};
 use crate::error::{ChronoError, Result, check_finite3, check_non_negative, check_positive};
 use crate::item::PhysicsItem;
@@ -102,6 +102,10 @@ pub struct System {
     pub(crate) gamma: Vec<f64>,
     pub(crate) points: Vec<ContactPoint>,
     pub(crate) contacts: Vec<NscContact>,
+    pub(crate) proxies: Vec<CollisionProxy>,
+    pub(crate) proxy_points: Vec<ProxyContact>,
+    pub(crate) proxy_contacts: Vec<NscProxyContact>,
+    pub(crate) triplet: TripletScratch,
     pub(crate) cache: WarmStartCache,
     pub(crate) poses: Vec<nalgebra::Isometry3<f64>>,
     pub(crate) active: Vec<bool>,
@@ -129,6 +133,10 @@ impl System {
             gamma: Vec::new(),
             points: Vec::new(),
             contacts: Vec::new(),
+            proxies: Vec::new(),
+            proxy_points: Vec::new(),
+            proxy_contacts: Vec::new(),
+            triplet: TripletScratch::default(),
             cache: WarmStartCache::default(),
             poses: Vec::new(),
             active: Vec::new(),
@@ -251,6 +259,20 @@ impl System {
         &self.items
     }
 
+    /// The item at `index` (as returned by [`add_item`](Self::add_item)) as its concrete
+    /// type `T`; `None` if there is no such item or it is not a `T`.
+    pub fn item<T: PhysicsItem>(&self, index: usize) -> Option<&T> {
+        let item: &dyn std::any::Any = self.items.get(index)?.as_ref();
+        item.downcast_ref::<T>()
+    }
+
+    /// The item at `index` as its concrete type `T`, mutable (to change its state between
+    /// steps).
+    pub fn item_mut<T: PhysicsItem>(&mut self, index: usize) -> Option<&mut T> {
+        let item: &mut dyn std::any::Any = self.items.get_mut(index)?.as_mut();
+        item.downcast_mut::<T>()
+    }
+
     /// The collision world.
     pub fn collision(&self) -> &CollisionWorld {
         &self.collision
@@ -259,6 +281,11 @@ impl System {
     /// The contacts of the last step.
     pub fn contacts(&self) -> &[NscContact] {
         &self.contacts
+    }
+
+    /// The contacts of the last step between body colliders and items' collision proxies.
+    pub fn proxy_contacts(&self) -> &[NscProxyContact] {
+        &self.proxy_contacts
     }
 
     /// The CCP of the last step (for inspection, capture, or solver experiments).

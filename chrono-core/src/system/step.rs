@@ -11,7 +11,8 @@ use crate::item::StepContext;
 impl System {
     /// Advance by one step of size `h` (s):
     ///
-    /// 1. collide at `q(l)` (contacts within the envelope);
+    /// 1. collide at `q(l)` (contacts within the envelope), bodies with bodies and the
+    ///    items' collision proxies with bodies;
     /// 2. assemble `k = M v(l) + h f(t, q, v)` and the rows: joints (`D'v + C/h = 0`),
     ///    contacts (friction cones, `b_n = max(Phi/h, -v_rec)`), the items' rows;
     /// 3. solve the CCP for the impulses `g`, warm-started from the last step;
@@ -98,6 +99,13 @@ impl System {
         self.points.clear();
         self.collision
             .detect(&self.poses, &self.active, &mut self.points)?;
+        self.proxy_points.clear();
+        for (i, item) in self.items.iter().enumerate() {
+            self.proxies.clear();
+            item.collision_proxies(&mut self.proxies);
+            self.collision
+                .detect_proxies(i as u32, &self.proxies, &mut self.proxy_points)?;
+        }
 
         // Rows.
         self.rows.clear();
@@ -116,6 +124,16 @@ impl System {
             &mut self.rows,
             &mut self.contacts,
         );
+        self.proxy_contacts.clear();
+        nsc::add_proxy_contact_rows(
+            &self.proxy_points,
+            &self.bodies,
+            &self.items,
+            row_settings,
+            &mut self.rows,
+            &mut self.triplet,
+            &mut self.proxy_contacts,
+        )?;
         for item in &mut self.items {
             item.add_constraints(&ctx, &self.vars, &mut self.rows)?;
         }
@@ -127,6 +145,12 @@ impl System {
         self.gamma.resize(m, 0.0);
         if self.settings.warm_start {
             nsc::warm_start(&self.contacts, &self.cache, &self.problem, &mut self.gamma);
+            nsc::warm_start_proxies(
+                &self.proxy_contacts,
+                &self.cache,
+                &self.problem,
+                &mut self.gamma,
+            );
             for j in &self.joints {
                 if j.impulses.len() == j.row_ids.len() {
                     for (id, g) in j.row_ids.iter().zip(&j.impulses) {
@@ -166,6 +190,12 @@ impl System {
 
         // Caches for the next step.
         nsc::store(&self.contacts, &self.problem, &self.gamma, &mut self.cache);
+        nsc::store_proxies(
+            &self.proxy_contacts,
+            &self.problem,
+            &self.gamma,
+            &mut self.cache,
+        );
         for j in &mut self.joints {
             j.impulses.clear();
             for id in &j.row_ids {
@@ -198,7 +228,7 @@ impl System {
         self.time += h;
         self.step_count += 1;
         Ok(StepReport {
-            contacts: self.contacts.len(),
+            contacts: self.contacts.len() + self.proxy_contacts.len(),
             rows: m,
             solve,
         })
