@@ -9,6 +9,7 @@
 //! `v_rec` (m/s). A material compliance `c` (m/N) adds `eps = c / h^2` on the normal row.
 
 use std::collections::HashMap;
+use std::hash::Hash;
 
 use nalgebra::Vector3;
 
@@ -17,17 +18,20 @@ use crate::collision::{ContactKey, ContactPoint, ProxyContact, ProxyKey};
 use crate::descriptor::{BlockId, CcpProblem, ConstraintRows, RowEntry, RowId};
 use crate::error::{ChronoError, Result};
 use crate::item::{Contactable, JacobianSink, PhysicsItem};
+use crate::material::ContactMaterial;
 use crate::math::tangent_frame;
 
-/// Most variable blocks one proxy contact row may touch (a body plus, e.g., the nodes of
-/// an element face).
+/// Most variable blocks one contact row may touch (two bodies, or a body plus e.g. the
+/// nodes of an element face).
 pub const MAX_CONTACT_BLOCKS: usize = 16;
 
-/// One active NSC contact of the current step.
+/// One active NSC contact of the current step: between two body colliders
+/// ([`ContactPoint`], the default) or between a body collider and an item's proxy
+/// ([`NscProxyContact`]).
 #[derive(Debug, Clone, PartialEq)]
-pub struct NscContact {
+pub struct NscContact<P = ContactPoint> {
     /// The collision point.
-    pub point: ContactPoint,
+    pub point: P,
     /// First tangent direction (world).
     pub u: Vector3<f64>,
     /// Second tangent direction (world), `w = n x u`.
@@ -37,24 +41,17 @@ pub struct NscContact {
 }
 
 /// One active NSC contact between a body collider and an item's proxy.
-#[derive(Debug, Clone, PartialEq)]
-pub struct NscProxyContact {
-    /// The collision point.
-    pub point: ProxyContact,
-    /// First tangent direction (world).
-    pub u: Vector3<f64>,
-    /// Second tangent direction (world), `w = n x u`.
-    pub w: Vector3<f64>,
-    /// The id of its normal row.
-    pub row: RowId,
-}
+pub type NscProxyContact = NscContact<ProxyContact>;
+
+/// Cached impulses of one contact: normal, and tangential as a world vector.
+type Impulses = (f64, Vector3<f64>);
 
 /// Cached impulses of the previous step, by persistence key: the normal impulse and the
 /// tangential impulse as a world vector (so it survives a change of the tangent frame).
 #[derive(Debug, Clone, Default)]
 pub struct WarmStartCache {
-    map: HashMap<ContactKey, (f64, Vector3<f64>)>,
-    proxies: HashMap<ProxyKey, (f64, Vector3<f64>)>,
+    map: HashMap<ContactKey, Impulses>,
+    proxies: HashMap<ProxyKey, Impulses>,
 }
 
 impl WarmStartCache {
@@ -71,6 +68,15 @@ impl WarmStartCache {
         self.map.clear();
         self.proxies.clear();
     }
+}
+
+/// Settings of NSC contact rows.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct NscRowSettings {
+    /// Step size, s.
+    pub h: f64,
+    /// Maximum penetration recovery speed `v_rec`, m/s.
+    pub max_recovery_speed: f64,
 }
 
 /// Reused storage for the Jacobian blocks of one contact triplet.
@@ -97,6 +103,42 @@ impl TripletScratch {
         })
     }
 
+    /// Push the friction triplet of the recorded blocks: `b_n = max(Phi/h, -v_rec)` plus the
+    /// known normal velocity, `eps_n = c/h^2`. Errors if more than [`MAX_CONTACT_BLOCKS`]
+    /// blocks were recorded (`what` names the contact). `None` if no block was recorded
+    /// (both sides fixed).
+    fn push_triplet(
+        &self,
+        rows: &mut ConstraintRows,
+        settings: NscRowSettings,
+        distance: f64,
+        material: &ContactMaterial,
+        known: [f64; 3],
+        what: &dyn Fn() -> String,
+    ) -> Result<Option<RowId>> {
+        let nb = self.blocks.len();
+        if nb == 0 {
+            return Ok(None);
+        }
+        if nb > MAX_CONTACT_BLOCKS {
+            return Err(ChronoError::invalid(
+                what(),
+                nb,
+                "a contact row touches too many variable blocks (limit MAX_CONTACT_BLOCKS)",
+            ));
+        }
+        let h = settings.h;
+        let (en, eu, ew) = (self.entries(0), self.entries(1), self.entries(2));
+        let bn = (distance / h).max(-settings.max_recovery_speed) + known[0];
+        let eps_n = material.compliance / (h * h);
+        Ok(Some(rows.push_friction(
+            material.friction,
+            [&en[..nb], &eu[..nb], &ew[..nb]],
+            [bn, known[1], known[2]],
+            [eps_n, 0.0, 0.0],
+        )))
+    }
+
     /// The row entries of direction `r`, the first `n` of the returned array used.
     fn entries(&self, r: usize) -> [RowEntry<'_>; MAX_CONTACT_BLOCKS] {
         std::array::from_fn(|i| match self.blocks.get(i) {
@@ -112,11 +154,42 @@ impl TripletScratch {
     }
 }
 
+/// Make the friction triplets of `points` between rigid bodies, appending to `out`.
+pub fn add_contact_rows(
+    points: &[ContactPoint],
+    bodies: &[RigidBody],
+    settings: NscRowSettings,
+    rows: &mut ConstraintRows,
+    scratch: &mut TripletScratch,
+    out: &mut Vec<NscContact>,
+) -> Result<()> {
+    for cp in points {
+        let n = cp.normal;
+        let (u, w) = tangent_frame(&n);
+        let (a, b) = (&bodies[cp.owner_a as usize], &bodies[cp.owner_b as usize]);
+        scratch.clear();
+        let ka = scratch.add(&|e| a.contact_jacobian(&cp.point_a, &[-n, -u, -w], e));
+        let kb = scratch.add(&|e| b.contact_jacobian(&cp.point_b, &[n, u, w], e));
+        let known = std::array::from_fn(|r| ka[r] + kb[r]);
+        let what = || format!("contact {:?}", cp.key);
+        if let Some(row) =
+            scratch.push_triplet(rows, settings, cp.distance, &cp.material, known, &what)?
+        {
+            out.push(NscContact {
+                point: *cp,
+                u,
+                w,
+                row,
+            });
+        }
+    }
+    Ok(())
+}
+
 /// Make the friction triplets of contacts between body colliders (side A) and item
 /// proxies (side B), appending to `out`. Same rows as [`add_contact_rows`]; the proxy's
-/// Jacobian comes from [`PhysicsItem::proxy_jacobian`]. Errors: a contact naming an item
-/// out of range, or touching more than [`MAX_CONTACT_BLOCKS`] blocks.
-#[allow(clippy::too_many_arguments)]
+/// Jacobian comes from [`PhysicsItem::proxy_jacobian`]. Errors: a contact naming a body or
+/// item out of range, or touching more than [`MAX_CONTACT_BLOCKS`] blocks.
 pub fn add_proxy_contact_rows(
     points: &[ProxyContact],
     bodies: &[RigidBody],
@@ -126,57 +199,91 @@ pub fn add_proxy_contact_rows(
     scratch: &mut TripletScratch,
     out: &mut Vec<NscProxyContact>,
 ) -> Result<()> {
-    let h = settings.h;
     for cp in points {
         let n = cp.normal;
         let (u, w) = tangent_frame(&n);
-        let (dirs_a, dirs_b) = ([-n, -u, -w], [n, u, w]);
-        let body = bodies
-            .get(cp.owner as usize)
-            .ok_or(ChronoError::UnknownHandle {
-                kind: "body",
-                index: cp.owner as usize,
-                field: "proxy contact owner".into(),
-            })?;
-        let item = items
-            .get(cp.item as usize)
-            .ok_or(ChronoError::UnknownHandle {
-                kind: "item",
-                index: cp.item as usize,
-                field: "proxy contact item".into(),
-            })?;
+        let unknown = |kind, index: u32, field: &str| ChronoError::UnknownHandle {
+            kind,
+            index: index as usize,
+            field: field.into(),
+        };
+        let body = (bodies.get(cp.owner as usize))
+            .ok_or_else(|| unknown("body", cp.owner, "proxy contact owner"))?;
+        let item = (items.get(cp.item as usize))
+            .ok_or_else(|| unknown("item", cp.item, "proxy contact item"))?;
         scratch.clear();
-        let ka = scratch.add(&|e| body.contact_jacobian(&cp.point_a, &dirs_a, e));
-        let kb = scratch.add(&|e| item.proxy_jacobian(cp.proxy, &cp.point_b, &dirs_b, e));
-        let nb = scratch.blocks.len();
-        if nb == 0 {
-            continue;
+        let ka = scratch.add(&|e| body.contact_jacobian(&cp.point_a, &[-n, -u, -w], e));
+        let kb = scratch.add(&|e| item.proxy_jacobian(cp.proxy, &cp.point_b, &[n, u, w], e));
+        let known = std::array::from_fn(|r| ka[r] + kb[r]);
+        let what = || format!("item {} (\"{}\") proxy {}", cp.item, item.name(), cp.proxy);
+        if let Some(row) =
+            scratch.push_triplet(rows, settings, cp.distance, &cp.material, known, &what)?
+        {
+            out.push(NscContact {
+                point: *cp,
+                u,
+                w,
+                row,
+            });
         }
-        if nb > MAX_CONTACT_BLOCKS {
-            return Err(ChronoError::invalid(
-                format!("item {} (\"{}\") proxy {}", cp.item, item.name(), cp.proxy),
-                nb,
-                "a contact row touches too many variable blocks (limit MAX_CONTACT_BLOCKS)",
-            ));
-        }
-        let known: [f64; 3] = std::array::from_fn(|r| ka[r] + kb[r]);
-        let (en, eu, ew) = (scratch.entries(0), scratch.entries(1), scratch.entries(2));
-        let bn = (cp.distance / h).max(-settings.max_recovery_speed) + known[0];
-        let eps_n = cp.material.compliance / (h * h);
-        let row = rows.push_friction(
-            cp.material.friction,
-            [&en[..nb], &eu[..nb], &ew[..nb]],
-            [bn, known[1], known[2]],
-            [eps_n, 0.0, 0.0],
-        );
-        out.push(NscProxyContact {
-            point: *cp,
-            u,
-            w,
-            row,
-        });
     }
     Ok(())
+}
+
+/// Fill the contacts' part of `gamma` from `map` (keys not found start at zero).
+fn warm_start_from<P, K: Hash + Eq>(
+    contacts: &[NscContact<P>],
+    key: impl Fn(&P) -> K,
+    map: &HashMap<K, Impulses>,
+    problem: &CcpProblem,
+    gamma: &mut [f64],
+) {
+    for c in contacts {
+        let i = problem.row_index(c.row);
+        let (gn, gt) = map
+            .get(&key(&c.point))
+            .copied()
+            .unwrap_or((0.0, Vector3::zeros()));
+        gamma[i] = gn;
+        gamma[i + 1] = gt.dot(&c.u);
+        gamma[i + 2] = gt.dot(&c.w);
+    }
+}
+
+/// Replace `map` by the contacts' impulses.
+fn store_into<P, K: Hash + Eq>(
+    contacts: &[NscContact<P>],
+    key: impl Fn(&P) -> K,
+    problem: &CcpProblem,
+    gamma: &[f64],
+    map: &mut HashMap<K, Impulses>,
+) {
+    map.clear();
+    for c in contacts {
+        let i = problem.row_index(c.row);
+        let gt = c.u * gamma[i + 1] + c.w * gamma[i + 2];
+        map.insert(key(&c.point), (gamma[i], gt));
+    }
+}
+
+/// Fill the body contacts' part of `gamma` from the cache (keys not found start at zero).
+pub fn warm_start(
+    contacts: &[NscContact],
+    cache: &WarmStartCache,
+    problem: &CcpProblem,
+    gamma: &mut [f64],
+) {
+    warm_start_from(contacts, |p| p.key, &cache.map, problem, gamma);
+}
+
+/// Store the body contacts' impulses for the next step (replacing that part of the cache).
+pub fn store(
+    contacts: &[NscContact],
+    problem: &CcpProblem,
+    gamma: &[f64],
+    cache: &mut WarmStartCache,
+) {
+    store_into(contacts, |p| p.key, problem, gamma, &mut cache.map);
 }
 
 /// Fill the proxy contacts' part of `gamma` from the cache (keys not found start at zero).
@@ -186,17 +293,7 @@ pub fn warm_start_proxies(
     problem: &CcpProblem,
     gamma: &mut [f64],
 ) {
-    for c in contacts {
-        let i = problem.row_index(c.row);
-        let (gn, gt) = cache
-            .proxies
-            .get(&c.point.key)
-            .copied()
-            .unwrap_or((0.0, Vector3::zeros()));
-        gamma[i] = gn;
-        gamma[i + 1] = gt.dot(&c.u);
-        gamma[i + 2] = gt.dot(&c.w);
-    }
+    warm_start_from(contacts, |p| p.key, &cache.proxies, problem, gamma);
 }
 
 /// Store the proxy contacts' impulses for the next step (replacing that part of the cache).
@@ -206,121 +303,5 @@ pub fn store_proxies(
     gamma: &[f64],
     cache: &mut WarmStartCache,
 ) {
-    cache.proxies.clear();
-    for c in contacts {
-        let i = problem.row_index(c.row);
-        cache.proxies.insert(
-            c.point.key,
-            (gamma[i], c.u * gamma[i + 1] + c.w * gamma[i + 2]),
-        );
-    }
-}
-
-/// Settings of NSC contact rows.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct NscRowSettings {
-    /// Step size, s.
-    pub h: f64,
-    /// Maximum penetration recovery speed `v_rec`, m/s.
-    pub max_recovery_speed: f64,
-}
-
-/// Make the friction triplets of `points` between rigid bodies, appending to `out`.
-pub fn add_contact_rows(
-    points: &[ContactPoint],
-    bodies: &[RigidBody],
-    settings: NscRowSettings,
-    rows: &mut ConstraintRows,
-    out: &mut Vec<NscContact>,
-) {
-    let h = settings.h;
-    for cp in points {
-        let n = cp.normal;
-        let (u, w) = tangent_frame(&n);
-        let dirs_b = [n, u, w];
-        let dirs_a = [-n, -u, -w];
-        let a = &bodies[cp.owner_a as usize];
-        let b = &bodies[cp.owner_b as usize];
-        // Up to two blocks per row; coefficient storage for each side.
-        let mut blocks: [(BlockId, [[f64; 6]; 3], usize); 2] = [(BlockId(0), [[0.0; 6]; 3], 0); 2];
-        let mut nb = 0;
-        let mut known = [0.0; 3];
-        for (body, p, dirs) in [(a, &cp.point_a, &dirs_a), (b, &cp.point_b, &dirs_b)] {
-            let k = body.contact_jacobian(p, dirs, &mut |blk, j| {
-                let mut c = [[0.0; 6]; 3];
-                for r in 0..3 {
-                    c[r][..j[r].len()].copy_from_slice(j[r]);
-                }
-                blocks[nb] = (blk, c, j[0].len());
-                nb += 1;
-            });
-            for r in 0..3 {
-                known[r] += k[r];
-            }
-        }
-        if nb == 0 {
-            continue;
-        }
-        let e = |r: usize, i: usize| RowEntry {
-            block: blocks[i].0,
-            coefs: &blocks[i].1[r][..blocks[i].2],
-        };
-        let (rn, ru, rw) = ([e(0, 0), e(0, 1)], [e(1, 0), e(1, 1)], [e(2, 0), e(2, 1)]);
-        let (rn, ru, rw) = (&rn[..nb], &ru[..nb], &rw[..nb]);
-        let bn = (cp.distance / h).max(-settings.max_recovery_speed) + known[0];
-        let eps_n = cp.material.compliance / (h * h);
-        let row = rows.push_friction(
-            cp.material.friction,
-            [rn, ru, rw],
-            [bn, known[1], known[2]],
-            [eps_n, 0.0, 0.0],
-        );
-        out.push(NscContact {
-            point: *cp,
-            u,
-            w,
-            row,
-        });
-    }
-}
-
-/// Fill the contacts' part of `gamma` from the cache (keys not found start at zero).
-pub fn warm_start(
-    contacts: &[NscContact],
-    cache: &WarmStartCache,
-    problem: &CcpProblem,
-    gamma: &mut [f64],
-) {
-    for c in contacts {
-        let i = problem.row_index(c.row);
-        match cache.map.get(&c.point.key) {
-            Some((gn, gt)) => {
-                gamma[i] = *gn;
-                gamma[i + 1] = gt.dot(&c.u);
-                gamma[i + 2] = gt.dot(&c.w);
-            }
-            None => {
-                gamma[i] = 0.0;
-                gamma[i + 1] = 0.0;
-                gamma[i + 2] = 0.0;
-            }
-        }
-    }
-}
-
-/// Store the contacts' impulses for the next step (replacing the cache).
-pub fn store(
-    contacts: &[NscContact],
-    problem: &CcpProblem,
-    gamma: &[f64],
-    cache: &mut WarmStartCache,
-) {
-    cache.map.clear();
-    for c in contacts {
-        let i = problem.row_index(c.row);
-        cache.map.insert(
-            c.point.key,
-            (gamma[i], c.u * gamma[i + 1] + c.w * gamma[i + 2]),
-        );
-    }
+    store_into(contacts, |p| p.key, problem, gamma, &mut cache.proxies);
 }

@@ -122,8 +122,9 @@ impl System {
             &self.bodies,
             row_settings,
             &mut self.rows,
+            &mut self.triplet,
             &mut self.contacts,
-        );
+        )?;
         self.proxy_contacts.clear();
         nsc::add_proxy_contact_rows(
             &self.proxy_points,
