@@ -1,24 +1,31 @@
-//! Cost of the building blocks on a granular-like problem: ~10k particles on a lattice with
-//! frictional contacts between lattice neighbours and with the ground (~29.6k triplets,
-//! ~89k rows).
+//! Cost of the building blocks and of every solver's iteration on a granular-like problem:
+//! ~10k particles on a lattice with frictional contacts between lattice neighbours and with
+//! the ground (~29.6k triplets, ~89k rows), or on a captured problem file given by the
+//! environment variable `CCP_BENCH_PROBLEM` (e.g. `target/validation/ccp-solvers/pile_10000.ccp`
+//! written by `cargo xtask validate ccp-solvers`).
 //!
 //! - `apply_n`: one product `N g` (the unit of cost of every iterative solver); `residual`
 //!   and `project`, the other per-iteration operations of the problem;
-//! - `psor/solve_k`, `apgd/solve_k`: a cold solve capped at k iterations (tolerance 0). A solve
-//!   has a fixed cost (projection, `M^-1 D g`, the initial and final gradients, and APGD's
-//!   power iterations), so the cost of one iteration is `(t(11) - t(1)) / 10`.
+//! - `<solver>/solve_k`: a cold solve capped at k iterations (tolerance 0). A solve has a
+//!   fixed cost (projection, the initial and final gradients, power iterations), so the
+//!   cost of one iteration is `(t(11) - t(1)) / 10`.
+//!
+//! Run: `cargo bench -p chrono-ccp --bench solvers`.
 
 #[path = "../tests/common/mod.rs"]
 mod common;
 
 use std::hint::black_box;
 
-use chrono_ccp::{Apgd, CcpSolver, Psor, SolverSettings};
-use chrono_core::descriptor::CcpWork;
+use chrono_ccp::{SolverSettings, by_name};
+use chrono_core::descriptor::{CcpWork, ProblemFile};
 use criterion::{Criterion, criterion_group, criterion_main};
 
 fn bench(c: &mut Criterion) {
-    let problem = common::lattice(22, 22, 21, 1);
+    let problem = match std::env::var("CCP_BENCH_PROBLEM") {
+        Ok(path) => ProblemFile::load_problem(&path).expect("CCP_BENCH_PROBLEM"),
+        Err(_) => common::lattice(22, 22, 21, 1),
+    };
     let m = problem.n_rows();
     let mut work = CcpWork::for_problem(&problem);
     let gamma: Vec<f64> = (0..m)
@@ -37,27 +44,22 @@ fn bench(c: &mut Criterion) {
         b.iter(|| problem.project(black_box(&mut projected)))
     });
 
-    for k in [1, 11] {
-        let settings = SolverSettings {
-            tolerance: 0.0,
-            max_iterations: k,
-            record_history: false,
-        };
-        let mut psor = Psor::new(settings.clone()).with_check_every(k);
-        let mut apgd = Apgd::new(settings);
-        let mut g = vec![0.0; m];
-        c.bench_function(&format!("psor/solve_{k}"), |b| {
-            b.iter(|| {
-                g.fill(0.0);
-                psor.solve(&problem, &mut g)
-            })
-        });
-        c.bench_function(&format!("apgd/solve_{k}"), |b| {
-            b.iter(|| {
-                g.fill(0.0);
-                apgd.solve(&problem, &mut g)
-            })
-        });
+    for name in ["jacobi", "psor", "apgd", "bb"] {
+        for k in [1, 11] {
+            let settings = SolverSettings {
+                tolerance: 0.0,
+                max_iterations: k,
+                record_history: false,
+            };
+            let mut solver = by_name(name, settings).expect("known solver");
+            let mut g = vec![0.0; m];
+            c.bench_function(&format!("{name}/solve_{k}"), |b| {
+                b.iter(|| {
+                    g.fill(0.0);
+                    solver.solve(&problem, &mut g)
+                })
+            });
+        }
     }
 }
 

@@ -10,7 +10,9 @@ use chrono_core::descriptor::{
 };
 use serde::{Deserialize, Serialize};
 
-use crate::util::{History, empty_stats, fill_with, fill2_with, final_stats, sanitize_and_project};
+use crate::util::{
+    History, empty_stats, fill_with, fill2_with, final_stats, power_lipschitz, sanitize_and_project,
+};
 
 /// After every iteration the Lipschitz estimate is relaxed, `L <- LIPSCHITZ_DECAY L`, so the
 /// step can grow again where the problem is locally flatter (Mazhar et al. 2015).
@@ -179,30 +181,15 @@ impl Apgd {
     /// Power-iteration estimate of `lambda_max(P^1/2 N P^1/2)`, using `y`, `grad_y`,
     /// `grad_new` as scratch. Returns a positive finite value (1 for a zero operator).
     fn estimate_lipschitz(&mut self, problem: &CcpProblem) -> f64 {
-        let m = self.s.len();
-        // A fixed, "random-ish" positive start (golden-ratio sequence), not aligned with
-        // any structure of the rows.
-        fill_with(&mut self.y, |i| {
-            0.5 + ((i as f64 + 1.0) * 0.618_033_988_749_895).fract()
-        });
-        let mut lambda = 0.0;
-        for _ in 0..self.options.power_iterations {
-            let norm = problem.dot(&self.y, &self.y, &mut self.work).sqrt();
-            if !(norm > 0.0 && norm.is_finite()) {
-                break;
-            }
-            let (s, y) = (&self.s, &self.y);
-            fill_with(&mut self.grad_y, |i| s[i].sqrt() * y[i] / norm);
-            problem.apply_n(&self.grad_y, &mut self.grad_new, &mut self.work);
-            let (s, nq) = (&self.s, &self.grad_new);
-            fill_with(&mut self.y, |i| s[i].sqrt() * nq[i]);
-            lambda = sum_by(m, &mut self.work.partials, |i| self.y[i] * self.y[i]).sqrt();
-        }
-        if lambda > 0.0 && lambda.is_finite() {
-            lambda
-        } else {
-            1.0
-        }
+        power_lipschitz(
+            problem,
+            &self.s,
+            self.options.power_iterations,
+            &mut self.y,
+            &mut self.grad_y,
+            &mut self.grad_new,
+            &mut self.work,
+        )
     }
 
     /// Fill `g_new = P_Y(y - P grad_y / l)` and `grad_new = N g_new + r`; return
@@ -277,6 +264,7 @@ impl CcpSolver for Apgd {
         self.g.copy_from_slice(gamma);
         self.best.copy_from_slice(gamma);
         problem.gradient(&self.g, &mut self.grad, &mut self.work);
+        let mut n_apply = 1;
         let mut best_res = problem.residual(&self.g, &self.grad, &mut self.work);
         if !best_res.is_finite() || best_res <= tol {
             return final_stats(
@@ -285,11 +273,13 @@ impl CcpSolver for Apgd {
                 &self.grad,
                 &mut self.work,
                 0,
+                n_apply,
                 tol,
                 history.into_records(),
             );
         }
         let mut l = self.estimate_lipschitz(problem);
+        n_apply += self.options.power_iterations;
         self.y.copy_from_slice(&self.g);
         self.grad_y.copy_from_slice(&self.grad);
         let mut theta: f64 = 1.0;
@@ -303,6 +293,7 @@ impl CcpSolver for Apgd {
             let mut ok = false;
             for _ in 0..=MAX_BACKTRACKS {
                 let (dnd, dpd) = self.trial(problem, l);
+                n_apply += 1;
                 if !(dnd.is_finite() && dpd.is_finite()) {
                     break;
                 }
@@ -317,7 +308,9 @@ impl CcpSolver for Apgd {
             } else {
                 f64::NAN
             };
-            history.push(it, res);
+            history.push(it, res, n_apply, || {
+                problem.objective_from_gradient(&self.g_new, &self.grad_new, &mut self.work)
+            });
             if !res.is_finite() {
                 break;
             }
@@ -359,6 +352,7 @@ impl CcpSolver for Apgd {
         gamma.copy_from_slice(&self.best);
         if !have_grad {
             problem.gradient(gamma, &mut self.grad_new, &mut self.work);
+            n_apply += 1;
         }
         final_stats(
             problem,
@@ -366,6 +360,7 @@ impl CcpSolver for Apgd {
             &self.grad_new,
             &mut self.work,
             iterations,
+            n_apply,
             tol,
             history.into_records(),
         )

@@ -9,22 +9,32 @@
 //!
 //! equivalently the convex conic QP `min f(g) = 1/2 g'N g + r'g` over `g ∈ Y`, the product of
 //! free rows (bilateral), intervals `[lo, hi]` (box rows), half-lines `g >= 0` (unilateral
-//! rows) and Coulomb cones `|(g_u, g_w)| <= mu g_n` (friction triplets) (Anitescu and Tasora
+//! rows), Coulomb cones `|(g_u, g_w)| <= mu g_n` (friction triplets) and rolling/spinning
+//! friction cones (6 rows per contact, Tasora and Anitescu 2013) (Anitescu and Tasora
 //! 2010, "An iterative approach for cone complementarity problems for nonsmooth dynamics",
 //! Comput. Optim. Appl. 47(2)). `g` are impulses (N s), `N g + r` constraint velocities (m/s).
 //!
 //! Solvers see only the `CcpProblem` (no physics types) and implement
 //! [`CcpSolver`]:
 //!
-//! - [`Psor`]: projected Gauss–Seidel / SOR, matrix-free, sequential sweeps.
+//! - [`Jacobi`]: projected Jacobi with a safe (backtracked) step, parallel.
+//! - [`Psor`]: projected Gauss–Seidel / SOR (symmetric option, joints relaxed as blocks),
+//!   matrix-free, sequential sweeps or parallel graph-coloured sweeps.
 //! - [`Apgd`]: Nesterov accelerated projected gradient with backtracking, adaptive restart
 //!   and an optional Jacobi metric (Mazhar et al. 2015, ACM TOG 34(3)), parallel.
+//! - [`BarzilaiBorwein`]: spectral projected gradient with a non-monotone line search
+//!   (Birgin, Martínez and Raydan 2000), parallel.
+//! - [`Cg`], [`Minres`]: Krylov solvers for problems whose rows are all bilateral.
+//! - [`TwoPhase`]: a bilateral-only phase (Krylov), then the full CCP warm-started from it.
 //!
-//! Both stop on the same measure, [`CcpProblem::residual`](chrono_core::descriptor::CcpProblem::residual)
+//! All stop on the same measure, [`CcpProblem::residual`](chrono_core::descriptor::CcpProblem::residual)
 //! (RMS of the diagonally scaled projected-gradient step, m/s), so their speed-vs-error
-//! curves compare; both treat `gamma` as a warm start, return the iterate with the lowest
+//! curves compare; all report their cost in `apply_n`-equivalents
+//! ([`SolveStats::apply_n`]) and optionally a per-iteration history (residual, objective,
+//! cost, wall time); all treat `gamma` as a warm start, return the iterate with the lowest
 //! residual they saw, stop (not converged) instead of propagating NaN, and are bit-for-bit
-//! reproducible for a given problem whatever the rayon thread count.
+//! reproducible for a given problem whatever the rayon thread count. [`by_name`] builds any
+//! of them from its name.
 //!
 //! ```
 //! use chrono_ccp::{Apgd, CcpSolver, SolverSettings};
@@ -50,9 +60,56 @@
 //! ```
 
 pub mod apgd;
+pub mod bb;
+pub mod cg;
+mod dense;
+pub mod jacobi;
+pub mod minres;
 pub mod psor;
+pub mod two_phase;
 mod util;
 
 pub use apgd::{Apgd, ApgdOptions};
+pub use bb::BarzilaiBorwein;
+pub use cg::{Cg, KrylovOptions, NotBilateral, check_bilateral, relative_residual};
 pub use chrono_core::descriptor::{CcpSolver, IterationRecord, SolveStats, SolverSettings};
+pub use jacobi::{Jacobi, JacobiOptions};
+pub use minres::Minres;
 pub use psor::{Psor, PsorOptions, TripletStep};
+pub use two_phase::TwoPhase;
+
+/// The names accepted by [`by_name`]: the CCP solvers, then the bilateral-only ones.
+pub const SOLVER_NAMES: [&str; 9] = [
+    "jacobi",
+    "psor",
+    "psor-sym",
+    "psor-par",
+    "apgd",
+    "bb",
+    "two-phase",
+    "cg",
+    "minres",
+];
+
+/// A solver by name (see [`SOLVER_NAMES`]; `psor-sym` is PSOR with symmetric sweeps,
+/// `psor-par` PSOR with parallel coloured sweeps) with
+/// the given settings, or an error naming the unknown value.
+pub fn by_name(name: &str, settings: SolverSettings) -> Result<Box<dyn CcpSolver>, String> {
+    Ok(match name {
+        "jacobi" => Box::new(Jacobi::new(settings)),
+        "psor" => Box::new(Psor::new(settings)),
+        "psor-sym" => Box::new(Psor::new(settings).with_symmetric(true)),
+        "psor-par" => Box::new(Psor::new(settings).with_parallel(true)),
+        "apgd" => Box::new(Apgd::new(settings)),
+        "bb" => Box::new(BarzilaiBorwein::new(settings)),
+        "two-phase" => Box::new(TwoPhase::new(settings)),
+        "cg" => Box::new(Cg::new(settings)),
+        "minres" => Box::new(Minres::new(settings)),
+        other => {
+            return Err(format!(
+                "solver = `{other}` is not one of {}",
+                SOLVER_NAMES.join(", ")
+            ));
+        }
+    })
+}

@@ -7,7 +7,7 @@
 
 use std::time::Instant;
 
-use chrono_core::descriptor::{CcpProblem, CcpWork, IterationRecord, SolveStats};
+use chrono_core::descriptor::{CcpProblem, CcpWork, IterationRecord, SolveStats, reduce::sum_by};
 use rayon::prelude::*;
 
 /// Vectors shorter than this are processed on the calling thread (rayon's overhead would
@@ -22,6 +22,18 @@ pub(crate) fn fill_with(out: &mut [f64], f: impl Fn(usize) -> f64 + Sync + Send)
         for (i, o) in out.iter_mut().enumerate() {
             *o = f(i);
         }
+    }
+}
+
+/// `y += a x`, in parallel for long vectors.
+pub(crate) fn axpy(y: &mut [f64], a: f64, x: &[f64]) {
+    assert_eq!(y.len(), x.len());
+    if y.len() >= PAR_MIN {
+        y.par_iter_mut()
+            .zip(x.par_iter())
+            .for_each(|(y, x)| *y += a * x);
+    } else {
+        y.iter_mut().zip(x).for_each(|(y, x)| *y += a * x);
     }
 }
 
@@ -61,6 +73,7 @@ pub(crate) fn empty_stats() -> SolveStats {
         residual: 0.0,
         objective: 0.0,
         converged: true,
+        apply_n: 0,
         history: Vec::new(),
     }
 }
@@ -72,6 +85,7 @@ pub(crate) fn final_stats(
     grad: &[f64],
     work: &mut CcpWork,
     iterations: usize,
+    apply_n: usize,
     tolerance: f64,
     history: Vec<IterationRecord>,
 ) -> SolveStats {
@@ -82,7 +96,45 @@ pub(crate) fn final_stats(
         residual,
         objective,
         converged: residual.is_finite() && objective.is_finite() && residual <= tolerance,
+        apply_n,
         history,
+    }
+}
+
+/// Power-iteration estimate of `L = lambda_max(S^1/2 N S^1/2)` with `S = diag(s)` (the
+/// Lipschitz constant of the gradient in the metric `S^-1`), `iterations >= 1` products.
+/// `y`, `q`, `nq` are scratch of length `m`. Returns a positive finite value (1 for a zero
+/// operator). A power iteration underestimates `L`; callers guard with backtracking.
+pub(crate) fn power_lipschitz(
+    problem: &CcpProblem,
+    s: &[f64],
+    iterations: usize,
+    y: &mut [f64],
+    q: &mut [f64],
+    nq: &mut [f64],
+    work: &mut CcpWork,
+) -> f64 {
+    let m = s.len();
+    // A fixed, "random-ish" positive start (golden-ratio sequence), not aligned with any
+    // structure of the rows.
+    fill_with(y, |i| {
+        0.5 + ((i as f64 + 1.0) * 0.618_033_988_749_895).fract()
+    });
+    let mut lambda = 0.0;
+    for _ in 0..iterations {
+        let norm = problem.dot(y, y, work).sqrt();
+        if !(norm > 0.0 && norm.is_finite()) {
+            break;
+        }
+        fill_with(q, |i| s[i].sqrt() * y[i] / norm);
+        problem.apply_n(q, nq, work);
+        fill_with(y, |i| s[i].sqrt() * nq[i]);
+        lambda = sum_by(m, &mut work.partials, |i| y[i] * y[i]).sqrt();
+    }
+    if lambda > 0.0 && lambda.is_finite() {
+        lambda
+    } else {
+        1.0
     }
 }
 
@@ -106,13 +158,23 @@ impl History {
         }
     }
 
-    /// Record the residual after `iteration`.
-    pub(crate) fn push(&mut self, iteration: usize, residual: f64) {
+    /// Record the residual after `iteration`, with the objective (computed only when
+    /// recording) and the `apply_n`-equivalents spent so far.
+    pub(crate) fn push(
+        &mut self,
+        iteration: usize,
+        residual: f64,
+        apply_n: usize,
+        objective: impl FnOnce() -> f64,
+    ) {
         if let Some(t0) = self.start {
+            let time_s = t0.elapsed().as_secs_f64();
             self.records.push(IterationRecord {
                 iteration,
                 residual,
-                time_s: t0.elapsed().as_secs_f64(),
+                objective: objective(),
+                apply_n,
+                time_s,
             });
         }
     }

@@ -4,7 +4,7 @@
 
 mod common;
 
-use chrono_ccp::{Apgd, CcpSolver, Psor, SolverSettings};
+use chrono_ccp::{Apgd, BarzilaiBorwein, CcpSolver, Jacobi, Psor, SolverSettings, TwoPhase};
 use common::lattice;
 
 fn bits(v: &[f64]) -> Vec<u64> {
@@ -20,9 +20,13 @@ fn same_gamma_for_any_thread_count() {
         max_iterations: 15,
         record_history: false,
     };
-    let make: [fn(SolverSettings) -> Box<dyn CcpSolver>; 2] = [
+    let make: [fn(SolverSettings) -> Box<dyn CcpSolver>; 6] = [
         |s| Box::new(Psor::new(s).with_symmetric(true)),
+        |s| Box::new(Psor::new(s).with_parallel(true).with_symmetric(true)),
         |s| Box::new(Apgd::new(s)),
+        |s| Box::new(Jacobi::new(s)),
+        |s| Box::new(BarzilaiBorwein::new(s)),
+        |s| Box::new(TwoPhase::new(s)),
     ];
     for new in make {
         let run = || {

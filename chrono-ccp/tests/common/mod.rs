@@ -172,6 +172,34 @@ pub fn check_complementarity(problem: &CcpProblem, gamma: &[f64], tol: f64) -> R
             ));
         }
     }
+    for (k, t) in s.rolling.clone().step_by(6).enumerate() {
+        let mu = problem.rolling_mu()[k];
+        let g = &gamma[t..t + 6];
+        let norms = [g[1].hypot(g[2]), g[3].abs(), g[4].hypot(g[5])];
+        if g[0] < 0.0 || (0..3).any(|j| norms[j] > mu[j] * g[0] * (1.0 + 1e-12) + 1e-300) {
+            return Err(format!(
+                "rolling contact {t}: g = {g:?} outside the cone mu = {mu:?}"
+            ));
+        }
+        // -c in the polar cone  <=>  c in the dual cone  <=>  c_n >= sum_j mu_j |c_j|
+        let cv = &c[t..t + 6];
+        let cn = [cv[1].hypot(cv[2]), cv[3].abs(), cv[4].hypot(cv[5])];
+        let dual = cv[0] - (0..3).map(|j| mu[j] * cn[j]).sum::<f64>();
+        if dual < -tol * (1.0 + mu.iter().sum::<f64>()) {
+            return Err(format!(
+                "rolling contact {t}: c = {cv:?} not in the dual cone (mu = {mu:?})"
+            ));
+        }
+        let sc = problem.residual_scale(t);
+        let gc: f64 = (0..6).map(|j| g[j] * cv[j]).sum();
+        let gnorm = g.iter().map(|x| x * x).sum::<f64>().sqrt();
+        let cnorm = cv.iter().map(|x| x * x).sum::<f64>().sqrt();
+        if gc.abs() > 3.0 * tol * (gnorm + sc * cnorm + sc * tol) {
+            return Err(format!(
+                "rolling contact {t}: g'c = {gc:e} (g = {g:?}, c = {cv:?})"
+            ));
+        }
+    }
     Ok(())
 }
 
@@ -326,6 +354,28 @@ pub fn random_problem(seed: u64) -> CcpProblem {
     let k: Vec<f64> = (0..vars.ndof()).map(|_| rng.uniform(-1.0, 1.0)).collect();
     let force_eps = rng.int(0, 2) == 0;
     let eps_frac = rng.uniform(0.01, 0.1);
+    // Rolling contacts (drawn last, so the rest of a seed's problem is unchanged).
+    let n_roll = rng.int(0, 3).saturating_sub(1);
+    let mut roll_rows = Vec::new();
+    for _ in 0..n_roll {
+        let rows6: Vec<_> = (0..6)
+            .map(|_| (row(&mut rng), rng.uniform(-0.5, 0.5)))
+            .collect();
+        let mu = [
+            rng.uniform(0.0, 1.0),
+            if rng.int(0, 3) == 0 {
+                0.0
+            } else {
+                rng.uniform(0.0, 0.5)
+            },
+            if rng.int(0, 3) == 0 {
+                0.0
+            } else {
+                rng.uniform(0.0, 0.5)
+            },
+        ];
+        roll_rows.push((rows6, mu));
+    }
 
     let build = |eps: f64| {
         let mut rows = ConstraintRows::new();
@@ -365,6 +415,19 @@ pub fn random_problem(seed: u64) -> CcpProblem {
                 }
             }
             i += 1;
+        }
+        for (rows6, mu) in &roll_rows {
+            let e: Vec<Vec<RowEntry>> = rows6.iter().map(|(e, _)| entries(e)).collect();
+            let mut b = [0.0; 6];
+            for j in 0..6 {
+                b[j] = rows6[j].1;
+            }
+            rows.push_rolling_friction(
+                *mu,
+                [&e[0], &e[1], &e[2], &e[3], &e[4], &e[5]],
+                b,
+                [eps; 6],
+            );
         }
         let mut p = CcpProblem::new();
         p.assemble(&vars, &rows, &k).unwrap();

@@ -21,6 +21,8 @@
 //! - `convert`: nalgebra <-> glam and [`Shape`](crate::shape::Shape) -> parry, the only
 //!   place where both math libraries meet.
 //! - `broad_phase`: sort-and-sweep of bounding boxes, half-spaces kept apart.
+//! - `sphere_grid`: the uniform cell grid for scenes with many spheres (grains): sphere
+//!   pairs found and computed on the grid, spheres against other shapes by grid queries.
 //! - `narrow_phase`: per-pair persistent state, analytic sphere fast paths, parry manifolds.
 //! - `world`: [`CollisionWorld`] and [`Collider`].
 //! - `proxy`: spheres and thick triangles of physics items against the body colliders.
@@ -32,6 +34,7 @@ pub(crate) mod convert;
 pub(crate) mod mesh;
 mod narrow_phase;
 mod proxy;
+mod sphere_grid;
 mod world;
 
 #[cfg(test)]
@@ -39,4 +42,5 @@ mod tests;
 
 pub use contact::{ColliderId, ContactKey, ContactPoint};
 pub use proxy::{CollisionProxy, ProxyContact, ProxyKey, ProxyShape};
+pub use sphere_grid::GRID_MIN_SPHERES;
 pub use world::{Collider, CollisionWorld};

@@ -11,6 +11,7 @@ use super::contact::{ColliderId, ContactPoint};
 use super::convert::{pose_to_glam, to_parry, vec_to_glam};
 use super::narrow_phase::{PairKind, PairState};
 use super::proxy::ProxyScratch;
+use super::sphere_grid::{GRID_MIN_SPHERES, SphereGrid};
 use crate::error::{ChronoError, Result, check_non_negative};
 use crate::material::ContactMaterial;
 use crate::math::Isometry3;
@@ -111,6 +112,16 @@ pub struct CollisionWorld {
     spare: Vec<PairState>,
     /// Buffers of `detect_proxies`.
     pub(super) proxy_scratch: ProxyScratch,
+    /// Number of sphere colliders.
+    spheres: usize,
+    /// Use the sphere grid from this many sphere colliders on.
+    grid_min_spheres: usize,
+    /// The sphere grid (broad and narrow phase of sphere pairs).
+    grid: SphereGrid,
+    /// Whether the last `detect` used the grid.
+    used_grid: bool,
+    /// Wall time of the last `detect`: broad phase, narrow phase (s).
+    timing: (f64, f64),
 }
 
 impl std::fmt::Debug for CollisionWorld {
@@ -141,6 +152,11 @@ impl CollisionWorld {
             next_pairs: Vec::new(),
             spare: Vec::new(),
             proxy_scratch: ProxyScratch::default(),
+            spheres: 0,
+            grid_min_spheres: GRID_MIN_SPHERES,
+            grid: SphereGrid::default(),
+            used_grid: false,
+            timing: (0.0, 0.0),
         })
     }
 
@@ -185,7 +201,10 @@ impl CollisionWorld {
         })?;
         let parry = to_parry(shape, "collider.shape")?;
         let kind = match shape {
-            Shape::Sphere { radius } => ColliderKind::Sphere { radius: *radius },
+            Shape::Sphere { radius } => {
+                self.spheres += 1;
+                ColliderKind::Sphere { radius: *radius }
+            }
             Shape::HalfSpace { normal } => ColliderKind::HalfSpace {
                 normal: vec_to_glam(&normal.normalize()),
             },
@@ -233,6 +252,25 @@ impl CollisionWorld {
         }
     }
 
+    /// Use the sphere grid (see the `sphere_grid` module) when the world holds at least
+    /// `n` sphere colliders (default [`GRID_MIN_SPHERES`](super::GRID_MIN_SPHERES)); 0
+    /// always, `usize::MAX` never. The contacts found are the same either way, only their
+    /// order differs.
+    pub fn set_grid_min_spheres(&mut self, n: usize) {
+        self.grid_min_spheres = n;
+    }
+
+    /// Wall time (s) of the last [`detect`](Self::detect): `(broad phase, narrow phase)`
+    /// (bounds, grid binning, pair search and pair bookkeeping; then the contact points).
+    pub fn last_timing(&self) -> (f64, f64) {
+        self.timing
+    }
+
+    /// Whether the last [`detect`](Self::detect) used the sphere grid.
+    pub fn used_grid(&self) -> bool {
+        self.used_grid
+    }
+
     /// Number of live candidate pairs (after filtering) of the last `detect`.
     #[cfg(test)]
     pub(crate) fn num_pairs(&self) -> usize {
@@ -251,8 +289,9 @@ impl CollisionWorld {
     /// `owner_poses[owner]` is the world pose of each owner, `owner_active[owner]` is false
     /// for fixed or kinematic owners. Skipped pairs: two colliders of the same owner, two
     /// inactive owners, and excluded owner pairs. Output order is deterministic (by pair
-    /// `(collider_a, collider_b)`, then parry's order within a pair) and does not depend on
-    /// the number of threads. Errors: an owner out of range of either slice, a non-finite
+    /// `(collider_a, collider_b)`, then parry's order within a pair; with the sphere grid,
+    /// the sphere–sphere contacts follow in the grid's order) and does not depend on the
+    /// number of threads. Errors: an owner out of range of either slice, a non-finite
     /// owner pose, or a pair parry cannot handle ([`ChronoError::Collision`]); on error
     /// `out` holds a partial result.
     pub fn detect(
@@ -262,9 +301,26 @@ impl CollisionWorld {
         out: &mut Vec<ContactPoint>,
     ) -> Result<()> {
         out.clear();
+        let t0 = std::time::Instant::now();
         self.update_bounds(owner_poses, owner_active)?;
-        self.sap.find_pairs(&self.bounds, &mut self.candidates);
+        self.used_grid = self.spheres > 0 && self.spheres >= self.grid_min_spheres;
+        if self.used_grid {
+            self.grid.candidates(
+                &self.colliders,
+                &self.poses,
+                &self.bounds,
+                self.envelope,
+                &mut self.candidates,
+            )?;
+        } else {
+            self.sap.find_pairs(&self.bounds, &mut self.candidates);
+        }
         self.update_pairs(owner_active);
+        if self.used_grid {
+            self.grid.sphere_pairs()?;
+        }
+        let t1 = std::time::Instant::now();
+        self.timing = ((t1 - t0).as_secs_f64(), 0.0);
 
         let (colliders, poses, envelope) = (&self.colliders, &self.poses, self.envelope);
         if self.pairs.len() >= PARALLEL_MIN_PAIRS {
@@ -283,6 +339,16 @@ impl CollisionWorld {
             }
             out.extend_from_slice(&p.contacts);
         }
+        if self.used_grid {
+            self.grid.sphere_contacts(
+                &self.colliders,
+                owner_active,
+                &self.excluded,
+                self.envelope,
+                out,
+            )?;
+        }
+        self.timing.1 = t1.elapsed().as_secs_f64();
         Ok(())
     }
 
@@ -317,6 +383,13 @@ impl CollisionWorld {
             let pose = g * c.parry_local;
             self.poses.push(pose);
             self.bounds.push(match c.kind {
+                ColliderKind::Sphere { radius } => {
+                    let r = Vector::splat(radius + half);
+                    Bound::Box(parry3d_f64::bounding_volume::Aabb::new(
+                        pose.translation - r,
+                        pose.translation + r,
+                    ))
+                }
                 ColliderKind::HalfSpace { normal } => {
                     let n = pose.rotation * normal;
                     Bound::HalfSpace {

@@ -1,7 +1,11 @@
-//! Contact: turning collision points into constraint rows.
+//! Contact: turning collision points into constraint rows or forces.
 //!
-//! NSC (complementarity): each contact point becomes a friction triplet of rows
-//! `(n, u, w)` in the Coulomb cone with the combined friction coefficient `mu`
-//! ([`nsc`]). SMC (penalty, Hertz–Mindlin) comes with the granular issue.
+//! - NSC (complementarity): each contact point becomes a friction triplet of rows
+//!   `(n, u, w)` in the Coulomb cone with the combined friction coefficient `mu`
+//!   ([`nsc`]).
+//! - SMC (penalty): each contact point gives a force from its overlap, its relative
+//!   velocity and its tangential displacement history: Hooke or Hertz–Mindlin with damping
+//!   mapped from the restitution, Coulomb cap, rolling and spinning resistance ([`smc`]).
 
 pub mod nsc;
+pub mod smc;

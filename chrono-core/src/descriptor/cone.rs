@@ -18,7 +18,9 @@ pub fn project_friction_cone(mu: f64, g: &mut [f64]) {
         g[2] = 0.0;
         return;
     }
-    let gt = gu.hypot(gw);
+    // sqrt(u^2 + w^2), not hypot: impulses are far from overflow, and hypot's care costs
+    // several times more in this hot loop.
+    let gt = (gu * gu + gw * gw).sqrt();
     if gt <= mu * gn {
         return; // inside the cone (this includes the apex)
     }
@@ -33,6 +35,78 @@ pub fn project_friction_cone(mu: f64, g: &mut [f64]) {
     g[0] = gn_new;
     g[1] = gu * scale;
     g[2] = gw * scale;
+}
+
+/// Project a contact block `g = (g_n, g_u, g_w, g_s, g_ru, g_rw)` (sliding, spinning and
+/// rolling friction; Tasora and Anitescu 2013, Meccanica 48) onto the convex cone
+///
+/// ```text
+/// K = { |(g_u, g_w)| <= mu[0] g_n,  |g_s| <= mu[1] g_n,  |(g_ru, g_rw)| <= mu[2] g_n }
+/// ```
+///
+/// exactly (the Euclidean projection, not Chrono's sequence of three cone projections,
+/// which is not a projection onto `K`). For a fixed normal value `n` the nearest point
+/// clamps each tangential part radially to the ball of radius `mu_k n`, so the projection
+/// minimizes the convex piecewise quadratic
+/// `phi(n) = (n - g_n)^2 + sum_k (|x_k| - mu_k n)_+^2` over `n >= 0`. Its stationary point
+/// in the interval where the set `A` of clamped parts is fixed is
+/// `n = (g_n + sum_A mu_k |x_k|) / (1 + sum_A mu_k^2)`; the intervals are bounded by the
+/// breakpoints `|x_k| / mu_k` and are scanned in order. With one part (`mu[1] = mu[2] = 0`
+/// and zero torques) this is [`project_friction_cone`]. Coefficients `mu_k = 0` force the
+/// part to zero.
+pub fn project_rolling_cone(mu: [f64; 3], g: &mut [f64]) {
+    debug_assert!(g.len() >= 6);
+    let norms = [
+        (g[1] * g[1] + g[2] * g[2]).sqrt(),
+        g[3].abs(),
+        (g[4] * g[4] + g[5] * g[5]).sqrt(),
+    ];
+    let gn = g[0];
+    // Inside K: keep.
+    if gn >= 0.0 && (0..3).all(|k| norms[k] <= mu[k] * gn) {
+        return;
+    }
+    // Breakpoints of the parts that can be clamped against a positive n.
+    let mut bp = [(f64::INFINITY, 0usize); 3];
+    let mut nb = 0;
+    for k in 0..3 {
+        if mu[k] > 0.0 && norms[k] > 0.0 {
+            bp[nb] = (norms[k] / mu[k], k);
+            nb += 1;
+        }
+    }
+    bp[..nb].sort_by(|a, b| a.0.total_cmp(&b.0));
+    // Scan the intervals [0, b1], [b1, b2], ..., [b_nb, inf): in interval j the parts
+    // j.. (in breakpoint order) are clamped (|x_k| > mu_k n).
+    let mut n = 0.0;
+    for j in 0..=nb {
+        let (mut num, mut den) = (gn, 1.0);
+        for &(_, k) in &bp[j..nb] {
+            num += mu[k] * norms[k];
+            den += mu[k] * mu[k];
+        }
+        let cand = num / den;
+        let lo = if j == 0 { 0.0 } else { bp[j - 1].0 };
+        let hi = if j < nb { bp[j].0 } else { f64::INFINITY };
+        if cand <= hi {
+            // phi' is increasing: the first interval whose stationary point is not beyond
+            // its upper end holds the minimizer (clamped to the interval's lower end).
+            n = cand.max(lo);
+            break;
+        }
+    }
+    g[0] = n;
+    let clamp = |x: &mut [f64], norm: f64, radius: f64| {
+        if norm > radius {
+            let s = if norm > 0.0 { radius / norm } else { 0.0 };
+            for v in x.iter_mut() {
+                *v *= s;
+            }
+        }
+    };
+    clamp(&mut g[1..3], norms[0], mu[0] * n);
+    clamp(&mut g[3..4], norms[1], mu[1] * n);
+    clamp(&mut g[4..6], norms[2], mu[2] * n);
 }
 
 /// Project a unilateral multiplier onto `g >= 0`.

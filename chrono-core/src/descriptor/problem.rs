@@ -1,19 +1,13 @@
-//! The assembled cone complementarity problem.
+//! The assembled cone complementarity problem: storage, assembly and row-level access.
+//! The operators (`apply_n`, `project`, `residual` ...) are in `ops.rs`.
 
 use std::ops::Range;
 
-use rayon::prelude::*;
-
-use super::cone::{project_box, project_friction_cone, project_unilateral};
-use super::reduce::{self, sum_by};
-use super::rows::{ConstraintRows, RowGroup, RowId};
+use super::rows::{ConstraintRows, N_GROUPS, RowGroup, RowId};
 use super::variables::{BlockId, Variables};
 use crate::error::{ChronoError, Result};
 
-/// Below this many rows, row-wise loops run on the calling thread.
-const PAR_MIN_ROWS: usize = 4096;
-
-/// The global row ranges of the four groups, in this order.
+/// The global row ranges of the five groups, in this order.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
 pub struct Sections {
     /// Bilateral (free) rows.
@@ -24,6 +18,23 @@ pub struct Sections {
     pub unilateral: Range<usize>,
     /// Friction triplets (length a multiple of 3).
     pub friction: Range<usize>,
+    /// Contacts with rolling and spinning friction (length a multiple of 6).
+    pub rolling: Range<usize>,
+}
+
+impl Sections {
+    /// The cone block (first row, number of rows) that contains row `i`: a friction
+    /// triplet (3 rows), a rolling contact (6 rows), or the row itself (1).
+    #[inline]
+    pub fn block_of(&self, i: usize) -> (usize, usize) {
+        if i >= self.rolling.start && i < self.rolling.end {
+            (self.rolling.start + 6 * ((i - self.rolling.start) / 6), 6)
+        } else if i >= self.friction.start && i < self.friction.end {
+            (self.friction.start + 3 * ((i - self.friction.start) / 3), 3)
+        } else {
+            (i, 1)
+        }
+    }
 }
 
 /// Scratch space for the operations of a [`CcpProblem`]; a solver owns one and reuses it,
@@ -57,55 +68,85 @@ impl CcpWork {
 /// ```
 ///
 /// equivalently `min f(g) = 1/2 g'N g + r'g` over `g ∈ Y` (the product of the groups'
-/// sets: free, boxes, half-lines, Coulomb cones). `k = M v + h f` is the momentum before
-/// constraints; the new velocity is `v+ = M^-1 (k + D g)` ([`CcpProblem::velocities`]), so
-/// `N g + r = D' v+ + b + E g` is the constraint velocity.
+/// sets: free, boxes, half-lines, Coulomb cones, rolling/spinning cones). `k = M v + h f`
+/// is the momentum before constraints (N s); the new velocity is `v+ = M^-1 (k + D g)`
+/// ([`velocities`](Self::velocities)), so `N g + r = D' v+ + b + E g` is the constraint
+/// velocity (m/s; rad/s for torque rows). Anitescu and Tasora 2010, Comput. Optim. Appl.
+/// 47(2).
 ///
-/// `N` is never formed: [`apply_n`](Self::apply_n) does `D' (M^-1 D g) + E g` with `M^-1 D`
-/// cached per entry. Row-wise and block-wise loops are rayon-parallel for large problems and
-/// every reduction is done in a fixed order ([`reduce`](super::reduce)), so results are
-/// bit-identical for any thread count.
+/// # Storage
+///
+/// `N` is never formed. The Jacobian is stored twice, each copy laid out for one half of
+/// `N g = D'(M^-1 D g) + E g`, so that one product streams each array once:
+///
+/// - by block (CSC-like): for each variable block its entries in row order, each with its
+///   row index and its column of `M^-1 D` (contiguous per block); `M^-1 D g` gathers one
+///   block at a time (parallel over blocks, no write conflicts);
+/// - by row (CSR): for each row its entries, each with the block's dof offset and the
+///   coefficients of `D_i'` (and of `M^-1 D_i`, for Gauss–Seidel's row updates).
+///
+/// Row-wise and block-wise loops are rayon-parallel for large problems and every reduction
+/// is done in a fixed order ([`reduce`](super::reduce)), so results are bit-identical for
+/// any thread count.
 #[derive(Debug, Clone, Default)]
 pub struct CcpProblem {
-    vars: Variables,
-    n_rows: usize,
-    // Jacobian, CSR by row: entries (row, block), coefficients per entry.
-    row_ptr: Vec<u32>,
-    ent_row: Vec<u32>,
-    ent_block: Vec<u32>,
-    ent_off: Vec<u32>,
-    ent_coef: Vec<u32>,
-    coefs: Vec<f64>,
-    minv: Vec<f64>,
-    // Transpose index: for each block, its entries in row order.
-    tr_ptr: Vec<u32>,
-    tr_ent: Vec<u32>,
-    b: Vec<f64>,
-    eps: Vec<f64>,
-    diag: Vec<f64>,
-    r: Vec<f64>,
-    lo: Vec<f64>,
-    hi: Vec<f64>,
-    mu: Vec<f64>,
-    v_free: Vec<f64>,
-    sections: Sections,
-    group_start: [usize; 4],
+    pub(super) vars: Variables,
+    pub(super) n_rows: usize,
+    // By row: entries of row i are row_ptr[i]..row_ptr[i+1].
+    pub(super) row_ptr: Vec<u32>,
+    pub(super) ent_block: Vec<u32>,
+    pub(super) ent_off: Vec<u32>,
+    /// Start of each entry's coefficients, with a final sentinel (len = entries + 1).
+    pub(super) ent_coef: Vec<u32>,
+    pub(super) coefs: Vec<f64>,
+    pub(super) minv: Vec<f64>,
+    // By block: entries of block b are tr_ptr[b]..tr_ptr[b+1] (row order), their M^-1 D
+    // coefficients tr_minv[tr_cptr[b]..] contiguous.
+    pub(super) tr_ptr: Vec<u32>,
+    pub(super) tr_cptr: Vec<u32>,
+    pub(super) tr_row: Vec<u32>,
+    pub(super) tr_minv: Vec<f64>,
+    pub(super) k: Vec<f64>,
+    pub(super) b: Vec<f64>,
+    pub(super) eps: Vec<f64>,
+    pub(super) diag: Vec<f64>,
+    pub(super) scale: Vec<f64>,
+    pub(super) r: Vec<f64>,
+    pub(super) lo: Vec<f64>,
+    pub(super) hi: Vec<f64>,
+    pub(super) mu: Vec<f64>,
+    pub(super) mu_rolling: Vec<[f64; 3]>,
+    /// Upper triangles of the diagonal blocks of `N`: 6 per triplet, then 21 per rolling
+    /// contact (row-major upper triangle).
+    pub(super) cone_blocks: Vec<f64>,
+    pub(super) v_free: Vec<f64>,
+    pub(super) sections: Sections,
+    pub(super) group_start: [usize; N_GROUPS],
 }
 
-const GROUP_ORDER: [RowGroup; 4] = [
+pub(super) const GROUP_ORDER: [RowGroup; N_GROUPS] = [
     RowGroup::Bilateral,
     RowGroup::Box,
     RowGroup::Unilateral,
     RowGroup::Friction,
+    RowGroup::Rolling,
 ];
 
-fn group_name(g: RowGroup) -> &'static str {
+pub(super) fn group_name(g: RowGroup) -> &'static str {
     match g {
         RowGroup::Bilateral => "bilateral",
         RowGroup::Box => "box",
         RowGroup::Unilateral => "unilateral",
         RowGroup::Friction => "friction",
+        RowGroup::Rolling => "rolling",
     }
+}
+
+/// Index of entry `(j, k)`, `j <= k`, in the row-major upper triangle of an `n x n` matrix
+/// (the layout of [`CcpProblem::cone_block`]).
+#[inline]
+pub fn upper_index(n: usize, j: usize, k: usize) -> usize {
+    j * n - j * (j + 1) / 2 + k
 }
 
 impl CcpProblem {
@@ -114,10 +155,11 @@ impl CcpProblem {
         Self::default()
     }
 
-    /// Assemble from the step's variables, rows and momentum `k = M v + h f` (length `ndof`).
-    /// Reuses this problem's buffers. Rejects malformed input (a row naming a block that does
-    /// not exist, coefficient counts that do not match a block, non-finite numbers, negative
-    /// compliance or friction, `lo > hi`) with an error naming the row.
+    /// Assemble from the step's variables, rows and momentum `k = M v + h f` (length `ndof`,
+    /// N s). Reuses this problem's buffers. Rejects malformed input (a row naming a block
+    /// that does not exist, coefficient counts that do not match a block, non-finite
+    /// numbers, negative compliance or friction, `lo > hi`, a non-finite `M^-1 k`) with an
+    /// error naming the row or field.
     pub fn assemble(&mut self, vars: &Variables, rows: &ConstraintRows, k: &[f64]) -> Result<()> {
         if k.len() != vars.ndof() {
             return Err(ChronoError::invalid(
@@ -134,10 +176,11 @@ impl CcpProblem {
             ));
         }
         self.vars.clone_from(vars);
+        self.k.clear();
+        self.k.extend_from_slice(k);
         let nblocks = vars.len();
         for v in [
             &mut self.row_ptr,
-            &mut self.ent_row,
             &mut self.ent_block,
             &mut self.ent_off,
             &mut self.ent_coef,
@@ -155,6 +198,7 @@ impl CcpProblem {
         ] {
             v.clear();
         }
+        self.mu_rolling.clear();
         self.row_ptr.push(0);
 
         let mut row = 0usize;
@@ -195,7 +239,6 @@ impl CcpProblem {
                             "must be finite",
                         ));
                     }
-                    self.ent_row.push(row as u32);
                     self.ent_block.push(blk as u32);
                     self.ent_off.push(vars.offset(BlockId(blk as u32)) as u32);
                     self.ent_coef.push(self.coefs.len() as u32);
@@ -205,7 +248,7 @@ impl CcpProblem {
                     vars.mass(BlockId(blk as u32))
                         .apply_inverse(c, &mut self.minv[start..]);
                 }
-                self.row_ptr.push(self.ent_row.len() as u32);
+                self.row_ptr.push(self.ent_block.len() as u32);
                 if !g.b[i].is_finite() {
                     return Err(ChronoError::invalid(
                         format!("rows.{name}[{i}].b"),
@@ -224,6 +267,9 @@ impl CcpProblem {
                 self.eps.push(g.eps[i]);
                 row += 1;
             }
+            let bad_mu = |i: usize, m: f64| {
+                ChronoError::invalid(format!("rows.{name}[{i}].mu"), m, "must be finite and >= 0")
+            };
             match group {
                 RowGroup::Box => {
                     for (i, (&lo, &hi)) in g.lo.iter().zip(&g.hi).enumerate() {
@@ -240,63 +286,43 @@ impl CcpProblem {
                 }
                 RowGroup::Friction => {
                     if let Some(i) = g.mu.iter().position(|m| !(m.is_finite() && *m >= 0.0)) {
-                        return Err(ChronoError::invalid(
-                            format!("rows.friction[{i}].mu"),
-                            g.mu[i],
-                            "must be finite and >= 0",
-                        ));
+                        return Err(bad_mu(i, g.mu[i]));
                     }
                     self.mu.extend_from_slice(&g.mu);
+                }
+                RowGroup::Rolling => {
+                    if let Some(i) = g.mu.iter().position(|m| !(m.is_finite() && *m >= 0.0)) {
+                        return Err(bad_mu(i / 3, g.mu[i]));
+                    }
+                    self.mu_rolling
+                        .extend(g.mu.chunks_exact(3).map(|c| [c[0], c[1], c[2]]));
                 }
                 _ => {}
             }
         }
+        self.ent_coef.push(self.coefs.len() as u32);
         self.n_rows = row;
         let gs = self.group_start;
         self.sections = Sections {
             bilateral: gs[0]..gs[1],
             boxed: gs[1]..gs[2],
             unilateral: gs[2]..gs[3],
-            friction: gs[3]..row,
+            friction: gs[3]..gs[4],
+            rolling: gs[4]..row,
         };
+        self.build_transpose(nblocks);
+        self.build_diagonal();
 
-        // Transpose index (counting sort of entries by block, stable: row order kept).
-        self.tr_ptr.clear();
-        self.tr_ptr.resize(nblocks + 1, 0);
-        for &blk in &self.ent_block {
-            self.tr_ptr[blk as usize + 1] += 1;
-        }
-        for i in 0..nblocks {
-            self.tr_ptr[i + 1] += self.tr_ptr[i];
-        }
-        self.tr_ent.clear();
-        self.tr_ent.resize(self.ent_block.len(), 0);
-        {
-            // cursor per block, reusing `diag` storage would alias; use a local pass instead.
-            let mut cursor: Vec<u32> = self.tr_ptr[..nblocks].to_vec();
-            for (e, &blk) in self.ent_block.iter().enumerate() {
-                let c = &mut cursor[blk as usize];
-                self.tr_ent[*c as usize] = e as u32;
-                *c += 1;
-            }
-        }
-
-        // Diagonal of N, free velocity, r.
-        self.diag.clear();
-        self.diag.resize(self.n_rows, 0.0);
-        for i in 0..self.n_rows {
-            let mut d = self.eps[i];
-            for e in self.row_ptr[i] as usize..self.row_ptr[i + 1] as usize {
-                let c0 = self.ent_coef[e] as usize;
-                let nd = self.entry_ndof(e);
-                for j in 0..nd {
-                    d += self.coefs[c0 + j] * self.minv[c0 + j];
-                }
-            }
-            self.diag[i] = d;
-        }
+        self.v_free.clear();
         self.v_free.resize(vars.ndof(), 0.0);
         vars.apply_inverse(k, &mut self.v_free);
+        if let Some(i) = self.v_free.iter().position(|x| !x.is_finite()) {
+            return Err(ChronoError::invalid(
+                format!("M^-1 k [dof {i}]"),
+                self.v_free[i],
+                "must be finite (momentum too large for the mass)",
+            ));
+        }
         self.r.clear();
         self.r.resize(self.n_rows, 0.0);
         for i in 0..self.n_rows {
@@ -305,9 +331,86 @@ impl CcpProblem {
         Ok(())
     }
 
-    #[inline]
-    fn entry_ndof(&self, e: usize) -> usize {
-        self.vars.block_ndof(BlockId(self.ent_block[e]))
+    /// The block-ordered copy of the Jacobian (counting sort of entries by block, stable:
+    /// row order kept within a block).
+    fn build_transpose(&mut self, nblocks: usize) {
+        self.tr_ptr.clear();
+        self.tr_ptr.resize(nblocks + 1, 0);
+        for &blk in &self.ent_block {
+            self.tr_ptr[blk as usize + 1] += 1;
+        }
+        for i in 0..nblocks {
+            self.tr_ptr[i + 1] += self.tr_ptr[i];
+        }
+        self.tr_cptr.clear();
+        let mut c = 0u32;
+        for i in 0..nblocks {
+            self.tr_cptr.push(c);
+            let n = self.tr_ptr[i + 1] - self.tr_ptr[i];
+            c += n * self.vars.block_ndof(BlockId(i as u32)) as u32;
+        }
+        self.tr_cptr.push(c);
+        let n_ent = self.ent_block.len();
+        self.tr_row.clear();
+        self.tr_row.resize(n_ent, 0);
+        self.tr_minv.clear();
+        self.tr_minv.resize(self.minv.len(), 0.0);
+        let mut cursor: Vec<u32> = self.tr_ptr[..nblocks].to_vec();
+        for i in 0..self.n_rows {
+            for e in self.row_ptr[i] as usize..self.row_ptr[i + 1] as usize {
+                let blk = self.ent_block[e] as usize;
+                let t = cursor[blk] as usize;
+                cursor[blk] += 1;
+                self.tr_row[t] = i as u32;
+                let (c0, c1) = (self.ent_coef[e] as usize, self.ent_coef[e + 1] as usize);
+                let nd = c1 - c0;
+                let dst = self.tr_cptr[blk] as usize + (t - self.tr_ptr[blk] as usize) * nd;
+                self.tr_minv[dst..dst + nd].copy_from_slice(&self.minv[c0..c1]);
+            }
+        }
+    }
+
+    /// `diag(N)`, the residual scales and the diagonal blocks of the cones.
+    fn build_diagonal(&mut self) {
+        self.diag.clear();
+        self.diag.resize(self.n_rows, 0.0);
+        for i in 0..self.n_rows {
+            let mut d = self.eps[i];
+            for e in self.row_ptr[i] as usize..self.row_ptr[i + 1] as usize {
+                let (c0, c1) = (self.ent_coef[e] as usize, self.ent_coef[e + 1] as usize);
+                for j in c0..c1 {
+                    d += self.coefs[j] * self.minv[j];
+                }
+            }
+            self.diag[i] = d;
+        }
+        self.scale.clear();
+        self.scale.resize(self.n_rows, 0.0);
+        let inv = |d: f64| if d > 0.0 { 1.0 / d } else { 0.0 };
+        let mut i = 0;
+        while i < self.n_rows {
+            let (start, n) = self.sections.block_of(i);
+            let mean = self.diag[start..start + n].iter().sum::<f64>() / n as f64;
+            self.scale[start..start + n].fill(inv(mean));
+            i = start + n;
+        }
+        self.cone_blocks.clear();
+        for (start, n) in self.cone_block_starts() {
+            for j in 0..n {
+                for k in j..n {
+                    let v = self.n_entry(start + j, start + k);
+                    self.cone_blocks.push(v);
+                }
+            }
+        }
+    }
+
+    fn cone_block_starts(&self) -> impl Iterator<Item = (usize, usize)> + use<> {
+        let s = self.sections.clone();
+        s.friction
+            .step_by(3)
+            .map(|t| (t, 3))
+            .chain(s.rolling.step_by(6).map(|t| (t, 6)))
     }
 
     /// Number of rows `m` (the length of `g`).
@@ -322,15 +425,38 @@ impl CcpProblem {
         self.vars.ndof()
     }
 
+    /// Number of Jacobian entries (row, block) with their coefficients: `nnz(D) =`
+    /// [`n_coefs`](Self::n_coefs).
+    #[inline]
+    pub fn n_entries(&self) -> usize {
+        self.ent_block.len()
+    }
+
+    /// Number of stored Jacobian coefficients, `nnz(D)`.
+    #[inline]
+    pub fn n_coefs(&self) -> usize {
+        self.coefs.len()
+    }
+
     /// The variables this problem was assembled from.
     pub fn variables(&self) -> &Variables {
         &self.vars
+    }
+
+    /// The momentum `k = M v + h f` the problem was assembled from (N s).
+    pub fn momentum(&self) -> &[f64] {
+        &self.k
     }
 
     /// The row ranges of the groups.
     #[inline]
     pub fn sections(&self) -> &Sections {
         &self.sections
+    }
+
+    /// True if every row is bilateral (a linear problem `N g = -r`).
+    pub fn is_bilateral_only(&self) -> bool {
+        self.sections.bilateral.len() == self.n_rows
     }
 
     /// The global row of a pushed row.
@@ -345,10 +471,22 @@ impl CcpProblem {
         &self.diag
     }
 
+    /// The step scale of every row ([`residual_scale`](Self::residual_scale)).
+    #[inline]
+    pub fn scales(&self) -> &[f64] {
+        &self.scale
+    }
+
     /// The right-hand side `r = b + D'M^-1 k`.
     #[inline]
     pub fn r(&self) -> &[f64] {
         &self.r
+    }
+
+    /// The stabilization terms `b`.
+    #[inline]
+    pub fn b(&self) -> &[f64] {
+        &self.b
     }
 
     /// The compliances `eps`.
@@ -363,6 +501,12 @@ impl CcpProblem {
         &self.mu
     }
 
+    /// `[mu_slide, mu_spin, mu_roll]` of each contact of the rolling section.
+    #[inline]
+    pub fn rolling_mu(&self) -> &[[f64; 3]] {
+        &self.mu_rolling
+    }
+
     /// Lower and upper bounds of the box section.
     #[inline]
     pub fn box_bounds(&self) -> (&[f64], &[f64]) {
@@ -375,18 +519,79 @@ impl CcpProblem {
         &self.v_free
     }
 
+    /// The step scale of row `i` used by the residual and the diagonal metric of the
+    /// solvers: `1 / diag(N)_i`, with `diag(N)` averaged over the rows of a friction triplet
+    /// or rolling contact so that the scaled step keeps the cone's shape (0 for a zero
+    /// diagonal). Cached at assembly.
+    #[inline]
+    pub fn residual_scale(&self, i: usize) -> f64 {
+        self.scale[i]
+    }
+
+    /// The variable blocks row `i` touches, in the order they were pushed.
+    pub fn row_blocks(&self, i: usize) -> impl Iterator<Item = BlockId> + '_ {
+        self.ent_block[self.row_ptr[i] as usize..self.row_ptr[i + 1] as usize]
+            .iter()
+            .map(|&b| BlockId(b))
+    }
+
+    /// The entries of row `i`: each block it touches with the coefficients of `M^-1 D_i` on
+    /// that block's dof (the velocity change of the block per unit impulse on the row).
+    pub fn row_minv_entries(&self, i: usize) -> impl Iterator<Item = (BlockId, &[f64])> + '_ {
+        (self.row_ptr[i] as usize..self.row_ptr[i + 1] as usize).map(|e| {
+            (
+                BlockId(self.ent_block[e]),
+                &self.minv[self.ent_coef[e] as usize..self.ent_coef[e + 1] as usize],
+            )
+        })
+    }
+
+    /// The entry `N_ij = D_i'M^-1 D_j + eps_i delta_ij` (sparse: sums over the blocks both
+    /// rows touch).
+    pub fn n_entry(&self, i: usize, j: usize) -> f64 {
+        let mut s = if i == j { self.eps[i] } else { 0.0 };
+        for e in self.row_ptr[i] as usize..self.row_ptr[i + 1] as usize {
+            for f in self.row_ptr[j] as usize..self.row_ptr[j + 1] as usize {
+                if self.ent_block[e] == self.ent_block[f] {
+                    let (c0, c1) = (self.ent_coef[e] as usize, self.ent_coef[e + 1] as usize);
+                    let m0 = self.ent_coef[f] as usize;
+                    for (a, b) in self.coefs[c0..c1].iter().zip(&self.minv[m0..]) {
+                        s += a * b;
+                    }
+                }
+            }
+        }
+        s
+    }
+
+    /// The diagonal block `N_tt` of the friction triplet or rolling contact whose first row
+    /// is `t`, as a row-major upper triangle (6 values for a triplet, 21 for a rolling
+    /// contact); cached at assembly. `None` if `t` does not start a cone block.
+    pub fn cone_block(&self, t: usize) -> Option<&[f64]> {
+        let s = &self.sections;
+        let nf = s.friction.len() / 3;
+        if s.friction.contains(&t) && (t - s.friction.start).is_multiple_of(3) {
+            let c = (t - s.friction.start) / 3;
+            Some(&self.cone_blocks[6 * c..6 * c + 6])
+        } else if s.rolling.contains(&t) && (t - s.rolling.start).is_multiple_of(6) {
+            let c = (t - s.rolling.start) / 6;
+            let o = 6 * nf + 21 * c;
+            Some(&self.cone_blocks[o..o + 21])
+        } else {
+            None
+        }
+    }
+
     /// `D_i' v` for one row.
     #[inline]
     pub fn row_dot(&self, i: usize, v: &[f64]) -> f64 {
         let mut s = 0.0;
         for e in self.row_ptr[i] as usize..self.row_ptr[i + 1] as usize {
-            let c0 = self.ent_coef[e] as usize;
+            let (c0, c1) = (self.ent_coef[e] as usize, self.ent_coef[e + 1] as usize);
             let off = self.ent_off[e] as usize;
-            let nd = self.entry_ndof(e);
-            let c = &self.coefs[c0..c0 + nd];
-            let x = &v[off..off + nd];
-            for j in 0..nd {
-                s += c[j] * x[j];
+            let x = &v[off..off + (c1 - c0)];
+            for (c, x) in self.coefs[c0..c1].iter().zip(x) {
+                s += c * x;
             }
         }
         s
@@ -396,198 +601,115 @@ impl CcpProblem {
     #[inline]
     pub fn row_add_minv(&self, i: usize, s: f64, v: &mut [f64]) {
         for e in self.row_ptr[i] as usize..self.row_ptr[i + 1] as usize {
-            let c0 = self.ent_coef[e] as usize;
+            let (c0, c1) = (self.ent_coef[e] as usize, self.ent_coef[e + 1] as usize);
             let off = self.ent_off[e] as usize;
-            let nd = self.entry_ndof(e);
-            let c = &self.minv[c0..c0 + nd];
-            let x = &mut v[off..off + nd];
-            for j in 0..nd {
-                x[j] += s * c[j];
+            let x = &mut v[off..off + (c1 - c0)];
+            for (x, c) in x.iter_mut().zip(&self.minv[c0..c1]) {
+                *x += s * c;
             }
         }
     }
 
-    /// `v = M^-1 D g` (length `ndof`), gathered block by block (parallel for large systems).
-    pub fn minv_d(&self, gamma: &[f64], v: &mut [f64]) {
-        assert_eq!(gamma.len(), self.n_rows);
-        assert_eq!(v.len(), self.ndof());
-        let gather = |block: usize, out: &mut [f64]| {
-            out.fill(0.0);
-            let nd = out.len();
-            for t in self.tr_ptr[block] as usize..self.tr_ptr[block + 1] as usize {
-                let e = self.tr_ent[t] as usize;
-                let g = gamma[self.ent_row[e] as usize];
-                if g != 0.0 {
-                    let c0 = self.ent_coef[e] as usize;
-                    let c = &self.minv[c0..c0 + nd];
-                    for j in 0..nd {
-                        out[j] += g * c[j];
+    /// Rebuild the rows this problem was assembled from (same groups, order, entries, `b`,
+    /// `eps`, bounds and friction coefficients), e.g. to save it ([`super::ProblemFile`]) or
+    /// to assemble a sub-problem. `assemble(variables(), &rows, momentum())` reproduces this
+    /// problem bit for bit.
+    pub fn constraint_rows(&self) -> ConstraintRows {
+        let mut rows = ConstraintRows::new();
+        self.push_rows(0..self.n_rows, &mut rows);
+        rows
+    }
+
+    /// Push the rows `range` (whole cone blocks) into `rows`, in their groups.
+    pub(super) fn push_rows(&self, range: Range<usize>, rows: &mut ConstraintRows) {
+        let entries = |i: usize| -> Vec<super::RowEntry<'_>> {
+            (self.row_ptr[i] as usize..self.row_ptr[i + 1] as usize)
+                .map(|e| super::RowEntry {
+                    block: BlockId(self.ent_block[e]),
+                    coefs: &self.coefs[self.ent_coef[e] as usize..self.ent_coef[e + 1] as usize],
+                })
+                .collect()
+        };
+        let s = &self.sections;
+        let mut i = range.start;
+        while i < range.end {
+            if s.bilateral.contains(&i) {
+                rows.push_bilateral(&entries(i), self.b[i], self.eps[i]);
+                i += 1;
+            } else if s.boxed.contains(&i) {
+                let k = i - s.boxed.start;
+                rows.push_box(&entries(i), self.b[i], self.eps[i], self.lo[k], self.hi[k]);
+                i += 1;
+            } else if s.unilateral.contains(&i) {
+                rows.push_unilateral(&entries(i), self.b[i], self.eps[i]);
+                i += 1;
+            } else if s.friction.contains(&i) {
+                let (e0, e1, e2) = (entries(i), entries(i + 1), entries(i + 2));
+                rows.push_friction(
+                    self.mu[(i - s.friction.start) / 3],
+                    [&e0, &e1, &e2],
+                    [self.b[i], self.b[i + 1], self.b[i + 2]],
+                    [self.eps[i], self.eps[i + 1], self.eps[i + 2]],
+                );
+                i += 3;
+            } else {
+                let e: Vec<_> = (0..6).map(|j| entries(i + j)).collect();
+                let mut b = [0.0; 6];
+                let mut eps = [0.0; 6];
+                b.copy_from_slice(&self.b[i..i + 6]);
+                eps.copy_from_slice(&self.eps[i..i + 6]);
+                rows.push_rolling_friction(
+                    self.mu_rolling[(i - s.rolling.start) / 6],
+                    [&e[0], &e[1], &e[2], &e[3], &e[4], &e[5]],
+                    b,
+                    eps,
+                );
+                i += 6;
+            }
+        }
+    }
+
+    /// Assemble into `out` the sub-problem of the rows `range` with the other rows' impulses
+    /// held at `gamma`: `N_RR x = -(r_R + N_RO g_O)`, i.e. the same variables with momentum
+    /// `k + D_O g_O`. Used by the two-phase strategy (solve the bilateral rows first, then
+    /// everything). `range` must not cut a friction triplet or rolling contact.
+    pub fn subproblem(
+        &self,
+        range: Range<usize>,
+        gamma: &[f64],
+        out: &mut CcpProblem,
+    ) -> Result<()> {
+        if range.end > self.n_rows || range.start > range.end {
+            return Err(ChronoError::invalid(
+                "subproblem range",
+                format!("{range:?}"),
+                format!("must lie in 0..{}", self.n_rows),
+            ));
+        }
+        for edge in [range.start, range.end] {
+            if edge < self.n_rows && self.sections.block_of(edge).0 != edge {
+                return Err(ChronoError::invalid(
+                    "subproblem range",
+                    format!("{range:?}"),
+                    "must not cut a friction triplet or rolling contact",
+                ));
+            }
+        }
+        let mut rows = ConstraintRows::new();
+        self.push_rows(range.clone(), &mut rows);
+        let mut dv = vec![0.0; self.ndof()];
+        for i in (0..self.n_rows).filter(|i| !range.contains(i)) {
+            if gamma[i] != 0.0 {
+                for e in self.row_ptr[i] as usize..self.row_ptr[i + 1] as usize {
+                    let (c0, c1) = (self.ent_coef[e] as usize, self.ent_coef[e + 1] as usize);
+                    let off = self.ent_off[e] as usize;
+                    for (x, c) in dv[off..off + (c1 - c0)].iter_mut().zip(&self.coefs[c0..c1]) {
+                        *x += gamma[i] * c;
                     }
                 }
             }
-        };
-        let par = self.ndof() >= 8192;
-        for run in self.vars.runs() {
-            let range = run.dof_offset..run.dof_offset + run.n_blocks * run.ndof;
-            if par {
-                v[range]
-                    .par_chunks_mut(run.ndof)
-                    .enumerate()
-                    .for_each(|(i, o)| gather(run.first_block + i, o));
-            } else {
-                for (i, o) in v[range].chunks_mut(run.ndof).enumerate() {
-                    gather(run.first_block + i, o);
-                }
-            }
         }
-    }
-
-    /// `out = N g = D'(M^-1 D g) + E g`. `work` must come from [`CcpWork::for_problem`].
-    pub fn apply_n(&self, gamma: &[f64], out: &mut [f64], work: &mut CcpWork) {
-        assert_eq!(out.len(), self.n_rows);
-        work.resize(self);
-        self.minv_d(gamma, &mut work.v);
-        let v = &work.v;
-        let f = |(i, o): (usize, &mut f64)| *o = self.row_dot(i, v) + self.eps[i] * gamma[i];
-        if self.n_rows >= PAR_MIN_ROWS {
-            out.par_iter_mut().enumerate().for_each(f);
-        } else {
-            out.iter_mut().enumerate().for_each(f);
-        }
-    }
-
-    /// `out = N g + r`, the gradient of the objective (= the constraint velocities).
-    pub fn gradient(&self, gamma: &[f64], out: &mut [f64], work: &mut CcpWork) {
-        self.apply_n(gamma, out, work);
-        let r = &self.r;
-        if self.n_rows >= PAR_MIN_ROWS {
-            out.par_iter_mut()
-                .zip(r.par_iter())
-                .for_each(|(o, ri)| *o += ri);
-        } else {
-            out.iter_mut().zip(r).for_each(|(o, ri)| *o += ri);
-        }
-    }
-
-    /// The objective `f(g) = 1/2 g'N g + r'g`, given the gradient `grad = N g + r`.
-    pub fn objective_from_gradient(&self, gamma: &[f64], grad: &[f64], work: &mut CcpWork) -> f64 {
-        let r = &self.r;
-        sum_by(self.n_rows, &mut work.partials, |i| {
-            0.5 * gamma[i] * (grad[i] + r[i])
-        })
-    }
-
-    /// The objective `f(g)`, computing the gradient into `grad`.
-    pub fn objective(&self, gamma: &[f64], grad: &mut [f64], work: &mut CcpWork) -> f64 {
-        self.gradient(gamma, grad, work);
-        self.objective_from_gradient(gamma, grad, work)
-    }
-
-    /// Project `g` onto `Y` in place: bilateral rows unchanged, box rows clamped, unilateral
-    /// rows to `>= 0`, friction triplets onto their Coulomb cones.
-    pub fn project(&self, gamma: &mut [f64]) {
-        let s = &self.sections;
-        let (lo, hi) = (&self.lo, &self.hi);
-        for (k, g) in gamma[s.boxed.clone()].iter_mut().enumerate() {
-            *g = project_box(*g, lo[k], hi[k]);
-        }
-        let par = self.n_rows >= PAR_MIN_ROWS;
-        let uni = &mut gamma[s.unilateral.clone()];
-        if par {
-            uni.par_iter_mut().for_each(|g| *g = project_unilateral(*g));
-        } else {
-            uni.iter_mut().for_each(|g| *g = project_unilateral(*g));
-        }
-        let fr = &mut gamma[s.friction.clone()];
-        if par {
-            fr.par_chunks_mut(3)
-                .zip(self.mu.par_iter())
-                .for_each(|(g, &mu)| project_friction_cone(mu, g));
-        } else {
-            fr.chunks_mut(3)
-                .zip(&self.mu)
-                .for_each(|(g, &mu)| project_friction_cone(mu, g));
-        }
-    }
-
-    /// The step scale of row `i` used by the residual: `1 / diag(N)_i`, averaged over the three
-    /// rows of a friction triplet so that the scaled step keeps the cone's shape.
-    #[inline]
-    pub fn residual_scale(&self, i: usize) -> f64 {
-        let fr = &self.sections.friction;
-        let d = if fr.contains(&i) {
-            let t = fr.start + 3 * ((i - fr.start) / 3);
-            (self.diag[t] + self.diag[t + 1] + self.diag[t + 2]) / 3.0
-        } else {
-            self.diag[i]
-        };
-        if d > 0.0 { 1.0 / d } else { 0.0 }
-    }
-
-    /// The residual of `g`, given its gradient `grad = N g + r`: the root mean square over rows
-    /// of the scaled projected-gradient step
-    ///
-    /// ```text
-    /// rho_i = (g_i - P(g - S grad)_i) / S_i,    S = diag(N)^-1 (cone-averaged)
-    /// ```
-    ///
-    /// It is zero exactly at a solution of the CCP, has units of velocity (m/s; the violation
-    /// of the complementarity conditions), and being a mean over rows it compares across
-    /// problem sizes. Rows with a zero diagonal contribute their gradient (free rows) or its
-    /// projection.
-    pub fn residual(&self, gamma: &[f64], grad: &[f64], work: &mut CcpWork) -> f64 {
-        if self.n_rows == 0 {
-            return 0.0;
-        }
-        let s = &self.sections;
-        let (lo, hi) = (&self.lo, &self.hi);
-        let term = |i: usize| -> f64 {
-            let sc = self.residual_scale(i);
-            let rho = if s.bilateral.contains(&i) {
-                grad[i]
-            } else if s.boxed.contains(&i) {
-                let k = i - s.boxed.start;
-                if sc > 0.0 {
-                    (gamma[i] - project_box(gamma[i] - sc * grad[i], lo[k], hi[k])) / sc
-                } else {
-                    0.0
-                }
-            } else if s.unilateral.contains(&i) {
-                if sc > 0.0 {
-                    (gamma[i] - project_unilateral(gamma[i] - sc * grad[i])) / sc
-                } else {
-                    grad[i].min(0.0)
-                }
-            } else {
-                let t = s.friction.start + 3 * ((i - s.friction.start) / 3);
-                let j = i - t;
-                if sc > 0.0 {
-                    let mut z = [
-                        gamma[t] - sc * grad[t],
-                        gamma[t + 1] - sc * grad[t + 1],
-                        gamma[t + 2] - sc * grad[t + 2],
-                    ];
-                    project_friction_cone(self.mu[(t - s.friction.start) / 3], &mut z);
-                    (gamma[i] - z[j]) / sc
-                } else {
-                    0.0
-                }
-            };
-            rho * rho
-        };
-        (sum_by(self.n_rows, &mut work.partials, term) / self.n_rows as f64).sqrt()
-    }
-
-    /// The new velocities `v+ = M^-1 (k + D g) = M^-1 k + M^-1 D g` (length `ndof`).
-    pub fn velocities(&self, gamma: &[f64], v: &mut [f64]) {
-        self.minv_d(gamma, v);
-        for (x, f) in v.iter_mut().zip(&self.v_free) {
-            *x += f;
-        }
-    }
-
-    /// Dot product in the deterministic order of [`reduce`](super::reduce).
-    pub fn dot(&self, a: &[f64], b: &[f64], work: &mut CcpWork) -> f64 {
-        reduce::dot(a, b, &mut work.partials)
+        let k: Vec<f64> = self.k.iter().zip(&dv).map(|(a, b)| a + b).collect();
+        out.assemble(&self.vars, &rows, &k)
     }
 }

@@ -12,7 +12,7 @@ use rayon::prelude::*;
 pub const CHUNK: usize = 2048;
 
 /// Ranges shorter than this are reduced on the calling thread (same chunking, same result).
-pub const PAR_MIN: usize = 16 * CHUNK;
+pub const PAR_MIN: usize = 4 * CHUNK;
 
 /// `sum_{i < n} f(i)` in a fixed order. `partials` is scratch space (reused, so no
 /// allocation once it has grown to `n / CHUNK + 1`).

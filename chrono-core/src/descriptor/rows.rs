@@ -14,7 +14,15 @@ pub enum RowGroup {
     Unilateral = 2,
     /// Triplets `(n, u, w)` in the Coulomb cone `|(g_u, g_w)| <= mu g_n`.
     Friction = 3,
+    /// Six rows `(n, u, w, s, r_u, r_w)` per contact: sliding, spinning and rolling friction,
+    /// `|(g_u, g_w)| <= mu g_n`, `|g_s| <= mu_s g_n`, `|(g_ru, g_rw)| <= mu_r g_n`
+    /// (Tasora and Anitescu 2013, "A complementarity-based rolling friction model for rigid
+    /// contacts", Meccanica 48). `s, r_u, r_w` are torque impulses (N m s).
+    Rolling = 4,
 }
+
+/// The number of row groups.
+pub const N_GROUPS: usize = 5;
 
 /// One block of a row: the coefficients of `D_i'` on the dof of one variable block.
 #[derive(Debug, Clone, Copy)]
@@ -47,7 +55,8 @@ pub(crate) struct GroupRows {
     /// Box bounds (Box group only).
     pub lo: Vec<f64>,
     pub hi: Vec<f64>,
-    /// One friction coefficient per triplet (Friction group only).
+    /// One friction coefficient per triplet (Friction group), three per contact
+    /// (`mu, mu_spin, mu_roll`, Rolling group).
     pub mu: Vec<f64>,
 }
 
@@ -94,7 +103,7 @@ impl GroupRows {
 /// velocities (e.g. of kinematic bodies); `eps_i >= 0` is the compliance (regularization).
 #[derive(Debug, Clone, Default)]
 pub struct ConstraintRows {
-    pub(crate) groups: [GroupRows; 4],
+    pub(crate) groups: [GroupRows; N_GROUPS],
 }
 
 impl ConstraintRows {
@@ -170,6 +179,30 @@ impl ConstraintRows {
         g.mu.push(mu);
         RowId {
             group: RowGroup::Friction,
+            index,
+        }
+    }
+
+    /// Add a contact with sliding, spinning and rolling friction: six rows `n, u, w` (force
+    /// rows, as in [`push_friction`](Self::push_friction)), `s` (torque about the normal),
+    /// `r_u, r_w` (torques about the tangents), with friction coefficients
+    /// `mu = [mu_slide, mu_spin, mu_roll]` (`mu_spin`, `mu_roll` in m: torque per normal
+    /// force). Returns the id of the normal row; the other five follow it.
+    pub fn push_rolling_friction(
+        &mut self,
+        mu: [f64; 3],
+        rows: [&[RowEntry]; 6],
+        b: [f64; 6],
+        eps: [f64; 6],
+    ) -> RowId {
+        let g = &mut self.groups[RowGroup::Rolling as usize];
+        let index = g.push(rows[0], b[0], eps[0]);
+        for j in 1..6 {
+            g.push(rows[j], b[j], eps[j]);
+        }
+        g.mu.extend_from_slice(&mu);
+        RowId {
+            group: RowGroup::Rolling,
             index,
         }
     }

@@ -32,6 +32,10 @@ pub struct IterationRecord {
     pub iteration: usize,
     /// Residual after that iteration, m/s.
     pub residual: f64,
+    /// Objective `1/2 g'N g + r'g` of the iterate the residual is of.
+    pub objective: f64,
+    /// `apply_n`-equivalents spent so far (see [`SolveStats::apply_n`]).
+    pub apply_n: usize,
     /// Wall time since the start of the solve, s.
     pub time_s: f64,
 }
@@ -47,6 +51,10 @@ pub struct SolveStats {
     pub objective: f64,
     /// True if the residual reached the tolerance.
     pub converged: bool,
+    /// Work in `apply_n`-equivalents: products `N x` (or gradients `N x + r`) computed, plus
+    /// one per Gauss–Seidel sweep (a sweep streams the Jacobian once, like one product).
+    /// The machine-independent measure of cost that compares solvers.
+    pub apply_n: usize,
     /// Per-iteration residuals, if requested.
     pub history: Vec<IterationRecord>,
 }

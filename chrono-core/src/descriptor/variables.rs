@@ -135,10 +135,14 @@ struct Block {
 /// A run of consecutive blocks with the same number of dof, so that block-wise operations
 /// can be done in parallel over uniform chunks of the velocity vector.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub(crate) struct Run {
+pub struct Run {
+    /// The first block of the run.
     pub first_block: usize,
+    /// Number of blocks.
     pub n_blocks: usize,
+    /// Dof of each block of the run.
     pub ndof: usize,
+    /// First dof of the run: the run owns `v[dof_offset .. dof_offset + n_blocks * ndof]`.
     pub dof_offset: usize,
 }
 
@@ -231,7 +235,10 @@ impl Variables {
         b.offset..b.offset + b.mass.ndof()
     }
 
-    pub(crate) fn runs(&self) -> &[Run] {
+    /// The runs of consecutive blocks with equal dof counts, in block order (they cover
+    /// all blocks): a velocity vector splits into uniform chunks per run, e.g. for
+    /// block-parallel loops with `par_chunks_mut(run.ndof)`.
+    pub fn runs(&self) -> &[Run] {
         &self.runs
     }
 

@@ -4,13 +4,16 @@
 //! - [`vtk`]: `.vtp` PolyData of rigid shapes ([`write_shapes_vtp`]) and of particles
 //!   ([`write_points_vtp`]), and the `.pvd` collection ([`write_pvd`]) that lets ParaView
 //!   play a series of frames.
+//! - [`grains`]: frames of grains (positions, radii, velocities), [`write_grains_vtp`].
 //!
 //! Errors are [`ChronoError::Io`] naming the file.
 
 pub mod csv;
+pub mod grains;
 pub mod vtk;
 
 pub use csv::{CsvWriter, write_csv};
+pub use grains::write_grains_vtp;
 pub use vtk::{
     ShapeMeshOptions, write_points_vtp, write_pvd, write_shapes_vtp, write_shapes_vtp_with,
 };

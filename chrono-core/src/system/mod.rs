@@ -15,7 +15,10 @@
 //! println!("{}", sys.body(bx).unwrap().position());
 //! ```
 
+mod smc_step;
 mod step;
+
+pub use smc_step::SmcTiming;
 
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
@@ -23,10 +26,22 @@ use serde::{Deserialize, Serialize};
 use crate::body::{BodyHandle, RigidBody, RigidBodyBuilder};
 use crate::collision::{CollisionProxy, CollisionWorld, ContactPoint, ProxyContact};
 use crate::contact::nsc::{NscContact, NscProxyContact, TripletScratch, WarmStartCache};
+pub use crate::contact::smc::{SmcModel, SmcSettings};
 use crate::descriptor::{CcpProblem, CcpSolver, ConstraintRows, SolveStats, Variables};
 use crate::error::{ChronoError, Result, check_finite3, check_non_negative, check_positive};
 use crate::item::PhysicsItem;
 use crate::joint::{Joint, JointBuilder, JointHandle};
+
+/// How contacts act: by complementarity (impulses from the CCP) or by penalty forces.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ContactMethod {
+    /// Non-smooth contact: friction cones in the CCP (Anitescu–Tasora).
+    #[default]
+    Nsc,
+    /// Smooth contact: Hooke or Hertz–Mindlin penalty forces ([`crate::contact::smc`]).
+    Smc,
+}
 
 /// Settings of a [`System`].
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -45,6 +60,12 @@ pub struct SystemSettings {
     pub max_speed: f64,
     /// A body spinning faster than this (rad/s) means the simulation diverged.
     pub max_angular_speed: f64,
+    /// NSC (default) or SMC contact; [`System::step`] dispatches on it.
+    #[serde(default)]
+    pub contact_method: ContactMethod,
+    /// Settings of SMC contact (used when `contact_method` is `Smc`).
+    #[serde(default)]
+    pub smc: SmcSettings,
 }
 
 impl Default for SystemSettings {
@@ -56,6 +77,8 @@ impl Default for SystemSettings {
             warm_start: true,
             max_speed: 1e4,
             max_angular_speed: 1e5,
+            contact_method: ContactMethod::Nsc,
+            smc: SmcSettings::default(),
         }
     }
 }
@@ -68,6 +91,7 @@ impl SystemSettings {
         check_positive("settings.max_recovery_speed", self.max_recovery_speed)?;
         check_positive("settings.max_speed", self.max_speed)?;
         check_positive("settings.max_angular_speed", self.max_angular_speed)?;
+        self.smc.validate()?;
         Ok(())
     }
 }
@@ -109,6 +133,7 @@ pub struct System {
     pub(crate) cache: WarmStartCache,
     pub(crate) poses: Vec<nalgebra::Isometry3<f64>>,
     pub(crate) active: Vec<bool>,
+    pub(crate) smc: smc_step::SmcState,
 }
 
 impl System {
@@ -140,6 +165,7 @@ impl System {
             cache: WarmStartCache::default(),
             poses: Vec::new(),
             active: Vec::new(),
+            smc: smc_step::SmcState::default(),
         })
     }
 

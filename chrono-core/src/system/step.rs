@@ -22,6 +22,9 @@ impl System {
     /// Errors: `h` not finite and > 0; a non-finite state after the step (the error names the
     /// body or item and the step, and the state is left as it was computed).
     pub fn step(&mut self, h: f64) -> Result<StepReport> {
+        if self.settings.contact_method == super::ContactMethod::Smc {
+            return self.step_smc(h);
+        }
         if !(h.is_finite() && h > 0.0) {
             return Err(ChronoError::invalid(
                 "h",

@@ -57,7 +57,10 @@
 
 use crate::case::Case;
 
+pub mod ccp;
+pub mod granular;
 pub mod rigid;
+pub mod sph;
 
 /// All validation cases, in the order `cargo xtask validate` runs them.
 pub fn all_cases() -> Vec<Box<dyn Case>> {
@@ -68,6 +71,11 @@ pub fn all_cases() -> Vec<Box<dyn Case>> {
         rigid::stack::heavy_case(),
         rigid::free_fall::case(),
         rigid::spin::case(),
+        granular::smc_bounce::case(),
+        granular::settle::case(),
+        sph::hydrostatic::case(),
+        sph::poiseuille::case(),
+        ccp::solvers::case(),
     ]
 }
 
@@ -77,6 +85,8 @@ pub fn all_benches() -> Vec<Box<dyn Case>> {
     vec![
         // Register benches here, one line each, e.g.
         // granular::bench_spheres::case(),
+        granular::settle::bench(),
+        ccp::apply_n::case(),
     ]
 }
 

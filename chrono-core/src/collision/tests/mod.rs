@@ -8,6 +8,7 @@ use crate::material::ContactMaterial;
 use crate::math::{Isometry3, Vector3};
 use crate::shape::Shape;
 
+mod grid;
 mod pairs;
 mod scenes;
 

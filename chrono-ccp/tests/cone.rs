@@ -1,0 +1,144 @@
+//! The cone projections against brute force: for random points and cones, the projection is
+//! idempotent, lands in the cone, and is the nearest point of the cone (compared with a
+//! derivative-free minimization of the distance over a parametrization of the cone that
+//! knows nothing of the projection's formula).
+
+mod common;
+
+use chrono_core::descriptor::{project_friction_cone, project_rolling_cone};
+use common::Rng;
+use proptest::prelude::*;
+
+fn dist(a: &[f64], b: &[f64]) -> f64 {
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| (x - y).powi(2))
+        .sum::<f64>()
+        .sqrt()
+}
+
+/// A point of the rolling cone from parameters `p` (any reals): `n = |p0|`, the tangential,
+/// spin and rolling parts inside their balls by a fraction clamped to `[-1, 1]` of the
+/// radius and an angle (so every cone point is reachable, boundary included, and every
+/// parameter vector gives a cone point).
+fn cone_point(mu: [f64; 3], p: &[f64; 6]) -> [f64; 6] {
+    let n = p[0].abs();
+    let rt = mu[0] * n * p[1].clamp(-1.0, 1.0);
+    let rr = mu[2] * n * p[5].clamp(-1.0, 1.0);
+    [
+        n,
+        rt * p[2].cos(),
+        rt * p[2].sin(),
+        mu[1] * n * p[3].clamp(-1.0, 1.0),
+        rr * p[4].cos(),
+        rr * p[4].sin(),
+    ]
+}
+
+/// Brute-force minimum of `|x - q|` over cone points `q`: random sampling of the
+/// parametrization, then compass search (Kolda, Lewis and Torczon 2003) on the squared
+/// distance from the best few samples.
+fn brute_force_distance(mu: [f64; 3], x: &[f64; 6], seed: u64) -> f64 {
+    let mut rng = Rng(seed);
+    let scale = x.iter().map(|v| v.abs()).fold(1.0, f64::max);
+    let eval = |p: &[f64; 6]| {
+        let q = cone_point(mu, p);
+        (0..6).map(|k| (x[k] - q[k]).powi(2)).sum::<f64>()
+    };
+    let mut samples: Vec<(f64, [f64; 6])> = (0..3000)
+        .map(|_| {
+            let p = [
+                rng.uniform(0.0, 2.0 * scale),
+                rng.uniform(-1.2, 1.2),
+                rng.uniform(-4.0, 4.0),
+                rng.uniform(-1.2, 1.2),
+                rng.uniform(-4.0, 4.0),
+                rng.uniform(-1.2, 1.2),
+            ];
+            (eval(&p), p)
+        })
+        .collect();
+    samples.push((eval(&[0.0; 6]), [0.0; 6]));
+    samples.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let mut best = f64::INFINITY;
+    for &(mut f, mut p) in samples.iter().take(4) {
+        let mut step = [scale, 0.5, 1.0, 0.5, 1.0, 0.5];
+        while step[0] > 1e-13 * scale {
+            let mut improved = false;
+            for k in 0..6 {
+                for sign in [1.0, -1.0] {
+                    let mut q = p;
+                    q[k] += sign * step[k];
+                    let fq = eval(&q);
+                    if fq < f {
+                        (f, p) = (fq, q);
+                        improved = true;
+                    }
+                }
+            }
+            if !improved {
+                for s in &mut step {
+                    *s *= 0.5;
+                }
+            }
+        }
+        best = best.min(f);
+    }
+    best.sqrt()
+}
+
+fn in_rolling_cone(mu: [f64; 3], g: &[f64; 6], tol: f64) -> bool {
+    let norms = [g[1].hypot(g[2]), g[3].abs(), g[4].hypot(g[5])];
+    g[0] >= -tol && (0..3).all(|k| norms[k] <= mu[k] * g[0] + tol)
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 96, ..ProptestConfig::default() })]
+
+    #[test]
+    fn rolling_projection_is_idempotent_in_the_cone_and_nearest(
+        mu0 in 0.0f64..1.5, mu1 in 0.0f64..0.5, mu2 in 0.0f64..0.5,
+        zero in 0usize..4,
+        x in proptest::array::uniform6(-3.0f64..3.0),
+        seed in any::<u64>(),
+    ) {
+        let mut mu = [mu0, mu1, mu2];
+        if zero < 3 { mu[zero] = 0.0; } // exercise coefficients that force a part to zero
+        let mut p = x;
+        project_rolling_cone(mu, &mut p);
+        prop_assert!(in_rolling_cone(mu, &p, 1e-12), "{p:?} not in the cone {mu:?}");
+        let mut again = p;
+        project_rolling_cone(mu, &mut again);
+        for k in 0..6 {
+            prop_assert!((again[k] - p[k]).abs() <= 1e-12 * (1.0 + p[k].abs()));
+        }
+        let d = dist(&x, &p);
+        let brute = brute_force_distance(mu, &x, seed);
+        // nearest: no cone point found by brute force is closer
+        prop_assert!(d <= brute + 1e-9, "projection {d} vs brute force {brute}");
+        // and brute force gets close to it (the comparison is not vacuous)
+        prop_assert!(brute - d <= 1e-6 * (1.0 + d), "brute force {brute} far from {d}");
+        // projection onto a cone: (x - p) orthogonal to p
+        let dot: f64 = (0..6).map(|k| (x[k] - p[k]) * p[k]).sum();
+        prop_assert!(dot.abs() < 1e-9 * (1.0 + x.iter().map(|v| v * v).sum::<f64>()));
+    }
+
+    #[test]
+    fn friction_projection_matches_brute_force_and_the_rolling_special_case(
+        mu in 0.0f64..2.0, x in proptest::array::uniform3(-3.0f64..3.0), seed in any::<u64>(),
+    ) {
+        let mut p = x;
+        project_friction_cone(mu, &mut p);
+        prop_assert!(p[1].hypot(p[2]) <= mu * p[0] + 1e-12 && p[0] >= 0.0);
+        // the triplet is the rolling cone with no spin or rolling part
+        let mut q = [x[0], x[1], x[2], 0.0, 0.0, 0.0];
+        project_rolling_cone([mu, 0.0, 0.0], &mut q);
+        for k in 0..3 {
+            prop_assert!((q[k] - p[k]).abs() <= 1e-12 * (1.0 + p[k].abs()), "{p:?} vs {q:?}");
+        }
+        let x6 = [x[0], x[1], x[2], 0.0, 0.0, 0.0];
+        let brute = brute_force_distance([mu, 0.0, 0.0], &x6, seed);
+        let d = dist(&x, &p);
+        prop_assert!(d <= brute + 1e-9 && brute - d <= 1e-6 * (1.0 + d), "{d} vs {brute}");
+    }
+}

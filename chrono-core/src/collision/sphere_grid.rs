@@ -1,0 +1,280 @@
+//! Broad and narrow phase for many spheres: the uniform cell grid of
+//! [`crate::particles::grid`].
+//!
+//! When a world holds at least [`GRID_MIN_SPHERES`] sphere colliders (grains, and clumps
+//! of spheres: each sphere of a clump is a collider of the same owner), the spheres are
+//! binned into a [`CellGrid`] with cells `2 r_max + delta` wide (`delta` the envelope), so
+//! every sphere pair closer than the envelope is in neighbouring cells. Sphere–sphere
+//! pairs from the grid's unique-pairs pass get their analytic contact directly, in
+//! parallel blocks, without per-pair state (a sphere contact has no manifold to keep).
+//!
+//! The other colliders (walls, meshes, boxes, big bodies) keep the sort-and-sweep among
+//! themselves; a sphere meets one of them when their bounds overlap: a finite box queries
+//! the grid's cells under it, a half-space or a box covering more cells than there are
+//! spheres tests every sphere's bound. Those pairs go through the persistent pair states of
+//! the narrow phase like any other pair.
+//!
+//! Order of the sphere contacts: the grid's pair order (by sorted slot, then the stencil),
+//! deterministic for given positions and independent of the thread count.
+
+use parry3d_f64::bounding_volume::Aabb;
+use parry3d_f64::math::{Pose, Vector};
+use rayon::prelude::*;
+
+use super::broad_phase::{Bound, SweepAndPrune, bounds_overlap};
+use super::contact::{ColliderId, ContactKey, ContactPoint};
+use super::convert::vec_from_glam;
+use super::world::{Collider, ColliderKind};
+use crate::error::Result;
+use crate::particles::grid::{CellGrid, GridConfig, PairScratch};
+
+/// A world with at least this many sphere colliders uses the grid.
+pub const GRID_MIN_SPHERES: usize = 256;
+
+/// Sphere pairs per parallel narrow-phase block.
+const PAIR_BLOCK: usize = 4096;
+
+/// Feature id of the analytic contacts (parry's `face(0)`), as in the narrow phase.
+const FACE0: u32 = 0xC000_0000;
+
+/// State of the sphere grid; buffers are reused between calls.
+#[derive(Debug, Default)]
+pub(crate) struct SphereGrid {
+    grid: Option<CellGrid>,
+    cutoff: f64,
+    /// Collider count the id lists were built for.
+    built_for: usize,
+    /// Sphere collider ids, ascending.
+    ids: Vec<u32>,
+    radius: Vec<f64>,
+    r_max: f64,
+    pos: [Vec<f64>; 3],
+    /// Non-sphere collider ids, ascending, and their bounds.
+    other_ids: Vec<u32>,
+    other_bounds: Vec<Bound>,
+    sap: SweepAndPrune,
+    other_pairs: Vec<(u32, u32)>,
+    hits: Vec<Vec<u32>>,
+    pairs: Vec<[u32; 2]>,
+    pair_scratch: PairScratch,
+    blocks: Vec<Vec<ContactPoint>>,
+}
+
+impl SphereGrid {
+    /// Number of sphere colliders among `colliders` (recounted when colliders are added).
+    fn index(&mut self, colliders: &[Collider]) {
+        if self.built_for == colliders.len() {
+            return;
+        }
+        self.ids.clear();
+        self.radius.clear();
+        self.other_ids.clear();
+        self.r_max = 0.0;
+        for (i, c) in colliders.iter().enumerate() {
+            match c.kind {
+                ColliderKind::Sphere { radius } => {
+                    self.ids.push(i as u32);
+                    self.radius.push(radius);
+                    self.r_max = self.r_max.max(radius);
+                }
+                _ => self.other_ids.push(i as u32),
+            }
+        }
+        self.built_for = colliders.len();
+    }
+
+    /// Candidate pairs that involve a non-sphere collider (with each other, by
+    /// sort-and-sweep, and with spheres, by the grid), sorted, into `out` (cleared); then
+    /// bins the spheres for [`sphere_contacts`](Self::sphere_contacts).
+    pub(crate) fn candidates(
+        &mut self,
+        colliders: &[Collider],
+        poses: &[Pose],
+        bounds: &[Bound],
+        envelope: f64,
+        out: &mut Vec<(u32, u32)>,
+    ) -> Result<()> {
+        self.index(colliders);
+        out.clear();
+        // Bin the spheres.
+        let cutoff = 2.0 * self.r_max + envelope;
+        if self.grid.is_none() || self.cutoff != cutoff {
+            self.grid = Some(CellGrid::new(GridConfig::auto(cutoff))?);
+            self.cutoff = cutoff;
+        }
+        for p in &mut self.pos {
+            p.clear();
+        }
+        for &i in &self.ids {
+            let t = poses[i as usize].translation;
+            self.pos[0].push(t.x);
+            self.pos[1].push(t.y);
+            self.pos[2].push(t.z);
+        }
+        let grid = self.grid.as_mut().expect("grid built above");
+        grid.build([&self.pos[0], &self.pos[1], &self.pos[2]])?;
+
+        // Others among themselves.
+        self.other_bounds.clear();
+        self.other_bounds
+            .extend(self.other_ids.iter().map(|&i| bounds[i as usize]));
+        self.sap
+            .find_pairs(&self.other_bounds, &mut self.other_pairs);
+        out.extend(
+            self.other_pairs
+                .iter()
+                .map(|&(a, b)| (self.other_ids[a as usize], self.other_ids[b as usize])),
+        );
+
+        // Others against spheres.
+        let nothers = self.other_ids.len();
+        if self.hits.len() < nothers {
+            self.hits.resize_with(nothers, Vec::new);
+        }
+        let grid = self.grid.as_ref().expect("grid built above");
+        let (ids, other_ids, pad) = (&self.ids, &self.other_ids, self.r_max + envelope);
+        self.hits[..nothers]
+            .par_iter_mut()
+            .enumerate()
+            .for_each(|(k, hits)| {
+                hits.clear();
+                let o = other_ids[k] as usize;
+                let ob = &bounds[o];
+                match ob {
+                    Bound::Box(b) if b.mins.is_finite() && b.maxs.is_finite() => {
+                        if !query_box(grid, b, pad, ids.len(), |s| {
+                            if bounds_overlap(ob, &bounds[ids[s] as usize]) {
+                                hits.push(ids[s]);
+                            }
+                        }) {
+                            brute(ids, bounds, ob, hits);
+                        }
+                    }
+                    _ => brute(ids, bounds, ob, hits),
+                }
+                hits.sort_unstable();
+            });
+        for (k, hits) in self.hits[..nothers].iter().enumerate() {
+            let o = self.other_ids[k];
+            out.extend(hits.iter().map(|&s| (s.min(o), s.max(o))));
+        }
+        out.sort_unstable();
+        Ok(())
+    }
+
+    /// The sphere pairs whose centers are within the grid's cutoff (the grid's broad
+    /// phase). Call after [`candidates`](Self::candidates) in the same step.
+    pub(crate) fn sphere_pairs(&mut self) -> Result<()> {
+        let grid = self
+            .grid
+            .as_ref()
+            .expect("candidates() bins the spheres first");
+        let pos = [&self.pos[0][..], &self.pos[1][..], &self.pos[2][..]];
+        grid.unique_pairs(pos, self.cutoff, &mut self.pair_scratch, &mut self.pairs)
+    }
+
+    /// Contacts of the pairs of [`sphere_pairs`](Self::sphere_pairs) closer than the
+    /// envelope, appended to `out`. Skips two
+    /// spheres of the same owner, two inactive owners, and excluded owner pairs (`excluded`
+    /// sorted).
+    pub(crate) fn sphere_contacts(
+        &mut self,
+        colliders: &[Collider],
+        owner_active: &[bool],
+        excluded: &[(u32, u32)],
+        envelope: f64,
+        out: &mut Vec<ContactPoint>,
+    ) -> Result<()> {
+        let pos = [&self.pos[0][..], &self.pos[1][..], &self.pos[2][..]];
+        let nblocks = self.pairs.len().div_ceil(PAIR_BLOCK);
+        if self.blocks.len() < nblocks {
+            self.blocks.resize_with(nblocks, Vec::new);
+        }
+        let (ids, radius, pairs) = (&self.ids, &self.radius, &self.pairs);
+        self.blocks[..nblocks]
+            .par_iter_mut()
+            .enumerate()
+            .for_each(|(k, block)| {
+                block.clear();
+                let end = ((k + 1) * PAIR_BLOCK).min(pairs.len());
+                for &[i, j] in &pairs[k * PAIR_BLOCK..end] {
+                    let (i, j) = (i as usize, j as usize);
+                    let (a, b) = (ids[i], ids[j]);
+                    let (ca, cb) = (&colliders[a as usize], &colliders[b as usize]);
+                    let (oa, ob) = (ca.owner(), cb.owner());
+                    if oa == ob || !(owner_active[oa as usize] || owner_active[ob as usize]) {
+                        continue;
+                    }
+                    if !excluded.is_empty()
+                        && excluded.binary_search(&(oa.min(ob), oa.max(ob))).is_ok()
+                    {
+                        continue;
+                    }
+                    let pa = Vector::new(pos[0][i], pos[1][i], pos[2][i]);
+                    let pb = Vector::new(pos[0][j], pos[1][j], pos[2][j]);
+                    let d = pb - pa;
+                    let len = d.length();
+                    let distance = len - radius[i] - radius[j];
+                    if distance.is_nan() || distance >= envelope {
+                        continue;
+                    }
+                    let n = if len > 0.0 { d / len } else { Vector::Z };
+                    block.push(ContactPoint {
+                        collider_a: ColliderId(a),
+                        collider_b: ColliderId(b),
+                        owner_a: oa,
+                        owner_b: ob,
+                        point_a: vec_from_glam(pa + n * radius[i]),
+                        point_b: vec_from_glam(pb - n * radius[j]),
+                        normal: vec_from_glam(n),
+                        distance,
+                        key: ContactKey {
+                            collider_a: a,
+                            collider_b: b,
+                            feature_a: FACE0,
+                            feature_b: FACE0,
+                        },
+                        material: ca.material().combine(&cb.material()),
+                    });
+                }
+            });
+        for b in &self.blocks[..nblocks] {
+            out.extend_from_slice(b);
+        }
+        Ok(())
+    }
+}
+
+/// Every sphere whose bound overlaps `ob`, ascending.
+fn brute(ids: &[u32], bounds: &[Bound], ob: &Bound, hits: &mut Vec<u32>) {
+    hits.extend(
+        ids.iter()
+            .copied()
+            .filter(|&s| bounds_overlap(ob, &bounds[s as usize])),
+    );
+}
+
+/// Calls `f(sphere)` for every sphere binned in the cells under the box `b` grown by
+/// `pad`. Returns false (without calling `f`) when the box covers more cells than
+/// `limit`: testing every sphere is cheaper then.
+fn query_box(grid: &CellGrid, b: &Aabb, pad: f64, limit: usize, mut f: impl FnMut(usize)) -> bool {
+    let lo = grid.cell_coords([b.mins.x - pad, b.mins.y - pad, b.mins.z - pad]);
+    let hi = grid.cell_coords([b.maxs.x + pad, b.maxs.y + pad, b.maxs.z + pad]);
+    let count: usize = (0..3).map(|a| hi[a] + 1 - lo[a]).product();
+    if count > limit.max(1) {
+        return false;
+    }
+    let dims = grid.dims();
+    let order = grid.order();
+    for iz in lo[2]..=hi[2] {
+        for iy in lo[1]..=hi[1] {
+            for ix in lo[0]..=hi[0] {
+                let c = ix + dims[0] * (iy + dims[1] * iz);
+                for slot in grid.cell_range(c) {
+                    f(order[slot] as usize);
+                }
+            }
+        }
+    }
+    true
+}

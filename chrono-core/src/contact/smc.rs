@@ -1,0 +1,490 @@
+//! SMC (penalty) contact: the force of one contact from its overlap, relative velocity and
+//! tangential displacement history.
+//!
+//! # Normal force
+//!
+//! With overlap `delta > 0` (m), normal approach speed `delta_dot` (m/s, positive while the
+//! bodies approach), effective radius `R = 1/(1/R_a + 1/R_b)` and effective mass
+//! `m = 1/(1/m_a + 1/m_b)`:
+//!
+//! - **Hertz** (K. L. Johnson, *Contact Mechanics*, 1985, §4.2; damping of the form of
+//!   Y. Tsuji, T. Tanaka, T. Ishida, Powder Technol. 71, 1992):
+//!   `F_n = K delta^(3/2) + alpha sqrt(m K) delta^(1/4) delta_dot`, `K = 4/3 E* sqrt(R)`.
+//! - **Hooke** (linear spring-dashpot, P. A. Cundall and O. D. L. Strack, Géotechnique 29,
+//!   1979): `F_n = k delta + alpha sqrt(m k) delta_dot`, with `k` chosen so that an impact at
+//!   the characteristic speed `v_c` reaches the same maximum overlap as a Hertz contact,
+//!   `k = m v_c^2 / delta_max^2`, `delta_max = (15 m v_c^2 / (16 E* sqrt(R)))^(2/5)`.
+//!
+//! `F_n` is clamped at 0 (no adhesion): the bodies separate when the damping would pull.
+//! In both forms the coefficient of restitution depends only on the dimensionless damping
+//! `alpha` (scale `delta` and `t` by the impact's maximum overlap and speed), not on the
+//! impact speed. [`damping_for_restitution`] maps the material's restitution `e` to
+//! `alpha` by solving the dimensionless contact ODE `X'' = -max(X^p + alpha X^q X', 0)`
+//! (`p, q = 3/2, 1/4` or `1, 0`) with RK4 and bisecting on `alpha`, so the mapping is exact
+//! to the integrator's accuracy, clamp included. (The closed forms in common use, e.g.
+//! `beta = ln e / sqrt(ln^2 e + pi^2)`, hold for the linear model without the clamp only.)
+//!
+//! # Tangential force
+//!
+//! A spring with history (Mindlin's no-slip stiffness for Hertz, R. D. Mindlin, J. Appl.
+//! Mech. 16, 1949; S. Luding, Granular Matter 10, 2008 for the projection and reset):
+//! the tangential displacement `xi` is stored per persistent contact
+//! ([`ContactKey`](crate::collision::ContactKey)), rotated into the current tangent plane
+//! (magnitude kept), and advanced by `v_t h`. `F_t = -k_t xi - c_t v_t`, capped by Coulomb
+//! `|F_t| <= mu F_n`; when capped, `xi = -F_t / k_t` (no spring wind-up).
+//! `k_t = 8 G* sqrt(R delta)` (Hertz–Mindlin) or `k_t = 2/7 k` (Hooke; equal normal and
+//! tangential periods for a solid sphere). `c_t = c_n sqrt(k_t / S_n)` where `c_n` is the
+//! normal damping coefficient and `S_n = dF_n/d delta` the normal contact stiffness.
+//!
+//! # Rolling and spinning resistance
+//!
+//! A constant torque opposing the relative rolling velocity (Ai et al., Powder Technol.
+//! 206, 2011, model A): `|M_r| = mu_r R F_n`, limited so that it cannot reverse the
+//! relative rolling velocity within one step (`|M_r| <= I |w_r| / h` with the contact's
+//! effective rotational inertia `I`); likewise a spinning torque `mu_s R F_n` about the
+//! normal.
+
+use nalgebra::Vector3;
+use serde::{Deserialize, Serialize};
+
+use crate::collision::ContactKey;
+use crate::error::{ChronoError, Result, check_positive};
+
+/// The normal force law of SMC contact.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum SmcModel {
+    /// Linear spring-dashpot, stiffness from the material at the characteristic speed.
+    Hooke,
+    /// Hertz (`F ~ delta^(3/2)`) with Tsuji damping and Mindlin's tangential stiffness.
+    Hertz,
+}
+
+impl SmcModel {
+    /// Exponents `(p, q)` of the dimensionless normal law `X^p + alpha X^q X'`.
+    fn exponents(self) -> (f64, f64) {
+        match self {
+            SmcModel::Hooke => (1.0, 0.0),
+            SmcModel::Hertz => (1.5, 0.25),
+        }
+    }
+}
+
+/// Settings of SMC contact.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct SmcSettings {
+    /// The normal force law.
+    pub model: SmcModel,
+    /// Characteristic impact speed `v_c` (m/s): sets the Hooke stiffness and the contact
+    /// duration used by the time-step check.
+    pub characteristic_velocity: f64,
+    /// The step must resolve a contact with at least this many steps: `h <= t_c / N`
+    /// (checked by [`System::step`](crate::system::System::step) in SMC mode, the error
+    /// names the body). 10 is the stability margin usually quoted for explicit DEM
+    /// (O'Sullivan and Bray, Eng. Comput. 21, 2004); accurate restitution needs ~50.
+    pub min_steps_per_contact: f64,
+    /// Effective radius (m) of a contact between two shapes without a curvature radius
+    /// (boxes against half-spaces, meshes ...).
+    pub flat_contact_radius: f64,
+}
+
+impl Default for SmcSettings {
+    fn default() -> Self {
+        Self {
+            model: SmcModel::Hertz,
+            characteristic_velocity: 1.0,
+            min_steps_per_contact: 10.0,
+            flat_contact_radius: 1.0,
+        }
+    }
+}
+
+impl SmcSettings {
+    /// Check every field.
+    pub fn validate(&self) -> Result<()> {
+        check_positive("smc.characteristic_velocity", self.characteristic_velocity)?;
+        check_positive("smc.min_steps_per_contact", self.min_steps_per_contact)?;
+        check_positive("smc.flat_contact_radius", self.flat_contact_radius)?;
+        Ok(())
+    }
+}
+
+/// The constant parameters of one contact pair.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SmcPair {
+    /// Effective radius `R` (m).
+    pub radius: f64,
+    /// Effective mass `m` (kg).
+    pub mass: f64,
+    /// Effective rotational inertia for the rolling limiter (kg m^2).
+    pub inertia: f64,
+    /// Effective Young's modulus `E*` (Pa).
+    pub young: f64,
+    /// Effective shear modulus `G*` (Pa).
+    pub shear: f64,
+    /// Dimensionless damping `alpha` ([`damping_for_restitution`]).
+    pub alpha: f64,
+    /// Coulomb friction coefficient.
+    pub friction: f64,
+    /// Rolling friction coefficient (dimensionless).
+    pub rolling_friction: f64,
+    /// Spinning friction coefficient (dimensionless).
+    pub spinning_friction: f64,
+}
+
+/// The kinematics of one contact at the current step.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SmcKinematics {
+    /// Unit normal from A to B.
+    pub normal: Vector3<f64>,
+    /// Overlap `delta = -distance` (m); no force unless > 0.
+    pub overlap: f64,
+    /// Velocity of B's material point at the contact minus A's (m/s, world).
+    pub relative_velocity: Vector3<f64>,
+    /// Angular velocity of B minus A's (rad/s, world).
+    pub relative_angular_velocity: Vector3<f64>,
+}
+
+/// The result of [`contact_force`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SmcForce {
+    /// Normal force magnitude `F_n >= 0` (N).
+    pub normal: f64,
+    /// Total force on B at the contact point (N, world); A gets the opposite.
+    pub force: Vector3<f64>,
+    /// Pure couple on B from rolling and spinning resistance (N m, world); A gets the
+    /// opposite.
+    pub torque: Vector3<f64>,
+    /// The updated tangential displacement `xi` (m, world) to store for the next step.
+    pub history: Vector3<f64>,
+}
+
+/// One SMC contact of the last step (for output and measurements).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SmcContact {
+    /// Persistence key (also the key of its tangential history).
+    pub key: ContactKey,
+    /// The owner (body index) of collider A.
+    pub owner_a: u32,
+    /// The owner of collider B.
+    pub owner_b: u32,
+    /// The contact point, midway between the two surfaces (m, world).
+    pub point: Vector3<f64>,
+    /// Unit normal from A to B (world).
+    pub normal: Vector3<f64>,
+    /// Overlap (m); <= 0 for a contact inside the envelope that does not touch.
+    pub overlap: f64,
+    /// Normal force magnitude (N).
+    pub normal_force: f64,
+    /// Total force on B at `point` (N, world); A gets `-force`.
+    pub force: Vector3<f64>,
+    /// Couple on B from rolling and spinning resistance (N m, world); A gets `-torque`.
+    pub torque: Vector3<f64>,
+}
+
+/// Normal stiffness law of a pair: `(F_elastic, S_n = dF/d delta, c_n)` for overlap
+/// `delta`, where the normal force is `F_elastic + c_n delta_dot`.
+#[inline]
+fn normal_law(model: SmcModel, pair: &SmcPair, v_c: f64, delta: f64) -> (f64, f64, f64) {
+    match model {
+        SmcModel::Hertz => {
+            let k = 4.0 / 3.0 * pair.young * pair.radius.sqrt();
+            let sd = delta.sqrt();
+            let c = pair.alpha * (pair.mass * k).sqrt() * sd.sqrt();
+            (k * delta * sd, 1.5 * k * sd, c)
+        }
+        SmcModel::Hooke => {
+            let k = hooke_stiffness(pair, v_c);
+            (k * delta, k, pair.alpha * (pair.mass * k).sqrt())
+        }
+    }
+}
+
+/// Maximum overlap of an undamped Hertz impact at speed `v` (m):
+/// `delta_max = (15 m v^2 / (16 E* sqrt(R)))^(2/5)` (Johnson 1985, §11.4).
+pub fn hertz_max_overlap(young: f64, radius: f64, mass: f64, v: f64) -> f64 {
+    (15.0 * mass * v * v / (16.0 * young * radius.sqrt())).powf(0.4)
+}
+
+/// The Hooke stiffness `k = m v_c^2 / delta_max^2` (N/m): the linear spring with the Hertz
+/// contact's maximum overlap at the characteristic speed `v_c`.
+pub fn hooke_stiffness(pair: &SmcPair, v_c: f64) -> f64 {
+    let d = hertz_max_overlap(pair.young, pair.radius, pair.mass, v_c);
+    pair.mass * v_c * v_c / (d * d)
+}
+
+/// Duration of an undamped contact (s): Hertz `t_c = 2.9432 delta_max / v` (Johnson 1985,
+/// eq. 11.24, at the impact speed `v`), Hooke `t_c = pi sqrt(m / k)`.
+pub fn contact_duration(model: SmcModel, pair: &SmcPair, v: f64) -> f64 {
+    match model {
+        SmcModel::Hertz => 2.9432 * hertz_max_overlap(pair.young, pair.radius, pair.mass, v) / v,
+        SmcModel::Hooke => std::f64::consts::PI * (pair.mass / hooke_stiffness(pair, v)).sqrt(),
+    }
+}
+
+/// The force of one contact, updating its tangential history `xi` (see the module docs).
+/// `v_c` is the characteristic speed (Hooke stiffness), `h` the step (s). Pure function.
+#[inline]
+pub fn contact_force(
+    model: SmcModel,
+    pair: &SmcPair,
+    v_c: f64,
+    kin: &SmcKinematics,
+    history: &Vector3<f64>,
+    h: f64,
+) -> SmcForce {
+    let n = kin.normal;
+    let delta = kin.overlap;
+    if delta <= 0.0 {
+        return SmcForce {
+            normal: 0.0,
+            force: Vector3::zeros(),
+            torque: Vector3::zeros(),
+            history: Vector3::zeros(),
+        };
+    }
+    let vr = kin.relative_velocity;
+    let vn = vr.dot(&n);
+    let vt = vr - n * vn;
+    let (elastic, s_n, c_n) = normal_law(model, pair, v_c, delta);
+    // delta_dot = -vn (approach positive).
+    let f_n = (elastic - c_n * vn).max(0.0);
+
+    // Tangential spring: rotate the history into the tangent plane keeping its length.
+    let k_t = match model {
+        SmcModel::Hertz => 8.0 * pair.shear * (pair.radius * delta).sqrt(),
+        SmcModel::Hooke => 2.0 / 7.0 * s_n,
+    };
+    let c_t = c_n * (k_t / s_n).sqrt();
+    let mut xi = history - n * history.dot(&n);
+    let (len0, len1) = (history.norm(), xi.norm());
+    if len1 > 0.0 {
+        xi *= len0 / len1;
+    }
+    xi += vt * h;
+    let mut f_t = -k_t * xi - c_t * vt;
+    let cap = pair.friction * f_n;
+    let ft_len = f_t.norm();
+    if ft_len > cap {
+        f_t *= if ft_len > 0.0 { cap / ft_len } else { 0.0 };
+        xi = -f_t / k_t;
+    }
+
+    // Rolling and spinning resistance (torques on B).
+    let mut torque = Vector3::zeros();
+    if (pair.rolling_friction > 0.0 || pair.spinning_friction > 0.0) && f_n > 0.0 {
+        let w = kin.relative_angular_velocity;
+        let ws = n * w.dot(&n);
+        let wr = w - ws;
+        for (mu, omega) in [(pair.rolling_friction, wr), (pair.spinning_friction, ws)] {
+            let len = omega.norm();
+            if mu > 0.0 && len > 0.0 {
+                let m = (mu * pair.radius * f_n).min(pair.inertia * len / h);
+                torque -= omega * (m / len);
+            }
+        }
+    }
+    SmcForce {
+        normal: f_n,
+        force: n * f_n + f_t,
+        torque,
+        history: xi,
+    }
+}
+
+/// The coefficient of restitution of the dimensionless contact
+/// `X'' = -max(X^p + alpha X^q X', 0)`, `X(0) = 0`, `X'(0) = 1` (RK4): the separation
+/// speed, i.e. `-X'` when the force first vanishes after the turning point (the motion is
+/// free afterwards).
+pub fn restitution_of_damping(model: SmcModel, alpha: f64) -> f64 {
+    let (p, q) = model.exponents();
+    let acc = |x: f64, v: f64| {
+        if x <= 0.0 {
+            0.0
+        } else {
+            -(x.powf(p) + alpha * x.powf(q) * v).max(0.0)
+        }
+    };
+    let dt = 2e-4;
+    let (mut x, mut v) = (0.0_f64, 1.0_f64);
+    for _ in 0..2_000_000 {
+        let (k1x, k1v) = (v, acc(x, v));
+        let (k2x, k2v) = (
+            v + 0.5 * dt * k1v,
+            acc(x + 0.5 * dt * k1x, v + 0.5 * dt * k1v),
+        );
+        let (k3x, k3v) = (
+            v + 0.5 * dt * k2v,
+            acc(x + 0.5 * dt * k2x, v + 0.5 * dt * k2v),
+        );
+        let (k4x, k4v) = (v + dt * k3v, acc(x + dt * k3x, v + dt * k3v));
+        x += dt / 6.0 * (k1x + 2.0 * k2x + 2.0 * k3x + k4x);
+        v += dt / 6.0 * (k1v + 2.0 * k2v + 2.0 * k3v + k4v);
+        if v < 0.0 && (x <= 0.0 || acc(x, v) == 0.0) {
+            return -v;
+        }
+        if v >= 0.0 && x <= 0.0 {
+            // Over-damped to rest at the surface.
+            return 0.0;
+        }
+    }
+    0.0
+}
+
+/// The smallest restitution [`damping_for_restitution`] resolves; lower values map to it.
+pub const MIN_RESTITUTION: f64 = 1e-3;
+
+/// The dimensionless damping `alpha` that gives the restitution `e` in `[0, 1]` for
+/// `model` (bisection on [`restitution_of_damping`] to 1e-10; `e < MIN_RESTITUTION` is
+/// treated as `MIN_RESTITUTION`). Costs a few milliseconds: cache the result per material.
+pub fn damping_for_restitution(model: SmcModel, e: f64) -> Result<f64> {
+    if !(e.is_finite() && (0.0..=1.0).contains(&e)) {
+        return Err(ChronoError::invalid(
+            "material.restitution",
+            e,
+            "must be in [0, 1]",
+        ));
+    }
+    if e >= 1.0 {
+        return Ok(0.0);
+    }
+    let e = e.max(MIN_RESTITUTION);
+    // A pure function of (model, e): memoized for the process (few distinct values).
+    static MEMO: std::sync::Mutex<Vec<(SmcModel, u64, f64)>> = std::sync::Mutex::new(Vec::new());
+    let key = (model, e.to_bits());
+    if let Ok(memo) = MEMO.lock()
+        && let Some(&(_, _, a)) = memo.iter().find(|m| (m.0, m.1) == key)
+    {
+        return Ok(a);
+    }
+    let a = bisect_damping(model, e);
+    if let Ok(mut memo) = MEMO.lock() {
+        memo.push((model, key.1, a));
+    }
+    Ok(a)
+}
+
+fn bisect_damping(model: SmcModel, e: f64) -> f64 {
+    let (mut lo, mut hi) = (0.0, 1.0);
+    while restitution_of_damping(model, hi) > e {
+        hi *= 2.0;
+        if hi > 1e6 {
+            return hi;
+        }
+    }
+    while hi - lo > 1e-10 * hi {
+        let mid = 0.5 * (lo + hi);
+        if restitution_of_damping(model, mid) > e {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    0.5 * (lo + hi)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn pair(alpha: f64) -> SmcPair {
+        SmcPair {
+            radius: 0.01,
+            mass: 0.01,
+            inertia: 1e-7,
+            young: 1e7,
+            shear: 4e6,
+            alpha,
+            friction: 0.5,
+            rolling_friction: 0.0,
+            spinning_friction: 0.0,
+        }
+    }
+
+    #[test]
+    fn undamped_contacts_are_elastic() {
+        for m in [SmcModel::Hooke, SmcModel::Hertz] {
+            assert!((restitution_of_damping(m, 0.0) - 1.0).abs() < 1e-6, "{m:?}");
+        }
+    }
+
+    #[test]
+    fn linear_model_matches_closed_form_for_light_damping() {
+        // Without the clamp, e = exp(-pi zeta / sqrt(1 - zeta^2)), zeta = alpha / 2. The
+        // clamp only acts at the end of the contact, where the force is small for light
+        // damping, so the two agree to ~1e-3 at zeta = 0.05.
+        let alpha = 0.1;
+        let zeta: f64 = alpha / 2.0;
+        let closed = (-std::f64::consts::PI * zeta / (1.0 - zeta * zeta).sqrt()).exp();
+        let e = restitution_of_damping(SmcModel::Hooke, alpha);
+        assert!((e - closed).abs() < 5e-3 && e > closed, "{e} {closed}");
+    }
+
+    #[test]
+    fn damping_mapping_round_trips() {
+        for m in [SmcModel::Hooke, SmcModel::Hertz] {
+            for e in [0.1, 0.5, 0.9] {
+                let a = damping_for_restitution(m, e).unwrap();
+                assert!((restitution_of_damping(m, a) - e).abs() < 1e-6, "{m:?} {e}");
+            }
+        }
+        assert!(damping_for_restitution(SmcModel::Hertz, 1.5).is_err());
+    }
+
+    #[test]
+    fn coulomb_cap_and_history_reset() {
+        let p = pair(0.0);
+        let kin = SmcKinematics {
+            normal: Vector3::z(),
+            overlap: 1e-5,
+            relative_velocity: Vector3::new(1.0, 0.0, 0.0),
+            relative_angular_velocity: Vector3::zeros(),
+        };
+        let f = contact_force(SmcModel::Hertz, &p, 1.0, &kin, &Vector3::zeros(), 1e-3);
+        let ft = f.force - Vector3::z() * f.normal;
+        assert!((ft.norm() - 0.5 * f.normal).abs() < 1e-12 * f.normal);
+        assert!(ft.x < 0.0);
+        // The stored displacement carries exactly the capped force.
+        let kt = 8.0 * p.shear * (p.radius * kin.overlap).sqrt();
+        assert!((f.history * -kt - ft).norm() < 1e-12 * f.normal);
+    }
+
+    #[test]
+    fn history_is_rotated_into_the_tangent_plane() {
+        let p = pair(0.0);
+        let n = Vector3::new(0.0, 0.6, 0.8);
+        let kin = SmcKinematics {
+            normal: n,
+            overlap: 1e-4,
+            relative_velocity: Vector3::zeros(),
+            relative_angular_velocity: Vector3::zeros(),
+        };
+        let xi0 = Vector3::new(1e-7, 0.0, 0.0) + Vector3::new(0.0, 1e-7, 0.0);
+        let f = contact_force(SmcModel::Hertz, &p, 1.0, &kin, &xi0, 1e-3);
+        assert!(f.history.dot(&n).abs() < 1e-20);
+        assert!((f.history.norm() - xi0.norm()).abs() < 1e-18);
+    }
+
+    #[test]
+    fn rolling_torque_opposes_rolling_and_is_limited() {
+        let mut p = pair(0.0);
+        p.rolling_friction = 0.1;
+        let kin = SmcKinematics {
+            normal: Vector3::z(),
+            overlap: 1e-4,
+            relative_velocity: Vector3::zeros(),
+            relative_angular_velocity: Vector3::new(0.0, 2.0, 0.0),
+        };
+        let f = contact_force(SmcModel::Hooke, &p, 1.0, &kin, &Vector3::zeros(), 1e-4);
+        assert!(f.torque.y < 0.0 && f.torque.x == 0.0);
+        let full = 0.1 * p.radius * f.normal;
+        assert!(f.torque.norm() <= full * (1.0 + 1e-12));
+        let tiny = SmcKinematics {
+            relative_angular_velocity: Vector3::new(0.0, 1e-9, 0.0),
+            ..kin
+        };
+        let f = contact_force(SmcModel::Hooke, &p, 1.0, &tiny, &Vector3::zeros(), 1e-4);
+        assert!((f.torque.y + p.inertia * 1e-9 / 1e-4).abs() < 1e-20);
+    }
+}

@@ -1,0 +1,483 @@
+//! Problem files: a [`CcpProblem`] written to and read from a file, so that hard problems
+//! captured from scenes become regression tests and bench inputs.
+//!
+//! A file holds what the problem was assembled from — the variables (mass operators), the
+//! rows of each group (entries, `b`, `eps`, bounds, friction coefficients) and the momentum
+//! `k` — and loading assembles it again: assembly is deterministic and validates its input,
+//! so a reloaded problem is bit-for-bit the saved one (`N`, `r`, `diag`, ...), and a corrupt
+//! file is an error naming the field, never a problem with dangling indices.
+//!
+//! Two encodings of the same [`ProblemFile`] (serde): JSON (readable; floats are written
+//! with the shortest round-trip representation and parsed exactly) and a compact binary one
+//! (little-endian, length-prefixed arrays; about 8 bytes per number).
+
+use std::io::{Read, Write};
+use std::path::Path;
+
+use nalgebra::Matrix3;
+use serde::{Deserialize, Serialize};
+
+use super::problem::{CcpProblem, GROUP_ORDER, group_name};
+use super::rows::{ConstraintRows, N_GROUPS};
+use super::variables::{BlockId, MassOperator, Variables};
+use crate::error::{ChronoError, Result};
+
+/// The format tag written in every file.
+pub const FORMAT_TAG: &str = "chrono-rs ccp problem v1";
+
+const MAGIC: &[u8; 8] = b"CHRCCP01";
+
+/// The encoding of a problem file.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum ProblemFormat {
+    /// serde_json text.
+    Json,
+    /// Little-endian binary (magic `CHRCCP01`).
+    Binary,
+}
+
+impl ProblemFormat {
+    /// The format of a path by extension: `.json` is JSON, anything else binary.
+    pub fn from_path(path: &Path) -> Self {
+        match path.extension().and_then(|e| e.to_str()) {
+            Some("json") => ProblemFormat::Json,
+            _ => ProblemFormat::Binary,
+        }
+    }
+}
+
+/// The mass operator of one block, as stored.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub enum MassData {
+    /// A particle of mass `mass` (kg).
+    Particle {
+        /// kg
+        mass: f64,
+    },
+    /// A rigid body: mass (kg) and body-frame inertia (kg m^2, row-major 3x3).
+    RigidBody {
+        /// kg
+        mass: f64,
+        /// kg m^2, row-major.
+        inertia: [f64; 9],
+    },
+}
+
+/// The rows of one group, as stored (CSR: `row_ptr` into the entries; each entry a block
+/// and the start of its coefficients in `coefs`).
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct GroupData {
+    /// Group name (`bilateral`, `box`, `unilateral`, `friction`, `rolling`).
+    pub group: String,
+    /// Entries of row `i`: `row_ptr[i]..row_ptr[i+1]` (length rows + 1).
+    pub row_ptr: Vec<u32>,
+    /// Block of each entry.
+    pub ent_block: Vec<u32>,
+    /// Start of each entry's coefficients.
+    pub ent_coef: Vec<u32>,
+    /// Coefficients of `D_i'`.
+    pub coefs: Vec<f64>,
+    /// Right-hand sides `b` (m/s).
+    pub b: Vec<f64>,
+    /// Compliances `eps`.
+    pub eps: Vec<f64>,
+    /// Box lower bounds (box group).
+    pub lo: Vec<f64>,
+    /// Box upper bounds (box group).
+    pub hi: Vec<f64>,
+    /// Friction coefficients (one per triplet; three per rolling contact).
+    pub mu: Vec<f64>,
+}
+
+/// A saved CCP: see the module documentation. Build it with
+/// [`from_problem`](Self::from_problem), turn it back into a problem with
+/// [`to_problem`](Self::to_problem); [`save`](Self::save) / [`load`](Self::load) do the IO.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ProblemFile {
+    /// [`FORMAT_TAG`].
+    pub format: String,
+    /// Free text: where the problem came from.
+    pub description: String,
+    /// One mass operator per variable block.
+    pub masses: Vec<MassData>,
+    /// The rows, one entry per group in the order bilateral, box, unilateral, friction,
+    /// rolling.
+    pub groups: Vec<GroupData>,
+    /// Momentum `k = M v + h f` (N s).
+    pub k: Vec<f64>,
+}
+
+impl ProblemFile {
+    /// Capture `problem` (with a free-text `description`).
+    pub fn from_problem(problem: &CcpProblem, description: impl Into<String>) -> Self {
+        let vars = problem.variables();
+        let masses = (0..vars.len())
+            .map(|b| match vars.mass(BlockId(b as u32)) {
+                MassOperator::Particle { mass } => MassData::Particle { mass: *mass },
+                MassOperator::RigidBody { mass, inertia, .. } => {
+                    let mut j = [0.0; 9];
+                    for r in 0..3 {
+                        for c in 0..3 {
+                            j[3 * r + c] = inertia[(r, c)];
+                        }
+                    }
+                    MassData::RigidBody {
+                        mass: *mass,
+                        inertia: j,
+                    }
+                }
+            })
+            .collect();
+        let rows = problem.constraint_rows();
+        let groups = GROUP_ORDER
+            .iter()
+            .map(|&g| {
+                let src = &rows.groups[g as usize];
+                GroupData {
+                    group: group_name(g).to_string(),
+                    row_ptr: src.row_ptr.clone(),
+                    ent_block: src.ent_block.clone(),
+                    ent_coef: src.ent_coef.clone(),
+                    coefs: src.coefs.clone(),
+                    b: src.b.clone(),
+                    eps: src.eps.clone(),
+                    lo: src.lo.clone(),
+                    hi: src.hi.clone(),
+                    mu: src.mu.clone(),
+                }
+            })
+            .collect();
+        Self {
+            format: FORMAT_TAG.to_string(),
+            description: description.into(),
+            masses,
+            groups,
+            k: problem.momentum().to_vec(),
+        }
+    }
+
+    /// Assemble the problem (validated: a malformed file is an error naming the field).
+    pub fn to_problem(&self) -> Result<CcpProblem> {
+        if self.format != FORMAT_TAG {
+            return Err(ChronoError::invalid(
+                "problem file format",
+                &self.format,
+                format!("expected `{FORMAT_TAG}`"),
+            ));
+        }
+        let mut vars = Variables::new();
+        for (i, m) in self.masses.iter().enumerate() {
+            let op = match m {
+                MassData::Particle { mass } => MassOperator::particle(*mass),
+                MassData::RigidBody { mass, inertia } => {
+                    MassOperator::rigid_body(*mass, Matrix3::from_row_slice(inertia))
+                }
+            }
+            .map_err(|e| ChronoError::invalid(format!("masses[{i}]"), e, "invalid mass"))?;
+            vars.add(op);
+        }
+        if self.groups.len() != N_GROUPS {
+            return Err(ChronoError::invalid(
+                "groups.len()",
+                self.groups.len(),
+                format!("must be {N_GROUPS}"),
+            ));
+        }
+        let mut rows = ConstraintRows::new();
+        for (gi, (&g, data)) in GROUP_ORDER.iter().zip(&self.groups).enumerate() {
+            let name = group_name(g);
+            if data.group != name {
+                return Err(ChronoError::invalid(
+                    format!("groups[{gi}].group"),
+                    &data.group,
+                    format!("expected `{name}`"),
+                ));
+            }
+            check_group(name, data)?;
+            let dst = &mut rows.groups[g as usize];
+            dst.row_ptr.clone_from(&data.row_ptr);
+            dst.ent_block.clone_from(&data.ent_block);
+            dst.ent_coef.clone_from(&data.ent_coef);
+            dst.coefs.clone_from(&data.coefs);
+            dst.b.clone_from(&data.b);
+            dst.eps.clone_from(&data.eps);
+            dst.lo.clone_from(&data.lo);
+            dst.hi.clone_from(&data.hi);
+            dst.mu.clone_from(&data.mu);
+        }
+        let mut p = CcpProblem::new();
+        p.assemble(&vars, &rows, &self.k)?;
+        Ok(p)
+    }
+
+    /// Write to `path` in `format`.
+    pub fn save(&self, path: impl AsRef<Path>, format: ProblemFormat) -> Result<()> {
+        let path = path.as_ref();
+        let io = |e: std::io::Error| io_error(path, e);
+        let file = std::fs::File::create(path).map_err(io)?;
+        let mut w = std::io::BufWriter::new(file);
+        match format {
+            ProblemFormat::Json => serde_json::to_writer(&mut w, self)
+                .map_err(|e| io_error(path, std::io::Error::other(e)))?,
+            ProblemFormat::Binary => self.write_binary(&mut w).map_err(io)?,
+        }
+        w.flush().map_err(io)
+    }
+
+    /// Read from `path` (format detected from the content: binary files start with the magic
+    /// `CHRCCP01`, anything else is parsed as JSON).
+    pub fn load(path: impl AsRef<Path>) -> Result<Self> {
+        let path = path.as_ref();
+        let bytes = std::fs::read(path).map_err(|e| io_error(path, e))?;
+        if bytes.starts_with(MAGIC) {
+            Self::read_binary(&mut &bytes[..]).map_err(|e| io_error(path, e))
+        } else {
+            serde_json::from_slice(&bytes).map_err(|e| io_error(path, std::io::Error::other(e)))
+        }
+    }
+
+    /// Save `problem` to `path` (format by extension, [`ProblemFormat::from_path`]).
+    pub fn save_problem(
+        problem: &CcpProblem,
+        description: &str,
+        path: impl AsRef<Path>,
+    ) -> Result<()> {
+        let path = path.as_ref();
+        Self::from_problem(problem, description).save(path, ProblemFormat::from_path(path))
+    }
+
+    /// Load and assemble the problem saved in `path`.
+    pub fn load_problem(path: impl AsRef<Path>) -> Result<CcpProblem> {
+        Self::load(path)?.to_problem()
+    }
+
+    fn write_binary(&self, w: &mut impl Write) -> std::io::Result<()> {
+        w.write_all(MAGIC)?;
+        write_bytes(w, self.format.as_bytes())?;
+        write_bytes(w, self.description.as_bytes())?;
+        w.write_all(&(self.masses.len() as u64).to_le_bytes())?;
+        for m in &self.masses {
+            let (kind, mass, j) = match m {
+                MassData::Particle { mass } => (0u8, *mass, [0.0; 9]),
+                MassData::RigidBody { mass, inertia } => (1u8, *mass, *inertia),
+            };
+            w.write_all(&[kind])?;
+            w.write_all(&mass.to_le_bytes())?;
+            for x in j {
+                w.write_all(&x.to_le_bytes())?;
+            }
+        }
+        w.write_all(&(self.groups.len() as u64).to_le_bytes())?;
+        for g in &self.groups {
+            write_bytes(w, g.group.as_bytes())?;
+            write_u32s(w, &g.row_ptr)?;
+            write_u32s(w, &g.ent_block)?;
+            write_u32s(w, &g.ent_coef)?;
+            for v in [&g.coefs, &g.b, &g.eps, &g.lo, &g.hi, &g.mu] {
+                write_f64s(w, v)?;
+            }
+        }
+        write_f64s(w, &self.k)
+    }
+
+    fn read_binary(r: &mut &[u8]) -> std::io::Result<Self> {
+        let mut magic = [0u8; 8];
+        r.read_exact(&mut magic)?;
+        let format = read_string(r)?;
+        let description = read_string(r)?;
+        let n = read_len_of(r, 1 + 80)?;
+        let mut masses = Vec::with_capacity(n);
+        for _ in 0..n {
+            let mut kind = [0u8; 1];
+            r.read_exact(&mut kind)?;
+            let mass = read_f64(r)?;
+            let mut j = [0.0; 9];
+            for x in &mut j {
+                *x = read_f64(r)?;
+            }
+            masses.push(match kind[0] {
+                0 => MassData::Particle { mass },
+                1 => MassData::RigidBody { mass, inertia: j },
+                k => return Err(std::io::Error::other(format!("unknown mass kind {k}"))),
+            });
+        }
+        let ng = read_len(r)?;
+        let mut groups = Vec::with_capacity(ng.min(N_GROUPS));
+        for _ in 0..ng {
+            let group = read_string(r)?;
+            let row_ptr = read_u32s(r)?;
+            let ent_block = read_u32s(r)?;
+            let ent_coef = read_u32s(r)?;
+            let mut f = || read_f64s(r);
+            groups.push(GroupData {
+                group,
+                row_ptr,
+                ent_block,
+                ent_coef,
+                coefs: f()?,
+                b: f()?,
+                eps: f()?,
+                lo: f()?,
+                hi: f()?,
+                mu: f()?,
+            });
+        }
+        let k = read_f64s(r)?;
+        Ok(Self {
+            format,
+            description,
+            masses,
+            groups,
+            k,
+        })
+    }
+}
+
+/// Structural checks of one stored group, so that assembly never indexes out of bounds.
+fn check_group(name: &str, g: &GroupData) -> Result<()> {
+    let bad = |field: &str, value: usize, reason: String| {
+        Err(ChronoError::invalid(
+            format!("groups.{name}.{field}"),
+            value,
+            reason,
+        ))
+    };
+    let n = g.b.len();
+    if g.row_ptr.len() != n + 1 || g.row_ptr[0] != 0 {
+        return bad(
+            "row_ptr.len()",
+            g.row_ptr.len(),
+            format!("must be rows + 1 = {} and start at 0", n + 1),
+        );
+    }
+    if g.row_ptr.windows(2).any(|w| w[0] > w[1]) || g.row_ptr[n] as usize != g.ent_block.len() {
+        return bad(
+            "row_ptr",
+            n,
+            "must be non-decreasing and end at the entry count".into(),
+        );
+    }
+    if g.ent_coef.len() != g.ent_block.len() {
+        return bad(
+            "ent_coef.len()",
+            g.ent_coef.len(),
+            "must equal the entry count".into(),
+        );
+    }
+    if g.ent_coef.windows(2).any(|w| w[0] > w[1])
+        || g.ent_coef.first().is_some_and(|&c| c != 0)
+        || g.ent_coef
+            .last()
+            .is_some_and(|&c| c as usize > g.coefs.len())
+    {
+        return bad(
+            "ent_coef",
+            g.coefs.len(),
+            "must be non-decreasing offsets into coefs".into(),
+        );
+    }
+    if g.eps.len() != n {
+        return bad("eps.len()", g.eps.len(), format!("must equal rows = {n}"));
+    }
+    let (nlo, nmu) = match name {
+        "box" => (n, 0),
+        "friction" => (0, n / 3),
+        "rolling" => (0, n / 2),
+        _ => (0, 0),
+    };
+    if g.lo.len() != nlo || g.hi.len() != nlo {
+        return bad("lo.len()", g.lo.len(), format!("must be {nlo}"));
+    }
+    if g.mu.len() != nmu
+        || (name == "friction" && !n.is_multiple_of(3))
+        || (name == "rolling" && !n.is_multiple_of(6))
+    {
+        return bad(
+            "mu.len()",
+            g.mu.len(),
+            format!("must be {nmu} (whole cones)"),
+        );
+    }
+    Ok(())
+}
+
+fn io_error(path: &Path, e: std::io::Error) -> ChronoError {
+    ChronoError::invalid("problem file", path.display(), e.to_string())
+}
+
+fn write_bytes(w: &mut impl Write, b: &[u8]) -> std::io::Result<()> {
+    w.write_all(&(b.len() as u64).to_le_bytes())?;
+    w.write_all(b)
+}
+
+fn write_u32s(w: &mut impl Write, v: &[u32]) -> std::io::Result<()> {
+    w.write_all(&(v.len() as u64).to_le_bytes())?;
+    for x in v {
+        w.write_all(&x.to_le_bytes())?;
+    }
+    Ok(())
+}
+
+fn write_f64s(w: &mut impl Write, v: &[f64]) -> std::io::Result<()> {
+    w.write_all(&(v.len() as u64).to_le_bytes())?;
+    for x in v {
+        w.write_all(&x.to_le_bytes())?;
+    }
+    Ok(())
+}
+
+/// An array length, checked against the bytes left (`elem` bytes per element) before
+/// anything is allocated: a corrupt or hostile file is an error, not an allocation failure.
+fn read_len_of(r: &mut &[u8], elem: usize) -> std::io::Result<usize> {
+    let mut b = [0u8; 8];
+    r.read_exact(&mut b)?;
+    let n = u64::from_le_bytes(b);
+    let fits = usize::try_from(n)
+        .ok()
+        .and_then(|n| n.checked_mul(elem.max(1)))
+        .is_some_and(|bytes| bytes <= r.len());
+    if !fits {
+        return Err(std::io::Error::other(format!(
+            "array length {n} exceeds the {} bytes left in the file",
+            r.len()
+        )));
+    }
+    Ok(n as usize)
+}
+
+fn read_len(r: &mut &[u8]) -> std::io::Result<usize> {
+    read_len_of(r, 1)
+}
+
+fn read_f64(r: &mut impl Read) -> std::io::Result<f64> {
+    let mut b = [0u8; 8];
+    r.read_exact(&mut b)?;
+    Ok(f64::from_le_bytes(b))
+}
+
+fn read_string(r: &mut &[u8]) -> std::io::Result<String> {
+    let n = read_len(r)?;
+    let mut b = vec![0u8; n];
+    r.read_exact(&mut b)?;
+    String::from_utf8(b).map_err(std::io::Error::other)
+}
+
+fn read_u32s(r: &mut &[u8]) -> std::io::Result<Vec<u32>> {
+    let n = read_len_of(r, 4)?;
+    let mut raw = vec![0u8; 4 * n];
+    r.read_exact(&mut raw)?;
+    Ok(raw
+        .chunks_exact(4)
+        .map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+        .collect())
+}
+
+fn read_f64s(r: &mut &[u8]) -> std::io::Result<Vec<f64>> {
+    let n = read_len_of(r, 8)?;
+    let mut raw = vec![0u8; 8 * n];
+    r.read_exact(&mut raw)?;
+    Ok(raw
+        .chunks_exact(8)
+        .map(|c| f64::from_le_bytes(c.try_into().expect("8 bytes")))
+        .collect())
+}

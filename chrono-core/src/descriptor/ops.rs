@@ -1,0 +1,236 @@
+//! The operators of a [`CcpProblem`]: `M^-1 D g`, `N g`, the gradient and objective, the
+//! projection onto `Y`, the common residual and the new velocities. All allocation-free,
+//! rayon-parallel above a size threshold, and deterministic (fixed-order reductions).
+
+use rayon::prelude::*;
+
+use super::cone::{project_box, project_friction_cone, project_rolling_cone, project_unilateral};
+use super::problem::{CcpProblem, CcpWork};
+use super::reduce::{self, sum_by};
+
+/// Below this many rows, row-wise loops run on the calling thread.
+const PAR_MIN_ROWS: usize = 4096;
+
+/// Below this many dof, block-wise loops run on the calling thread.
+const PAR_MIN_DOF: usize = 8192;
+
+impl CcpProblem {
+    /// `v = M^-1 D g` (length `ndof`), gathered block by block from the block-ordered copy of
+    /// the Jacobian (one streaming pass over it; parallel over blocks for large systems).
+    pub fn minv_d(&self, gamma: &[f64], v: &mut [f64]) {
+        assert_eq!(gamma.len(), self.n_rows, "gamma has the wrong length");
+        assert_eq!(v.len(), self.ndof(), "v has the wrong length");
+        let gather = |block: usize, out: &mut [f64]| {
+            out.fill(0.0);
+            let nd = out.len();
+            let (t0, t1) = (self.tr_ptr[block] as usize, self.tr_ptr[block + 1] as usize);
+            let c = &self.tr_minv[self.tr_cptr[block] as usize..self.tr_cptr[block + 1] as usize];
+            for (t, col) in (t0..t1).zip(c.chunks_exact(nd)) {
+                let g = gamma[self.tr_row[t] as usize];
+                for (o, x) in out.iter_mut().zip(col) {
+                    *o += g * x;
+                }
+            }
+        };
+        let par = self.ndof() >= PAR_MIN_DOF;
+        for run in self.vars.runs() {
+            let range = run.dof_offset..run.dof_offset + run.n_blocks * run.ndof;
+            if par {
+                v[range]
+                    .par_chunks_mut(run.ndof)
+                    .enumerate()
+                    .for_each(|(i, o)| gather(run.first_block + i, o));
+            } else {
+                for (i, o) in v[range].chunks_mut(run.ndof).enumerate() {
+                    gather(run.first_block + i, o);
+                }
+            }
+        }
+    }
+
+    /// `out = N g = D'(M^-1 D g) + E g`. `work` must come from [`CcpWork::for_problem`].
+    ///
+    /// Cost: one pass over each copy of the Jacobian (`2 nnz(D)` multiply-adds) plus the
+    /// indices; this is the unit of cost of every iterative solver ("`apply_n`-equivalents").
+    pub fn apply_n(&self, gamma: &[f64], out: &mut [f64], work: &mut CcpWork) {
+        assert_eq!(out.len(), self.n_rows, "out has the wrong length");
+        work.resize(self);
+        self.minv_d(gamma, &mut work.v);
+        let v = &work.v;
+        let f = |(i, o): (usize, &mut f64)| *o = self.row_dot(i, v) + self.eps[i] * gamma[i];
+        if self.n_rows >= PAR_MIN_ROWS {
+            out.par_iter_mut().enumerate().for_each(f);
+        } else {
+            out.iter_mut().enumerate().for_each(f);
+        }
+    }
+
+    /// The bytes one [`apply_n`](Self::apply_n) must move at least: every stored array it
+    /// reads once and every vector read or written once (gathers of `g` and `v` counted
+    /// once, as if cached). Block pass: `tr_ptr`, `tr_cptr` (8 B per block), `tr_row`
+    /// (4 B per entry), `M^-1 D` (8 B per coefficient), `g` (8 B per row), `v` written
+    /// (8 B per dof); row pass: `row_ptr` (4 B per row), entry offsets (8 B per entry),
+    /// `D` (8 B per coefficient), `v` read (8 B per dof), `eps`, `g` read and `N g` written
+    /// (24 B per row). Divided by the measured time it gives the achieved bandwidth.
+    pub fn apply_n_bytes(&self) -> usize {
+        let (nb, m, ne, nc, nd) = (
+            self.vars.len(),
+            self.n_rows,
+            self.n_entries(),
+            self.n_coefs(),
+            self.ndof(),
+        );
+        (8 * nb + 4 * ne + 8 * nc + 8 * m + 8 * nd) + (4 * m + 8 * ne + 8 * nc + 8 * nd + 24 * m)
+    }
+
+    /// `out = N g + r`, the gradient of the objective (= the constraint velocities).
+    pub fn gradient(&self, gamma: &[f64], out: &mut [f64], work: &mut CcpWork) {
+        work.resize(self);
+        self.minv_d(gamma, &mut work.v);
+        let v = &work.v;
+        let f = |(i, o): (usize, &mut f64)| {
+            *o = self.row_dot(i, v) + self.eps[i] * gamma[i] + self.r[i];
+        };
+        if self.n_rows >= PAR_MIN_ROWS {
+            out.par_iter_mut().enumerate().for_each(f);
+        } else {
+            out.iter_mut().enumerate().for_each(f);
+        }
+    }
+
+    /// The objective `f(g) = 1/2 g'N g + r'g`, given the gradient `grad = N g + r`.
+    pub fn objective_from_gradient(&self, gamma: &[f64], grad: &[f64], work: &mut CcpWork) -> f64 {
+        let r = &self.r;
+        sum_by(self.n_rows, &mut work.partials, |i| {
+            0.5 * gamma[i] * (grad[i] + r[i])
+        })
+    }
+
+    /// The objective `f(g)`, computing the gradient into `grad`.
+    pub fn objective(&self, gamma: &[f64], grad: &mut [f64], work: &mut CcpWork) -> f64 {
+        self.gradient(gamma, grad, work);
+        self.objective_from_gradient(gamma, grad, work)
+    }
+
+    /// Project `g` onto `Y` in place: bilateral rows unchanged, box rows clamped, unilateral
+    /// rows to `>= 0`, friction triplets onto their Coulomb cones, rolling contacts onto
+    /// their cones ([`project_rolling_cone`]).
+    pub fn project(&self, gamma: &mut [f64]) {
+        let s = &self.sections;
+        let (lo, hi) = (&self.lo, &self.hi);
+        for (k, g) in gamma[s.boxed.clone()].iter_mut().enumerate() {
+            *g = project_box(*g, lo[k], hi[k]);
+        }
+        let par = self.n_rows >= PAR_MIN_ROWS;
+        let uni = &mut gamma[s.unilateral.clone()];
+        if par {
+            uni.par_iter_mut().for_each(|g| *g = project_unilateral(*g));
+        } else {
+            uni.iter_mut().for_each(|g| *g = project_unilateral(*g));
+        }
+        let fr = &mut gamma[s.friction.clone()];
+        if par {
+            fr.par_chunks_mut(3)
+                .zip(self.mu.par_iter())
+                .for_each(|(g, &mu)| project_friction_cone(mu, g));
+        } else {
+            fr.chunks_mut(3)
+                .zip(&self.mu)
+                .for_each(|(g, &mu)| project_friction_cone(mu, g));
+        }
+        let ro = &mut gamma[s.rolling.clone()];
+        if par {
+            ro.par_chunks_mut(6)
+                .zip(self.mu_rolling.par_iter())
+                .for_each(|(g, &mu)| project_rolling_cone(mu, g));
+        } else {
+            ro.chunks_mut(6)
+                .zip(&self.mu_rolling)
+                .for_each(|(g, &mu)| project_rolling_cone(mu, g));
+        }
+    }
+
+    /// The residual of `g`, given its gradient `grad = N g + r`: the root mean square over rows
+    /// of the scaled projected-gradient step
+    ///
+    /// ```text
+    /// rho_i = (g_i - P(g - S grad)_i) / S_i,    S = diag(N)^-1 (cone-averaged)
+    /// ```
+    ///
+    /// It is zero exactly at a solution of the CCP, has units of velocity (m/s; the violation
+    /// of the complementarity conditions), and being a mean over rows it compares across
+    /// problem sizes. Bilateral rows contribute their gradient; rows with a zero diagonal
+    /// contribute the part of their gradient that violates the conditions. One pass by
+    /// section, each cone projected once.
+    pub fn residual(&self, gamma: &[f64], grad: &[f64], work: &mut CcpWork) -> f64 {
+        if self.n_rows == 0 {
+            return 0.0;
+        }
+        let s = &self.sections;
+        let sc = &self.scale;
+        let mut total = sum_by(s.bilateral.len(), &mut work.partials, |i| {
+            let i = s.bilateral.start + i;
+            grad[i] * grad[i]
+        });
+        let (lo, hi) = (&self.lo, &self.hi);
+        total += sum_by(s.boxed.len(), &mut work.partials, |k| {
+            let i = s.boxed.start + k;
+            let rho = if sc[i] > 0.0 {
+                (gamma[i] - project_box(gamma[i] - sc[i] * grad[i], lo[k], hi[k])) / sc[i]
+            } else {
+                0.0
+            };
+            rho * rho
+        });
+        total += sum_by(s.unilateral.len(), &mut work.partials, |k| {
+            let i = s.unilateral.start + k;
+            let rho = if sc[i] > 0.0 {
+                (gamma[i] - project_unilateral(gamma[i] - sc[i] * grad[i])) / sc[i]
+            } else {
+                grad[i].min(0.0)
+            };
+            rho * rho
+        });
+        total += sum_by(s.friction.len() / 3, &mut work.partials, |c| {
+            let t = s.friction.start + 3 * c;
+            let h = sc[t];
+            if h <= 0.0 {
+                return 0.0;
+            }
+            let mut z = [
+                gamma[t] - h * grad[t],
+                gamma[t + 1] - h * grad[t + 1],
+                gamma[t + 2] - h * grad[t + 2],
+            ];
+            project_friction_cone(self.mu[c], &mut z);
+            (0..3).map(|j| ((gamma[t + j] - z[j]) / h).powi(2)).sum()
+        });
+        total += sum_by(s.rolling.len() / 6, &mut work.partials, |c| {
+            let t = s.rolling.start + 6 * c;
+            let h = sc[t];
+            if h <= 0.0 {
+                return 0.0;
+            }
+            let mut z = [0.0; 6];
+            for j in 0..6 {
+                z[j] = gamma[t + j] - h * grad[t + j];
+            }
+            project_rolling_cone(self.mu_rolling[c], &mut z);
+            (0..6).map(|j| ((gamma[t + j] - z[j]) / h).powi(2)).sum()
+        });
+        (total / self.n_rows as f64).sqrt()
+    }
+
+    /// The new velocities `v+ = M^-1 (k + D g) = M^-1 k + M^-1 D g` (length `ndof`).
+    pub fn velocities(&self, gamma: &[f64], v: &mut [f64]) {
+        self.minv_d(gamma, v);
+        for (x, f) in v.iter_mut().zip(&self.v_free) {
+            *x += f;
+        }
+    }
+
+    /// Dot product in the deterministic order of [`reduce`](super::reduce).
+    pub fn dot(&self, a: &[f64], b: &[f64], work: &mut CcpWork) -> f64 {
+        reduce::dot(a, b, &mut work.partials)
+    }
+}

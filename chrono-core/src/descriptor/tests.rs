@@ -1,0 +1,176 @@
+//! Tests of the assembled problem: storage against a dense reference, the cached blocks,
+//! sub-problems, row reconstruction and errors.
+
+use nalgebra::{DMatrix, DVector, Matrix3};
+
+use super::*;
+
+/// Two rigid bodies and a particle; one row of every group, a friction triplet and a
+/// rolling contact, with compliance on some rows.
+fn sample() -> (CcpProblem, DMatrix<f64>, DMatrix<f64>, Vec<f64>) {
+    let mut vars = Variables::new();
+    let j = Matrix3::new(0.4, 0.02, 0.0, 0.02, 0.3, 0.01, 0.0, 0.01, 0.5);
+    let a = vars.add(MassOperator::rigid_body(2.0, j).unwrap());
+    let b = vars.add(MassOperator::rigid_body(1.5, j * 2.0).unwrap());
+    let p = vars.add(MassOperator::particle(0.7).unwrap());
+    let coef = |k: usize, n: usize| -> Vec<f64> {
+        (0..n)
+            .map(|i| ((i * 7 + k * 3) as f64 * 0.37).sin())
+            .collect()
+    };
+    let rows_spec: Vec<Vec<(BlockId, Vec<f64>)>> = (0..12)
+        .map(|k| match k % 3 {
+            0 => vec![(a, coef(k, 6)), (b, coef(k + 20, 6))],
+            1 => vec![(b, coef(k, 6)), (p, coef(k + 20, 3))],
+            _ => vec![(p, coef(k, 3)), (a, coef(k + 20, 6))],
+        })
+        .collect();
+    let e = |k: usize| -> Vec<RowEntry<'_>> {
+        rows_spec[k]
+            .iter()
+            .map(|(blk, c)| RowEntry {
+                block: *blk,
+                coefs: c,
+            })
+            .collect()
+    };
+    let mut rows = ConstraintRows::new();
+    // pushed out of group order on purpose
+    rows.push_rolling_friction(
+        [0.5, 0.1, 0.05],
+        [&e(6), &e(7), &e(8), &e(9), &e(10), &e(11)],
+        [0.01, 0.0, 0.0, 0.0, 0.0, 0.0],
+        [0.0, 0.0, 0.0, 1e-3, 1e-3, 1e-3],
+    );
+    rows.push_unilateral(&e(0), -0.02, 0.0);
+    rows.push_bilateral(&e(1), 0.03, 1e-2);
+    rows.push_box(&e(2), 0.0, 0.0, -0.5, 0.5);
+    rows.push_friction(0.3, [&e(3), &e(4), &e(5)], [0.0; 3], [0.0; 3]);
+    let k: Vec<f64> = (0..vars.ndof()).map(|i| (i as f64 * 0.9).cos()).collect();
+    let mut prob = CcpProblem::new();
+    prob.assemble(&vars, &rows, &k).unwrap();
+    // Dense D (rows in assembled order: bilateral, box, unilateral, friction, rolling).
+    let order = [1, 2, 0, 3, 4, 5, 6, 7, 8, 9, 10, 11];
+    let mut d = DMatrix::zeros(12, vars.ndof());
+    for (i, &src) in order.iter().enumerate() {
+        for (blk, c) in &rows_spec[src] {
+            let off = vars.offset(*blk);
+            for (jj, v) in c.iter().enumerate() {
+                d[(i, off + jj)] += v;
+            }
+        }
+    }
+    let mut minv = DMatrix::zeros(vars.ndof(), vars.ndof());
+    for col in 0..vars.ndof() {
+        let mut x = vec![0.0; vars.ndof()];
+        x[col] = 1.0;
+        let mut y = vec![0.0; vars.ndof()];
+        vars.apply_inverse(&x, &mut y);
+        for r in 0..vars.ndof() {
+            minv[(r, col)] = y[r];
+        }
+    }
+    let eps = [
+        1e-2, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1e-3, 1e-3, 1e-3,
+    ];
+    let n = &d * &minv * d.transpose() + DMatrix::from_diagonal(&DVector::from_column_slice(&eps));
+    (prob, n, d, k)
+}
+
+#[test]
+fn apply_n_entries_and_blocks_match_the_dense_matrix() {
+    let (p, n, _, _) = sample();
+    assert_eq!(p.sections().rolling, 6..12);
+    let mut work = CcpWork::for_problem(&p);
+    let g: Vec<f64> = (0..12).map(|i| (i as f64 * 1.3).sin()).collect();
+    let mut out = vec![0.0; 12];
+    p.apply_n(&g, &mut out, &mut work);
+    let dense = &n * DVector::from_column_slice(&g);
+    for i in 0..12 {
+        assert!((out[i] - dense[i]).abs() < 1e-12, "row {i}");
+        for j in 0..12 {
+            assert!((p.n_entry(i, j) - n[(i, j)]).abs() < 1e-12, "N[{i},{j}]");
+        }
+        assert!((p.diag()[i] - n[(i, i)]).abs() < 1e-12);
+    }
+    let t = p.cone_block(3).unwrap();
+    assert_eq!(t.len(), 6);
+    assert!((t[upper_index(3, 1, 2)] - n[(4, 5)]).abs() < 1e-12);
+    let r = p.cone_block(6).unwrap();
+    assert_eq!(r.len(), 21);
+    assert!((r[upper_index(6, 2, 5)] - n[(8, 11)]).abs() < 1e-12);
+    assert!(p.cone_block(4).is_none());
+    // cone-averaged scale
+    let mean: f64 = (6..12).map(|i| n[(i, i)]).sum::<f64>() / 6.0;
+    assert!((p.residual_scale(7) - 1.0 / mean).abs() < 1e-12);
+}
+
+#[test]
+fn r_and_velocities_match_the_definitions() {
+    let (p, _, d, k) = sample();
+    let mut vfree = vec![0.0; p.ndof()];
+    p.variables().apply_inverse(&k, &mut vfree);
+    let r = DVector::from_column_slice(p.b()) + &d * DVector::from_column_slice(&vfree);
+    for i in 0..12 {
+        assert!((p.r()[i] - r[i]).abs() < 1e-12);
+    }
+}
+
+#[test]
+fn rebuilt_rows_reassemble_bit_for_bit() {
+    let (p, _, _, _) = sample();
+    let mut q = CcpProblem::new();
+    q.assemble(p.variables(), &p.constraint_rows(), p.momentum())
+        .unwrap();
+    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    assert_eq!(bits(q.r()), bits(p.r()));
+    assert_eq!(bits(q.diag()), bits(p.diag()));
+    assert_eq!(q.rolling_mu(), p.rolling_mu());
+    assert_eq!(q.sections(), p.sections());
+}
+
+#[test]
+fn subproblem_holds_the_other_rows_fixed() {
+    let (p, n, _, _) = sample();
+    let g: Vec<f64> = (0..12).map(|i| 0.1 * (i as f64 + 1.0)).collect();
+    let mut sub = CcpProblem::new();
+    p.subproblem(0..3, &g, &mut sub).unwrap();
+    assert_eq!(sub.n_rows(), 3);
+    // r_sub = r_R + N_RO g_O
+    for i in 0..3 {
+        let expect = p.r()[i] + (3..12).map(|j| n[(i, j)] * g[j]).sum::<f64>();
+        assert!((sub.r()[i] - expect).abs() < 1e-12, "row {i}");
+    }
+    let e = p.subproblem(0..4, &g, &mut sub).unwrap_err().to_string();
+    assert!(e.contains("cut"), "{e}");
+}
+
+#[test]
+fn bad_rows_are_errors_naming_the_field() {
+    let mut vars = Variables::new();
+    let a = vars.add(MassOperator::particle(1.0).unwrap());
+    let c = [0.0, 0.0, 1.0];
+    let e = [RowEntry {
+        block: a,
+        coefs: &c,
+    }];
+    let mut rows = ConstraintRows::new();
+    rows.push_rolling_friction(
+        [0.5, -0.1, 0.0],
+        [&e, &e, &e, &e, &e, &e],
+        [0.0; 6],
+        [0.0; 6],
+    );
+    let err = CcpProblem::new()
+        .assemble(&vars, &rows, &[0.0; 3])
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("rolling") && err.contains("mu"), "{err}");
+    let mut tiny = Variables::new();
+    tiny.add(MassOperator::particle(1e-300).unwrap());
+    let err = CcpProblem::new()
+        .assemble(&tiny, &ConstraintRows::new(), &[1e300, 0.0, 0.0])
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("M^-1 k"), "{err}");
+}

@@ -1,0 +1,113 @@
+//! Granular material: grain packings ([`LatticeFill`] in a [`Region`]), a seeded random
+//! generator ([`Rng`]), and helpers that put grains and containers into a
+//! [`System`](crate::system::System).
+//!
+//! Grains are ordinary dynamic rigid bodies with one sphere collider (or several for a
+//! clump), so both contact methods apply: NSC (DEM-C, complementarity) and SMC (DEM-P,
+//! penalty), chosen by [`SystemSettings::contact_method`](crate::SystemSettings). From
+//! [`GRID_MIN_SPHERES`](crate::collision::GRID_MIN_SPHERES) spheres on, the collision
+//! world finds sphere pairs on a uniform cell grid.
+
+mod fill;
+mod rng;
+
+pub use fill::{Grain, LatticeFill, Region};
+pub use rng::Rng;
+
+use nalgebra::{Isometry3, Vector3};
+
+use crate::body::{BodyHandle, RigidBodyBuilder};
+use crate::error::{ChronoError, Result, check_positive};
+use crate::material::ContactMaterial;
+use crate::shape::Shape;
+use crate::system::System;
+
+/// Add each grain as a dynamic sphere of `density` (kg/m^3) and `material`; returns the
+/// handles in grain order.
+pub fn add_grains(
+    sys: &mut System,
+    grains: &[Grain],
+    density: f64,
+    material: ContactMaterial,
+) -> Result<Vec<BodyHandle>> {
+    check_positive("grain density", density)?;
+    grains
+        .iter()
+        .map(|g| {
+            let s = Shape::Sphere { radius: g.radius };
+            sys.add_body(
+                RigidBodyBuilder::dynamic()
+                    .mass_from_shape(&s, density)?
+                    .position(g.center)
+                    .collider(s, Isometry3::identity(), material),
+            )
+        })
+        .collect()
+}
+
+/// A fixed open box `[lower, upper]`: a floor at `lower.z` and four walls, as half-spaces
+/// (their solid outside the box), on one fixed body named `name`.
+pub fn add_box_container(
+    sys: &mut System,
+    name: &str,
+    lower: Vector3<f64>,
+    upper: Vector3<f64>,
+    material: ContactMaterial,
+) -> Result<BodyHandle> {
+    if (0..3).any(|a| upper[a] <= lower[a]) {
+        return Err(ChronoError::invalid(
+            "container.upper",
+            format!("{upper:?}"),
+            "must exceed container.lower on every axis",
+        ));
+    }
+    let mut b = RigidBodyBuilder::fixed().name(name);
+    let walls = [
+        (Vector3::z(), lower),
+        (Vector3::x(), lower),
+        (-Vector3::x(), upper),
+        (Vector3::y(), lower),
+        (-Vector3::y(), upper),
+    ];
+    for (normal, at) in walls {
+        b = b.collider(
+            Shape::HalfSpace { normal },
+            Isometry3::translation(at.x, at.y, at.z),
+            material,
+        );
+    }
+    sys.add_body(b)
+}
+
+/// A fixed vertical cylindrical wall of inner `radius` (m) around the axis through `base`,
+/// approximated by a regular polygon of `sides` half-spaces whose inscribed circle is the
+/// cylinder (their solid outside), on one fixed body named `name`. No floor.
+pub fn add_cylinder_wall(
+    sys: &mut System,
+    name: &str,
+    base: Vector3<f64>,
+    radius: f64,
+    sides: usize,
+    material: ContactMaterial,
+) -> Result<BodyHandle> {
+    check_positive("container.radius", radius)?;
+    if sides < 3 {
+        return Err(ChronoError::invalid(
+            "container.sides",
+            sides,
+            "must be >= 3",
+        ));
+    }
+    let mut b = RigidBodyBuilder::fixed().name(name);
+    for k in 0..sides {
+        let a = std::f64::consts::TAU * k as f64 / sides as f64;
+        let out = Vector3::new(a.cos(), a.sin(), 0.0);
+        let at = base + out * radius;
+        b = b.collider(
+            Shape::HalfSpace { normal: -out },
+            Isometry3::translation(at.x, at.y, at.z),
+            material,
+        );
+    }
+    sys.add_body(b)
+}

@@ -1,0 +1,601 @@
+//! The SMC (penalty) time step: contact forces from overlaps ([`crate::contact::smc`]),
+//! semi-implicit Euler, joints still by constraint rows.
+
+use nalgebra::{Matrix3, Vector3};
+use rayon::prelude::*;
+
+use super::{StepReport, System};
+use crate::body::{BodyHandle, BodyMotion, RigidBody};
+use crate::collision::{CollisionWorld, ContactKey, ContactPoint};
+use crate::contact::smc::{
+    self, SmcContact, SmcKinematics, SmcModel, SmcPair, SmcSettings, damping_for_restitution,
+};
+use crate::error::{ChronoError, Result};
+use crate::item::StepContext;
+use crate::material::{effective_shear_modulus, effective_young_modulus};
+use crate::shape::Shape;
+
+/// Contacts per rayon task.
+const CHUNK: usize = 256;
+
+/// Tangential displacement of one persistent contact.
+#[derive(Debug, Clone, Copy)]
+struct HistoryEntry {
+    key: ContactKey,
+    /// Position in its step's contact list (tie-break for duplicate keys: deterministic).
+    index: u32,
+    xi: Vector3<f64>,
+}
+
+/// Per-step buffers and caches of the SMC stepper.
+#[derive(Debug, Default)]
+pub(crate) struct SmcState {
+    pub(crate) contacts: Vec<SmcContact>,
+    /// Last step's history, sorted by `(key, index)`.
+    history: Vec<HistoryEntry>,
+    next_history: Vec<HistoryEntry>,
+    /// Per body: contact force (world) and torque (world).
+    loads: Vec<[Vector3<f64>; 2]>,
+    /// Per collider: curvature radius (infinite for flat shapes).
+    radius: Vec<f64>,
+    /// `(restitution bits, alpha)` sorted, for `alpha_model`.
+    alphas: Vec<(u64, f64)>,
+    alpha_model: Option<SmcModel>,
+    /// Per body: `1/m` and `1/I` (0 for fixed and kinematic bodies).
+    inv_mass: Vec<f64>,
+    inv_inertia: Vec<f64>,
+    /// Cached step limit: `(bodies, colliders, settings)` it was computed for, and value.
+    limit_key: Option<(usize, usize, SmcSettings)>,
+    limit: Option<(f64, usize, f64)>,
+    pub(crate) timing: SmcTiming,
+}
+
+/// Wall time of the parts of the last SMC step (s).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct SmcTiming {
+    /// Collision detection, broad phase.
+    pub broad_phase: f64,
+    /// Collision detection, narrow phase.
+    pub narrow_phase: f64,
+    /// Contact forces and their accumulation per body (the SMC "assembly").
+    pub forces: f64,
+    /// Rows solved (joints, items), 0 without rows.
+    pub solve: f64,
+    /// Velocity and pose update.
+    pub integrate: f64,
+}
+
+/// Curvature radius of a shape for SMC (m): spheres, capsules and cylinders their radius;
+/// flat or unknown shapes infinite.
+fn curvature_radius(shape: &Shape) -> f64 {
+    match shape {
+        Shape::Sphere { radius } | Shape::Capsule { radius, .. } => *radius,
+        Shape::Cylinder { radius, .. } => *radius,
+        _ => f64::INFINITY,
+    }
+}
+
+fn harmonic(a: f64, b: f64) -> f64 {
+    1.0 / (1.0 / a + 1.0 / b)
+}
+
+/// The step limit `t_c / N` over the dynamic bodies: each collider against an equal body
+/// (effective mass `m/2`, radius `R/2`) of the stiffest material in the scene, at the
+/// characteristic speed. Returns `(h_max, body, t_c)`.
+fn step_limit(
+    bodies: &[RigidBody],
+    world: &CollisionWorld,
+    s: &SmcSettings,
+) -> Option<(f64, usize, f64)> {
+    let stiffest = world
+        .colliders()
+        .iter()
+        .map(|c| c.material())
+        .min_by(|a, b| {
+            let side =
+                |m: &crate::ContactMaterial| (1.0 - m.poisson_ratio.powi(2)) / m.young_modulus;
+            side(a).total_cmp(&side(b))
+        })?;
+    let mut best: Option<(f64, usize, f64)> = None;
+    for c in world.colliders() {
+        let i = c.owner() as usize;
+        let Some(b) = bodies.get(i) else { continue };
+        if !b.is_dynamic() {
+            continue;
+        }
+        let r = curvature_radius(c.shape());
+        let radius = if r.is_finite() {
+            0.5 * r
+        } else {
+            s.flat_contact_radius
+        };
+        let pair = SmcPair {
+            radius,
+            mass: 0.5 * b.mass,
+            inertia: 0.0,
+            young: effective_young_modulus(&c.material(), &stiffest),
+            shear: 0.0,
+            alpha: 0.0,
+            friction: 0.0,
+            rolling_friction: 0.0,
+            spinning_friction: 0.0,
+        };
+        let tc = smc::contact_duration(s.model, &pair, s.characteristic_velocity);
+        let h = tc / s.min_steps_per_contact;
+        if best.is_none_or(|(bh, _, _)| h < bh) {
+            best = Some((h, i, tc));
+        }
+    }
+    best
+}
+
+impl System {
+    /// The largest SMC step the scene allows, with the body that sets it: `t_c / N` where
+    /// `t_c` is the duration of an undamped contact of the body with an equal body of the
+    /// stiffest material in the scene at the characteristic speed
+    /// ([`contact_duration`](smc::contact_duration)) and `N` is
+    /// [`SmcSettings::min_steps_per_contact`]. `None` without dynamic colliders.
+    pub fn smc_max_step(&self) -> Option<(f64, BodyHandle)> {
+        step_limit(&self.bodies, &self.collision, &self.settings.smc)
+            .map(|(h, i, _)| (h, BodyHandle(i as u32)))
+    }
+
+    /// Wall time of the parts of the last SMC step.
+    pub fn smc_timing(&self) -> SmcTiming {
+        self.smc.timing
+    }
+
+    /// The SMC contacts of the last step (empty in NSC mode).
+    pub fn smc_contacts(&self) -> &[SmcContact] {
+        &self.smc.contacts
+    }
+
+    /// One SMC step of size `h` (s), called by [`step`](Self::step) when the settings say
+    /// [`ContactMethod::Smc`](super::ContactMethod::Smc):
+    ///
+    /// 1. check `h` against [`smc_max_step`](Self::smc_max_step) (an error names the
+    ///    body that needs the smaller step);
+    /// 2. collide at `q(l)`; each contact's force from its overlap, relative velocity and
+    ///    history ([`contact_force`](smc::contact_force)), in parallel;
+    /// 3. `v(l+1) = v(l) + h M^-1 (f_applied + f_contact)` (the rotation with the same
+    ///    momentum-conserving gyroscopic term as the NSC step); with joints or physics
+    ///    items the rows are solved by the CCP solver for `k = M v + h f`, without them
+    ///    no problem is assembled;
+    /// 4. `q(l+1) = q(l) + h L(q) v(l+1)`.
+    ///
+    /// Items' collision proxies are not collided in SMC mode.
+    pub(crate) fn step_smc(&mut self, h: f64) -> Result<StepReport> {
+        if !(h.is_finite() && h > 0.0) {
+            return Err(ChronoError::invalid(
+                "h",
+                h,
+                "the step size must be finite and > 0",
+            ));
+        }
+        self.settings.smc.validate()?;
+        self.check_smc_step(h)?;
+        self.prepare_smc_caches()?;
+
+        // Collision at q(l).
+        self.poses.clear();
+        self.active.clear();
+        for b in &self.bodies {
+            self.poses.push(b.pose());
+            self.active.push(b.motion == BodyMotion::Dynamic);
+        }
+        self.collision
+            .detect(&self.poses, &self.active, &mut self.points)?;
+        let (broad, narrow) = self.collision.last_timing();
+        let t0 = std::time::Instant::now();
+        self.smc_forces(h);
+        let t1 = std::time::Instant::now();
+        let report = if self.joints.is_empty() && self.items.is_empty() {
+            self.smc_free_update(h);
+            StepReport {
+                contacts: self.smc.contacts.len(),
+                ..StepReport::default()
+            }
+        } else {
+            self.smc_rows_update(h)?
+        };
+        self.smc.timing = SmcTiming {
+            broad_phase: broad,
+            narrow_phase: narrow,
+            forces: (t1 - t0).as_secs_f64(),
+            solve: 0.0,
+            integrate: t1.elapsed().as_secs_f64(),
+        };
+        self.check_state()?;
+        self.time += h;
+        self.step_count += 1;
+        Ok(report)
+    }
+
+    fn check_smc_step(&mut self, h: f64) -> Result<()> {
+        let key = (self.bodies.len(), self.collision.len(), self.settings.smc);
+        if self.smc.limit_key != Some(key) {
+            self.smc.limit = step_limit(&self.bodies, &self.collision, &self.settings.smc);
+            self.smc.limit_key = Some(key);
+        }
+        if let Some((hmax, i, tc)) = self.smc.limit
+            && h > hmax
+        {
+            let s = &self.settings.smc;
+            return Err(ChronoError::invalid(
+                "h",
+                h,
+                format!(
+                    "too large for SMC contact of body {i} (\"{}\"): contact duration {tc:.3e} s at {} m/s ({:?}), so h must be <= t_c / {} = {hmax:.3e} s",
+                    self.bodies[i].name,
+                    s.characteristic_velocity,
+                    s.model,
+                    s.min_steps_per_contact
+                ),
+            ));
+        }
+        Ok(())
+    }
+
+    /// Per-collider radii, damping per restitution value, per-body inverse masses.
+    fn prepare_smc_caches(&mut self) -> Result<()> {
+        let st = &mut self.smc;
+        let model = self.settings.smc.model;
+        let colliders = self.collision.colliders();
+        if st.radius.len() != colliders.len() || st.alpha_model != Some(model) {
+            st.radius.clear();
+            st.radius
+                .extend(colliders.iter().map(|c| curvature_radius(c.shape())));
+            let mut es: Vec<u64> = colliders
+                .iter()
+                .map(|c| c.material().restitution.to_bits())
+                .collect();
+            es.sort_unstable();
+            es.dedup();
+            st.alphas.clear();
+            for e in es {
+                st.alphas
+                    .push((e, damping_for_restitution(model, f64::from_bits(e))?));
+            }
+            st.alpha_model = Some(model);
+        }
+        st.inv_mass.clear();
+        st.inv_inertia.clear();
+        for b in &self.bodies {
+            if b.is_dynamic() {
+                st.inv_mass.push(1.0 / b.mass);
+                st.inv_inertia.push(3.0 / b.inertia.trace());
+            } else {
+                st.inv_mass.push(0.0);
+                st.inv_inertia.push(0.0);
+            }
+        }
+        Ok(())
+    }
+
+    /// Contact forces of `self.points` into `self.smc.contacts` and the per-body loads.
+    fn smc_forces(&mut self, h: f64) {
+        let st = &mut self.smc;
+        let n = self.points.len();
+        let blank = SmcContact {
+            key: ContactKey {
+                collider_a: 0,
+                collider_b: 0,
+                feature_a: 0,
+                feature_b: 0,
+            },
+            owner_a: 0,
+            owner_b: 0,
+            point: Vector3::zeros(),
+            normal: Vector3::zeros(),
+            overlap: 0.0,
+            normal_force: 0.0,
+            force: Vector3::zeros(),
+            torque: Vector3::zeros(),
+        };
+        st.contacts.clear();
+        st.contacts.resize(n, blank);
+        st.next_history.clear();
+        st.next_history.resize(
+            n,
+            HistoryEntry {
+                key: blank.key,
+                index: 0,
+                xi: Vector3::zeros(),
+            },
+        );
+        let ctx = ForceContext {
+            bodies: &self.bodies,
+            colliders: self.collision.colliders(),
+            radius: &st.radius,
+            alphas: &st.alphas,
+            inv_mass: &st.inv_mass,
+            inv_inertia: &st.inv_inertia,
+            history: &st.history,
+            settings: &self.settings.smc,
+            h,
+        };
+        self.points
+            .par_iter()
+            .zip(st.contacts.par_iter_mut())
+            .zip(st.next_history.par_iter_mut())
+            .enumerate()
+            .with_min_len(CHUNK)
+            .for_each(|(i, ((cp, out), hist))| {
+                let (c, xi) = ctx.force(cp);
+                *out = c;
+                *hist = HistoryEntry {
+                    key: cp.key,
+                    index: i as u32,
+                    xi,
+                };
+            });
+        st.next_history
+            .par_sort_unstable_by(|a, b| a.key.cmp(&b.key).then(a.index.cmp(&b.index)));
+        std::mem::swap(&mut st.history, &mut st.next_history);
+
+        // Loads per body, in contact order (deterministic).
+        st.loads.clear();
+        st.loads.resize(self.bodies.len(), [Vector3::zeros(); 2]);
+        for c in &st.contacts {
+            if c.normal_force == 0.0 && c.force == Vector3::zeros() {
+                continue;
+            }
+            let (a, b) = (c.owner_a as usize, c.owner_b as usize);
+            let (xa, xb) = (self.bodies[a].position, self.bodies[b].position);
+            st.loads[b][0] += c.force;
+            st.loads[b][1] += (c.point - xb).cross(&c.force) + c.torque;
+            st.loads[a][0] -= c.force;
+            st.loads[a][1] -= (c.point - xa).cross(&c.force) + c.torque;
+        }
+    }
+
+    /// New velocities and poses without rows.
+    fn smc_free_update(&mut self, h: f64) {
+        let g = self.settings.gravity;
+        self.bodies
+            .par_iter_mut()
+            .zip(self.smc.loads.par_iter())
+            .with_min_len(CHUNK)
+            .for_each(|(b, load)| {
+                if b.motion == BodyMotion::Dynamic {
+                    let mut k = [0.0; 6];
+                    momentum_with_load(b, load, h, &g, &mut k);
+                    b.linear_velocity = Vector3::new(k[0], k[1], k[2]) / b.mass;
+                    let jinv = b.inertia.try_inverse().unwrap_or_else(Matrix3::zeros);
+                    b.angular_velocity = jinv * Vector3::new(k[3], k[4], k[5]);
+                }
+                if b.motion != BodyMotion::Fixed {
+                    b.integrate_pose(h);
+                }
+            });
+    }
+
+    /// New velocities and poses with joints' and items' rows solved by the CCP solver.
+    fn smc_rows_update(&mut self, h: f64) -> Result<StepReport> {
+        let ctx = StepContext {
+            h,
+            time: self.time,
+            step: self.step_count,
+            gravity: self.settings.gravity,
+        };
+        self.vars.clear();
+        for b in &mut self.bodies {
+            b.block = match b.motion {
+                BodyMotion::Dynamic => Some(self.vars.add(b.mass_operator()?)),
+                _ => None,
+            };
+        }
+        for item in &mut self.items {
+            item.add_variables(&mut self.vars);
+        }
+        let ndof = self.vars.ndof();
+        self.k.clear();
+        self.k.resize(ndof, 0.0);
+        for (b, load) in self.bodies.iter_mut().zip(&self.smc.loads) {
+            if let Some(blk) = b.block {
+                let r = self.vars.range(blk);
+                momentum_with_load(b, load, h, &self.settings.gravity, &mut self.k[r]);
+            }
+        }
+        for j in &self.joints {
+            if let Some(load) = j.effort(&self.bodies) {
+                let (ha, hb) = j.bodies();
+                for (handle, sign, p) in [(hb, 1.0, load.point_b), (ha, -1.0, load.point_a)] {
+                    let body = &self.bodies[handle.0 as usize];
+                    if let Some(blk) = body.block {
+                        let r = self.vars.range(blk);
+                        let tau_w = sign * (load.torque + (p - body.position).cross(&load.force));
+                        let tau_b = body.rotation.inverse() * tau_w;
+                        for d in 0..3 {
+                            self.k[r.start + d] += h * sign * load.force[d];
+                            self.k[r.start + 3 + d] += h * tau_b[d];
+                        }
+                    }
+                }
+            }
+        }
+        for item in &self.items {
+            item.load_momentum(&ctx, &self.vars, &mut self.k);
+        }
+        self.rows.clear();
+        for j in &mut self.joints {
+            j.add_rows(&self.bodies, h, &mut self.rows);
+        }
+        for item in &mut self.items {
+            item.add_constraints(&ctx, &self.vars, &mut self.rows)?;
+        }
+        self.problem.assemble(&self.vars, &self.rows, &self.k)?;
+        let m = self.problem.n_rows();
+        self.gamma.clear();
+        self.gamma.resize(m, 0.0);
+        let mut solve = Default::default();
+        if m > 0 {
+            if self.settings.warm_start {
+                for j in &self.joints {
+                    if j.impulses.len() == j.row_ids.len() {
+                        for (id, g) in j.row_ids.iter().zip(&j.impulses) {
+                            self.gamma[self.problem.row_index(*id)] = *g;
+                        }
+                    }
+                }
+            }
+            solve = self.solver.solve(&self.problem, &mut self.gamma);
+            if let Some(i) = self.gamma.iter().position(|g| !g.is_finite()) {
+                return Err(ChronoError::NonFinite {
+                    item: format!("CCP row {i}"),
+                    step: self.step_count,
+                    time: self.time,
+                    what: format!("impulse from solver `{}`", self.solver.name()),
+                });
+            }
+        }
+        self.v.clear();
+        self.v.resize(ndof, 0.0);
+        self.problem.velocities(&self.gamma, &mut self.v);
+        for b in &mut self.bodies {
+            if let Some(blk) = b.block {
+                let v = &self.v[self.vars.range(blk)];
+                b.linear_velocity = Vector3::new(v[0], v[1], v[2]);
+                b.angular_velocity = Vector3::new(v[3], v[4], v[5]);
+            }
+            if b.motion != BodyMotion::Fixed {
+                b.integrate_pose(h);
+            }
+        }
+        for item in &mut self.items {
+            item.update(&ctx, &self.vars, &self.v, &self.problem, &self.gamma)?;
+        }
+        for j in &mut self.joints {
+            j.impulses.clear();
+            for id in &j.row_ids {
+                j.impulses.push(self.gamma[self.problem.row_index(*id)]);
+            }
+        }
+        Ok(StepReport {
+            contacts: self.smc.contacts.len(),
+            rows: m,
+            solve,
+        })
+    }
+
+    /// Non-finite or diverging bodies are errors naming the body and the step.
+    pub(crate) fn check_state(&self) -> Result<()> {
+        for (i, b) in self.bodies.iter().enumerate() {
+            if !b.state_is_finite() {
+                return Err(ChronoError::NonFinite {
+                    item: format!("body {i} (\"{}\")", b.name),
+                    step: self.step_count,
+                    time: self.time,
+                    what: "position or velocity".into(),
+                });
+            }
+            let (v, w) = (b.linear_velocity.norm(), b.angular_velocity.norm());
+            if v > self.settings.max_speed || w > self.settings.max_angular_speed {
+                return Err(ChronoError::Diverged {
+                    item: format!("body {i} (\"{}\")", b.name),
+                    step: self.step_count,
+                    time: self.time,
+                    what: format!(
+                        "speed {v:.3e} m/s (limit {:.1e}), angular speed {w:.3e} rad/s (limit {:.1e})",
+                        self.settings.max_speed, self.settings.max_angular_speed
+                    ),
+                });
+            }
+        }
+        Ok(())
+    }
+}
+
+/// `k = M v + h (f + f_contact)` for a body, through the body's own momentum update
+/// (gyroscopic term included) with the contact load added to its applied load.
+fn momentum_with_load(
+    b: &mut RigidBody,
+    load: &[Vector3<f64>; 2],
+    h: f64,
+    g: &Vector3<f64>,
+    out: &mut [f64],
+) {
+    let saved = (b.force, b.torque);
+    b.force += load[0];
+    b.torque += load[1];
+    b.free_momentum(h, g, out);
+    (b.force, b.torque) = saved;
+}
+
+/// Everything the parallel force loop reads.
+struct ForceContext<'a> {
+    bodies: &'a [RigidBody],
+    colliders: &'a [crate::collision::Collider],
+    radius: &'a [f64],
+    alphas: &'a [(u64, f64)],
+    inv_mass: &'a [f64],
+    inv_inertia: &'a [f64],
+    history: &'a [HistoryEntry],
+    settings: &'a SmcSettings,
+    h: f64,
+}
+
+impl ForceContext<'_> {
+    fn force(&self, cp: &ContactPoint) -> (SmcContact, Vector3<f64>) {
+        let (a, b) = (cp.owner_a as usize, cp.owner_b as usize);
+        let (ba, bb) = (&self.bodies[a], &self.bodies[b]);
+        let (ca, cb) = (cp.collider_a.0 as usize, cp.collider_b.0 as usize);
+        let (ma, mb) = (self.colliders[ca].material(), self.colliders[cb].material());
+        let r = harmonic(self.radius[ca], self.radius[cb]);
+        let radius = if r.is_finite() {
+            r
+        } else {
+            self.settings.flat_contact_radius
+        };
+        let e_bits = cp.material.restitution.to_bits();
+        let alpha = match self.alphas.binary_search_by_key(&e_bits, |x| x.0) {
+            Ok(i) => self.alphas[i].1,
+            Err(_) => 0.0,
+        };
+        let pair = SmcPair {
+            radius,
+            mass: 1.0 / (self.inv_mass[a] + self.inv_mass[b]),
+            inertia: 1.0 / (self.inv_inertia[a] + self.inv_inertia[b]),
+            young: effective_young_modulus(&ma, &mb),
+            shear: effective_shear_modulus(&ma, &mb),
+            alpha,
+            friction: cp.material.friction,
+            rolling_friction: cp.material.rolling_friction,
+            spinning_friction: cp.material.spinning_friction,
+        };
+        let point = 0.5 * (cp.point_a + cp.point_b);
+        let kin = SmcKinematics {
+            normal: cp.normal,
+            overlap: -cp.distance,
+            relative_velocity: bb.point_velocity(&point) - ba.point_velocity(&point),
+            relative_angular_velocity: bb.angular_velocity() - ba.angular_velocity(),
+        };
+        let at = self.history.partition_point(|e| e.key < cp.key);
+        let xi = match self.history.get(at) {
+            Some(e) if e.key == cp.key => e.xi,
+            _ => Vector3::zeros(),
+        };
+        let f = smc::contact_force(
+            self.settings.model,
+            &pair,
+            self.settings.characteristic_velocity,
+            &kin,
+            &xi,
+            self.h,
+        );
+        (
+            SmcContact {
+                key: cp.key,
+                owner_a: cp.owner_a,
+                owner_b: cp.owner_b,
+                point,
+                normal: cp.normal,
+                overlap: kin.overlap,
+                normal_force: f.normal,
+                force: f.force,
+                torque: f.torque,
+            },
+            f.history,
+        )
+    }
+}

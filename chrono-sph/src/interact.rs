@@ -1,0 +1,280 @@
+//! The particle interaction passes (parallel over particles, reading the CSR neighbour
+//! list): wall-marker extrapolation, the fluid derivatives, the Shepard filter.
+//!
+//! Fluid equations (Monaghan 2005, Rep. Prog. Phys. 68, 1703; Morris, Fox and Zhu 1997,
+//! J. Comput. Phys. 136, 214), with `x_ab = x_a - x_b`, `v_ab = v_a - v_b`,
+//! `grad_a W_ab = F(r) x_ab` and `rho_ab = (rho_a + rho_b) / 2`:
+//!
+//! ```text
+//! d rho_a / dt = rho_a sum_b (m_b / rho_b) v_ab . grad_a W_ab                    (continuity)
+//! d v_a / dt   = - sum_b m_b (p_a / rho_a^2 + p_b / rho_b^2) grad_a W_ab        (pressure)
+//!                + sum_b m_b (mu_a + mu_b) (x_ab . grad_a W_ab) v_ab
+//!                        / (rho_ab^2 (r_ab^2 + 0.01 h^2))                        (Morris viscosity)
+//!                - sum_b m_b Pi_ab grad_a W_ab                                  (artificial, optional)
+//!                + g + f                                                        (body forces)
+//! Delta v_a    = zeta sum_b (m_b / rho_ab) (v_b - v_a) W_ab   (fluid b)         (XSPH)
+//! ```
+//!
+//! with `Pi_ab = -alpha c_s h (v_ab . x_ab) / (rho_ab (r^2 + 0.01 h^2))` when
+//! `v_ab . x_ab < 0` (Monaghan 1992). The pressure and viscous pair terms are
+//! antisymmetric in `(a, b)` once multiplied by `m_a`, so the fluid momentum changes
+//! only through walls and body forces.
+//!
+//! Walls (Adami, Hu and Adams, J. Comput. Phys. 231 (2012) 7057-7075), for a wall
+//! marker `w` with fluid neighbours `f`:
+//!
+//! ```text
+//! p_w   = (sum_f p_f W_wf + (g - a_w) . sum_f rho_f x_wf W_wf) / sum_f W_wf
+//! rho_w = rho(p_w)      (inverse Tait),   m_w = rho_w dp^3 (fixed marker volume)
+//! v_w   = 2 v_prescribed - sum_f v_f W_wf / sum_f W_wf   (viscous term only)
+//! ```
+//!
+//! so the wall pushes back exactly as much as the fluid presses (no leak) and, with
+//! `p_w` clamped at 0, never pulls (no sticking). The continuity equation uses the
+//! prescribed wall velocity.
+
+use chrono_core::particles::{CellGrid, Kernel, NeighborList};
+use rayon::prelude::*;
+
+use crate::data::{Deriv, FLUID, ParticleData, WALL};
+use crate::eos::Tait;
+
+/// Everything the passes read besides the particle arrays.
+pub(crate) struct PassCtx<'a> {
+    pub kernel: &'a Kernel,
+    pub eos: &'a Tait,
+    pub grid: &'a CellGrid,
+    pub list: &'a NeighborList,
+    pub mu: f64,
+    pub alpha: f64,
+    pub xsph: f64,
+    pub accel: [f64; 3],
+    pub gravity: [f64; 3],
+    pub wall_acc: [f64; 3],
+    pub wall_vel: [f64; 3],
+    pub clamp_wall_pressure: bool,
+    /// Volume of a wall marker, `dp^3`: its mass follows its density, `m_w = rho_w dp^3`.
+    pub wall_volume: f64,
+}
+
+/// Pressure of every fluid particle from its density (Tait).
+pub(crate) fn fluid_pressure(d: &mut ParticleData, eos: &Tait) {
+    d.p.par_iter_mut()
+        .zip(d.rho.par_iter())
+        .zip(d.kind.par_iter())
+        .for_each(|((p, &rho), &k)| {
+            if k == FLUID {
+                *p = eos.pressure(rho);
+            }
+        });
+}
+
+/// Wall-marker pressure, density and no-slip velocity extrapolated from the fluid
+/// (Adami et al. 2012). `bc` is scratch (one `[p, rho, vx, vy, vz]` per particle).
+pub(crate) fn wall_extrapolation(d: &mut ParticleData, c: &PassCtx<'_>, bc: &mut Vec<[f64; 5]>) {
+    let n = d.len();
+    bc.resize(n, [0.0; 5]);
+    let g_minus_a = [
+        c.gravity[0] - c.wall_acc[0],
+        c.gravity[1] - c.wall_acc[1],
+        c.gravity[2] - c.wall_acc[2],
+    ];
+    {
+        let d = &*d;
+        bc.par_iter_mut().enumerate().for_each(|(w, out)| {
+            if d.kind[w] != WALL {
+                return;
+            }
+            let pw = [d.x[w], d.y[w], d.z[w]];
+            let (mut sw, mut sp, mut sr) = (0.0, 0.0, [0.0; 3]);
+            let mut sv = [0.0; 3];
+            for &f in c.list.neighbors(w) {
+                let f = f as usize;
+                if d.kind[f] != FLUID {
+                    continue;
+                }
+                let x = c.grid.displacement(pw, [d.x[f], d.y[f], d.z[f]]);
+                let r = (x[0] * x[0] + x[1] * x[1] + x[2] * x[2]).sqrt();
+                let wk = c.kernel.w(r);
+                sw += wk;
+                sp += d.p[f] * wk;
+                let rw = d.rho[f] * wk;
+                sr[0] += rw * x[0];
+                sr[1] += rw * x[1];
+                sr[2] += rw * x[2];
+                sv[0] += d.vx[f] * wk;
+                sv[1] += d.vy[f] * wk;
+                sv[2] += d.vz[f] * wk;
+            }
+            if sw > 0.0 {
+                let mut p =
+                    (sp + g_minus_a[0] * sr[0] + g_minus_a[1] * sr[1] + g_minus_a[2] * sr[2]) / sw;
+                if c.clamp_wall_pressure {
+                    p = p.max(0.0);
+                }
+                *out = [
+                    p,
+                    c.eos.density(p),
+                    2.0 * c.wall_vel[0] - sv[0] / sw,
+                    2.0 * c.wall_vel[1] - sv[1] / sw,
+                    2.0 * c.wall_vel[2] - sv[2] / sw,
+                ];
+            } else {
+                *out = [0.0, c.eos.rho0, c.wall_vel[0], c.wall_vel[1], c.wall_vel[2]];
+            }
+        });
+    }
+    let vol = c.wall_volume;
+    (
+        d.p.par_iter_mut(),
+        d.rho.par_iter_mut(),
+        d.mass.par_iter_mut(),
+        d.wall_v.par_iter_mut(),
+        bc.par_iter(),
+        d.kind.par_iter(),
+    )
+        .into_par_iter()
+        .for_each(|(p, rho, m, v, b, &k)| {
+            if k == WALL {
+                *p = b[0];
+                *rho = b[1];
+                *m = b[1] * vol;
+                *v = [b[2], b[3], b[4]];
+            }
+        });
+}
+
+/// Displacement, distance squared, `W` and `F = (dW/dr)/r` of a pair.
+#[inline(always)]
+fn geometry(d: &ParticleData, c: &PassCtx<'_>, a: usize, b: usize) -> ([f64; 3], f64, f64, f64) {
+    let x = c
+        .grid
+        .displacement([d.x[a], d.y[a], d.z[a]], [d.x[b], d.y[b], d.z[b]]);
+    let r2 = x[0] * x[0] + x[1] * x[1] + x[2] * x[2];
+    let (wk, fk) = c.kernel.w_and_grad_factor(r2.sqrt());
+    (x, r2, wk, fk)
+}
+
+/// The momentum pair terms of fluid particle `a` with neighbour `b` (pressure,
+/// optional artificial viscosity, Morris viscosity), without body forces. Shared by the
+/// force pass and the wall-force probe.
+#[inline(always)]
+pub(crate) fn pair_accel(
+    d: &ParticleData,
+    c: &PassCtx<'_>,
+    a: usize,
+    b: usize,
+    pa_over_rho2: f64,
+) -> [f64; 3] {
+    let h = c.kernel.h();
+    let (x, r2, _, fk) = geometry(d, c, a, b);
+    let (rho_a, rho_b) = (d.rho[a], d.rho[b]);
+    let mb = d.mass[b];
+    // the viscous term sees the extrapolated no-slip velocity of wall markers
+    let vb = if d.kind[b] == WALL {
+        d.wall_v[b]
+    } else {
+        [d.vx[b], d.vy[b], d.vz[b]]
+    };
+    let vv = [d.vx[a] - vb[0], d.vy[a] - vb[1], d.vz[a] - vb[2]];
+    let rho_ab = 0.5 * (rho_a + rho_b);
+    let eta2 = 0.01 * h * h;
+    // pressure: -m_b (p_a/rho_a^2 + p_b/rho_b^2) F x_ab
+    let mut coef = -mb * (pa_over_rho2 + d.p[b] / (rho_b * rho_b)) * fk;
+    if c.alpha > 0.0 {
+        let vx = vv[0] * x[0] + vv[1] * x[1] + vv[2] * x[2];
+        if vx < 0.0 {
+            let pi = -c.alpha * c.eos.sound_speed * h * vx / (rho_ab * (r2 + eta2));
+            coef -= mb * pi * fk;
+        }
+    }
+    // Morris: m_b 2 mu (x_ab . grad W) / (rho_ab^2 (r^2 + eta^2)) v_ab, x_ab . grad W = F r^2
+    let visc = mb * 2.0 * c.mu * fk * r2 / (rho_ab * rho_ab * (r2 + eta2));
+    [
+        coef * x[0] + visc * vv[0],
+        coef * x[1] + visc * vv[1],
+        coef * x[2] + visc * vv[2],
+    ]
+}
+
+/// Continuity and XSPH of every fluid particle into `deriv[a].drho` and
+/// `deriv[a].xsph` (walls get zero). Wall markers enter the continuity sum with their
+/// prescribed velocity and do not enter XSPH.
+pub(crate) fn continuity_pass(d: &ParticleData, c: &PassCtx<'_>, deriv: &mut [Deriv]) {
+    deriv.par_iter_mut().enumerate().for_each(|(a, out)| {
+        if d.kind[a] != FLUID {
+            out.drho = 0.0;
+            out.xsph = [0.0; 3];
+            return;
+        }
+        let va = [d.vx[a], d.vy[a], d.vz[a]];
+        let mut sum = 0.0;
+        let mut xs = [0.0; 3];
+        for &b in c.list.neighbors(a) {
+            let b = b as usize;
+            let (x, _, wk, fk) = geometry(d, c, a, b);
+            let vab = [va[0] - d.vx[b], va[1] - d.vy[b], va[2] - d.vz[b]];
+            let mb = d.mass[b];
+            sum += mb / d.rho[b] * fk * (vab[0] * x[0] + vab[1] * x[1] + vab[2] * x[2]);
+            if d.kind[b] == FLUID {
+                let k = c.xsph * mb * wk / (0.5 * (d.rho[a] + d.rho[b]));
+                xs[0] -= k * vab[0];
+                xs[1] -= k * vab[1];
+                xs[2] -= k * vab[2];
+            }
+        }
+        out.drho = d.rho[a] * sum;
+        out.xsph = xs;
+    });
+}
+
+/// Accelerations of every fluid particle into `deriv[a].acc` (walls get zero).
+pub(crate) fn force_pass(d: &ParticleData, c: &PassCtx<'_>, deriv: &mut [Deriv]) {
+    deriv.par_iter_mut().enumerate().for_each(|(a, out)| {
+        if d.kind[a] != FLUID {
+            out.acc = [0.0; 3];
+            return;
+        }
+        let pa_over_rho2 = d.p[a] / (d.rho[a] * d.rho[a]);
+        let mut acc = c.accel;
+        for &b in c.list.neighbors(a) {
+            let ab = pair_accel(d, c, a, b as usize, pa_over_rho2);
+            acc[0] += ab[0];
+            acc[1] += ab[1];
+            acc[2] += ab[2];
+        }
+        out.acc = acc;
+    });
+}
+
+/// Shepard re-initialization of the fluid density,
+/// `rho_a = sum_b m_b W_ab / sum_b (m_b / rho_b) W_ab` (self included, all neighbours),
+/// through the scratch `out`.
+pub(crate) fn shepard(d: &mut ParticleData, c: &PassCtx<'_>, out: &mut Vec<f64>) {
+    out.resize(d.len(), 0.0);
+    {
+        let d = &*d;
+        out.par_iter_mut().enumerate().for_each(|(a, o)| {
+            if d.kind[a] != FLUID {
+                *o = d.rho[a];
+                return;
+            }
+            let w0 = c.kernel.w(0.0);
+            let mut num = d.mass[a] * w0;
+            let mut den = d.mass[a] / d.rho[a] * w0;
+            let pa = [d.x[a], d.y[a], d.z[a]];
+            for &b in c.list.neighbors(a) {
+                let b = b as usize;
+                let x = c.grid.displacement(pa, [d.x[b], d.y[b], d.z[b]]);
+                let wk = c.kernel.w((x[0] * x[0] + x[1] * x[1] + x[2] * x[2]).sqrt());
+                num += d.mass[b] * wk;
+                den += d.mass[b] / d.rho[b] * wk;
+            }
+            *o = num / den;
+        });
+    }
+    d.rho
+        .par_iter_mut()
+        .zip(out.par_iter())
+        .for_each(|(r, &o)| *r = o);
+}

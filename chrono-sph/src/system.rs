@@ -1,0 +1,624 @@
+//! [`SphSystem`]: the particles, the grid, the neighbour list and the time loop.
+//!
+//! One step (`dt` from the previous step's criteria) is a Stormer-Verlet
+//! (kick-drift-kick) scheme in which the density is a *position-like* variable, updated
+//! with the half-step velocity, so the acoustic pair (density, velocity) is integrated
+//! symplectically (a scheme that kicks density and velocity alike with predicted values
+//! is Heun-like and slowly unstable, with growth ~ (c dt / h)^4 per step):
+//!
+//! ```text
+//! v^{n+1/2} = v^n + dt/2 a^n
+//! x^{n+1}   = x^n + dt (v^{n+1/2} + Delta v_XSPH);   walls: x_w = x_w0 + X(t^{n+1}), v_w = X'(t^{n+1})
+//! neighbours: if stale, grid build (re-sort by cell every `reorder_every` steps), CSR list
+//! rho^{n+1} = rho^n + dt (d rho/dt)(x^{n+1}, v^{n+1/2});  Delta v_XSPH(x^{n+1}, v^{n+1/2})
+//!             every `shepard_every` steps: Shepard filter of rho
+//! p^{n+1}   = Tait(rho^{n+1});  wall markers: extrapolated p, rho, no-slip velocity
+//! a^{n+1}   = a(x^{n+1}, rho^{n+1}, p^{n+1}, v^{n+1/2})
+//! v^{n+1}   = v^{n+1/2} + dt/2 a^{n+1}
+//! dt        = min(C_cfl h/(c_s + |v|max), C_f sqrt(h/|a|max), C_v h^2 rho_0/mu, max_dt)
+//! ```
+//!
+//! One continuity pass and one force pass per step; the neighbour list (with a Verlet
+//! skin) is rebuilt only when some particle moved more than half the skin.
+//!
+//! The step checks the state: a non-finite value stops with [`SphError::NonFinite`]
+//! naming the particle id and step, a speed above `c_s` with [`SphError::Diverged`],
+//! and a Mach number above [`SphSettings::mach_limit`] warns or stops
+//! ([`MachPolicy`]). After the first steps the loop allocates nothing (checked by
+//! `tests/no_alloc.rs`).
+
+use std::time::Instant;
+
+use chrono_core::particles::{CellGrid, GridConfig, Kernel, NeighborList};
+use rayon::prelude::*;
+
+use crate::data::{FLUID, ParticleData, WALL};
+use crate::eos::Tait;
+use crate::error::{Result, SphError};
+use crate::interact::{self, PassCtx};
+use crate::motion::WallMotion;
+use crate::settings::{MachPolicy, SphSettings};
+
+/// Running statistics of the last step.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct SphStats {
+    /// Largest fluid speed, m/s.
+    pub max_speed: f64,
+    /// Largest fluid acceleration, m/s^2.
+    pub max_acc: f64,
+    /// Largest Mach number `|v| / c_s` seen so far.
+    pub max_mach: f64,
+    /// Steps in which the Mach number exceeded the limit.
+    pub mach_warnings: u64,
+    /// Directed entries of the last neighbour list (`sum_i |N(i)|`, skin included).
+    pub neighbor_entries: usize,
+    /// Neighbour-list builds so far.
+    pub list_builds: u64,
+}
+
+/// Accumulated wall time of the phases of [`SphSystem::step`], s.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Timings {
+    /// Grid build, re-sort and CSR neighbour list.
+    pub neighbor_search: f64,
+    /// Density work: wall extrapolation, equation of state, Shepard filter.
+    pub density: f64,
+    /// The fluid interaction pass (continuity, momentum, XSPH fused).
+    pub forces: f64,
+    /// Kicks, drift, wall motion, checks and the time step.
+    pub integration: f64,
+}
+
+/// An explicit weakly compressible SPH system (see the [module docs](self)). Build one
+/// with [`SphBuilder`](crate::SphBuilder).
+#[derive(Debug)]
+pub struct SphSystem {
+    pub(crate) settings: SphSettings,
+    pub(crate) kernel: Kernel,
+    pub(crate) eos: Tait,
+    pub(crate) motion: WallMotion,
+    pub(crate) data: ParticleData,
+    pub(crate) grid: CellGrid,
+    pub(crate) list: NeighborList,
+    bc: Vec<[f64; 5]>,
+    time: f64,
+    steps: u64,
+    dt: f64,
+    initialized: bool,
+    list_radius: f64,
+    x_ref: Vec<[f64; 3]>,
+    last_reorder: u64,
+    stats: SphStats,
+    timings: Timings,
+    n_fluid: usize,
+}
+
+impl SphSystem {
+    pub(crate) fn new(
+        settings: SphSettings,
+        kernel: Kernel,
+        eos: Tait,
+        motion: WallMotion,
+        data: ParticleData,
+    ) -> Result<Self> {
+        let h = settings.h();
+        let mut lo = settings.domain_lower;
+        let mut hi = settings.domain_upper;
+        for a in 0..3 {
+            if !settings.periodic[a] {
+                lo[a] -= 2.0 * h;
+                hi[a] += 2.0 * h;
+            }
+        }
+        let radius = 2.0 * h * (1.0 + settings.skin);
+        let grid =
+            CellGrid::new(GridConfig::bounded(radius, lo, hi).with_periodic(settings.periodic))?;
+        let n_fluid = data.kind.iter().filter(|&&k| k == FLUID).count();
+        Ok(Self {
+            settings,
+            kernel,
+            eos,
+            motion,
+            data,
+            grid,
+            list: NeighborList::new(),
+            bc: Vec::new(),
+            time: 0.0,
+            steps: 0,
+            dt: 0.0,
+            initialized: false,
+            list_radius: radius,
+            x_ref: Vec::new(),
+            last_reorder: 0,
+            stats: SphStats::default(),
+            timings: Timings::default(),
+            n_fluid,
+        })
+    }
+
+    /// The settings.
+    pub fn settings(&self) -> &SphSettings {
+        &self.settings
+    }
+    /// The smoothing kernel.
+    pub fn kernel(&self) -> &Kernel {
+        &self.kernel
+    }
+    /// The equation of state.
+    pub fn eos(&self) -> &Tait {
+        &self.eos
+    }
+    /// The wall motion.
+    pub fn motion(&self) -> &WallMotion {
+        &self.motion
+    }
+    /// The particle arrays (slot order changes when they are re-sorted; use `id`).
+    pub fn data(&self) -> &ParticleData {
+        &self.data
+    }
+    /// The cell grid of the last step.
+    pub fn grid(&self) -> &CellGrid {
+        &self.grid
+    }
+    /// The neighbour list of the last step.
+    pub fn neighbor_list(&self) -> &NeighborList {
+        &self.list
+    }
+    /// Simulation time, s.
+    pub fn time(&self) -> f64 {
+        self.time
+    }
+    /// Steps taken.
+    pub fn steps(&self) -> u64 {
+        self.steps
+    }
+    /// The time step the next step will take, s (0 before the first step).
+    pub fn dt(&self) -> f64 {
+        self.dt
+    }
+    /// Number of fluid particles.
+    pub fn num_fluid(&self) -> usize {
+        self.n_fluid
+    }
+    /// Number of particles (fluid and wall markers).
+    pub fn len(&self) -> usize {
+        self.data.len()
+    }
+    /// Whether there is no particle.
+    pub fn is_empty(&self) -> bool {
+        self.data.is_empty()
+    }
+    /// Statistics of the last step.
+    pub fn stats(&self) -> &SphStats {
+        &self.stats
+    }
+    /// Accumulated phase timings.
+    pub fn timings(&self) -> &Timings {
+        &self.timings
+    }
+    /// The capacities and addresses of every buffer the step uses; equal before and after
+    /// a step when nothing was (re)allocated (used by the no-allocation test).
+    #[doc(hidden)]
+    pub fn buffer_fingerprint(&self) -> Vec<(usize, usize)> {
+        let d = &self.data;
+        let mut v: Vec<(usize, usize)> = [
+            &d.x,
+            &d.y,
+            &d.z,
+            &d.vx,
+            &d.vy,
+            &d.vz,
+            &d.rho,
+            &d.p,
+            &d.mass,
+            &d.rho_half,
+        ]
+        .iter()
+        .map(|a| (a.capacity(), a.as_ptr() as usize))
+        .collect();
+        v.push((d.deriv.capacity(), d.deriv.as_ptr() as usize));
+        v.push((self.bc.capacity(), self.bc.as_ptr() as usize));
+        v.push((self.x_ref.capacity(), self.x_ref.as_ptr() as usize));
+        v.push((
+            self.list.indices.capacity(),
+            self.list.indices.as_ptr() as usize,
+        ));
+        v.push((
+            self.list.offsets.capacity(),
+            self.list.offsets.as_ptr() as usize,
+        ));
+        v.push((self.grid.order().len(), self.grid.cell_start().len()));
+        v
+    }
+
+    /// Resets the phase timings to zero.
+    pub fn reset_timings(&mut self) {
+        self.timings = Timings::default();
+    }
+
+    /// Places the wall markers at time `t` (prescribed motion).
+    fn move_walls(&mut self, t: f64) {
+        let k = self.motion.at(t);
+        if matches!(self.motion, WallMotion::Fixed) && self.steps > 0 {
+            return;
+        }
+        let d = &mut self.data;
+        (
+            d.x.par_iter_mut(),
+            d.y.par_iter_mut(),
+            d.z.par_iter_mut(),
+            d.vx.par_iter_mut(),
+            d.vy.par_iter_mut(),
+            d.vz.par_iter_mut(),
+            d.anchor.par_iter(),
+            d.kind.par_iter(),
+        )
+            .into_par_iter()
+            .for_each(|(x, y, z, vx, vy, vz, a, &kind)| {
+                if kind == WALL {
+                    *x = a[0] + k.disp[0];
+                    *y = a[1] + k.disp[1];
+                    *z = a[2] + k.disp[2];
+                    *vx = k.vel[0];
+                    *vy = k.vel[1];
+                    *vz = k.vel[2];
+                }
+            });
+    }
+
+    /// Whether some particle moved more than half the skin since the last list build.
+    fn list_is_stale(&self) -> bool {
+        if self.x_ref.len() != self.data.len() {
+            return true;
+        }
+        let half_skin = 0.5 * (self.list_radius - self.kernel.support());
+        let lim2 = half_skin * half_skin;
+        let d = &self.data;
+        let grid = &self.grid;
+        (0..d.len()).into_par_iter().with_min_len(4096).any(|i| {
+            let r = self.x_ref[i];
+            let e = grid.displacement([d.x[i], d.y[i], d.z[i]], r);
+            e[0] * e[0] + e[1] * e[1] + e[2] * e[2] > lim2
+        })
+    }
+
+    /// Grid build, re-sort by cell when due, CSR neighbour list (radius `2 h (1 + skin)`)
+    /// at the current positions; skipped while the Verlet list is still valid.
+    fn neighbor_search(&mut self) -> Result<()> {
+        let t0 = Instant::now();
+        if !self.list_is_stale() {
+            self.timings.neighbor_search += t0.elapsed().as_secs_f64();
+            return Ok(());
+        }
+        {
+            let d = &self.data;
+            self.grid.build([&d.x, &d.y, &d.z])?;
+        }
+        let every = self.settings.reorder_every as u64;
+        if every > 0 && (self.steps == 0 || self.steps >= self.last_reorder + every) {
+            self.data.permute(self.grid.order());
+            self.grid.reordered();
+            self.last_reorder = self.steps;
+        }
+        {
+            let d = &self.data;
+            self.grid
+                .neighbor_list([&d.x, &d.y, &d.z], self.list_radius, &mut self.list)?;
+            self.x_ref.clear();
+            self.x_ref
+                .extend((0..d.len()).map(|i| [d.x[i], d.y[i], d.z[i]]));
+        }
+        self.stats.neighbor_entries = self.list.total();
+        self.stats.list_builds += 1;
+        self.timings.neighbor_search += t0.elapsed().as_secs_f64();
+        Ok(())
+    }
+
+    /// Density work at the current positions: continuity (+ XSPH) with the current
+    /// velocities and `rho += dt d rho/dt` (skipped when `dt = 0`), the Shepard filter
+    /// when due, the equation of state and the wall extrapolation.
+    fn density_update(&mut self, dt: f64) {
+        let t0 = Instant::now();
+        let ctx = make_ctx(
+            &self.settings,
+            &self.kernel,
+            &self.eos,
+            &self.grid,
+            &self.list,
+            &self.motion,
+            self.time,
+        );
+        let mut deriv = std::mem::take(&mut self.data.deriv);
+        interact::continuity_pass(&self.data, &ctx, &mut deriv);
+        self.data.deriv = deriv;
+        if dt > 0.0 {
+            let d = &mut self.data;
+            d.rho
+                .par_iter_mut()
+                .zip(d.deriv.par_iter())
+                .zip(d.kind.par_iter())
+                .for_each(|((rho, dv), &k)| {
+                    if k == FLUID {
+                        *rho += dt * dv.drho;
+                    }
+                });
+        }
+        let every = self.settings.shepard_every as u64;
+        if every > 0 && self.steps > 0 && self.steps.is_multiple_of(every) {
+            let mut out = std::mem::take(&mut self.data.rho_half);
+            interact::shepard(&mut self.data, &ctx, &mut out);
+            self.data.rho_half = out;
+        }
+        interact::fluid_pressure(&mut self.data, &self.eos);
+        interact::wall_extrapolation(&mut self.data, &ctx, &mut self.bc);
+        self.timings.density += t0.elapsed().as_secs_f64();
+    }
+
+    /// The force pass at the current state.
+    fn force_update(&mut self) {
+        let t0 = Instant::now();
+        let ctx = make_ctx(
+            &self.settings,
+            &self.kernel,
+            &self.eos,
+            &self.grid,
+            &self.list,
+            &self.motion,
+            self.time,
+        );
+        let mut deriv = std::mem::take(&mut self.data.deriv);
+        interact::force_pass(&self.data, &ctx, &mut deriv);
+        self.data.deriv = deriv;
+        self.timings.forces += t0.elapsed().as_secs_f64();
+    }
+
+    /// Sets the velocity damping rate (1/s, see [`SphSettings::damping`]); 0 turns it
+    /// off. For relaxing a lattice start before the measured run.
+    pub fn set_damping(&mut self, rate: f64) -> Result<()> {
+        crate::error::non_negative("damping", rate)?;
+        self.settings.damping = rate;
+        Ok(())
+    }
+
+    /// Half kick `v += dt/2 a` of the fluid (then `v *= exp(-k dt/2)` with damping).
+    fn kick(&mut self, half: f64) {
+        let damp = (-self.settings.damping * half).exp();
+        let d = &mut self.data;
+        (
+            d.vx.par_iter_mut(),
+            d.vy.par_iter_mut(),
+            d.vz.par_iter_mut(),
+            d.deriv.par_iter(),
+            d.kind.par_iter(),
+        )
+            .into_par_iter()
+            .for_each(|(vx, vy, vz, dv, &kind)| {
+                if kind == FLUID {
+                    *vx = (*vx + half * dv.acc[0]) * damp;
+                    *vy = (*vy + half * dv.acc[1]) * damp;
+                    *vz = (*vz + half * dv.acc[2]) * damp;
+                }
+            });
+    }
+
+    /// Advances one time step; returns the step size taken, s.
+    pub fn step(&mut self) -> Result<f64> {
+        if !self.initialized {
+            self.move_walls(self.time);
+            self.neighbor_search()?;
+            self.density_update(0.0);
+            self.force_update();
+            self.check_and_set_dt()?;
+            self.initialized = true;
+        }
+        let t0 = Instant::now();
+        let dt = self.dt;
+        let half = 0.5 * dt;
+        let (lo, hi, per) = (
+            self.settings.domain_lower,
+            self.settings.domain_upper,
+            self.settings.periodic,
+        );
+        let wrap = move |v: &mut f64, a: usize| {
+            if per[a] {
+                let l = hi[a] - lo[a];
+                *v = lo[a] + (*v - lo[a]).rem_euclid(l);
+            }
+        };
+        self.kick(half);
+        {
+            let d = &mut self.data;
+            (
+                d.x.par_iter_mut(),
+                d.y.par_iter_mut(),
+                d.z.par_iter_mut(),
+                d.vx.par_iter(),
+                d.vy.par_iter(),
+                d.vz.par_iter(),
+                d.deriv.par_iter(),
+                d.kind.par_iter(),
+            )
+                .into_par_iter()
+                .for_each(|(x, y, z, vx, vy, vz, dv, &kind)| {
+                    if kind != FLUID {
+                        return;
+                    }
+                    *x += dt * (vx + dv.xsph[0]);
+                    *y += dt * (vy + dv.xsph[1]);
+                    *z += dt * (vz + dv.xsph[2]);
+                    wrap(x, 0);
+                    wrap(y, 1);
+                    wrap(z, 2);
+                });
+        }
+        self.time += dt;
+        self.steps += 1;
+        self.move_walls(self.time);
+        self.timings.integration += t0.elapsed().as_secs_f64();
+        self.neighbor_search()?;
+        self.density_update(dt);
+        self.force_update();
+        let t1 = Instant::now();
+        self.kick(half);
+        self.check_and_set_dt()?;
+        self.timings.integration += t1.elapsed().as_secs_f64();
+        Ok(dt)
+    }
+
+    /// The pass context for the current time (probes and filters).
+    pub(crate) fn pass_ctx(&self) -> PassCtx<'_> {
+        make_ctx(
+            &self.settings,
+            &self.kernel,
+            &self.eos,
+            &self.grid,
+            &self.list,
+            &self.motion,
+            self.time,
+        )
+    }
+
+    /// Checks the fluid state (finite, below the speed limits) and sets the next `dt`.
+    fn check_and_set_dt(&mut self) -> Result<()> {
+        let d = &self.data;
+        // (value, slot) maxima with the lowest slot on ties: deterministic.
+        let pick = |a: (f64, usize), b: (f64, usize)| {
+            if b.0 > a.0 || (b.0 == a.0 && b.1 < a.1) {
+                b
+            } else {
+                a
+            }
+        };
+        let (bad, (v2, iv), (a2, _)) = (0..d.len())
+            .into_par_iter()
+            .map(|i| {
+                if d.kind[i] != FLUID {
+                    return (usize::MAX, (0.0, i), (0.0, i));
+                }
+                let v2 = d.vx[i] * d.vx[i] + d.vy[i] * d.vy[i] + d.vz[i] * d.vz[i];
+                let a = d.deriv[i].acc;
+                let a2 = a[0] * a[0] + a[1] * a[1] + a[2] * a[2];
+                let finite = v2.is_finite()
+                    && a2.is_finite()
+                    && d.rho[i].is_finite()
+                    && d.x[i].is_finite()
+                    && d.y[i].is_finite()
+                    && d.z[i].is_finite();
+                (if finite { usize::MAX } else { i }, (v2, i), (a2, i))
+            })
+            .reduce(
+                || (usize::MAX, (0.0, usize::MAX), (0.0, usize::MAX)),
+                |x, y| (x.0.min(y.0), pick(x.1, y.1), pick(x.2, y.2)),
+            );
+        if bad != usize::MAX {
+            let what = if !(d.x[bad].is_finite() && d.y[bad].is_finite() && d.z[bad].is_finite()) {
+                "position"
+            } else if !d.rho[bad].is_finite() {
+                "density"
+            } else if !(d.vx[bad].is_finite() && d.vy[bad].is_finite() && d.vz[bad].is_finite()) {
+                "velocity"
+            } else {
+                "acceleration"
+            };
+            return Err(SphError::NonFinite {
+                particle: d.id[bad],
+                step: self.steps,
+                time: self.time,
+                quantity: what,
+            });
+        }
+        let vmax = v2.sqrt();
+        let amax = a2.sqrt();
+        let c = self.settings.sound_speed;
+        let mach = vmax / c;
+        self.stats.max_speed = vmax;
+        self.stats.max_acc = amax;
+        self.stats.max_mach = self.stats.max_mach.max(mach);
+        if mach > 1.0 {
+            return Err(SphError::Diverged {
+                particle: d.id[iv],
+                step: self.steps,
+                time: self.time,
+                what: format!("speed {vmax:.4e} m/s exceeds the sound speed {c} m/s"),
+            });
+        }
+        if mach > self.settings.mach_limit {
+            self.stats.mach_warnings += 1;
+            match self.settings.mach_policy {
+                MachPolicy::Error => {
+                    return Err(SphError::MachExceeded {
+                        particle: d.id[iv],
+                        step: self.steps,
+                        time: self.time,
+                        mach,
+                        limit: self.settings.mach_limit,
+                    });
+                }
+                MachPolicy::Warn => {
+                    if self.stats.mach_warnings == 1 {
+                        tracing::warn!(
+                            "SPH Mach number {mach:.3} > {} at step {} (particle {}): raise the sound speed",
+                            self.settings.mach_limit,
+                            self.steps,
+                            d.id[iv]
+                        );
+                    }
+                }
+            }
+        }
+        let s = &self.settings;
+        let h = self.kernel.h();
+        let mut dt = s.cfl * h / (c + vmax);
+        if amax > 0.0 {
+            dt = dt.min(s.force_coef * (h / amax).sqrt());
+        }
+        if s.viscosity > 0.0 {
+            dt = dt.min(s.visc_coef * h * h * s.rho0 / s.viscosity);
+        }
+        self.dt = dt.min(s.max_dt);
+        Ok(())
+    }
+
+    /// Advances until `time() >= t_end` (the last step is not shortened); returns the
+    /// number of steps taken.
+    pub fn advance_to(&mut self, t_end: f64) -> Result<u64> {
+        let mut n = 0;
+        while self.time < t_end - 1e-12 {
+            self.step()?;
+            n += 1;
+        }
+        Ok(n)
+    }
+}
+
+/// The pass context from the system's parts (split borrows: `data` stays free).
+fn make_ctx<'a>(
+    s: &SphSettings,
+    kernel: &'a Kernel,
+    eos: &'a Tait,
+    grid: &'a CellGrid,
+    list: &'a NeighborList,
+    motion: &WallMotion,
+    time: f64,
+) -> PassCtx<'a> {
+    let kin = motion.at(time);
+    PassCtx {
+        kernel,
+        eos,
+        grid,
+        list,
+        mu: s.viscosity,
+        alpha: s.artificial_viscosity,
+        xsph: s.xsph,
+        accel: [
+            s.gravity[0] + s.body_force[0],
+            s.gravity[1] + s.body_force[1],
+            s.gravity[2] + s.body_force[2],
+        ],
+        gravity: s.gravity,
+        wall_acc: kin.acc,
+        wall_vel: kin.vel,
+        clamp_wall_pressure: s.clamp_wall_pressure,
+        wall_volume: s.spacing * s.spacing * s.spacing,
+    }
+}

@@ -1,0 +1,209 @@
+//! SMC (penalty) contact through the public `System` API, against analytic results.
+
+use chrono_ccp::{Apgd, SolverSettings};
+use chrono_core::contact::smc::{SmcPair, contact_duration};
+use chrono_core::material::effective_young_modulus;
+use chrono_core::math::{Isometry3, Vector3};
+use chrono_core::system::{ContactMethod, SmcModel, SmcSettings};
+use chrono_core::{BodyHandle, ContactMaterial, RigidBodyBuilder, Shape, System, SystemSettings};
+
+fn smc_system(model: SmcModel, gravity: f64) -> System {
+    let settings = SystemSettings {
+        gravity: Vector3::new(0.0, 0.0, -gravity),
+        envelope: 0.0,
+        contact_method: ContactMethod::Smc,
+        smc: SmcSettings {
+            model,
+            ..SmcSettings::default()
+        },
+        ..SystemSettings::default()
+    };
+    System::new(settings, Box::new(Apgd::new(SolverSettings::default()))).unwrap()
+}
+
+fn plate(sys: &mut System, mat: ContactMaterial) {
+    sys.add_body(RigidBodyBuilder::fixed().name("plate").collider(
+        Shape::HalfSpace {
+            normal: Vector3::z(),
+        },
+        Isometry3::identity(),
+        mat,
+    ))
+    .unwrap();
+}
+
+fn ball(sys: &mut System, r: f64, z: f64, v: Vector3<f64>, mat: ContactMaterial) -> BodyHandle {
+    let s = Shape::Sphere { radius: r };
+    sys.add_body(
+        RigidBodyBuilder::dynamic()
+            .name("ball")
+            .mass_from_shape(&s, 2500.0)
+            .unwrap()
+            .position(Vector3::new(0.0, 0.0, z))
+            .linear_velocity(v)
+            .collider(s, Isometry3::identity(), mat),
+    )
+    .unwrap()
+}
+
+#[test]
+fn elastic_hertz_impact_has_hertz_contact_time_and_keeps_energy() {
+    let (r, v) = (0.01, 0.5);
+    let mat = ContactMaterial::smc(1e7, 0.3, 1.0, 0.0);
+    let mut sys = smc_system(SmcModel::Hertz, 0.0);
+    plate(&mut sys, mat);
+    let b = ball(&mut sys, r, r + 1e-6, Vector3::new(0.0, 0.0, -v), mat);
+    let m = sys.body(b).unwrap().mass();
+    let pair = SmcPair {
+        radius: r,
+        mass: m,
+        inertia: 0.0,
+        young: effective_young_modulus(&mat, &mat),
+        shear: 0.0,
+        alpha: 0.0,
+        friction: 0.0,
+        rolling_friction: 0.0,
+        spinning_friction: 0.0,
+    };
+    let tc = contact_duration(SmcModel::Hertz, &pair, v);
+    let h = tc / 1000.0;
+    let (mut touching, mut max_overlap) = (0u32, 0.0f64);
+    for _ in 0..3000 {
+        sys.step(h).unwrap();
+        let z = sys.body(b).unwrap().position().z;
+        if z < r {
+            touching += 1;
+            max_overlap = max_overlap.max(r - z);
+        } else if touching > 0 {
+            break;
+        }
+    }
+    let t_meas = touching as f64 * h;
+    assert!(
+        (t_meas - tc).abs() < 0.01 * tc,
+        "contact time {t_meas} vs {tc}"
+    );
+    // Maximum overlap (15 m v^2 / (16 E* sqrt R))^(2/5).
+    let dmax = (15.0 * m * v * v / (16.0 * pair.young * r.sqrt())).powf(0.4);
+    assert!(
+        (max_overlap - dmax).abs() < 0.01 * dmax,
+        "{max_overlap} vs {dmax}"
+    );
+    let vz = sys.body(b).unwrap().linear_velocity().z;
+    assert!((vz - v).abs() < 1e-3 * v, "rebound speed {vz}");
+}
+
+#[test]
+fn too_large_step_is_an_error_naming_the_body() {
+    let mat = ContactMaterial::smc(1e9, 0.3, 0.5, 0.5);
+    let mut sys = smc_system(SmcModel::Hertz, 9.81);
+    plate(&mut sys, mat);
+    ball(&mut sys, 0.001, 0.01, Vector3::zeros(), mat);
+    let (hmax, body) = sys.smc_max_step().unwrap();
+    assert_eq!(body, BodyHandle(1));
+    let e = sys.step(2.0 * hmax).unwrap_err().to_string();
+    assert!(e.contains("body 1") && e.contains("\"ball\""), "{e}");
+    assert!(sys.step(0.5 * hmax).is_ok());
+}
+
+/// A sphere launched sliding without spin on a plate: friction `mu m g` decelerates it and
+/// spins it up until it rolls, at `v = 5/7 v0` (solid sphere), after `t = 2 v0 / (7 mu g)`.
+#[test]
+fn sliding_sphere_starts_rolling_at_five_sevenths() {
+    for model in [SmcModel::Hooke, SmcModel::Hertz] {
+        let (r, v0, mu, g) = (0.01, 1.0, 0.3, 9.81);
+        let mat = ContactMaterial::smc(1e7, 0.3, 0.5, mu);
+        let mut sys = smc_system(model, g);
+        plate(&mut sys, mat);
+        let b = ball(&mut sys, r, r, Vector3::new(v0, 0.0, 0.0), mat);
+        let h = sys.smc_max_step().unwrap().0 / 5.0;
+        let t_roll = 2.0 * v0 / (7.0 * mu * g);
+        let n = (1.5 * t_roll / h) as usize;
+        for _ in 0..n {
+            sys.step(h).unwrap();
+        }
+        let body = sys.body(b).unwrap();
+        let vx = body.linear_velocity().x;
+        let wy = body.angular_velocity().y;
+        assert!(
+            (vx - 5.0 / 7.0 * v0).abs() < 0.01 * v0,
+            "{model:?}: vx {vx}"
+        );
+        assert!(
+            (wy * r - vx).abs() < 0.01 * v0,
+            "{model:?}: rolls: {} vs {vx}",
+            wy * r
+        );
+    }
+}
+
+/// A rolling sphere with rolling resistance `mu_r`: the torque `mu_r R m g` decelerates
+/// it at `a = 5/7 mu_r g` (solid sphere, rolling without slip).
+#[test]
+fn rolling_resistance_decelerates_at_five_sevenths_mu_r_g() {
+    let (r, v0, mu_r, g) = (0.01, 0.5, 0.05, 9.81);
+    let mat = ContactMaterial::smc(1e7, 0.3, 0.5, 0.5).with_rolling_friction(mu_r);
+    let mut sys = smc_system(SmcModel::Hertz, g);
+    plate(&mut sys, mat);
+    let s = Shape::Sphere { radius: r };
+    let b = sys
+        .add_body(
+            RigidBodyBuilder::dynamic()
+                .mass_from_shape(&s, 2500.0)
+                .unwrap()
+                .position(Vector3::new(0.0, 0.0, r))
+                .linear_velocity(Vector3::new(v0, 0.0, 0.0))
+                .angular_velocity(Vector3::new(0.0, v0 / r, 0.0))
+                .collider(s, Isometry3::identity(), mat),
+        )
+        .unwrap();
+    let h = sys.smc_max_step().unwrap().0 / 5.0;
+    // Let the contact settle, then measure over 0.3 s.
+    let n0 = (0.05 / h) as usize;
+    for _ in 0..n0 {
+        sys.step(h).unwrap();
+    }
+    let (t0, v1) = (sys.time(), sys.body(b).unwrap().linear_velocity().x);
+    let n1 = (0.3 / h) as usize;
+    for _ in 0..n1 {
+        sys.step(h).unwrap();
+    }
+    let (t1, v2) = (sys.time(), sys.body(b).unwrap().linear_velocity().x);
+    let a = (v1 - v2) / (t1 - t0);
+    let expect = 5.0 / 7.0 * mu_r * g;
+    assert!(
+        (a - expect).abs() < 0.05 * expect,
+        "deceleration {a} vs {expect}"
+    );
+}
+
+#[test]
+fn smc_runs_are_deterministic() {
+    let run = || {
+        let mat = ContactMaterial::smc(1e7, 0.3, 0.5, 0.5);
+        let mut sys = smc_system(SmcModel::Hertz, 9.81);
+        plate(&mut sys, mat);
+        for k in 0..30 {
+            let x = (k % 5) as f64 * 0.021 + 0.001 * (k as f64).sin();
+            let z = 0.01 + (k / 5) as f64 * 0.021;
+            let s = Shape::Sphere { radius: 0.01 };
+            sys.add_body(
+                RigidBodyBuilder::dynamic()
+                    .mass_from_shape(&s, 2500.0)
+                    .unwrap()
+                    .position(Vector3::new(x, 0.001 * k as f64, z))
+                    .collider(s, Isometry3::identity(), mat),
+            )
+            .unwrap();
+        }
+        let h = sys.smc_max_step().unwrap().0;
+        for _ in 0..500 {
+            sys.step(h).unwrap();
+        }
+        sys.bodies()
+            .iter()
+            .map(|b| b.position())
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(run(), run());
+}
