@@ -93,6 +93,18 @@ pub enum Shape {
 }
 
 impl Shape {
+    /// Curvature radius of the surface (m), used for the effective radius of a contact
+    /// (Hertz's `R`, the rolling-friction lever arm): spheres, capsules and cylinders their
+    /// radius; flat or unknown shapes (boxes, hulls, meshes, height fields, planes)
+    /// `f64::INFINITY`.
+    pub fn curvature_radius(&self) -> f64 {
+        match self {
+            Shape::Sphere { radius } | Shape::Capsule { radius, .. } => *radius,
+            Shape::Cylinder { radius, .. } => *radius,
+            _ => f64::INFINITY,
+        }
+    }
+
     /// A short name of the variant (`sphere`, `box`, ...), for messages.
     pub fn kind_name(&self) -> &'static str {
         match self {

@@ -69,4 +69,14 @@ pub struct ContactPoint {
     pub key: ContactKey,
     /// The combined material of the two colliders ([`ContactMaterial::combine`]).
     pub material: ContactMaterial,
+    /// Effective curvature radius of the contact `R = 1/(1/R_a + 1/R_b)` (m) from
+    /// [`Shape::curvature_radius`](crate::shape::Shape::curvature_radius):
+    /// `f64::INFINITY` when both surfaces are flat.
+    pub radius: f64,
+}
+
+/// Effective radius `1/(1/a + 1/b)` of two curvature radii (m); infinite radii are flat.
+#[inline]
+pub fn effective_radius(a: f64, b: f64) -> f64 {
+    1.0 / (1.0 / a + 1.0 / b)
 }

@@ -40,7 +40,7 @@ mod world;
 #[cfg(test)]
 mod tests;
 
-pub use contact::{ColliderId, ContactKey, ContactPoint};
+pub use contact::{ColliderId, ContactKey, ContactPoint, effective_radius};
 pub use proxy::{CollisionProxy, ProxyContact, ProxyKey, ProxyShape};
 pub use sphere_grid::GRID_MIN_SPHERES;
 pub use world::{Collider, CollisionWorld};

@@ -127,6 +127,10 @@ impl PairState {
             cb,
             envelope,
             material: ca.material().combine(&cb.material()),
+            radius: super::contact::effective_radius(
+                ca.shape().curvature_radius(),
+                cb.shape().curvature_radius(),
+            ),
         };
         match self.kind {
             PairKind::SphereSphere => {
@@ -257,6 +261,7 @@ struct Output<'a> {
     cb: &'a Collider,
     envelope: f64,
     material: crate::material::ContactMaterial,
+    radius: f64,
 }
 
 impl Output<'_> {
@@ -303,6 +308,7 @@ impl Output<'_> {
                 feature_b: fb,
             },
             material: self.material,
+            radius: self.radius,
         });
     }
 }

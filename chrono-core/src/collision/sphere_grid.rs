@@ -235,6 +235,7 @@ impl SphereGrid {
                             feature_b: FACE0,
                         },
                         material: ca.material().combine(&cb.material()),
+                        radius: super::contact::effective_radius(radius[i], radius[j]),
                     });
                 }
             });

@@ -7,6 +7,15 @@
 //! seed, `b_n = max(Phi / h, -v_rec)`: a gap inside the collision envelope lets the bodies
 //! approach by exactly the gap in one step, and a penetration is pushed out at no more than
 //! `v_rec` (m/s). A material compliance `c` (m/N) adds `eps = c / h^2` on the normal row.
+//!
+//! Rolling and spinning friction (Tasora and Anitescu 2013, "A complementarity-based
+//! rolling friction model for rigid contacts", Meccanica 48): when the material of a contact
+//! between two rigid bodies has `rolling_friction` or `spinning_friction` > 0 and the
+//! contact has a finite effective radius `R` ([`ContactPoint::radius`]), the contact gets
+//! six rows `(n, u, w, s, r_u, r_w)` in the [`RowGroup::Rolling`] group: the three above and
+//! the relative angular velocity `omega_B - omega_A` along `n, u, w`, with the torque
+//! impulses bounded by `|g_s| <= mu_s R g_n` and `|(g_ru, g_rw)| <= mu_r R g_n`. Flat
+//! contacts (box on ground, `R` infinite) and proxy contacts keep the plain triplet.
 
 use std::collections::HashMap;
 use std::hash::Hash;
@@ -15,7 +24,7 @@ use nalgebra::Vector3;
 
 use crate::body::RigidBody;
 use crate::collision::{ContactKey, ContactPoint, ProxyContact, ProxyKey};
-use crate::descriptor::{BlockId, CcpProblem, ConstraintRows, RowEntry, RowId};
+use crate::descriptor::{BlockId, CcpProblem, ConstraintRows, RowEntry, RowGroup, RowId};
 use crate::error::{ChronoError, Result};
 use crate::item::{Contactable, JacobianSink, PhysicsItem};
 use crate::material::ContactMaterial;
@@ -40,14 +49,41 @@ pub struct NscContact<P = ContactPoint> {
     pub row: RowId,
 }
 
+impl<P: HasNormal> NscContact<P> {
+    /// The contact normal (world, from A to B), `n = u x w`.
+    pub fn normal(&self) -> Vector3<f64> {
+        self.point.normal()
+    }
+}
+
+/// Collision points that carry a contact normal.
+pub trait HasNormal {
+    /// World unit normal from A towards B.
+    fn normal(&self) -> Vector3<f64>;
+}
+
+impl HasNormal for ContactPoint {
+    fn normal(&self) -> Vector3<f64> {
+        self.normal
+    }
+}
+
+impl HasNormal for ProxyContact {
+    fn normal(&self) -> Vector3<f64> {
+        self.normal
+    }
+}
+
 /// One active NSC contact between a body collider and an item's proxy.
 pub type NscProxyContact = NscContact<ProxyContact>;
 
-/// Cached impulses of one contact: normal, and tangential as a world vector.
-type Impulses = (f64, Vector3<f64>);
+/// Cached impulses of one contact: normal, tangential as a world vector, and the rolling
+/// and spinning torque impulse as a world vector (zero for a plain triplet).
+type Impulses = (f64, Vector3<f64>, Vector3<f64>);
 
 /// Cached impulses of the previous step, by persistence key: the normal impulse and the
-/// tangential impulse as a world vector (so it survives a change of the tangent frame).
+/// tangential force and torque impulses as world vectors (so they survive a change of the
+/// tangent frame).
 #[derive(Debug, Clone, Default)]
 pub struct WarmStartCache {
     map: HashMap<ContactKey, Impulses>,
@@ -79,11 +115,12 @@ pub struct NscRowSettings {
     pub max_recovery_speed: f64,
 }
 
-/// Reused storage for the Jacobian blocks of one contact triplet.
+/// Reused storage for the Jacobian blocks of one contact (three force rows, and three
+/// torque rows for rolling friction).
 #[derive(Debug, Clone, Default)]
 pub struct TripletScratch {
     blocks: Vec<(BlockId, usize, usize)>,
-    coefs: [Vec<f64>; 3],
+    coefs: [Vec<f64>; 6],
 }
 
 impl TripletScratch {
@@ -101,6 +138,35 @@ impl TripletScratch {
             }
             self.blocks.push((blk, start, j[0].len()));
         })
+    }
+
+    /// Record a rigid body's side of a contact at `p` with directions `sign * (n, u, w)`:
+    /// the force rows, and with `rolling` the torque rows `sign * d . omega` (angular
+    /// velocity in the body frame: coefficients `R' d` on the angular dof). Returns the
+    /// known velocities (kinematic bodies) of the six rows.
+    fn add_body(
+        &mut self,
+        body: &RigidBody,
+        p: &Vector3<f64>,
+        sign: f64,
+        dirs: &[Vector3<f64>; 3],
+        rolling: bool,
+    ) -> [f64; 6] {
+        let signed = dirs.map(|d| d * sign);
+        let k = self.add(&|e| body.contact_jacobian(p, &signed, e));
+        let mut known = [k[0], k[1], k[2], 0.0, 0.0, 0.0];
+        if rolling {
+            let rinv = body.rotation.inverse();
+            for (r, d) in signed.iter().enumerate() {
+                let a = rinv * d;
+                if body.block.is_some() {
+                    self.coefs[3 + r].extend_from_slice(&[0.0, 0.0, 0.0, a.x, a.y, a.z]);
+                } else {
+                    known[3 + r] = a.dot(&body.angular_velocity);
+                }
+            }
+        }
+        known
     }
 
     /// Push the friction triplet of the recorded blocks: `b_n = max(Phi/h, -v_rec)` plus the
@@ -139,6 +205,38 @@ impl TripletScratch {
         )))
     }
 
+    /// Push the six rolling-friction rows of the recorded blocks (force rows as in
+    /// [`push_triplet`](Self::push_triplet), torque rows with `b = ` the known angular
+    /// velocity), coefficients `[mu, mu_s R, mu_r R]`.
+    fn push_rolling(
+        &self,
+        rows: &mut ConstraintRows,
+        settings: NscRowSettings,
+        distance: f64,
+        material: &ContactMaterial,
+        radius: f64,
+        known: [f64; 6],
+    ) -> Option<RowId> {
+        let nb = self.blocks.len();
+        if nb == 0 {
+            return None;
+        }
+        let h = settings.h;
+        let e: [_; 6] = std::array::from_fn(|r| self.entries(r));
+        let bn = (distance / h).max(-settings.max_recovery_speed) + known[0];
+        let eps_n = material.compliance / (h * h);
+        Some(rows.push_rolling_friction(
+            [
+                material.friction,
+                material.spinning_friction * radius,
+                material.rolling_friction * radius,
+            ],
+            std::array::from_fn(|r| &e[r][..nb]),
+            [bn, known[1], known[2], known[3], known[4], known[5]],
+            [eps_n, 0.0, 0.0, 0.0, 0.0, 0.0],
+        ))
+    }
+
     /// The row entries of direction `r`, the first `n` of the returned array used.
     fn entries(&self, r: usize) -> [RowEntry<'_>; MAX_CONTACT_BLOCKS] {
         std::array::from_fn(|i| match self.blocks.get(i) {
@@ -154,7 +252,8 @@ impl TripletScratch {
     }
 }
 
-/// Make the friction triplets of `points` between rigid bodies, appending to `out`.
+/// Make the contact rows of `points` between rigid bodies, appending to `out`: a friction
+/// triplet, or six rows with rolling and spinning friction (see the module docs).
 pub fn add_contact_rows(
     points: &[ContactPoint],
     bodies: &[RigidBody],
@@ -167,14 +266,30 @@ pub fn add_contact_rows(
         let n = cp.normal;
         let (u, w) = tangent_frame(&n);
         let (a, b) = (&bodies[cp.owner_a as usize], &bodies[cp.owner_b as usize]);
+        let m = &cp.material;
+        let rolling = (m.rolling_friction > 0.0 || m.spinning_friction > 0.0)
+            && cp.radius.is_finite()
+            && cp.radius > 0.0;
         scratch.clear();
-        let ka = scratch.add(&|e| a.contact_jacobian(&cp.point_a, &[-n, -u, -w], e));
-        let kb = scratch.add(&|e| b.contact_jacobian(&cp.point_b, &[n, u, w], e));
-        let known = std::array::from_fn(|r| ka[r] + kb[r]);
-        let what = || format!("contact {:?}", cp.key);
-        if let Some(row) =
-            scratch.push_triplet(rows, settings, cp.distance, &cp.material, known, &what)?
-        {
+        let dirs = [n, u, w];
+        let ka = scratch.add_body(a, &cp.point_a, -1.0, &dirs, rolling);
+        let kb = scratch.add_body(b, &cp.point_b, 1.0, &dirs, rolling);
+        if scratch.blocks.len() > MAX_CONTACT_BLOCKS {
+            return Err(ChronoError::invalid(
+                format!("contact {:?}", cp.key),
+                scratch.blocks.len(),
+                "a contact row touches too many variable blocks (limit MAX_CONTACT_BLOCKS)",
+            ));
+        }
+        let known: [f64; 6] = std::array::from_fn(|r| ka[r] + kb[r]);
+        let row = if rolling {
+            scratch.push_rolling(rows, settings, cp.distance, m, cp.radius, known)
+        } else {
+            let what = || format!("contact {:?}", cp.key);
+            let k3 = [known[0], known[1], known[2]];
+            scratch.push_triplet(rows, settings, cp.distance, m, k3, &what)?
+        };
+        if let Some(row) = row {
             out.push(NscContact {
                 point: *cp,
                 u,
@@ -231,7 +346,7 @@ pub fn add_proxy_contact_rows(
 }
 
 /// Fill the contacts' part of `gamma` from `map` (keys not found start at zero).
-fn warm_start_from<P, K: Hash + Eq>(
+fn warm_start_from<P: HasNormal, K: Hash + Eq>(
     contacts: &[NscContact<P>],
     key: impl Fn(&P) -> K,
     map: &HashMap<K, Impulses>,
@@ -240,18 +355,24 @@ fn warm_start_from<P, K: Hash + Eq>(
 ) {
     for c in contacts {
         let i = problem.row_index(c.row);
-        let (gn, gt) = map
+        let zero = Vector3::zeros();
+        let (gn, gt, gr) = map
             .get(&key(&c.point))
             .copied()
-            .unwrap_or((0.0, Vector3::zeros()));
+            .unwrap_or((0.0, zero, zero));
         gamma[i] = gn;
         gamma[i + 1] = gt.dot(&c.u);
         gamma[i + 2] = gt.dot(&c.w);
+        if c.row.group == RowGroup::Rolling {
+            gamma[i + 3] = gr.dot(&c.normal());
+            gamma[i + 4] = gr.dot(&c.u);
+            gamma[i + 5] = gr.dot(&c.w);
+        }
     }
 }
 
 /// Replace `map` by the contacts' impulses.
-fn store_into<P, K: Hash + Eq>(
+fn store_into<P: HasNormal, K: Hash + Eq>(
     contacts: &[NscContact<P>],
     key: impl Fn(&P) -> K,
     problem: &CcpProblem,
@@ -262,7 +383,12 @@ fn store_into<P, K: Hash + Eq>(
     for c in contacts {
         let i = problem.row_index(c.row);
         let gt = c.u * gamma[i + 1] + c.w * gamma[i + 2];
-        map.insert(key(&c.point), (gamma[i], gt));
+        let gr = if c.row.group == RowGroup::Rolling {
+            c.normal() * gamma[i + 3] + c.u * gamma[i + 4] + c.w * gamma[i + 5]
+        } else {
+            Vector3::zeros()
+        };
+        map.insert(key(&c.point), (gamma[i], gt, gr));
     }
 }
 

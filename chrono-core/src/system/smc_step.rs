@@ -13,7 +13,6 @@ use crate::contact::smc::{
 use crate::error::{ChronoError, Result};
 use crate::item::StepContext;
 use crate::material::{effective_shear_modulus, effective_young_modulus};
-use crate::shape::Shape;
 
 /// Contacts per rayon task.
 const CHUNK: usize = 256;
@@ -65,16 +64,6 @@ pub struct SmcTiming {
     pub integrate: f64,
 }
 
-/// Curvature radius of a shape for SMC (m): spheres, capsules and cylinders their radius;
-/// flat or unknown shapes infinite.
-fn curvature_radius(shape: &Shape) -> f64 {
-    match shape {
-        Shape::Sphere { radius } | Shape::Capsule { radius, .. } => *radius,
-        Shape::Cylinder { radius, .. } => *radius,
-        _ => f64::INFINITY,
-    }
-}
-
 fn harmonic(a: f64, b: f64) -> f64 {
     1.0 / (1.0 / a + 1.0 / b)
 }
@@ -103,7 +92,7 @@ fn step_limit(
         if !b.is_dynamic() {
             continue;
         }
-        let r = curvature_radius(c.shape());
+        let r = c.shape().curvature_radius();
         let radius = if r.is_finite() {
             0.5 * r
         } else {
@@ -244,7 +233,7 @@ impl System {
         if st.radius.len() != colliders.len() || st.alpha_model != Some(model) {
             st.radius.clear();
             st.radius
-                .extend(colliders.iter().map(|c| curvature_radius(c.shape())));
+                .extend(colliders.iter().map(|c| c.shape().curvature_radius()));
             let mut es: Vec<u64> = colliders
                 .iter()
                 .map(|c| c.material().restitution.to_bits())

@@ -1,0 +1,197 @@
+//! NSC rolling and spinning friction (six-row contacts, Tasora and Anitescu 2013) through the
+//! public `System` API, against the rigid-body solutions of a solid sphere (`I = 2/5 m R^2`)
+//! with a resisting torque of at most `mu_r R F_n` (rolling) or `mu_s R F_n` (spinning).
+
+use chrono_ccp::{Apgd, SolverSettings};
+use chrono_core::math::{Isometry3, UnitQuaternion, Vector3};
+use chrono_core::{BodyHandle, ContactMaterial, RigidBodyBuilder, Shape, System, SystemSettings};
+
+const G: f64 = 9.81;
+const R: f64 = 0.05;
+const H: f64 = 1e-3;
+
+/// A system whose gravity is tilted by `angle` about Y (an incline of that angle with the
+/// ground plane z = 0): the slope runs down along +x.
+fn system(angle: f64) -> System {
+    let settings = SystemSettings {
+        gravity: Vector3::new(G * angle.sin(), 0.0, -G * angle.cos()),
+        ..SystemSettings::default()
+    };
+    let solver = Apgd::new(SolverSettings {
+        tolerance: 1e-10,
+        max_iterations: 2000,
+        record_history: false,
+    });
+    System::new(settings, Box::new(solver)).unwrap()
+}
+
+fn scene(
+    angle: f64,
+    mat: ContactMaterial,
+    v: Vector3<f64>,
+    w: Vector3<f64>,
+) -> (System, BodyHandle) {
+    let mut sys = system(angle);
+    sys.add_body(RigidBodyBuilder::fixed().name("ground").collider(
+        Shape::HalfSpace {
+            normal: Vector3::z(),
+        },
+        Isometry3::identity(),
+        mat,
+    ))
+    .unwrap();
+    let s = Shape::Sphere { radius: R };
+    let b = sys
+        .add_body(
+            RigidBodyBuilder::dynamic()
+                .name("ball")
+                .mass_from_shape(&s, 2500.0)
+                .unwrap()
+                .position(Vector3::new(0.0, 0.0, R))
+                .rotation(UnitQuaternion::from_euler_angles(0.3, 0.2, -0.4))
+                .linear_velocity(v)
+                .angular_velocity(w)
+                .collider(s, Isometry3::identity(), mat),
+        )
+        .unwrap();
+    (sys, b)
+}
+
+fn run(sys: &mut System, t: f64) {
+    for _ in 0..(t / H).round() as usize {
+        sys.step(H).unwrap();
+    }
+}
+
+/// World angular velocity of the ball (the body is rotated, so body and world frames
+/// differ).
+fn omega_world(sys: &System, b: BodyHandle) -> Vector3<f64> {
+    sys.body(b).unwrap().angular_velocity()
+}
+
+#[test]
+fn rolling_resistance_decelerates_a_rolling_sphere_at_five_sevenths_mu_r_g() {
+    let (mu_r, v0) = (0.05, 1.0);
+    let mat = ContactMaterial::with_friction(0.5).with_rolling_friction(mu_r);
+    // Rolling without slip about world Y.
+    let w_roll = Vector3::new(0.0, v0 / R, 0.0);
+    let (mut sys, b) = scene(0.0, mat, Vector3::new(v0, 0.0, 0.0), w_roll);
+    run(&mut sys, 0.05);
+    let (t0, v1) = (sys.time(), sys.body(b).unwrap().linear_velocity().x);
+    run(&mut sys, 0.5);
+    let (t1, v2) = (sys.time(), sys.body(b).unwrap().linear_velocity().x);
+    let a = (v1 - v2) / (t1 - t0);
+    let expect = 5.0 / 7.0 * mu_r * G;
+    assert!(
+        (a - expect).abs() < 0.02 * expect,
+        "deceleration {a} vs {expect}"
+    );
+    // Still rolling without slip.
+    let w = omega_world(&sys, b);
+    assert!(
+        (w.y * R - v2).abs() < 1e-3 * v0,
+        "slip: {} vs {v2}",
+        w.y * R
+    );
+    // Without rolling friction it keeps its speed.
+    let (mut free, bf) = scene(
+        0.0,
+        ContactMaterial::with_friction(0.5),
+        Vector3::new(v0, 0.0, 0.0),
+        w_roll,
+    );
+    run(&mut free, 0.5);
+    let vf = free.body(bf).unwrap().linear_velocity().x;
+    assert!((vf - v0).abs() < 1e-6, "free rolling speed {vf}");
+}
+
+#[test]
+fn rolling_friction_holds_a_sphere_on_a_slope_below_mu_r_and_not_above() {
+    let mu_r = 0.1;
+    let mat = ContactMaterial::with_friction(0.8).with_rolling_friction(mu_r);
+    // tan(0.08) = 0.080 < mu_r: at rest.
+    let (mut sys, b) = scene(0.08, mat, Vector3::zeros(), Vector3::zeros());
+    run(&mut sys, 1.0);
+    let body = sys.body(b).unwrap();
+    assert!(
+        body.linear_velocity().norm() < 1e-6,
+        "v = {}",
+        body.linear_velocity()
+    );
+    assert!(body.position().x.abs() < 1e-5, "x = {}", body.position().x);
+    // The torque impulse is warm-started: a resting step needs (almost) no iteration.
+    let warm = sys.step(H).unwrap().solve.iterations;
+    let mut settings = sys.settings().clone();
+    settings.warm_start = false;
+    sys.set_settings(settings).unwrap();
+    let cold = sys.step(H).unwrap().solve.iterations;
+    assert!(4 * warm <= cold, "warm start: {warm} iterations, cold {cold}");
+    // tan(0.2) = 0.203 > mu_r: rolls down at a = 5/7 g (sin a - mu_r cos a).
+    let angle: f64 = 0.2;
+    let (mut sys, b) = scene(angle, mat, Vector3::zeros(), Vector3::zeros());
+    run(&mut sys, 0.05);
+    let (t0, v1) = (sys.time(), sys.body(b).unwrap().linear_velocity().x);
+    run(&mut sys, 0.5);
+    let (t1, v2) = (sys.time(), sys.body(b).unwrap().linear_velocity().x);
+    let a = (v2 - v1) / (t1 - t0);
+    let expect = 5.0 / 7.0 * G * (angle.sin() - mu_r * angle.cos());
+    assert!(
+        (a - expect).abs() < 0.02 * expect,
+        "acceleration {a} vs {expect}"
+    );
+}
+
+#[test]
+fn spinning_friction_stops_a_spinning_sphere_at_five_halves_mu_s_g_over_r() {
+    let (mu_s, w0) = (0.02, 20.0);
+    let mat = ContactMaterial::with_friction(0.5).with_spinning_friction(mu_s);
+    let (mut sys, b) = scene(0.0, mat, Vector3::zeros(), Vector3::new(0.0, 0.0, w0));
+    run(&mut sys, 0.05);
+    let (t0, w1) = (sys.time(), omega_world(&sys, b).z);
+    run(&mut sys, 0.2);
+    let (t1, w2) = (sys.time(), omega_world(&sys, b).z);
+    let alpha = (w1 - w2) / (t1 - t0);
+    // I dw/dt = -mu_s R m g with I = 2/5 m R^2.
+    let expect = 2.5 * mu_s * G / R;
+    assert!(
+        (alpha - expect).abs() < 0.02 * expect,
+        "spin-down {alpha} vs {expect}"
+    );
+    // It stops and stays stopped (the torque does not reverse the spin).
+    // Stops at t = w0 / alpha ~ 2.0 s.
+    run(&mut sys, 2.5);
+    let w = omega_world(&sys, b);
+    let v = sys.body(b).unwrap().linear_velocity();
+    assert!(w.norm() < 1e-6 && v.norm() < 1e-6, "w = {w:?}, v = {v:?}");
+}
+
+#[test]
+fn a_box_on_the_ground_keeps_plain_triplets() {
+    // Flat contacts have no curvature radius: rolling friction does not apply, no error.
+    let mat = ContactMaterial::with_friction(0.5).with_rolling_friction(0.1);
+    let mut sys = system(0.0);
+    sys.add_body(RigidBodyBuilder::fixed().collider(
+        Shape::HalfSpace {
+            normal: Vector3::z(),
+        },
+        Isometry3::identity(),
+        mat,
+    ))
+    .unwrap();
+    let s = Shape::Box {
+        half_extents: Vector3::new(0.1, 0.1, 0.1),
+    };
+    let b = sys
+        .add_body(
+            RigidBodyBuilder::dynamic()
+                .mass_from_shape(&s, 1000.0)
+                .unwrap()
+                .position(Vector3::new(0.0, 0.0, 0.1))
+                .collider(s, Isometry3::identity(), mat),
+        )
+        .unwrap();
+    run(&mut sys, 0.1);
+    assert!(sys.body(b).unwrap().linear_velocity().norm() < 1e-6);
+    let p = sys.last_problem();
+    assert_eq!(p.n_rows(), 12, "four corner triplets");
+}
