@@ -255,8 +255,10 @@ fn coerce(case: &str, key: &str, current: &Value, raw: &str) -> anyhow::Result<V
             Value::String(_) => parsed,
             _ => Value::String(raw.to_string()),
         },
-        Value::Array(_) => match parsed {
+        Value::Array(items) => match parsed {
             Value::Array(_) => parsed,
+            // One value for a list of numbers: a list of one (`--set orifice_diameter=0.02`).
+            Value::Number(_) if items.iter().all(Value::is_number) => Value::Array(vec![parsed]),
             _ => return Err(mismatch("a JSON array such as [1, 2, 3]")),
         },
         Value::Object(_) => match parsed {
@@ -349,6 +351,22 @@ mod tests {
         assert!(e.contains("`flag` expects a boolean"), "{e}");
         // Nothing was changed by the failed overrides.
         assert_eq!(cases[0].params_json(), testing::decay_case().params_json());
+    }
+
+    #[test]
+    fn one_number_sets_a_list_of_numbers() {
+        let list = serde_json::json!([0.1, 0.2]);
+        assert_eq!(
+            coerce("c", "d", &list, "0.5").unwrap(),
+            serde_json::json!([0.5])
+        );
+        assert_eq!(
+            coerce("c", "d", &list, "[1, 2]").unwrap(),
+            serde_json::json!([1, 2])
+        );
+        let names = serde_json::json!(["apgd"]);
+        assert!(coerce("c", "d", &names, "3").is_err());
+        assert!(coerce("c", "d", &list, "abc").is_err());
     }
 
     #[test]

@@ -73,6 +73,7 @@ pub fn all_cases() -> Vec<Box<dyn Case>> {
         rigid::spin::case(),
         granular::smc_bounce::case(),
         granular::settle::case(),
+        granular::hopper::case(),
         sph::hydrostatic::case(),
         sph::poiseuille::case(),
         ccp::solvers::case(),

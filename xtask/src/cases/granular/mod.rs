@@ -3,8 +3,10 @@
 //!
 //! - `smc-bounce`: restitution of one sphere on a plate (SMC, both force laws);
 //! - `granular-settle`: grains settling in a box stay at rest (validation) and its
-//!   throughput (bench).
+//!   throughput (bench);
+//! - `granular-hopper`: silo discharge through a circular orifice against Beverloo's law.
 
+pub mod hopper;
 pub mod settle;
 pub mod smc_bounce;
 

@@ -1,0 +1,485 @@
+//! `granular-hopper`: discharge of a flat-bottomed cylindrical silo through a circular
+//! orifice, against Beverloo's law.
+//!
+//! Reference: W. A. Beverloo, H. A. Leniger and J. van de Velde, "The flow of granular
+//! solids through orifices", Chem. Eng. Sci. 15 (1961) 260–269:
+//! `W = C rho_b sqrt(g) (D - k d)^(5/2)` (kg/s), with `rho_b` the bulk density of the
+//! material in the silo, `D` the orifice diameter, `d` the grain diameter, and the customary
+//! constants for spheres `C = 0.58`, `k = 1.5` (R. M. Nedderman, *Statics and Kinematics of
+//! Granular Materials*, Cambridge 1992, ch. 10: `C` in 0.55–0.65, `k` in 1.3–2.9, 1.5 the
+//! usual value for spheres). `rho_b` is measured in the run, in a band of the silo away
+//! from the orifice, the walls and the free surface.
+//!
+//! Scene, for each orifice diameter `D` of the sweep: a silo of diameter
+//! `max(silo_ratio D, D + 10 d)` (walls: a 32-sided polygon of half-spaces), a floor that is
+//! a triangle-mesh annulus (48 sides, the hole's area equal to the circle's), grains of
+//! diameters uniform in `[0.9 d, d]` filled from a jittered lattice to `fill_height` after
+//! settling (Beverloo's `d` is their mean diameter, `0.95 d`). The discharge starts at once; a grain that has fallen `5 d` below the floor
+//! counts as discharged and is put back on top of the pile at rest (recycling keeps the
+//! head constant, so the flow is steady after the initial collapse). The flow rate is the
+//! least-squares slope of the discharged mass against time after `t_transient`.
+//!
+//! Both methods: `method = nsc` (DEM-C: friction cones, APGD) or `smc` (DEM-P: Hertz–Mindlin).
+
+use chrono_core::granular::{Grain, LatticeFill, Region, Rng, add_cylinder_wall, add_grains};
+use chrono_core::math::{Isometry3, UnitQuaternion, Vector3};
+use chrono_core::system::{ContactMethod, SmcSettings};
+use chrono_core::{BodyHandle, ContactMaterial, RigidBodyBuilder, Shape, SystemSettings};
+use serde::{Deserialize, Serialize};
+
+use super::{make_system, parse_method};
+use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series, SweepPoint};
+use crate::params::{CaseParams, ParamCase, ParamInfo};
+
+/// Beverloo's constant `C` for spheres.
+pub const BEVERLOO_C: f64 = 0.58;
+/// Beverloo's empty-annulus constant `k` for spheres.
+pub const BEVERLOO_K: f64 = 1.5;
+
+/// Beverloo's mass flow rate (kg/s) through a circular orifice of diameter `orifice` (m)
+/// for grains of diameter `grain` (m) at bulk density `rho_b` (kg/m^3) and gravity `g`.
+pub fn beverloo(rho_b: f64, g: f64, orifice: f64, grain: f64) -> f64 {
+    BEVERLOO_C * rho_b * g.sqrt() * (orifice - BEVERLOO_K * grain).max(0.0).powf(2.5)
+}
+
+/// Parameters of `granular-hopper` (`Default` is the `--full` setup: D/d = 5, 7.5, 10).
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct HopperParams {
+    /// Orifice diameters of the sweep, m (a single number runs one).
+    pub orifice_diameter: Vec<f64>,
+    /// Largest grain diameter `d`, m (diameters uniform in [0.9 d, d]).
+    pub grain_diameter: f64,
+    /// Sliding friction coefficient (grain–grain and grain–wall).
+    pub mu: f64,
+    /// Rolling friction coefficient (dimensionless, NSC cones `mu_r R`; SMC torque).
+    pub rolling_friction: f64,
+    /// Height of the settled fill, m (0: the silo diameter).
+    pub fill_height: f64,
+    /// Silo diameter over orifice diameter (at least `D + 10 d`).
+    pub silo_ratio: f64,
+    /// Contact method: `nsc` or `smc`.
+    pub method: String,
+    /// Grain density, kg/m^3.
+    pub density: f64,
+    /// Young's modulus (SMC), Pa.
+    pub young: f64,
+    /// Restitution (SMC).
+    pub restitution: f64,
+    /// Time step, s (0: 1e-3 for NSC, the SMC limit for SMC).
+    pub h: f64,
+    /// Start of the steady window, s.
+    pub t_transient: f64,
+    /// Simulated time per orifice, s.
+    pub t_end: f64,
+    /// APGD tolerance (NSC), m/s.
+    pub tolerance: f64,
+    /// APGD iteration cap (NSC).
+    pub max_iterations: usize,
+    /// Relative tolerance of the flow rate against Beverloo.
+    pub rel_tolerance: f64,
+    /// Seed of the packing and of the re-insertion positions.
+    pub seed: u64,
+}
+
+impl Default for HopperParams {
+    fn default() -> Self {
+        let d = 0.004;
+        Self {
+            orifice_diameter: vec![5.0 * d, 7.5 * d, 10.0 * d],
+            grain_diameter: d,
+            mu: 0.5,
+            rolling_friction: 0.0,
+            fill_height: 0.0,
+            silo_ratio: 2.5,
+            method: "nsc".into(),
+            density: 2500.0,
+            young: 1e7,
+            restitution: 0.5,
+            h: 0.0,
+            t_transient: 0.4,
+            t_end: 1.2,
+            tolerance: 1e-4,
+            max_iterations: 60,
+            rel_tolerance: 0.15,
+            seed: 3,
+        }
+    }
+}
+
+impl CaseParams for HopperParams {
+    const INFO: &'static [ParamInfo] = &[
+        ParamInfo::new(
+            "orifice_diameter",
+            "m",
+            "orifice diameters of the sweep ([a, b, ..] or one number)",
+        ),
+        ParamInfo::new(
+            "grain_diameter",
+            "m",
+            "largest grain diameter d (diameters in [0.9 d, d])",
+        ),
+        ParamInfo::new("mu", "-", "sliding friction coefficient"),
+        ParamInfo::new("rolling_friction", "-", "rolling friction coefficient"),
+        ParamInfo::new(
+            "fill_height",
+            "m",
+            "settled fill height (0: the silo diameter)",
+        ),
+        ParamInfo::new(
+            "silo_ratio",
+            "-",
+            "silo diameter / orifice diameter (at least D + 10 d)",
+        ),
+        ParamInfo::new("method", "-", "contact method: nsc | smc"),
+        ParamInfo::new("density", "kg/m^3", "grain density"),
+        ParamInfo::new("young", "Pa", "Young's modulus (SMC)"),
+        ParamInfo::new("restitution", "-", "restitution (SMC)"),
+        ParamInfo::new("h", "s", "time step (0: 1e-3 NSC, the SMC limit SMC)"),
+        ParamInfo::new("t_transient", "s", "start of the steady window"),
+        ParamInfo::new("t_end", "s", "simulated time per orifice"),
+        ParamInfo::new("tolerance", "m/s", "APGD tolerance (NSC)"),
+        ParamInfo::new("max_iterations", "-", "APGD iteration cap (NSC)"),
+        ParamInfo::new("rel_tolerance", "-", "relative tolerance of the flow rate"),
+        ParamInfo::new("seed", "-", "seed of the packing and re-insertion"),
+    ];
+    fn apply_mode(&mut self, mode: Mode) {
+        match mode {
+            Mode::Quick => {
+                self.orifice_diameter = vec![5.0 * self.grain_diameter];
+                self.t_transient = 0.3;
+                self.t_end = 0.8;
+            }
+            // The default run keeps the two smaller silos (3k and 6k grains) so the whole
+            // `validate` stays within its budget; `--full` adds D = 10 d (15k grains).
+            Mode::Default => {
+                let d = self.grain_diameter;
+                self.orifice_diameter = vec![5.0 * d, 7.5 * d];
+            }
+            Mode::Full => {}
+        }
+    }
+}
+
+/// The floor: a triangle-mesh annulus in the plane z = 0 between the hole radius `r_in`
+/// (the polygon's area equals the circle's) and `r_out`, normals up.
+fn annulus(r_in: f64, r_out: f64, sides: usize) -> Shape {
+    let n = sides as f64;
+    let a = std::f64::consts::TAU / n;
+    // Equal area: n/2 R^2 sin(a) = pi r^2.
+    let scale = (std::f64::consts::PI / (0.5 * n * a.sin())).sqrt();
+    let (ri, ro) = (r_in * scale, r_out / (0.5 * a).cos());
+    let mut vertices = Vec::with_capacity(2 * sides);
+    for k in 0..sides {
+        let (s, c) = (a * k as f64).sin_cos();
+        vertices.push(Vector3::new(ri * c, ri * s, 0.0));
+        vertices.push(Vector3::new(ro * c, ro * s, 0.0));
+    }
+    let mut indices = Vec::with_capacity(2 * sides);
+    for k in 0..sides as u32 {
+        let (i0, o0) = (2 * k, 2 * k + 1);
+        let (i1, o1) = (
+            (2 * k + 2) % (2 * sides as u32),
+            (2 * k + 3) % (2 * sides as u32),
+        );
+        // Counter-clockwise seen from above (+z).
+        indices.push([i0, o0, o1]);
+        indices.push([i0, o1, i1]);
+    }
+    Shape::TriMesh { vertices, indices }
+}
+
+/// One discharge run: the measured flow rate and bulk density, and the series of the
+/// discharged mass.
+struct Discharge {
+    flow_rate: f64,
+    bulk_density: f64,
+    grains: usize,
+    steps: u64,
+    wall_s: f64,
+    series: Vec<(f64, f64)>,
+}
+
+fn discharge(
+    p: &HopperParams,
+    orifice: f64,
+    ctx: &RunContext,
+    progress: (usize, usize),
+) -> anyhow::Result<Discharge> {
+    let start = std::time::Instant::now();
+    let d = p.grain_diameter;
+    anyhow::ensure!(
+        d > 0.0 && d.is_finite(),
+        "parameter `grain_diameter` must be > 0, got {d}"
+    );
+    anyhow::ensure!(
+        orifice > 2.0 * d && orifice.is_finite(),
+        "parameter `orifice_diameter` must exceed 2 grain diameters, got {orifice}"
+    );
+    let method = parse_method(&p.method)?;
+    let silo = (p.silo_ratio * orifice).max(orifice + 10.0 * d);
+    let fill = if p.fill_height > 0.0 {
+        p.fill_height
+    } else {
+        silo
+    };
+    let settings = SystemSettings {
+        envelope: 0.05 * d,
+        smc: SmcSettings::default(),
+        ..SystemSettings::default()
+    };
+    let mut sys = make_system(method, settings, p.tolerance, p.max_iterations)?;
+    let mat = ContactMaterial::smc(p.young, 0.3, p.restitution, p.mu)
+        .with_rolling_friction(p.rolling_friction);
+    mat.validate()?;
+    add_cylinder_wall(&mut sys, "silo wall", Vector3::zeros(), 0.5 * silo, 32, mat)?;
+    sys.add_body(RigidBodyBuilder::fixed().name("floor").collider(
+        annulus(0.5 * orifice, 0.5 * silo + 2.0 * d, 48),
+        Isometry3::identity(),
+        mat,
+    ))?;
+    // A loose lattice (sites 1.25 d apart, solid fraction ~0.23) settles to ~0.6: fill
+    // 2.6x higher. The jitter (up to d/8 per axis) and random horizontal velocities break
+    // the lattice's vertical columns, which frictional SMC contacts would otherwise keep
+    // standing (a settled solid fraction of ~0.45 instead of a random packing's ~0.6).
+    let r = 0.5 * d;
+    let lattice = LatticeFill {
+        region: Region::Cylinder {
+            base: Vector3::new(0.0, 0.0, 0.5 * r),
+            radius: 0.5 * silo,
+            height: 2.6 * fill,
+        },
+        r_min: 0.9 * r,
+        r_max: r,
+        gap: 0.5 * r,
+        jitter: 1.0,
+        max_count: usize::MAX,
+        seed: p.seed,
+    };
+    let grains: Vec<Grain> = lattice.generate()?;
+    let handles: Vec<BodyHandle> = add_grains(&mut sys, &grains, p.density, mat)?;
+    let mut rng = Rng::new(p.seed ^ 0x9e37_79b9_7f4a_7c15);
+    for &b in &handles {
+        let v = Vector3::new(rng.range(-0.1, 0.1), rng.range(-0.1, 0.1), 0.0);
+        sys.body_mut(b)?.set_linear_velocity(v)?;
+    }
+    let masses: Vec<f64> = handles
+        .iter()
+        .map(|&b| sys.body(b).map(|b| b.mass()))
+        .collect::<Result<_, _>>()?;
+    let h = if p.h > 0.0 {
+        p.h
+    } else if method == ContactMethod::Nsc {
+        1e-3
+    } else {
+        sys.smc_max_step().map(|(h, _)| h).unwrap_or(1e-4)
+    };
+    let n = (p.t_end / h).round().max(1.0) as u64;
+    let (mut discharged, mut series) = (0.0, Vec::new());
+    let (mut rho_sum, mut rho_n) = (0.0, 0usize);
+    let z_insert = fill + 2.0 * d;
+    // The measuring band of the bulk density: above the orifice's influence, below the
+    // surface (at 0.8 of the fill height), away from the wall.
+    let (band_lo, band_r) = (orifice.max(4.0 * d), 0.5 * silo - 2.0 * d);
+    let record_every = ((0.01 / h).round() as u64).max(1);
+    let mut highest: Vec<Vector3<f64>> = Vec::new();
+    for i in 1..=n {
+        sys.step(h)?;
+        // Recycle the grains that left: back on top of the pile (a fixed height `2 d`
+        // above the settled fill: a height measured from the grains would follow the rain
+        // of recycled grains upwards), at rest, where they touch no other grain (an
+        // overlap would launch them under SMC's penalty forces).
+        highest.clear();
+        for &b in &handles {
+            let x = sys.body(b)?.position();
+            if x.z > z_insert - 1.5 * d {
+                highest.push(x);
+            }
+        }
+        for (k, &b) in handles.iter().enumerate() {
+            if sys.body(b)?.position().z > -5.0 * d {
+                continue;
+            }
+            discharged += masses[k];
+            let mut at = Vector3::zeros();
+            for attempt in 0.. {
+                let rad = (0.5 * silo - r) * rng.uniform().sqrt();
+                let phi = std::f64::consts::TAU * rng.uniform();
+                let z = z_insert + d * (attempt / 8) as f64;
+                at = Vector3::new(rad * phi.cos(), rad * phi.sin(), z);
+                if highest.iter().all(|x| (x - at).norm() > 1.05 * d) {
+                    break;
+                }
+            }
+            highest.push(at);
+            let body = sys.body_mut(b)?;
+            body.set_pose(at, UnitQuaternion::identity())?;
+            body.set_linear_velocity(Vector3::zeros())?;
+            body.set_angular_velocity(Vector3::zeros())?;
+        }
+        let t = sys.time();
+        if i % record_every == 0 || i == n {
+            series.push((t, discharged));
+            if t >= p.t_transient {
+                let band_hi = 0.8 * fill;
+                if band_hi > band_lo + 2.0 * d {
+                    let mut mass = 0.0;
+                    for (k, &b) in handles.iter().enumerate() {
+                        let x = sys.body(b)?.position();
+                        if x.z >= band_lo && x.z < band_hi && x.xy().norm() < band_r {
+                            mass += masses[k];
+                        }
+                    }
+                    let volume = std::f64::consts::PI * band_r * band_r * (band_hi - band_lo);
+                    rho_sum += mass / volume;
+                    rho_n += 1;
+                }
+            }
+        }
+        let (j, m) = progress;
+        ctx.progress((j as f64 + i as f64 / n as f64) / m as f64);
+    }
+    let steady: Vec<(f64, f64)> = series
+        .iter()
+        .copied()
+        .filter(|(t, _)| *t >= p.t_transient)
+        .collect();
+    anyhow::ensure!(
+        steady.len() >= 5 && rho_n > 0,
+        "granular-hopper: the steady window (t >= t_transient = {}) is too short for t_end = {}",
+        p.t_transient,
+        p.t_end
+    );
+    Ok(Discharge {
+        flow_rate: slope(&steady),
+        bulk_density: rho_sum / rho_n as f64,
+        grains: handles.len(),
+        steps: n,
+        wall_s: start.elapsed().as_secs_f64(),
+        series,
+    })
+}
+
+/// Least-squares slope of `y` against `t`.
+fn slope(pts: &[(f64, f64)]) -> f64 {
+    let n = pts.len() as f64;
+    let (mt, my) = pts
+        .iter()
+        .fold((0.0, 0.0), |(a, b), (t, y)| (a + t / n, b + y / n));
+    let (mut sty, mut stt) = (0.0, 0.0);
+    for (t, y) in pts {
+        sty += (t - mt) * (y - my);
+        stt += (t - mt) * (t - mt);
+    }
+    sty / stt
+}
+
+fn run(p: &HopperParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
+    anyhow::ensure!(
+        !p.orifice_diameter.is_empty(),
+        "parameter `orifice_diameter` must list at least one diameter"
+    );
+    let mut out = CaseOutput::new();
+    let g = SystemSettings::default().gravity.norm();
+    let mut columns = vec!["t".to_string()];
+    let mut runs = Vec::new();
+    for (j, &orifice) in p.orifice_diameter.iter().enumerate() {
+        let r = discharge(p, orifice, ctx, (j, p.orifice_diameter.len()))?;
+        // Beverloo's d: the mean diameter of the grains (uniform in [0.9 d, d]).
+        let reference = beverloo(r.bulk_density, g, orifice, 0.95 * p.grain_diameter);
+        let ratio = orifice / p.grain_diameter;
+        let tag = format!("D{:.1}d", ratio);
+        out.check(Check::relative(
+            &format!("flow_rate_{tag}"),
+            r.flow_rate,
+            reference,
+            p.rel_tolerance,
+        ));
+        out.metric(&format!("bulk_density_{tag}"), r.bulk_density)
+            .metric(&format!("beverloo_{tag}"), reference)
+            .metric(&format!("grains_{tag}"), r.grains as f64)
+            .metric(&format!("wall_s_{tag}"), r.wall_s);
+        out.sweep.push(SweepPoint {
+            label: tag.clone(),
+            error: ((r.flow_rate - reference) / reference).abs(),
+            wall_s: r.wall_s,
+        });
+        out.steps += r.steps;
+        columns.push(format!("discharged_kg_{tag}"));
+        runs.push(r);
+    }
+    if let [only] = runs.as_slice() {
+        out.metric("flow_rate", only.flow_rate);
+    }
+    // Series: the discharged mass of every orifice on a common time axis.
+    let cols: Vec<&str> = columns.iter().map(String::as_str).collect();
+    let mut series = Series::new(cols.iter().copied());
+    let len = runs.iter().map(|r| r.series.len()).min().unwrap_or(0);
+    for k in 0..len {
+        let mut row = vec![runs[0].series[k].0];
+        row.extend(runs.iter().map(|r| r.series[k].1));
+        series.push(&row);
+    }
+    out.series = series;
+    out.plot = PlotSpec::new(
+        "silo discharge (mass through the orifice)",
+        "t [s]",
+        "discharged mass [kg]",
+        &cols[1..],
+    );
+    Ok(out)
+}
+
+/// The validation case.
+pub fn case() -> Box<dyn Case> {
+    ParamCase::<HopperParams>::boxed(
+        "granular-hopper",
+        "granular",
+        "Flat-bottomed silo discharging through a circular orifice (NSC or SMC): flow rate against Beverloo's law W = C rho_b sqrt(g) (D - k d)^(5/2), C = 0.58, k = 1.5.",
+        run,
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn annulus_hole_has_the_circle_area_and_faces_up() {
+        let Shape::TriMesh { vertices, indices } = annulus(0.01, 0.05, 48) else {
+            unreachable!()
+        };
+        // Area of the inner polygon from its vertices (every other one).
+        let inner: Vec<_> = vertices.iter().step_by(2).collect();
+        let mut area = 0.0;
+        for k in 0..inner.len() {
+            let (a, b) = (inner[k], inner[(k + 1) % inner.len()]);
+            area += 0.5 * (a.x * b.y - b.x * a.y);
+        }
+        let circle = std::f64::consts::PI * 0.01 * 0.01;
+        assert!(
+            (area - circle).abs() < 1e-12 * circle.max(1.0),
+            "{area} vs {circle}"
+        );
+        for t in &indices {
+            let [a, b, c] = t.map(|i| vertices[i as usize]);
+            assert!((b - a).cross(&(c - a)).z > 0.0);
+        }
+    }
+
+    #[test]
+    fn slope_of_a_line() {
+        let pts: Vec<_> = (0..10)
+            .map(|i| (i as f64 * 0.1, 2.0 + 3.0 * i as f64 * 0.1))
+            .collect();
+        assert!((slope(&pts) - 3.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn beverloo_formula() {
+        // 0.58 * 1500 * sqrt(9.81) * (0.05 - 0.0075)^2.5
+        let w = beverloo(1500.0, 9.81, 0.05, 0.005);
+        let expect = 0.58 * 1500.0 * 9.81f64.sqrt() * 0.0425f64.powf(2.5);
+        assert!((w - expect).abs() < 1e-12);
+        assert_eq!(beverloo(1500.0, 9.81, 0.005, 0.005), 0.0);
+    }
+}
