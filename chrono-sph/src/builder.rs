@@ -70,7 +70,8 @@ impl SphBuilder {
 
     /// Fills the box `[lower, upper]` with fluid; returns the number added. With
     /// `free_surface = Some(z_s)` the density is hydrostatic,
-    /// `rho = rho(p = rho_0 |g| (z_s - z))` (inverse Tait), else `rho_0`.
+    /// `rho = Tait::hydrostatic_density(|g|, z_s - z)` (exact compressible balance
+    /// `dp/dz = -rho |g|`, `p = 0` at `z_s`), else `rho_0`.
     pub fn add_fluid_box(
         &mut self,
         lower: [f64; 3],
@@ -94,9 +95,7 @@ impl SphBuilder {
                         lower[2] + (k as f64 + 0.5) * dp,
                     ];
                     let rho = match free_surface {
-                        Some(zs) => self
-                            .eos
-                            .density(self.settings.rho0 * g * (zs - p[2]).max(0.0)),
+                        Some(zs) => self.eos.hydrostatic_density(g, zs - p[2]),
                         None => self.settings.rho0,
                     };
                     self.data.push(Kind::Fluid, p, rho, rho * dp * dp * dp, 0);
@@ -107,10 +106,11 @@ impl SphBuilder {
     }
 
     /// Fills the box `[lower, upper]` with wall markers of `group`; returns the number
-    /// added.
+    /// added. These markers carry no wall normal, so their no-slip velocity is Adami's
+    /// mirrored average ([`NoSlip::Adami`](crate::NoSlip::Adami)).
     pub fn add_wall_box(&mut self, lower: [f64; 3], upper: [f64; 3], group: u16) -> Result<usize> {
         check_box("wall_box", lower, upper)?;
-        self.add_walls_where(lower, upper, group, |_| true)
+        self.add_walls_where(lower, upper, group, |_| Some(([0.0; 3], 0.0)))
     }
 
     fn add_walls_where(
@@ -118,7 +118,7 @@ impl SphBuilder {
         lower: [f64; 3],
         upper: [f64; 3],
         group: u16,
-        keep: impl Fn([f64; 3]) -> bool,
+        keep: impl Fn([f64; 3]) -> Option<([f64; 3], f64)>,
     ) -> Result<usize> {
         let dp = self.settings.spacing;
         let n = counts(lower, upper, dp);
@@ -132,8 +132,16 @@ impl SphBuilder {
                         lower[1] + (j as f64 + 0.5) * dp,
                         lower[2] + (k as f64 + 0.5) * dp,
                     ];
-                    if keep(p) {
-                        self.data.push(Kind::Wall, p, self.settings.rho0, m, group);
+                    if let Some((normal, depth)) = keep(p) {
+                        self.data.push_with_normal(
+                            Kind::Wall,
+                            p,
+                            self.settings.rho0,
+                            m,
+                            group,
+                            normal,
+                            depth,
+                        );
                     }
                 }
             }
@@ -147,6 +155,8 @@ impl SphBuilder {
     /// (an open top, or a periodic direction). Returns the number of markers added.
     /// Groups: `group_base + face` (0..6 in the order of [`TankSides`]) for the markers
     /// whose nearest inner face is that face, so the force on one wall can be probed.
+    /// Each marker records that face's inward normal and its depth behind it, for the
+    /// linear no-slip extrapolation ([`NoSlip::Linear`](crate::NoSlip::Linear)).
     pub fn add_tank(
         &mut self,
         inner_lower: [f64; 3],
@@ -200,9 +210,14 @@ impl SphBuilder {
                     over[2 * a]
                 };
                 if mine <= 0.0 {
-                    return false;
+                    return None;
                 }
-                (0..6).all(|f| f == face || over[f] < mine || (over[f] == mine && f > face))
+                let nearest =
+                    (0..6).all(|f| f == face || over[f] < mine || (over[f] == mine && f > face));
+                // inward normal of this face, depth behind it
+                let mut normal = [0.0; 3];
+                normal[a] = if upper_side { -1.0 } else { 1.0 };
+                nearest.then_some((normal, mine))
             })?;
         }
         Ok(added)

@@ -67,6 +67,11 @@ pub struct ParticleData {
     pub deriv: Vec<Deriv>,
     /// Wall markers: the velocity used by the viscous term (no-slip extrapolation).
     pub(crate) wall_v: Vec<[f64; 3]>,
+    /// Wall markers: unit normal of the wall surface they stand behind, pointing into the
+    /// fluid (zero when unknown: [`NoSlip::Adami`](crate::NoSlip::Adami) extrapolation).
+    pub(crate) wall_normal: Vec<[f64; 3]>,
+    /// Wall markers: depth behind that wall surface, m (0 for fluid).
+    pub(crate) wall_depth: Vec<f64>,
     /// Scratch of the Shepard filter.
     pub(crate) rho_half: Vec<f64>,
     scratch_f: Vec<f64>,
@@ -90,6 +95,24 @@ impl ParticleData {
 
     /// Appends one particle.
     pub(crate) fn push(&mut self, kind: Kind, pos: [f64; 3], rho: f64, mass: f64, group: u16) {
+        self.push_with_normal(kind, pos, rho, mass, group, [0.0; 3], 0.0);
+    }
+
+    /// Appends one particle with a wall normal (pointing into the fluid) and the depth
+    /// behind the wall surface, m (wall markers of a tank).
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn push_with_normal(
+        &mut self,
+        kind: Kind,
+        pos: [f64; 3],
+        rho: f64,
+        mass: f64,
+        group: u16,
+        normal: [f64; 3],
+        depth: f64,
+    ) {
+        self.wall_normal.push(normal);
+        self.wall_depth.push(depth);
         self.id.push(self.x.len() as u32);
         self.x.push(pos[0]);
         self.y.push(pos[1]);
@@ -121,6 +144,7 @@ impl ParticleData {
             &mut self.rho,
             &mut self.p,
             &mut self.mass,
+            &mut self.wall_depth,
         ] {
             permute(order, v, &mut self.scratch_f);
         }
@@ -129,6 +153,7 @@ impl ParticleData {
         permute(order, &mut self.group, &mut self.scratch_u16);
         permute(order, &mut self.anchor, &mut self.scratch_3);
         permute(order, &mut self.wall_v, &mut self.scratch_3);
+        permute(order, &mut self.wall_normal, &mut self.scratch_3);
         permute(order, &mut self.deriv, &mut self.scratch_d);
     }
 }

@@ -66,6 +66,27 @@ impl Tait {
     }
 }
 
+impl Tait {
+    /// The density at `depth` (m) below a free surface at rest under gravity `g` (m/s^2),
+    /// in exact compressible hydrostatic balance `dp/dz = -rho(p) g`, kg/m^3. Integrating
+    /// `dp / rho(p) = g d(depth)` with the Tait law from `p = 0` at the surface gives
+    ///
+    /// ```text
+    /// rho = rho_0 (1 + (gamma - 1)/gamma rho_0 g depth / B)^(1/(gamma - 1)),   B = c_s^2 rho_0 / gamma
+    /// ```
+    ///
+    /// (`p = rho_0 g depth` to first order). Negative depths give 0 pressure (`rho_0`).
+    pub fn hydrostatic_density(&self, g: f64, depth: f64) -> f64 {
+        let d = depth.max(0.0);
+        let k = (self.gamma - 1.0) / self.gamma * self.rho0 * g * d / self.b;
+        if self.gamma == 1.0 {
+            // isothermal limit: rho = rho_0 exp(rho_0 g depth / B)
+            return self.rho0 * (self.rho0 * g * d / self.b).exp();
+        }
+        self.rho0 * (1.0 + k).powf(1.0 / (self.gamma - 1.0))
+    }
+}
+
 /// The sound speed for an expected maximum speed `v_max` (m/s), a length scale `length`
 /// (m), a body-force acceleration `force` (m/s^2) and a kinematic viscosity `nu` (m^2/s),
 /// so that the relative density variation stays near `delta` (e.g. 0.01):
@@ -106,6 +127,20 @@ mod tests {
         assert!((slope - 400.0).abs() < 1e-6);
         let eos5 = Tait::new(1000.0, 5.0, 20.0).unwrap();
         assert!((eos5.pressure(eos5.density(123.0)) - 123.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn hydrostatic_density_satisfies_dp_dz_equals_rho_g() {
+        let eos = Tait::new(1000.0, 7.0, 28.0).unwrap();
+        let g = 9.81;
+        assert_eq!(eos.hydrostatic_density(g, 0.0), 1000.0);
+        for depth in [0.05, 0.4, 3.0] {
+            let e = 1e-5;
+            let dp = eos.pressure(eos.hydrostatic_density(g, depth + e))
+                - eos.pressure(eos.hydrostatic_density(g, depth - e));
+            let rho = eos.hydrostatic_density(g, depth);
+            assert!((dp / (2.0 * e) / (rho * g) - 1.0).abs() < 1e-7, "{depth}");
+        }
     }
 
     #[test]

@@ -6,8 +6,10 @@
 //!   and the choice of `c_s` (Monaghan 1994; Morris, Fox and Zhu 1997);
 //! - [`interact`](crate::system) passes: continuity, momentum with the symmetric
 //!   pressure term and the Morris viscous term, optional Monaghan artificial viscosity,
-//!   XSPH, Shepard re-initialization; wall markers with pressure and no-slip velocity
-//!   extrapolated from the fluid (Adami, Hu and Adams 2012);
+//!   XSPH, delta-SPH density diffusion with the hydrostatic correction of Fourtakas et
+//!   al. (2019), optional Shepard re-initialization; wall markers with pressure
+//!   extrapolated from the fluid (Adami, Hu and Adams 2012) and a no-slip velocity
+//!   extrapolated linearly through the wall surface (after Morris, Fox and Zhu 1997);
 //! - [`system`]: [`SphSystem`], a kick-drift-kick leapfrog with an adaptive time step
 //!   (CFL, force and viscous criteria), Mach number check, divergence errors naming the
 //!   particle and step;
@@ -30,13 +32,13 @@
 //!     spacing: dp,
 //!     sound_speed: 20.0,
 //!     domain_lower: [0.0, 0.0, 0.0],
-//!     domain_upper: [0.5, 6.0 * dp, 0.6],
+//!     domain_upper: [0.5, 7.0 * dp, 0.6],
 //!     periodic: [false, true, false],
 //!     ..SphSettings::default()
 //! };
 //! let mut b = SphBuilder::new(settings).unwrap();
-//! b.add_fluid_box([0.0, 0.0, 0.0], [0.5, 6.0 * dp, 0.3], Some(0.3)).unwrap();
-//! b.add_tank([0.0, 0.0, 0.0], [0.5, 6.0 * dp, 0.6], 3, [true, true, false, false, true, false], 0)
+//! b.add_fluid_box([0.0, 0.0, 0.0], [0.5, 7.0 * dp, 0.3], Some(0.3)).unwrap();
+//! b.add_tank([0.0, 0.0, 0.0], [0.5, 7.0 * dp, 0.6], 3, [true, true, false, false, true, false], 0)
 //!     .unwrap();
 //! let mut sys = b.build().unwrap();
 //! for _ in 0..10 {
@@ -56,11 +58,13 @@ mod output;
 mod probes;
 pub mod settings;
 pub mod system;
+#[cfg(test)]
+mod tests;
 
 pub use builder::{SphBuilder, TankSides};
 pub use data::{Deriv, Kind, ParticleData};
 pub use eos::{Tait, sound_speed_for};
 pub use error::{Result, SphError};
 pub use motion::{Kinematics, WallMotion};
-pub use settings::{MachPolicy, SphSettings};
+pub use settings::{DensityDiffusion, MachPolicy, NoSlip, SphSettings};
 pub use system::{SphStats, SphSystem, Timings};

@@ -17,12 +17,90 @@ pub enum MachPolicy {
     Error,
 }
 
+/// The density diffusion term added to the continuity equation ("delta-SPH"), which
+/// removes the high-frequency density (pressure) noise that the plain continuity
+/// equation accumulates (Molteni and Colagrossi, Comput. Phys. Commun. 180 (2009)
+/// 861-872), with `V_b = m_b / rho_b`, `F_ab = (dW/dr)/r` and fluid neighbours `b` only:
+///
+/// ```text
+/// D_a = 2 delta h c_s sum_b V_b psi_ba (-F_ab)                 (kg/m^3/s)
+/// ```
+///
+/// `D_a` is a discrete Laplacian of `psi` times `delta h c_s` (`-2 V_b F_ab` is the usual
+/// SPH Laplacian weight `2 (x_ab . grad_a W_ab) / r_ab^2` with the sign flipped); the
+/// pair term is antisymmetric, so it moves density between neighbours without creating
+/// any, and an explicit step is stable for `delta <~ 1` at the acoustic CFL.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum DensityDiffusion {
+    /// No diffusion (plain continuity equation).
+    None,
+    /// `psi_ba = rho_b - rho_a` (Molteni and Colagrossi 2009). Under gravity it diffuses
+    /// the hydrostatic density gradient itself: still water gets a spurious flux towards
+    /// the free surface and walls, which drives slow currents.
+    MolteniColagrossi,
+    /// Diffuses only the dynamic part of the density, `rho - rho_hydrostatic`, so a fluid at
+    /// hydrostatic rest gets no flux (Fourtakas, Dominguez, Vacondio and Rogers, Comput.
+    /// Fluids 190 (2019) 346-361), written with pressures:
+    /// `psi_ba = ((p_b - p_a) + rho_ab g . x_ab) / c_s^2`, `x_ab = x_a - x_b`,
+    /// `rho_ab = (rho_a + rho_b) / 2`. The hydrostatic pressure difference
+    /// `-rho_ab g . x_ab` (trapezoidal rule of `dp = rho g . dx`) is subtracted from the
+    /// pair pressure difference, and the Tait law linearized at `rho_0`
+    /// (`d p / d rho = c_s^2`) turns the rest into a density difference. To first order
+    /// in `p / (rho_0 c_s^2)` this is Fourtakas et al.'s `rho_ba - rho_ba^H`, with
+    /// `rho_ba^H = rho_0 ((1 + rho_0 g z_ab / B)^(1/gamma) - 1)`; it costs no power
+    /// function per pair, and it uses the local `rho_ab` instead of `rho_0`, so it
+    /// vanishes (to the trapezoidal error, `~1e-6` of the hydrostatic density step) on
+    /// the compressible rest state `dp/dz = -rho g` itself, which
+    /// [`SphBuilder::add_fluid_box`](crate::SphBuilder::add_fluid_box) starts from (with
+    /// `rho_0` the residual flux would be `(rho - rho_0) / rho_0 ~ 0.5 %` of the plain
+    /// form's and would pump density towards the walls and the surface in still water).
+    /// Without gravity it is plain density diffusion.
+    #[default]
+    Fourtakas,
+}
+
+/// How wall markers get the velocity the viscous term sees (no-slip condition).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum NoSlip {
+    /// `v_w = 2 v_wall - v~_f`, `v~_f = sum_f v_f W_wf / sum_f W_wf` (Adami, Hu and Adams,
+    /// J. Comput. Phys. 231 (2012) 7057-7075, eq. 22-23): the mirror of the kernel-averaged
+    /// fluid velocity, at every marker depth alike. Deeper marker layers get too small a
+    /// velocity (they mirror fluid near the wall, not fluid as far from the wall as they
+    /// are), so the wall drags too little: the effective no-slip plane lies outside the
+    /// wall surface (measured: steady Poiseuille flow 3.4 % too fast at `dp = L/30`).
+    Adami,
+    /// Linear extrapolation through the wall surface along the marker's wall normal,
+    /// `v_w = v_wall - (d_w / d~_f) (v~_f - v_wall)` with `d_w` the marker's depth behind the
+    /// wall surface and `d~_f = sum_f d_f W_wf / sum_f W_wf` the kernel-averaged distance of
+    /// its fluid neighbours from it (`d~_f >= 0.2 h`), the kernel-averaged form of Morris,
+    /// Fox and Zhu's mirrored velocities (J. Comput. Phys. 136 (1997) 214-226, sec. 3.3:
+    /// `v_B = -(d_B / d_A) v_A`). Exact for a linear velocity near the wall, so the
+    /// no-slip plane is the wall surface. Markers without a wall normal (from
+    /// [`SphBuilder::add_wall_box`](crate::SphBuilder::add_wall_box)) use [`NoSlip::Adami`].
+    #[default]
+    Linear,
+}
+
 /// Settings of an [`SphSystem`](crate::SphSystem). SI units throughout.
 ///
-/// Defaults: water (`rho_0 = 1000`, `mu = 1e-3`), Wendland C2 with `h = 1.3 dp`, Tait
-/// `gamma = 7`, XSPH `zeta = 0.5`, Shepard re-initialization every 30 steps, re-sort by
-/// cell every 10 steps, Verlet skin 10 % of the support, CFL 0.2, force criterion 0.25, viscous criterion 0.125, gravity
-/// `(0, 0, -9.81)`. `spacing`, `sound_speed` and the domain must be set by the caller.
+/// Defaults: water (`rho_0 = 1000`, `mu = 1e-3`), Wendland C2 with `h = 1.5 dp`, Tait
+/// `gamma = 7`, XSPH `zeta = 0.5`, density diffusion [`DensityDiffusion::Fourtakas`] with
+/// `delta = 0.1`, Monaghan artificial viscosity `alpha = 0.02`, no Shepard filter, linear
+/// no-slip extrapolation ([`NoSlip::Linear`]), re-sort by cell every 10 steps, Verlet
+/// skin 10 % of the support, CFL 0.2, force criterion 0.25, viscous criterion 0.125,
+/// gravity `(0, 0, -9.81)`. `spacing`, `sound_speed` and the domain must be set by the
+/// caller.
+///
+/// Why `h = 1.5 dp` (not 1.3): particles start on a cubic lattice, and under pressure
+/// the lattice has a shear stiffness (columns sliding past each other) whose sign
+/// depends on the kernel and `h / dp`. Measured with Wendland C2 under hydrostatic
+/// pressure (one column shifted by `0.02 dp`, `docs/validation-sph.md`): the force is
+/// anti-restoring at `h / dp = 1.2, 1.3, 1.7` and restoring at 1.5 and 2.0; at 1.3 still
+/// water is unstable (convection cells growing at ~7/s from the corner transients). At
+/// 1.5 the lattice sum of the SPH Laplacian is also exact to 0.06 % (2.1 % low at 1.3,
+/// which made viscous flows 2-3 % too fast at every resolution).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct SphSettings {
     /// Initial particle spacing `dp`, m.
@@ -39,13 +117,25 @@ pub struct SphSettings {
     pub sound_speed: f64,
     /// Dynamic viscosity `mu`, Pa s (Morris term).
     pub viscosity: f64,
-    /// Monaghan artificial viscosity `alpha` (0 = off; 0.01 to 0.05 damps the acoustic
-    /// noise of violent flows).
+    /// Monaghan artificial viscosity `alpha` (Monaghan, Annu. Rev. Astron. Astrophys. 30
+    /// (1992) 543-574; 0 = off; 0.01 to 0.05 is usual in WCSPH, Chrono uses 0.02-0.03):
+    /// damps the acoustic noise and the free-surface waves of the start-up transient. It
+    /// adds a viscosity `~ alpha c_s h / 10` (m^2/s), so set it to 0 for resolved viscous
+    /// flows (Poiseuille).
     pub artificial_viscosity: f64,
     /// XSPH coefficient `zeta` (0 = off).
     pub xsph: f64,
-    /// Shepard density re-initialization every this many steps (0 = never).
+    /// The density diffusion term of the continuity equation (delta-SPH).
+    pub density_diffusion: DensityDiffusion,
+    /// Its coefficient `delta` (dimensionless; 0.1 is the standard value of Molteni and
+    /// Colagrossi 2009 and Antuono et al. 2010; 0 = off).
+    pub diffusion_delta: f64,
+    /// Shepard density re-initialization every this many steps (0 = never; an older
+    /// alternative to density diffusion: with a free surface it biases the density of the
+    /// surface particles, whose kernel is truncated).
     pub shepard_every: u32,
+    /// The wall no-slip velocity extrapolation.
+    pub no_slip: NoSlip,
     /// Re-sort particle arrays by cell at a neighbour-list rebuild when at least this
     /// many steps passed since the last re-sort (0 = never).
     pub reorder_every: u32,
@@ -89,15 +179,18 @@ impl Default for SphSettings {
     fn default() -> Self {
         Self {
             spacing: 0.01,
-            h_over_dp: 1.3,
+            h_over_dp: 1.5,
             kernel: KernelKind::WendlandC2,
             rho0: 1000.0,
             gamma: 7.0,
             sound_speed: 20.0,
             viscosity: 1e-3,
-            artificial_viscosity: 0.0,
+            artificial_viscosity: 0.02,
             xsph: 0.5,
-            shepard_every: 30,
+            density_diffusion: DensityDiffusion::Fourtakas,
+            diffusion_delta: 0.1,
+            shepard_every: 0,
+            no_slip: NoSlip::Linear,
             reorder_every: 10,
             skin: 0.1,
             cfl: 0.2,
@@ -140,6 +233,14 @@ impl SphSettings {
         non_negative("settings.viscosity", self.viscosity)?;
         non_negative("settings.artificial_viscosity", self.artificial_viscosity)?;
         non_negative("settings.xsph", self.xsph)?;
+        non_negative("settings.diffusion_delta", self.diffusion_delta)?;
+        if self.diffusion_delta > 1.0 {
+            return Err(SphError::invalid(
+                "settings.diffusion_delta",
+                self.diffusion_delta,
+                "must be in [0, 1]",
+            ));
+        }
         if self.xsph > 1.0 {
             return Err(SphError::invalid(
                 "settings.xsph",

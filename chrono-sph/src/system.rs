@@ -10,7 +10,8 @@
 //! v^{n+1/2} = v^n + dt/2 a^n
 //! x^{n+1}   = x^n + dt (v^{n+1/2} + Delta v_XSPH);   walls: x_w = x_w0 + X(t^{n+1}), v_w = X'(t^{n+1})
 //! neighbours: if stale, grid build (re-sort by cell every `reorder_every` steps), CSR list
-//! rho^{n+1} = rho^n + dt (d rho/dt)(x^{n+1}, v^{n+1/2});  Delta v_XSPH(x^{n+1}, v^{n+1/2})
+//! rho^{n+1} = rho^n + dt (d rho/dt)(x^{n+1}, v^{n+1/2}, p^n);  Delta v_XSPH(x^{n+1}, v^{n+1/2})
+//!             (d rho/dt: continuity + delta-SPH diffusion, which reads p^n = Tait(rho^n))
 //!             every `shepard_every` steps: Shepard filter of rho
 //! p^{n+1}   = Tait(rho^{n+1});  wall markers: extrapolated p, rho, no-slip velocity
 //! a^{n+1}   = a(x^{n+1}, rho^{n+1}, p^{n+1}, v^{n+1/2})
@@ -37,7 +38,7 @@ use crate::eos::Tait;
 use crate::error::{Result, SphError};
 use crate::interact::{self, PassCtx};
 use crate::motion::WallMotion;
-use crate::settings::{MachPolicy, SphSettings};
+use crate::settings::{DensityDiffusion, MachPolicy, SphSettings};
 
 /// Running statistics of the last step.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -317,7 +318,7 @@ impl SphSystem {
     /// Density work at the current positions: continuity (+ XSPH) with the current
     /// velocities and `rho += dt d rho/dt` (skipped when `dt = 0`), the Shepard filter
     /// when due, the equation of state and the wall extrapolation.
-    fn density_update(&mut self, dt: f64) {
+    pub(crate) fn density_update(&mut self, dt: f64) {
         let t0 = Instant::now();
         let ctx = make_ctx(
             &self.settings,
@@ -401,16 +402,28 @@ impl SphSystem {
             });
     }
 
+    /// Evaluates the state at the current time without advancing it (walls placed,
+    /// neighbour list, pressures, wall extrapolation, density rates, accelerations and
+    /// the next `dt`), so [`ParticleData::deriv`](crate::ParticleData::deriv) can be
+    /// inspected; [`step`](Self::step) calls it once, and later calls do nothing.
+    pub fn initialize(&mut self) -> Result<()> {
+        if self.initialized {
+            return Ok(());
+        }
+        self.move_walls(self.time);
+        self.neighbor_search()?;
+        // the density diffusion reads the pressures of the initial densities
+        interact::fluid_pressure(&mut self.data, &self.eos);
+        self.density_update(0.0);
+        self.force_update();
+        self.check_and_set_dt()?;
+        self.initialized = true;
+        Ok(())
+    }
+
     /// Advances one time step; returns the step size taken, s.
     pub fn step(&mut self) -> Result<f64> {
-        if !self.initialized {
-            self.move_walls(self.time);
-            self.neighbor_search()?;
-            self.density_update(0.0);
-            self.force_update();
-            self.check_and_set_dt()?;
-            self.initialized = true;
-        }
+        self.initialize()?;
         let t0 = Instant::now();
         let dt = self.dt;
         let half = 0.5 * dt;
@@ -620,5 +633,13 @@ fn make_ctx<'a>(
         wall_vel: kin.vel,
         clamp_wall_pressure: s.clamp_wall_pressure,
         wall_volume: s.spacing * s.spacing * s.spacing,
+        diffusion: s.density_diffusion,
+        diffusion_coef: if s.density_diffusion == DensityDiffusion::None {
+            0.0
+        } else {
+            2.0 * s.diffusion_delta * kernel.h() * s.sound_speed
+        },
+        inv_c2: 1.0 / (s.sound_speed * s.sound_speed),
+        no_slip: s.no_slip,
     }
 }

@@ -15,16 +15,16 @@ fn step_loop_does_not_allocate_after_warm_up() {
         reorder_every: 0, // a re-sort swaps buffers (no allocation, new addresses)
         shepard_every: 5,
         domain_lower: [0.0; 3],
-        domain_upper: [0.6, 6.0 * dp, 0.6],
+        domain_upper: [0.6, 7.0 * dp, 0.6],
         periodic: [false, true, false],
         ..SphSettings::default()
     };
     let mut b = SphBuilder::new(settings).unwrap();
-    b.add_fluid_box([0.0; 3], [0.3, 6.0 * dp, 0.4], Some(0.4))
+    b.add_fluid_box([0.0; 3], [0.3, 7.0 * dp, 0.4], Some(0.4))
         .unwrap();
     b.add_tank(
         [0.0; 3],
-        [0.6, 6.0 * dp, 0.6],
+        [0.6, 7.0 * dp, 0.6],
         3,
         [true, true, false, false, true, false],
         0,

@@ -125,7 +125,10 @@ fn rolling_friction_holds_a_sphere_on_a_slope_below_mu_r_and_not_above() {
     settings.warm_start = false;
     sys.set_settings(settings).unwrap();
     let cold = sys.step(H).unwrap().solve.iterations;
-    assert!(4 * warm <= cold, "warm start: {warm} iterations, cold {cold}");
+    assert!(
+        4 * warm <= cold,
+        "warm start: {warm} iterations, cold {cold}"
+    );
     // tan(0.2) = 0.203 > mu_r: rolls down at a = 5/7 g (sin a - mu_r cos a).
     let angle: f64 = 0.2;
     let (mut sys, b) = scene(angle, mat, Vector3::zeros(), Vector3::zeros());

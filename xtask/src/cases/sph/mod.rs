@@ -15,9 +15,11 @@ use chrono_sph::SphSystem;
 
 use crate::case::{RunContext, SweepPoint};
 
-/// Particles across a periodic slab: the smallest count with `n dp >= 4 h`.
+/// Particles across a periodic slab: the smallest count with `n dp >= 4 h (1 + skin)`
+/// (twice the neighbour-list radius with the default 10 % Verlet skin, which
+/// [`chrono_sph::SphSettings::validate`] requires of a period).
 pub fn slab_layers(h_over_dp: f64) -> usize {
-    ((4.0 * h_over_dp) - 1e-9).ceil().max(1.0) as usize
+    ((4.4 * h_over_dp) - 1e-9).ceil().max(1.0) as usize
 }
 
 /// Wall layers covering the kernel support `2 h`.
@@ -148,6 +150,7 @@ mod tests {
     #[test]
     fn helpers() {
         assert_eq!(slab_layers(1.3), 6);
+        assert_eq!(slab_layers(1.5), 7);
         assert_eq!(wall_layers(1.3), 3);
         assert_eq!(wall_layers(1.5), 3);
         assert!((rel_l2(&[1.1, 2.2], &[1.0, 2.0]) - 0.1).abs() < 1e-12);

@@ -89,9 +89,13 @@ fn simulate(p: &PoiseuilleParams, dp: f64, ctx: Option<&RunContext>) -> anyhow::
     let dp = l / nz as f64;
     let nu = p.viscosity;
     let v0 = p.body_force * l * l / (8.0 * nu);
-    let per = slab_layers(1.3) as f64 * dp;
+    let h_over_dp = SphSettings::default().h_over_dp;
+    let per = slab_layers(h_over_dp) as f64 * dp;
     let settings = SphSettings {
         spacing: dp,
+        h_over_dp,
+        // resolved viscous flow: no artificial viscosity (Morris et al. 1997)
+        artificial_viscosity: 0.0,
         rho0: 1000.0,
         viscosity: nu * 1000.0,
         sound_speed: sound_speed_for(v0, l, p.body_force, nu, 0.01)?,
@@ -108,7 +112,7 @@ fn simulate(p: &PoiseuilleParams, dp: f64, ctx: Option<&RunContext>) -> anyhow::
     b.add_tank(
         [0.0; 3],
         [per, per, l],
-        wall_layers(1.3),
+        wall_layers(h_over_dp),
         [false, false, false, false, true, true],
         0,
     )?;
