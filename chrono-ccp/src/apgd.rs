@@ -11,7 +11,8 @@ use chrono_core::descriptor::{
 use serde::{Deserialize, Serialize};
 
 use crate::util::{
-    History, empty_stats, fill_with, fill2_with, final_stats, power_lipschitz, sanitize_and_project,
+    History, check_gamma_len, empty_stats, fill_with, fill2_with, final_stats, power_lipschitz,
+    sanitize_and_project,
 };
 
 /// After every iteration the Lipschitz estimate is relaxed, `L <- LIPSCHITZ_DECAY L`, so the
@@ -213,27 +214,13 @@ impl Apgd {
 }
 
 impl CcpSolver for Apgd {
-    fn name(&self) -> &'static str {
-        "apgd"
-    }
-
-    fn settings(&self) -> &SolverSettings {
-        &self.settings
-    }
-
-    fn settings_mut(&mut self) -> &mut SolverSettings {
-        &mut self.settings
-    }
+    solver_accessors!("apgd");
 
     /// Solve by accelerated projected gradient; see [`Apgd`]. `gamma` is the warm start
     /// (non-finite entries are replaced by 0, then it is projected onto `Y`) and receives the
     /// best iterate.
     fn solve(&mut self, problem: &CcpProblem, gamma: &mut [f64]) -> SolveStats {
-        assert_eq!(
-            gamma.len(),
-            problem.n_rows(),
-            "gamma.len() must equal problem.n_rows()"
-        );
+        check_gamma_len(problem, gamma);
         self.options.validate();
         let m = problem.n_rows();
         if m == 0 {

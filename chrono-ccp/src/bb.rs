@@ -23,7 +23,8 @@ use chrono_core::descriptor::{
 };
 
 use crate::util::{
-    History, axpy, empty_stats, fill_with, final_stats, power_lipschitz, sanitize_and_project,
+    History, axpy, check_gamma_len, empty_stats, fill_with, final_stats, power_lipschitz,
+    sanitize_and_project,
 };
 
 /// Length of the non-monotone memory (values of `f` kept).
@@ -63,26 +64,12 @@ impl BarzilaiBorwein {
 }
 
 impl CcpSolver for BarzilaiBorwein {
-    fn name(&self) -> &'static str {
-        "bb"
-    }
-
-    fn settings(&self) -> &SolverSettings {
-        &self.settings
-    }
-
-    fn settings_mut(&mut self) -> &mut SolverSettings {
-        &mut self.settings
-    }
+    solver_accessors!("bb");
 
     /// Solve by spectral projected gradient; `gamma` is the warm start and receives the
     /// best iterate.
     fn solve(&mut self, problem: &CcpProblem, gamma: &mut [f64]) -> SolveStats {
-        assert_eq!(
-            gamma.len(),
-            problem.n_rows(),
-            "gamma.len() must equal problem.n_rows()"
-        );
+        check_gamma_len(problem, gamma);
         let m = problem.n_rows();
         if m == 0 {
             return empty_stats();

@@ -10,7 +10,7 @@
 use chrono_core::descriptor::{CcpProblem, CcpSolver, CcpWork, SolveStats, SolverSettings};
 use serde::{Deserialize, Serialize};
 
-use crate::util::{History, axpy, empty_stats, fill_with, final_stats};
+use crate::util::{History, axpy, check_gamma_len, empty_stats, fill_with, final_stats};
 
 /// Times a Krylov solver replaces its recurrence residual by the true one when the two
 /// disagree about convergence, before it gives up.
@@ -122,25 +122,11 @@ impl Cg {
 }
 
 impl CcpSolver for Cg {
-    fn name(&self) -> &'static str {
-        "cg"
-    }
-
-    fn settings(&self) -> &SolverSettings {
-        &self.settings
-    }
-
-    fn settings_mut(&mut self) -> &mut SolverSettings {
-        &mut self.settings
-    }
+    solver_accessors!("cg");
 
     /// Solve `N g = -r` by PCG from the warm start `gamma`.
     fn solve(&mut self, problem: &CcpProblem, gamma: &mut [f64]) -> SolveStats {
-        assert_eq!(
-            gamma.len(),
-            problem.n_rows(),
-            "gamma.len() must equal problem.n_rows()"
-        );
+        check_gamma_len(problem, gamma);
         let m = problem.n_rows();
         if m == 0 {
             return empty_stats();

@@ -17,7 +17,8 @@ use serde::{Deserialize, Serialize};
 
 use crate::apgd::MAX_BACKTRACKS;
 use crate::util::{
-    History, empty_stats, fill_with, final_stats, power_lipschitz, sanitize_and_project,
+    History, check_gamma_len, empty_stats, fill_with, final_stats, power_lipschitz,
+    sanitize_and_project,
 };
 
 /// Options of [`Jacobi`] beyond the common [`SolverSettings`].
@@ -97,25 +98,11 @@ fn validate(o: &JacobiOptions) {
 }
 
 impl CcpSolver for Jacobi {
-    fn name(&self) -> &'static str {
-        "jacobi"
-    }
-
-    fn settings(&self) -> &SolverSettings {
-        &self.settings
-    }
-
-    fn settings_mut(&mut self) -> &mut SolverSettings {
-        &mut self.settings
-    }
+    solver_accessors!("jacobi");
 
     /// Solve by projected Jacobi; `gamma` is the warm start and receives the best iterate.
     fn solve(&mut self, problem: &CcpProblem, gamma: &mut [f64]) -> SolveStats {
-        assert_eq!(
-            gamma.len(),
-            problem.n_rows(),
-            "gamma.len() must equal problem.n_rows()"
-        );
+        check_gamma_len(problem, gamma);
         validate(&self.options);
         let m = problem.n_rows();
         if m == 0 {

@@ -59,6 +59,24 @@
 //! assert!((gamma[0] - m * 9.81 * h).abs() < 1e-6); // the normal impulse holds the weight
 //! ```
 
+/// The `name`, `settings` and `settings_mut` methods of a [`CcpSolver`] whose settings are
+/// its field `settings`.
+macro_rules! solver_accessors {
+    ($name:expr) => {
+        fn name(&self) -> &'static str {
+            $name
+        }
+
+        fn settings(&self) -> &SolverSettings {
+            &self.settings
+        }
+
+        fn settings_mut(&mut self) -> &mut SolverSettings {
+            &mut self.settings
+        }
+    };
+}
+
 pub mod apgd;
 pub mod bb;
 pub mod cg;

@@ -11,7 +11,9 @@
 use chrono_core::descriptor::{CcpProblem, CcpSolver, CcpWork, SolveStats, SolverSettings};
 
 use crate::cg::{KrylovOptions, MAX_REPLACEMENTS, check_bilateral, relative_residual};
-use crate::util::{History, axpy, empty_stats, fill_with, final_stats, sanitize_and_project};
+use crate::util::{
+    History, axpy, check_gamma_len, empty_stats, fill_with, final_stats, sanitize_and_project,
+};
 
 /// Preconditioned MINRES on `N g = -r`; see the [module documentation](self).
 ///
@@ -55,25 +57,11 @@ impl Minres {
 }
 
 impl CcpSolver for Minres {
-    fn name(&self) -> &'static str {
-        "minres"
-    }
-
-    fn settings(&self) -> &SolverSettings {
-        &self.settings
-    }
-
-    fn settings_mut(&mut self) -> &mut SolverSettings {
-        &mut self.settings
-    }
+    solver_accessors!("minres");
 
     /// Solve `N g = -r` by preconditioned MINRES from the warm start `gamma`.
     fn solve(&mut self, problem: &CcpProblem, gamma: &mut [f64]) -> SolveStats {
-        assert_eq!(
-            gamma.len(),
-            problem.n_rows(),
-            "gamma.len() must equal problem.n_rows()"
-        );
+        check_gamma_len(problem, gamma);
         let m = problem.n_rows();
         if m == 0 {
             return empty_stats();

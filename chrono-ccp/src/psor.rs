@@ -16,7 +16,9 @@ use serde::{Deserialize, Serialize};
 use crate::dense::{DenseLdl, MAX_BLOCK};
 use rayon::prelude::*;
 
-use crate::util::{History, empty_stats, fill_with, final_stats, sanitize_and_project};
+use crate::util::{
+    History, check_gamma_len, empty_stats, fill_with, final_stats, sanitize_and_project,
+};
 
 /// How the single step size of a friction triplet `(n, u, w)` is chosen.
 ///
@@ -618,26 +620,12 @@ pub(crate) fn sym3_max_eigen(a: &[[f64; 3]; 3]) -> f64 {
 }
 
 impl CcpSolver for Psor {
-    fn name(&self) -> &'static str {
-        "psor"
-    }
-
-    fn settings(&self) -> &SolverSettings {
-        &self.settings
-    }
-
-    fn settings_mut(&mut self) -> &mut SolverSettings {
-        &mut self.settings
-    }
+    solver_accessors!("psor");
 
     /// Solve by projected SOR; see [`Psor`]. `gamma` is the warm start (non-finite entries
     /// are replaced by 0, then it is projected onto `Y`) and receives the solution.
     fn solve(&mut self, problem: &CcpProblem, gamma: &mut [f64]) -> SolveStats {
-        assert_eq!(
-            gamma.len(),
-            problem.n_rows(),
-            "gamma.len() must equal problem.n_rows()"
-        );
+        check_gamma_len(problem, gamma);
         self.options.validate();
         let m = problem.n_rows();
         if m == 0 {

@@ -12,7 +12,7 @@ use chrono_core::descriptor::{
     CcpProblem, CcpSolver, CcpWork, IterationRecord, SolveStats, SolverSettings,
 };
 
-use crate::util::{empty_stats, sanitize_and_project};
+use crate::util::{check_gamma_len, empty_stats, sanitize_and_project};
 use crate::{Apgd, Cg};
 
 /// Two-phase solver: a bilateral phase ([`Cg`] by default), then a full CCP phase
@@ -68,11 +68,7 @@ impl CcpSolver for TwoPhase {
     }
 
     fn solve(&mut self, problem: &CcpProblem, gamma: &mut [f64]) -> SolveStats {
-        assert_eq!(
-            gamma.len(),
-            problem.n_rows(),
-            "gamma.len() must equal problem.n_rows()"
-        );
+        check_gamma_len(problem, gamma);
         let m = problem.n_rows();
         if m == 0 {
             return empty_stats();

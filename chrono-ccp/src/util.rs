@@ -201,3 +201,12 @@ mod tests {
         }
     }
 }
+
+/// Panics unless `gamma` has one entry per row of `problem` (a caller's bug, not bad data).
+pub(crate) fn check_gamma_len(problem: &CcpProblem, gamma: &[f64]) {
+    assert_eq!(
+        gamma.len(),
+        problem.n_rows(),
+        "gamma.len() must equal problem.n_rows()"
+    );
+}
