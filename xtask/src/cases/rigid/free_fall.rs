@@ -38,7 +38,11 @@ impl CaseParams for FreeFallParams {
         ParamInfo::new("height", "m", "drop height of the bottom face"),
         ParamInfo::new("h", "s", "time step"),
         ParamInfo::new("t_end", "s", "simulated time"),
-        ParamInfo::new("solver", "-", "CCP solver: psor | apgd"),
+        ParamInfo::new(
+            "solver",
+            "-",
+            "CCP solver: jacobi | psor | psor-sym | psor-par | apgd | bb | two-phase",
+        ),
     ];
     fn apply_mode(&mut self, mode: Mode) {
         if mode == Mode::Quick {

@@ -7,10 +7,10 @@ pub mod pendulum;
 pub mod spin;
 pub mod stack;
 
-use chrono_ccp::{Apgd, CcpSolver, Psor, SolverSettings};
+use chrono_ccp::{CcpSolver, SolverSettings};
 use chrono_core::{System, SystemSettings};
 
-/// A CCP solver by name (`psor` or `apgd`), with a tolerance (m/s) and an iteration cap.
+/// A CCP solver by name (one of [`chrono_ccp::SOLVER_NAMES`]), with a tolerance (m/s) and an iteration cap.
 pub fn make_solver(
     name: &str,
     tolerance: f64,
@@ -26,11 +26,7 @@ pub fn make_solver(
         max_iterations,
         record_history: false,
     };
-    Ok(match name {
-        "psor" => Box::new(Psor::new(settings)),
-        "apgd" => Box::new(Apgd::new(settings)),
-        other => anyhow::bail!("parameter `solver` must be `psor` or `apgd`, got `{other}`"),
-    })
+    chrono_ccp::by_name(name, settings).map_err(|e| anyhow::anyhow!("parameter `solver`: {e}"))
 }
 
 /// A system with default settings and the named solver.

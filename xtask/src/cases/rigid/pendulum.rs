@@ -47,7 +47,11 @@ impl CaseParams for PendulumParams {
         ParamInfo::new("amplitude_deg", "deg", "release angle from the vertical"),
         ParamInfo::new("h", "s", "time step"),
         ParamInfo::new("t_end", "s", "simulated time"),
-        ParamInfo::new("solver", "-", "CCP solver: psor | apgd"),
+        ParamInfo::new(
+            "solver",
+            "-",
+            "CCP solver: jacobi | psor | psor-sym | psor-par | apgd | bb | two-phase",
+        ),
     ];
     fn apply_mode(&mut self, mode: Mode) {
         if mode == Mode::Quick {

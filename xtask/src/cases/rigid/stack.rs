@@ -53,7 +53,11 @@ const INFO: &[ParamInfo] = &[
     ParamInfo::new("mass_ratio", "-", "mass of a box over the one below"),
     ParamInfo::new("h", "s", "time step"),
     ParamInfo::new("t_end", "s", "simulated time"),
-    ParamInfo::new("solver", "-", "CCP solver: psor | apgd"),
+    ParamInfo::new(
+        "solver",
+        "-",
+        "CCP solver: jacobi | psor | psor-sym | psor-par | apgd | bb | two-phase",
+    ),
     ParamInfo::new("tolerance", "m/s", "solver residual tolerance"),
     ParamInfo::new("max_iterations", "-", "solver iteration cap per step"),
     ParamInfo::new("stagger", "m", "horizontal offset of alternate boxes"),
