@@ -185,6 +185,15 @@ impl History {
     }
 }
 
+/// Panics unless `gamma` has one entry per row of `problem` (a caller's bug, not bad data).
+pub(crate) fn check_gamma_len(problem: &CcpProblem, gamma: &[f64]) {
+    assert_eq!(
+        gamma.len(),
+        problem.n_rows(),
+        "gamma.len() must equal problem.n_rows()"
+    );
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -200,13 +209,4 @@ mod tests {
             assert!(b.iter().enumerate().all(|(i, x)| *x == -(i as f64)));
         }
     }
-}
-
-/// Panics unless `gamma` has one entry per row of `problem` (a caller's bug, not bad data).
-pub(crate) fn check_gamma_len(problem: &CcpProblem, gamma: &[f64]) {
-    assert_eq!(
-        gamma.len(),
-        problem.n_rows(),
-        "gamma.len() must equal problem.n_rows()"
-    );
 }

@@ -392,15 +392,15 @@ fn run(p: &HopperParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         let ratio = orifice / p.grain_diameter;
         let tag = format!("D{:.1}d", ratio);
         out.check(Check::relative(
-            &format!("flow_rate_{tag}"),
+            format!("flow_rate_{tag}"),
             r.flow_rate,
             reference,
             p.rel_tolerance,
         ));
-        out.metric(&format!("bulk_density_{tag}"), r.bulk_density)
-            .metric(&format!("beverloo_{tag}"), reference)
-            .metric(&format!("grains_{tag}"), r.grains as f64)
-            .metric(&format!("wall_s_{tag}"), r.wall_s);
+        out.metric(format!("bulk_density_{tag}"), r.bulk_density)
+            .metric(format!("beverloo_{tag}"), reference)
+            .metric(format!("grains_{tag}"), r.grains as f64)
+            .metric(format!("wall_s_{tag}"), r.wall_s);
         out.sweep.push(SweepPoint {
             label: tag.clone(),
             error: ((r.flow_rate - reference) / reference).abs(),
