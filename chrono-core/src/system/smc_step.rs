@@ -11,7 +11,6 @@ use crate::contact::smc::{
     self, SmcContact, SmcKinematics, SmcModel, SmcPair, SmcSettings, damping_for_restitution,
 };
 use crate::error::{ChronoError, Result};
-use crate::item::StepContext;
 use crate::material::{effective_shear_modulus, effective_young_modulus};
 
 /// Contacts per rayon task.
@@ -361,22 +360,8 @@ impl System {
 
     /// New velocities and poses with joints' and items' rows solved by the CCP solver.
     fn smc_rows_update(&mut self, h: f64) -> Result<StepReport> {
-        let ctx = StepContext {
-            h,
-            time: self.time,
-            step: self.step_count,
-            gravity: self.settings.gravity,
-        };
-        self.vars.clear();
-        for b in &mut self.bodies {
-            b.block = match b.motion {
-                BodyMotion::Dynamic => Some(self.vars.add(b.mass_operator()?)),
-                _ => None,
-            };
-        }
-        for item in &mut self.items {
-            item.add_variables(&mut self.vars);
-        }
+        let ctx = self.step_context(h);
+        self.add_step_variables()?;
         let ndof = self.vars.ndof();
         self.k.clear();
         self.k.resize(ndof, 0.0);

@@ -9,6 +9,32 @@ use crate::error::{ChronoError, Result};
 use crate::item::StepContext;
 
 impl System {
+    /// The context the items see in a step of size `h` from the current state.
+    pub(crate) fn step_context(&self, h: f64) -> StepContext {
+        StepContext {
+            h,
+            time: self.time,
+            step: self.step_count,
+            gravity: self.settings.gravity,
+        }
+    }
+
+    /// This step's variables: a block per dynamic body (fixed and kinematic bodies have
+    /// none), then the items' blocks.
+    pub(crate) fn add_step_variables(&mut self) -> Result<()> {
+        self.vars.clear();
+        for b in &mut self.bodies {
+            b.block = match b.motion {
+                BodyMotion::Dynamic => Some(self.vars.add(b.mass_operator()?)),
+                _ => None,
+            };
+        }
+        for item in &mut self.items {
+            item.add_variables(&mut self.vars);
+        }
+        Ok(())
+    }
+
     /// Advance by one step of size `h` (s):
     ///
     /// 1. collide at `q(l)` (contacts within the envelope), bodies with bodies and the
@@ -32,24 +58,9 @@ impl System {
                 "the step size must be finite and > 0",
             ));
         }
-        let ctx = StepContext {
-            h,
-            time: self.time,
-            step: self.step_count,
-            gravity: self.settings.gravity,
-        };
+        let ctx = self.step_context(h);
 
-        // Variables: dynamic bodies, then items.
-        self.vars.clear();
-        for b in &mut self.bodies {
-            b.block = match b.motion {
-                BodyMotion::Dynamic => Some(self.vars.add(b.mass_operator()?)),
-                _ => None,
-            };
-        }
-        for item in &mut self.items {
-            item.add_variables(&mut self.vars);
-        }
+        self.add_step_variables()?;
 
         // Momentum k = M v + h f.
         let ndof = self.vars.ndof();
