@@ -218,28 +218,7 @@ impl System {
             }
         }
 
-        for (i, b) in self.bodies.iter().enumerate() {
-            if !b.state_is_finite() {
-                return Err(ChronoError::NonFinite {
-                    item: format!("body {i} (\"{}\")", b.name),
-                    step: self.step_count,
-                    time: self.time,
-                    what: "position or velocity".into(),
-                });
-            }
-            let (v, w) = (b.linear_velocity.norm(), b.angular_velocity.norm());
-            if v > self.settings.max_speed || w > self.settings.max_angular_speed {
-                return Err(ChronoError::Diverged {
-                    item: format!("body {i} (\"{}\")", b.name),
-                    step: self.step_count,
-                    time: self.time,
-                    what: format!(
-                        "speed {v:.3e} m/s (limit {:.1e}), angular speed {w:.3e} rad/s (limit {:.1e})",
-                        self.settings.max_speed, self.settings.max_angular_speed
-                    ),
-                });
-            }
-        }
+        self.check_state()?;
         self.time += h;
         self.step_count += 1;
         Ok(StepReport {
