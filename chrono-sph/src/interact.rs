@@ -78,6 +78,61 @@ pub(crate) struct PassCtx<'a> {
     pub no_slip: NoSlip,
 }
 
+/// What a pair loop reads of a neighbour, packed in one record: one bounds-checked load
+/// per neighbour instead of one per SoA array (the SoA arrays stay the storage; the
+/// records are refreshed before each pass, a copy of `n` records against ~100 pair
+/// visits per particle).
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct Packed {
+    /// Position, m.
+    pub pos: [f64; 3],
+    /// Velocity, m/s: the particle's own (continuity pass) or, for wall markers, the
+    /// extrapolated no-slip velocity (force pass, see [`PackVelocity`]).
+    pub vel: [f64; 3],
+    /// Density, kg/m^3.
+    pub rho: f64,
+    /// Pressure, Pa.
+    pub p: f64,
+    /// `p / rho^2`, m^5/(kg s^2).
+    pub pr2: f64,
+    /// Mass, kg.
+    pub mass: f64,
+    /// Whether it is a fluid particle.
+    pub fluid: bool,
+}
+
+/// Which velocity of a wall marker a [`Packed`] record holds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum PackVelocity {
+    /// The prescribed wall velocity (continuity: no flux through walls).
+    Prescribed,
+    /// The extrapolated no-slip velocity (the viscous term).
+    NoSlip,
+}
+
+/// Refreshes the packed records of every particle from the SoA arrays.
+pub(crate) fn pack(d: &ParticleData, which: PackVelocity, out: &mut Vec<Packed>) {
+    out.resize(d.len(), Packed::default());
+    out.par_iter_mut().enumerate().for_each(|(i, o)| {
+        let fluid = d.kind[i] == FLUID;
+        let vel = if !fluid && which == PackVelocity::NoSlip {
+            d.wall_v[i]
+        } else {
+            [d.vx[i], d.vy[i], d.vz[i]]
+        };
+        let rho = d.rho[i];
+        *o = Packed {
+            pos: [d.x[i], d.y[i], d.z[i]],
+            vel,
+            rho,
+            p: d.p[i],
+            pr2: d.p[i] / (rho * rho),
+            mass: d.mass[i],
+            fluid,
+        };
+    });
+}
+
 /// Pressure of every fluid particle from its density (Tait).
 pub(crate) fn fluid_pressure(d: &mut ParticleData, eos: &Tait) {
     d.p.par_iter_mut()
@@ -100,6 +155,7 @@ pub(crate) fn wall_extrapolation(d: &mut ParticleData, c: &PassCtx<'_>, bc: &mut
         c.gravity[1] - c.wall_acc[1],
         c.gravity[2] - c.wall_acc[2],
     ];
+    let support2 = c.kernel.support() * c.kernel.support();
     {
         let d = &*d;
         bc.par_iter_mut().enumerate().for_each(|(w, out)| {
@@ -118,8 +174,11 @@ pub(crate) fn wall_extrapolation(d: &mut ParticleData, c: &PassCtx<'_>, bc: &mut
                     continue;
                 }
                 let x = c.grid.displacement(pw, [d.x[f], d.y[f], d.z[f]]);
-                let r = (x[0] * x[0] + x[1] * x[1] + x[2] * x[2]).sqrt();
-                let wk = c.kernel.w(r);
+                let r2 = x[0] * x[0] + x[1] * x[1] + x[2] * x[2];
+                if r2 >= support2 {
+                    continue; // W = 0: the list's skin
+                }
+                let wk = c.kernel.w(r2.sqrt());
                 sw += wk;
                 sp += d.p[f] * wk;
                 let rw = d.rho[f] * wk;
@@ -177,43 +236,36 @@ pub(crate) fn wall_extrapolation(d: &mut ParticleData, c: &PassCtx<'_>, bc: &mut
         });
 }
 
-/// Displacement, distance squared, `W` and `F = (dW/dr)/r` of a pair.
+/// Displacement `x_a - x_b` and distance squared of a pair.
 #[inline(always)]
-fn geometry(d: &ParticleData, c: &PassCtx<'_>, a: usize, b: usize) -> ([f64; 3], f64, f64, f64) {
-    let x = c
-        .grid
-        .displacement([d.x[a], d.y[a], d.z[a]], [d.x[b], d.y[b], d.z[b]]);
-    let r2 = x[0] * x[0] + x[1] * x[1] + x[2] * x[2];
-    let (wk, fk) = c.kernel.w_and_grad_factor(r2.sqrt());
-    (x, r2, wk, fk)
+fn separation(c: &PassCtx<'_>, pa: &Packed, pb: &Packed) -> ([f64; 3], f64) {
+    let x = c.grid.displacement(pa.pos, pb.pos);
+    (x, x[0] * x[0] + x[1] * x[1] + x[2] * x[2])
 }
 
 /// The momentum pair terms of fluid particle `a` with neighbour `b` (pressure,
-/// optional artificial viscosity, Morris viscosity), without body forces. Shared by the
-/// force pass and the wall-force probe.
+/// optional artificial viscosity, Morris viscosity), without body forces; zero outside
+/// the support (`r2 >= support2`, skipped before any kernel work). Shared by the force
+/// pass and the wall-force probe. `b`'s record must hold the no-slip wall velocity
+/// ([`PackVelocity::NoSlip`]).
 #[inline(always)]
-pub(crate) fn pair_accel(
-    d: &ParticleData,
-    c: &PassCtx<'_>,
-    a: usize,
-    b: usize,
-    pa_over_rho2: f64,
-) -> [f64; 3] {
+pub(crate) fn pair_accel(c: &PassCtx<'_>, pa: &Packed, pb: &Packed, support2: f64) -> [f64; 3] {
+    let (x, r2) = separation(c, pa, pb);
+    if r2 >= support2 {
+        return [0.0; 3];
+    }
     let h = c.kernel.h();
-    let (x, r2, _, fk) = geometry(d, c, a, b);
-    let (rho_a, rho_b) = (d.rho[a], d.rho[b]);
-    let mb = d.mass[b];
-    // the viscous term sees the extrapolated no-slip velocity of wall markers
-    let vb = if d.kind[b] == WALL {
-        d.wall_v[b]
-    } else {
-        [d.vx[b], d.vy[b], d.vz[b]]
-    };
-    let vv = [d.vx[a] - vb[0], d.vy[a] - vb[1], d.vz[a] - vb[2]];
-    let rho_ab = 0.5 * (rho_a + rho_b);
+    let fk = c.kernel.grad_factor(r2.sqrt());
+    let mb = pb.mass;
+    let vv = [
+        pa.vel[0] - pb.vel[0],
+        pa.vel[1] - pb.vel[1],
+        pa.vel[2] - pb.vel[2],
+    ];
+    let rho_ab = 0.5 * (pa.rho + pb.rho);
     let eta2 = 0.01 * h * h;
     // pressure: -m_b (p_a/rho_a^2 + p_b/rho_b^2) F x_ab
-    let mut coef = -mb * (pa_over_rho2 + d.p[b] / (rho_b * rho_b)) * fk;
+    let mut coef = -mb * (pa.pr2 + pb.pr2) * fk;
     if c.alpha > 0.0 {
         let vx = vv[0] * x[0] + vv[1] * x[1] + vv[2] * x[2];
         if vx < 0.0 {
@@ -235,67 +287,82 @@ pub(crate) fn pair_accel(
 /// `deriv[a].drho` and `deriv[a].xsph` (walls get zero). Wall markers enter the continuity
 /// sum with their prescribed velocity and do not enter XSPH nor the diffusion (no
 /// diffusive flux through walls). The diffusion reads the fluid pressures `p`, which must
-/// be those of the current densities.
-pub(crate) fn continuity_pass(d: &ParticleData, c: &PassCtx<'_>, deriv: &mut [Deriv]) {
-    deriv.par_iter_mut().enumerate().for_each(|(a, out)| {
-        if d.kind[a] != FLUID {
-            out.drho = 0.0;
-            out.xsph = [0.0; 3];
-            return;
-        }
-        let va = [d.vx[a], d.vy[a], d.vz[a]];
-        let mut sum = 0.0;
-        let mut diff = 0.0;
-        let mut xs = [0.0; 3];
-        let (rho_a, p_a) = (d.rho[a], d.p[a]);
-        for &b in c.list.neighbors(a) {
-            let b = b as usize;
-            let (x, _, wk, fk) = geometry(d, c, a, b);
-            let vab = [va[0] - d.vx[b], va[1] - d.vy[b], va[2] - d.vz[b]];
-            let mb = d.mass[b];
-            sum += mb / d.rho[b] * fk * (vab[0] * x[0] + vab[1] * x[1] + vab[2] * x[2]);
-            if d.kind[b] == FLUID {
-                let k = c.xsph * mb * wk / (0.5 * (rho_a + d.rho[b]));
-                xs[0] -= k * vab[0];
-                xs[1] -= k * vab[1];
-                xs[2] -= k * vab[2];
-                // delta-SPH: psi_ba (-F) V_b
-                let psi = match c.diffusion {
-                    DensityDiffusion::None => 0.0,
-                    DensityDiffusion::MolteniColagrossi => d.rho[b] - rho_a,
-                    DensityDiffusion::Fourtakas => {
-                        // (p_b - p_a) minus its hydrostatic part -rho_ab g . x_ab
-                        let g = c.gravity;
-                        let rho_ab = 0.5 * (rho_a + d.rho[b]);
-                        (d.p[b] - p_a + rho_ab * (g[0] * x[0] + g[1] * x[1] + g[2] * x[2]))
-                            * c.inv_c2
-                    }
-                };
-                diff -= mb / d.rho[b] * psi * fk;
+/// be those of the current densities. `nb`: the records packed with
+/// [`PackVelocity::Prescribed`].
+pub(crate) fn continuity_pass(nb: &[Packed], c: &PassCtx<'_>, deriv: &mut [Deriv]) {
+    let support2 = c.kernel.support() * c.kernel.support();
+    deriv
+        .par_iter_mut()
+        .zip(nb.par_iter())
+        .enumerate()
+        .for_each(|(a, (out, pa))| {
+            if !pa.fluid {
+                out.drho = 0.0;
+                out.xsph = [0.0; 3];
+                return;
             }
-        }
-        out.drho = rho_a * sum + c.diffusion_coef * diff;
-        out.xsph = xs;
-    });
+            let va = pa.vel;
+            let mut sum = 0.0;
+            let mut diff = 0.0;
+            let mut xs = [0.0; 3];
+            let (rho_a, p_a) = (pa.rho, pa.p);
+            for &b in c.list.neighbors(a) {
+                let pb = &nb[b as usize];
+                let (x, r2) = separation(c, pa, pb);
+                if r2 >= support2 {
+                    continue;
+                }
+                let (wk, fk) = c.kernel.w_and_grad_factor(r2.sqrt());
+                let vab = [va[0] - pb.vel[0], va[1] - pb.vel[1], va[2] - pb.vel[2]];
+                let mb = pb.mass;
+                sum += mb / pb.rho * fk * (vab[0] * x[0] + vab[1] * x[1] + vab[2] * x[2]);
+                if pb.fluid {
+                    let k = c.xsph * mb * wk / (0.5 * (rho_a + pb.rho));
+                    xs[0] -= k * vab[0];
+                    xs[1] -= k * vab[1];
+                    xs[2] -= k * vab[2];
+                    // delta-SPH: psi_ba (-F) V_b
+                    let psi = match c.diffusion {
+                        DensityDiffusion::None => 0.0,
+                        DensityDiffusion::MolteniColagrossi => pb.rho - rho_a,
+                        DensityDiffusion::Fourtakas => {
+                            // (p_b - p_a) minus its hydrostatic part -rho_ab g . x_ab
+                            let g = c.gravity;
+                            let rho_ab = 0.5 * (rho_a + pb.rho);
+                            (pb.p - p_a + rho_ab * (g[0] * x[0] + g[1] * x[1] + g[2] * x[2]))
+                                * c.inv_c2
+                        }
+                    };
+                    diff -= mb / pb.rho * psi * fk;
+                }
+            }
+            out.drho = rho_a * sum + c.diffusion_coef * diff;
+            out.xsph = xs;
+        });
 }
 
-/// Accelerations of every fluid particle into `deriv[a].acc` (walls get zero).
-pub(crate) fn force_pass(d: &ParticleData, c: &PassCtx<'_>, deriv: &mut [Deriv]) {
-    deriv.par_iter_mut().enumerate().for_each(|(a, out)| {
-        if d.kind[a] != FLUID {
-            out.acc = [0.0; 3];
-            return;
-        }
-        let pa_over_rho2 = d.p[a] / (d.rho[a] * d.rho[a]);
-        let mut acc = c.accel;
-        for &b in c.list.neighbors(a) {
-            let ab = pair_accel(d, c, a, b as usize, pa_over_rho2);
-            acc[0] += ab[0];
-            acc[1] += ab[1];
-            acc[2] += ab[2];
-        }
-        out.acc = acc;
-    });
+/// Accelerations of every fluid particle into `deriv[a].acc` (walls get zero). `nb`: the
+/// records packed with [`PackVelocity::NoSlip`].
+pub(crate) fn force_pass(nb: &[Packed], c: &PassCtx<'_>, deriv: &mut [Deriv]) {
+    let support2 = c.kernel.support() * c.kernel.support();
+    deriv
+        .par_iter_mut()
+        .zip(nb.par_iter())
+        .enumerate()
+        .for_each(|(a, (out, pa))| {
+            if !pa.fluid {
+                out.acc = [0.0; 3];
+                return;
+            }
+            let mut acc = c.accel;
+            for &b in c.list.neighbors(a) {
+                let ab = pair_accel(c, pa, &nb[b as usize], support2);
+                acc[0] += ab[0];
+                acc[1] += ab[1];
+                acc[2] += ab[2];
+            }
+            out.acc = acc;
+        });
 }
 
 /// Shepard re-initialization of the fluid density,

@@ -5,7 +5,7 @@ use nalgebra::Vector3;
 
 use crate::data::{FLUID, WALL};
 use crate::error::{Result, SphError};
-use crate::interact::pair_accel;
+use crate::interact::{PackVelocity, Packed, pack, pair_accel};
 use crate::system::SphSystem;
 
 impl SphSystem {
@@ -67,20 +67,28 @@ impl SphSystem {
     }
 
     /// The force the fluid exerts on the wall markers of `group` (N), summed over the
-    /// pair terms of the last evaluation (pressure and viscosity).
+    /// pair terms of the last force evaluation (pressure and viscosity).
     pub fn wall_force(&self, group: u16) -> Vector3<f64> {
         let d = &self.data;
         let ctx = self.pass_ctx();
+        let support2 = self.kernel.support() * self.kernel.support();
+        // the records of the last force pass; before the first one, from the arrays
+        let mut fresh = Vec::new();
+        let nb: &[Packed] = if self.packed.len() == d.len() {
+            &self.packed
+        } else {
+            pack(d, PackVelocity::NoSlip, &mut fresh);
+            &fresh
+        };
         let mut f = Vector3::zeros();
         for a in 0..d.len() {
             if d.kind[a] != FLUID {
                 continue;
             }
-            let pa = d.p[a] / (d.rho[a] * d.rho[a]);
             for &b in self.list.neighbors(a) {
                 let b = b as usize;
                 if d.kind[b] == WALL && d.group[b] == group {
-                    let acc = pair_accel(d, &ctx, a, b, pa);
+                    let acc = pair_accel(&ctx, &nb[a], &nb[b], support2);
                     f -= d.mass[a] * Vector3::new(acc[0], acc[1], acc[2]);
                 }
             }

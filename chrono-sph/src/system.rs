@@ -36,7 +36,7 @@ use rayon::prelude::*;
 use crate::data::{FLUID, ParticleData, WALL};
 use crate::eos::Tait;
 use crate::error::{Result, SphError};
-use crate::interact::{self, PassCtx};
+use crate::interact::{self, PackVelocity, PassCtx};
 use crate::motion::WallMotion;
 use crate::settings::{DensityDiffusion, MachPolicy, SphSettings};
 
@@ -82,6 +82,9 @@ pub struct SphSystem {
     pub(crate) grid: CellGrid,
     pub(crate) list: NeighborList,
     bc: Vec<[f64; 5]>,
+    /// The neighbour records of the last pass (see [`interact::Packed`]); after a step,
+    /// those of the force pass.
+    pub(crate) packed: Vec<interact::Packed>,
     time: f64,
     steps: u64,
     dt: f64,
@@ -124,6 +127,7 @@ impl SphSystem {
             grid,
             list: NeighborList::new(),
             bc: Vec::new(),
+            packed: Vec::new(),
             time: 0.0,
             steps: 0,
             dt: 0.0,
@@ -219,6 +223,7 @@ impl SphSystem {
         .collect();
         v.push((d.deriv.capacity(), d.deriv.as_ptr() as usize));
         v.push((self.bc.capacity(), self.bc.as_ptr() as usize));
+        v.push((self.packed.capacity(), self.packed.as_ptr() as usize));
         v.push((self.x_ref.capacity(), self.x_ref.as_ptr() as usize));
         v.push((
             self.list.indices.capacity(),
@@ -330,7 +335,8 @@ impl SphSystem {
             self.time,
         );
         let mut deriv = std::mem::take(&mut self.data.deriv);
-        interact::continuity_pass(&self.data, &ctx, &mut deriv);
+        interact::pack(&self.data, PackVelocity::Prescribed, &mut self.packed);
+        interact::continuity_pass(&self.packed, &ctx, &mut deriv);
         self.data.deriv = deriv;
         if dt > 0.0 {
             let d = &mut self.data;
@@ -368,7 +374,8 @@ impl SphSystem {
             self.time,
         );
         let mut deriv = std::mem::take(&mut self.data.deriv);
-        interact::force_pass(&self.data, &ctx, &mut deriv);
+        interact::pack(&self.data, PackVelocity::NoSlip, &mut self.packed);
+        interact::force_pass(&self.packed, &ctx, &mut deriv);
         self.data.deriv = deriv;
         self.timings.forces += t0.elapsed().as_secs_f64();
     }

@@ -141,6 +141,8 @@ pub struct CellGrid {
     dims: [usize; 3],
     inv_cell: [f64; 3],
     period: [f64; 3],
+    /// Whether some axis is periodic (else displacements are plain differences).
+    any_periodic: bool,
     cell_of: Vec<u32>,
     order: Vec<u32>,
     cell_start: Vec<u32>,
@@ -161,6 +163,7 @@ impl CellGrid {
             dims: [1; 3],
             inv_cell: [1.0 / config.cutoff; 3],
             period: [0.0; 3],
+            any_periodic: config.periodic.iter().any(|&p| p),
             cell_of: Vec::new(),
             order: Vec::new(),
             cell_start: vec![0, 0],
@@ -446,6 +449,9 @@ impl CellGrid {
     #[inline]
     pub fn displacement(&self, p: [f64; 3], q: [f64; 3]) -> [f64; 3] {
         let mut d = [p[0] - q[0], p[1] - q[1], p[2] - q[2]];
+        if !self.any_periodic {
+            return d;
+        }
         for a in 0..3 {
             let l = self.period[a];
             if l > 0.0 {

@@ -77,6 +77,7 @@ pub fn all_cases() -> Vec<Box<dyn Case>> {
         sph::hydrostatic::case(),
         sph::poiseuille::case(),
         sph::dam_break::case(),
+        sph::sloshing::case(),
         ccp::solvers::case(),
     ]
 }
@@ -89,6 +90,7 @@ pub fn all_benches() -> Vec<Box<dyn Case>> {
         // granular::bench_spheres::case(),
         granular::settle::bench(),
         ccp::apply_n::case(),
+        sph::bench::bench(),
     ]
 }
 
