@@ -4,10 +4,12 @@
 //! - `smc-bounce`: restitution of one sphere on a plate (SMC, both force laws);
 //! - `granular-settle`: grains settling in a box stay at rest (validation) and its
 //!   throughput (bench);
-//! - `granular-hopper`: silo discharge through a circular orifice against Beverloo's law.
+//! - `granular-hopper`: silo discharge through a circular orifice against Beverloo's law;
+//! - `granular-shear`: a direct shear box of glass beads, peak and residual friction angles.
 
 pub mod hopper;
 pub mod settle;
+pub mod shear;
 pub mod smc_bounce;
 
 use chrono_ccp::{Apgd, CcpSolver, SolverSettings};

@@ -1,0 +1,796 @@
+//! `granular-shear`: a direct shear box test on mono-disperse glass beads, by NSC (DEM-C)
+//! and SMC (DEM-P), against the bulk friction of glass beads measured in the direct shear
+//! box.
+//!
+//! References: J. Härtl and J. Y. Ooi, "Experiments and simulations of direct shear tests:
+//! porosity, contact friction and bulk friction", Granular Matter 10 (2008) 263–271 (glass
+//! beads in a direct shear box at four normal stresses, peak and residual bulk friction,
+//! DEM against experiment as a function of the contact friction); J. Fleischmann,
+//! R. Serban, D. Negrut and P. Jayakumar, "On the importance of displacement history in
+//! soft-body contact models", J. Comput. Nonlinear Dynam. 11 (2016) 044502 (Chrono's SMC
+//! with multi-step tangential history on the same test). The scene follows the setup of
+//! the second (as given in its authors' public Chrono validation program): 6 mm beads of 2550 kg/m^3, `E = 4e7` Pa (reduced), `nu = 0.22`,
+//! `e = 0.87`, bead–bead friction 0.18, bead–wall friction 0.13, a 12 cm x 12 cm box
+//! (20 d), about 5000 beads, normal stresses 3.1, 6.4, 12.5 and 24.2 kPa.
+//!
+//! The bulk friction is the ratio of the shear force across the shear plane to the normal
+//! force on it, `mu_b = S / N`, and its angle `phi = atan(S / N)` (Mohr–Coulomb with no
+//! cohesion, `tau = sigma tan(phi)`). The ratio does not depend on the contact area, so
+//! the shrinking overlap of the two halves does not enter. `S` is the horizontal force the
+//! grains exert on the fixed upper half and on the load plate (joined to it by a prismatic
+//! joint); `N` is the vertical force the grains exert on them plus the weight of the
+//! grains above the shear plane (the true normal force on the plane: the applied load,
+//! plus the sample's own weight above the plane, minus the wall friction that carries part
+//! of it). Peak: the largest 3-bin running mean of `S / N` over the first `peak_window` of
+//! the displacement; residual: the mean over the last `residual_window`.
+//!
+//! Scene (Z up, shear along +x): a kinematic lower half (floor and four walls of box
+//! colliders, `half_height` deep) that moves at `shear_speed` once loaded, a fixed upper
+//! half (four walls from `gap` above the shear plane), a free load plate carrying
+//! `sigma L^2` (its weight plus an applied force), and grains settled under gravity from a
+//! jittered lattice to about twice `half_height`. The shear is quasi-static when the
+//! inertial number `I = gamma_dot d sqrt(rho / sigma)` (GDR MiDi, Eur. Phys. J. E 14, 2004)
+//! is well below 1e-2; it is estimated with a shear zone `5 d` thick (thinner than the
+//! ~10 d usually seen, so an upper bound) and reported.
+//!
+//! The reference band (`ref_peak_deg`, `ref_residual_deg` and their scatter) is an
+//! estimate of typical direct shear angles of glass beads, *not* read from Härtl and Ooi
+//! (their tables were not available when the case was written): set it from the paper
+//! before reading the angle checks as a validation (docs/validation-granular.md).
+//!
+//! `method` lists the contact methods to run (`"nsc,smc"` runs both, `smc` one).
+
+use chrono_core::granular::{Grain, LatticeFill, Region, Rng, add_grains};
+use chrono_core::joint::{JointBuilder, JointKind};
+use chrono_core::math::{Isometry3, UnitQuaternion, Vector3};
+use chrono_core::system::{ContactMethod, SmcSettings};
+use chrono_core::{BodyHandle, ContactMaterial, RigidBodyBuilder, Shape, System, SystemSettings};
+use serde::{Deserialize, Serialize};
+
+use super::{make_system, parse_method};
+use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series, SweepPoint};
+use crate::params::{CaseParams, ParamCase, ParamInfo};
+
+/// Solid fraction assumed for the settled sample when sizing the grain count.
+const SETTLED_FRACTION: f64 = 0.6;
+
+/// APGD iteration cap (NSC) while the grains settle, before the load.
+const SETTLE_ITERATIONS: usize = 60;
+
+/// Parameters of `granular-shear` (`Default` is the `--full` setup: the reference box and
+/// its four normal stresses).
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct ShearParams {
+    /// Normal stresses of the sweep, Pa (a single number runs one).
+    pub normal_stress: Vec<f64>,
+    /// Contact methods to run, comma separated: `nsc`, `smc` or `nsc,smc`.
+    pub method: String,
+    /// Grain–grain sliding friction coefficient.
+    pub mu: f64,
+    /// Grain–wall (box, floor, plate) sliding friction coefficient.
+    pub wall_mu: f64,
+    /// Rolling friction coefficient (dimensionless; 0 for smooth glass beads).
+    pub rolling_friction: f64,
+    /// Grain diameter `d`, m (mono-disperse, as the reference beads).
+    pub grain_diameter: f64,
+    /// Box side over grain diameter (the box is square).
+    pub box_length: f64,
+    /// Depth of the lower half over grain diameter (the sample is about twice as high).
+    pub half_height: f64,
+    /// Gap between the two halves over grain diameter (below 1: no grain passes).
+    pub gap: f64,
+    /// Grain density, kg/m^3.
+    pub density: f64,
+    /// Young's modulus (SMC), Pa.
+    pub young: f64,
+    /// Poisson's ratio (SMC).
+    pub poisson: f64,
+    /// Restitution (SMC).
+    pub restitution: f64,
+    /// Shear speed of the lower half, m/s.
+    pub shear_speed: f64,
+    /// Shear displacement, over grain diameter.
+    pub displacement: f64,
+    /// Width of the averaging bins of the force ratio, over grain diameter of displacement.
+    pub bin: f64,
+    /// Fraction of the displacement (from the start) searched for the peak.
+    pub peak_window: f64,
+    /// Fraction of the displacement (at the end) averaged for the residual.
+    pub residual_window: f64,
+    /// Settling time under gravity before the load, s.
+    pub t_settle: f64,
+    /// Consolidation time under the load before shearing, s.
+    pub t_consolidate: f64,
+    /// Time step, s (0: 1e-3 for NSC, the SMC limit for SMC).
+    pub h: f64,
+    /// APGD tolerance (NSC), m/s.
+    pub tolerance: f64,
+    /// APGD iteration cap (NSC).
+    pub max_iterations: usize,
+    /// Reference peak friction angle, degrees (an estimate until set from Härtl and Ooi).
+    pub ref_peak_deg: f64,
+    /// Scatter (half width) of the reference peak angle, degrees.
+    pub ref_peak_scatter_deg: f64,
+    /// Reference residual friction angle, degrees (an estimate until set from Härtl and
+    /// Ooi).
+    pub ref_residual_deg: f64,
+    /// Scatter (half width) of the reference residual angle, degrees.
+    pub ref_residual_scatter_deg: f64,
+    /// Seed of the packing.
+    pub seed: u64,
+}
+
+impl Default for ShearParams {
+    fn default() -> Self {
+        Self {
+            normal_stress: vec![3.1e3, 6.4e3, 12.5e3, 24.2e3],
+            method: "nsc,smc".into(),
+            mu: 0.18,
+            wall_mu: 0.13,
+            rolling_friction: 0.0,
+            grain_diameter: 0.006,
+            box_length: 20.0,
+            half_height: 5.5,
+            gap: 0.5,
+            density: 2550.0,
+            young: 4e7,
+            poisson: 0.22,
+            restitution: 0.87,
+            shear_speed: 0.005,
+            displacement: 1.5,
+            bin: 0.05,
+            peak_window: 1.0,
+            residual_window: 0.3,
+            t_settle: 0.4,
+            t_consolidate: 0.1,
+            h: 0.0,
+            tolerance: 1e-5,
+            max_iterations: 300,
+            ref_peak_deg: 27.0,
+            ref_peak_scatter_deg: 3.0,
+            ref_residual_deg: 23.0,
+            ref_residual_scatter_deg: 2.0,
+            seed: 7,
+        }
+    }
+}
+
+impl CaseParams for ShearParams {
+    const INFO: &'static [ParamInfo] = &[
+        ParamInfo::new(
+            "normal_stress",
+            "Pa",
+            "normal stresses of the sweep ([a, b, ..] or one number)",
+        ),
+        ParamInfo::new("method", "-", "contact methods: nsc | smc | nsc,smc"),
+        ParamInfo::new("mu", "-", "grain-grain sliding friction"),
+        ParamInfo::new("wall_mu", "-", "grain-wall sliding friction"),
+        ParamInfo::new("rolling_friction", "-", "rolling friction coefficient"),
+        ParamInfo::new("grain_diameter", "m", "grain diameter d (mono-disperse)"),
+        ParamInfo::new("box_length", "d", "box side / grain diameter"),
+        ParamInfo::new("half_height", "d", "lower half depth / grain diameter"),
+        ParamInfo::new("gap", "d", "gap between the halves / grain diameter"),
+        ParamInfo::new("density", "kg/m^3", "grain density"),
+        ParamInfo::new("young", "Pa", "Young's modulus (SMC)"),
+        ParamInfo::new("poisson", "-", "Poisson's ratio (SMC)"),
+        ParamInfo::new("restitution", "-", "restitution (SMC)"),
+        ParamInfo::new("shear_speed", "m/s", "speed of the lower half"),
+        ParamInfo::new("displacement", "d", "shear displacement / grain diameter"),
+        ParamInfo::new(
+            "bin",
+            "d",
+            "averaging bin of the force ratio (displacement)",
+        ),
+        ParamInfo::new(
+            "peak_window",
+            "-",
+            "fraction of the displacement searched for the peak",
+        ),
+        ParamInfo::new(
+            "residual_window",
+            "-",
+            "final fraction averaged for the residual",
+        ),
+        ParamInfo::new("t_settle", "s", "settling time before the load"),
+        ParamInfo::new("t_consolidate", "s", "consolidation time under the load"),
+        ParamInfo::new("h", "s", "time step (0: 1e-3 NSC, the SMC limit SMC)"),
+        ParamInfo::new("tolerance", "m/s", "APGD tolerance (NSC)"),
+        ParamInfo::new("max_iterations", "-", "APGD iteration cap (NSC)"),
+        ParamInfo::new("ref_peak_deg", "deg", "reference peak friction angle"),
+        ParamInfo::new(
+            "ref_peak_scatter_deg",
+            "deg",
+            "scatter of the reference peak angle",
+        ),
+        ParamInfo::new(
+            "ref_residual_deg",
+            "deg",
+            "reference residual friction angle",
+        ),
+        ParamInfo::new(
+            "ref_residual_scatter_deg",
+            "deg",
+            "scatter of the reference residual angle",
+        ),
+        ParamInfo::new("seed", "-", "seed of the packing"),
+    ];
+    fn apply_mode(&mut self, mode: Mode) {
+        match mode {
+            // ~600 grains, one stress, 1.5 d of displacement at 2 cm/s (I ~ 3e-3).
+            Mode::Quick => {
+                self.normal_stress = vec![6.4e3];
+                self.box_length = 8.0;
+                self.half_height = 4.0;
+                self.shear_speed = 0.02;
+                self.t_settle = 0.25;
+                self.t_consolidate = 0.05;
+            }
+            // ~1700 grains, two stresses.
+            Mode::Default => {
+                self.normal_stress = vec![3.1e3, 12.5e3];
+                self.box_length = 12.0;
+                self.half_height = 5.0;
+                self.shear_speed = 0.01;
+            }
+            Mode::Full => {}
+        }
+    }
+}
+
+/// The contact methods of the `method` parameter (`"nsc,smc"`, `"smc"` ...).
+fn parse_methods(list: &str) -> anyhow::Result<Vec<ContactMethod>> {
+    let methods: Vec<ContactMethod> = list
+        .split(',')
+        .map(str::trim)
+        .filter(|s| !s.is_empty())
+        .map(parse_method)
+        .collect::<anyhow::Result<_>>()?;
+    anyhow::ensure!(
+        !methods.is_empty(),
+        "parameter `method` must name at least one of `nsc`, `smc`, got `{list}`"
+    );
+    Ok(methods)
+}
+
+fn method_name(m: ContactMethod) -> &'static str {
+    match m {
+        ContactMethod::Nsc => "nsc",
+        ContactMethod::Smc => "smc",
+    }
+}
+
+/// Sum of the contact forces (N, world) that bodies outside `structure` (the grains) exert
+/// on the bodies in `targets`, in the last step. NSC: the contact impulses of the last
+/// CCP divided by `h`; SMC: the penalty forces.
+pub fn grain_forces_on(sys: &System, h: f64, targets: &[u32], structure: &[u32]) -> Vector3<f64> {
+    let is_grain = |o: u32| !structure.contains(&o);
+    let mut f = Vector3::zeros();
+    // Force on B (A gets the opposite): returns the share of `targets` from grains.
+    let mut add = |a: u32, b: u32, on_b: Vector3<f64>| {
+        if targets.contains(&b) && is_grain(a) {
+            f += on_b;
+        }
+        if targets.contains(&a) && is_grain(b) {
+            f -= on_b;
+        }
+    };
+    match sys.settings().contact_method {
+        ContactMethod::Nsc => {
+            let (problem, gamma) = (sys.last_problem(), sys.last_gamma());
+            for c in sys.contacts() {
+                let k = problem.row_index(c.row);
+                if k + 2 >= gamma.len() {
+                    continue;
+                }
+                // Rows n, u, w are B's velocity relative to A's: the impulse acts on B.
+                let imp = c.normal() * gamma[k] + c.u * gamma[k + 1] + c.w * gamma[k + 2];
+                add(c.point.owner_a, c.point.owner_b, imp / h);
+            }
+        }
+        ContactMethod::Smc => {
+            for c in sys.smc_contacts() {
+                add(c.owner_a, c.owner_b, c.force);
+            }
+        }
+    }
+    f
+}
+
+/// Peak (largest 3-bin running mean over the bins with `s <= peak_window s_max`) and
+/// residual (mean over `s >= (1 - residual_window) s_max`) of a ratio sampled in bins
+/// `(s, ratio)` of increasing displacement.
+pub fn peak_and_residual(
+    bins: &[(f64, f64)],
+    peak_window: f64,
+    residual_window: f64,
+) -> anyhow::Result<(f64, f64)> {
+    anyhow::ensure!(
+        bins.len() >= 6,
+        "granular-shear: {} bins are too few for a peak and a residual (make `displacement` larger or `bin` smaller)",
+        bins.len()
+    );
+    let s_max = bins.last().map(|b| b.0).unwrap_or(0.0);
+    let mut peak = f64::NEG_INFINITY;
+    for w in bins.windows(3) {
+        if w[1].0 <= peak_window * s_max {
+            peak = peak.max((w[0].1 + w[1].1 + w[2].1) / 3.0);
+        }
+    }
+    let late: Vec<f64> = bins
+        .iter()
+        .filter(|b| b.0 >= (1.0 - residual_window) * s_max)
+        .map(|b| b.1)
+        .collect();
+    anyhow::ensure!(
+        peak.is_finite() && !late.is_empty(),
+        "granular-shear: `peak_window` = {peak_window} or `residual_window` = {residual_window} selects no bins"
+    );
+    Ok((peak, late.iter().sum::<f64>() / late.len() as f64))
+}
+
+/// One shear test: the force ratio by displacement bin and its summary.
+struct ShearRun {
+    /// `(s / d, S / N, S / (sigma L^2), plate rise / d, -S_lower / S)` per bin.
+    bins: Vec<[f64; 5]>,
+    peak: f64,
+    residual: f64,
+    grains: usize,
+    steps: u64,
+    h: f64,
+    wall_s: f64,
+    /// Weight of the grains above the plane over the applied load, mean over the shear.
+    self_weight: f64,
+    /// Kinetic energy per grain when the load is applied, over `m g d`.
+    ke_settled: f64,
+    /// Deepest penetration (NSC) or overlap (SMC) of the last step, over `d`.
+    penetration: f64,
+}
+
+fn check_params(p: &ShearParams) -> anyhow::Result<()> {
+    let positive = [
+        ("grain_diameter", p.grain_diameter),
+        ("density", p.density),
+        ("young", p.young),
+        ("shear_speed", p.shear_speed),
+        ("displacement", p.displacement),
+        ("bin", p.bin),
+        ("t_settle", p.t_settle),
+        ("t_consolidate", p.t_consolidate),
+    ];
+    for (name, v) in positive {
+        anyhow::ensure!(
+            v > 0.0 && v.is_finite(),
+            "parameter `{name}` must be > 0, got {v}"
+        );
+    }
+    anyhow::ensure!(
+        p.box_length >= 4.0 && p.box_length.is_finite(),
+        "parameter `box_length` must be >= 4 grain diameters, got {}",
+        p.box_length
+    );
+    anyhow::ensure!(
+        p.half_height >= 2.0 && p.half_height.is_finite(),
+        "parameter `half_height` must be >= 2 grain diameters, got {}",
+        p.half_height
+    );
+    anyhow::ensure!(
+        p.gap >= 0.0 && p.gap < 0.9,
+        "parameter `gap` must be in [0, 0.9) grain diameters (grains must not pass), got {}",
+        p.gap
+    );
+    anyhow::ensure!(
+        p.displacement < 0.5 * p.box_length,
+        "parameter `displacement` must be below half the box length ({}), got {}",
+        0.5 * p.box_length,
+        p.displacement
+    );
+    for (name, v) in [
+        ("peak_window", p.peak_window),
+        ("residual_window", p.residual_window),
+    ] {
+        anyhow::ensure!(
+            v > 0.0 && v <= 1.0,
+            "parameter `{name}` must be in (0, 1], got {v}"
+        );
+    }
+    anyhow::ensure!(
+        p.h >= 0.0 && p.h.is_finite(),
+        "parameter `h` must be >= 0, got {}",
+        p.h
+    );
+    Ok(())
+}
+
+/// Four walls of thickness `t` around the square `[-l/2, l/2]^2`, between heights `z0` and
+/// `z1`, as box colliders on `b`.
+fn add_walls(
+    mut b: RigidBodyBuilder,
+    l: f64,
+    t: f64,
+    z0: f64,
+    z1: f64,
+    mat: ContactMaterial,
+) -> RigidBodyBuilder {
+    let (hz, zc) = (0.5 * (z1 - z0), 0.5 * (z0 + z1));
+    let off = 0.5 * (l + t);
+    for s in [-1.0, 1.0] {
+        b = b
+            .collider(
+                Shape::Box {
+                    half_extents: Vector3::new(0.5 * t, 0.5 * l + t, hz),
+                },
+                Isometry3::translation(s * off, 0.0, zc),
+                mat,
+            )
+            .collider(
+                Shape::Box {
+                    half_extents: Vector3::new(0.5 * l, 0.5 * t, hz),
+                },
+                Isometry3::translation(0.0, s * off, zc),
+                mat,
+            );
+    }
+    b
+}
+
+fn shear_test(
+    p: &ShearParams,
+    method: ContactMethod,
+    sigma: f64,
+    ctx: &RunContext,
+    progress: (usize, usize),
+) -> anyhow::Result<ShearRun> {
+    let start = std::time::Instant::now();
+    anyhow::ensure!(
+        sigma > 0.0 && sigma.is_finite(),
+        "parameter `normal_stress` must be > 0, got {sigma}"
+    );
+    let d = p.grain_diameter;
+    let r = 0.5 * d;
+    let (l, hl, gap, t) = (p.box_length * d, p.half_height * d, p.gap * d, d);
+    let settings = SystemSettings {
+        envelope: 0.05 * d,
+        smc: SmcSettings::default(),
+        ..SystemSettings::default()
+    };
+    let g = settings.gravity.norm();
+    let mut sys = make_system(method, settings, p.tolerance, p.max_iterations)?;
+    let grain_mat = ContactMaterial::smc(p.young, p.poisson, p.restitution, p.mu)
+        .with_rolling_friction(p.rolling_friction);
+    let wall_mat = ContactMaterial::smc(p.young, p.poisson, p.restitution, p.wall_mu)
+        .with_rolling_friction(p.rolling_friction);
+    grain_mat.validate()?;
+    wall_mat.validate()?;
+
+    // The grains: a jittered lattice (sites 1.25 d apart) holding the number that fills
+    // 2 `half_height` at the settled solid fraction.
+    let v_grain = std::f64::consts::PI / 6.0 * d.powi(3);
+    let count = (SETTLED_FRACTION * l * l * 2.0 * hl / v_grain).round() as usize;
+    let pitch = d + 0.5 * r;
+    let per_layer = ((l / pitch).floor() as usize).pow(2).max(1);
+    let layers = count.div_ceil(per_layer) as f64;
+    let fill_top = -hl + (layers + 1.0) * pitch;
+    let z_top = fill_top + d;
+    let lattice = LatticeFill {
+        region: Region::Box {
+            lower: Vector3::new(-0.5 * l, -0.5 * l, -hl),
+            upper: Vector3::new(0.5 * l, 0.5 * l, fill_top),
+        },
+        r_min: r,
+        r_max: r,
+        gap: 0.5 * r,
+        jitter: 1.0,
+        max_count: count,
+        seed: p.seed,
+    };
+    let grains: Vec<Grain> = lattice.generate()?;
+    anyhow::ensure!(
+        grains.len() == count,
+        "granular-shear: the lattice holds {} of {count} grains",
+        grains.len()
+    );
+
+    // The lower half (kinematic: floor and walls), the upper half (fixed walls), the
+    // plate (free, joined to the upper half by a vertical prismatic joint).
+    let floor = Shape::Box {
+        half_extents: Vector3::new(0.5 * l + t, 0.5 * l + t, 0.5 * t),
+    };
+    let lower_b = RigidBodyBuilder::kinematic().name("lower half").collider(
+        floor,
+        Isometry3::translation(0.0, 0.0, -hl - 0.5 * t),
+        wall_mat,
+    );
+    let lower = sys.add_body(add_walls(lower_b, l, t, -hl, 0.0, wall_mat))?;
+    let upper_b = RigidBodyBuilder::fixed().name("upper half");
+    let upper = sys.add_body(add_walls(upper_b, l, t, gap, z_top, wall_mat))?;
+    let side = l - 0.2 * d;
+    let plate_shape = Shape::Box {
+        half_extents: Vector3::new(0.5 * side, 0.5 * side, 0.5 * t),
+    };
+    // The plate weighs about one layer of grains: heavy enough to stay flat under the
+    // grains' impacts, light enough not to strain the NSC solve (the load is a force).
+    let plate_mass = SETTLED_FRACTION * p.density * side * side * t;
+    let park = z_top + t;
+    let plate = sys.add_body(
+        RigidBodyBuilder::dynamic()
+            .name("load plate")
+            .mass_from_shape(&plate_shape, plate_mass / (side * side * t))?
+            .position(Vector3::new(0.0, 0.0, park))
+            .collider(plate_shape, Isometry3::identity(), wall_mat),
+    )?;
+    sys.add_joint(
+        JointBuilder::at_axis(
+            JointKind::Prismatic,
+            upper,
+            plate,
+            Vector3::new(0.0, 0.0, park),
+            Vector3::z(),
+        )
+        .name("plate slider"),
+    )?;
+    // Parked above the fill while the grains settle: its weight is carried by a force.
+    sys.body_mut(plate)?
+        .set_applied_force(Vector3::new(0.0, 0.0, plate_mass * g))?;
+    let handles: Vec<BodyHandle> = add_grains(&mut sys, &grains, p.density, grain_mat)?;
+    let mut rng = Rng::new(p.seed ^ 0x5bd1_e995);
+    for &b in &handles {
+        // Random horizontal velocities break the lattice's columns (see granular-hopper).
+        let v = Vector3::new(rng.range(-0.1, 0.1), rng.range(-0.1, 0.1), 0.0);
+        sys.body_mut(b)?.set_linear_velocity(v)?;
+    }
+    let grain_mass = sys.body(handles[0])?.mass();
+    let h = if p.h > 0.0 {
+        p.h
+    } else if method == ContactMethod::Nsc {
+        1e-3
+    } else {
+        sys.smc_max_step().map(|(h, _)| h).unwrap_or(1e-4)
+    };
+    let structure = [lower.0, upper.0, plate.0];
+    let n_settle = (p.t_settle / h).round().max(1.0) as u64;
+    let n_cons = (p.t_consolidate / h).round().max(1.0) as u64;
+    let steps_per_bin = ((p.bin * d / (p.shear_speed * h)).round() as u64).max(1);
+    let n_bins = (p.displacement / p.bin).round().max(1.0) as u64;
+    let n_total = n_settle + n_cons + n_bins * steps_per_bin;
+    let report = |i: u64| {
+        let (j, m) = progress;
+        ctx.progress((j as f64 + i as f64 / n_total as f64) / m as f64);
+    };
+    let mut vtk = super::GrainFrames::new(ctx, ((0.02 / h).round() as u64).max(1));
+    let mut step = 0u64;
+    // The pour only has to make a packing: NSC settles with a cheaper solve (at most
+    // `SETTLE_ITERATIONS`), the loaded sample is solved with `max_iterations`.
+    sys.solver_mut().settings_mut().max_iterations = p.max_iterations.min(SETTLE_ITERATIONS);
+    for _ in 0..n_settle {
+        sys.step(h)?;
+        step += 1;
+        vtk.record(step, &sys)?;
+        report(step);
+    }
+    sys.solver_mut().settings_mut().max_iterations = p.max_iterations;
+    let ke_settled = sys.kinetic_energy() / handles.len() as f64 / (grain_mass * g * d);
+    // Load: the plate just above the highest grain, pushing with sigma L^2 in all.
+    let mut top = f64::NEG_INFINITY;
+    for &b in &handles {
+        top = top.max(sys.body(b)?.position().z + r);
+    }
+    anyhow::ensure!(
+        top < z_top,
+        "granular-shear: grains above the box after settling (top {top} m, walls end at {z_top} m)"
+    );
+    let load = sigma * l * l;
+    {
+        let body = sys.body_mut(plate)?;
+        body.set_pose(
+            Vector3::new(0.0, 0.0, top + 0.5 * t + 0.02 * d),
+            UnitQuaternion::identity(),
+        )?;
+        body.set_linear_velocity(Vector3::zeros())?;
+        body.set_applied_force(Vector3::new(0.0, 0.0, -(load - plate_mass * g)))?;
+    }
+    for _ in 0..n_cons {
+        sys.step(h)?;
+        step += 1;
+        vtk.record(step, &sys)?;
+        report(step);
+    }
+    let z_plate0 = sys.body(plate)?.position().z;
+    sys.body_mut(lower)?
+        .set_linear_velocity(Vector3::new(p.shear_speed, 0.0, 0.0))?;
+    let z_plane = 0.5 * gap;
+    let x0 = sys.body(lower)?.position().x;
+    let (mut bins, mut weight_sum) = (Vec::with_capacity(n_bins as usize), 0.0);
+    for _ in 0..n_bins {
+        let (mut f, mut f_lower) = (Vector3::zeros(), Vector3::zeros());
+        for _ in 0..steps_per_bin {
+            sys.step(h)?;
+            step += 1;
+            f += grain_forces_on(&sys, h, &[upper.0, plate.0], &structure);
+            f_lower += grain_forces_on(&sys, h, &[lower.0], &structure);
+            vtk.record(step, &sys)?;
+            report(step);
+        }
+        f /= steps_per_bin as f64;
+        let mut above = 0usize;
+        for &b in &handles {
+            if sys.body(b)?.position().z > z_plane {
+                above += 1;
+            }
+        }
+        let weight = above as f64 * grain_mass * g;
+        weight_sum += weight / load;
+        let normal = f.z + weight;
+        anyhow::ensure!(
+            normal > 0.0,
+            "granular-shear: no normal force on the shear plane ({normal} N) at step {step}"
+        );
+        let s = (sys.body(lower)?.position().x - x0) / d;
+        let rise = (sys.body(plate)?.position().z - z_plate0) / d;
+        // Quasi-static: the lower half feels the opposite shear force.
+        let balance = -f_lower.x / steps_per_bin as f64 / f.x;
+        bins.push([s, f.x / normal, f.x / load, rise, balance]);
+    }
+    vtk.finish()?;
+    let pairs: Vec<(f64, f64)> = bins.iter().map(|b| (b[0], b[1])).collect();
+    let (peak, residual) = peak_and_residual(&pairs, p.peak_window, p.residual_window)?;
+    Ok(ShearRun {
+        self_weight: weight_sum / n_bins as f64,
+        ke_settled,
+        penetration: super::max_penetration(&sys) / d,
+        bins,
+        peak,
+        residual,
+        grains: handles.len(),
+        steps: n_total,
+        h,
+        wall_s: start.elapsed().as_secs_f64(),
+    })
+}
+
+fn run(p: &ShearParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
+    check_params(p)?;
+    let methods = parse_methods(&p.method)?;
+    anyhow::ensure!(
+        !p.normal_stress.is_empty(),
+        "parameter `normal_stress` must list at least one stress"
+    );
+    let mut out = CaseOutput::new();
+    let total = methods.len() * p.normal_stress.len();
+    let mut columns = vec!["displacement_over_d".to_string()];
+    let mut runs = Vec::new();
+    for (mi, &method) in methods.iter().enumerate() {
+        let mut residuals = Vec::new();
+        for (si, &sigma) in p.normal_stress.iter().enumerate() {
+            let j = mi * p.normal_stress.len() + si;
+            let r = shear_test(p, method, sigma, ctx, (j, total))?;
+            let tag = format!("{}_{:.1}kPa", method_name(method), sigma / 1e3);
+            let (peak_deg, res_deg) = (r.peak.atan().to_degrees(), r.residual.atan().to_degrees());
+            // I with a shear zone 5 d thick: gamma_dot = v / (5 d).
+            let inertial = p.shear_speed / 5.0 * (p.density / sigma).sqrt();
+            out.check(Check::absolute(
+                format!("peak_friction_angle_deg_{tag}"),
+                peak_deg,
+                p.ref_peak_deg,
+                p.ref_peak_scatter_deg,
+            ))
+            .check(Check::absolute(
+                format!("residual_friction_angle_deg_{tag}"),
+                res_deg,
+                p.ref_residual_deg,
+                p.ref_residual_scatter_deg,
+            ))
+            .check(Check::below(
+                format!("inertial_number_{tag}"),
+                inertial,
+                1e-2,
+            ));
+            let last = r.bins.last().copied().unwrap_or([0.0; 5]);
+            let late = &r.bins[r.bins.len() * 7 / 10..];
+            let balance = late.iter().map(|b| b[4]).sum::<f64>() / late.len().max(1) as f64;
+            let applied = late.iter().map(|b| b[2]).sum::<f64>() / late.len().max(1) as f64;
+            out.metric(format!("peak_ratio_{tag}"), r.peak)
+                .metric(format!("residual_ratio_{tag}"), r.residual)
+                .metric(format!("self_weight_over_load_{tag}"), r.self_weight)
+                .metric(format!("residual_ratio_applied_{tag}"), applied)
+                .metric(format!("ke_settled_over_mgd_{tag}"), r.ke_settled)
+                .metric(format!("max_penetration_over_d_{tag}"), r.penetration)
+                .metric(format!("lower_over_upper_shear_{tag}"), balance)
+                .metric(format!("plate_rise_over_d_{tag}"), last[3])
+                .metric(format!("grains_{tag}"), r.grains as f64)
+                .metric(format!("h_{tag}"), r.h)
+                .metric(format!("wall_s_{tag}"), r.wall_s);
+            out.sweep.push(SweepPoint {
+                label: tag.clone(),
+                error: ((res_deg - p.ref_residual_deg) / p.ref_residual_deg).abs(),
+                wall_s: r.wall_s,
+            });
+            out.steps += r.steps;
+            columns.push(format!("ratio_{tag}"));
+            residuals.push(res_deg);
+            runs.push(r);
+        }
+        // Coulomb: the residual angle does not depend on the normal stress.
+        if residuals.len() > 1 {
+            let (lo, hi) = residuals
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
+                    (a.min(x), b.max(x))
+                });
+            out.check(Check::below(
+                format!("residual_spread_deg_{}", method_name(method)),
+                hi - lo,
+                2.0 * p.ref_residual_scatter_deg,
+            ));
+        }
+    }
+    if let [only] = runs.as_slice() {
+        out.metric("peak_friction_angle_deg", only.peak.atan().to_degrees())
+            .metric(
+                "residual_friction_angle_deg",
+                only.residual.atan().to_degrees(),
+            );
+    }
+    // Series: S / N of every run on the displacement of the first.
+    let cols: Vec<&str> = columns.iter().map(String::as_str).collect();
+    let mut series = Series::new(cols.iter().copied());
+    let len = runs.iter().map(|r| r.bins.len()).min().unwrap_or(0);
+    for k in 0..len {
+        let mut row = vec![runs[0].bins[k][0]];
+        row.extend(runs.iter().map(|r| r.bins[k][1]));
+        series.push(&row);
+    }
+    out.series = series;
+    out.plot = PlotSpec::new(
+        "direct shear: shear force / normal force on the shear plane",
+        "shear displacement / d",
+        "S / N",
+        &cols[1..],
+    );
+    Ok(out)
+}
+
+/// The validation case.
+pub fn case() -> Box<dyn Case> {
+    ParamCase::<ShearParams>::boxed(
+        "granular-shear",
+        "granular",
+        "Direct shear box of glass beads (NSC and SMC) after Härtl & Ooi (2008) and Fleischmann et al. (2016): peak and residual friction angles atan(S/N) against the published bulk friction of glass beads.",
+        run,
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn methods_parse_and_reject() {
+        assert_eq!(
+            parse_methods("nsc, smc").unwrap(),
+            vec![ContactMethod::Nsc, ContactMethod::Smc]
+        );
+        let e = parse_methods("dem").unwrap_err().to_string();
+        assert!(e.contains("method") && e.contains("dem"), "{e}");
+        assert!(parse_methods(" , ").is_err());
+    }
+
+    #[test]
+    fn bad_params_name_the_field() {
+        let p = ShearParams {
+            gap: 1.0,
+            ..ShearParams::default()
+        };
+        let e = check_params(&p).unwrap_err().to_string();
+        assert!(e.contains("gap") && e.contains('1'), "{e}");
+        let p = ShearParams {
+            shear_speed: -1.0,
+            ..ShearParams::default()
+        };
+        assert!(
+            check_params(&p)
+                .unwrap_err()
+                .to_string()
+                .contains("shear_speed")
+        );
+    }
+}

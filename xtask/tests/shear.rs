@@ -1,0 +1,91 @@
+//! `granular-shear` helpers through the public API: the contact forces read from the
+//! last step (both methods) against statics, and the peak / residual reduction.
+
+use chrono_core::granular::{Grain, add_grains};
+use chrono_core::math::{Isometry3, Vector3};
+use chrono_core::system::ContactMethod;
+use chrono_core::{ContactMaterial, RigidBodyBuilder, Shape, SystemSettings};
+use xtask::cases::granular::make_system;
+use xtask::cases::granular::shear::{grain_forces_on, peak_and_residual};
+
+#[test]
+fn peak_and_residual_of_a_curve() {
+    // Rises to 0.6 at s = 0.2, decays to 0.4.
+    let bins: Vec<(f64, f64)> = (1..=40)
+        .map(|k| {
+            let s = k as f64 * 0.05;
+            let y = if s <= 0.2 {
+                3.0 * s
+            } else {
+                0.4 + 0.2 * (-(s - 0.2) / 0.2).exp()
+            };
+            (s, y)
+        })
+        .collect();
+    let (peak, res) = peak_and_residual(&bins, 0.5, 0.3).unwrap();
+    assert!(peak > 0.5 && peak <= 0.6, "{peak}");
+    assert!((res - 0.4).abs() < 0.01, "{res}");
+    assert!(peak_and_residual(&bins[..3], 0.5, 0.3).is_err());
+}
+
+/// A sphere resting on a fixed plate and pushed sideways by a force below the
+/// friction limit: the grain forces on the plate are its weight and the push, by both
+/// methods.
+#[test]
+fn grain_forces_on_a_plate_balance_weight_and_push() {
+    for method in [ContactMethod::Nsc, ContactMethod::Smc] {
+        let settings = SystemSettings {
+            envelope: 1e-4,
+            ..SystemSettings::default()
+        };
+        let mut sys = make_system(method, settings, 1e-8, 500).unwrap();
+        let mat = ContactMaterial::smc(1e7, 0.3, 0.5, 0.5);
+        let plate = sys
+            .add_body(RigidBodyBuilder::fixed().collider(
+                Shape::Box {
+                    half_extents: Vector3::new(0.05, 0.05, 0.005),
+                },
+                Isometry3::identity(),
+                mat,
+            ))
+            .unwrap();
+        let r = 0.003;
+        let g = [Grain {
+            center: Vector3::new(0.0, 0.0, 0.005 + r),
+            radius: r,
+        }];
+        let b = add_grains(&mut sys, &g, 2500.0, mat).unwrap()[0];
+        let m = sys.body(b).unwrap().mass();
+        let push = 0.2 * m * 9.81;
+        sys.body_mut(b)
+            .unwrap()
+            .set_applied_force(Vector3::new(push, 0.0, 0.0))
+            .unwrap();
+        let h = match method {
+            ContactMethod::Nsc => 1e-3,
+            ContactMethod::Smc => sys.smc_max_step().unwrap().0,
+        };
+        // 0.2 s: the sphere rolls 2.8 cm, still on the plate (half side 5 cm).
+        let n = (0.2 / h) as usize;
+        let mut f = Vector3::zeros();
+        for i in 0..n {
+            sys.step(h).unwrap();
+            // Rolling is free: the sphere accelerates; average the late steps.
+            if i >= n / 2 {
+                f += grain_forces_on(&sys, h, &[plate.0], &[plate.0]);
+            }
+        }
+        f /= (n - n / 2) as f64;
+        let w = m * 9.81;
+        assert!(
+            (f.z + w).abs() < 0.02 * w,
+            "{method:?}: {f:?} vs weight {w}"
+        );
+        // A free sphere rolls: friction carries 2/7 of the push (I = 2/5 m r^2).
+        let expect = 2.0 / 7.0 * push;
+        assert!(
+            (f.x - expect).abs() < 0.05 * push,
+            "{method:?}: {f:?} vs {expect}"
+        );
+    }
+}
