@@ -4,8 +4,11 @@
 //! - `smc-bounce`: restitution of one sphere on a plate (SMC, both force laws);
 //! - `granular-settle`: grains settling in a box stay at rest (validation) and its
 //!   throughput (bench);
-//! - `granular-hopper`: silo discharge through a circular orifice against Beverloo's law.
+//! - `granular-hopper`: silo discharge through a circular orifice against Beverloo's law;
+//! - `granular-ball-drop`: a ball dropped into a bed, penetration depth against Uehara et
+//!   al.'s scaling.
 
+pub mod ball_drop;
 pub mod hopper;
 pub mod settle;
 pub mod smc_bounce;
