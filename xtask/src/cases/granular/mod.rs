@@ -5,8 +5,11 @@
 //! - `granular-settle`: grains settling in a box stay at rest (validation) and its
 //!   throughput (bench);
 //! - `granular-hopper`: silo discharge through a circular orifice against Beverloo's law;
+//! - `granular-ball-drop`: a ball dropped into a bed, penetration depth against Uehara et
+//!   al.'s scaling.
 //! - `granular-shear`: a direct shear box of glass beads, peak and residual friction angles.
 
+pub mod ball_drop;
 pub mod hopper;
 pub mod settle;
 pub mod shear;
