@@ -74,6 +74,7 @@ pub fn all_cases() -> Vec<Box<dyn Case>> {
         granular::smc_bounce::case(),
         granular::settle::case(),
         granular::hopper::case(),
+        granular::repose::case(),
         sph::hydrostatic::case(),
         sph::poiseuille::case(),
         sph::dam_break::case(),

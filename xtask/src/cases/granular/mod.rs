@@ -4,9 +4,12 @@
 //! - `smc-bounce`: restitution of one sphere on a plate (SMC, both force laws);
 //! - `granular-settle`: grains settling in a box stay at rest (validation) and its
 //!   throughput (bench);
-//! - `granular-hopper`: silo discharge through a circular orifice against Beverloo's law.
+//! - `granular-hopper`: silo discharge through a circular orifice against Beverloo's law;
+//! - `granular-repose`: the angle of repose of a heap left on a plate after discharge,
+//!   against Zhou et al.'s (2002) DEM correlation and glass-bead experiments.
 
 pub mod hopper;
+pub mod repose;
 pub mod settle;
 pub mod smc_bounce;
 
