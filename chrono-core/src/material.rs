@@ -34,7 +34,7 @@ pub struct ContactMaterial {
     /// torque is at most `mu_r R F_n` with `R` the effective radius of the contact and
     /// `F_n` the normal force (Ai et al., "Assessment of rolling resistance models in
     /// discrete element simulations", Powder Technol. 206, 2011, model A). NSC rolling
-    /// cones use the length `mu_r R` as their coefficient. 0 = no rolling resistance.
+    /// cones bound the torque impulse by `mu_r R g_n`. 0 = no rolling resistance.
     pub rolling_friction: f64,
     /// Spinning (twisting) friction coefficient `mu_s` (dimensionless, >= 0): the torque
     /// about the contact normal is at most `mu_s R F_n`. 0 = none.

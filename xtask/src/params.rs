@@ -259,6 +259,8 @@ fn coerce(case: &str, key: &str, current: &Value, raw: &str) -> anyhow::Result<V
             Value::Array(_) => parsed,
             // One value for a list of numbers: a list of one (`--set orifice_diameter=0.02`).
             Value::Number(_) if items.iter().all(Value::is_number) => Value::Array(vec![parsed]),
+            // One word for a list of strings: a list of one (`--set method=smc`).
+            Value::String(_) if items.iter().all(Value::is_string) => Value::Array(vec![parsed]),
             _ => return Err(mismatch("a JSON array such as [1, 2, 3]")),
         },
         Value::Object(_) => match parsed {
@@ -367,6 +369,20 @@ mod tests {
         let names = serde_json::json!(["apgd"]);
         assert!(coerce("c", "d", &names, "3").is_err());
         assert!(coerce("c", "d", &list, "abc").is_err());
+    }
+
+    #[test]
+    fn one_word_sets_a_list_of_strings() {
+        let methods = serde_json::json!(["nsc", "smc"]);
+        assert_eq!(
+            coerce("c", "method", &methods, "smc").unwrap(),
+            serde_json::json!(["smc"])
+        );
+        assert_eq!(
+            coerce("c", "method", &methods, r#"["smc","nsc"]"#).unwrap(),
+            serde_json::json!(["smc", "nsc"])
+        );
+        assert!(coerce("c", "method", &methods, "3").is_err());
     }
 
     #[test]

@@ -76,6 +76,7 @@ pub fn all_cases() -> Vec<Box<dyn Case>> {
         granular::hopper::case(),
         granular::ball_drop::case(),
         granular::shear::case(),
+        granular::repose::case(),
         sph::hydrostatic::case(),
         sph::poiseuille::case(),
         sph::dam_break::case(),

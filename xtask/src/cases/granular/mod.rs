@@ -8,9 +8,12 @@
 //! - `granular-ball-drop`: a ball dropped into a bed, penetration depth against Uehara et
 //!   al.'s scaling.
 //! - `granular-shear`: a direct shear box of glass beads, peak and residual friction angles.
+//! - `granular-repose`: the angle of repose of a heap left on a plate after discharge,
+//!   against Zhou et al.'s (2002) DEM correlation and glass-bead experiments.
 
 pub mod ball_drop;
 pub mod hopper;
+pub mod repose;
 pub mod settle;
 pub mod shear;
 pub mod smc_bounce;
