@@ -35,8 +35,11 @@
 //!
 //! The reference band (`ref_peak_deg`, `ref_residual_deg` and their scatter) is an
 //! estimate of typical direct shear angles of glass beads, *not* read from Härtl and Ooi
-//! (their tables were not available when the case was written): set it from the paper
-//! before reading the angle checks as a validation (docs/validation-granular.md).
+//! (their tables were not available when the case was written), so the angles are
+//! reported as metrics next to it and checked only with `check_angles = true`, once the
+//! band is set from the paper (docs/validation-granular.md). Always checked: the
+//! quasi-static state (inertial number, the two halves' shear forces within 5 %) and,
+//! with several stresses, that the residual angle does not depend on the stress.
 //!
 //! `method` lists the contact methods to run (`"nsc,smc"` runs both, `smc` one).
 
@@ -118,6 +121,9 @@ pub struct ShearParams {
     pub ref_residual_scatter_deg: f64,
     /// Seed of the packing.
     pub seed: u64,
+    /// Check the angles against the reference band (off until `ref_*` hold the published
+    /// values: the defaults are an estimate, so the angles are reported, not checked).
+    pub check_angles: bool,
 }
 
 impl Default for ShearParams {
@@ -151,6 +157,7 @@ impl Default for ShearParams {
             ref_residual_deg: 23.0,
             ref_residual_scatter_deg: 2.0,
             seed: 7,
+            check_angles: false,
         }
     }
 }
@@ -213,11 +220,19 @@ impl CaseParams for ShearParams {
             "scatter of the reference residual angle",
         ),
         ParamInfo::new("seed", "-", "seed of the packing"),
+        ParamInfo::new(
+            "check_angles",
+            "-",
+            "check the angles against the ref_* band (false until it is the published one)",
+        ),
     ];
     fn apply_mode(&mut self, mode: Mode) {
         match mode {
             // ~600 grains, one stress, 1.5 d of displacement at 2 cm/s (I ~ 3e-3).
+            // SMC only (NSC at 300 iterations is ~3x its cost): a smoke run of the setup,
+            // the force read-out and the quasi-static state.
             Mode::Quick => {
+                self.method = "smc".into();
                 self.normal_stress = vec![6.4e3];
                 self.box_length = 8.0;
                 self.half_height = 4.0;
@@ -667,34 +682,47 @@ fn run(p: &ShearParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
             let (peak_deg, res_deg) = (r.peak.atan().to_degrees(), r.residual.atan().to_degrees());
             // I with a shear zone 5 d thick: gamma_dot = v / (5 d).
             let inertial = p.shear_speed / 5.0 * (p.density / sigma).sqrt();
-            out.check(Check::absolute(
-                format!("peak_friction_angle_deg_{tag}"),
-                peak_deg,
-                p.ref_peak_deg,
-                p.ref_peak_scatter_deg,
-            ))
-            .check(Check::absolute(
-                format!("residual_friction_angle_deg_{tag}"),
-                res_deg,
-                p.ref_residual_deg,
-                p.ref_residual_scatter_deg,
-            ))
-            .check(Check::below(
-                format!("inertial_number_{tag}"),
-                inertial,
-                1e-2,
-            ));
+            if p.check_angles {
+                out.check(Check::absolute(
+                    format!("peak_friction_angle_deg_{tag}"),
+                    peak_deg,
+                    p.ref_peak_deg,
+                    p.ref_peak_scatter_deg,
+                ))
+                .check(Check::absolute(
+                    format!("residual_friction_angle_deg_{tag}"),
+                    res_deg,
+                    p.ref_residual_deg,
+                    p.ref_residual_scatter_deg,
+                ));
+            } else {
+                out.metric(format!("peak_friction_angle_deg_{tag}"), peak_deg)
+                    .metric(format!("residual_friction_angle_deg_{tag}"), res_deg);
+            }
             let last = r.bins.last().copied().unwrap_or([0.0; 5]);
             let late = &r.bins[r.bins.len() * 7 / 10..];
             let balance = late.iter().map(|b| b[4]).sum::<f64>() / late.len().max(1) as f64;
+            // Quasi-static: slow shear, and the two halves carry the same shear force.
+            out.check(Check::below(
+                format!("inertial_number_{tag}"),
+                inertial,
+                1e-2,
+            ))
+            .check(Check::relative(
+                format!("lower_over_upper_shear_{tag}"),
+                balance,
+                1.0,
+                0.05,
+            ));
             let applied = late.iter().map(|b| b[2]).sum::<f64>() / late.len().max(1) as f64;
-            out.metric(format!("peak_ratio_{tag}"), r.peak)
+            out.metric(format!("ref_peak_deg_{tag}"), p.ref_peak_deg)
+                .metric(format!("ref_residual_deg_{tag}"), p.ref_residual_deg)
+                .metric(format!("peak_ratio_{tag}"), r.peak)
                 .metric(format!("residual_ratio_{tag}"), r.residual)
                 .metric(format!("self_weight_over_load_{tag}"), r.self_weight)
                 .metric(format!("residual_ratio_applied_{tag}"), applied)
                 .metric(format!("ke_settled_over_mgd_{tag}"), r.ke_settled)
                 .metric(format!("max_penetration_over_d_{tag}"), r.penetration)
-                .metric(format!("lower_over_upper_shear_{tag}"), balance)
                 .metric(format!("plate_rise_over_d_{tag}"), last[3])
                 .metric(format!("grains_{tag}"), r.grains as f64)
                 .metric(format!("h_{tag}"), r.h)
