@@ -1,6 +1,43 @@
 //! # chrono-fea
 //!
-//! Finite elements (to be built; see the chrono-fea issue): ANCF cable/beam and shell
-//! elements (pre-shaped, with internal pressure, for tires), linear tetrahedra; nodes are
-//! variables of the descriptor, stepped implicitly with a sparse factorization (faer) as
-//! the coupled mass operator, in contact through the ordinary contact rows.
+//! Finite elements for chrono-rs. This first part (issue 7) has the gradient-deficient
+//! ANCF cable/beam element (Gerstmayr & Shabana 2006), meshes of it with supports and
+//! loads, a static solver (Newton with load stepping, faer sparse LU) and a modal
+//! analysis; the analytic references of the beam benchmarks are in [`analytic`].
+//!
+//! Still to come (see the issue): the fully parameterized ANCF beam, ANCF shells,
+//! tetrahedra, the mesh as a [`PhysicsItem`](chrono_core::item::PhysicsItem) with implicit
+//! stepping in the system's CCP, contact.
+//!
+//! ```
+//! use chrono_fea::{BeamMaterial, CableMesh, CableQuadrature, NodeId, StaticSettings, solve_static};
+//! use nalgebra::Vector3;
+//!
+//! let mat = BeamMaterial::rectangle(2e11, 7850.0, 0.01, 0.01, 0.0)?;
+//! let mut mesh = CableMesh::straight(Vector3::zeros(), Vector3::x(), 8, mat, CableQuadrature::default())?;
+//! mesh.clamp(NodeId(0))?;
+//! mesh.set_force(NodeId(8), Vector3::new(0.0, 0.0, -1.0))?;
+//! solve_static(&mut mesh, &StaticSettings { load_steps: 1, ..Default::default() })?;
+//! let tip = mesh.node(NodeId(8))?.displacement();
+//! let exact = 1.0 / (3.0 * mat.bending_stiffness()); // P L^3 / (3 E I)
+//! assert!((-tip.z / exact - 1.0).abs() < 1e-3);
+//! # Ok::<(), chrono_fea::FeaError>(())
+//! ```
+
+pub mod analytic;
+pub mod element;
+pub mod error;
+pub mod material;
+pub mod mesh;
+pub mod modal;
+pub mod node;
+pub mod quadrature;
+pub mod statics;
+
+pub use element::{AncfCable, CableQuadrature};
+pub use error::{FeaError, Result};
+pub use material::BeamMaterial;
+pub use mesh::{CableMesh, DofMap};
+pub use modal::natural_frequencies;
+pub use node::{GradientNode, NodeId};
+pub use statics::{StaticReport, StaticSettings, solve_static};

@@ -58,6 +58,7 @@
 use crate::case::Case;
 
 pub mod ccp;
+pub mod fea;
 pub mod granular;
 pub mod rigid;
 pub mod sph;
@@ -82,6 +83,8 @@ pub fn all_cases() -> Vec<Box<dyn Case>> {
         sph::dam_break::case(),
         sph::sloshing::case(),
         ccp::solvers::case(),
+        fea::cantilever::case(),
+        fea::frequency::case(),
     ]
 }
 

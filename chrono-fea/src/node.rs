@@ -1,0 +1,55 @@
+//! ANCF position + gradient nodes.
+
+use nalgebra::Vector3;
+
+/// Index of a node in a [`CableMesh`](crate::mesh::CableMesh).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct NodeId(pub usize);
+
+/// An ANCF node with a position and one position gradient ("slope"): 6 coordinates
+/// `e = [r, r_x]` with `r` the position (m) and `r_x = dr/dx` the derivative of the
+/// position along the element's reference arc length `x` (dimensionless; unit length
+/// and tangent to the centre line in the undeformed state). This is the node of the
+/// gradient-deficient cable/beam element (Gerstmayr & Shabana 2006).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GradientNode {
+    /// Current position `r`, m.
+    pub position: Vector3<f64>,
+    /// Current slope `r_x`, -.
+    pub slope: Vector3<f64>,
+    /// Position in the reference (stress-free) configuration, m.
+    pub reference_position: Vector3<f64>,
+    /// Slope in the reference configuration (unit tangent), -.
+    pub reference_slope: Vector3<f64>,
+    /// Which of the 6 coordinates `[r, r_x]` a support holds at their current value.
+    pub fixed: [bool; 6],
+    /// Applied nodal force, N (a dead load: constant direction).
+    pub force: Vector3<f64>,
+}
+
+impl GradientNode {
+    /// Number of coordinates of a node.
+    pub const NDOF: usize = 6;
+
+    /// A free, unloaded node at its reference configuration.
+    pub fn new(position: Vector3<f64>, slope: Vector3<f64>) -> Self {
+        Self {
+            position,
+            slope,
+            reference_position: position,
+            reference_slope: slope,
+            fixed: [false; 6],
+            force: Vector3::zeros(),
+        }
+    }
+
+    /// Displacement from the reference position, m.
+    pub fn displacement(&self) -> Vector3<f64> {
+        self.position - self.reference_position
+    }
+
+    /// Whether coordinate `k` (0..3 position, 3..6 slope) is held fixed.
+    pub fn is_fixed(&self, k: usize) -> bool {
+        self.fixed[k]
+    }
+}

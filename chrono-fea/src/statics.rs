@@ -1,0 +1,178 @@
+//! Static equilibrium by Newton's method with load stepping.
+//!
+//! Solves `R(q) = Q(q) - lambda F = 0` on the free coordinates for the load factors
+//! `lambda_k = k / n`, `k = 1..n` (`F`: nodal forces and gravity of the mesh, dead loads),
+//! starting from the mesh's current configuration. Each Newton iteration solves
+//! `K(q) dq = -R(q)` with the exact tangent `K = dQ/dq` factorized by faer's sparse LU
+//! (partial pivoting: the tangent may be indefinite past a limit point). A load step has
+//! converged when
+//!
+//! ```text
+//! ||R||_2 <= rtol ||lambda F||_2 + atol
+//! ```
+//!
+//! (norm over the free coordinates; position rows in N, slope rows in N m — for the unit
+//! slopes of the cable both are force scales). `atol` defaults to `1e-13 max(E A)`: the
+//! round-off floor of the internal force of a stiff element, far below any load of
+//! interest.
+
+use faer::Mat;
+use faer::prelude::*;
+
+use crate::error::{FeaError, Result, non_negative};
+use crate::mesh::CableMesh;
+
+/// Settings of [`solve_static`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StaticSettings {
+    /// Number of equal load increments (>= 1).
+    pub load_steps: usize,
+    /// Newton iteration cap per load step (>= 1).
+    pub max_iterations: usize,
+    /// Relative residual tolerance (to the applied load norm).
+    pub relative_tolerance: f64,
+    /// Absolute residual tolerance, N; `None`: `1e-13 max(E A)`.
+    pub absolute_tolerance: Option<f64>,
+}
+
+impl Default for StaticSettings {
+    fn default() -> Self {
+        Self {
+            load_steps: 10,
+            max_iterations: 30,
+            relative_tolerance: 1e-10,
+            absolute_tolerance: None,
+        }
+    }
+}
+
+/// What a static solve did.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StaticReport {
+    /// Newton iterations of each load step.
+    pub iterations: Vec<usize>,
+    /// Residual norm at the end of the last step, N.
+    pub residual: f64,
+    /// The tolerance the last step reached, N.
+    pub tolerance: f64,
+}
+
+impl StaticReport {
+    /// Total Newton iterations (= tangent factorizations).
+    pub fn total_iterations(&self) -> usize {
+        self.iterations.iter().sum()
+    }
+}
+
+fn norm(v: &[f64]) -> f64 {
+    v.iter().map(|x| x * x).sum::<f64>().sqrt()
+}
+
+/// Bring `mesh` to static equilibrium under its loads (see the module docs). The mesh
+/// keeps the converged configuration; on an error it keeps the last converged step.
+pub fn solve_static(mesh: &mut CableMesh, settings: &StaticSettings) -> Result<StaticReport> {
+    if settings.load_steps == 0 {
+        return Err(FeaError::invalid("statics.load_steps", 0, "must be >= 1"));
+    }
+    if settings.max_iterations == 0 {
+        return Err(FeaError::invalid(
+            "statics.max_iterations",
+            0,
+            "must be >= 1",
+        ));
+    }
+    non_negative("statics.relative_tolerance", settings.relative_tolerance)?;
+    let atol = match settings.absolute_tolerance {
+        Some(a) => non_negative("statics.absolute_tolerance", a)?,
+        None => {
+            1e-13
+                * mesh
+                    .elements()
+                    .iter()
+                    .map(|e| e.material().axial_stiffness())
+                    .fold(0.0, f64::max)
+        }
+    };
+    if settings.relative_tolerance == 0.0 && atol == 0.0 {
+        return Err(FeaError::invalid(
+            "statics.absolute_tolerance",
+            0,
+            "relative and absolute tolerance cannot both be 0",
+        ));
+    }
+    let map = mesh.dof_map();
+    let n = settings.load_steps;
+    let mut q = mesh.coordinates();
+    let mut report = StaticReport {
+        iterations: Vec::with_capacity(n),
+        residual: 0.0,
+        tolerance: atol,
+    };
+    for step in 1..=n {
+        let lambda = step as f64 / n as f64;
+        let fext = map.restrict(&mesh.external_force(lambda));
+        let tol = settings.relative_tolerance * norm(&fext) + atol;
+        let mut q_trial = q.clone();
+        let mut iterations = 0;
+        let mut residual;
+        loop {
+            let (fint, k) = mesh.internal_force(&q_trial, &map, true)?;
+            let r: Vec<f64> = map
+                .restrict(&fint)
+                .iter()
+                .zip(&fext)
+                .map(|(a, b)| a - b)
+                .collect();
+            residual = norm(&r);
+            if !residual.is_finite() {
+                return Err(FeaError::NonFinite {
+                    step,
+                    quantity: "residual",
+                });
+            }
+            if residual <= tol {
+                break;
+            }
+            if iterations == settings.max_iterations {
+                return Err(FeaError::NotConverged {
+                    step,
+                    steps: n,
+                    load_factor: lambda,
+                    residual,
+                    tolerance: tol,
+                    iterations,
+                });
+            }
+            let k = k.expect("tangent requested");
+            let lu = k.sp_lu().map_err(|e| FeaError::Singular {
+                step,
+                detail: e.to_string(),
+            })?;
+            let mut rhs = Mat::<f64>::from_fn(r.len(), 1, |i, _| -r[i]);
+            lu.solve_in_place(rhs.as_mut());
+            // Partial pivoting does not report a singular tangent (a mechanism: missing
+            // supports); it shows as a non-finite correction.
+            if (0..rhs.nrows()).any(|i| !rhs[(i, 0)].is_finite()) {
+                return Err(FeaError::Singular {
+                    step,
+                    detail: "the Newton correction is not finite (is the mesh supported?)".into(),
+                });
+            }
+            for (g, slot) in q_trial.iter_mut().enumerate() {
+                if let Some(i) = map.free_index(g) {
+                    *slot += rhs[(i, 0)];
+                }
+            }
+            iterations += 1;
+        }
+        q = q_trial;
+        mesh.set_coordinates(&q).map_err(|_| FeaError::NonFinite {
+            step,
+            quantity: "coordinates",
+        })?;
+        report.iterations.push(iterations);
+        report.residual = residual;
+        report.tolerance = tol;
+    }
+    Ok(report)
+}
