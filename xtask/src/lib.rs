@@ -11,6 +11,7 @@ pub mod bench;
 pub mod case;
 pub mod cases;
 pub mod cli;
+pub mod fit;
 pub mod output;
 pub mod params;
 pub mod plot;

@@ -152,6 +152,25 @@ impl fmt::Display for Override {
     }
 }
 
+/// Error unless `v` is finite and > 0: `parameter `name` must be > 0, got v`.
+pub fn ensure_positive(name: &str, v: f64) -> anyhow::Result<()> {
+    anyhow::ensure!(
+        v > 0.0 && v.is_finite(),
+        "parameter `{name}` must be > 0, got {v}"
+    );
+    Ok(())
+}
+
+/// Error unless `v` is finite and at least `min` (in `unit`, e.g. "grain diameters"),
+/// naming the parameter and its value.
+pub fn ensure_at_least(name: &str, v: f64, min: f64, unit: &str) -> anyhow::Result<()> {
+    anyhow::ensure!(
+        v >= min && v.is_finite(),
+        "parameter `{name}` must be >= {min} {unit}, got {v}"
+    );
+    Ok(())
+}
+
 /// The leaf keys of a parameter object, nested objects as dotted paths.
 pub fn param_keys(params: &Value) -> Vec<String> {
     fn walk(prefix: &str, v: &Value, out: &mut Vec<String>) {

@@ -53,7 +53,8 @@ use serde::{Deserialize, Serialize};
 
 use super::{make_system, parse_method};
 use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series, SweepPoint};
-use crate::params::{CaseParams, ParamCase, ParamInfo};
+use crate::fit::line_fit;
+use crate::params::{CaseParams, ParamCase, ParamInfo, ensure_at_least, ensure_positive};
 
 /// Prefactor of Uehara et al.'s law.
 pub const UEHARA_PREFACTOR: f64 = 0.14;
@@ -508,18 +509,10 @@ fn drop_ball(
     })
 }
 
-/// Least-squares slope and intercept of `y` against `x`.
+/// Least-squares slope and intercept of `y` against `x` (NaN without spread).
 fn fit_line(x: &[f64], y: &[f64]) -> (f64, f64) {
-    let n = x.len() as f64;
-    let mx = x.iter().sum::<f64>() / n;
-    let my = y.iter().sum::<f64>() / n;
-    let (mut sxy, mut sxx) = (0.0, 0.0);
-    for (a, b) in x.iter().zip(y) {
-        sxy += (a - mx) * (b - my);
-        sxx += (a - mx) * (a - mx);
-    }
-    let slope = sxy / sxx;
-    (slope, my - slope * mx)
+    let pts: Vec<(f64, f64)> = x.iter().copied().zip(y.iter().copied()).collect();
+    line_fit(&pts).unwrap_or((f64::NAN, f64::NAN))
 }
 
 fn validate(p: &BallDropParams) -> anyhow::Result<Vec<ContactMethod>> {
@@ -533,10 +526,7 @@ fn validate(p: &BallDropParams) -> anyhow::Result<Vec<ContactMethod>> {
         ("t_settle", p.t_settle),
         ("settle_ke", p.settle_ke),
     ] {
-        anyhow::ensure!(
-            v > 0.0 && v.is_finite(),
-            "parameter `{name}` must be > 0, got {v}"
-        );
+        ensure_positive(name, v)?;
     }
     anyhow::ensure!(
         p.ball_diameter >= 2.0 * d,
@@ -548,11 +538,7 @@ fn validate(p: &BallDropParams) -> anyhow::Result<Vec<ContactMethod>> {
         "parameter `repose_angle_deg` must be in (0, 90), got {}",
         p.repose_angle_deg
     );
-    anyhow::ensure!(
-        p.bed_width >= 2.0 && p.bed_width.is_finite(),
-        "parameter `bed_width` must be >= 2 ball diameters, got {}",
-        p.bed_width
-    );
+    ensure_at_least("bed_width", p.bed_width, 2.0, "ball diameters")?;
     anyhow::ensure!(
         p.bed_depth * p.ball_diameter >= 6.0 * d && p.bed_depth.is_finite(),
         "parameter `bed_depth` must give at least 6 grain diameters, got {} ball diameters",

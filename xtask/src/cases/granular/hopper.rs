@@ -29,7 +29,8 @@ use serde::{Deserialize, Serialize};
 
 use super::{make_system, parse_method};
 use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series, SweepPoint};
-use crate::params::{CaseParams, ParamCase, ParamInfo};
+use crate::fit::line_fit;
+use crate::params::{CaseParams, ParamCase, ParamInfo, ensure_positive};
 
 /// Beverloo's constant `C` for spheres.
 pub const BEVERLOO_C: f64 = 0.58;
@@ -210,10 +211,7 @@ fn discharge(
 ) -> anyhow::Result<Discharge> {
     let start = std::time::Instant::now();
     let d = p.grain_diameter;
-    anyhow::ensure!(
-        d > 0.0 && d.is_finite(),
-        "parameter `grain_diameter` must be > 0, got {d}"
-    );
+    ensure_positive("grain_diameter", d)?;
     anyhow::ensure!(
         orifice > 2.0 * d && orifice.is_finite(),
         "parameter `orifice_diameter` must exceed 2 grain diameters, got {orifice}"
@@ -353,27 +351,13 @@ fn discharge(
         p.t_end
     );
     Ok(Discharge {
-        flow_rate: slope(&steady),
+        flow_rate: line_fit(&steady).map_or(f64::NAN, |(a, _)| a),
         bulk_density: rho_sum / rho_n as f64,
         grains: handles.len(),
         steps: n,
         wall_s: start.elapsed().as_secs_f64(),
         series,
     })
-}
-
-/// Least-squares slope of `y` against `t`.
-fn slope(pts: &[(f64, f64)]) -> f64 {
-    let n = pts.len() as f64;
-    let (mt, my) = pts
-        .iter()
-        .fold((0.0, 0.0), |(a, b), (t, y)| (a + t / n, b + y / n));
-    let (mut sty, mut stt) = (0.0, 0.0);
-    for (t, y) in pts {
-        sty += (t - mt) * (y - my);
-        stt += (t - mt) * (t - mt);
-    }
-    sty / stt
 }
 
 fn run(p: &HopperParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
@@ -467,14 +451,6 @@ mod tests {
             let [a, b, c] = t.map(|i| vertices[i as usize]);
             assert!((b - a).cross(&(c - a)).z > 0.0);
         }
-    }
-
-    #[test]
-    fn slope_of_a_line() {
-        let pts: Vec<_> = (0..10)
-            .map(|i| (i as f64 * 0.1, 2.0 + 3.0 * i as f64 * 0.1))
-            .collect();
-        assert!((slope(&pts) - 3.0).abs() < 1e-12);
     }
 
     #[test]

@@ -45,7 +45,8 @@ use serde::{Deserialize, Serialize};
 
 use super::{make_system, parse_method};
 use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series, SweepPoint};
-use crate::params::{CaseParams, ParamCase, ParamInfo};
+use crate::fit::line_fit;
+use crate::params::{CaseParams, ParamCase, ParamInfo, ensure_at_least, ensure_positive};
 
 /// Zhou et al. (2002), Eq. 3 (`w = 4 d`): the angle of repose (degrees) of their DEM heaps
 /// for sliding friction `mu_pp`, `mu_pw`, rolling friction lengths `mr_pp`, `mr_pw` (m) and
@@ -219,16 +220,7 @@ fn fit_slope(pts: &[(f64, f64)]) -> Option<f64> {
     if pts.len() < 3 {
         return None;
     }
-    let n = pts.len() as f64;
-    let (mx, mz) = pts
-        .iter()
-        .fold((0.0, 0.0), |(a, b), (x, z)| (a + x / n, b + z / n));
-    let (mut sxz, mut sxx) = (0.0, 0.0);
-    for (x, z) in pts {
-        sxz += (x - mx) * (z - mz);
-        sxx += (x - mx) * (x - mx);
-    }
-    (sxx > 0.0).then(|| sxz / sxx)
+    line_fit(pts).map(|(a, _)| a)
 }
 
 /// The surface of a heap: the highest `z` among `points` (x, z) in each of `bins` columns
@@ -307,30 +299,11 @@ fn solver(
 
 fn validate(p: &ReposeParams) -> anyhow::Result<()> {
     let d = p.grain_diameter;
-    anyhow::ensure!(
-        d > 0.0 && d.is_finite(),
-        "parameter `grain_diameter` must be > 0, got {d}"
-    );
-    anyhow::ensure!(
-        p.mu > 0.0 && p.mu.is_finite(),
-        "parameter `mu` must be > 0, got {}",
-        p.mu
-    );
-    anyhow::ensure!(
-        p.plate_width >= 8.0 && p.plate_width.is_finite(),
-        "parameter `plate_width` must be >= 8 grain diameters, got {}",
-        p.plate_width
-    );
-    anyhow::ensure!(
-        p.thickness >= 1.5 && p.thickness.is_finite(),
-        "parameter `thickness` must be >= 1.5 grain diameters, got {}",
-        p.thickness
-    );
-    anyhow::ensure!(
-        p.bed_height >= 2.0 && p.bed_height.is_finite(),
-        "parameter `bed_height` must be >= 2 grain diameters, got {}",
-        p.bed_height
-    );
+    ensure_positive("grain_diameter", d)?;
+    ensure_positive("mu", p.mu)?;
+    ensure_at_least("plate_width", p.plate_width, 8.0, "grain diameters")?;
+    ensure_at_least("thickness", p.thickness, 1.5, "grain diameters")?;
+    ensure_at_least("bed_height", p.bed_height, 2.0, "grain diameters")?;
     anyhow::ensure!(
         p.t_settle >= 0.0 && p.t_discharge > 0.0 && (p.t_settle + p.t_discharge).is_finite(),
         "parameters `t_settle` (>= 0) and `t_discharge` (> 0) must be finite, got {} and {}",

@@ -52,7 +52,7 @@ use serde::{Deserialize, Serialize};
 
 use super::{make_system, parse_method};
 use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series, SweepPoint};
-use crate::params::{CaseParams, ParamCase, ParamInfo};
+use crate::params::{CaseParams, ParamCase, ParamInfo, ensure_at_least, ensure_positive};
 
 /// Solid fraction assumed for the settled sample when sizing the grain count.
 const SETTLED_FRACTION: f64 = 0.6;
@@ -373,21 +373,10 @@ fn check_params(p: &ShearParams) -> anyhow::Result<()> {
         ("t_consolidate", p.t_consolidate),
     ];
     for (name, v) in positive {
-        anyhow::ensure!(
-            v > 0.0 && v.is_finite(),
-            "parameter `{name}` must be > 0, got {v}"
-        );
+        ensure_positive(name, v)?;
     }
-    anyhow::ensure!(
-        p.box_length >= 4.0 && p.box_length.is_finite(),
-        "parameter `box_length` must be >= 4 grain diameters, got {}",
-        p.box_length
-    );
-    anyhow::ensure!(
-        p.half_height >= 2.0 && p.half_height.is_finite(),
-        "parameter `half_height` must be >= 2 grain diameters, got {}",
-        p.half_height
-    );
+    ensure_at_least("box_length", p.box_length, 4.0, "grain diameters")?;
+    ensure_at_least("half_height", p.half_height, 2.0, "grain diameters")?;
     anyhow::ensure!(
         p.gap >= 0.0 && p.gap < 0.9,
         "parameter `gap` must be in [0, 0.9) grain diameters (grains must not pass), got {}",
@@ -456,10 +445,7 @@ fn shear_test(
     progress: (usize, usize),
 ) -> anyhow::Result<ShearRun> {
     let start = std::time::Instant::now();
-    anyhow::ensure!(
-        sigma > 0.0 && sigma.is_finite(),
-        "parameter `normal_stress` must be > 0, got {sigma}"
-    );
+    ensure_positive("normal_stress", sigma)?;
     let d = p.grain_diameter;
     let r = 0.5 * d;
     let (l, hl, gap, t) = (p.box_length * d, p.half_height * d, p.gap * d, d);

@@ -14,6 +14,7 @@ pub mod sloshing;
 use chrono_sph::SphSystem;
 
 use crate::case::{RunContext, SweepPoint};
+use crate::fit::line_fit;
 
 /// Particles across a periodic slab: the smallest count with `n dp >= 4 h (1 + skin)`
 /// (twice the neighbour-list radius with the default 10 % Verlet skin, which
@@ -46,15 +47,7 @@ pub fn convergence_order(points: &[(f64, f64)]) -> f64 {
         .filter(|(dp, e)| *dp > 0.0 && *e > 0.0 && e.is_finite())
         .map(|(dp, e)| (dp.ln(), e.ln()))
         .collect();
-    if pts.len() < 2 {
-        return f64::NAN;
-    }
-    let n = pts.len() as f64;
-    let mx = pts.iter().map(|p| p.0).sum::<f64>() / n;
-    let my = pts.iter().map(|p| p.1).sum::<f64>() / n;
-    let sxy: f64 = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
-    let sxx: f64 = pts.iter().map(|p| (p.0 - mx) * (p.0 - mx)).sum();
-    sxy / sxx
+    line_fit(&pts).map_or(f64::NAN, |(a, _)| a)
 }
 
 /// Spacings of a sweep of `levels` extra runs, coarse to fine, ending with `dp`:
