@@ -149,9 +149,13 @@ impl CaseParams for HopperParams {
     fn apply_mode(&mut self, mode: Mode) {
         match mode {
             Mode::Quick => {
+                // A fill of 10 d (2 orifice diameters, 2/3 of the silo's) instead of the
+                // silo diameter: 2/3 of the grains for a flow rate 2 % lower (-8.5 % against
+                // Beverloo instead of -6.8 %, docs/validation-granular.md), for the CI budget.
                 self.orifice_diameter = vec![5.0 * self.grain_diameter];
+                self.fill_height = 10.0 * self.grain_diameter;
                 self.t_transient = 0.3;
-                self.t_end = 0.8;
+                self.t_end = 0.7;
             }
             // The default run keeps the two smaller silos (3k and 6k grains) so the whole
             // `validate` stays within its budget; `--full` adds D = 10 d (15k grains).
