@@ -5,8 +5,9 @@ use chrono_core::granular::{Grain, add_grains};
 use chrono_core::math::{Isometry3, Vector3};
 use chrono_core::system::ContactMethod;
 use chrono_core::{ContactMaterial, RigidBodyBuilder, Shape, SystemSettings};
+use xtask::cases::granular::forces::grain_forces_on;
 use xtask::cases::granular::make_system;
-use xtask::cases::granular::shear::{grain_forces_on, peak_and_residual};
+use xtask::cases::granular::shear::peak_and_residual;
 
 #[test]
 fn peak_and_residual_of_a_curve() {

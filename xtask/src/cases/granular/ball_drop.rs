@@ -51,7 +51,7 @@ use chrono_core::system::{ContactMethod, SmcSettings};
 use chrono_core::{BodyHandle, ContactMaterial, RigidBodyBuilder, Shape, System, SystemSettings};
 use serde::{Deserialize, Serialize};
 
-use super::{make_system, parse_method};
+use super::{make_system, method_name, parse_methods};
 use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series, SweepPoint};
 use crate::fit::line_fit;
 use crate::params::{CaseParams, ParamCase, ParamInfo, ensure_at_least, ensure_positive};
@@ -93,8 +93,8 @@ pub struct BallDropParams {
     pub grain_diameter: f64,
     /// Grain density, kg/m^3.
     pub grain_density: f64,
-    /// Contact methods, comma separated: `nsc,smc` (both), `nsc` or `smc`.
-    pub method: String,
+    /// Contact methods, each in turn (`--set method=smc` runs one).
+    pub method: Vec<String>,
     /// Bed width (square box) in ball diameters.
     pub bed_width: f64,
     /// Settled bed depth in ball diameters.
@@ -140,7 +140,7 @@ impl Default for BallDropParams {
             repose_angle_deg: 23.0,
             grain_diameter: 0.005,
             grain_density: 2500.0,
-            method: "nsc,smc".into(),
+            method: vec!["nsc".into(), "smc".into()],
             bed_width: 3.5,
             bed_depth: 1.75,
             young: 1e7,
@@ -181,7 +181,7 @@ impl CaseParams for BallDropParams {
             "largest grain diameter d (diameters in [0.9 d, d])",
         ),
         ParamInfo::new("grain_density", "kg/m^3", "grain density"),
-        ParamInfo::new("method", "-", "contact methods: nsc,smc | nsc | smc"),
+        ParamInfo::new("method", "-", "contact methods: [\"nsc\", \"smc\"] or one"),
         ParamInfo::new("bed_width", "D", "bed width in ball diameters"),
         ParamInfo::new("bed_depth", "D", "settled bed depth in ball diameters"),
         ParamInfo::new("young", "Pa", "Young's modulus (SMC)"),
@@ -221,7 +221,7 @@ impl CaseParams for BallDropParams {
             // NSC only (SMC's ~40 us steps cost ~2x more here): a smoke run of the scene
             // and the exponent; the default mode runs both methods.
             Mode::Quick => {
-                self.method = "nsc".into();
+                self.method = vec!["nsc".into()];
                 let ball = 4.0 * self.grain_diameter;
                 self.ball_diameter = ball;
                 self.drop_height = vec![2.0 * ball, 8.0 * ball];
@@ -555,13 +555,7 @@ fn validate(p: &BallDropParams) -> anyhow::Result<Vec<ContactMethod>> {
             0.5 * d
         );
     }
-    let methods: Vec<ContactMethod> = p
-        .method
-        .split(',')
-        .map(|m| parse_method(m.trim()))
-        .collect::<anyhow::Result<_>>()?;
-    anyhow::ensure!(!methods.is_empty(), "parameter `method` is empty");
-    Ok(methods)
+    parse_methods(&p.method)
 }
 
 fn run(p: &BallDropParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
@@ -578,10 +572,7 @@ fn run(p: &BallDropParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     let mut curves: Vec<Vec<f64>> = Vec::new();
     let total = (methods.len() * p.drop_height.len()) as f64;
     for (k, &method) in methods.iter().enumerate() {
-        let name = match method {
-            ContactMethod::Nsc => "nsc",
-            ContactMethod::Smc => "smc",
-        };
+        let name = method_name(method);
         let bed = settle_bed(p, method, v_max)?;
         let mut wall = bed.wall_s;
         out.steps += bed.steps;
@@ -721,7 +712,7 @@ mod tests {
     #[test]
     fn bad_input_names_the_field() {
         let p = BallDropParams {
-            method: "nsc,foo".into(),
+            method: vec!["nsc".into(), "foo".into()],
             ..BallDropParams::default()
         };
         assert!(validate(&p).unwrap_err().to_string().contains("method"));

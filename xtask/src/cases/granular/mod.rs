@@ -12,6 +12,7 @@
 //!   against Zhou et al.'s (2002) DEM correlation and glass-bead experiments.
 
 pub mod ball_drop;
+pub mod forces;
 pub mod hopper;
 pub mod repose;
 pub mod settle;
@@ -28,6 +29,24 @@ pub fn parse_method(method: &str) -> anyhow::Result<ContactMethod> {
         "nsc" => Ok(ContactMethod::Nsc),
         "smc" => Ok(ContactMethod::Smc),
         other => anyhow::bail!("parameter `method` must be `nsc` or `smc`, got `{other}`"),
+    }
+}
+
+/// The contact methods of a `method` list parameter (`["nsc", "smc"]`, `["smc"]` ...); an
+/// error names the parameter when the list is empty or holds an unknown method.
+pub fn parse_methods(list: &[String]) -> anyhow::Result<Vec<ContactMethod>> {
+    anyhow::ensure!(
+        !list.is_empty(),
+        "parameter `method` must name at least one of `nsc`, `smc`, got an empty list"
+    );
+    list.iter().map(|m| parse_method(m.trim())).collect()
+}
+
+/// The parameter spelling of a contact method (`nsc`, `smc`), for metric names.
+pub fn method_name(m: ContactMethod) -> &'static str {
+    match m {
+        ContactMethod::Nsc => "nsc",
+        ContactMethod::Smc => "smc",
     }
 }
 
@@ -119,4 +138,27 @@ pub fn make_system(
         settings,
         make_solver(tolerance, max_iterations),
     )?)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn methods_parse_and_reject() {
+        let list = |v: &[&str]| v.iter().map(|s| s.to_string()).collect::<Vec<_>>();
+        assert_eq!(
+            parse_methods(&list(&["nsc", " smc"])).unwrap(),
+            vec![ContactMethod::Nsc, ContactMethod::Smc]
+        );
+        let e = parse_methods(&list(&["dem"])).unwrap_err().to_string();
+        assert!(e.contains("method") && e.contains("dem"), "{e}");
+        assert!(
+            parse_methods(&[])
+                .unwrap_err()
+                .to_string()
+                .contains("method")
+        );
+        assert_eq!(method_name(ContactMethod::Smc), "smc");
+    }
 }

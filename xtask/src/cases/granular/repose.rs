@@ -43,7 +43,7 @@ use chrono_core::system::{ContactMethod, SmcSettings};
 use chrono_core::{BodyHandle, ContactMaterial, RigidBodyBuilder, Shape, System, SystemSettings};
 use serde::{Deserialize, Serialize};
 
-use super::{make_system, parse_method};
+use super::{make_system, method_name, parse_methods};
 use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series, SweepPoint};
 use crate::fit::line_fit;
 use crate::params::{CaseParams, ParamCase, ParamInfo, ensure_at_least, ensure_positive};
@@ -500,11 +500,10 @@ fn heap(
 
 fn run(p: &ReposeParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     validate(p)?;
-    let methods = p
-        .method
-        .iter()
-        .map(|m| parse_method(m).map(|c| (m.as_str(), c)))
-        .collect::<anyhow::Result<Vec<_>>>()?;
+    let methods: Vec<(&str, ContactMethod)> = parse_methods(&p.method)?
+        .into_iter()
+        .map(|c| (method_name(c), c))
+        .collect();
     let d = p.grain_diameter;
     let (w, r) = (p.thickness * d, 0.4875 * d);
     let mut out = CaseOutput::new();

@@ -41,16 +41,17 @@
 //! quasi-static state (inertial number, the two halves' shear forces within 5 %) and,
 //! with several stresses, that the residual angle does not depend on the stress.
 //!
-//! `method` lists the contact methods to run (`"nsc,smc"` runs both, `smc` one).
+//! `method` lists the contact methods to run (`["nsc", "smc"]` runs both, `--set method=smc` one).
 
 use chrono_core::granular::{Grain, LatticeFill, Region, Rng, add_grains};
 use chrono_core::joint::{JointBuilder, JointKind};
 use chrono_core::math::{Isometry3, UnitQuaternion, Vector3};
 use chrono_core::system::{ContactMethod, SmcSettings};
-use chrono_core::{BodyHandle, ContactMaterial, RigidBodyBuilder, Shape, System, SystemSettings};
+use chrono_core::{BodyHandle, ContactMaterial, RigidBodyBuilder, Shape, SystemSettings};
 use serde::{Deserialize, Serialize};
 
-use super::{make_system, parse_method};
+use super::forces::grain_forces_on;
+use super::{make_system, method_name, parse_methods};
 use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series, SweepPoint};
 use crate::params::{CaseParams, ParamCase, ParamInfo, ensure_at_least, ensure_positive};
 
@@ -66,8 +67,8 @@ const SETTLE_ITERATIONS: usize = 60;
 pub struct ShearParams {
     /// Normal stresses of the sweep, Pa (a single number runs one).
     pub normal_stress: Vec<f64>,
-    /// Contact methods to run, comma separated: `nsc`, `smc` or `nsc,smc`.
-    pub method: String,
+    /// Contact methods to run, each in turn (`--set method=smc` runs one).
+    pub method: Vec<String>,
     /// Grain–grain sliding friction coefficient.
     pub mu: f64,
     /// Grain–wall (box, floor, plate) sliding friction coefficient.
@@ -130,7 +131,7 @@ impl Default for ShearParams {
     fn default() -> Self {
         Self {
             normal_stress: vec![3.1e3, 6.4e3, 12.5e3, 24.2e3],
-            method: "nsc,smc".into(),
+            method: vec!["nsc".into(), "smc".into()],
             mu: 0.18,
             wall_mu: 0.13,
             rolling_friction: 0.0,
@@ -169,7 +170,7 @@ impl CaseParams for ShearParams {
             "Pa",
             "normal stresses of the sweep ([a, b, ..] or one number)",
         ),
-        ParamInfo::new("method", "-", "contact methods: nsc | smc | nsc,smc"),
+        ParamInfo::new("method", "-", "contact methods: [\"nsc\", \"smc\"] or one"),
         ParamInfo::new("mu", "-", "grain-grain sliding friction"),
         ParamInfo::new("wall_mu", "-", "grain-wall sliding friction"),
         ParamInfo::new("rolling_friction", "-", "rolling friction coefficient"),
@@ -232,7 +233,7 @@ impl CaseParams for ShearParams {
             // SMC only (NSC at 300 iterations is ~3x its cost): a smoke run of the setup,
             // the force read-out and the quasi-static state.
             Mode::Quick => {
-                self.method = "smc".into();
+                self.method = vec!["smc".into()];
                 self.normal_stress = vec![6.4e3];
                 self.box_length = 8.0;
                 self.half_height = 4.0;
@@ -250,65 +251,6 @@ impl CaseParams for ShearParams {
             Mode::Full => {}
         }
     }
-}
-
-/// The contact methods of the `method` parameter (`"nsc,smc"`, `"smc"` ...).
-fn parse_methods(list: &str) -> anyhow::Result<Vec<ContactMethod>> {
-    let methods: Vec<ContactMethod> = list
-        .split(',')
-        .map(str::trim)
-        .filter(|s| !s.is_empty())
-        .map(parse_method)
-        .collect::<anyhow::Result<_>>()?;
-    anyhow::ensure!(
-        !methods.is_empty(),
-        "parameter `method` must name at least one of `nsc`, `smc`, got `{list}`"
-    );
-    Ok(methods)
-}
-
-fn method_name(m: ContactMethod) -> &'static str {
-    match m {
-        ContactMethod::Nsc => "nsc",
-        ContactMethod::Smc => "smc",
-    }
-}
-
-/// Sum of the contact forces (N, world) that bodies outside `structure` (the grains) exert
-/// on the bodies in `targets`, in the last step. NSC: the contact impulses of the last
-/// CCP divided by `h`; SMC: the penalty forces.
-pub fn grain_forces_on(sys: &System, h: f64, targets: &[u32], structure: &[u32]) -> Vector3<f64> {
-    let is_grain = |o: u32| !structure.contains(&o);
-    let mut f = Vector3::zeros();
-    // Force on B (A gets the opposite): returns the share of `targets` from grains.
-    let mut add = |a: u32, b: u32, on_b: Vector3<f64>| {
-        if targets.contains(&b) && is_grain(a) {
-            f += on_b;
-        }
-        if targets.contains(&a) && is_grain(b) {
-            f -= on_b;
-        }
-    };
-    match sys.settings().contact_method {
-        ContactMethod::Nsc => {
-            let (problem, gamma) = (sys.last_problem(), sys.last_gamma());
-            for c in sys.contacts() {
-                let k = problem.row_index(c.row);
-                if k + 2 >= gamma.len() {
-                    continue;
-                }
-                // Rows n, u, w are B's velocity relative to A's: the impulse acts on B.
-                let imp = c.normal() * gamma[k] + c.u * gamma[k + 1] + c.w * gamma[k + 2];
-                add(c.point.owner_a, c.point.owner_b, imp / h);
-            }
-        }
-        ContactMethod::Smc => {
-            for c in sys.smc_contacts() {
-                add(c.owner_a, c.owner_b, c.force);
-            }
-        }
-    }
-    f
 }
 
 /// Peak (largest 3-bin running mean over the bins with `s <= peak_window s_max`) and
@@ -776,17 +718,6 @@ pub fn case() -> Box<dyn Case> {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn methods_parse_and_reject() {
-        assert_eq!(
-            parse_methods("nsc, smc").unwrap(),
-            vec![ContactMethod::Nsc, ContactMethod::Smc]
-        );
-        let e = parse_methods("dem").unwrap_err().to_string();
-        assert!(e.contains("method") && e.contains("dem"), "{e}");
-        assert!(parse_methods(" , ").is_err());
-    }
 
     #[test]
     fn bad_params_name_the_field() {
