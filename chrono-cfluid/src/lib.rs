@@ -1,6 +1,52 @@
 //! # chrono-cfluid
 //!
-//! Constraint fluids (to be built; see the chrono-cfluid issue): fluid particles as 3-dof
-//! variables and one density constraint per particle, `C_i = rho_i / rho_0 - 1`, as a
-//! compliant bilateral row of the same CCP as the rigid bodies (H. Mazhar, PhD thesis,
-//! UW-Madison 2016), with fluid–solid frictional contact as ordinary cone rows.
+//! Constraint fluids (H. Mazhar, "Parallel multi-body dynamics with frictional contact and
+//! constraint fluids", PhD thesis, UW-Madison 2016; the seed's "Alternative Approach:
+//! Constrained Fluids"): fluid particles are 3-dof variables of the system's CCP and
+//! incompressibility is one compliant density constraint per particle,
+//! `C_i = rho_i / rho_0 - 1`, enforced at the velocity level with the stabilization
+//! `C_i / h`, in the same problem as the rigid bodies, joints and contacts.
+//!
+//! - [`ConstraintFluid`]: the [`PhysicsItem`](chrono_core::item::PhysicsItem) (density
+//!   rows, compliance, free-surface treatment, XSPH viscosity, wall markers, warm start);
+//! - [`CfluidSettings`], [`SurfaceMode`]: its settings;
+//! - [`lattice_box`], [`tank_markers`], [`lattice_mass`], [`wall_layers`]: initial
+//!   particle sets.
+//!
+//! ```
+//! use chrono_cfluid::{CfluidSettings, ConstraintFluid, lattice_box, tank_markers, wall_layers};
+//! use chrono_core::{System, SystemSettings};
+//!
+//! let dp = 0.02;
+//! let settings = CfluidSettings {
+//!     spacing: dp,
+//!     domain_lower: [-0.1, 0.0, -0.1],
+//!     domain_upper: [0.2, 0.12, 0.3],
+//!     periodic: [false, true, false],
+//!     ..CfluidSettings::default()
+//! };
+//! let (lo, hi) = ([0.0, 0.0, 0.0], [0.1, 0.12, 0.1]);
+//! let fluid = lattice_box(lo, hi, dp).unwrap();
+//! let walls = tank_markers(lo, hi, dp, wall_layers(settings.h_over_dp),
+//!     [true, true, false, false, true, false]).unwrap();
+//! let item = ConstraintFluid::new("water", settings, &fluid, &walls).unwrap();
+//! let solver = Box::new(chrono_ccp::Apgd::new(Default::default()));
+//! let mut sys = System::new(SystemSettings::default(), solver).unwrap();
+//! let id = sys.add_item(Box::new(item));
+//! for _ in 0..5 {
+//!     sys.step(2e-3).unwrap();
+//! }
+//! let water = sys.item::<ConstraintFluid>(id).unwrap();
+//! assert!(water.max_compression() < 1e-3);
+//! ```
+
+mod density;
+mod fluid;
+mod geometry;
+mod settings;
+#[cfg(test)]
+mod tests;
+
+pub use fluid::ConstraintFluid;
+pub use geometry::{lattice_box, lattice_mass, tank_markers, wall_layers};
+pub use settings::{CfluidSettings, SurfaceMode};

@@ -81,6 +81,13 @@ pub trait PhysicsItem: std::any::Any + Send + Sync {
         Ok(())
     }
 
+    /// Write the warm start of the rows this item pushed in
+    /// [`add_constraints`](Self::add_constraints) this step into `gamma` (map them with
+    /// [`CcpProblem::row_index`]), e.g. its impulses of the last step. Called after
+    /// assembly and before the solve, only when the system's `warm_start` is on.
+    /// Default: nothing (the item's rows start from zero).
+    fn warm_start(&self, _problem: &CcpProblem, _gamma: &mut [f64]) {}
+
     /// Take the new velocities `v` (all dof of the step; the item reads its blocks) and the
     /// solution `gamma` of `problem`, and advance positions and internal state by `h`.
     /// Return [`ChronoError::NonFinite`](crate::ChronoError::NonFinite) naming the item if

@@ -173,6 +173,9 @@ impl System {
                     }
                 }
             }
+            for item in &self.items {
+                item.warm_start(&self.problem, &mut self.gamma);
+            }
         }
         let solve = self.solver.solve(&self.problem, &mut self.gamma);
         if let Some(i) = self.gamma.iter().position(|g| !g.is_finite()) {

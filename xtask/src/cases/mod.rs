@@ -58,6 +58,7 @@
 use crate::case::Case;
 
 pub mod ccp;
+pub mod cfluid;
 pub mod fea;
 pub mod granular;
 pub mod rigid;
@@ -82,6 +83,8 @@ pub fn all_cases() -> Vec<Box<dyn Case>> {
         sph::poiseuille::case(),
         sph::dam_break::case(),
         sph::sloshing::case(),
+        cfluid::incompressibility::case(),
+        cfluid::dam_break::case(),
         ccp::solvers::case(),
         fea::cantilever::case(),
         fea::frequency::case(),

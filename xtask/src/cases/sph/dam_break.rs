@@ -324,7 +324,7 @@ fn simulate(p: &DamBreakParams, dp: f64, ctx: Option<&RunContext>) -> anyhow::Re
 }
 
 /// `Z` at `T` by linear interpolation in the samples (NaN outside them).
-fn interpolate(samples: &[(f64, f64)], t: f64) -> f64 {
+pub(crate) fn interpolate(samples: &[(f64, f64)], t: f64) -> f64 {
     let k = samples.partition_point(|s| s.0 < t);
     if k == 0 {
         return if samples.first().is_some_and(|s| s.0 == t) {
@@ -352,7 +352,7 @@ fn rms_against(samples: &[(f64, f64)], data: impl Iterator<Item = (f64, f64)>) -
 }
 
 /// `front_error`: RMS against [`MARTIN_MOYCE_N2_1`].
-fn front_rms(samples: &[(f64, f64)]) -> f64 {
+pub(crate) fn front_rms(samples: &[(f64, f64)]) -> f64 {
     rms_against(samples, MARTIN_MOYCE_N2_1.iter().copied())
 }
 

@@ -1,0 +1,135 @@
+//! SPH density summation and the Jacobian of the density constraint.
+//!
+//! With fluid particles `0..n_fluid` followed by wall markers (same mass `m`, no
+//! variables), `x_ij = x_i - x_j` (minimum image on periodic axes) and
+//! `grad_i W_ij = F(r_ij) x_ij` ([`Kernel::grad_factor`]):
+//!
+//! ```text
+//! rho_i = m W(0) + sum_j m W(r_ij)                       (fluid and wall neighbours)
+//! C_i   = rho_i / rho_0 - 1
+//! dC_i/dx_j = -(m / rho_0) F(r_ij) x_ij                  (j != i, fluid only)
+//! dC_i/dx_i =  (m / rho_0) sum_j F(r_ij) x_ij            (all neighbours, walls too)
+//! ```
+//!
+//! The wall markers enter the density sum and the self term, so a particle pressed
+//! against a wall sees its density rise and its row pushes it back, although the markers
+//! carry no variables. The row stored is `D_i = -grad C_i` (see [`crate::fluid`]).
+
+use chrono_core::particles::{CellGrid, Kernel, NeighborList, Positions};
+use rayon::prelude::*;
+
+/// The coefficients of one density row: the particles it touches (itself first) and
+/// three coefficients per particle, `D_i = -dC_i/dx_j`, 1/m. Kept per particle across
+/// steps so that refilling it allocates nothing once warm.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct RowBuf {
+    pub particles: Vec<u32>,
+    pub coefs: Vec<f64>,
+}
+
+/// The kernel data every computation needs.
+#[derive(Clone, Copy)]
+pub(crate) struct Field<'a> {
+    pub kernel: &'a Kernel,
+    pub mass: f64,
+    pub rho_0: f64,
+    pub grid: &'a CellGrid,
+    pub pos: Positions<'a>,
+    pub nbrs: &'a NeighborList,
+    pub n_fluid: usize,
+}
+
+impl Field<'_> {
+    #[inline]
+    pub fn x(&self, i: usize) -> [f64; 3] {
+        [self.pos[0][i], self.pos[1][i], self.pos[2][i]]
+    }
+
+    #[inline]
+    pub fn displacement(&self, i: usize, j: usize) -> [f64; 3] {
+        self.grid.displacement(self.x(i), self.x(j))
+    }
+
+    /// `rho_i` by summation, kg/m^3.
+    pub fn density(&self, i: usize) -> f64 {
+        let mut rho = self.mass * self.kernel.w(0.0);
+        for &j in self.nbrs.neighbors(i) {
+            let d = self.displacement(i, j as usize);
+            let r = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+            rho += self.mass * self.kernel.w(r);
+        }
+        rho
+    }
+
+    /// The densities of all fluid particles, in parallel.
+    pub fn densities(&self, rho: &mut [f64]) {
+        rho[..self.n_fluid]
+            .par_iter_mut()
+            .enumerate()
+            .for_each(|(i, r)| *r = self.density(i));
+    }
+
+    /// Fills `row` with `D_i = -grad C_i`.
+    pub fn row(&self, i: usize, row: &mut RowBuf) {
+        row.particles.clear();
+        row.coefs.clear();
+        row.particles.push(i as u32);
+        row.coefs.extend_from_slice(&[0.0; 3]);
+        let s = self.mass / self.rho_0;
+        let mut self_term = [0.0; 3];
+        for &j in self.nbrs.neighbors(i) {
+            let j = j as usize;
+            let d = self.displacement(i, j);
+            let r = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+            let f = s * self.kernel.grad_factor(r);
+            for a in 0..3 {
+                self_term[a] += f * d[a];
+            }
+            if j < self.n_fluid {
+                row.particles.push(j as u32);
+                // -dC_i/dx_j = +(m/rho_0) F x_ij
+                row.coefs.extend_from_slice(&[f * d[0], f * d[1], f * d[2]]);
+            }
+        }
+        for a in 0..3 {
+            row.coefs[a] = -self_term[a];
+        }
+    }
+
+    /// All fluid rows, in parallel.
+    pub fn rows(&self, rows: &mut [RowBuf]) {
+        rows[..self.n_fluid]
+            .par_iter_mut()
+            .enumerate()
+            .for_each(|(i, row)| self.row(i, row));
+    }
+
+    /// XSPH smoothing (Monaghan 1989), fluid neighbours only:
+    /// `v_i <- v_i + eps sum_j (2 m / (rho_i + rho_j)) (v_j - v_i) W_ij`.
+    pub fn xsph(&self, eps: f64, rho: &[f64], vel: &[[f64; 3]], out: &mut [[f64; 3]]) {
+        out[..self.n_fluid]
+            .par_iter_mut()
+            .enumerate()
+            .for_each(|(i, o)| {
+                let vi = vel[i];
+                let mut acc = [0.0; 3];
+                for &j in self.nbrs.neighbors(i) {
+                    let j = j as usize;
+                    if j >= self.n_fluid {
+                        continue;
+                    }
+                    let d = self.displacement(i, j);
+                    let r = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+                    let w = 2.0 * self.mass / (rho[i] + rho[j]) * self.kernel.w(r);
+                    for a in 0..3 {
+                        acc[a] += w * (vel[j][a] - vi[a]);
+                    }
+                }
+                *o = [
+                    vi[0] + eps * acc[0],
+                    vi[1] + eps * acc[1],
+                    vi[2] + eps * acc[2],
+                ];
+            });
+    }
+}

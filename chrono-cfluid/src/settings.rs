@@ -1,0 +1,163 @@
+//! Settings of a [`ConstraintFluid`](crate::ConstraintFluid): resolution, kernel,
+//! compliance, free-surface treatment, viscosity, domain.
+
+use chrono_core::error::{ChronoError, Result, check_non_negative, check_positive};
+use chrono_core::particles::KernelKind;
+use serde::{Deserialize, Serialize};
+
+/// How the density row of a particle treats a density deficit (`rho_i < rho_0`, a
+/// free-surface or splashing particle, whose kernel support is not full).
+///
+/// With the row written as `c_i = -grad C_i . v - C_i / h + eps g_i` (so that `g_i >= 0`
+/// is a pressure impulse that pushes neighbours apart), the choices are:
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum SurfaceMode {
+    /// The default. A particle with `C_i >= 0` has a bilateral row (`c_i = 0`: the
+    /// density returns to `rho_0` within the step, tension allowed while compressed);
+    /// a particle with `C_i < 0` has a **unilateral** row, `0 <= g_i ⊥ c_i >= 0`: its
+    /// density may grow back up to `rho_0` but not beyond, and it never pulls (a
+    /// free-surface particle is free to leave, the fluid does not contract into a blob).
+    #[default]
+    OneSided,
+    /// Every row unilateral (`g_i >= 0` everywhere): pressure is never negative, the fluid
+    /// never holds tension, even while compressed (a purely repulsive constraint, the
+    /// position-based-fluids view with clamped pressure).
+    Unilateral,
+    /// Every row bilateral with `C_i` clamped at 0 (`b_i = -max(C_i, 0) / h`). The deficit
+    /// is not pulled back, but the row still holds the density *rate* at zero, so a
+    /// free-surface particle cannot separate from its neighbours (it resists tearing
+    /// apart, a spurious tension). Kept for comparison with Chrono's bilateral rows.
+    Clamped,
+}
+
+impl SurfaceMode {
+    /// Parses `one_sided`, `unilateral` or `clamped`.
+    pub fn parse(name: &str) -> Result<Self> {
+        match name {
+            "one_sided" => Ok(Self::OneSided),
+            "unilateral" => Ok(Self::Unilateral),
+            "clamped" => Ok(Self::Clamped),
+            other => Err(ChronoError::invalid(
+                "surface",
+                other,
+                "must be `one_sided`, `unilateral` or `clamped`",
+            )),
+        }
+    }
+}
+
+/// Settings of a [`ConstraintFluid`](crate::ConstraintFluid). SI units.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct CfluidSettings {
+    /// Rest density `rho_0`, kg/m^3.
+    pub rest_density: f64,
+    /// Particle spacing `dp` of the initial cubic lattice, m.
+    pub spacing: f64,
+    /// Smoothing length over spacing, `h_k / dp` (the kernel support is `2 h_k`).
+    pub h_over_dp: f64,
+    /// The smoothing kernel.
+    pub kernel: KernelKind,
+    /// Compressibility `kappa = 1 / K`, 1/Pa (`>= 0`). Sets the compliance of each density
+    /// row, `eps = kappa rho_0 / (h^2 m)` (h the step, m the particle mass), so that at
+    /// rest a row holds `C_i = kappa p_i`: the fluid behaves as if its bulk modulus were
+    /// `K`. Zero is the rigid constraint; a small positive value regularizes `N`
+    /// (strictly convex problem, unique pressures, faster convergence) at the cost of a
+    /// static compression `kappa p` (water: `kappa = 4.6e-10` 1/Pa).
+    pub compressibility: f64,
+    /// Free-surface treatment of the density rows.
+    pub surface: SurfaceMode,
+    /// XSPH velocity smoothing `epsilon` in `[0, 1]` applied after the solve (the
+    /// viscosity of the model, see [`ConstraintFluid`](crate::ConstraintFluid)).
+    pub xsph: f64,
+    /// Largest stabilization rate `C_i / h` of a compressed particle, 1/s (`> 0`): a badly
+    /// compressed start recovers at this rate instead of exploding.
+    pub max_recovery_rate: f64,
+    /// The previous step's impulses times this factor warm-start the solver, in `[0, 1]`.
+    pub warm_start_factor: f64,
+    /// Lower corner of the domain of the neighbour grid, m (particles outside still work,
+    /// only slower).
+    pub domain_lower: [f64; 3],
+    /// Upper corner of the domain, m.
+    pub domain_upper: [f64; 3],
+    /// Periodic axes (period `upper - lower`, at least twice the kernel support).
+    pub periodic: [bool; 3],
+}
+
+impl Default for CfluidSettings {
+    fn default() -> Self {
+        Self {
+            rest_density: 1000.0,
+            spacing: 0.01,
+            h_over_dp: 1.2,
+            kernel: KernelKind::WendlandC2,
+            compressibility: 1e-9,
+            surface: SurfaceMode::OneSided,
+            xsph: 0.1,
+            max_recovery_rate: 10.0,
+            warm_start_factor: 1.0,
+            domain_lower: [0.0; 3],
+            domain_upper: [1.0; 3],
+            periodic: [false; 3],
+        }
+    }
+}
+
+impl CfluidSettings {
+    /// The smoothing length `h_k = h_over_dp * spacing`, m.
+    pub fn smoothing_length(&self) -> f64 {
+        self.h_over_dp * self.spacing
+    }
+
+    /// Check every field; the error names it.
+    pub fn validate(&self) -> Result<()> {
+        check_positive("cfluid.rest_density", self.rest_density)?;
+        check_positive("cfluid.spacing", self.spacing)?;
+        check_positive("cfluid.h_over_dp", self.h_over_dp)?;
+        if !(0.8..=3.0).contains(&self.h_over_dp) {
+            return Err(ChronoError::invalid(
+                "cfluid.h_over_dp",
+                self.h_over_dp,
+                "must be in [0.8, 3]",
+            ));
+        }
+        check_non_negative("cfluid.compressibility", self.compressibility)?;
+        check_non_negative("cfluid.xsph", self.xsph)?;
+        if self.xsph > 1.0 {
+            return Err(ChronoError::invalid(
+                "cfluid.xsph",
+                self.xsph,
+                "must be in [0, 1]",
+            ));
+        }
+        check_positive("cfluid.max_recovery_rate", self.max_recovery_rate)?;
+        check_non_negative("cfluid.warm_start_factor", self.warm_start_factor)?;
+        if self.warm_start_factor > 1.0 {
+            return Err(ChronoError::invalid(
+                "cfluid.warm_start_factor",
+                self.warm_start_factor,
+                "must be in [0, 1]",
+            ));
+        }
+        let support = 2.0 * self.smoothing_length();
+        for a in 0..3 {
+            let (lo, hi) = (self.domain_lower[a], self.domain_upper[a]);
+            if !(lo.is_finite() && hi.is_finite() && hi > lo) {
+                return Err(ChronoError::invalid(
+                    format!("cfluid.domain_upper[{a}]"),
+                    hi,
+                    format!("must be finite and > domain_lower[{a}] = {lo}"),
+                ));
+            }
+            if self.periodic[a] && hi - lo < 2.0 * support * (1.0 - 1e-9) {
+                return Err(ChronoError::invalid(
+                    format!("cfluid.periodic[{a}]"),
+                    hi - lo,
+                    format!("the period must be at least twice the kernel support {support} m"),
+                ));
+            }
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,347 @@
+//! Tests that can fail: the Jacobian against finite differences, a column at rest, the
+//! hydrostatic pressure, the free-surface treatment, bad input and non-finite state.
+
+use chrono_core::descriptor::{CcpProblem, ConstraintRows, SolverSettings, Variables};
+use chrono_core::item::{PhysicsItem, StepContext};
+use chrono_core::math::Vector3;
+use chrono_core::{System, SystemSettings};
+
+use crate::{CfluidSettings, ConstraintFluid, SurfaceMode, lattice_box, tank_markers, wall_layers};
+
+/// A deterministic generator in [-1, 1) (no dependency on `rand`).
+struct Lcg(u64);
+impl Lcg {
+    fn next(&mut self) -> f64 {
+        self.0 = self
+            .0
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        ((self.0 >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
+    }
+}
+
+fn ctx(h: f64, gravity: Vector3<f64>) -> StepContext {
+    StepContext {
+        h,
+        time: 0.0,
+        step: 0,
+        gravity,
+    }
+}
+
+/// A quasi-2D tank: fluid `[0, w] x [0, ly] x [0, depth]`, periodic along y, walls at
+/// x-, x+, z-.
+fn tank(dp: f64, w: f64, depth: f64, surface: SurfaceMode) -> ConstraintFluid {
+    let h_over_dp = 1.2;
+    let layers = wall_layers(h_over_dp);
+    let ly = 6.0 * dp;
+    let t = layers as f64 * dp;
+    let settings = CfluidSettings {
+        spacing: dp,
+        h_over_dp,
+        surface,
+        domain_lower: [-t, 0.0, -t],
+        domain_upper: [w + t, ly, 2.0 * depth],
+        periodic: [false, true, false],
+        ..CfluidSettings::default()
+    };
+    let (lo, hi) = ([0.0, 0.0, 0.0], [w, ly, depth]);
+    let fluid = lattice_box(lo, hi, dp).unwrap();
+    let mut top = hi;
+    top[2] = 2.0 * depth;
+    let walls = tank_markers(lo, top, dp, layers, [true, true, false, false, true, false]).unwrap();
+    ConstraintFluid::new("water", settings, &fluid, &walls).unwrap()
+}
+
+fn system(tolerance: f64) -> System {
+    let solver = chrono_ccp::Apgd::new(SolverSettings {
+        tolerance,
+        max_iterations: 2000,
+        record_history: false,
+    });
+    System::new(SystemSettings::default(), Box::new(solver)).unwrap()
+}
+
+#[test]
+fn jacobian_matches_finite_differences() {
+    let dp = 0.01;
+    let mut rng = Lcg(7);
+    let settings = CfluidSettings {
+        spacing: dp,
+        domain_lower: [-0.05, 0.0, -0.05],
+        domain_upper: [0.1, 0.08, 0.1],
+        periodic: [false, true, false],
+        ..CfluidSettings::default()
+    };
+    // a jittered 4 x 8 x 4 block (periodic along y) above one wall layer
+    let mut fluid = lattice_box([0.0; 3], [0.04, 0.08, 0.04], dp).unwrap();
+    for p in &mut fluid {
+        for c in p.iter_mut() {
+            *c += 0.2 * dp * rng.next();
+        }
+    }
+    let walls = tank_markers(
+        [0.0; 3],
+        [0.04, 0.08, 0.04],
+        dp,
+        1,
+        [false, false, false, false, true, false],
+    )
+    .unwrap();
+    let n = fluid.len();
+    let mut item = ConstraintFluid::new("fd", settings.clone(), &fluid, &walls).unwrap();
+    let mut vars = Variables::new();
+    item.add_variables(&mut vars);
+    let mut rows = ConstraintRows::new();
+    let c = ctx(1e-3, Vector3::zeros());
+    item.add_constraints(&c, &vars, &mut rows).unwrap();
+    let mut problem = CcpProblem::new();
+    problem
+        .assemble(&vars, &rows, &vec![0.0; vars.ndof()])
+        .unwrap();
+    let rho_0 = settings.rest_density;
+    for trial in 0..3 {
+        let v: Vec<f64> = (0..3 * n).map(|_| rng.next()).collect();
+        let delta = 1e-7;
+        let shifted = |s: f64| {
+            let pts: Vec<[f64; 3]> = fluid
+                .iter()
+                .enumerate()
+                .map(|(i, p)| std::array::from_fn(|a| p[a] + s * delta * v[3 * i + a]))
+                .collect();
+            let mut it = ConstraintFluid::new("fd", settings.clone(), &pts, &walls).unwrap();
+            it.compute_densities().unwrap().to_vec()
+        };
+        let (plus, minus) = (shifted(1.0), shifted(-1.0));
+        let mut worst = 0.0f64;
+        let mut scale = 0.0f64;
+        for i in 0..n {
+            let dc = (plus[i] - minus[i]) / (2.0 * delta * rho_0);
+            let row = problem.row_index(item.row_ids()[i]);
+            // rows are D_i = -grad C_i
+            let jv = -problem.row_dot(row, &v);
+            worst = worst.max((jv - dc).abs());
+            scale = scale.max(dc.abs());
+        }
+        assert!(
+            scale > 1.0,
+            "trial {trial}: the test moves nothing ({scale})"
+        );
+        assert!(
+            worst < 1e-6 * scale,
+            "trial {trial}: Jacobian off by {worst} (scale {scale})"
+        );
+    }
+}
+
+#[test]
+fn column_at_rest_keeps_density_and_pressure_is_hydrostatic() {
+    let (dp, w, depth) = (0.01, 0.06, 0.12);
+    let item = tank(dp, w, depth, SurfaceMode::OneSided);
+    let mut sys = system(1e-6);
+    let id = sys.add_item(Box::new(item));
+    let h = 2e-3;
+    let tol = 2e-3;
+    let mut worst = 0.0f64;
+    let mut ke_peak = 0.0f64;
+    let (steps, averaged) = (250, 100);
+    let mut p_mean = Vec::new();
+    for step in 0..steps {
+        sys.step(h).unwrap();
+        let f = sys.item::<ConstraintFluid>(id).unwrap();
+        worst = worst.max(f.max_compression());
+        ke_peak = ke_peak.max(f.kinetic_energy());
+        // the pressure of one step carries the settling oscillation: average the last steps
+        if step >= steps - averaged {
+            p_mean.resize(f.n_fluid(), 0.0);
+            for (i, pm) in p_mean.iter_mut().enumerate() {
+                *pm += f.pressure(i) / averaged as f64;
+            }
+        }
+    }
+    let f = sys.item_mut::<ConstraintFluid>(id).unwrap();
+    f.compute_densities().unwrap();
+    let end = f.max_compression();
+    assert!(worst < tol, "max compression during the run {worst}");
+    assert!(end < tol, "max compression at the end {end}");
+    // settling: the surface layers (whose support is not full) sink a fraction of dp
+    // until the rows below carry them, then XSPH damps the motion
+    let ke = f.kinetic_energy();
+    assert!(
+        ke < 0.25 * ke_peak,
+        "not settling: KE {ke} J, peak {ke_peak} J"
+    );
+    let m_total = f.particle_mass() * f.n_fluid() as f64;
+    assert!(
+        ke / m_total < 1e-3,
+        "specific kinetic energy {} J/kg",
+        ke / m_total
+    );
+    for i in 0..f.n_fluid() {
+        let p = f.position(i);
+        assert!(
+            p[0] > -0.5 * dp && p[0] < w + 0.5 * dp && p[2] > -0.5 * dp,
+            "particle {i} left the tank: {p:?}"
+        );
+    }
+    // pressure against depth in the bulk: away from the walls (a wall marker has no row,
+    // so it acts as a neighbour of zero pressure and the first fluid layers carry about
+    // twice the pressure), below the surface layers whose support is not full
+    let support = f.kernel().support();
+    let (mut zs, mut ps) = (Vec::new(), Vec::new());
+    for i in 0..f.n_fluid() {
+        let p = f.position(i);
+        if p[0] > support && p[0] < w - support && p[2] > support && p[2] < depth - support {
+            zs.push(p[2]);
+            ps.push(p_mean[i]);
+        }
+    }
+    let n = zs.len() as f64;
+    assert!(n > 10.0);
+    let (mz, mp) = (zs.iter().sum::<f64>() / n, ps.iter().sum::<f64>() / n);
+    let sxy: f64 = zs.iter().zip(&ps).map(|(z, p)| (z - mz) * (p - mp)).sum();
+    let sxx: f64 = zs.iter().map(|z| (z - mz) * (z - mz)).sum();
+    let syy: f64 = ps.iter().map(|p| (p - mp) * (p - mp)).sum();
+    let slope = sxy / sxx;
+    let r2 = sxy * sxy / (sxx * syy);
+    let expected = -1000.0 * 9.81;
+    eprintln!(
+        "column: max compression {worst:.3e} (run), {end:.3e} (end); KE {ke:.3e} J \
+         (peak {ke_peak:.3e}); dp/dz = {slope:.1} Pa/m (expected {expected}), R^2 = {r2:.4}"
+    );
+    assert!(
+        (slope / expected - 1.0).abs() < 0.1,
+        "dp/dz = {slope} Pa/m, expected {expected}"
+    );
+    assert!(r2 > 0.95, "pressure is not linear in depth: R^2 = {r2}");
+    assert!(ps.iter().all(|p| *p > 0.0), "negative bulk pressure");
+}
+
+/// A loose cloud (every particle below rho_0) in zero gravity, expanding.
+fn expanding_cloud(surface: SurfaceMode) -> (f64, f64) {
+    let dp = 0.01;
+    let settings = CfluidSettings {
+        spacing: dp,
+        surface,
+        domain_lower: [-0.2; 3],
+        domain_upper: [0.2; 3],
+        ..CfluidSettings::default()
+    };
+    let fluid: Vec<[f64; 3]> = lattice_box([0.0; 3], [0.05; 3], dp)
+        .unwrap()
+        .into_iter()
+        .map(|p| p.map(|c| 1.2 * c))
+        .collect();
+    let v0: Vec<[f64; 3]> = fluid.iter().map(|p| p.map(|c| c - 0.03)).collect();
+    let mut item = ConstraintFluid::new("cloud", settings, &fluid, &[]).unwrap();
+    item.set_velocities(&v0).unwrap();
+    let before = item.kinetic_energy();
+    let mut sys = system(1e-8);
+    let mut s = sys.settings().clone();
+    s.gravity = Vector3::zeros();
+    sys.set_settings(s).unwrap();
+    let id = sys.add_item(Box::new(item));
+    sys.step(1e-3).unwrap();
+    let f = sys.item::<ConstraintFluid>(id).unwrap();
+    assert!(f.densities().iter().all(|r| *r < 1000.0));
+    let max_g = f.impulses().iter().fold(0.0f64, |m, g| m.max(g.abs()));
+    (f.kinetic_energy() / before, max_g)
+}
+
+#[test]
+fn free_surface_particles_do_not_pull() {
+    for mode in [SurfaceMode::OneSided, SurfaceMode::Unilateral] {
+        let (ke_ratio, max_g) = expanding_cloud(mode);
+        assert_eq!(max_g, 0.0, "{mode:?}: a loose cloud got impulses");
+        // XSPH only smooths a linear velocity field slightly
+        assert!(
+            ke_ratio > 0.9,
+            "{mode:?}: expansion slowed, KE ratio {ke_ratio}"
+        );
+    }
+    // the clamped bilateral variant holds the density rate at zero: it resists
+    let (ke_ratio, max_g) = expanding_cloud(SurfaceMode::Clamped);
+    assert!(
+        max_g > 0.0 && ke_ratio < 0.5,
+        "clamped: KE ratio {ke_ratio}, max |g| {max_g}"
+    );
+}
+
+#[test]
+fn bad_input_names_the_field() {
+    let bad = |s: CfluidSettings| {
+        ConstraintFluid::new("x", s, &[[0.5; 3]], &[])
+            .err()
+            .expect("accepted")
+            .to_string()
+    };
+    let e = bad(CfluidSettings {
+        rest_density: -1.0,
+        ..Default::default()
+    });
+    assert!(e.contains("cfluid.rest_density"), "{e}");
+    let e = bad(CfluidSettings {
+        xsph: 2.0,
+        ..Default::default()
+    });
+    assert!(e.contains("cfluid.xsph"), "{e}");
+    let e = bad(CfluidSettings {
+        compressibility: f64::NAN,
+        ..Default::default()
+    });
+    assert!(e.contains("cfluid.compressibility"), "{e}");
+    let e = bad(CfluidSettings {
+        domain_upper: [1.0, -1.0, 1.0],
+        ..Default::default()
+    });
+    assert!(e.contains("cfluid.domain_upper[1]"), "{e}");
+    let e = ConstraintFluid::new(
+        "x",
+        CfluidSettings::default(),
+        &[[0.5; 3], [0.1, f64::NAN, 0.0]],
+        &[],
+    )
+    .err()
+    .unwrap()
+    .to_string();
+    assert!(e.contains("fluid[1][1]"), "{e}");
+    let e = ConstraintFluid::new("x", CfluidSettings::default(), &[], &[])
+        .err()
+        .unwrap()
+        .to_string();
+    assert!(e.contains("fluid"), "{e}");
+    let mut f = ConstraintFluid::new("x", CfluidSettings::default(), &[[0.5; 3]], &[]).unwrap();
+    let e = f
+        .set_velocities(&[[0.0, 0.0, f64::INFINITY]])
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("velocities[0][2]"), "{e}");
+}
+
+#[test]
+fn non_finite_state_names_item_and_step() {
+    let mut f = ConstraintFluid::new(
+        "puddle",
+        CfluidSettings::default(),
+        &[[0.5; 3], [0.51, 0.5, 0.5]],
+        &[],
+    )
+    .unwrap();
+    let mut vars = Variables::new();
+    f.add_variables(&mut vars);
+    let mut rows = ConstraintRows::new();
+    let mut c = ctx(1e-3, Vector3::zeros());
+    c.step = 42;
+    f.add_constraints(&c, &vars, &mut rows).unwrap();
+    let mut problem = CcpProblem::new();
+    problem.assemble(&vars, &rows, &[0.0; 6]).unwrap();
+    let v = [0.0, 0.0, 0.0, f64::NAN, 0.0, 0.0];
+    let e = f
+        .update(&c, &vars, &v, &problem, &[0.0; 2])
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("puddle") && e.contains("particle 1") && e.contains("step 42"),
+        "{e}"
+    );
+}

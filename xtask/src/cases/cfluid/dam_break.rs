@@ -1,0 +1,262 @@
+//! `cfluid-dam-break`: the dam break of `sph-dam-break` (square column `a = 57.15 mm`
+//! against the left wall of a `5 a` tank, quasi-2D slab periodic in y) run as a
+//! constraint fluid, against the surge front of Martin and Moyce (1952).
+//!
+//! Same parameter names as `sph-dam-break` where they apply (`column_width`,
+//! `column_height`, `tank_length`, `spacing`, `t_end`, `xsph`), plus the time step `h`,
+//! the solver `tolerance`, `solver` and `max_iterations`. The front is found as in
+//! `sph-dam-break` (largest `x + dp/2` of the fluid particles within `2 dp` of the floor
+//! with at least [`FRONT_MIN_NEIGHBOURS`] fluid neighbours within `2 dp`), and
+//! `front_error` is the same RMS of `Z = x / a` against [`MARTIN_MOYCE_N2_1`] for
+//! `0 < T <= 3` (checked below [`FRONT_TOLERANCE`], square column only). Also:
+//! `max_compression_pct` (the worst `100 (rho_i / rho_0 - 1)` over the run, from the
+//! densities of the start of each step), `avg_iterations`, `left_tank` (checked 0).
+//! The column starts at rest on its lattice (no hydrostatic pre-compression is needed:
+//! the constraint takes the load in the first step).
+
+use chrono_cfluid::{CfluidSettings, ConstraintFluid, lattice_box, tank_markers};
+use chrono_core::descriptor::SolverSettings;
+use chrono_core::{System, SystemSettings};
+use serde::{Deserialize, Serialize};
+
+use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series};
+use crate::cases::sph::dam_break::{
+    FRONT_MIN_NEIGHBOURS, FRONT_TOLERANCE, MARTIN_MOYCE_N2_1, front_rms, interpolate,
+};
+use crate::cases::sph::{slab_layers, wall_layers};
+use crate::params::{CaseParams, ParamCase, ParamInfo};
+
+const G: f64 = 9.81;
+
+/// Parameters of `cfluid-dam-break`.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct CfluidDamBreakParams {
+    /// Column width `a` (x), m.
+    pub column_width: f64,
+    /// Column height, m.
+    pub column_height: f64,
+    /// Tank length (x), m.
+    pub tank_length: f64,
+    /// Particle spacing, m.
+    pub spacing: f64,
+    /// Simulated time, s.
+    pub t_end: f64,
+    /// XSPH viscosity epsilon.
+    pub xsph: f64,
+    /// Time step, s.
+    pub h: f64,
+    /// Solver tolerance (chrono-ccp residual, 1/s for density rows).
+    pub tolerance: f64,
+    /// CCP solver name.
+    pub solver: String,
+    /// Iteration cap per step.
+    pub max_iterations: usize,
+}
+
+impl Default for CfluidDamBreakParams {
+    fn default() -> Self {
+        let a = 0.05715;
+        Self {
+            column_width: a,
+            column_height: a,
+            tank_length: 5.0 * a,
+            spacing: a / 24.0,
+            t_end: 0.165,
+            xsph: 0.1,
+            h: 5e-4,
+            tolerance: 1e-4,
+            solver: "apgd".into(),
+            max_iterations: 500,
+        }
+    }
+}
+
+impl CaseParams for CfluidDamBreakParams {
+    const INFO: &'static [ParamInfo] = &[
+        ParamInfo::new("column_width", "m", "column width a (x)"),
+        ParamInfo::new(
+            "column_height",
+            "m",
+            "column height (data for height = width)",
+        ),
+        ParamInfo::new("tank_length", "m", "tank length (x)"),
+        ParamInfo::new("spacing", "m", "particle spacing dp"),
+        ParamInfo::new("t_end", "s", "simulated time (T = t sqrt(2g/a) up to ~3)"),
+        ParamInfo::new("xsph", "-", "XSPH viscosity epsilon"),
+        ParamInfo::new("h", "s", "time step"),
+        ParamInfo::new("tolerance", "1/s", "solver tolerance (chrono-ccp residual)"),
+        ParamInfo::new("solver", "-", "CCP solver name (chrono-ccp)"),
+        ParamInfo::new("max_iterations", "-", "iteration cap per step"),
+    ];
+    fn apply_mode(&mut self, mode: Mode) {
+        match mode {
+            Mode::Quick => {
+                self.spacing = self.column_width / 16.0;
+                self.h = 1e-3;
+            }
+            Mode::Default => {}
+            Mode::Full => self.spacing = self.column_width / 36.0,
+        }
+    }
+}
+
+/// The surge front `x + dp/2` (see the module documentation).
+fn front(f: &ConstraintFluid, dp: f64, ly: f64) -> f64 {
+    let n = f.n_fluid();
+    let near: Vec<usize> = (0..n).filter(|&i| f.position(i)[2] < 2.0 * dp).collect();
+    let r2 = 4.0 * dp * dp;
+    let mut best = f64::NEG_INFINITY;
+    for &i in &near {
+        let p = f.position(i);
+        if p[0] + 0.5 * dp <= best {
+            continue;
+        }
+        let mut count = 0;
+        for j in 0..n {
+            if j == i {
+                continue;
+            }
+            let q = f.position(j);
+            let mut dy = (p[1] - q[1]).abs();
+            dy = dy.min(ly - dy);
+            let d2 = (p[0] - q[0]).powi(2) + dy * dy + (p[2] - q[2]).powi(2);
+            if d2 <= r2 {
+                count += 1;
+                if count >= FRONT_MIN_NEIGHBOURS {
+                    break;
+                }
+            }
+        }
+        if count >= FRONT_MIN_NEIGHBOURS {
+            best = p[0] + 0.5 * dp;
+        }
+    }
+    best
+}
+
+fn run(p: &CfluidDamBreakParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
+    anyhow::ensure!(
+        p.h > 0.0 && p.h.is_finite(),
+        "parameter `h` must be > 0, got {}",
+        p.h
+    );
+    let (a, dp) = (p.column_width, p.spacing);
+    anyhow::ensure!(
+        dp > 0.0 && dp <= a / 8.0,
+        "parameter `spacing` must be in (0, column_width/8], got {dp}"
+    );
+    anyhow::ensure!(
+        p.tank_length > a && p.column_height > 0.0,
+        "parameters `tank_length` must exceed `column_width` and `column_height` be > 0"
+    );
+    let h_over_dp = CfluidSettings::default().h_over_dp;
+    let layers = wall_layers(h_over_dp);
+    let ly = slab_layers(h_over_dp) as f64 * dp;
+    let t = layers as f64 * dp;
+    let top = 2.0 * p.column_height;
+    let settings = CfluidSettings {
+        spacing: dp,
+        xsph: p.xsph,
+        domain_lower: [-t, 0.0, -t],
+        domain_upper: [p.tank_length + t, ly, top],
+        periodic: [false, true, false],
+        ..CfluidSettings::default()
+    };
+    let fluid = lattice_box([0.0; 3], [a, ly, p.column_height], dp)?;
+    let walls = tank_markers(
+        [0.0; 3],
+        [p.tank_length, ly, top],
+        dp,
+        layers,
+        [true, true, false, false, true, false],
+    )?;
+    let item = ConstraintFluid::new("water", settings, &fluid, &walls)?;
+    let solver = chrono_ccp::by_name(
+        &p.solver,
+        SolverSettings {
+            tolerance: p.tolerance,
+            max_iterations: p.max_iterations,
+            record_history: false,
+        },
+    )
+    .map_err(|e| anyhow::anyhow!("parameter `solver`: {e}"))?;
+    let mut sys = System::new(SystemSettings::default(), solver)?;
+    let id = sys.add_item(Box::new(item));
+    let t_of = (a / (2.0 * G)).sqrt();
+    let n = (p.t_end / p.h).round().max(1.0) as u64;
+    let every = ((0.002 / p.h).round() as u64).max(1);
+    let mut series = Series::new(["t", "front", "max_compression_pct", "iterations"]);
+    let mut samples = vec![(0.0, 1.0)];
+    let (mut iterations, mut max_c) = (0usize, 0.0f64);
+    for step in 1..=n {
+        let report = sys.step(p.h)?;
+        iterations += report.solve.iterations;
+        let f = sys
+            .item::<ConstraintFluid>(id)
+            .ok_or_else(|| anyhow::anyhow!("the fluid item is missing"))?;
+        let c = f.max_compression().max(0.0);
+        max_c = max_c.max(c);
+        if step % every == 0 || step == n {
+            let time = step as f64 * p.h;
+            let x = front(f, dp, ly);
+            samples.push((time / t_of, x / a));
+            series.push(&[time, x, 100.0 * c, report.solve.iterations as f64]);
+        }
+        ctx.progress_steps(step, n);
+    }
+    let f = sys
+        .item::<ConstraintFluid>(id)
+        .ok_or_else(|| anyhow::anyhow!("the fluid item is missing"))?;
+    let left = (0..f.n_fluid())
+        .filter(|&i| {
+            let x = f.position(i);
+            x[0] < -0.5 * dp || x[0] > p.tank_length + 0.5 * dp || x[2] < -0.5 * dp
+        })
+        .count();
+    let mut out = CaseOutput::new();
+    let square = ((p.column_height / a) - 1.0).abs() < 1e-6;
+    if square {
+        out.check(Check::below(
+            "front_error",
+            front_rms(&samples),
+            FRONT_TOLERANCE,
+        ));
+    } else {
+        ctx.note("column_height != column_width: no experimental data, front_error not checked");
+    }
+    for (name, tt) in [
+        ("front_Z_at_T1", 1.0),
+        ("front_Z_at_T2", 2.0),
+        ("front_Z_at_T3", 3.0),
+    ] {
+        out.metric(name, interpolate(&samples, tt));
+    }
+    out.metric("max_compression_pct", 100.0 * max_c)
+        .metric("avg_iterations", iterations as f64 / n as f64)
+        .check(Check::below("left_tank", left as f64, 0.0));
+    let mut reference = Series::new(["t", "front_exp"]);
+    for &(tt, z) in &MARTIN_MOYCE_N2_1 {
+        reference.push(&[tt * t_of, z * a]);
+    }
+    out.series = series;
+    out.reference_series = square.then_some(reference);
+    out.plot = PlotSpec::new(
+        "constraint-fluid dam break (Martin and Moyce 1952, n^2 = 1)",
+        "t [s]",
+        "x [m]",
+        &["front"],
+    )
+    .with_reference(&["front_exp"]);
+    out.steps = n;
+    Ok(out)
+}
+
+/// The `cfluid-dam-break` case.
+pub fn case() -> Box<dyn Case> {
+    ParamCase::<CfluidDamBreakParams>::boxed(
+        "cfluid-dam-break",
+        "cfluid",
+        "Collapse of a square water column (quasi-2D constraint fluid) against the surge front of Martin and Moyce (1952); max compression.",
+        run,
+    )
+}
