@@ -7,6 +7,7 @@
 
 use nalgebra::Vector3;
 
+use crate::body::RigidBody;
 use crate::collision::CollisionProxy;
 use crate::descriptor::{BlockId, CcpProblem, ConstraintRows, Variables};
 use crate::error::Result;
@@ -33,14 +34,25 @@ pub struct StepContext {
 /// Items are `Any`, so the owner of a [`System`](crate::system::System) reads its item
 /// back with its type: [`System::item`](crate::system::System::item).
 ///
-/// Call order each step: [`add_variables`](Self::add_variables),
+/// Call order each step: [`begin_step`](Self::begin_step),
+/// [`add_variables`](Self::add_variables),
 /// [`load_momentum`](Self::load_momentum), [`collision_proxies`](Self::collision_proxies)
 /// (the system finds their contacts with the body colliders and builds friction rows whose
 /// item side comes from [`proxy_jacobian`](Self::proxy_jacobian)),
-/// [`add_constraints`](Self::add_constraints), (solve), [`update`](Self::update).
+/// [`add_constraints`](Self::add_constraints),
+/// [`add_body_constraints`](Self::add_body_constraints), [`warm_start`](Self::warm_start)
+/// (NSC step, warm start on), (solve), [`update`](Self::update).
 pub trait PhysicsItem: std::any::Any + Send + Sync {
     /// A name for messages ("fluid", "tire mesh" ...).
     fn name(&self) -> &str;
+
+    /// Prepare the step before any block is added: e.g. an implicit item assembles and
+    /// factorizes its iteration matrix `M + h R + h^2 K` at `q(l)` here, because its
+    /// coupled mass operator depends on `h`. An error (a matrix that is not positive
+    /// definite) aborts the step. Default: nothing.
+    fn begin_step(&mut self, _ctx: &StepContext) -> Result<()> {
+        Ok(())
+    }
 
     /// Append this item's variable blocks (remember their ids for the other calls).
     fn add_variables(&mut self, vars: &mut Variables);
@@ -75,6 +87,21 @@ pub trait PhysicsItem: std::any::Any + Send + Sync {
     fn add_constraints(
         &mut self,
         _ctx: &StepContext,
+        _vars: &Variables,
+        _rows: &mut ConstraintRows,
+    ) -> Result<()> {
+        Ok(())
+    }
+
+    /// Add rows that tie the item to rigid bodies (a node attached to a body or to a fixed
+    /// point): `bodies` are the system's bodies at `q(l)`, with their variable blocks for
+    /// this step (use [`Contactable::contact_jacobian`] for a body's side of a row; fixed
+    /// and kinematic bodies have no block and report their known velocity). Called after
+    /// [`add_constraints`](Self::add_constraints). Default: none.
+    fn add_body_constraints(
+        &mut self,
+        _ctx: &StepContext,
+        _bodies: &[RigidBody],
         _vars: &Variables,
         _rows: &mut ConstraintRows,
     ) -> Result<()> {

@@ -5,9 +5,14 @@
 //! loads, a static solver (Newton with load stepping, faer sparse LU) and a modal
 //! analysis; the analytic references of the beam benchmarks are in [`analytic`].
 //!
+//! A mesh steps in a [`System`](chrono_core::System) as a
+//! [`PhysicsItem`](chrono_core::item::PhysicsItem) ([`CableItem`], module [`dynamics`]):
+//! linearized implicit Euler with the iteration matrix `M + h R + h^2 K` as the coupled
+//! mass operator of the CCP ([`SparseSpd`], faer sparse Cholesky), nodes attached to
+//! fixed points or rigid bodies by bilateral rows.
+//!
 //! Still to come (see the issue): the fully parameterized ANCF beam, ANCF shells,
-//! tetrahedra, the mesh as a [`PhysicsItem`](chrono_core::item::PhysicsItem) with implicit
-//! stepping in the system's CCP, contact.
+//! tetrahedra, slope attachments, contact.
 //!
 //! ```
 //! use chrono_fea::{BeamMaterial, CableMesh, CableQuadrature, NodeId, StaticSettings, solve_static};
@@ -25,6 +30,7 @@
 //! ```
 
 pub mod analytic;
+pub mod dynamics;
 pub mod element;
 pub mod error;
 pub mod material;
@@ -32,12 +38,15 @@ pub mod mesh;
 pub mod modal;
 pub mod node;
 pub mod quadrature;
+pub mod spd;
 pub mod statics;
 
+pub use dynamics::{AttachTarget, Attachment, CableItem};
 pub use element::{AncfCable, CableQuadrature};
 pub use error::{FeaError, Result};
 pub use material::BeamMaterial;
 pub use mesh::{CableMesh, DofMap};
 pub use modal::natural_frequencies;
 pub use node::{GradientNode, NodeId};
+pub use spd::SparseSpd;
 pub use statics::{StaticReport, StaticSettings, solve_static};

@@ -61,6 +61,14 @@ pub enum MassData {
         /// kg m^2, row-major.
         inertia: [f64; 9],
     },
+    /// A coupled block saved as its dense symmetric matrix (kg, row-major `n x n`),
+    /// reloaded as a [`DenseMass`](super::DenseMass).
+    Dense {
+        /// Number of dof `n`.
+        ndof: usize,
+        /// kg, row-major, `n^2` values.
+        matrix: Vec<f64>,
+    },
 }
 
 /// The rows of one group, as stored (CSR: `row_ptr` into the entries; each entry a block
@@ -126,6 +134,14 @@ impl ProblemFile {
                         inertia: j,
                     }
                 }
+                MassOperator::Coupled(op) => {
+                    let m = super::coupled::dense_matrix(op.as_ref());
+                    // Row-major: the transpose's column-major storage.
+                    MassData::Dense {
+                        ndof: m.nrows(),
+                        matrix: m.transpose().as_slice().to_vec(),
+                    }
+                }
             })
             .collect();
         let rows = problem.constraint_rows();
@@ -172,6 +188,7 @@ impl ProblemFile {
                 MassData::RigidBody { mass, inertia } => {
                     MassOperator::rigid_body(*mass, Matrix3::from_row_slice(inertia))
                 }
+                MassData::Dense { ndof, matrix } => dense_block(*ndof, matrix),
             }
             .map_err(|e| ChronoError::invalid(format!("masses[{i}]"), e, "invalid mass"))?;
             vars.add(op);
@@ -260,6 +277,12 @@ impl ProblemFile {
             let (kind, mass, j) = match m {
                 MassData::Particle { mass } => (0u8, *mass, [0.0; 9]),
                 MassData::RigidBody { mass, inertia } => (1u8, *mass, *inertia),
+                MassData::Dense { matrix, .. } => {
+                    // Kind 2: the n^2 values, length-prefixed (n is their square root).
+                    w.write_all(&[2u8])?;
+                    write_f64s(w, matrix)?;
+                    continue;
+                }
             };
             w.write_all(&[kind])?;
             w.write_all(&mass.to_le_bytes())?;
@@ -285,11 +308,18 @@ impl ProblemFile {
         r.read_exact(&mut magic)?;
         let format = read_string(r)?;
         let description = read_string(r)?;
-        let n = read_len_of(r, 1 + 80)?;
+        // The smallest entry is a 1x1 dense block: kind, length, one value.
+        let n = read_len_of(r, 1 + 8 + 8)?;
         let mut masses = Vec::with_capacity(n);
         for _ in 0..n {
             let mut kind = [0u8; 1];
             r.read_exact(&mut kind)?;
+            if kind[0] == 2 {
+                let matrix = read_f64s(r)?;
+                let ndof = matrix.len().isqrt();
+                masses.push(MassData::Dense { ndof, matrix });
+                continue;
+            }
             let mass = read_f64(r)?;
             let mut j = [0.0; 9];
             for x in &mut j {
@@ -331,6 +361,20 @@ impl ProblemFile {
             k,
         })
     }
+}
+
+/// A stored dense block: `matrix` must hold `ndof^2` values (row-major).
+fn dense_block(ndof: usize, matrix: &[f64]) -> Result<MassOperator> {
+    if ndof.checked_mul(ndof) != Some(matrix.len()) {
+        return Err(ChronoError::invalid(
+            "dense mass matrix.len()",
+            matrix.len(),
+            format!("must be ndof^2 with ndof = {ndof}"),
+        ));
+    }
+    let m = nalgebra::DMatrix::from_row_slice(ndof, ndof, matrix);
+    let op = super::coupled::DenseMass::new(m)?;
+    MassOperator::coupled(std::sync::Arc::new(op))
 }
 
 /// Structural checks of one stored group, so that assembly never indexes out of bounds.

@@ -1,7 +1,8 @@
 //! The descriptor: what a solver sees, and nothing more.
 //!
 //! - [`Variables`]: contiguous generalized velocities in blocks, each with a mass operator
-//!   that applies `M` and `M^-1` ([`MassOperator`]).
+//!   that applies `M` and `M^-1` ([`MassOperator`]): particles, rigid bodies, and coupled
+//!   blocks whose (iteration) matrix is factorized by a domain crate ([`CoupledMass`]).
 //! - [`ConstraintRows`]: sparse Jacobian rows `D_i'` (one per row of the problem, seed
 //!   notation: `D` has one column per row), each with a right-hand side `b_i` and a compliance
 //!   `eps_i`, grouped by kind: bilateral (free), box-bounded, unilateral (`>= 0`), and
@@ -16,6 +17,7 @@
 //! `v+ = M^-1 (k + D g)`.
 
 mod cone;
+mod coupled;
 mod file;
 mod ops;
 mod problem;
@@ -27,6 +29,7 @@ mod tests;
 mod variables;
 
 pub use cone::{project_box, project_friction_cone, project_rolling_cone, project_unilateral};
+pub use coupled::{CoupledMass, DenseMass, dense_matrix};
 pub use file::{ProblemFile, ProblemFormat};
 pub use problem::{CcpProblem, CcpWork, Sections, upper_index};
 pub use rows::{ConstraintRows, N_GROUPS, RowEntry, RowGroup, RowId};

@@ -1,8 +1,11 @@
 //! Variable blocks: generalized velocities with their mass operators.
 
+use std::sync::Arc;
+
 use nalgebra::{Matrix3, Vector3};
 use rayon::prelude::*;
 
+use super::coupled::CoupledMass;
 use crate::error::{ChronoError, Result, check_positive};
 
 /// Index of a variable block in [`Variables`].
@@ -10,7 +13,10 @@ use crate::error::{ChronoError, Result, check_positive};
 pub struct BlockId(pub u32);
 
 /// The mass operator of one variable block: applies `M` and `M^-1` to the block's velocities.
-#[derive(Debug, Clone, PartialEq)]
+///
+/// Equality compares the particle and rigid-body data by value and coupled blocks by
+/// identity (the same shared operator).
+#[derive(Debug, Clone)]
 pub enum MassOperator {
     /// A point mass: 3 dof (world-frame linear velocity), mass in kg.
     Particle {
@@ -28,6 +34,34 @@ pub enum MassOperator {
         /// Its inverse (cached).
         inv_inertia: Matrix3<f64>,
     },
+    /// A coupled block of `n` dof with a full symmetric positive definite operator `H`
+    /// (kg; for an implicit item the iteration matrix `M + h R + h^2 K`, see
+    /// [`CoupledMass`]), applied by a factorization the domain crate supplies. A row's
+    /// entry on such a block has `n` coefficients, and `H^-1 D_i` is dense over the block.
+    Coupled(Arc<dyn CoupledMass>),
+}
+
+impl PartialEq for MassOperator {
+    fn eq(&self, other: &Self) -> bool {
+        use MassOperator::*;
+        match (self, other) {
+            (Particle { mass: a }, Particle { mass: b }) => a == b,
+            (
+                RigidBody {
+                    mass: a,
+                    inertia: ja,
+                    ..
+                },
+                RigidBody {
+                    mass: b,
+                    inertia: jb,
+                    ..
+                },
+            ) => a == b && ja == jb,
+            (Coupled(a), Coupled(b)) => Arc::ptr_eq(a, b),
+            _ => false,
+        }
+    }
 }
 
 impl MassOperator {
@@ -49,12 +83,21 @@ impl MassOperator {
         })
     }
 
+    /// A coupled block (see [`MassOperator::Coupled`]); its `ndof` must be >= 1.
+    pub fn coupled(op: Arc<dyn CoupledMass>) -> Result<Self> {
+        if op.ndof() == 0 {
+            return Err(ChronoError::invalid("coupled mass ndof", 0, "must be >= 1"));
+        }
+        Ok(MassOperator::Coupled(op))
+    }
+
     /// Number of degrees of freedom of the block.
     #[inline]
     pub fn ndof(&self) -> usize {
         match self {
             MassOperator::Particle { .. } => 3,
             MassOperator::RigidBody { .. } => 6,
+            MassOperator::Coupled(op) => op.ndof(),
         }
     }
 
@@ -80,6 +123,7 @@ impl MassOperator {
                 out[4] = w.y;
                 out[5] = w.z;
             }
+            MassOperator::Coupled(op) => op.apply_inverse(x, out),
         }
     }
 
@@ -101,6 +145,7 @@ impl MassOperator {
                 out[4] = l.y;
                 out[5] = l.z;
             }
+            MassOperator::Coupled(op) => op.apply(x, out),
         }
     }
 }
@@ -302,6 +347,39 @@ mod tests {
         vars.apply_inverse(&mx, &mut back);
         for i in 0..12 {
             assert!((back[i] - x[i]).abs() < 1e-12);
+        }
+    }
+
+    #[test]
+    fn coupled_block_beside_particles() {
+        use crate::descriptor::DenseMass;
+        use nalgebra::DMatrix;
+        // A 4-dof SPD block between two particles: offsets, runs and both operators.
+        let h = DMatrix::from_row_slice(
+            4,
+            4,
+            &[
+                4.0, 1.0, 0.0, 0.5, 1.0, 3.0, 0.2, 0.0, 0.0, 0.2, 2.0, 0.1, 0.5, 0.0, 0.1, 5.0,
+            ],
+        );
+        let op: Arc<dyn CoupledMass> = Arc::new(DenseMass::new(h.clone()).unwrap());
+        let mut vars = Variables::new();
+        vars.add(MassOperator::particle(2.0).unwrap());
+        let c = vars.add(MassOperator::coupled(op.clone()).unwrap());
+        vars.add(MassOperator::particle(0.5).unwrap());
+        assert_eq!(vars.ndof(), 10);
+        assert_eq!(vars.range(c), 3..7);
+        assert_eq!(vars.mass(c), &MassOperator::Coupled(op));
+        let x: Vec<f64> = (0..10).map(|i| 0.3 * i as f64 - 1.0).collect();
+        let (mut mx, mut back) = (vec![0.0; 10], vec![0.0; 10]);
+        vars.apply(&x, &mut mx);
+        let hx = &h * nalgebra::DVector::from_column_slice(&x[3..7]);
+        for i in 0..4 {
+            assert!((mx[3 + i] - hx[i]).abs() < 1e-14);
+        }
+        vars.apply_inverse(&mx, &mut back);
+        for i in 0..10 {
+            assert!((back[i] - x[i]).abs() < 1e-12, "{i}");
         }
     }
 

@@ -361,7 +361,7 @@ impl System {
     /// New velocities and poses with joints' and items' rows solved by the CCP solver.
     fn smc_rows_update(&mut self, h: f64) -> Result<StepReport> {
         let ctx = self.step_context(h);
-        self.add_step_variables()?;
+        self.add_step_variables(&ctx)?;
         let ndof = self.vars.ndof();
         self.k.clear();
         self.k.resize(ndof, 0.0);
@@ -397,6 +397,7 @@ impl System {
         }
         for item in &mut self.items {
             item.add_constraints(&ctx, &self.vars, &mut self.rows)?;
+            item.add_body_constraints(&ctx, &self.bodies, &self.vars, &mut self.rows)?;
         }
         self.problem.assemble(&self.vars, &self.rows, &self.k)?;
         let m = self.problem.n_rows();

@@ -20,8 +20,11 @@ impl System {
     }
 
     /// This step's variables: a block per dynamic body (fixed and kinematic bodies have
-    /// none), then the items' blocks.
-    pub(crate) fn add_step_variables(&mut self) -> Result<()> {
+    /// none), then the items' blocks (each item's [`begin_step`](crate::item::PhysicsItem::begin_step) first).
+    pub(crate) fn add_step_variables(&mut self, ctx: &StepContext) -> Result<()> {
+        for item in &mut self.items {
+            item.begin_step(ctx)?;
+        }
         self.vars.clear();
         for b in &mut self.bodies {
             b.block = match b.motion {
@@ -60,7 +63,7 @@ impl System {
         }
         let ctx = self.step_context(h);
 
-        self.add_step_variables()?;
+        self.add_step_variables(&ctx)?;
 
         // Momentum k = M v + h f.
         let ndof = self.vars.ndof();
@@ -151,6 +154,7 @@ impl System {
         )?;
         for item in &mut self.items {
             item.add_constraints(&ctx, &self.vars, &mut self.rows)?;
+            item.add_body_constraints(&ctx, &self.bodies, &self.vars, &mut self.rows)?;
         }
 
         // Assemble and solve.

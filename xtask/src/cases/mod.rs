@@ -88,6 +88,7 @@ pub fn all_cases() -> Vec<Box<dyn Case>> {
         ccp::solvers::case(),
         fea::cantilever::case(),
         fea::frequency::case(),
+        fea::pendulum::case(),
     ]
 }
 

@@ -3,10 +3,13 @@
 //! - `fea-cantilever`: an ANCF cantilever under a dead tip force, from the small-load
 //!   Euler–Bernoulli regime to the large-deflection elastica (`P L^2 / (E I)` up to 10);
 //! - `fea-cantilever-frequency`: its first bending frequency against the Euler–Bernoulli
-//!   value `1.875^2 sqrt(E I / (rho A L^4)) / (2 pi)`.
+//!   value `1.875^2 sqrt(E I / (rho A L^4)) / (2 pi)`;
+//! - `fea-pendulum`: an undamped flexible pendulum stepped in the system's CCP (implicit
+//!   Euler) keeps its energy; the numerical damping against the step size.
 
 pub mod cantilever;
 pub mod frequency;
+pub mod pendulum;
 
 use chrono_core::math::Vector3;
 use chrono_fea::{BeamMaterial, CableMesh, CableQuadrature, NodeId};

@@ -1,0 +1,513 @@
+//! A cable mesh as a [`PhysicsItem`]: implicit dynamics in the system's CCP.
+//!
+//! # The step
+//!
+//! Linearized implicit (backward) Euler, one Newton step of
+//! `M (v+ - v) = h f(q+, v+) + D gamma`, `q+ = q + h v+`, with
+//! `f(q, v) = F_ext(q) - Q(q) - R v` (applied loads and gravity, the elastic force
+//! `Q = dU/dq` of the elements, Rayleigh damping `R = beta K`), linearized about
+//! `(q, v)` with the tangent `K = dQ/dq` (closed form, [`AncfCable::force_and_tangent`]):
+//!
+//! ```text
+//! (M + h R + h^2 K) v+ = M v + h (F_ext - Q(q)) + D gamma
+//! ```
+//!
+//! (the `h R v` on both sides cancels). This is the form of every block of the NSC step,
+//! `H v+ = k + D gamma`, with `H = M + h R + h^2 K` as the block's coupled mass operator
+//! ([`SparseSpd`], faer sparse Cholesky, symbolic analysis once, numeric refactorization
+//! every step in [`begin_step`](PhysicsItem::begin_step)), `k` from
+//! [`load_momentum`](PhysicsItem::load_momentum). The solver finds `gamma` for the rows of
+//! joints, contacts and this mesh's attachments together; [`update`](PhysicsItem::update)
+//! sets `q+ = q + h v+`. Anitescu & Tasora's stepper with a stiff item, as Chrono's
+//! `ChTimestepperEulerImplicitLinearized` (factors `M: 1, dF/dv: -h, dF/dq: -h^2`).
+//!
+//! # Numerical damping
+//!
+//! For a linear mode of frequency `omega` the step is exactly backward Euler: the
+//! amplitude shrinks by `1 / sqrt(1 + (omega h)^2)` per step, so the energy of the mode
+//! decays as `exp(-omega^2 h t)` for `omega h << 1` and high modes (`omega h >> 1`, the
+//! axial waves of a slender beam) are removed within a few steps; the period lengthens by
+//! a relative `(omega h)^2 / 3`. Measured figures are in `docs/validation-fea.md`.
+//!
+//! # Supports and attachments
+//!
+//! Supports of the mesh ([`CableMesh::fix_position`], [`CableMesh::clamp`] ...) remove
+//! coordinates, as in statics: the block has the free coordinates only. An
+//! [`Attachment`] ties a node's position to a fixed world point or to a point of a rigid
+//! body with three bilateral rows `d . (r_node - p) = 0` (`d` the world axes), stabilized
+//! like the joints: `b = d . (r_node - p) / h` (minus the known velocity of a kinematic
+//! body's point). The slope stays free: a pin (spherical joint) for the cable element,
+//! which has no torsion.
+
+use std::sync::Arc;
+
+use chrono_core::body::{BodyHandle, RigidBody};
+use chrono_core::descriptor::{
+    BlockId, CcpProblem, ConstraintRows, MassOperator, RowEntry, RowId, Variables,
+};
+use chrono_core::item::{Contactable, PhysicsItem, StepContext};
+use chrono_core::{ChronoError, Result as CoreResult};
+use faer::sparse::{SparseColMat, Triplet};
+use nalgebra::{Point3, Vector3};
+
+use crate::element::{AncfCable, ElementVector};
+use crate::error::{FeaError, Result, finite3};
+use crate::mesh::{CableMesh, DofMap};
+use crate::node::NodeId;
+use crate::spd::{SparseSpd, symmetric_upper_mul};
+
+/// What a node is attached to.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum AttachTarget {
+    /// A fixed world point, m.
+    Point(Vector3<f64>),
+    /// A point of a rigid body given in the body frame (m, relative to its center of mass).
+    Body {
+        /// The body (of the system the item is added to).
+        body: BodyHandle,
+        /// The point in the body frame, m.
+        local: Vector3<f64>,
+    },
+}
+
+/// A node's position tied to a target by three bilateral rows (see the module docs).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Attachment {
+    /// The node.
+    pub node: NodeId,
+    /// What it is attached to.
+    pub target: AttachTarget,
+}
+
+const NONE: usize = usize::MAX;
+const EL: usize = AncfCable::NDOF;
+
+/// A [`CableMesh`] stepped implicitly in the system's CCP (see the module docs).
+#[derive(Debug)]
+pub struct CableItem {
+    name: String,
+    mesh: CableMesh,
+    map: DofMap,
+    /// Global coordinate of each free index.
+    free_global: Vec<usize>,
+    /// Generalized velocities of all coordinates (`[r_dot, r_x_dot]` per node; 0 on the
+    /// supported ones): m/s and 1/s.
+    velocity: Vec<f64>,
+    attachments: Vec<Attachment>,
+    /// Rows of this step, 3 per attachment (`None`: the row was not needed).
+    rows: Vec<Option<RowId>>,
+    /// Attachment forces on the nodes from the last step, N.
+    reactions: Vec<Vector3<f64>>,
+    op: Arc<SparseSpd>,
+    /// Consistent mass on the free coordinates (upper triangle, the pattern of `op`), kg.
+    mass: SparseColMat<usize, f64>,
+    /// For element `e` and local pair `(a, b)`: the index in the pattern's values of the
+    /// upper-triangle entry it adds to (`NONE` if a coordinate is supported or the entry is
+    /// in the lower triangle).
+    scatter: Vec<usize>,
+    h_values: Vec<f64>,
+    /// `F_ext - Q(q)` at the start of the step (all coordinates), N and N m.
+    force: Vec<f64>,
+    q: Vec<f64>,
+    coefs: Vec<f64>,
+    block: Option<BlockId>,
+}
+
+fn core_error(e: FeaError) -> ChronoError {
+    ChronoError::invalid("fea", e.to_string(), "rejected by chrono-fea")
+}
+
+impl CableItem {
+    /// The item for `mesh` (its supports are taken now; the mesh starts at rest). Errors:
+    /// no element, every coordinate supported.
+    pub fn new(name: impl Into<String>, mesh: CableMesh) -> Result<Self> {
+        if mesh.elements().is_empty() {
+            return Err(FeaError::invalid("mesh.elements", 0, "needs an element"));
+        }
+        let map = mesh.dof_map();
+        let n = map.nfree();
+        if n == 0 {
+            return Err(FeaError::invalid(
+                "mesh",
+                "all coordinates supported",
+                "needs a free coordinate",
+            ));
+        }
+        let free_global: Vec<usize> = (0..map.ndof())
+            .filter(|&g| map.free_index(g).is_some())
+            .collect();
+        let ne = mesh.elements().len();
+        let gidx = |el: &AncfCable, a: usize| 6 * el.nodes[a / 6] + a % 6;
+        // Pattern: the union of the element blocks on the free coordinates, upper part;
+        // the diagonal is always present (the mass is positive definite).
+        let mut trip = Vec::new();
+        for f in 0..n {
+            trip.push(Triplet::new(f, f, 0.0));
+        }
+        for el in mesh.elements() {
+            for a in 0..EL {
+                for b in 0..EL {
+                    if let (Some(i), Some(j)) =
+                        (map.free_index(gidx(el, a)), map.free_index(gidx(el, b)))
+                        && i <= j
+                    {
+                        trip.push(Triplet::new(i, j, 0.0));
+                    }
+                }
+            }
+        }
+        let pattern = SparseColMat::try_new_from_triplets(n, n, &trip)
+            .map_err(|e| FeaError::Assembly(format!("{e:?}")))?;
+        let (cp, ri) = (
+            pattern.symbolic().col_ptr().to_vec(),
+            pattern.symbolic().row_idx().to_vec(),
+        );
+        let find = |i: usize, j: usize| -> usize {
+            cp[j]
+                + ri[cp[j]..cp[j + 1]]
+                    .iter()
+                    .position(|&r| r == i)
+                    .expect("entry in the pattern")
+        };
+        let mut scatter = vec![NONE; ne * EL * EL];
+        let mut mass = pattern.clone();
+        let mvals = mass.val_mut();
+        mvals.fill(0.0);
+        for (e, el) in mesh.elements().iter().enumerate() {
+            let me = el.mass_matrix();
+            for a in 0..EL {
+                for b in 0..EL {
+                    if let (Some(i), Some(j)) =
+                        (map.free_index(gidx(el, a)), map.free_index(gidx(el, b)))
+                        && i <= j
+                    {
+                        let idx = find(i, j);
+                        scatter[(e * EL + a) * EL + b] = idx;
+                        mvals[idx] += me[(a, b)];
+                    }
+                }
+            }
+        }
+        let op = Arc::new(SparseSpd::new(pattern)?);
+        let nnz = op.nnz();
+        let ndof = mesh.ndof();
+        Ok(Self {
+            name: name.into(),
+            mesh,
+            map,
+            free_global,
+            velocity: vec![0.0; ndof],
+            attachments: Vec::new(),
+            rows: Vec::new(),
+            reactions: Vec::new(),
+            op,
+            mass,
+            scatter,
+            h_values: vec![0.0; nnz],
+            force: vec![0.0; ndof],
+            q: vec![0.0; ndof],
+            coefs: vec![0.0; n],
+            block: None,
+        })
+    }
+
+    /// The mesh (current configuration).
+    pub fn mesh(&self) -> &CableMesh {
+        &self.mesh
+    }
+
+    /// The numbering of the free coordinates (the dof of the item's block).
+    pub fn dof_map(&self) -> &DofMap {
+        &self.map
+    }
+
+    /// Attach a node's position to `target` (see [`Attachment`]); returns its index.
+    /// Errors: unknown node, non-finite point. A body handle is checked at the step.
+    pub fn attach(&mut self, node: NodeId, target: AttachTarget) -> Result<usize> {
+        self.mesh.node(node)?;
+        match &target {
+            AttachTarget::Point(p) => finite3("attachment.point", p)?,
+            AttachTarget::Body { local, .. } => finite3("attachment.local", local)?,
+        }
+        self.attachments.push(Attachment { node, target });
+        self.reactions.push(Vector3::zeros());
+        Ok(self.attachments.len() - 1)
+    }
+
+    /// The attachments.
+    pub fn attachments(&self) -> &[Attachment] {
+        &self.attachments
+    }
+
+    /// The force of attachment `i` on its node during the last step (`gamma / h`), N.
+    pub fn reaction(&self, i: usize) -> Option<Vector3<f64>> {
+        self.reactions.get(i).copied()
+    }
+
+    /// Velocity of node `n`: `(r_dot, r_x_dot)`, m/s and 1/s.
+    pub fn node_velocity(&self, n: NodeId) -> Result<(Vector3<f64>, Vector3<f64>)> {
+        self.mesh.node(n)?;
+        let v = &self.velocity[6 * n.0..6 * n.0 + 6];
+        Ok((
+            Vector3::new(v[0], v[1], v[2]),
+            Vector3::new(v[3], v[4], v[5]),
+        ))
+    }
+
+    /// Set the velocity of node `n` (m/s) and the rate of its slope (1/s); components on
+    /// supported coordinates must be 0.
+    pub fn set_node_velocity(
+        &mut self,
+        n: NodeId,
+        velocity: Vector3<f64>,
+        slope_rate: Vector3<f64>,
+    ) -> Result<()> {
+        self.mesh.node(n)?;
+        finite3("node.velocity", &velocity)?;
+        finite3("node.slope_rate", &slope_rate)?;
+        for k in 0..6 {
+            let x = if k < 3 {
+                velocity[k]
+            } else {
+                slope_rate[k - 3]
+            };
+            if x != 0.0 && self.map.free_index(6 * n.0 + k).is_none() {
+                return Err(FeaError::invalid(
+                    format!("node {} velocity[{k}]", n.0),
+                    x,
+                    "a supported coordinate cannot move",
+                ));
+            }
+            self.velocity[6 * n.0 + k] = x;
+        }
+        Ok(())
+    }
+
+    /// Set the configuration (all coordinates, [`CableMesh::set_coordinates`]); the
+    /// velocities are kept.
+    pub fn set_coordinates(&mut self, q: &[f64]) -> Result<()> {
+        self.mesh.set_coordinates(q)
+    }
+
+    /// Kinetic energy `v' M v / 2` (consistent mass), J.
+    pub fn kinetic_energy(&self) -> f64 {
+        let v: Vec<f64> = self.free_global.iter().map(|&g| self.velocity[g]).collect();
+        let mut mv = vec![0.0; v.len()];
+        symmetric_upper_mul(self.mass.as_ref(), &v, &mut mv);
+        0.5 * v.iter().zip(&mv).map(|(a, b)| a * b).sum::<f64>()
+    }
+
+    /// Strain energy of the current configuration, J.
+    pub fn strain_energy(&self) -> f64 {
+        self.mesh.strain_energy()
+    }
+
+    /// Potential of gravity `g` (m/s^2): `-sum_e Q_g,e . e_e = -∫ rho A g . r dx`, exact
+    /// for the cubic interpolation, J.
+    pub fn gravity_potential(&self, gravity: &Vector3<f64>) -> f64 {
+        let q = self.mesh.coordinates();
+        -self
+            .mesh
+            .elements()
+            .iter()
+            .map(|el| {
+                el.gravity_force(gravity)
+                    .dot(&self.mesh.element_coordinates(el, &q))
+            })
+            .sum::<f64>()
+    }
+
+    fn item_label(&self) -> String {
+        format!("FEA item \"{}\"", self.name)
+    }
+}
+
+impl PhysicsItem for CableItem {
+    fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// Assemble `F_ext - Q(q)` and `H = M + (h^2 + h beta) K` at `q(l)`, refactorize `H`.
+    fn begin_step(&mut self, ctx: &StepContext) -> CoreResult<()> {
+        let h = ctx.h;
+        for (n, node) in self.mesh.nodes().iter().enumerate() {
+            self.q[6 * n..6 * n + 3].copy_from_slice(node.position.as_slice());
+            self.q[6 * n + 3..6 * n + 6].copy_from_slice(node.slope.as_slice());
+            self.force[6 * n..6 * n + 3].copy_from_slice(node.force.as_slice());
+            self.force[6 * n + 3..6 * n + 6].fill(0.0);
+        }
+        self.h_values.copy_from_slice(self.mass.val());
+        for (e, el) in self.mesh.elements().iter().enumerate() {
+            let ee: ElementVector = self.mesh.element_coordinates(el, &self.q);
+            let (qe, ke) = el.force_and_tangent(&ee, true);
+            let qg = el.gravity_force(&ctx.gravity);
+            let c = h * h + h * el.material().damping;
+            for a in 0..EL {
+                self.force[6 * el.nodes[a / 6] + a % 6] += qg[a] - qe[a];
+                for b in 0..EL {
+                    let idx = self.scatter[(e * EL + a) * EL + b];
+                    if idx != NONE {
+                        self.h_values[idx] += c * ke[(a, b)];
+                    }
+                }
+            }
+        }
+        if let Some(i) = self.force.iter().position(|x| !x.is_finite()) {
+            return Err(ChronoError::NonFinite {
+                item: self.item_label(),
+                step: ctx.step,
+                time: ctx.time,
+                what: format!("internal force (coordinate {i})"),
+            });
+        }
+        self.op
+            .refactor(&self.h_values)
+            .map_err(|e| ChronoError::Diverged {
+                item: self.item_label(),
+                step: ctx.step,
+                time: ctx.time,
+                what: format!(
+                    "iteration matrix M + h R + h^2 K (h = {h} s): {e}; reduce the step size"
+                ),
+            })
+    }
+
+    fn add_variables(&mut self, vars: &mut Variables) {
+        self.block = Some(vars.add(MassOperator::Coupled(self.op.clone())));
+    }
+
+    /// `k = M v + h (F_ext - Q(q))` on the free coordinates.
+    fn load_momentum(&self, ctx: &StepContext, vars: &Variables, k: &mut [f64]) {
+        let Some(blk) = self.block else { return };
+        let kb = &mut k[vars.range(blk)];
+        let m = self.mass.as_ref();
+        let s = m.symbolic();
+        let (cp, ri, val) = (s.col_ptr(), s.row_idx(), m.val());
+        let v = |f: usize| self.velocity[self.free_global[f]];
+        for j in 0..kb.len() {
+            for idx in cp[j]..cp[j + 1] {
+                let (i, a) = (ri[idx], val[idx]);
+                kb[i] += a * v(j);
+                if i != j {
+                    kb[j] += a * v(i);
+                }
+            }
+        }
+        for (f, &g) in self.free_global.iter().enumerate() {
+            kb[f] += ctx.h * self.force[g];
+        }
+    }
+
+    fn add_body_constraints(
+        &mut self,
+        ctx: &StepContext,
+        bodies: &[RigidBody],
+        _vars: &Variables,
+        rows: &mut ConstraintRows,
+    ) -> CoreResult<()> {
+        self.rows.clear();
+        let Some(blk) = self.block else {
+            return Ok(());
+        };
+        let dirs = [Vector3::x(), Vector3::y(), Vector3::z()];
+        for (ai, att) in self.attachments.iter().enumerate() {
+            let node = self.mesh.node(att.node).map_err(core_error)?;
+            let mut body_rows: Option<(BlockId, [[f64; 6]; 3], usize)> = None;
+            let (target, known) = match att.target {
+                AttachTarget::Point(p) => (p, [0.0; 3]),
+                AttachTarget::Body { body, local } => {
+                    let b = bodies
+                        .get(body.0 as usize)
+                        .ok_or(ChronoError::UnknownHandle {
+                            kind: "body",
+                            index: body.0 as usize,
+                            field: format!("{}: attachment {ai}", self.item_label()),
+                        })?;
+                    let p = (b.pose() * Point3::from(local)).coords;
+                    let known = b.contact_jacobian(&p, &dirs, &mut |id, r| {
+                        let mut c = [[0.0; 6]; 3];
+                        let len = r[0].len().min(6);
+                        for k in 0..3 {
+                            c[k][..len].copy_from_slice(&r[k][..len]);
+                        }
+                        body_rows = Some((id, c, len));
+                    });
+                    (p, known)
+                }
+            };
+            for d in 0..3 {
+                let free = self.map.free_index(6 * att.node.0 + d);
+                if free.is_none() && body_rows.is_none() {
+                    // A supported coordinate at a fixed target: nothing can move.
+                    self.rows.push(None);
+                    continue;
+                }
+                self.coefs.fill(0.0);
+                // At most two entries (the mesh block, the body block): no allocation.
+                let mut entries = [RowEntry {
+                    block: blk,
+                    coefs: &[],
+                }; 2];
+                let mut n_ent = 0;
+                let neg: [f64; 6];
+                if let Some(f) = free {
+                    self.coefs[f] = 1.0;
+                    entries[0].coefs = &self.coefs;
+                    n_ent = 1;
+                }
+                if let Some((id, c, len)) = &body_rows {
+                    neg = c[d].map(|x| -x);
+                    entries[n_ent] = RowEntry {
+                        block: *id,
+                        coefs: &neg[..*len],
+                    };
+                    n_ent += 1;
+                }
+                let phi = node.position[d] - target[d];
+                let b = phi / ctx.h - known[d];
+                let id = rows.push_bilateral(&entries[..n_ent], b, 0.0);
+                self.rows.push(Some(id));
+            }
+        }
+        Ok(())
+    }
+
+    /// `q+ = q + h v+`; the attachment forces `gamma / h`.
+    fn update(
+        &mut self,
+        ctx: &StepContext,
+        vars: &Variables,
+        v: &[f64],
+        problem: &CcpProblem,
+        gamma: &[f64],
+    ) -> CoreResult<()> {
+        let Some(blk) = self.block else {
+            return Ok(());
+        };
+        let vb = &v[vars.range(blk)];
+        for (f, &g) in self.free_global.iter().enumerate() {
+            self.velocity[g] = vb[f];
+        }
+        for (g, qg) in self.q.iter_mut().enumerate() {
+            *qg += ctx.h * self.velocity[g];
+        }
+        if let Some(i) = self.q.iter().position(|x| !x.is_finite()) {
+            return Err(ChronoError::NonFinite {
+                item: self.item_label(),
+                step: ctx.step,
+                time: ctx.time,
+                what: format!("coordinate {i} of node {}", i / 6),
+            });
+        }
+        self.mesh.set_coordinates(&self.q).map_err(core_error)?;
+        for (ai, r) in self.reactions.iter_mut().enumerate() {
+            *r = Vector3::zeros();
+            for d in 0..3 {
+                if let Some(Some(id)) = self.rows.get(3 * ai + d) {
+                    r[d] = gamma[problem.row_index(*id)] / ctx.h;
+                }
+            }
+        }
+        Ok(())
+    }
+}
