@@ -38,20 +38,35 @@
 //! like the joints: `b = d . (r_node - p) / h` (minus the known velocity of a kinematic
 //! body's point). The slope stays free: a pin (spherical joint) for the cable element,
 //! which has no torsion.
+//!
+//! # Contact
+//!
+//! The item exposes its nodes (and, optionally, its element midpoints) to the body
+//! colliders as spheres of radius [`CableItem::contact_radius`]
+//! ([`collision_proxies`](PhysicsItem::collision_proxies)); the system turns their
+//! contacts into ordinary friction-cone rows (Anitescu & Tasora) in the same CCP as the
+//! attachments. The item's side of a row along a direction `d` is `d . r_dot(p)`, with
+//! `r(xi) = S1 r_A + S2 r_x,A + S3 r_B + S4 r_x,B` (the element's Hermite interpolation):
+//! coefficient `d` on a node's position for a node sphere, and `S_k(1/2) d` on the four
+//! position and slope blocks for a midpoint sphere, restricted to the free coordinates of
+//! the coupled block (a supported coordinate does not move and contributes nothing).
+//! The proxies are at the positions of the start of the step, as the body colliders.
 
-use std::sync::Arc;
+use std::sync::{Arc, Mutex};
 
 use chrono_core::body::{BodyHandle, RigidBody};
+use chrono_core::collision::{CollisionProxy, ProxyShape};
 use chrono_core::descriptor::{
     BlockId, CcpProblem, ConstraintRows, MassOperator, RowEntry, RowId, Variables,
 };
 use chrono_core::item::{Contactable, PhysicsItem, StepContext};
-use chrono_core::{ChronoError, Result as CoreResult};
+use chrono_core::{ChronoError, ContactMaterial, Result as CoreResult};
 use faer::sparse::{SparseColMat, Triplet};
 use nalgebra::{Point3, Vector3};
 
+use crate::element::cable::hermite;
 use crate::element::{AncfCable, ElementVector};
-use crate::error::{FeaError, Result, finite3};
+use crate::error::{FeaError, Result, finite3, positive};
 use crate::mesh::{CableMesh, DofMap};
 use crate::node::NodeId;
 use crate::spd::{SparseSpd, symmetric_upper_mul};
@@ -111,6 +126,18 @@ pub struct CableItem {
     q: Vec<f64>,
     coefs: Vec<f64>,
     block: Option<BlockId>,
+    /// Radius of the contact spheres, m.
+    contact_radius: f64,
+    /// Surface material of the contact spheres.
+    contact_material: ContactMaterial,
+    /// Whether the item exposes any contact sphere.
+    contact_enabled: bool,
+    /// Whether element midpoints carry a sphere too.
+    midpoint_contacts: bool,
+    /// The three Jacobian rows of a proxy on the free coordinates (`3 nfree`, all zero
+    /// between calls): `proxy_jacobian` takes `&self`, and a scratch avoids an allocation
+    /// per contact.
+    jacobian: Mutex<Vec<f64>>,
 }
 
 fn core_error(e: FeaError) -> ChronoError {
@@ -191,6 +218,7 @@ impl CableItem {
         let op = Arc::new(SparseSpd::new(pattern)?);
         let nnz = op.nnz();
         let ndof = mesh.ndof();
+        let contact_radius = default_contact_radius(&mesh);
         Ok(Self {
             name: name.into(),
             mesh,
@@ -208,7 +236,73 @@ impl CableItem {
             q: vec![0.0; ndof],
             coefs: vec![0.0; n],
             block: None,
+            contact_radius,
+            contact_material: ContactMaterial::default(),
+            contact_enabled: true,
+            midpoint_contacts: false,
+            jacobian: Mutex::new(vec![0.0; 3 * n]),
         })
+    }
+
+    /// Radius of the contact spheres, m. Default: the largest over the elements of
+    /// `sqrt(3 I / A)`, half the height of the rectangular section with the same area and
+    /// second moment (`A = w t`, `I = w t^3 / 12`, so `t / 2 = sqrt(3 I / A)`).
+    pub fn contact_radius(&self) -> f64 {
+        self.contact_radius
+    }
+
+    /// Set the radius of the contact spheres (m, finite and > 0; the error names
+    /// `contact.radius`).
+    pub fn set_contact_radius(&mut self, radius: f64) -> Result<()> {
+        self.contact_radius = positive("contact.radius", radius)?;
+        Ok(())
+    }
+
+    /// Surface material of the contact spheres (combined with the collider's by the
+    /// system). Default: [`ContactMaterial::default`].
+    pub fn contact_material(&self) -> &ContactMaterial {
+        &self.contact_material
+    }
+
+    /// Set the surface material of the contact spheres; checked with
+    /// [`ContactMaterial::validate`] (the error names the field and value).
+    pub fn set_contact_material(&mut self, material: ContactMaterial) -> Result<()> {
+        material.validate().map_err(|e| {
+            FeaError::invalid("contact.material", e.to_string(), "rejected by chrono-core")
+        })?;
+        self.contact_material = material;
+        Ok(())
+    }
+
+    /// Turn the contact spheres on or off (default on).
+    pub fn set_contact_enabled(&mut self, enabled: bool) {
+        self.contact_enabled = enabled;
+    }
+
+    /// Also put a sphere at each element's midpoint `r(1/2)` (default off), so that a
+    /// coarse mesh lying on an edge or a corner does not sag through it between nodes.
+    /// Proxy ids: nodes `0..n_nodes`, then element `e` as `n_nodes + e`.
+    pub fn set_midpoint_contacts(&mut self, on: bool) {
+        self.midpoint_contacts = on;
+    }
+
+    /// The Hermite weights of proxy `proxy` on the global coordinates: up to four
+    /// `(first global coordinate of a 3-block, weight)` pairs (`None`: unknown id).
+    fn proxy_weights(&self, proxy: u32) -> Option<[(usize, f64); 4]> {
+        let nn = self.mesh.nodes().len();
+        let p = proxy as usize;
+        if p < nn {
+            return Some([(6 * p, 1.0), (0, 0.0), (0, 0.0), (0, 0.0)]);
+        }
+        let el = self.mesh.elements().get(p - nn)?;
+        let s = hermite(0.5, el.length()).0;
+        let [a, b] = el.nodes;
+        Some([
+            (6 * a, s[0]),
+            (6 * a + 3, s[1]),
+            (6 * b, s[2]),
+            (6 * b + 3, s[3]),
+        ])
     }
 
     /// The mesh (current configuration).
@@ -322,6 +416,14 @@ impl CableItem {
     }
 }
 
+/// `max_e sqrt(3 I_e / A_e)` (see [`CableItem::contact_radius`]), m.
+fn default_contact_radius(mesh: &CableMesh) -> f64 {
+    mesh.elements()
+        .iter()
+        .map(|el| (3.0 * el.material().second_moment / el.material().area).sqrt())
+        .fold(0.0, f64::max)
+}
+
 impl PhysicsItem for CableItem {
     fn name(&self) -> &str {
         &self.name
@@ -396,6 +498,92 @@ impl PhysicsItem for CableItem {
         for (f, &g) in self.free_global.iter().enumerate() {
             kb[f] += ctx.h * self.force[g];
         }
+    }
+
+    /// One sphere per node at `r` (id = node index), and with
+    /// [`set_midpoint_contacts`](CableItem::set_midpoint_contacts) one per element at
+    /// `r(1/2)` (id = `n_nodes + e`), radius [`contact_radius`](CableItem::contact_radius).
+    fn collision_proxies(&self, out: &mut Vec<CollisionProxy>) {
+        if !self.contact_enabled {
+            return;
+        }
+        let nodes = self.mesh.nodes();
+        let sphere = |center, id| CollisionProxy {
+            shape: ProxyShape::Sphere {
+                center,
+                radius: self.contact_radius,
+            },
+            material: self.contact_material,
+            id,
+        };
+        for (i, node) in nodes.iter().enumerate() {
+            out.push(sphere(node.position, i as u32));
+        }
+        if self.midpoint_contacts {
+            for e in 0..self.mesh.elements().len() {
+                let id = (nodes.len() + e) as u32;
+                let Some(w) = self.proxy_weights(id) else {
+                    continue;
+                };
+                // The 3-blocks are positions (even) or slopes (odd) of the two nodes.
+                let c = w.iter().fold(Vector3::zeros(), |acc, &(g, s)| {
+                    let node = &nodes[g / 6];
+                    acc + s * if g % 6 == 0 {
+                        node.position
+                    } else {
+                        node.slope
+                    }
+                });
+                out.push(sphere(c, id));
+            }
+        }
+    }
+
+    /// `d . r_dot` of the proxy's centre: `S_k d` on the free coordinates of the four
+    /// 3-blocks (a node sphere: `d` on its position). The whole sphere translates with its
+    /// centre (the cable has no section rotation), so `p` is not needed. No known
+    /// velocity: a supported coordinate is at rest.
+    fn proxy_jacobian(
+        &self,
+        proxy: u32,
+        _p: &Vector3<f64>,
+        dirs: &[Vector3<f64>; 3],
+        entry: &mut dyn FnMut(BlockId, [&[f64]; 3]),
+    ) -> [f64; 3] {
+        let (Some(blk), Some(w)) = (self.block, self.proxy_weights(proxy)) else {
+            return [0.0; 3];
+        };
+        let n = self.free_global.len();
+        // A poisoned lock only means a panic elsewhere; the buffer is re-zeroed below.
+        let mut buf = self.jacobian.lock().unwrap_or_else(|e| e.into_inner());
+        let mut touched = false;
+        for &(g, s) in &w {
+            for c in 0..3 {
+                if let Some(f) = self.map.free_index(g + c)
+                    && s != 0.0
+                {
+                    for (k, d) in dirs.iter().enumerate() {
+                        buf[k * n + f] += s * d[c];
+                    }
+                    touched = true;
+                }
+            }
+        }
+        if touched {
+            let (j0, rest) = buf.split_at(n);
+            let (j1, j2) = rest.split_at(n);
+            entry(blk, [j0, j1, j2]);
+            for &(g, _) in &w {
+                for c in 0..3 {
+                    if let Some(f) = self.map.free_index(g + c) {
+                        for k in 0..3 {
+                            buf[k * n + f] = 0.0;
+                        }
+                    }
+                }
+            }
+        }
+        [0.0; 3]
     }
 
     fn add_body_constraints(

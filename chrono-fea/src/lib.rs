@@ -9,10 +9,11 @@
 //! [`PhysicsItem`](chrono_core::item::PhysicsItem) ([`CableItem`], module [`dynamics`]):
 //! linearized implicit Euler with the iteration matrix `M + h R + h^2 K` as the coupled
 //! mass operator of the CCP ([`SparseSpd`], faer sparse Cholesky), nodes attached to
-//! fixed points or rigid bodies by bilateral rows.
+//! fixed points or rigid bodies by bilateral rows, nodes (and optionally element
+//! midpoints) as contact spheres against the rigid bodies' colliders.
 //!
 //! Still to come (see the issue): the fully parameterized ANCF beam, ANCF shells,
-//! tetrahedra, slope attachments, contact.
+//! tetrahedra, slope attachments.
 //!
 //! ```
 //! use chrono_fea::{BeamMaterial, CableMesh, CableQuadrature, NodeId, StaticSettings, solve_static};
