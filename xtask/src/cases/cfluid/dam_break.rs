@@ -14,16 +14,14 @@
 //! The column starts at rest on its lattice (no hydrostatic pre-compression is needed:
 //! the constraint takes the load in the first step).
 
-use chrono_cfluid::{CfluidSettings, ConstraintFluid, lattice_box, tank_markers};
-use chrono_core::descriptor::SolverSettings;
-use chrono_core::{System, SystemSettings};
+use chrono_cfluid::{CfluidSettings, ConstraintFluid};
 use serde::{Deserialize, Serialize};
 
+use super::{TankScene, left_tank};
 use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series};
 use crate::cases::sph::dam_break::{
     FRONT_MIN_NEIGHBOURS, FRONT_TOLERANCE, MARTIN_MOYCE_N2_1, front_rms, interpolate,
 };
-use crate::cases::sph::{slab_layers, wall_layers};
 use crate::params::{CaseParams, ParamCase, ParamInfo};
 
 const G: f64 = 9.81;
@@ -149,39 +147,22 @@ fn run(p: &CfluidDamBreakParams, ctx: &RunContext) -> anyhow::Result<CaseOutput>
         p.tank_length > a && p.column_height > 0.0,
         "parameters `tank_length` must exceed `column_width` and `column_height` be > 0"
     );
-    let h_over_dp = CfluidSettings::default().h_over_dp;
-    let layers = wall_layers(h_over_dp);
-    let ly = slab_layers(h_over_dp) as f64 * dp;
-    let t = layers as f64 * dp;
     let top = 2.0 * p.column_height;
     let settings = CfluidSettings {
         spacing: dp,
         xsph: p.xsph,
-        domain_lower: [-t, 0.0, -t],
-        domain_upper: [p.tank_length + t, ly, top],
-        periodic: [false, true, false],
         ..CfluidSettings::default()
     };
-    let fluid = lattice_box([0.0; 3], [a, ly, p.column_height], dp)?;
-    let walls = tank_markers(
-        [0.0; 3],
-        [p.tank_length, ly, top],
-        dp,
-        layers,
-        [true, true, false, false, true, false],
-    )?;
-    let item = ConstraintFluid::new("water", settings, &fluid, &walls)?;
-    let solver = chrono_ccp::by_name(
+    let mut scene = TankScene::new(
+        settings,
+        p.tank_length,
+        top,
+        [a, p.column_height],
         &p.solver,
-        SolverSettings {
-            tolerance: p.tolerance,
-            max_iterations: p.max_iterations,
-            record_history: false,
-        },
-    )
-    .map_err(|e| anyhow::anyhow!("parameter `solver`: {e}"))?;
-    let mut sys = System::new(SystemSettings::default(), solver)?;
-    let id = sys.add_item(Box::new(item));
+        p.tolerance,
+        p.max_iterations,
+    )?;
+    let ly = scene.ly;
     let t_of = (a / (2.0 * G)).sqrt();
     let n = (p.t_end / p.h).round().max(1.0) as u64;
     let every = ((0.002 / p.h).round() as u64).max(1);
@@ -189,11 +170,9 @@ fn run(p: &CfluidDamBreakParams, ctx: &RunContext) -> anyhow::Result<CaseOutput>
     let mut samples = vec![(0.0, 1.0)];
     let (mut iterations, mut max_c) = (0usize, 0.0f64);
     for step in 1..=n {
-        let report = sys.step(p.h)?;
+        let report = scene.sys.step(p.h)?;
         iterations += report.solve.iterations;
-        let f = sys
-            .item::<ConstraintFluid>(id)
-            .ok_or_else(|| anyhow::anyhow!("the fluid item is missing"))?;
+        let f = scene.fluid()?;
         let c = f.max_compression().max(0.0);
         max_c = max_c.max(c);
         if step % every == 0 || step == n {
@@ -204,15 +183,7 @@ fn run(p: &CfluidDamBreakParams, ctx: &RunContext) -> anyhow::Result<CaseOutput>
         }
         ctx.progress_steps(step, n);
     }
-    let f = sys
-        .item::<ConstraintFluid>(id)
-        .ok_or_else(|| anyhow::anyhow!("the fluid item is missing"))?;
-    let left = (0..f.n_fluid())
-        .filter(|&i| {
-            let x = f.position(i);
-            x[0] < -0.5 * dp || x[0] > p.tank_length + 0.5 * dp || x[2] < -0.5 * dp
-        })
-        .count();
+    let left = left_tank(scene.fluid()?, dp, p.tank_length);
     let mut out = CaseOutput::new();
     let square = ((p.column_height / a) - 1.0).abs() < 1e-6;
     if square {

@@ -21,13 +21,11 @@
 use std::fmt::Write as _;
 use std::time::Instant;
 
-use chrono_cfluid::{CfluidSettings, ConstraintFluid, SurfaceMode, lattice_box, tank_markers};
-use chrono_core::descriptor::SolverSettings;
-use chrono_core::{System, SystemSettings};
+use chrono_cfluid::{CfluidSettings, SurfaceMode};
 use serde::{Deserialize, Serialize};
 
+use super::{TankScene, left_tank};
 use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series, SweepPoint};
-use crate::cases::sph::{slab_layers, wall_layers};
 use crate::params::{CaseParams, ParamCase, ParamInfo};
 
 /// The seed's table: tolerance, average iterations, final density (kg/m^3), density
@@ -169,53 +167,33 @@ fn simulate(
         "parameter `spacing` must be in (0, min(depth/4, tank_length/2)], got {dp}"
     );
     let start = Instant::now();
-    let layers = wall_layers(p.h_over_dp);
-    let ly = slab_layers(p.h_over_dp) as f64 * dp;
-    let t = layers as f64 * dp;
-    let top = 1.5 * p.depth;
     let settings = CfluidSettings {
         spacing: dp,
         h_over_dp: p.h_over_dp,
         compressibility: p.compressibility,
         xsph: p.xsph,
         surface: SurfaceMode::parse(&p.surface)?,
-        domain_lower: [-t, 0.0, -t],
-        domain_upper: [p.tank_length + t, ly, top],
-        periodic: [false, true, false],
         ..CfluidSettings::default()
     };
     let rho_0 = settings.rest_density;
-    let fluid = lattice_box([0.0; 3], [p.tank_length, ly, p.depth], dp)?;
-    let walls = tank_markers(
-        [0.0; 3],
-        [p.tank_length, ly, top],
-        dp,
-        layers,
-        [true, true, false, false, true, false],
-    )?;
-    let item = ConstraintFluid::new("water", settings, &fluid, &walls)?;
-    let solver = chrono_ccp::by_name(
+    let mut scene = TankScene::new(
+        settings,
+        p.tank_length,
+        1.5 * p.depth,
+        [p.tank_length, p.depth],
         &p.solver,
-        SolverSettings {
-            tolerance,
-            max_iterations: p.max_iterations,
-            record_history: false,
-        },
-    )
-    .map_err(|e| anyhow::anyhow!("parameter `solver`: {e}"))?;
-    let mut sys = System::new(SystemSettings::default(), solver)?;
-    let id = sys.add_item(Box::new(item));
+        tolerance,
+        p.max_iterations,
+    )?;
     let n = (p.t_end / p.h).round().max(1.0) as u64;
     let mut iterations = 0usize;
     let mut max_compression = 0.0f64;
     let mut series = Series::new(["t", "max_compression_pct", "iterations", "kinetic_energy"]);
     let every = (n / 400).max(1);
     for step in 1..=n {
-        let report = sys.step(p.h)?;
+        let report = scene.sys.step(p.h)?;
         iterations += report.solve.iterations;
-        let f = sys
-            .item::<ConstraintFluid>(id)
-            .ok_or_else(|| anyhow::anyhow!("the fluid item is missing"))?;
+        let f = scene.fluid()?;
         let c = f.max_compression().max(0.0);
         max_compression = max_compression.max(c);
         if step % every == 0 || step == n {
@@ -230,15 +208,8 @@ fn simulate(
             ctx.progress_steps(step, n);
         }
     }
-    let f = sys
-        .item_mut::<ConstraintFluid>(id)
-        .ok_or_else(|| anyhow::anyhow!("the fluid item is missing"))?;
-    let left = (0..f.n_fluid())
-        .filter(|&i| {
-            let x = f.position(i);
-            x[0] < -0.5 * dp || x[0] > p.tank_length + 0.5 * dp || x[2] < -0.5 * dp
-        })
-        .count();
+    let left = left_tank(scene.fluid()?, dp, p.tank_length);
+    let f = scene.fluid_mut()?;
     anyhow::ensure!(left == 0, "{left} fluid particles left the tank");
     let final_density = f.compute_densities()?.iter().fold(rho_0, |m, r| m.max(*r));
     let ke = f.kinetic_energy();
