@@ -178,6 +178,13 @@ impl RigidBody {
         Ok(())
     }
 
+    /// The body's 6-dof variable block in the current step (`None` for fixed and kinematic
+    /// bodies, which have no variables, and outside a step's assembly). Rows that tie an
+    /// item to a body (shafts, attachments) put the body's Jacobian on this block.
+    pub fn block(&self) -> Option<BlockId> {
+        self.block
+    }
+
     /// The mass operator of this body's 6-dof variable block.
     pub fn mass_operator(&self) -> Result<MassOperator> {
         MassOperator::rigid_body(self.mass, self.inertia)
@@ -218,11 +225,23 @@ impl RigidBody {
     /// well below 1; a few iterations to round-off), started from the explicit value.
     /// `k_ang = J w+`. Explicit gyroscopic terms gain energy; the one-Newton-step implicit
     /// form loses momentum; this form keeps `R J w` to round-off and the energy bounded.
-    pub(crate) fn free_momentum(&self, h: f64, gravity: &Vector3<f64>, out: &mut [f64]) {
-        let lin = self.mass * self.linear_velocity + h * (self.force + self.mass * gravity);
+    ///
+    /// `extra` is a load of this step (world force through the center of mass, world torque)
+    /// added to the body's applied force and torque: contacts (SMC), force elements, joint
+    /// efforts.
+    pub(crate) fn free_momentum(
+        &self,
+        h: f64,
+        gravity: &Vector3<f64>,
+        extra: &[Vector3<f64>; 2],
+        out: &mut [f64],
+    ) {
+        let f = self.force + extra[0];
+        let tau = self.torque + extra[1];
+        let lin = self.mass * self.linear_velocity + h * (f + self.mass * gravity);
         let j = &self.inertia;
         let jinv = j.try_inverse().unwrap_or_else(Matrix3::zeros);
-        let l0 = j * self.angular_velocity + h * (self.rotation.inverse() * self.torque);
+        let l0 = j * self.angular_velocity + h * (self.rotation.inverse() * tau);
         let mut w = jinv * l0;
         for _ in 0..50 {
             let next = jinv * (UnitQuaternion::from_scaled_axis(-h * w) * l0);
@@ -501,7 +520,7 @@ mod tests {
             .build()
             .unwrap();
         let mut k = [0.0; 6];
-        b.free_momentum(0.01, &Vector3::zeros(), &mut k);
+        b.free_momentum(0.01, &Vector3::zeros(), &[Vector3::zeros(); 2], &mut k);
         assert!((k[5] - 6.0).abs() < 1e-12 && k[3].abs() < 1e-12 && k[4].abs() < 1e-12);
     }
 }

@@ -17,8 +17,10 @@
 pub mod body;
 pub mod collision;
 pub mod contact;
+pub mod curve;
 pub mod descriptor;
 pub mod error;
+pub mod force;
 pub mod granular;
 pub mod io;
 pub mod item;
@@ -31,6 +33,8 @@ pub mod system;
 
 pub use error::{ChronoError, Result};
 
+pub use curve::{Curve, Extrapolation};
+pub use force::{ForceElement, ForceHandle, SpringDamper};
 pub use body::{BodyHandle, BodyMotion, RigidBody, RigidBodyBuilder};
 pub use joint::{Drive, Joint, JointBuilder, JointHandle, JointKind};
 pub use material::ContactMaterial;

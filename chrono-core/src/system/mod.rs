@@ -29,7 +29,8 @@ use crate::contact::nsc::{NscContact, NscProxyContact, TripletScratch, WarmStart
 pub use crate::contact::smc::{SmcModel, SmcSettings};
 use crate::descriptor::{CcpProblem, CcpSolver, ConstraintRows, SolveStats, Variables};
 use crate::error::{ChronoError, Result, check_finite3, check_non_negative, check_positive};
-use crate::item::PhysicsItem;
+use crate::force::{BodyLoads, ForceElement, ForceHandle};
+use crate::item::{PhysicsItem, StepContext};
 use crate::joint::{Joint, JointBuilder, JointHandle};
 
 /// How contacts act: by complementarity (impulses from the CCP) or by penalty forces.
@@ -113,6 +114,7 @@ pub struct System {
     pub(crate) bodies: Vec<RigidBody>,
     pub(crate) joints: Vec<Joint>,
     pub(crate) items: Vec<Box<dyn PhysicsItem>>,
+    pub(crate) force_elements: Vec<Box<dyn ForceElement>>,
     pub(crate) collision: CollisionWorld,
     pub(crate) solver: Box<dyn CcpSolver>,
     pub(crate) time: f64,
@@ -134,6 +136,8 @@ pub struct System {
     pub(crate) poses: Vec<nalgebra::Isometry3<f64>>,
     pub(crate) active: Vec<bool>,
     pub(crate) smc: smc_step::SmcState,
+    /// Loads of force elements and joint efforts of the current step.
+    pub(crate) loads: BodyLoads,
 }
 
 impl System {
@@ -146,6 +150,7 @@ impl System {
             bodies: Vec::new(),
             joints: Vec::new(),
             items: Vec::new(),
+            force_elements: Vec::new(),
             collision,
             solver,
             time: 0.0,
@@ -166,6 +171,7 @@ impl System {
             poses: Vec::new(),
             active: Vec::new(),
             smc: smc_step::SmcState::default(),
+            loads: BodyLoads::default(),
         })
     }
 
@@ -224,6 +230,63 @@ impl System {
     pub fn add_item(&mut self, item: Box<dyn PhysicsItem>) -> usize {
         self.items.push(item);
         self.items.len() - 1
+    }
+
+    /// Add a force element (spring-damper, tire, drag ...): it is checked against the bodies
+    /// ([`ForceElement::attach`]) and evaluated at the start of every step.
+    pub fn add_force_element(&mut self, mut element: Box<dyn ForceElement>) -> Result<ForceHandle> {
+        element.attach(&self.bodies)?;
+        self.force_elements.push(element);
+        Ok(ForceHandle(self.force_elements.len() as u32 - 1))
+    }
+
+    /// The force element `h` with its type, or `None` if the handle or the type is wrong.
+    pub fn force_element<T: ForceElement>(&self, h: ForceHandle) -> Option<&T> {
+        let e: &dyn std::any::Any = self.force_elements.get(h.0 as usize)?.as_ref();
+        e.downcast_ref::<T>()
+    }
+
+    /// The force element `h` with its type, mutably (to change a setting between steps).
+    pub fn force_element_mut<T: ForceElement>(&mut self, h: ForceHandle) -> Option<&mut T> {
+        let e: &mut dyn std::any::Any = self.force_elements.get_mut(h.0 as usize)?.as_mut();
+        e.downcast_mut::<T>()
+    }
+
+    /// The loads of the force elements and joint efforts of the last step, per body.
+    pub fn element_loads(&self) -> &BodyLoads {
+        &self.loads
+    }
+
+    /// Evaluate the force elements and the joint efforts at the current state into
+    /// `self.loads`. A non-finite load is an error naming the element and the step.
+    pub(crate) fn gather_loads(&mut self, ctx: &StepContext) -> Result<()> {
+        self.loads.reset(&self.bodies);
+        for e in &mut self.force_elements {
+            e.evaluate(ctx, &self.bodies, &mut self.loads)?;
+            if let Some(i) = self
+                .loads
+                .as_slice()
+                .iter()
+                .position(|l| !(crate::math::is_finite3(&l[0]) && crate::math::is_finite3(&l[1])))
+            {
+                return Err(ChronoError::NonFinite {
+                    item: format!("force element \"{}\"", e.name()),
+                    step: self.step_count,
+                    time: self.time,
+                    what: format!("load on body {i}"),
+                });
+            }
+        }
+        for j in &self.joints {
+            if let Some(load) = j.effort(&self.bodies) {
+                let (ha, hb) = j.bodies();
+                self.loads.add_force_at(hb, &load.force, &load.point_b);
+                self.loads.add_torque(hb, &load.torque);
+                self.loads.add_force_at(ha, &(-load.force), &load.point_a);
+                self.loads.add_torque(ha, &(-load.torque));
+            }
+        }
+        Ok(())
     }
 
     /// A body.

@@ -176,6 +176,12 @@ impl System {
         let (broad, narrow) = self.collision.last_timing();
         let t0 = std::time::Instant::now();
         self.smc_forces(h);
+        let ctx = self.step_context(h);
+        self.gather_loads(&ctx)?;
+        for (l, e) in self.smc.loads.iter_mut().zip(self.loads.as_slice()) {
+            l[0] += e[0];
+            l[1] += e[1];
+        }
         let t1 = std::time::Instant::now();
         let report = if self.joints.is_empty() && self.items.is_empty() {
             self.smc_free_update(h);
@@ -347,7 +353,7 @@ impl System {
             .for_each(|(b, load)| {
                 if b.motion == BodyMotion::Dynamic {
                     let mut k = [0.0; 6];
-                    momentum_with_load(b, load, h, &g, &mut k);
+                    b.free_momentum(h, &g, load, &mut k);
                     b.linear_velocity = Vector3::new(k[0], k[1], k[2]) / b.mass;
                     let jinv = b.inertia.try_inverse().unwrap_or_else(Matrix3::zeros);
                     b.angular_velocity = jinv * Vector3::new(k[3], k[4], k[5]);
@@ -368,24 +374,7 @@ impl System {
         for (b, load) in self.bodies.iter_mut().zip(&self.smc.loads) {
             if let Some(blk) = b.block {
                 let r = self.vars.range(blk);
-                momentum_with_load(b, load, h, &self.settings.gravity, &mut self.k[r]);
-            }
-        }
-        for j in &self.joints {
-            if let Some(load) = j.effort(&self.bodies) {
-                let (ha, hb) = j.bodies();
-                for (handle, sign, p) in [(hb, 1.0, load.point_b), (ha, -1.0, load.point_a)] {
-                    let body = &self.bodies[handle.0 as usize];
-                    if let Some(blk) = body.block {
-                        let r = self.vars.range(blk);
-                        let tau_w = sign * (load.torque + (p - body.position).cross(&load.force));
-                        let tau_b = body.rotation.inverse() * tau_w;
-                        for d in 0..3 {
-                            self.k[r.start + d] += h * sign * load.force[d];
-                            self.k[r.start + 3 + d] += h * tau_b[d];
-                        }
-                    }
-                }
+                b.free_momentum(h, &self.settings.gravity, load, &mut self.k[r]);
             }
         }
         for item in &self.items {
@@ -479,22 +468,6 @@ impl System {
         }
         Ok(())
     }
-}
-
-/// `k = M v + h (f + f_contact)` for a body, through the body's own momentum update
-/// (gyroscopic term included) with the contact load added to its applied load.
-fn momentum_with_load(
-    b: &mut RigidBody,
-    load: &[Vector3<f64>; 2],
-    h: f64,
-    g: &Vector3<f64>,
-    out: &mut [f64],
-) {
-    let saved = (b.force, b.torque);
-    b.force += load[0];
-    b.torque += load[1];
-    b.free_momentum(h, g, out);
-    (b.force, b.torque) = saved;
 }
 
 /// Everything the parallel force loop reads.

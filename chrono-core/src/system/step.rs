@@ -69,10 +69,11 @@ impl System {
         let ndof = self.vars.ndof();
         self.k.clear();
         self.k.resize(ndof, 0.0);
-        for (i, b) in self.bodies.iter().enumerate() {
+        self.gather_loads(&ctx)?;
+        for (i, (b, load)) in self.bodies.iter().zip(self.loads.as_slice()).enumerate() {
             if let Some(blk) = b.block {
                 let r = self.vars.range(blk);
-                b.free_momentum(h, &self.settings.gravity, &mut self.k[r.clone()]);
+                b.free_momentum(h, &self.settings.gravity, load, &mut self.k[r.clone()]);
                 if self.k[r].iter().any(|x| !x.is_finite()) {
                     return Err(ChronoError::NonFinite {
                         item: format!("body {i} (\"{}\")", b.name),
@@ -80,25 +81,6 @@ impl System {
                         time: self.time,
                         what: "momentum M v + h f (velocity or applied force too large)".into(),
                     });
-                }
-            }
-        }
-        for j in &self.joints {
-            if let Some(load) = j.effort(&self.bodies) {
-                let (force, torque, pa, pb) = (load.force, load.torque, load.point_a, load.point_b);
-                let (ha, hb) = j.bodies();
-                for (handle, sign, p) in [(hb, 1.0, pb), (ha, -1.0, pa)] {
-                    let body = &self.bodies[handle.0 as usize];
-                    if let Some(blk) = body.block {
-                        let r = self.vars.range(blk);
-                        let tau_w = sign * (torque + (p - body.position).cross(&force));
-                        let tau_b = body.rotation.inverse() * tau_w;
-                        let k = &mut self.k[r];
-                        for d in 0..3 {
-                            k[d] += h * sign * force[d];
-                            k[3 + d] += h * tau_b[d];
-                        }
-                    }
                 }
             }
         }
