@@ -1,7 +1,31 @@
 //! # chrono-vehicle
 //!
-//! Vehicles (to be built; see the chrono-vehicle issue): templates built from serde
-//! descriptions (double wishbone suspension, Pitman-arm steering, 4WD driveline, engine map,
-//! torque converter and transmission, brakes, tires, tracks), drivers (open loop, speed PID,
-//! path follower), terrains (rigid, heightmap, granular, fluid, mud), and the HMMWV and an
-//! M113-like tracked vehicle built from them.
+//! Wheeled vehicles built from templates, each a small struct made from a serde description
+//! (JSON), so another vehicle is a new data file, not new code:
+//!
+//! - [`suspension`]: double wishbone (control arms, upright, spindle, tie rod, spring and
+//!   damper with nonlinear tables, bump stops) as bodies and joints of the system;
+//! - [`steering`]: Pitman-arm steering;
+//! - [`driveline`]: shafts with inertia in the system's CCP (gears, differentials with
+//!   optional locking, a transfer case, couplings to the wheel spindles), the 4WD layout;
+//! - [`powertrain`]: engine torque map, torque converter, automatic transmission;
+//! - [`tire`]: a rigid tire (contact through the ordinary contact rows) and a handling tire
+//!   (TMeasy-like, forces from slip with relaxation);
+//! - [`driver`]: open loop, speed controller (PID), path follower;
+//! - [`terrain`]: rigid flat and heightmap terrains;
+//! - [`vehicle`]: the wheeled vehicle assembled from a description; [`hmmwv`] is the HMMWV.
+//!
+//! The vehicle frame is X forward, Y left, Z up (ISO 8855); units are SI.
+
+pub mod driveline;
+pub mod driver;
+pub mod error;
+pub mod powertrain;
+pub mod state;
+pub mod steering;
+pub mod suspension;
+pub mod terrain;
+pub mod tire;
+
+pub use error::{Result, VehicleError};
+pub use state::{DriverInputs, VehicleState};
