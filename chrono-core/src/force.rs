@@ -111,7 +111,9 @@ pub fn check_body(field: &str, h: BodyHandle, bodies: &[RigidBody]) -> Result<()
 /// the spring's restoring force against deflection (N vs m; `k x` for a linear spring) and
 /// `F_d` the damper's force against the rate of extension (N vs m/s; `c l_dot`), both
 /// [`Curve`]s, so nonlinear springs, bump stops (a table that is zero inside the free travel)
-/// and piecewise dampers are tables; `f_0` is a preload (N). This is the element of
+/// and piecewise dampers are tables; `f_0` is a preload (N). A shock absorber with
+/// hydraulic bump stops uses another damper curve `F_b` while the length is outside
+/// `[l_min, l_max]` ([`with_bump_damper`](Self::with_bump_damper)). This is the element of
 /// Chrono's `ChLinkTSDA`; the suspension tables of the HMMWV are in this form.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SpringDamper {
@@ -125,6 +127,7 @@ pub struct SpringDamper {
     rest_length: f64,
     spring: Curve,
     damper: Curve,
+    bump_damper: Option<(f64, f64, Curve)>,
     preload: f64,
     length: f64,
     speed: f64,
@@ -156,6 +159,7 @@ impl SpringDamper {
             rest_length,
             spring,
             damper,
+            bump_damper: None,
             preload: 0.0,
             length: (pb - pa).norm(),
             speed: 0.0,
@@ -189,6 +193,13 @@ impl SpringDamper {
     /// Set the preload `f_0` (N, positive pushes apart).
     pub fn with_preload(mut self, f0: f64) -> Self {
         self.preload = f0;
+        self
+    }
+
+    /// Use the damper curve `bump` (N vs m/s) instead of the main one while the length is
+    /// below `min_length` or above `max_length` (m): hydraulic bump stops of a shock.
+    pub fn with_bump_damper(mut self, min_length: f64, max_length: f64, bump: Curve) -> Self {
+        self.bump_damper = Some((min_length, max_length, bump));
         self
     }
 
@@ -231,16 +242,37 @@ impl ForceElement for SpringDamper {
         check_finite3(&f("point_b"), &self.world_b)?;
         check_non_negative(&f("rest_length"), self.rest_length)?;
         if !self.preload.is_finite() {
-            return Err(ChronoError::invalid(f("preload"), self.preload, "must be finite"));
+            return Err(ChronoError::invalid(
+                f("preload"),
+                self.preload,
+                "must be finite",
+            ));
         }
         self.spring.validate(&f("spring"))?;
         self.damper.validate(&f("damper"))?;
+        if let Some((lo, hi, bump)) = &self.bump_damper {
+            check_non_negative(&f("bump_damper.min_length"), *lo)?;
+            if !(hi.is_finite() && hi > lo) {
+                return Err(ChronoError::invalid(
+                    f("bump_damper.max_length"),
+                    hi,
+                    format!("must be finite and > min_length = {lo}"),
+                ));
+            }
+            bump.validate(&f("bump_damper.curve"))?;
+        }
         let (a, b) = (
             &bodies[self.body_a.0 as usize],
             &bodies[self.body_b.0 as usize],
         );
-        self.local_a = a.pose().inverse_transform_point(&self.world_a.into()).coords;
-        self.local_b = b.pose().inverse_transform_point(&self.world_b.into()).coords;
+        self.local_a = a
+            .pose()
+            .inverse_transform_point(&self.world_a.into())
+            .coords;
+        self.local_b = b
+            .pose()
+            .inverse_transform_point(&self.world_b.into())
+            .coords;
         if (self.world_b - self.world_a).norm() == 0.0 {
             return Err(ChronoError::invalid(
                 f("point_b"),
@@ -275,9 +307,11 @@ impl ForceElement for SpringDamper {
         }
         let u = d / l;
         let l_dot = u.dot(&(b.point_velocity(&pb) - a.point_velocity(&pa)));
-        let f = self.preload
-            - self.spring.eval(l - self.rest_length)
-            - self.damper.eval(l_dot);
+        let damper = match &self.bump_damper {
+            Some((lo, hi, bump)) if l < *lo || l > *hi => bump,
+            _ => &self.damper,
+        };
+        let f = self.preload - self.spring.eval(l - self.rest_length) - damper.eval(l_dot);
         self.length = l;
         self.speed = l_dot;
         self.force = f;

@@ -51,7 +51,11 @@ pub fn check_positive(field: &str, value: f64) -> Result<f64> {
     if value.is_finite() && value > 0.0 {
         Ok(value)
     } else {
-        Err(VehicleError::invalid(field, value, "must be finite and > 0"))
+        Err(VehicleError::invalid(
+            field,
+            value,
+            "must be finite and > 0",
+        ))
     }
 }
 
@@ -60,7 +64,11 @@ pub fn check_non_negative(field: &str, value: f64) -> Result<f64> {
     if value.is_finite() && value >= 0.0 {
         Ok(value)
     } else {
-        Err(VehicleError::invalid(field, value, "must be finite and >= 0"))
+        Err(VehicleError::invalid(
+            field,
+            value,
+            "must be finite and >= 0",
+        ))
     }
 }
 

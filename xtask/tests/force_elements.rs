@@ -88,7 +88,10 @@ fn undamped_spring_oscillates_at_the_natural_frequency_and_keeps_its_energy() {
     );
     // Symplectic Euler: the energy oscillates by O(h omega) of the oscillation energy.
     let e_osc = 0.5 * k * (m * G / k).powi(2);
-    assert!(max_drift < 0.02 * e_osc, "energy drift {max_drift} of {e_osc}");
+    assert!(
+        max_drift < 0.02 * e_osc,
+        "energy drift {max_drift} of {e_osc}"
+    );
     let s: &SpringDamper = sys.force_element(hs).unwrap();
     assert!((s.length() + zs[zs.len() - 2]).abs() < 1e-9);
 }
@@ -229,7 +232,10 @@ fn a_spring_between_free_bodies_conserves_momentum_and_angular_momentum() {
     assert!((p1 - p0).norm() < 1e-12, "momentum {p0} -> {p1}");
     // The force acts at the start-of-step points while the bodies move within the step, so
     // the moment of the pair is balanced to O(h) per step, not exactly.
-    assert!((l1 - l0).norm() < 1e-3 * l0.norm(), "angular momentum {l0} -> {l1}");
+    assert!(
+        (l1 - l0).norm() < 1e-3 * l0.norm(),
+        "angular momentum {l0} -> {l1}"
+    );
     assert!(sys.body(a).unwrap().angular_velocity().norm() > 0.0);
 }
 
@@ -304,4 +310,55 @@ fn bad_spring_dampers_are_rejected_with_the_field() {
         .unwrap_err()
         .to_string();
     assert!(e.contains("rest_length"), "{e}");
+}
+
+#[test]
+fn the_bump_damper_acts_only_outside_its_length_range() {
+    // A mass moving at constant speed between two bodies without gravity: the damper force
+    // is c v inside [l_min, l_max] and c_b v outside.
+    let settings = SystemSettings {
+        gravity: Vector3::zeros(),
+        ..SystemSettings::default()
+    };
+    let mut sys = system_with(settings);
+    let anchor = sys.add_body(RigidBodyBuilder::fixed()).unwrap();
+    let bob = sys
+        .add_body(
+            RigidBodyBuilder::dynamic()
+                .mass(1e6)
+                .inertia_diagonal(Vector3::repeat(1.0))
+                .position(Vector3::new(0.0, 0.0, -0.5))
+                .linear_velocity(Vector3::new(0.0, 0.0, -0.1)),
+        )
+        .unwrap();
+    let shock = SpringDamper::new(
+        "shock",
+        anchor,
+        Vector3::zeros(),
+        bob,
+        Vector3::new(0.0, 0.0, -0.5),
+        0.5,
+        Curve::constant(0.0),
+        Curve::linear(100.0),
+    )
+    .with_bump_damper(0.4, 0.55, Curve::linear(1000.0));
+    let hs = sys.add_force_element(Box::new(shock)).unwrap();
+    let mut seen = (false, false);
+    for _ in 0..1000 {
+        sys.step(1e-3).unwrap();
+        let s: &SpringDamper = sys.force_element(hs).unwrap();
+        let expected = if s.length() > 0.55 { 1000.0 } else { 100.0 } * s.speed();
+        assert!(
+            (s.force() + expected).abs() < 1e-9,
+            "{} vs {}",
+            s.force(),
+            -expected
+        );
+        if s.length() > 0.55 {
+            seen.1 = true;
+        } else {
+            seen.0 = true;
+        }
+    }
+    assert!(seen.0 && seen.1);
 }
