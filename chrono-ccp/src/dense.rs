@@ -1,6 +1,6 @@
-//! Small dense symmetric positive semi-definite blocks: `LDL'` factorization in place and
+//! Dense symmetric positive semi-definite matrices: `LDL'` factorization in place and
 //! solves with the pseudo-inverse of `D`, for the block Gauss–Seidel update of the rows of
-//! one joint ([`crate::Psor`]).
+//! one joint ([`crate::Psor`]) and the bilateral block of [`crate::Schur`].
 
 /// Largest block handled (rows of one bilateral group).
 pub(crate) const MAX_BLOCK: usize = 12;
@@ -20,16 +20,25 @@ impl DenseLdl {
     /// of every consistent system `a x = c` (Golub and Van Loan, "Matrix Computations",
     /// 4th ed., sec. 4.2.8, semidefinite case).
     pub(crate) fn factor(a: &mut [f64], n: usize) {
-        debug_assert!(n <= MAX_BLOCK && a.len() >= n * n);
+        debug_assert!(n <= MAX_BLOCK);
+        let mut d = [0.0f64; MAX_BLOCK];
+        Self::factor_with(a, n, &mut d);
+    }
+
+    /// [`factor`](Self::factor) for any `n`, with `d` a scratch of at least `n` values
+    /// (the pivots). Returns the number of dropped (dependent) rows.
+    pub(crate) fn factor_with(a: &mut [f64], n: usize, d: &mut [f64]) -> usize {
+        debug_assert!(a.len() >= n * n && d.len() >= n);
         let max_diag = (0..n).map(|i| a[i * n + i]).fold(0.0f64, f64::max);
         let tol = PIVOT_TOL * max_diag;
-        let mut d = [0.0f64; MAX_BLOCK];
+        let mut dropped = 0;
         for j in 0..n {
             let mut dj = a[j * n + j];
             for k in 0..j {
                 dj -= a[j * n + k] * a[j * n + k] * d[k];
             }
             let keep = dj > tol;
+            dropped += usize::from(!keep);
             d[j] = if keep { dj } else { 0.0 };
             for i in j + 1..n {
                 let mut v = a[i * n + j];
@@ -40,6 +49,7 @@ impl DenseLdl {
             }
             a[j * n + j] = if keep { 1.0 / dj } else { 0.0 };
         }
+        dropped
     }
 
     /// Solve `a x = c` in place (`x` holds `c` on entry) with a matrix factored by

@@ -84,6 +84,7 @@ mod dense;
 pub mod jacobi;
 pub mod minres;
 pub mod psor;
+pub mod schur;
 pub mod two_phase;
 mod util;
 
@@ -94,10 +95,11 @@ pub use chrono_core::descriptor::{CcpSolver, IterationRecord, SolveStats, Solver
 pub use jacobi::{Jacobi, JacobiOptions};
 pub use minres::Minres;
 pub use psor::{Psor, PsorOptions, TripletStep};
+pub use schur::Schur;
 pub use two_phase::TwoPhase;
 
 /// The names accepted by [`by_name`]: the CCP solvers, then the bilateral-only ones.
-pub const SOLVER_NAMES: [&str; 9] = [
+pub const SOLVER_NAMES: [&str; 10] = [
     "jacobi",
     "psor",
     "psor-sym",
@@ -105,6 +107,7 @@ pub const SOLVER_NAMES: [&str; 9] = [
     "apgd",
     "bb",
     "two-phase",
+    "schur",
     "cg",
     "minres",
 ];
@@ -121,6 +124,7 @@ pub fn by_name(name: &str, settings: SolverSettings) -> Result<Box<dyn CcpSolver
         "apgd" => Box::new(Apgd::new(settings)),
         "bb" => Box::new(BarzilaiBorwein::new(settings)),
         "two-phase" => Box::new(TwoPhase::new(settings)),
+        "schur" => Box::new(Schur::new(settings)),
         "cg" => Box::new(Cg::new(settings)),
         "minres" => Box::new(Minres::new(settings)),
         other => {

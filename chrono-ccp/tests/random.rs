@@ -15,7 +15,7 @@ const SOLVE_TOL: f64 = 1e-11;
 const CHECK_TOL: f64 = 1e-9;
 
 /// The CCP solvers (CG and MINRES only take bilateral problems: see `bilateral.rs`).
-const SOLVERS: [&str; 7] = [
+const SOLVERS: [&str; 8] = [
     "jacobi",
     "psor",
     "psor-sym",
@@ -23,6 +23,7 @@ const SOLVERS: [&str; 7] = [
     "apgd",
     "bb",
     "two-phase",
+    "schur",
 ];
 
 fn settings() -> SolverSettings {

@@ -10,7 +10,15 @@ use chrono_core::descriptor::{CcpProblem, ConstraintRows, MassOperator, RowEntry
 use chrono_core::math::Matrix3;
 use common::{G, check_complementarity};
 
-const SOLVERS: [&str; 6] = ["jacobi", "psor", "psor-sym", "apgd", "bb", "two-phase"];
+const SOLVERS: [&str; 7] = [
+    "jacobi",
+    "psor",
+    "psor-sym",
+    "apgd",
+    "bb",
+    "two-phase",
+    "schur",
+];
 const M: f64 = 2.0;
 const R: f64 = 0.1;
 const H: f64 = 0.01;

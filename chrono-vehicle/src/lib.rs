@@ -20,12 +20,15 @@
 pub mod driveline;
 pub mod driver;
 pub mod error;
+pub mod hmmwv;
 pub mod powertrain;
 pub mod state;
 pub mod steering;
 pub mod suspension;
 pub mod terrain;
 pub mod tire;
+pub mod vehicle;
 
 pub use error::{Result, VehicleError};
 pub use state::{DriverInputs, VehicleState};
+pub use vehicle::{VehicleData, WheeledVehicle};

@@ -1,1 +1,5 @@
-//! (being built: see the chrono-vehicle issue)
+//! Steering templates: [`pitman_arm`].
+
+pub mod pitman_arm;
+
+pub use pitman_arm::{PitmanArm, PitmanArmData};

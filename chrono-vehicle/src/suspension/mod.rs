@@ -1,1 +1,5 @@
-//! (being built: see the chrono-vehicle issue)
+//! Suspension templates: [`double_wishbone`].
+
+pub mod double_wishbone;
+
+pub use double_wishbone::{DoubleWishbone, DoubleWishboneData, MassData};

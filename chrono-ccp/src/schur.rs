@@ -1,0 +1,319 @@
+//! A direct–iterative solver for problems dominated by joints: the bilateral rows are
+//! eliminated by a dense `LDL'` factorization and the remaining (contact, box, unilateral)
+//! rows are solved on their Schur complement by an accelerated projected gradient.
+//!
+//! With the rows split into bilateral `B` and the rest `C`,
+//!
+//! ```text
+//! [N_BB N_BC] [g_B]   [r_B]
+//! [N_CB N_CC] [g_C] + [r_C]  = grad,   grad_B = 0,   g_C in Y_C complementary to grad_C,
+//! ```
+//!
+//! `g_B = -N_BB^-1 (r_B + N_BC g_C)` exactly, and `g_C` solves the CCP
+//!
+//! ```text
+//! min 1/2 g_C' S g_C + q' g_C  s.t. g_C in Y_C,   S = N_CC - N_CB N_BB^-1 N_BC,
+//! q = r_C - N_CB N_BB^-1 r_B.
+//! ```
+//!
+//! `S` is the inverse effective mass seen by the contacts *through* the joints (a wheel
+//! feels the chassis behind its suspension), so the iterative part converges as fast as for
+//! free bodies, however stiff the chain and however large its mass ratios: a vehicle's
+//! suspension links of a few kilograms on a two-tonne chassis, or a long chain of links,
+//! which stall the projected iterations on the whole problem. Redundant joints (a singular
+//! `N_BB`) are handled by dropping dependent pivots ([`crate::dense`]).
+//!
+//! Cost: forming `N_BB` and `N_BC` from the problem's sparse rows, `O(n_B^3/3)` for the
+//! factorization and `O(n_B^2 n_C + n_B n_C^2)` for `S`, then `O(n_C^2)` per iteration.
+//! It suits mechanisms (hundreds of joint rows, tens of contacts); past
+//! [`max_dense_rows`](Schur::with_max_dense_rows) rows in either part it hands the problem
+//! to its fallback solver (APGD by default).
+//!
+//! Reference: the Schur-complement (reduced) formulation of the contact problem of a
+//! multibody system with bilateral constraints, e.g. M. Anitescu and G. D. Hart, "A
+//! constraint-stabilized time-stepping approach for rigid multibody dynamics with joints,
+//! contact and friction", Int. J. Numer. Methods Eng. 60 (2004); accelerated projected
+//! gradient with restart as in [`crate::Apgd`] (Nesterov; O'Donoghue and Candès 2015).
+
+use chrono_core::descriptor::{CcpProblem, CcpSolver, CcpWork, SolveStats, SolverSettings};
+
+use crate::Apgd;
+use crate::dense::DenseLdl;
+use crate::util::{History, check_gamma_len, empty_stats, final_stats, sanitize_and_project};
+
+/// The Schur-complement solver (see the [module documentation](self)).
+pub struct Schur {
+    settings: SolverSettings,
+    fallback: Box<dyn CcpSolver>,
+    max_dense_rows: usize,
+    // scratch, reused across solves
+    b_rows: Vec<usize>,
+    c_rows: Vec<usize>,
+    nbb: Vec<f64>,
+    pivots: Vec<f64>,
+    nbc: Vec<f64>,
+    x: Vec<f64>,
+    s: Vec<f64>,
+    q: Vec<f64>,
+    g: Vec<f64>,
+    g_prev: Vec<f64>,
+    y: Vec<f64>,
+    grad_c: Vec<f64>,
+    rhs_b: Vec<f64>,
+    full: Vec<f64>,
+    grad: Vec<f64>,
+    work: CcpWork,
+}
+
+impl Schur {
+    /// A Schur solver with `settings` (tolerance and iteration cap of the contact part) and
+    /// APGD with the same settings as the fallback.
+    pub fn new(settings: SolverSettings) -> Self {
+        let fallback = Box::new(Apgd::new(settings.clone()));
+        Self::with_fallback(settings, fallback)
+    }
+
+    /// A Schur solver that hands problems too large for dense blocks to `fallback`.
+    pub fn with_fallback(settings: SolverSettings, fallback: Box<dyn CcpSolver>) -> Self {
+        Self {
+            settings,
+            fallback,
+            max_dense_rows: 1500,
+            b_rows: Vec::new(),
+            c_rows: Vec::new(),
+            nbb: Vec::new(),
+            pivots: Vec::new(),
+            nbc: Vec::new(),
+            x: Vec::new(),
+            s: Vec::new(),
+            q: Vec::new(),
+            g: Vec::new(),
+            g_prev: Vec::new(),
+            y: Vec::new(),
+            grad_c: Vec::new(),
+            rhs_b: Vec::new(),
+            full: Vec::new(),
+            grad: Vec::new(),
+            work: CcpWork::default(),
+        }
+    }
+
+    /// The largest number of bilateral rows, and of other rows, handled densely (default
+    /// 1500): beyond it the fallback solver takes the problem.
+    pub fn with_max_dense_rows(mut self, n: usize) -> Self {
+        self.max_dense_rows = n;
+        self
+    }
+
+    /// Scatter the contact part `gc` into the full-length `full` (bilateral rows 0) and
+    /// project it onto the cones; read it back.
+    fn project_c(problem: &CcpProblem, c_rows: &[usize], full: &mut [f64], gc: &mut [f64]) {
+        for (k, &i) in c_rows.iter().enumerate() {
+            full[i] = gc[k];
+        }
+        problem.project(full);
+        for (k, &i) in c_rows.iter().enumerate() {
+            gc[k] = full[i];
+        }
+    }
+
+    /// `out = S v + q` (the reduced gradient).
+    fn reduced_gradient(s: &[f64], q: &[f64], v: &[f64], out: &mut [f64]) {
+        let nc = q.len();
+        for c in 0..nc {
+            let row = &s[c * nc..(c + 1) * nc];
+            out[c] = q[c] + row.iter().zip(v).map(|(a, b)| a * b).sum::<f64>();
+        }
+    }
+
+    /// `g_B = -N_BB^+ (r_B + N_BC g_C)` into `gamma`.
+    fn recover_bilateral(&mut self, problem: &CcpProblem, gamma: &mut [f64]) {
+        let (nb, nc) = (self.b_rows.len(), self.c_rows.len());
+        let r = problem.r();
+        let rhs = &mut self.rhs_b;
+        rhs.clear();
+        rhs.extend(self.b_rows.iter().map(|&i| r[i]));
+        for (c, &gc) in self.g.iter().enumerate().take(nc) {
+            if gc != 0.0 {
+                let col = &self.nbc[c * nb..(c + 1) * nb];
+                rhs.iter_mut().zip(col).for_each(|(x, a)| *x += a * gc);
+            }
+        }
+        DenseLdl::solve(&self.nbb, nb, rhs);
+        for (k, &i) in self.b_rows.iter().enumerate() {
+            gamma[i] = -rhs[k];
+        }
+        for (c, &i) in self.c_rows.iter().enumerate() {
+            gamma[i] = self.g[c];
+        }
+    }
+}
+
+impl CcpSolver for Schur {
+    solver_accessors!("schur");
+
+    fn solve(&mut self, problem: &CcpProblem, gamma: &mut [f64]) -> SolveStats {
+        check_gamma_len(problem, gamma);
+        let m = problem.n_rows();
+        if m == 0 {
+            return empty_stats();
+        }
+        let bil = problem.sections().bilateral.clone();
+        let nb = bil.len();
+        let nc = m - nb;
+        if nb == 0 || nb > self.max_dense_rows || nc > self.max_dense_rows {
+            return self.fallback.solve(problem, gamma);
+        }
+        sanitize_and_project(problem, gamma);
+        // A warm start that already solves the problem needs no work.
+        self.grad.resize(m, 0.0);
+        problem.gradient(gamma, &mut self.grad, &mut self.work);
+        if problem.residual(gamma, &self.grad, &mut self.work) <= self.settings.tolerance {
+            let tol = self.settings.tolerance;
+            return final_stats(
+                problem,
+                gamma,
+                &self.grad,
+                &mut self.work,
+                0,
+                1,
+                tol,
+                Vec::new(),
+            );
+        }
+        self.b_rows.clear();
+        self.b_rows.extend(bil.clone());
+        self.c_rows.clear();
+        self.c_rows.extend((0..m).filter(|i| !bil.contains(i)));
+
+        // N_BB, factored.
+        self.nbb.resize(nb * nb, 0.0);
+        for (a, &i) in self.b_rows.iter().enumerate() {
+            for (b, &j) in self.b_rows.iter().enumerate().skip(a) {
+                let v = problem.n_entry(i, j);
+                self.nbb[a * nb + b] = v;
+                self.nbb[b * nb + a] = v;
+            }
+        }
+        self.pivots.resize(nb, 0.0);
+        DenseLdl::factor_with(&mut self.nbb, nb, &mut self.pivots);
+
+        // N_BC by columns, X = N_BB^+ N_BC, S = N_CC - N_BC' X, q = r_C - X' r_B.
+        self.nbc.resize(nb * nc, 0.0);
+        self.x.resize(nb * nc, 0.0);
+        for (c, &j) in self.c_rows.iter().enumerate() {
+            let col = &mut self.nbc[c * nb..(c + 1) * nb];
+            for (b, &i) in self.b_rows.iter().enumerate() {
+                col[b] = problem.n_entry(i, j);
+            }
+            let xc = &mut self.x[c * nb..(c + 1) * nb];
+            xc.copy_from_slice(col);
+            DenseLdl::solve(&self.nbb, nb, xc);
+        }
+        let r = problem.r();
+        self.s.resize(nc * nc, 0.0);
+        self.q.resize(nc, 0.0);
+        for c in 0..nc {
+            let xc = &self.x[c * nb..(c + 1) * nb];
+            self.q[c] = r[self.c_rows[c]]
+                - xc.iter()
+                    .zip(&self.b_rows)
+                    .map(|(x, &i)| x * r[i])
+                    .sum::<f64>();
+            for d in c..nc {
+                let nd = &self.nbc[d * nb..(d + 1) * nb];
+                let v = problem.n_entry(self.c_rows[c], self.c_rows[d])
+                    - xc.iter().zip(nd).map(|(a, b)| a * b).sum::<f64>();
+                self.s[c * nc + d] = v;
+                self.s[d * nc + c] = v;
+            }
+        }
+
+        // Accelerated projected gradient on (S, q), step 1/L with L a Gershgorin bound.
+        let lip = (0..nc)
+            .map(|c| {
+                self.s[c * nc..(c + 1) * nc]
+                    .iter()
+                    .map(|v| v.abs())
+                    .sum::<f64>()
+            })
+            .fold(0.0f64, f64::max);
+        let step = if lip > 0.0 && lip.is_finite() {
+            1.0 / lip
+        } else {
+            1.0
+        };
+        self.full.clear();
+        self.full.resize(m, 0.0);
+        self.g.clear();
+        self.g.extend(self.c_rows.iter().map(|&i| gamma[i]));
+        self.g_prev.clear();
+        self.g_prev.extend_from_slice(&self.g);
+        self.y.clear();
+        self.y.extend_from_slice(&self.g);
+        self.grad_c.resize(nc, 0.0);
+        self.grad.resize(m, 0.0);
+        let tol = self.settings.tolerance;
+        let max_it = self.settings.max_iterations.max(1);
+        let mut history = History::new(self.settings.record_history, max_it);
+        let mut theta = 1.0f64;
+        let mut iterations = 0;
+        let mut apply_n = 1;
+        let check_every = 10;
+        // Cost of one reduced iteration (nc^2 multiply-adds) in products with N (about
+        // 2 n_coefs multiply-adds), at least one, so statistics compare with the other solvers.
+        let per_iteration = (nc * nc).div_ceil(2 * problem.n_coefs().max(1)).max(1);
+        let max_it = if nc == 0 { 0 } else { max_it };
+        for it in 0..max_it {
+            iterations = it + 1;
+            apply_n += per_iteration;
+            Self::reduced_gradient(&self.s, &self.q, &self.y, &mut self.grad_c);
+            self.g_prev.copy_from_slice(&self.g);
+            for c in 0..nc {
+                self.g[c] = self.y[c] - step * self.grad_c[c];
+            }
+            Self::project_c(problem, &self.c_rows, &mut self.full, &mut self.g);
+            // Gradient restart (O'Donoghue and Candès): momentum only while it descends.
+            let descent: f64 = (0..nc)
+                .map(|c| self.grad_c[c] * (self.g[c] - self.g_prev[c]))
+                .sum();
+            let next = 0.5 * (1.0 + (1.0 + 4.0 * theta * theta).sqrt());
+            let beta = if descent > 0.0 {
+                theta = 1.0;
+                0.0
+            } else {
+                let b = (theta - 1.0) / next;
+                theta = next;
+                b
+            };
+            for c in 0..nc {
+                self.y[c] = self.g[c] + beta * (self.g[c] - self.g_prev[c]);
+            }
+            if it % check_every == check_every - 1 || it + 1 == max_it {
+                self.recover_bilateral(problem, gamma);
+                problem.gradient(gamma, &mut self.grad, &mut self.work);
+                apply_n += 1;
+                let res = problem.residual(gamma, &self.grad, &mut self.work);
+                history.push(iterations, res, apply_n, || {
+                    problem.objective_from_gradient(gamma, &self.grad, &mut self.work)
+                });
+                if res <= tol {
+                    break;
+                }
+            }
+        }
+        self.recover_bilateral(problem, gamma);
+        problem.gradient(gamma, &mut self.grad, &mut self.work);
+        apply_n += 1;
+        final_stats(
+            problem,
+            gamma,
+            &self.grad,
+            &mut self.work,
+            iterations,
+            apply_n,
+            tol,
+            history.into_records(),
+        )
+    }
+}

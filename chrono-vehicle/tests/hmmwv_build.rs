@@ -1,0 +1,117 @@
+//! The HMMWV assembles from its data, settles on flat rigid ground with its weight on the
+//! tires, and steers with the Pitman arm.
+
+use chrono_ccp::{Schur, SolverSettings};
+use chrono_core::math::{Isometry3, Vector3};
+use chrono_core::{ContactMaterial, RigidBodyBuilder, Shape, System, SystemSettings};
+use chrono_vehicle::hmmwv::hmmwv_data;
+use chrono_vehicle::{DriverInputs, VehicleData, WheeledVehicle};
+
+const H: f64 = 1e-3;
+
+fn on_flat_ground(data: &VehicleData) -> (System, WheeledVehicle) {
+    let s = SolverSettings {
+        tolerance: 1e-8,
+        max_iterations: 500,
+        record_history: false,
+    };
+    let mut sys = System::new(SystemSettings::default(), Box::new(Schur::new(s))).unwrap();
+    sys.add_body(RigidBodyBuilder::fixed().collider(
+        Shape::HalfSpace {
+            normal: Vector3::z(),
+        },
+        Isometry3::identity(),
+        ContactMaterial::with_friction(0.9),
+    ))
+    .unwrap();
+    let pose = Isometry3::translation(0.0, 0.0, 0.467 + 0.0263 + 0.005);
+    let v = WheeledVehicle::build(&mut sys, data, &pose).unwrap();
+    (sys, v)
+}
+
+#[test]
+fn hmmwv_settles_with_its_weight_on_the_tires() {
+    let data = hmmwv_data().unwrap();
+    let (mut sys, mut v) = on_flat_ground(&data);
+    for _ in 0..1500 {
+        v.synchronize(&mut sys, DriverInputs::default()).unwrap();
+        sys.step(H).unwrap();
+    }
+    let st = v.state(&sys).unwrap();
+    // Without brakes the wheels roll freely: only the vertical motion must have settled.
+    assert!(st.velocity.z.abs() < 1e-3, "still moving: {}", st.velocity);
+    assert!(sys.max_joint_violation() < 1e-6);
+    let forces = v.rigid_tire_forces(&sys, H);
+    let total: f64 = forces.iter().map(|f| f.z).sum();
+    let weight = data.total_mass() * 9.81;
+    assert!(
+        (total - weight).abs() < 5e-3 * weight,
+        "tire loads {total} N vs weight {weight} N"
+    );
+    // Left and right carry the same load (the vehicle is symmetric).
+    for axle in 0..2 {
+        let (l, r) = (forces[2 * axle].z, forces[2 * axle + 1].z);
+        assert!((l - r).abs() < 1e-2 * l, "axle {axle}: {l} vs {r}");
+    }
+}
+
+#[test]
+fn positive_steering_turns_the_front_wheels_left() {
+    let data = hmmwv_data().unwrap();
+    let (mut sys, mut v) = on_flat_ground(&data);
+    let inputs = DriverInputs {
+        steering: 0.5,
+        ..DriverInputs::default()
+    };
+    // Settle first, then steer: the position-driven gear moves the linkage in one step.
+    for _ in 0..300 {
+        v.synchronize(&mut sys, DriverInputs::default()).unwrap();
+        sys.step(H).unwrap();
+    }
+    // Steer angle of each wheel about the chassis Z (the spin axis, spindle Y, turned
+    // counter-clockwise gets a negative X component in the chassis frame).
+    let (chassis_h, wheels) = (v.chassis(), v.wheels().to_vec());
+    let steer_angles = |sys: &System| -> Vec<f64> {
+        let chassis = sys.body(chassis_h).unwrap().rotation();
+        wheels
+            .iter()
+            .map(|w| {
+                let axis =
+                    chassis.inverse() * (sys.body(w.spindle).unwrap().rotation() * Vector3::y());
+                (-axis.x).atan2(axis.y)
+            })
+            .collect()
+    };
+    let before = steer_angles(&sys);
+    for _ in 0..20 {
+        v.synchronize(&mut sys, inputs).unwrap();
+        sys.step(H).unwrap();
+    }
+    let after = steer_angles(&sys);
+    for side in 0..2 {
+        let d = after[side] - before[side];
+        assert!(d > 0.05, "front side {side}: steer change {d} rad");
+    }
+    // The rear wheels do not steer: their toe changes only with the suspension travel
+    // (bump steer) as the body reacts to the front tires' scrub.
+    for side in 2..4 {
+        let d = after[side] - before[side];
+        let front = after[side - 2] - before[side - 2];
+        assert!(
+            d.abs() < 0.1 * front,
+            "rear side {side}: steer change {d} rad"
+        );
+    }
+}
+
+#[test]
+fn bad_vehicle_data_names_the_field() {
+    let mut data = hmmwv_data().unwrap();
+    data.axles[1].suspension.lower_arm.mass = -1.0;
+    let e = data.validate().unwrap_err().to_string();
+    assert!(e.contains("axles[1].suspension.lower_arm.mass"), "{e}");
+    let e = VehicleData::from_json("{\"name\": 3}", "x.json")
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("x.json"), "{e}");
+}
