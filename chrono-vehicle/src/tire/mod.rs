@@ -24,6 +24,8 @@ use crate::error::{Result, check_non_negative, check_positive};
 /// A tire description (serde: internally tagged by `"type"`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "type")]
+// A description read once per vehicle; boxing the larger variant would only complicate it.
+#[allow(clippy::large_enum_variant)]
 pub enum Tire {
     /// A rigid cylinder touching the terrain through contact rows.
     Rigid(RigidTire),
