@@ -375,3 +375,81 @@ fn tire_descriptions_round_trip_and_bad_data_is_named() {
         "{e}"
     );
 }
+
+#[test]
+fn light_hmmwv_wheel_is_stable_at_two_millisecond_steps_and_loses_its_side_slip() {
+    // tire + rim of the HMMWV (56.4 kg), loaded only by its own weight: the stiffest case
+    // for the explicit tire forces. Huge roll and yaw inertias stand for the spindle's
+    // guidance (a free wheel would precess like a rolling coin).
+    let p = TMeasyParams::hmmwv();
+    let mut sys = system();
+    let m = 37.6 + 18.8;
+    let iy = 6.69 + 0.6243;
+    let dz = m * G / p.vertical_stiffness;
+    let b = sys
+        .add_body(
+            RigidBodyBuilder::dynamic()
+                .mass(m)
+                .inertia_diagonal(Vector3::new(1e9, iy, 1e9))
+                .position(Vector3::new(0.0, 0.0, p.radius - dz))
+                .angular_velocity(Vector3::new(0.0, 15.0 / p.radius, 0.0)),
+        )
+        .unwrap();
+    sys.body_mut(b)
+        .unwrap()
+        .set_linear_velocity(Vector3::new(15.0, 0.5, 0.0))
+        .unwrap();
+    let f = add_tire(&mut sys, b, &p, flat());
+    for _ in 0..1500 {
+        sys.step(2e-3).unwrap();
+    }
+    let body = sys.body(b).unwrap();
+    let o = out(&sys, f);
+    assert!(
+        body.linear_velocity().y.abs() < 1e-3,
+        "vy {}",
+        body.linear_velocity().y
+    );
+    assert!(
+        body.linear_velocity().z.abs() < 1e-3,
+        "vz {}",
+        body.linear_velocity().z
+    );
+    assert!(rel(o.normal_force, m * G) < 1e-2, "Fz {}", o.normal_force);
+    let v = body.linear_velocity().x;
+    assert!(v > 14.0 && v < 15.0 && (v - o.rolling_radius * o.spin_rate).abs() < 1e-3 * v);
+}
+
+#[test]
+fn wheel_center_offset_moves_the_contact() {
+    let p = TMeasyParams::hmmwv();
+    let mut sys = system();
+    // body origin 0.1 m above the wheel center, which sits at the static deflection
+    let dz = p.nominal_load / p.vertical_stiffness;
+    let b = sys
+        .add_body(RigidBodyBuilder::kinematic().position(Vector3::new(
+            0.0,
+            0.0,
+            p.radius - dz + 0.1,
+        )))
+        .unwrap();
+    let tire = TMeasyTire::new("tire", b, Vector3::y(), p.clone(), flat())
+        .unwrap()
+        .with_center(Vector3::new(0.0, 0.0, -0.1))
+        .unwrap();
+    let f = sys.add_force_element(Box::new(tire)).unwrap();
+    sys.step(H).unwrap();
+    let o = out(&sys, f);
+    assert!(
+        rel(o.normal_force, p.nominal_load) < 1e-9,
+        "Fz {}",
+        o.normal_force
+    );
+    assert!(o.contact_point.norm() < 1e-12);
+    assert!(
+        TMeasyTire::new("t", b, Vector3::y(), p, flat())
+            .unwrap()
+            .with_center(Vector3::new(f64::NAN, 0.0, 0.0))
+            .is_err()
+    );
+}

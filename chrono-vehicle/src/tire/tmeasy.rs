@@ -53,8 +53,9 @@ pub struct TireOutput {
 
 /// The TMeasy handling tire (Hirschberg, Rill, Weinfurter, "Tire model TMeasy", Vehicle
 /// System Dynamics 45, 2007): a [`ForceElement`] on the wheel body, which carries the wheel
-/// center at its center of mass and spins about `spin_axis` (body frame, pointing left in
-/// the vehicle frame; normally local Y).
+/// center (at its center of mass unless [`with_center`](Self::with_center) says otherwise)
+/// and spins about `spin_axis` (body frame, pointing left in the vehicle frame; normally
+/// local Y).
 ///
 /// Each step, at the state of the start of the step:
 ///
@@ -101,6 +102,7 @@ pub struct TMeasyTire {
     name: String,
     body: BodyHandle,
     axis_local: Vector3<f64>,
+    center_local: Vector3<f64>,
     params: TMeasyParams,
     terrain: Arc<dyn Terrain>,
     slip_limit: f64,
@@ -137,6 +139,7 @@ impl TMeasyTire {
             name: name.into(),
             body,
             axis_local: spin_axis / norm,
+            center_local: Vector3::zeros(),
             params,
             terrain,
             slip_limit,
@@ -144,6 +147,20 @@ impl TMeasyTire {
             sy: 0.0,
             out: TireOutput::default(),
         })
+    }
+
+    /// Put the wheel center at `center` in the body frame (default: the body's center of
+    /// mass). Errors if it is not finite.
+    pub fn with_center(mut self, center: Vector3<f64>) -> Result<Self> {
+        if !center.iter().all(|x| x.is_finite()) {
+            return Err(VehicleError::invalid(
+                "tmeasy_tire.center",
+                format!("{:?}", center.as_slice()),
+                "must be finite",
+            ));
+        }
+        self.center_local = center;
+        Ok(self)
     }
 
     /// The last evaluation's results.
@@ -207,9 +224,9 @@ impl ForceElement for TMeasyTire {
     ) -> chrono_core::Result<()> {
         let p = &self.params;
         let b = &bodies[self.body.0 as usize];
-        let c = b.position();
+        let c = b.pose().transform_point(&self.center_local.into()).coords;
         let a = b.rotation() * self.axis_local;
-        let v = b.linear_velocity();
+        let v = b.point_velocity(&c);
         let w = b.angular_velocity();
         self.out.spin_rate = w.dot(&a);
         if !(c
