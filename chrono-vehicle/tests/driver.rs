@@ -278,3 +278,36 @@ fn open_loop_driver_follows_its_tables_and_clamps() {
         "{e}"
     );
 }
+
+#[test]
+fn path_follower_drives_the_iso_lane_change_inside_the_lanes_at_36_kmh() {
+    let b = 2.2;
+    let dlc = IsoDoubleLaneChange::new(b).unwrap();
+    let path = dlc.path(50.0, 50.0, 0.5).unwrap();
+    let p = params(10.0);
+    let mut d = PathFollowerDriver::new(path, p).unwrap();
+    let mut bike = bicycle(-50.0, 0.0, 10.0, &p);
+    let w = dlc.lane_widths();
+    let y3 = dlc.side_lane_center();
+    let mut worst = [0.0f64; 3];
+    while bike.x < 120.0 {
+        let i = d.synchronize(&bike.state());
+        bike.step(&i);
+        let s = bike.state();
+        let (x, y) = (s.position.x, s.position.y);
+        if (0.0..=15.0).contains(&x) {
+            worst[0] = worst[0].max(y.abs());
+        } else if (45.0..=70.0).contains(&x) {
+            worst[1] = worst[1].max((y - y3).abs());
+        } else if (95.0..=110.0).contains(&x) {
+            worst[2] = worst[2].max(y.abs());
+        }
+    }
+    // the reference point keeps a vehicle of width b inside the lanes (lateral margins
+    // (w - b)/2); back on lane 1's line after the manoeuvre within the entry lane's margin
+    let (m1, m3) = (0.5 * (w[0] - b), 0.5 * (w[1] - b));
+    assert!(
+        worst[0] < m1 && worst[1] < m3 && worst[2] < m1,
+        "{worst:?} vs {m1}, {m3}"
+    );
+}

@@ -81,8 +81,11 @@ pub struct TireOutput {
 ///    integrated by implicit Euler. In steady rolling `s' = s`; at standstill
 ///    (`v_r = 0`) `s'` integrates the sliding distance, so the tread acts as a spring of
 ///    stiffness `dF0/sigma` and a standing wheel on a slope holds still instead of creeping
-///    (the low-speed regularization). The relaxed slips are limited to
-///    `+-max(1, 2 s_S)`, beyond which the force no longer changes.
+///    (the low-speed regularization). When either relaxed slip exceeds `max(1, 2 s_S)`
+///    (beyond which the force no longer changes) both are scaled down together, which
+///    keeps the direction of the combined slip. At `v_r = 0` (a locked wheel) the
+///    relaxed slips integrate `v_s / sigma`, so the force direction of a long skid
+///    weights the sliding velocity by `1/sigma_x`, `1/sigma_y`.
 /// 4. **Forces** `(F_x, F_y)` from the relaxed slips by the combined-slip
 ///    characteristic ([`combined_force`]) at the load `F_z`, the maximum and sliding
 ///    forces scaled by `mu_terrain / reference_friction`. Below `low_speed` a tread damping
@@ -288,9 +291,15 @@ impl ForceElement for TMeasyTire {
         let (vsx, vsy) = (vx - vr, vy);
         let h = ctx.h;
         let [sig_x, sig_y] = p.relaxation_length;
-        let lim = self.slip_limit;
-        self.sx = ((self.sx - h * vsx / sig_x) / (1.0 + h * vr.abs() / sig_x)).clamp(-lim, lim);
-        self.sy = ((self.sy - h * vsy / sig_y) / (1.0 + h * vr.abs() / sig_y)).clamp(-lim, lim);
+        self.sx = (self.sx - h * vsx / sig_x) / (1.0 + h * vr.abs() / sig_x);
+        self.sy = (self.sy - h * vsy / sig_y) / (1.0 + h * vr.abs() / sig_y);
+        let big = self.sx.abs().max(self.sy.abs());
+        if big > self.slip_limit {
+            // scale both, keeping the direction of the combined slip
+            let k = self.slip_limit / big;
+            self.sx *= k;
+            self.sy *= k;
+        }
 
         // 4. Forces.
         let mu = self.terrain.friction(contact.x, contact.y);
