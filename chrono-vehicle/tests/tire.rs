@@ -453,3 +453,42 @@ fn wheel_center_offset_moves_the_contact() {
             .is_err()
     );
 }
+
+#[test]
+fn combined_slip_is_isotropic_for_equal_curves_and_elliptic_when_sliding() {
+    use chrono_vehicle::tire::{CurveAtLoad, characteristic, combined_force};
+    let c = CurveAtLoad {
+        df0: 1e5,
+        s_max: 0.12,
+        f_max: 8e3,
+        s_slide: 0.6,
+        f_slide: 7e3,
+    };
+    let f = |s: f64| characteristic(s, c.df0, c.s_max, c.f_max, c.s_slide, c.f_slide);
+    for &(sx, sy) in &[(0.01, 0.02), (-0.1, 0.05), (0.3, -0.4), (0.0, -0.7)] {
+        let (fx, fy) = combined_force(sx, sy, &c, &c);
+        let s = f64::hypot(sx, sy);
+        // the resultant is the pure-slip curve of |s|, along the slip
+        assert!((fx.hypot(fy) - f(s)).abs() < 1e-9 * f(s), "at ({sx}, {sy})");
+        assert!((fx * sy - fy * sx).abs() < 1e-9 * f(s) * s);
+        assert!(fx * sx + fy * sy > 0.0);
+    }
+    // different curves: pure slip gives each direction's own curve; in deep sliding the
+    // resultant is sqrt((FS_x cos p)^2 + (FS_y sin p)^2), between the two sliding forces
+    let p = TMeasyParams::hmmwv();
+    let x = p.longitudinal.at_load(p.nominal_load, p.nominal_load, 1.0);
+    let y = p.lateral.at_load(p.nominal_load, p.nominal_load, 1.0);
+    let (fx, fy) = combined_force(0.05, 0.0, &x, &y);
+    let fx_pure = characteristic(0.05, x.df0, x.s_max, x.f_max, x.s_slide, x.f_slide);
+    assert!((fx - fx_pure).abs() < 1e-9 * fx_pure && fy == 0.0);
+    let (fx, fy) = combined_force(0.0, -0.1, &x, &y);
+    let fy_pure = characteristic(0.1, y.df0, y.s_max, y.f_max, y.s_slide, y.f_slide);
+    assert!((fy + fy_pure).abs() < 1e-9 * fy_pure && fx == 0.0);
+    let (fx, fy) = combined_force(-2.0, 1.5, &x, &y);
+    let r = fx.hypot(fy);
+    assert!(
+        r > y.f_slide.min(x.f_slide) && r < y.f_slide.max(x.f_slide),
+        "|F| {r}"
+    );
+    assert!(fx < 0.0 && fy > 0.0);
+}
