@@ -1,1 +1,151 @@
-//! (being built: see the chrono-vehicle issue)
+//! Tires: a rigid tire (a cylinder collider, contact through the ordinary contact rows)
+//! and the TMeasy handling tire (a force element computing the contact forces from the
+//! slips, see [`TMeasyTire`]).
+//!
+//! A [`Tire`] is the serde description (`{"type": "Rigid", ...}` or
+//! `{"type": "TMeasy", ...}`); the vehicle attaches it to a wheel (spindle) body whose spin
+//! axis is the body's local **Y** axis (the [`Shape::Cylinder`] axis), pointing left in the
+//! vehicle frame.
+
+mod tmeasy;
+mod tmeasy_params;
+
+pub use tmeasy::{TMeasyTire, TireOutput};
+pub use tmeasy_params::{
+    CurveAtLoad, SlipCurve, TMeasyParams, TireSize, characteristic, combined_force,
+};
+
+use chrono_core::math::{Isometry3, Vector3};
+use chrono_core::{ContactMaterial, Shape};
+use serde::{Deserialize, Serialize};
+
+use crate::error::{Result, check_non_negative, check_positive};
+
+/// A tire description (serde: internally tagged by `"type"`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "type")]
+// A description read once per vehicle; boxing the larger variant would only complicate it.
+#[allow(clippy::large_enum_variant)]
+pub enum Tire {
+    /// A rigid cylinder touching the terrain through contact rows.
+    Rigid(RigidTire),
+    /// The TMeasy handling tire (forces from slips).
+    TMeasy(TMeasyParams),
+}
+
+impl Tire {
+    /// Check the description; errors name the field.
+    pub fn validate(&self) -> Result<()> {
+        match self {
+            Tire::Rigid(t) => t.validate(),
+            Tire::TMeasy(p) => p.validate(),
+        }
+    }
+
+    /// Unloaded radius, m.
+    pub fn radius(&self) -> f64 {
+        match self {
+            Tire::Rigid(t) => t.radius,
+            Tire::TMeasy(p) => p.radius,
+        }
+    }
+
+    /// Tire mass, kg (added to the wheel body by the vehicle).
+    pub fn mass(&self) -> f64 {
+        match self {
+            Tire::Rigid(t) => t.mass,
+            Tire::TMeasy(p) => p.mass,
+        }
+    }
+
+    /// Principal moments of inertia of the tire about its center (wheel frame, spin axis
+    /// Y), kg m^2.
+    pub fn inertia(&self) -> Vector3<f64> {
+        let i = match self {
+            Tire::Rigid(t) => t.inertia,
+            Tire::TMeasy(p) => p.inertia,
+        };
+        Vector3::new(i[0], i[1], i[2])
+    }
+}
+
+/// A rigid tire: a solid cylinder of `radius` and `width` about the wheel's spin axis
+/// (local Y) with a contact material. It adds nothing but the collider: forces come from
+/// the contact rows (friction cone with `friction`, optional rolling resistance).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct RigidTire {
+    /// Radius, m.
+    pub radius: f64,
+    /// Width, m.
+    pub width: f64,
+    /// Mass, kg.
+    pub mass: f64,
+    /// Principal moments of inertia `(Ixx, Iyy, Izz)` in the wheel frame (spin about Y),
+    /// kg m^2.
+    pub inertia: [f64; 3],
+    /// Friction coefficient of the tread.
+    pub friction: f64,
+    /// Rolling friction coefficient (the contact material's `rolling_friction`), >= 0.
+    #[serde(default)]
+    pub rolling_friction: f64,
+    /// NSC normal compliance of the contact, m/N (0 = rigid).
+    #[serde(default)]
+    pub compliance: f64,
+}
+
+impl RigidTire {
+    /// The HMMWV tire as a rigid cylinder (radius 0.467 m, width 0.254 m, mass 37.6 kg,
+    /// inertia (3.84, 6.69, 3.84) kg m^2: Chrono's HMMWV data, our reference notes sec. 7),
+    /// friction 0.9 (dry road).
+    pub fn hmmwv() -> Self {
+        Self {
+            radius: 0.467,
+            width: 0.254,
+            mass: 37.6,
+            inertia: [3.84, 6.69, 3.84],
+            friction: 0.9,
+            rolling_friction: 0.0,
+            compliance: 0.0,
+        }
+    }
+
+    /// Check the fields; errors name them (`rigid_tire.radius` ...).
+    pub fn validate(&self) -> Result<()> {
+        check_positive("rigid_tire.radius", self.radius)?;
+        check_positive("rigid_tire.width", self.width)?;
+        check_positive("rigid_tire.mass", self.mass)?;
+        for (k, name) in ["x", "y", "z"].iter().enumerate() {
+            check_positive(&format!("rigid_tire.inertia.{name}"), self.inertia[k])?;
+        }
+        check_non_negative("rigid_tire.friction", self.friction)?;
+        check_non_negative("rigid_tire.rolling_friction", self.rolling_friction)?;
+        check_non_negative("rigid_tire.compliance", self.compliance)?;
+        Ok(())
+    }
+
+    /// The collider shape: a [`Shape::Cylinder`] with its axis along local Y.
+    pub fn shape(&self) -> Shape {
+        Shape::Cylinder {
+            half_length: 0.5 * self.width,
+            radius: self.radius,
+        }
+    }
+
+    /// The tread material (NSC friction, rolling friction, compliance).
+    pub fn material(&self) -> ContactMaterial {
+        ContactMaterial {
+            friction: self.friction,
+            rolling_friction: self.rolling_friction,
+            compliance: self.compliance,
+            ..ContactMaterial::default()
+        }
+    }
+
+    /// `(shape, local pose, material)` to attach to the wheel body (identity pose: the
+    /// wheel body's origin is the wheel center and its Y axis the spin axis), e.g. with
+    /// [`RigidBodyBuilder::collider`](chrono_core::RigidBodyBuilder::collider).
+    pub fn collider(&self) -> Result<(Shape, Isometry3<f64>, ContactMaterial)> {
+        self.validate()?;
+        Ok((self.shape(), Isometry3::identity(), self.material()))
+    }
+}
