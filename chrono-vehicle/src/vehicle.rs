@@ -3,16 +3,21 @@
 //! axle. The description is serde data ([`VehicleData`], JSON), so another vehicle is
 //! another file.
 
+use std::sync::Arc;
+
+use chrono_core::force::ForceHandle;
 use chrono_core::math::{Isometry3, Point3, Vector3};
-use chrono_core::{BodyHandle, ContactMaterial, RigidBodyBuilder, Shape, System};
+use chrono_core::{BodyHandle, RigidBodyBuilder, System};
 use serde::{Deserialize, Serialize};
 
-use crate::error::{Result, VehicleError, check_positive};
+use crate::error::{Result, VehicleError};
 use crate::state::{DriverInputs, VehicleState};
 use crate::steering::pitman_arm::{PitmanArm, PitmanArmData};
 use crate::suspension::double_wishbone::{
     DoubleWishbone, DoubleWishboneData, MassData, WheelMount,
 };
+use crate::terrain::Terrain;
+use crate::tire::{TMeasyTire, Tire};
 
 /// The chassis: mass, inertia and center of mass in the chassis reference frame.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -25,38 +30,30 @@ pub struct ChassisData {
     pub com: [f64; 3],
 }
 
-/// A wheel (rim) and a rigid tire: the tire is a cylinder about the spin axis.
+/// A wheel: the rim and its tire (rigid or handling).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct WheelData {
     /// Rim mass and inertia.
     pub rim: MassData,
-    /// Tire mass and inertia.
-    pub tire: MassData,
-    /// Tire (unloaded) radius, m.
-    pub radius: f64,
-    /// Tire width, m.
-    pub width: f64,
-    /// Friction coefficient of the tire on the terrain.
-    pub friction: f64,
+    /// The tire (its mass and inertia ride on the spindle too).
+    pub tire: Tire,
 }
 
 impl WheelData {
     /// Check every field (the error names it under `field`).
     pub fn validate(&self, field: &str) -> Result<()> {
         self.rim.validate(&format!("{field}.rim"))?;
-        self.tire.validate(&format!("{field}.tire"))?;
-        check_positive(&format!("{field}.radius"), self.radius)?;
-        check_positive(&format!("{field}.width"), self.width)?;
-        crate::error::check_non_negative(&format!("{field}.friction"), self.friction)?;
+        self.tire.validate()?;
         Ok(())
     }
 
     /// Rim plus tire, as one mass.
     pub fn total_mass(&self) -> MassData {
+        let ti = self.tire.inertia();
         MassData {
-            mass: self.rim.mass + self.tire.mass,
-            inertia: [0, 1, 2].map(|i| self.rim.inertia[i] + self.tire.inertia[i]),
+            mass: self.rim.mass + self.tire.mass(),
+            inertia: [0, 1, 2].map(|i| self.rim.inertia[i] + ti[i]),
         }
     }
 }
@@ -159,6 +156,8 @@ pub struct WheelHandles {
     pub axle: usize,
     /// 0 left, 1 right.
     pub side: usize,
+    /// The handling tire's force element (`None` for a rigid tire).
+    pub tire: Option<ForceHandle>,
 }
 
 /// A wheeled vehicle in a [`System`].
@@ -175,8 +174,16 @@ pub struct WheeledVehicle {
 }
 
 impl WheeledVehicle {
-    /// Build the vehicle into `sys` with its chassis reference frame at `pose` (world).
-    pub fn build(sys: &mut System, data: &VehicleData, pose: &Isometry3<f64>) -> Result<Self> {
+    /// Build the vehicle into `sys` with its chassis reference frame at `pose` (world). A
+    /// handling tire reads the ground from `terrain`; a rigid tire contacts whatever
+    /// colliders the system holds (add the terrain's with
+    /// [`Terrain::add_to_system`](crate::terrain::Terrain::add_to_system)).
+    pub fn build(
+        sys: &mut System,
+        data: &VehicleData,
+        pose: &Isometry3<f64>,
+        terrain: Arc<dyn Terrain>,
+    ) -> Result<Self> {
         data.validate()?;
         let com = Vector3::from(data.chassis.com);
         let chassis = sys.add_body(
@@ -189,14 +196,12 @@ impl WheeledVehicle {
         )?;
         let steering = PitmanArm::build(sys, "steering", &data.steering, chassis, pose)?;
         let w = &data.wheel;
-        let cylinder = Shape::Cylinder {
-            half_length: 0.5 * w.width,
-            radius: w.radius,
-        };
-        let material = ContactMaterial::with_friction(w.friction);
         let mount = WheelMount {
             mass: w.total_mass(),
-            collider: Some((cylinder, Isometry3::identity(), material)),
+            collider: match &w.tire {
+                Tire::Rigid(t) => Some(t.collider()?),
+                Tire::TMeasy(_) => None,
+            },
         };
         let mut suspensions = Vec::new();
         let mut wheels = Vec::new();
@@ -213,10 +218,24 @@ impl WheeledVehicle {
                 &mount,
             )?;
             for (side, ws) in s.sides.iter().enumerate() {
+                let tire = match &w.tire {
+                    Tire::Rigid(_) => None,
+                    Tire::TMeasy(p) => {
+                        let t = TMeasyTire::new(
+                            format!("{}.{}.{}.tire", data.name, a.name, ["left", "right"][side]),
+                            ws.spindle,
+                            Vector3::y(),
+                            p.clone(),
+                            terrain.clone(),
+                        )?;
+                        Some(sys.add_force_element(Box::new(t))?)
+                    }
+                };
                 wheels.push(WheelHandles {
                     spindle: ws.spindle,
                     axle: i,
                     side,
+                    tire,
                 });
             }
             suspensions.push(s);
@@ -269,10 +288,23 @@ impl WheeledVehicle {
         Ok(())
     }
 
-    /// The contact force (N, world) of the terrain on each wheel's rigid tire in the last
-    /// step of size `h`: the contact impulses of the last CCP on the spindle bodies over `h`
-    /// (NSC), or the penalty forces (SMC). Ordered like [`wheels`](Self::wheels).
-    pub fn rigid_tire_forces(&self, sys: &System, h: f64) -> Vec<Vector3<f64>> {
+    /// The force (N, world) of the terrain on each tire in the last step of size `h`, ordered
+    /// like [`wheels`](Self::wheels). A handling tire reports its own force (normal,
+    /// longitudinal and lateral); a rigid tire the contact impulses of the last CCP on its
+    /// spindle over `h` (NSC), or the penalty forces (SMC).
+    pub fn tire_forces(&self, sys: &System, h: f64) -> Vec<Vector3<f64>> {
+        let mut out = self.rigid_tire_forces(sys, h);
+        for (i, w) in self.wheels.iter().enumerate() {
+            if let Some(t) = w.tire.and_then(|t| sys.force_element::<TMeasyTire>(t)) {
+                let o = t.output();
+                out[i] =
+                    o.normal * o.normal_force + o.longitudinal_dir * o.fx + o.lateral_dir * o.fy;
+            }
+        }
+        out
+    }
+
+    fn rigid_tire_forces(&self, sys: &System, h: f64) -> Vec<Vector3<f64>> {
         let mut out = vec![Vector3::zeros(); self.wheels.len()];
         let index = |owner: u32| self.wheels.iter().position(|w| w.spindle.0 == owner);
         match sys.settings().contact_method {

@@ -3,8 +3,11 @@
 
 use chrono_ccp::{Schur, SolverSettings};
 use chrono_core::math::{Isometry3, Vector3};
-use chrono_core::{ContactMaterial, RigidBodyBuilder, Shape, System, SystemSettings};
-use chrono_vehicle::hmmwv::hmmwv_data;
+use std::sync::Arc;
+
+use chrono_core::{ContactMaterial, System, SystemSettings};
+use chrono_vehicle::hmmwv::{TireKind, hmmwv_data, hmmwv_data_with};
+use chrono_vehicle::terrain::{FlatTerrain, Terrain};
 use chrono_vehicle::{DriverInputs, VehicleData, WheeledVehicle};
 
 const H: f64 = 1e-3;
@@ -16,42 +19,48 @@ fn on_flat_ground(data: &VehicleData) -> (System, WheeledVehicle) {
         record_history: false,
     };
     let mut sys = System::new(SystemSettings::default(), Box::new(Schur::new(s))).unwrap();
-    sys.add_body(RigidBodyBuilder::fixed().collider(
-        Shape::HalfSpace {
-            normal: Vector3::z(),
-        },
-        Isometry3::identity(),
-        ContactMaterial::with_friction(0.9),
-    ))
-    .unwrap();
+    let terrain = Arc::new(FlatTerrain::new(0.0, 0.9).unwrap());
+    terrain
+        .add_to_system(&mut sys, ContactMaterial::with_friction(0.9))
+        .unwrap();
     let pose = Isometry3::translation(0.0, 0.0, 0.467 + 0.0263 + 0.005);
-    let v = WheeledVehicle::build(&mut sys, data, &pose).unwrap();
+    let v = WheeledVehicle::build(&mut sys, data, &pose, terrain).unwrap();
     (sys, v)
 }
 
 #[test]
 fn hmmwv_settles_with_its_weight_on_the_tires() {
-    let data = hmmwv_data().unwrap();
+    for kind in [TireKind::Rigid, TireKind::Handling] {
+        settles_with(kind);
+    }
+}
+
+fn settles_with(kind: TireKind) {
+    let data = hmmwv_data_with(kind).unwrap();
     let (mut sys, mut v) = on_flat_ground(&data);
-    for _ in 0..1500 {
+    for _ in 0..4000 {
         v.synchronize(&mut sys, DriverInputs::default()).unwrap();
         sys.step(H).unwrap();
     }
     let st = v.state(&sys).unwrap();
     // Without brakes the wheels roll freely: only the vertical motion must have settled.
-    assert!(st.velocity.z.abs() < 1e-3, "still moving: {}", st.velocity);
+    assert!(
+        st.velocity.z.abs() < 1e-3,
+        "{kind:?}: still moving: {}",
+        st.velocity
+    );
     assert!(sys.max_joint_violation() < 1e-6);
-    let forces = v.rigid_tire_forces(&sys, H);
+    let forces = v.tire_forces(&sys, H);
     let total: f64 = forces.iter().map(|f| f.z).sum();
     let weight = data.total_mass() * 9.81;
     assert!(
         (total - weight).abs() < 5e-3 * weight,
-        "tire loads {total} N vs weight {weight} N"
+        "{kind:?}: tire loads {total} N vs weight {weight} N"
     );
     // Left and right carry the same load (the vehicle is symmetric).
     for axle in 0..2 {
         let (l, r) = (forces[2 * axle].z, forces[2 * axle + 1].z);
-        assert!((l - r).abs() < 1e-2 * l, "axle {axle}: {l} vs {r}");
+        assert!((l - r).abs() < 1e-2 * l, "{kind:?} axle {axle}: {l} vs {r}");
     }
 }
 
