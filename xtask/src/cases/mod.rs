@@ -63,6 +63,7 @@ pub mod fea;
 pub mod granular;
 pub mod rigid;
 pub mod sph;
+pub mod vehicle;
 
 /// All validation cases, in the order `cargo xtask validate` runs them.
 pub fn all_cases() -> Vec<Box<dyn Case>> {
@@ -89,6 +90,7 @@ pub fn all_cases() -> Vec<Box<dyn Case>> {
         fea::cantilever::case(),
         fea::frequency::case(),
         fea::pendulum::case(),
+        vehicle::static_settle::case(),
     ]
 }
 
