@@ -1,1 +1,8 @@
-//! (being built: see the chrono-vehicle issue)
+//! The driveline: shafts with inertia in the system's CCP ([`shafts`]: gears,
+//! differentials with optional locking, clutches and brakes, couplings to the wheel
+//! spindles) and the HMMWV's 4WD layout ([`four_wd`]).
+
+pub mod four_wd;
+pub mod shafts;
+
+pub use shafts::{LinkId, LinkKind, ShaftId, ShaftSystem};

@@ -1,0 +1,1 @@
+//! The HMMWV 4WD driveline (being built).
