@@ -5,4 +5,5 @@
 pub mod four_wd;
 pub mod shafts;
 
+pub use four_wd::{FourWd, FourWdParams, Wheel};
 pub use shafts::{LinkId, LinkKind, ShaftId, ShaftSystem};

@@ -349,6 +349,11 @@ impl ShaftSystem {
         self.shafts.len()
     }
 
+    /// The ids of all shafts, in creation order.
+    pub fn shaft_ids(&self) -> impl Iterator<Item = ShaftId> + use<> {
+        (0..self.shafts.len() as u32).map(ShaftId)
+    }
+
     /// What a link is, with its current ratio or limit.
     pub fn link(&self, link: LinkId) -> &LinkKind {
         &self.links[link.index()].kind
