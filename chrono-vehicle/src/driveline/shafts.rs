@@ -507,7 +507,9 @@ impl PhysicsItem for ShaftSystem {
                         ];
                         Some(rows.push_bilateral(&e, 0.0, 0.0))
                     }
-                    LinkKind::Clutch { max_torque, .. } if max_torque == 0.0 => None,
+                    LinkKind::Clutch {
+                        max_torque: 0.0, ..
+                    } => None,
                     LinkKind::Clutch { a, b, max_torque } => {
                         let (ca, cb) = ([1.0], [-1.0]);
                         let lim = max_torque * ctx.h;

@@ -1,6 +1,6 @@
 //! The powertrain: engine ([`engine`]), torque converter ([`torque_converter`]) and
 //! automatic transmission ([`transmission`]) as shafts of a
-//! [`ShaftSystem`](crate::driveline::ShaftSystem).
+//! [`ShaftSystem`].
 //!
 //! Shafts and links it adds:
 //!
