@@ -249,7 +249,9 @@ impl FourWd {
     /// [`synchronize`](Self::synchronize).
     pub fn set_brake_torques(&mut self, torques: [f64; 4], shafts: &mut ShaftSystem) -> Result<()> {
         for (w, t) in torques.iter().enumerate() {
-            check_non_negative(&format!("brake torque [{w}]"), *t)?;
+            if !(t.is_finite() && *t >= 0.0) {
+                check_non_negative(&format!("brake torque [{w}]"), *t)?;
+            }
         }
         for (link, t) in self.brakes.iter().zip(torques) {
             shafts.set_clutch_torque(*link, t)?;

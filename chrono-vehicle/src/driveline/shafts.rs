@@ -305,16 +305,14 @@ impl ShaftSystem {
 
     /// Set the applied torque on a shaft (N m, finite), acting every step until changed.
     pub fn set_torque(&mut self, shaft: ShaftId, torque: f64) -> Result<()> {
-        let field = format!("shaft \"{}\".torque", self.shaft(shaft)?.name);
-        check_finite(&field, torque)?;
+        self.check_state_value(shaft, "torque", torque)?;
         self.shafts[shaft.index()].torque = torque;
         Ok(())
     }
 
     /// Set a shaft's speed (rad/s, finite): initial conditions.
     pub fn set_speed(&mut self, shaft: ShaftId, speed: f64) -> Result<()> {
-        let field = format!("shaft \"{}\".speed", self.shaft(shaft)?.name);
-        check_finite(&field, speed)?;
+        self.check_state_value(shaft, "speed", speed)?;
         self.shafts[shaft.index()].speed = speed;
         Ok(())
     }
@@ -393,6 +391,17 @@ impl ShaftSystem {
                 format!("only {} shafts", self.shafts.len()),
             )
         })
+    }
+
+    /// A finite value for a shaft's state (formats the field name only on error: the
+    /// setters run every step).
+    fn check_state_value(&self, shaft: ShaftId, what: &str, value: f64) -> Result<()> {
+        let s = self.shaft(shaft)?;
+        if value.is_finite() {
+            Ok(())
+        } else {
+            check_finite(&format!("shaft \"{}\".{what}", s.name), value).map(|_| ())
+        }
     }
 
     fn link_mut(&mut self, id: LinkId) -> Result<&mut Link> {

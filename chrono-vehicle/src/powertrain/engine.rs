@@ -120,3 +120,36 @@ impl Engine {
         &self.losses
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `throttle * map + losses` at table points and between them, in rad/s.
+    #[test]
+    fn torque_is_throttle_times_map_plus_losses() {
+        let e = Engine::new(&EngineParams::default()).unwrap();
+        // 1600 rpm: map 793 (a table point), losses -50 + 0.6 (-70 + 50) = -62.
+        let w = 1600.0 * RPM_TO_RAD_S;
+        assert!((e.torque(1.0, w) - (793.0 - 62.0)).abs() < 1e-9);
+        assert!((e.torque(0.5, w) - (396.5 - 62.0)).abs() < 1e-9);
+        assert!((e.torque(0.0, w) + 62.0).abs() < 1e-9);
+        // 2600 rpm: halfway between 558 and -400; losses -70 - 0.6 x 20 = -82.
+        let w = 2600.0 * RPM_TO_RAD_S;
+        assert!((e.torque(1.0, w) - (79.0 - 82.0)).abs() < 1e-9);
+        // Beyond the table the ends are kept: a rev limiter.
+        let w = 4000.0 * RPM_TO_RAD_S;
+        assert!((e.torque(1.0, w) - (-400.0 - 90.0)).abs() < 1e-9);
+    }
+
+    #[test]
+    fn bad_engine_input_names_the_field() {
+        let mut p = EngineParams::default();
+        p.crankshaft_inertia = 0.0;
+        let e = Engine::new(&p).unwrap_err().to_string();
+        assert!(
+            e.contains("engine.crankshaft_inertia") && e.contains('0'),
+            "{e}"
+        );
+    }
+}

@@ -141,3 +141,41 @@ impl TorqueConverter {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn pump_and_turbine_torques_follow_the_curves() {
+        let c = TorqueConverter::new(&TorqueConverterParams::default()).unwrap();
+        // Speed ratio 0.9: K = 18, R = 1.15 + (0.15 / 0.25) (1.0 - 1.15) = 1.06.
+        let t = c.torques(200.0, 180.0);
+        assert!((t.speed_ratio - 0.9).abs() < 1e-15);
+        let tp = (200.0f64 / 18.0).powi(2);
+        assert!((t.pump_torque - tp).abs() < 1e-9 * tp);
+        assert!((t.turbine_torque - 1.06 * tp).abs() < 1e-9 * tp);
+        assert!(!t.reverse_flow);
+        // A pump turning backwards absorbs a negative torque (signed square).
+        let t = c.torques(-150.0, 0.0);
+        assert!((t.pump_torque + 100.0).abs() < 1e-9 && (t.turbine_torque + 200.0).abs() < 1e-9);
+        // Turbine overrunning the pump: clamped to lock-up (K = 35, R = 1), flagged.
+        let t = c.torques(100.0, 120.0);
+        assert!(t.reverse_flow && t.speed_ratio == 1.0);
+        assert!((t.pump_torque - (100.0f64 / 35.0).powi(2)).abs() < 1e-12);
+        // No pump speed, no torque.
+        assert_eq!(c.torques(0.0, 50.0).pump_torque, 0.0);
+    }
+
+    #[test]
+    fn non_positive_curve_values_are_rejected_by_point() {
+        let mut p = TorqueConverterParams::default();
+        p.torque_ratio =
+            Curve::new("r", vec![[0.0, 2.0], [1.0, -1.0]], Extrapolation::Constant).unwrap();
+        let e = TorqueConverter::new(&p).unwrap_err().to_string();
+        assert!(
+            e.contains("torque_converter.torque_ratio.points[1]") && e.contains("-1"),
+            "{e}"
+        );
+    }
+}
