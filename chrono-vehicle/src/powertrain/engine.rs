@@ -144,8 +144,10 @@ mod tests {
 
     #[test]
     fn bad_engine_input_names_the_field() {
-        let mut p = EngineParams::default();
-        p.crankshaft_inertia = 0.0;
+        let p = EngineParams {
+            crankshaft_inertia: 0.0,
+            ..EngineParams::default()
+        };
         let e = Engine::new(&p).unwrap_err().to_string();
         assert!(
             e.contains("engine.crankshaft_inertia") && e.contains('0'),

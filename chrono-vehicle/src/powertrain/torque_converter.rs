@@ -169,9 +169,11 @@ mod tests {
 
     #[test]
     fn non_positive_curve_values_are_rejected_by_point() {
-        let mut p = TorqueConverterParams::default();
-        p.torque_ratio =
-            Curve::new("r", vec![[0.0, 2.0], [1.0, -1.0]], Extrapolation::Constant).unwrap();
+        let p = TorqueConverterParams {
+            torque_ratio: Curve::new("r", vec![[0.0, 2.0], [1.0, -1.0]], Extrapolation::Constant)
+                .unwrap(),
+            ..TorqueConverterParams::default()
+        };
         let e = TorqueConverter::new(&p).unwrap_err().to_string();
         assert!(
             e.contains("torque_converter.torque_ratio.points[1]") && e.contains("-1"),
