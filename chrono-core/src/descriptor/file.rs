@@ -54,6 +54,12 @@ pub enum MassData {
         /// kg
         mass: f64,
     },
+    /// A 1-dof scalar block (kg or kg m^2), see
+    /// [`MassOperator::Scalar`](super::MassOperator::Scalar).
+    Scalar {
+        /// kg or kg m^2
+        mass: f64,
+    },
     /// A rigid body: mass (kg) and body-frame inertia (kg m^2, row-major 3x3).
     RigidBody {
         /// kg
@@ -122,6 +128,7 @@ impl ProblemFile {
         let masses = (0..vars.len())
             .map(|b| match vars.mass(BlockId(b as u32)) {
                 MassOperator::Particle { mass } => MassData::Particle { mass: *mass },
+                MassOperator::Scalar { mass } => MassData::Scalar { mass: *mass },
                 MassOperator::RigidBody { mass, inertia, .. } => {
                     let mut j = [0.0; 9];
                     for r in 0..3 {
@@ -185,6 +192,7 @@ impl ProblemFile {
         for (i, m) in self.masses.iter().enumerate() {
             let op = match m {
                 MassData::Particle { mass } => MassOperator::particle(*mass),
+                MassData::Scalar { mass } => MassOperator::scalar(*mass),
                 MassData::RigidBody { mass, inertia } => {
                     MassOperator::rigid_body(*mass, Matrix3::from_row_slice(inertia))
                 }
@@ -276,6 +284,7 @@ impl ProblemFile {
         for m in &self.masses {
             let (kind, mass, j) = match m {
                 MassData::Particle { mass } => (0u8, *mass, [0.0; 9]),
+                MassData::Scalar { mass } => (3u8, *mass, [0.0; 9]),
                 MassData::RigidBody { mass, inertia } => (1u8, *mass, *inertia),
                 MassData::Dense { matrix, .. } => {
                     // Kind 2: the n^2 values, length-prefixed (n is their square root).
@@ -328,6 +337,7 @@ impl ProblemFile {
             masses.push(match kind[0] {
                 0 => MassData::Particle { mass },
                 1 => MassData::RigidBody { mass, inertia: j },
+                3 => MassData::Scalar { mass },
                 k => return Err(std::io::Error::other(format!("unknown mass kind {k}"))),
             });
         }

@@ -264,3 +264,44 @@ fn coupled_block_in_the_problem() {
         assert_eq!(bits(q.diag()), bits(prob.diag()), "{ext}");
     }
 }
+
+/// Two 1-dof scalar blocks (shaft inertias) and a gear row `w_a - 3 w_b = 0`: `diag(N)`
+/// is `1/J_a + 9/J_b`, `r` is the free row velocity, and a file round trip keeps the
+/// scalar blocks as scalar blocks, bit for bit.
+#[test]
+fn scalar_blocks_in_the_problem_and_in_files() {
+    let (ja, jb) = (0.5, 2.0);
+    let mut vars = Variables::new();
+    let a = vars.add(MassOperator::scalar(ja).unwrap());
+    let b = vars.add(MassOperator::scalar(jb).unwrap());
+    let mut rows = ConstraintRows::new();
+    rows.push_bilateral(
+        &[
+            RowEntry {
+                block: a,
+                coefs: &[1.0],
+            },
+            RowEntry {
+                block: b,
+                coefs: &[-3.0],
+            },
+        ],
+        0.0,
+        0.0,
+    );
+    let k = [ja * 2.0, jb * 1.0];
+    let mut prob = CcpProblem::new();
+    prob.assemble(&vars, &rows, &k).unwrap();
+    assert_eq!(prob.ndof(), 2);
+    assert!((prob.diag()[0] - (1.0 / ja + 9.0 / jb)).abs() < 1e-15);
+    assert!((prob.r()[0] - (2.0 - 3.0 * 1.0)).abs() < 1e-15);
+    let dir = std::env::temp_dir();
+    for ext in ["json", "bin"] {
+        let path = dir.join(format!("chrono-core-scalar-{}.{ext}", std::process::id()));
+        ProblemFile::save_problem(&prob, "scalar", &path).unwrap();
+        let q = ProblemFile::load_problem(&path).unwrap();
+        std::fs::remove_file(&path).ok();
+        assert_eq!(q.variables(), prob.variables(), "{ext}");
+        assert_eq!(q.r()[0].to_bits(), prob.r()[0].to_bits(), "{ext}");
+    }
+}

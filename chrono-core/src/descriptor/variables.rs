@@ -23,6 +23,12 @@ pub enum MassOperator {
         /// Mass, kg.
         mass: f64,
     },
+    /// A scalar block: 1 dof with a positive scalar mass (e.g. a shaft's spin with its
+    /// polar inertia in kg m^2, a slider's speed with its mass in kg): `M = mass`.
+    Scalar {
+        /// Mass (kg) or polar moment of inertia (kg m^2) of the one dof.
+        mass: f64,
+    },
     /// A rigid body: 6 dof `[v; w]`, linear velocity `v` in the world frame (m/s) and angular
     /// velocity `w` in the body frame (rad/s); `M = diag(m I, J)` with `J` the constant
     /// body-frame inertia tensor about the center of mass (kg m^2).
@@ -46,6 +52,7 @@ impl PartialEq for MassOperator {
         use MassOperator::*;
         match (self, other) {
             (Particle { mass: a }, Particle { mass: b }) => a == b,
+            (Scalar { mass: a }, Scalar { mass: b }) => a == b,
             (
                 RigidBody {
                     mass: a,
@@ -69,6 +76,13 @@ impl MassOperator {
     pub fn particle(mass: f64) -> Result<Self> {
         check_positive("mass", mass)?;
         Ok(MassOperator::Particle { mass })
+    }
+
+    /// A 1-dof scalar block of mass or inertia `mass` (finite and > 0), see
+    /// [`MassOperator::Scalar`].
+    pub fn scalar(mass: f64) -> Result<Self> {
+        check_positive("mass", mass)?;
+        Ok(MassOperator::Scalar { mass })
     }
 
     /// A rigid body of mass `mass` and body-frame inertia `inertia`, which must be finite,
@@ -96,6 +110,7 @@ impl MassOperator {
     pub fn ndof(&self) -> usize {
         match self {
             MassOperator::Particle { .. } => 3,
+            MassOperator::Scalar { .. } => 1,
             MassOperator::RigidBody { .. } => 6,
             MassOperator::Coupled(op) => op.ndof(),
         }
@@ -111,6 +126,7 @@ impl MassOperator {
                 out[1] = x[1] * im;
                 out[2] = x[2] * im;
             }
+            MassOperator::Scalar { mass } => out[0] = x[0] / mass,
             MassOperator::RigidBody {
                 mass, inv_inertia, ..
             } => {
@@ -136,6 +152,7 @@ impl MassOperator {
                 out[1] = x[1] * mass;
                 out[2] = x[2] * mass;
             }
+            MassOperator::Scalar { mass } => out[0] = x[0] * mass,
             MassOperator::RigidBody { mass, inertia, .. } => {
                 out[0] = x[0] * mass;
                 out[1] = x[1] * mass;
@@ -348,6 +365,33 @@ mod tests {
         for i in 0..12 {
             assert!((back[i] - x[i]).abs() < 1e-12);
         }
+    }
+
+    #[test]
+    fn scalar_blocks_have_one_dof_between_other_blocks() {
+        let mut vars = Variables::new();
+        vars.add(MassOperator::particle(2.0).unwrap());
+        let s0 = vars.add(MassOperator::scalar(0.5).unwrap());
+        let s1 = vars.add(MassOperator::scalar(4.0).unwrap());
+        vars.add(MassOperator::particle(3.0).unwrap());
+        assert_eq!(vars.ndof(), 8);
+        assert_eq!(vars.range(s0), 3..4);
+        assert_eq!(vars.range(s1), 4..5);
+        assert_eq!(vars.runs().len(), 3);
+        assert_eq!(vars.runs()[1].ndof, 1);
+        assert_eq!(vars.runs()[1].n_blocks, 2);
+        let x = [1.0, -2.0, 3.0, 1.5, -2.0, 0.5, 0.25, -1.0];
+        let (mut mx, mut back) = ([0.0; 8], [0.0; 8]);
+        vars.apply(&x, &mut mx);
+        assert_eq!(mx[3], 0.75);
+        assert_eq!(mx[4], -8.0);
+        vars.apply_inverse(&mx, &mut back);
+        for i in 0..8 {
+            assert!((back[i] - x[i]).abs() < 1e-15, "{i}");
+        }
+        let e = MassOperator::scalar(-1.0).unwrap_err().to_string();
+        assert!(e.contains("mass") && e.contains("-1"), "{e}");
+        assert!(MassOperator::scalar(f64::NAN).is_err());
     }
 
     #[test]
