@@ -10,7 +10,9 @@ use chrono_core::math::{Isometry3, Point3, Vector3};
 use chrono_core::{BodyHandle, RigidBodyBuilder, System};
 use serde::{Deserialize, Serialize};
 
+use crate::driveline::{FourWd, FourWdParams, ShaftSystem};
 use crate::error::{Result, VehicleError};
+use crate::powertrain::{Powertrain, PowertrainParams};
 use crate::state::{DriverInputs, VehicleState};
 use crate::steering::pitman_arm::{PitmanArm, PitmanArmData};
 use crate::suspension::double_wishbone::{
@@ -89,6 +91,10 @@ pub struct VehicleData {
     pub steering: PitmanArmData,
     /// Wheels and tires (all alike).
     pub wheel: WheelData,
+    /// Engine, torque converter and automatic transmission.
+    pub powertrain: PowertrainParams,
+    /// The 4WD driveline (two axles) and the brakes.
+    pub driveline: FourWdParams,
 }
 
 impl VehicleData {
@@ -125,6 +131,15 @@ impl VehicleData {
         }
         self.steering.validate("steering")?;
         self.wheel.validate("wheel")?;
+        if self.axles.len() != 2 {
+            return Err(VehicleError::invalid(
+                "axles",
+                self.axles.len(),
+                "the 4WD driveline drives exactly two axles",
+            ));
+        }
+        self.powertrain.validate()?;
+        self.driveline.validate()?;
         Ok(())
     }
 
@@ -161,7 +176,7 @@ pub struct WheelHandles {
 }
 
 /// A wheeled vehicle in a [`System`].
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone)]
 pub struct WheeledVehicle {
     data: VehicleData,
     chassis: BodyHandle,
@@ -170,6 +185,10 @@ pub struct WheeledVehicle {
     suspensions: Vec<DoubleWishbone>,
     steering: PitmanArm,
     wheels: Vec<WheelHandles>,
+    powertrain: Powertrain,
+    driveline: FourWd,
+    /// Index of the [`ShaftSystem`] item in the system.
+    shafts: usize,
     inputs: DriverInputs,
 }
 
@@ -240,6 +259,17 @@ impl WheeledVehicle {
             }
             suspensions.push(s);
         }
+        let mut shafts = ShaftSystem::new(format!("{}.driveline", data.name));
+        let powertrain = Powertrain::new(&data.powertrain, &mut shafts)?;
+        let spindles = [0, 1, 2, 3].map(|i| wheels[i].spindle);
+        let driveline = FourWd::new(
+            &data.driveline,
+            &mut shafts,
+            powertrain.output_shaft(),
+            spindles,
+            chassis,
+        )?;
+        let shafts = sys.add_item(Box::new(shafts));
         Ok(Self {
             data: data.clone(),
             chassis,
@@ -247,6 +277,9 @@ impl WheeledVehicle {
             suspensions,
             steering,
             wheels,
+            powertrain,
+            driveline,
+            shafts,
             inputs: DriverInputs::default(),
         })
     }
@@ -281,11 +314,34 @@ impl WheeledVehicle {
         self.inputs
     }
 
-    /// Apply the driver's inputs for the next step (clamped to their ranges): steering.
+    /// Apply the driver's inputs for the next step (clamped to their ranges): the steering
+    /// gear's angle, the engine torque and gear from the throttle, the brake torques.
     pub fn synchronize(&mut self, sys: &mut System, inputs: DriverInputs) -> Result<()> {
         self.inputs = inputs.clamped();
         self.steering.set_input(sys, self.inputs.steering)?;
+        let time = sys.time();
+        let shafts = sys
+            .item_mut::<ShaftSystem>(self.shafts)
+            .ok_or_else(|| VehicleError::invalid("vehicle.shafts", self.shafts, "no shaft item"))?;
+        self.powertrain
+            .synchronize(time, self.inputs.throttle, shafts)?;
+        self.driveline.synchronize(self.inputs.brake, shafts)?;
         Ok(())
+    }
+
+    /// The powertrain (engine speed and torque, gear, converter state).
+    pub fn powertrain(&self) -> &Powertrain {
+        &self.powertrain
+    }
+
+    /// The driveline.
+    pub fn driveline(&self) -> &FourWd {
+        &self.driveline
+    }
+
+    /// The shaft system (powertrain and driveline shafts) in `sys`.
+    pub fn shafts<'a>(&self, sys: &'a System) -> Option<&'a ShaftSystem> {
+        sys.item::<ShaftSystem>(self.shafts)
     }
 
     /// The force (N, world) of the terrain on each tire in the last step of size `h`, ordered
