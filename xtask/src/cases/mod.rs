@@ -91,6 +91,9 @@ pub fn all_cases() -> Vec<Box<dyn Case>> {
         fea::frequency::case(),
         fea::pendulum::case(),
         vehicle::static_settle::case(),
+        vehicle::accel::case(),
+        vehicle::turn::case(),
+        vehicle::lane_change::case(),
     ]
 }
 

@@ -60,3 +60,42 @@ impl VehicleScene {
         Ok(Self { sys, vehicle, data })
     }
 }
+
+impl VehicleScene {
+    /// Steer angle of each wheel about the chassis' Z axis, rad (positive: turned left),
+    /// from the spindles' spin axes in the chassis frame.
+    pub fn steer_angles(&self) -> anyhow::Result<Vec<f64>> {
+        let chassis = self.sys.body(self.vehicle.chassis())?.rotation();
+        self.vehicle
+            .wheels()
+            .iter()
+            .map(|w| {
+                let axis = chassis.inverse()
+                    * (self.sys.body(w.spindle)?.rotation() * chrono_core::math::Vector3::y());
+                Ok((-axis.x).atan2(axis.y))
+            })
+            .collect()
+    }
+
+    /// The mean front-wheel steer angle at full left input (rad), measured on a separate
+    /// scene at rest: the steering linkage's ratio, which a path follower needs to turn a
+    /// wanted wheel angle into a steering input.
+    pub fn max_front_steer(tire: &str, mu: f64, solver: &str) -> anyhow::Result<f64> {
+        let mut s = Self::flat(tire, mu, solver, 1e-8, 500)?;
+        let h = 1e-3;
+        for k in 0..60 {
+            let steering = if k < 40 { 0.0 } else { 1.0 };
+            s.vehicle.synchronize(
+                &mut s.sys,
+                chrono_vehicle::DriverInputs {
+                    steering,
+                    brake: 1.0,
+                    ..Default::default()
+                },
+            )?;
+            s.sys.step(h)?;
+        }
+        let a = s.steer_angles()?;
+        Ok(0.5 * (a[0] + a[1]))
+    }
+}

@@ -1,0 +1,184 @@
+//! `hmmwv-accel`: full throttle from rest on flat rigid ground.
+//!
+//! The vehicle settles for `settle` s with the brakes on, then the driver releases the brake
+//! and holds full throttle. Metrics: the time from 0 to 48 km/h (`t_0_48kmh`, 30 mph) and
+//! the top speed reached (`top_speed_kmh`, the largest speed of the run, which at `t_end` is
+//! the plateau where the engine's power balances the losses), with the series of speed,
+//! throttle, brake, engine speed and torque, gear and torque-converter speed ratio, which
+//! shows the shifts and the converter's slip.
+//!
+//! References (the published figures of the M998 at curb weight): see
+//! `docs/validation-vehicle.md` for the values and their sources.
+
+use std::time::Instant;
+
+use serde::{Deserialize, Serialize};
+
+use super::scene::VehicleScene;
+use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series};
+use crate::cases::rigid::{VtkFrames, n_steps};
+use crate::params::{CaseParams, ParamCase, ParamInfo};
+use chrono_vehicle::DriverInputs;
+
+/// Parameters of `hmmwv-accel`.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct AccelParams {
+    /// Time step, s.
+    pub h: f64,
+    /// Simulated time after the start, s.
+    pub t_end: f64,
+    /// Settling time before the start (brakes on), s.
+    pub settle: f64,
+    /// Tire model: `rigid` or `handling`.
+    pub tire: String,
+    /// Tire–ground friction coefficient.
+    pub mu: f64,
+    /// CCP solver.
+    pub solver: String,
+    /// Published 0–48 km/h time, s (reference).
+    pub ref_t_0_48kmh: f64,
+    /// Published top speed, km/h (reference).
+    pub ref_top_speed_kmh: f64,
+    /// Relative tolerance of both checks.
+    pub tolerance: f64,
+}
+
+impl Default for AccelParams {
+    fn default() -> Self {
+        Self {
+            h: 1e-3,
+            t_end: 60.0,
+            settle: 0.5,
+            tire: "handling".into(),
+            mu: 0.9,
+            solver: "schur".into(),
+            ref_t_0_48kmh: f64::NAN,
+            ref_top_speed_kmh: f64::NAN,
+            tolerance: 0.15,
+        }
+    }
+}
+
+impl CaseParams for AccelParams {
+    const INFO: &'static [ParamInfo] = &[
+        ParamInfo::new("h", "s", "time step"),
+        ParamInfo::new("t_end", "s", "simulated time after the start"),
+        ParamInfo::new(
+            "settle",
+            "s",
+            "settling time with the brakes on before the start",
+        ),
+        ParamInfo::new("tire", "-", "tire model: rigid | handling"),
+        ParamInfo::new("mu", "-", "tire-ground friction coefficient"),
+        ParamInfo::new("solver", "-", "CCP solver"),
+        ParamInfo::new("ref_t_0_48kmh", "s", "published 0-48 km/h time"),
+        ParamInfo::new("ref_top_speed_kmh", "km/h", "published top speed"),
+        ParamInfo::new("tolerance", "-", "relative tolerance of the checks"),
+    ];
+    fn apply_mode(&mut self, mode: Mode) {
+        if mode == Mode::Quick {
+            self.t_end = 12.0;
+        }
+    }
+}
+
+fn run(p: &AccelParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
+    let n_settle = n_steps(p.h, p.settle)?;
+    let n = n_steps(p.h, p.t_end)?;
+    let mut scene = VehicleScene::flat(&p.tire, p.mu, &p.solver, 1e-8, 500)?;
+    let (sys, v) = (&mut scene.sys, &mut scene.vehicle);
+    let braked = DriverInputs {
+        brake: 1.0,
+        ..DriverInputs::default()
+    };
+    for _ in 0..n_settle {
+        v.synchronize(sys, braked)?;
+        sys.step(p.h)?;
+    }
+    let full = DriverInputs {
+        throttle: 1.0,
+        ..DriverInputs::default()
+    };
+    let mut series = Series::new([
+        "t",
+        "speed_kmh",
+        "throttle",
+        "brake",
+        "engine_rpm",
+        "engine_torque",
+        "gear",
+        "converter_speed_ratio",
+    ]);
+    let mut vtk = VtkFrames::new(ctx, (0.05 / p.h).round() as u64);
+    let (mut t48, mut top): (Option<f64>, f64) = (None, 0.0);
+    let t_start = sys.time();
+    let wall0 = Instant::now();
+    for i in 1..=n {
+        v.synchronize(sys, full)?;
+        sys.step(p.h)?;
+        vtk.record(i, sys)?;
+        let st = v.state(sys)?;
+        let kmh = 3.6 * st.forward_speed();
+        let t = sys.time() - t_start;
+        if t48.is_none() && kmh >= 48.0 {
+            t48 = Some(t);
+        }
+        top = top.max(kmh);
+        if i % 10 == 0 {
+            let pt = v.powertrain();
+            series.push(&[
+                t,
+                kmh,
+                full.throttle,
+                full.brake,
+                pt.engine_speed_rpm(),
+                pt.engine_torque(),
+                pt.current_gear() as f64,
+                pt.converter_state().speed_ratio,
+            ]);
+        }
+        ctx.progress_steps(i, n);
+    }
+    let wall = wall0.elapsed().as_secs_f64();
+    vtk.finish()?;
+    let mut out = CaseOutput::new();
+    let t48 = t48.unwrap_or(f64::INFINITY);
+    if p.ref_t_0_48kmh.is_finite() && p.ref_top_speed_kmh.is_finite() {
+        out.check(Check::relative(
+            "t_0_48kmh",
+            t48,
+            p.ref_t_0_48kmh,
+            p.tolerance,
+        ));
+        out.check(Check::relative(
+            "top_speed_kmh",
+            top,
+            p.ref_top_speed_kmh,
+            p.tolerance,
+        ));
+    } else {
+        out.metric("t_0_48kmh", t48);
+        out.metric("top_speed_kmh", top);
+    }
+    out.metric("final_gear", v.powertrain().current_gear() as f64);
+    out.metric("real_time_factor", p.t_end / wall);
+    out.series = series;
+    out.plot = PlotSpec::new(
+        "HMMWV full throttle",
+        "t [s]",
+        "speed [km/h], gear",
+        &["speed_kmh", "gear"],
+    );
+    out.steps = n + n_settle;
+    Ok(out)
+}
+
+/// The case.
+pub fn case() -> Box<dyn Case> {
+    ParamCase::<AccelParams>::boxed(
+        "hmmwv-accel",
+        "vehicle",
+        "HMMWV at full throttle from rest on flat rigid ground: 0-48 km/h time and top speed against the published figures.",
+        run,
+    )
+}
