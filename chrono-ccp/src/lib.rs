@@ -85,6 +85,7 @@ pub mod jacobi;
 pub mod minres;
 pub mod psor;
 pub mod schur;
+mod sparse_bilateral;
 pub mod two_phase;
 mod util;
 

@@ -16,15 +16,20 @@
 //! q = r_C - N_CB N_BB^-1 r_B.
 //! ```
 //!
+//! `N_BB` is sparse (a joint row couples the rows of the bodies it touches) and is
+//! factored by faer's sparse Cholesky with the symbolic analysis kept across steps
+//! ([`crate::sparse_bilateral`]).
+//!
 //! `S` is the inverse effective mass seen by the contacts *through* the joints (a wheel
 //! feels the chassis behind its suspension), so the iterative part converges as fast as for
 //! free bodies, however stiff the chain and however large its mass ratios: a vehicle's
 //! suspension links of a few kilograms on a two-tonne chassis, or a long chain of links,
 //! which stall the projected iterations on the whole problem. Redundant joints (a singular
-//! `N_BB`) are handled by dropping dependent pivots ([`crate::dense`]).
+//! `N_BB`) get a multiplier of about zero (regularized pivots).
 //!
-//! Cost: forming `N_BB` and `N_BC` from the problem's sparse rows, `O(n_B^3/3)` for the
-//! factorization and `O(n_B^2 n_C + n_B n_C^2)` for `S`, then `O(n_C^2)` per iteration.
+//! Cost: forming `N_BB` and `N_BC` from the problem's sparse rows, the sparse
+//! factorization (for a mechanism about linear in `n_B`), `n_C` sparse solves and
+//! `O(n_B n_C^2)` for `S`, then `O(n_C^2)` per iteration.
 //! It suits mechanisms (hundreds of joint rows, tens of contacts); past
 //! [`max_dense_rows`](Schur::with_max_dense_rows) rows in either part it hands the problem
 //! to its fallback solver (APGD by default).
@@ -38,7 +43,7 @@
 use chrono_core::descriptor::{CcpProblem, CcpSolver, CcpWork, SolveStats, SolverSettings};
 
 use crate::Apgd;
-use crate::dense::DenseLdl;
+use crate::sparse_bilateral::SparseBilateral;
 use crate::util::{History, check_gamma_len, empty_stats, final_stats, sanitize_and_project};
 
 /// The Schur-complement solver (see the [module documentation](self)).
@@ -49,8 +54,7 @@ pub struct Schur {
     // scratch, reused across solves
     b_rows: Vec<usize>,
     c_rows: Vec<usize>,
-    nbb: Vec<f64>,
-    pivots: Vec<f64>,
+    factor: SparseBilateral,
     nbc: Vec<f64>,
     x: Vec<f64>,
     s: Vec<f64>,
@@ -81,8 +85,7 @@ impl Schur {
             max_dense_rows: 1500,
             b_rows: Vec::new(),
             c_rows: Vec::new(),
-            nbb: Vec::new(),
-            pivots: Vec::new(),
+            factor: SparseBilateral::default(),
             nbc: Vec::new(),
             x: Vec::new(),
             s: Vec::new(),
@@ -139,7 +142,8 @@ impl Schur {
                 rhs.iter_mut().zip(col).for_each(|(x, a)| *x += a * gc);
             }
         }
-        DenseLdl::solve(&self.nbb, nb, rhs);
+        self.factor.solve(rhs, 1);
+        let rhs = &self.rhs_b;
         for (k, &i) in self.b_rows.iter().enumerate() {
             gamma[i] = -rhs[k];
         }
@@ -186,17 +190,10 @@ impl CcpSolver for Schur {
         self.c_rows.clear();
         self.c_rows.extend((0..m).filter(|i| !bil.contains(i)));
 
-        // N_BB, factored.
-        self.nbb.resize(nb * nb, 0.0);
-        for (a, &i) in self.b_rows.iter().enumerate() {
-            for (b, &j) in self.b_rows.iter().enumerate().skip(a) {
-                let v = problem.n_entry(i, j);
-                self.nbb[a * nb + b] = v;
-                self.nbb[b * nb + a] = v;
-            }
+        // N_BB, factored (sparse).
+        if self.factor.factor(problem, &self.b_rows).is_err() {
+            return self.fallback.solve(problem, gamma);
         }
-        self.pivots.resize(nb, 0.0);
-        DenseLdl::factor_with(&mut self.nbb, nb, &mut self.pivots);
 
         // N_BC by columns, X = N_BB^+ N_BC, S = N_CC - N_BC' X, q = r_C - X' r_B.
         self.nbc.resize(nb * nc, 0.0);
@@ -206,10 +203,9 @@ impl CcpSolver for Schur {
             for (b, &i) in self.b_rows.iter().enumerate() {
                 col[b] = problem.n_entry(i, j);
             }
-            let xc = &mut self.x[c * nb..(c + 1) * nb];
-            xc.copy_from_slice(col);
-            DenseLdl::solve(&self.nbb, nb, xc);
+            self.x[c * nb..(c + 1) * nb].copy_from_slice(col);
         }
+        self.factor.solve(&mut self.x, nc);
         let r = problem.r();
         self.s.resize(nc * nc, 0.0);
         self.q.resize(nc, 0.0);

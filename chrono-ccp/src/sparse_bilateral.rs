@@ -1,0 +1,170 @@
+//! The bilateral block `N_BB = D_B' M^-1 D_B + E_B` of a problem as a sparse matrix with a
+//! reusable Cholesky factorization (faer), for [`crate::Schur`].
+//!
+//! `N_ij` is non-zero only if rows `i` and `j` touch a common variable block, so for a
+//! mechanism (each joint row touches two bodies) `N_BB` is as sparse as the joint graph.
+//! The pattern, its fill-reducing ordering (approximate minimum degree) and the symbolic
+//! factorization are kept while the rows touch the same blocks (a mechanism's joints do,
+//! step after step); each solve refills the values and refactors numerically.
+//!
+//! Dependent (redundant) rows make `N_BB` singular. faer's dynamic regularization replaces
+//! a pivot below `1e-12 max(diag)` by `max(diag)`, which gives such a row a multiplier of
+//! about zero: the same answer as dropping it, as [`crate::dense`] does for small blocks.
+
+use chrono_core::descriptor::CcpProblem;
+use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
+use faer::linalg::cholesky::llt::factor::LltRegularization;
+use faer::sparse::linalg::cholesky::{
+    CholeskySymbolicParams, LltRef, SymbolicCholesky, SymmetricOrdering,
+    factorize_symbolic_cholesky,
+};
+use faer::sparse::{SparseColMat, Triplet};
+use faer::{Conj, MatMut, Par, Side};
+
+/// The sparse factorization of `N_BB` (see the [module documentation](self)).
+#[derive(Default)]
+pub(crate) struct SparseBilateral {
+    /// The blocks of each bilateral row, rows separated by `u32::MAX`: the pattern's key.
+    key: Vec<u32>,
+    key_scratch: Vec<u32>,
+    /// Upper triangle of `N_BB` (compressed columns).
+    upper: Option<SparseColMat<usize, f64>>,
+    /// `(i, j)` (local bilateral indices) of each stored value, in storage order.
+    entries: Vec<(usize, usize)>,
+    symbolic: Option<SymbolicCholesky<usize>>,
+    l_values: Vec<f64>,
+    scratch: Option<MemBuffer>,
+    scratch_cols: usize,
+}
+
+impl SparseBilateral {
+    /// Assemble `N_BB` for the bilateral rows `b_rows` of `problem` and factor it.
+    /// Returns an error text if the factorization failed (not expected for a PSD matrix
+    /// with regularization; the caller falls back).
+    pub(crate) fn factor(&mut self, problem: &CcpProblem, b_rows: &[usize]) -> Result<(), String> {
+        self.key_scratch.clear();
+        for &i in b_rows {
+            self.key_scratch.extend(problem.row_blocks(i).map(|b| b.0));
+            self.key_scratch.push(u32::MAX);
+        }
+        if self.key_scratch != self.key || self.symbolic.is_none() {
+            std::mem::swap(&mut self.key, &mut self.key_scratch);
+            self.analyze(problem, b_rows)?;
+        }
+        let upper = self.upper.as_mut().ok_or("no pattern")?;
+        let vals = upper.val_mut();
+        let mut max_diag: f64 = 0.0;
+        for (v, &(i, j)) in vals.iter_mut().zip(&self.entries) {
+            *v = problem.n_entry(b_rows[i], b_rows[j]);
+            if i == j {
+                max_diag = max_diag.max(*v);
+            }
+        }
+        let scale = if max_diag > 0.0 { max_diag } else { 1.0 };
+        let symbolic = self.symbolic.as_ref().ok_or("no symbolic factorization")?;
+        let scratch = self.scratch.as_mut().ok_or("no scratch")?;
+        symbolic
+            .factorize_numeric_llt(
+                &mut self.l_values,
+                upper.as_ref(),
+                Side::Upper,
+                LltRegularization {
+                    dynamic_regularization_delta: scale,
+                    dynamic_regularization_epsilon: 1e-12 * scale,
+                },
+                Par::Seq,
+                MemStack::new(scratch),
+                Default::default(),
+            )
+            .map(|_| ())
+            .map_err(|e| format!("{e:?}"))
+    }
+
+    /// The pattern, ordering and symbolic factorization for the current key.
+    fn analyze(&mut self, problem: &CcpProblem, b_rows: &[usize]) -> Result<(), String> {
+        let nb = b_rows.len();
+        let n_blocks = problem.variables().len();
+        let mut by_block: Vec<Vec<usize>> = vec![Vec::new(); n_blocks];
+        for (a, &i) in b_rows.iter().enumerate() {
+            for b in problem.row_blocks(i) {
+                by_block[b.0 as usize].push(a);
+            }
+        }
+        let mut pairs: Vec<(usize, usize)> = (0..nb).map(|a| (a, a)).collect();
+        for rows in &by_block {
+            for (k, &a) in rows.iter().enumerate() {
+                for &b in &rows[k + 1..] {
+                    pairs.push((a.min(b), a.max(b)));
+                }
+            }
+        }
+        pairs.sort_unstable_by_key(|&(i, j)| (j, i));
+        pairs.dedup();
+        let triplets: Vec<Triplet<usize, usize, f64>> = pairs
+            .iter()
+            .map(|&(i, j)| Triplet::new(i, j, 0.0))
+            .collect();
+        let upper = SparseColMat::try_new_from_triplets(nb, nb, &triplets)
+            .map_err(|e| format!("pattern: {e:?}"))?;
+        // Storage order of the values (compressed columns, rows sorted within a column).
+        let s = upper.symbolic();
+        self.entries.clear();
+        for j in 0..nb {
+            for idx in s.col_ptr()[j]..s.col_ptr()[j + 1] {
+                self.entries.push((s.row_idx()[idx], j));
+            }
+        }
+        let symbolic = factorize_symbolic_cholesky(
+            upper.symbolic(),
+            Side::Upper,
+            SymmetricOrdering::Amd,
+            CholeskySymbolicParams::default(),
+        )
+        .map_err(|e| format!("symbolic: {e:?}"))?;
+        self.l_values.clear();
+        self.l_values.resize(symbolic.len_val(), 0.0);
+        self.symbolic = Some(symbolic);
+        self.upper = Some(upper);
+        self.scratch = None;
+        self.scratch_cols = 0;
+        self.ensure_scratch(1);
+        Ok(())
+    }
+
+    /// Scratch for the factorization and a solve with `cols` right-hand sides.
+    fn ensure_scratch(&mut self, cols: usize) {
+        if self.scratch.is_some() && self.scratch_cols >= cols {
+            return;
+        }
+        let Some(symbolic) = &self.symbolic else {
+            return;
+        };
+        let req = StackReq::any_of(&[
+            symbolic.factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default()),
+            symbolic.solve_in_place_scratch::<f64>(cols, Par::Seq),
+        ]);
+        self.scratch = Some(MemBuffer::new(req));
+        self.scratch_cols = cols;
+    }
+
+    /// Solve `N_BB X = R` in place for `cols` right-hand sides stored column-major in `x`
+    /// (`nb` rows each).
+    pub(crate) fn solve(&mut self, x: &mut [f64], cols: usize) {
+        if cols == 0 {
+            return;
+        }
+        self.ensure_scratch(cols);
+        let (Some(symbolic), Some(scratch)) = (&self.symbolic, &mut self.scratch) else {
+            x.fill(f64::NAN);
+            return;
+        };
+        let nb = x.len() / cols;
+        let rhs = MatMut::from_column_major_slice_mut(x, nb, cols);
+        LltRef::new(symbolic, &self.l_values).solve_in_place_with_conj(
+            Conj::No,
+            rhs,
+            Par::Seq,
+            MemStack::new(scratch),
+        );
+    }
+}
