@@ -16,7 +16,9 @@
 //! ([`Tet4`], [`SolidMaterial`]), meshes of it ([`TetMesh`]) with supports, prescribed
 //! displacements, nodal forces, face tractions and gravity, structured box meshes with
 //! their face node sets ([`BoxMesh`]), solved by the same Newton solver
-//! ([`solve_static`], any [`StaticModel`]).
+//! ([`solve_static`], any [`StaticModel`]), their natural frequencies
+//! ([`natural_frequencies`]), and stepped implicitly in a system like the cable
+//! ([`TetItem`]; supports only, no attachments or contact yet).
 //!
 //! Still to come (see the issue): the fully parameterized ANCF beam, ANCF shells,
 //! slope attachments.
@@ -48,6 +50,7 @@ pub mod quadrature;
 pub mod spd;
 pub mod statics;
 pub mod tet_box;
+pub mod tet_dynamics;
 pub mod tet_mesh;
 
 pub use dynamics::{AttachTarget, Attachment, CableItem};
@@ -55,9 +58,10 @@ pub use element::{AncfCable, CableQuadrature, Tet4, von_mises};
 pub use error::{FeaError, Result};
 pub use material::{BeamMaterial, SolidMaterial};
 pub use mesh::{CableMesh, DofMap};
-pub use modal::natural_frequencies;
+pub use modal::{MassModel, natural_frequencies};
 pub use node::{GradientNode, NodeId, SolidNode};
 pub use spd::SparseSpd;
 pub use statics::{StaticModel, StaticReport, StaticSettings, solve_static};
 pub use tet_box::{BoxFaces, BoxMesh, HexSplit};
+pub use tet_dynamics::TetItem;
 pub use tet_mesh::TetMesh;
