@@ -44,6 +44,8 @@ pub struct TetPatchParams {
     pub poisson: f64,
     /// Largest relative error allowed (displacement, strain, stress).
     pub tolerance: f64,
+    /// Absolute Newton residual tolerance, N (`null`: the solver's default).
+    pub newton_tolerance: Option<f64>,
 }
 
 impl Default for TetPatchParams {
@@ -64,6 +66,7 @@ impl Default for TetPatchParams {
             young: 2.0e11,
             poisson: 0.3,
             tolerance: 1e-10,
+            newton_tolerance: None,
         }
     }
 }
@@ -91,6 +94,11 @@ impl CaseParams for TetPatchParams {
             "tolerance",
             "-",
             "largest relative error (displacement, strain, stress)",
+        ),
+        ParamInfo::new(
+            "newton_tolerance",
+            "N",
+            "absolute Newton residual tolerance (null: solver default)",
         ),
     ];
     fn apply_mode(&mut self, mode: Mode) {
@@ -166,6 +174,7 @@ fn run(p: &TetPatchParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         &mut mesh,
         &StaticSettings {
             load_steps: 1,
+            absolute_tolerance: p.newton_tolerance,
             ..Default::default()
         },
     )?;
