@@ -18,7 +18,7 @@
 //! their face node sets ([`BoxMesh`]), solved by the same Newton solver
 //! ([`solve_static`], any [`StaticModel`]), their natural frequencies
 //! ([`natural_frequencies`]), and stepped implicitly in a system like the cable
-//! ([`TetItem`]; supports only, no attachments or contact yet).
+//! ([`TetItem`]: supports, attachment rows, surface-node contact spheres).
 //!
 //! Still to come (see the issue): the fully parameterized ANCF beam, ANCF shells,
 //! slope attachments.

@@ -17,18 +17,36 @@
 //! step allocates nothing). Supported coordinates ([`TetMesh::fix_node`] ...) are removed
 //! from the block and stay where they are.
 //!
-//! Not yet: attachments to bodies by rows and contact proxies (the cable item has both);
-//! a tetrahedral mesh interacts with the rest of the system only through its supports.
+//! # Attachments and contact
+//!
+//! As for the cable: an [`Attachment`] ties a node's position to a fixed world point or a
+//! point of a rigid body by three bilateral rows `d . (x_node - p) = 0` (`d` the world
+//! axes), `b = d . (x_node - p) / h` minus a kinematic body's known velocity; the
+//! reactions are `gamma / h`. With [`TetItem::set_contact_spheres`] every surface node
+//! (a node of a boundary triangle) is a sphere proxy of the given radius against the
+//! body colliders, id = node index; the item's side of a contact row along `d` is `d` on
+//! the node's free coordinates (no coefficient on a supported one). The spheres sit
+//! on the nodes: the contact surface is offset outwards by the radius and is only as
+//! fine as the node spacing (no triangle–collider contact yet).
 //!
 //! [`SolidMaterial::damping`]: crate::material::SolidMaterial::damping
 
 use std::sync::Arc;
 
-use chrono_core::descriptor::{BlockId, CcpProblem, MassOperator, Variables};
-use chrono_core::item::{PhysicsItem, StepContext};
-use chrono_core::{ChronoError, Result as CoreResult};
+use std::sync::Mutex;
+
+use chrono_core::body::RigidBody;
+use chrono_core::collision::{CollisionProxy, ProxyShape};
+use chrono_core::descriptor::{
+    BlockId, CcpProblem, ConstraintRows, MassOperator, RowEntry, RowId, Variables,
+};
+use chrono_core::item::{Contactable, PhysicsItem, StepContext};
+use chrono_core::{ChronoError, ContactMaterial, Result as CoreResult};
 use faer::sparse::{SparseColMat, Triplet};
-use nalgebra::Vector3;
+use nalgebra::{Point3, Vector3};
+
+use crate::dynamics::{AttachTarget, Attachment};
+use crate::error::positive;
 
 use crate::element::Tet4;
 use crate::error::{FeaError, Result, finite3};
@@ -61,6 +79,21 @@ pub struct TetItem {
     force: Vec<f64>,
     q: Vec<f64>,
     block: Option<BlockId>,
+    attachments: Vec<Attachment>,
+    /// Rows of this step, 3 per attachment (`None`: not needed).
+    rows: Vec<Option<RowId>>,
+    /// Attachment forces on the nodes from the last step, N.
+    reactions: Vec<Vector3<f64>>,
+    /// One row's coefficients on the block (`nfree`, scratch).
+    coefs: Vec<f64>,
+    /// Nodes of the boundary triangles (the contact spheres), ascending.
+    surface: Vec<usize>,
+    /// Radius of the contact spheres, m (`None`: no contact).
+    contact_radius: Option<f64>,
+    contact_material: ContactMaterial,
+    /// The three rows of a proxy on the free coordinates (`3 nfree`, zero between
+    /// calls): `proxy_jacobian` takes `&self`.
+    jacobian: Mutex<Vec<f64>>,
 }
 
 impl TetItem {
@@ -132,6 +165,14 @@ impl TetItem {
         let op = Arc::new(SparseSpd::new(pattern)?);
         let nnz = op.nnz();
         let ndof = mesh.ndof();
+        let all: Vec<NodeId> = (0..mesh.nodes().len()).map(NodeId).collect();
+        let mut surface: Vec<usize> = mesh
+            .boundary_triangles(&all)
+            .into_iter()
+            .flatten()
+            .collect();
+        surface.sort_unstable();
+        surface.dedup();
         Ok(Self {
             name: name.into(),
             mesh,
@@ -145,7 +186,61 @@ impl TetItem {
             force: vec![0.0; ndof],
             q: vec![0.0; ndof],
             block: None,
+            attachments: Vec::new(),
+            rows: Vec::new(),
+            reactions: Vec::new(),
+            coefs: vec![0.0; n],
+            surface,
+            contact_radius: None,
+            contact_material: ContactMaterial::default(),
+            jacobian: Mutex::new(vec![0.0; 3 * n]),
         })
+    }
+
+    /// Attach a node's position to `target` (see the module docs); returns its index.
+    /// Errors: unknown node, non-finite point. A body handle is checked at the step.
+    pub fn attach(&mut self, node: NodeId, target: AttachTarget) -> Result<usize> {
+        self.mesh.node(node)?;
+        match &target {
+            AttachTarget::Point(p) => finite3("attachment.point", p)?,
+            AttachTarget::Body { local, .. } => finite3("attachment.local", local)?,
+        }
+        self.attachments.push(Attachment { node, target });
+        self.reactions.push(Vector3::zeros());
+        Ok(self.attachments.len() - 1)
+    }
+
+    /// The attachments.
+    pub fn attachments(&self) -> &[Attachment] {
+        &self.attachments
+    }
+
+    /// The force of attachment `i` on its node during the last step (`gamma / h`), N.
+    pub fn reaction(&self, i: usize) -> Option<Vector3<f64>> {
+        self.reactions.get(i).copied()
+    }
+
+    /// Make every surface node a contact sphere of `radius` (m, finite and > 0; the error
+    /// names `contact.radius`) with the surface material `material` (checked with
+    /// [`ContactMaterial::validate`]). Default: no contact.
+    pub fn set_contact_spheres(&mut self, radius: f64, material: ContactMaterial) -> Result<()> {
+        let radius = positive("contact.radius", radius)?;
+        material.validate().map_err(|e| {
+            FeaError::invalid("contact.material", e.to_string(), "rejected by chrono-core")
+        })?;
+        self.contact_radius = Some(radius);
+        self.contact_material = material;
+        Ok(())
+    }
+
+    /// Radius of the contact spheres, m (`None`: contact off).
+    pub fn contact_radius(&self) -> Option<f64> {
+        self.contact_radius
+    }
+
+    /// The surface nodes (nodes of boundary triangles): the contact spheres.
+    pub fn surface_nodes(&self) -> &[usize] {
+        &self.surface
     }
 
     /// The mesh (current configuration).
@@ -310,14 +405,145 @@ impl PhysicsItem for TetItem {
         }
     }
 
-    /// `q+ = q + h v+`.
+    /// One sphere per surface node (id = node index) when contact is on.
+    fn collision_proxies(&self, out: &mut Vec<CollisionProxy>) {
+        let Some(radius) = self.contact_radius else {
+            return;
+        };
+        let nodes = self.mesh.nodes();
+        for &n in &self.surface {
+            out.push(CollisionProxy {
+                shape: ProxyShape::Sphere {
+                    center: nodes[n].position,
+                    radius,
+                },
+                material: self.contact_material,
+                id: n as u32,
+            });
+        }
+    }
+
+    /// `d . x_dot` of the node: `d` on its free coordinates. No known velocity.
+    fn proxy_jacobian(
+        &self,
+        proxy: u32,
+        _p: &Vector3<f64>,
+        dirs: &[Vector3<f64>; 3],
+        entry: &mut dyn FnMut(BlockId, [&[f64]; 3]),
+    ) -> [f64; 3] {
+        let node = proxy as usize;
+        let Some(blk) = self.block else {
+            return [0.0; 3];
+        };
+        if node >= self.mesh.nodes().len() {
+            return [0.0; 3];
+        }
+        let free: [Option<usize>; 3] = std::array::from_fn(|c| self.map.free_index(3 * node + c));
+        if free.iter().all(Option::is_none) {
+            return [0.0; 3];
+        }
+        let n = self.free_global.len();
+        // A poisoned lock only means a panic elsewhere; the buffer is re-zeroed below.
+        let mut buf = self.jacobian.lock().unwrap_or_else(|e| e.into_inner());
+        for (c, f) in free.iter().enumerate() {
+            if let Some(f) = *f {
+                for (k, d) in dirs.iter().enumerate() {
+                    buf[k * n + f] = d[c];
+                }
+            }
+        }
+        let (j0, rest) = buf.split_at(n);
+        let (j1, j2) = rest.split_at(n);
+        entry(blk, [j0, j1, j2]);
+        for f in free.into_iter().flatten() {
+            for k in 0..3 {
+                buf[k * n + f] = 0.0;
+            }
+        }
+        [0.0; 3]
+    }
+
+    fn add_body_constraints(
+        &mut self,
+        ctx: &StepContext,
+        bodies: &[RigidBody],
+        _vars: &Variables,
+        rows: &mut ConstraintRows,
+    ) -> CoreResult<()> {
+        self.rows.clear();
+        let Some(blk) = self.block else {
+            return Ok(());
+        };
+        let dirs = [Vector3::x(), Vector3::y(), Vector3::z()];
+        for (ai, att) in self.attachments.iter().enumerate() {
+            let position = self.mesh.nodes()[att.node.0].position;
+            let mut body_rows: Option<(BlockId, [[f64; 6]; 3], usize)> = None;
+            let (target, known) = match att.target {
+                AttachTarget::Point(p) => (p, [0.0; 3]),
+                AttachTarget::Body { body, local } => {
+                    let b = bodies
+                        .get(body.0 as usize)
+                        .ok_or(ChronoError::UnknownHandle {
+                            kind: "body",
+                            index: body.0 as usize,
+                            field: format!("{}: attachment {ai}", self.item_label()),
+                        })?;
+                    let p = (b.pose() * Point3::from(local)).coords;
+                    let known = b.contact_jacobian(&p, &dirs, &mut |id, r| {
+                        let mut c = [[0.0; 6]; 3];
+                        let len = r[0].len().min(6);
+                        for k in 0..3 {
+                            c[k][..len].copy_from_slice(&r[k][..len]);
+                        }
+                        body_rows = Some((id, c, len));
+                    });
+                    (p, known)
+                }
+            };
+            for d in 0..3 {
+                let free = self.map.free_index(3 * att.node.0 + d);
+                if free.is_none() && body_rows.is_none() {
+                    // A supported coordinate at a fixed target: nothing can move.
+                    self.rows.push(None);
+                    continue;
+                }
+                self.coefs.fill(0.0);
+                // At most two entries (this block, the body's): no allocation.
+                let mut entries = [RowEntry {
+                    block: blk,
+                    coefs: &[],
+                }; 2];
+                let mut n_ent = 0;
+                let neg: [f64; 6];
+                if let Some(f) = free {
+                    self.coefs[f] = 1.0;
+                    entries[0].coefs = &self.coefs;
+                    n_ent = 1;
+                }
+                if let Some((id, c, len)) = &body_rows {
+                    neg = c[d].map(|x| -x);
+                    entries[n_ent] = RowEntry {
+                        block: *id,
+                        coefs: &neg[..*len],
+                    };
+                    n_ent += 1;
+                }
+                let b = (position[d] - target[d]) / ctx.h - known[d];
+                let id = rows.push_bilateral(&entries[..n_ent], b, 0.0);
+                self.rows.push(Some(id));
+            }
+        }
+        Ok(())
+    }
+
+    /// `q+ = q + h v+`; the attachment forces `gamma / h`.
     fn update(
         &mut self,
         ctx: &StepContext,
         vars: &Variables,
         v: &[f64],
-        _problem: &CcpProblem,
-        _gamma: &[f64],
+        problem: &CcpProblem,
+        gamma: &[f64],
     ) -> CoreResult<()> {
         let Some(blk) = self.block else {
             return Ok(());
@@ -339,6 +565,15 @@ impl PhysicsItem for TetItem {
         }
         self.mesh
             .set_coordinates(&self.q)
-            .map_err(|e| ChronoError::invalid("fea", e.to_string(), "rejected by chrono-fea"))
+            .map_err(|e| ChronoError::invalid("fea", e.to_string(), "rejected by chrono-fea"))?;
+        for (ai, r) in self.reactions.iter_mut().enumerate() {
+            *r = Vector3::zeros();
+            for d in 0..3 {
+                if let Some(Some(id)) = self.rows.get(3 * ai + d) {
+                    r[d] = gamma[problem.row_index(*id)] / ctx.h;
+                }
+            }
+        }
+        Ok(())
     }
 }

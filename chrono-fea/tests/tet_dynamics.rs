@@ -1,12 +1,14 @@
 //! A tetrahedral mesh stepping in a `System` (implicit Euler in the CCP): free vibration
 //! against the modal frequency of the same mesh, momentum of a free block, a damped
-//! block settling at its static solution.
+//! block settling at its static solution, a block hanging from attachment rows, a block
+//! resting on the ground through its surface-node contact spheres.
 
-use chrono_ccp::{Cg, SolverSettings};
-use chrono_core::{System, SystemSettings};
+use chrono_ccp::{Apgd, Cg, SolverSettings};
+use chrono_core::math::Isometry3;
+use chrono_core::{ContactMaterial, RigidBodyBuilder, Shape, System, SystemSettings};
 use chrono_fea::{
-    BoxMesh, HexSplit, NodeId, SolidMaterial, StaticSettings, TetItem, natural_frequencies,
-    solve_static,
+    AttachTarget, BoxMesh, FeaError, HexSplit, NodeId, SolidMaterial, StaticSettings, TetItem,
+    natural_frequencies, solve_static,
 };
 use nalgebra::Vector3;
 
@@ -176,4 +178,140 @@ fn damped_block_settles_at_the_static_solution() {
         u_dyn.z, u_static.z
     );
     assert!(err < 1e-6, "dynamic {u_dyn:?} vs static {u_static:?}");
+}
+
+/// The soft block of the settling test, hanging from its top face by attachment rows to
+/// fixed points instead of supports: at rest, the attachment forces carry the weight and
+/// the shape is the supported static solution.
+#[test]
+fn block_hangs_from_attachment_rows() {
+    let m = SolidMaterial::new(1.0e6, 0.3, 1000.0, 2e-3).unwrap();
+    let b = BoxMesh::new(
+        Vector3::zeros(),
+        Vector3::new(0.1, 0.1, 0.2),
+        [2, 2, 4],
+        HexSplit::Six,
+    )
+    .unwrap();
+    let mesh = b.into_mesh(m).unwrap();
+    let g = Vector3::new(0.0, 0.0, -9.81);
+    let weight = mesh.total_mass() * 9.81;
+    let mut reference = mesh.clone();
+    for &n in &b.faces.z_max {
+        reference.fix_node(n).unwrap();
+    }
+    reference.set_gravity(g).unwrap();
+    solve_static(&mut reference, &StaticSettings::default()).unwrap();
+    let mut item = TetItem::new("block", mesh).unwrap();
+    for &n in &b.faces.z_max {
+        let p = item.mesh().node(n).unwrap().position;
+        item.attach(n, AttachTarget::Point(p)).unwrap();
+    }
+    let e = item
+        .attach(
+            NodeId(0),
+            AttachTarget::Point(Vector3::new(f64::NAN, 0.0, 0.0)),
+        )
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("attachment.point"), "{e}");
+    let mut sys = system(g);
+    let idx = sys.add_item(Box::new(item));
+    for _ in 0..1500 {
+        sys.step(1e-3).unwrap();
+    }
+    let item = sys.item::<TetItem>(idx).unwrap();
+    let total: Vector3<f64> = (0..b.faces.z_max.len())
+        .map(|i| item.reaction(i).unwrap())
+        .sum();
+    // The rows pull the nodes up: the force on the nodes is +z.
+    let err = total.z / weight - 1.0;
+    eprintln!(
+        "attachment force {:.9} N, weight {weight:.9} N, error {err:e}",
+        total.z
+    );
+    assert!(
+        err.abs() < 1e-9,
+        "attachment force {total:?}, weight {weight}"
+    );
+    let bottom = b.faces.z_min[4];
+    let u = item.mesh().node(bottom).unwrap().displacement();
+    let u_ref = reference.node(bottom).unwrap().displacement();
+    let err = (u - u_ref).norm() / u_ref.norm();
+    assert!(err < 1e-6, "{u:?} vs {u_ref:?}");
+}
+
+/// A block dropped on a fixed half-space comes to rest on its bottom-face spheres: the
+/// contact force equals the weight, the nodes stop, the spheres do not sink.
+#[test]
+fn dropped_block_rests_on_the_ground() {
+    let settings = SystemSettings {
+        gravity: Vector3::new(0.0, 0.0, -9.81),
+        ..SystemSettings::default()
+    };
+    let solver = Apgd::new(SolverSettings {
+        tolerance: 1e-12,
+        max_iterations: 3000,
+        record_history: false,
+    });
+    let mut sys = System::new(settings, Box::new(solver)).unwrap();
+    sys.add_body(RigidBodyBuilder::fixed().collider(
+        Shape::HalfSpace {
+            normal: Vector3::z(),
+        },
+        Isometry3::identity(),
+        ContactMaterial::with_friction(0.5),
+    ))
+    .unwrap();
+    let m = SolidMaterial::new(1.0e6, 0.3, 1000.0, 2e-3).unwrap();
+    let r = 0.005;
+    let b = BoxMesh::new(
+        Vector3::new(0.0, 0.0, r + 0.02),
+        Vector3::new(0.2, 0.1, 0.05),
+        [4, 2, 1],
+        HexSplit::Six,
+    )
+    .unwrap();
+    let mesh = b.into_mesh(m).unwrap();
+    let weight = mesh.total_mass() * 9.81;
+    let mut item = TetItem::new("block", mesh).unwrap();
+    assert_eq!(item.surface_nodes().len(), item.mesh().nodes().len());
+    let e = item
+        .set_contact_spheres(-1.0, ContactMaterial::default())
+        .unwrap_err();
+    assert!(matches!(e, FeaError::InvalidParameter { ref field, .. } if field == "contact.radius"));
+    item.set_contact_spheres(r, ContactMaterial::with_friction(0.5))
+        .unwrap();
+    let idx = sys.add_item(Box::new(item));
+    let h = 1e-3;
+    for _ in 0..800 {
+        sys.step(h).unwrap();
+    }
+    let (p, g) = (sys.last_problem(), sys.last_gamma());
+    let force: f64 = sys
+        .proxy_contacts()
+        .iter()
+        .map(|c| g[p.row_index(c.row)])
+        .sum::<f64>()
+        / h;
+    let item = sys.item::<TetItem>(idx).unwrap();
+    let speed = (0..item.mesh().nodes().len())
+        .map(|n| item.node_velocity(NodeId(n)).unwrap().norm())
+        .fold(0.0, f64::max);
+    let pen = item
+        .mesh()
+        .nodes()
+        .iter()
+        .map(|n| r - n.position.z)
+        .fold(f64::NEG_INFINITY, f64::max);
+    let err = force / weight - 1.0;
+    eprintln!(
+        "block on ground: force {force:.6} N, weight {weight:.6} N, error {err:e}, speed {speed:e} m/s, penetration {pen:e} m"
+    );
+    assert!(
+        err.abs() < 0.01,
+        "contact force {force} N, weight {weight} N"
+    );
+    assert!(speed < 1e-4, "still moving at {speed} m/s");
+    assert!(pen < 0.01 * r, "penetration {pen} m");
 }
