@@ -56,7 +56,7 @@ pub mod tet_mesh;
 pub use dynamics::{AttachTarget, Attachment, CableItem};
 pub use element::{AncfCable, CableQuadrature, Tet4, von_mises};
 pub use error::{FeaError, Result};
-pub use material::{BeamMaterial, SolidMaterial};
+pub use material::{BeamMaterial, SolidMaterial, SolidModel};
 pub use mesh::{CableMesh, DofMap};
 pub use modal::{MassModel, natural_frequencies};
 pub use node::{GradientNode, NodeId, SolidNode};

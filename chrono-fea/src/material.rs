@@ -89,10 +89,25 @@ impl BeamMaterial {
     }
 }
 
+/// How a solid element turns its deformation gradient `F` into stress (see
+/// [`Tet4`](crate::element::Tet4) for the equations).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum SolidModel {
+    /// St. Venant–Kirchhoff: Hooke's law between the Green–Lagrange strain
+    /// `E = (F^T F - I)/2` and the second Piola–Kirchhoff stress.
+    #[default]
+    StVenantKirchhoff,
+    /// Corotational linear: Hooke's law on the stretch `U - I` of the polar
+    /// decomposition `F = R U`, rotated by `R` (the small-strain element carried by the
+    /// element's rotation).
+    Corotational,
+}
+
 /// Isotropic linear elastic solid material of the tetrahedron
 /// ([`Tet4`](crate::element::Tet4)), used in the St. Venant–Kirchhoff law
 /// `S = lambda tr(E) I + 2 mu E` (second Piola–Kirchhoff stress `S` from the
-/// Green–Lagrange strain `E`) with the Lamé constants
+/// Green–Lagrange strain `E`; or, with [`SolidModel::Corotational`], the same Hooke's
+/// law on the corotated stretch) with the Lamé constants
 ///
 /// ```text
 /// lambda = E nu / ((1 + nu)(1 - 2 nu)),   mu = G = E / (2 (1 + nu))
@@ -110,6 +125,8 @@ pub struct SolidMaterial {
     pub density: f64,
     /// Stiffness-proportional damping coefficient, s (0: undamped).
     pub damping: f64,
+    /// The constitutive model (default St. Venant–Kirchhoff).
+    pub model: SolidModel,
 }
 
 impl SolidMaterial {
@@ -130,7 +147,13 @@ impl SolidMaterial {
             poisson,
             density: positive("material.density", density)?,
             damping: non_negative("material.damping", damping)?,
+            model: SolidModel::StVenantKirchhoff,
         })
+    }
+
+    /// The same material with constitutive model `model`.
+    pub fn with_model(self, model: SolidModel) -> Self {
+        Self { model, ..self }
     }
 
     /// Checks the fields again (they are public and may have been edited).

@@ -1,7 +1,9 @@
 //! Tetrahedral meshes: patch tests, a cantilever against beam theory, loads, bad input.
 
 use chrono_fea::analytic::{rectangle_shear_coefficient, timoshenko_tip_deflection};
-use chrono_fea::{BoxMesh, HexSplit, NodeId, SolidMaterial, StaticSettings, TetMesh, solve_static};
+use chrono_fea::{
+    BoxMesh, HexSplit, NodeId, SolidMaterial, SolidModel, StaticSettings, TetMesh, solve_static,
+};
 use nalgebra::{Matrix3, Vector3};
 
 fn steel() -> SolidMaterial {
@@ -17,7 +19,7 @@ fn jitter(state: &mut u64) -> f64 {
 }
 
 /// A unit cube of 3x3x3 cells with the interior nodes moved by up to 30 % of a cell.
-fn distorted_patch(split: HexSplit) -> (BoxMesh, TetMesh) {
+fn distorted_patch(split: HexSplit, model: SolidModel) -> (BoxMesh, TetMesh) {
     let mut b = BoxMesh::new(Vector3::zeros(), Vector3::repeat(1.0), [3, 3, 3], split).unwrap();
     let mut s = 0x9e37_79b9_7f4a_7c15;
     for n in 0..b.positions.len() {
@@ -26,7 +28,7 @@ fn distorted_patch(split: HexSplit) -> (BoxMesh, TetMesh) {
             b.positions[n] += d * (0.6 / 3.0);
         }
     }
-    let mesh = b.into_mesh(steel()).unwrap();
+    let mesh = b.into_mesh(steel().with_model(model)).unwrap();
     (b, mesh)
 }
 
@@ -36,8 +38,12 @@ fn displacement_patch_test_is_exact() {
     // field inside, every element with the strain E = (F'F - I)/2, F = I + H.
     let h = Matrix3::new(2e-3, 5e-4, -3e-4, 1e-4, -1e-3, 6e-4, -2e-4, 3e-4, 1.5e-3);
     let c = Vector3::new(0.1, -0.2, 0.05);
-    for split in [HexSplit::Six, HexSplit::Five] {
-        let (b, mut mesh) = distorted_patch(split);
+    for (split, model) in [
+        (HexSplit::Six, SolidModel::StVenantKirchhoff),
+        (HexSplit::Five, SolidModel::StVenantKirchhoff),
+        (HexSplit::Six, SolidModel::Corotational),
+    ] {
+        let (b, mut mesh) = distorted_patch(split, model);
         for n in 0..b.positions.len() {
             if b.is_boundary(NodeId(n)) {
                 let x = b.positions[n];
@@ -55,6 +61,7 @@ fn displacement_patch_test_is_exact() {
         .unwrap();
         let f = Matrix3::identity() + h;
         let e_exact = 0.5 * (f.transpose() * f - Matrix3::identity());
+        let p_exact = mesh.elements()[0].first_piola_of(&f);
         let mut max_u: f64 = 0.0;
         for node in mesh.nodes() {
             let x = node.reference_position;
@@ -65,6 +72,9 @@ fn displacement_patch_test_is_exact() {
             let x = mesh.current_element_coordinates(e);
             let err = (mesh.elements()[e].green_strain(&x) - e_exact).amax() / e_exact.amax();
             assert!(err < 1e-10, "{split:?}: element {e} strain error {err:e}");
+            let p = mesh.elements()[e].first_piola_stress(&x);
+            let err = (p - p_exact).amax() / p_exact.amax();
+            assert!(err < 1e-10, "{model:?}: element {e} stress error {err:e}");
         }
     }
 }

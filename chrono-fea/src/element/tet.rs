@@ -44,13 +44,39 @@
 //! `V B^T C B`. Both `f` and `K` are checked against central differences of `U` and `f`
 //! in the tests.
 //!
+//! # Corotational linear model
+//!
+//! With [`SolidModel::Corotational`] the element is the small-strain (linear) element
+//! carried along by its rotation: with the polar decomposition `F = R U` (`R` a rotation,
+//! `U` the symmetric stretch, from the SVD of `F`),
+//!
+//! ```text
+//! eps = U - I                      corotated (Biot) strain
+//! T   = lambda tr(eps) I + 2 mu eps
+//! P   = R T                        first Piola–Kirchhoff stress
+//! U_e = V (lambda/2 tr(eps)^2 + mu eps:eps),   f_a = V P G_a
+//! ```
+//!
+//! For this isotropic law `f_a = V R T G_a` is exactly the corotational force
+//! `R K_0 (R^T x - X)` of Chrono's `ChElementTetraCorot_4` (`K_0` the linear stiffness;
+//! `R^T F - I = U - I` is symmetric, so the small-strain element sees exactly `eps`), and it is
+//! the gradient of `U_e`. The tangent here is the consistent one, including the
+//! derivative of the rotation (Chrono uses the approximation `R K_0 R^T`): with
+//! `dF = dx_b G_b^T`, `W = R^T dF`, the spin `Omega = R^T dR` (skew, axial vector `w`)
+//! solves `Omega U + U Omega = W - W^T`, i.e. `w = (tr(U) I - U)^-1 axial(W - W^T)`; then
+//! `dU = W - Omega U`, `dT = lambda tr(dU) I + 2 mu dU` and `dP = R (Omega T + dT)`.
+//! Checked against central differences like the St. Venant–Kirchhoff tangent. An
+//! inverted element (`det F <= 0`) has no proper polar rotation: the decomposition then
+//! takes the reflection out of the smallest singular direction, and the results are not
+//! physical.
+//!
 //! Mass: consistent, `M_ab = rho V (1 + delta_ab) / 20 I_3` (exact integral of
 //! `rho N_a N_b`; total `rho V`); gravity `f_a = rho V g / 4`.
 
 use nalgebra::{Matrix3, SMatrix, SVector, Vector3};
 
 use crate::error::{FeaError, Result};
-use crate::material::SolidMaterial;
+use crate::material::{SolidMaterial, SolidModel};
 
 /// A 12-vector of tetrahedron coordinates or nodal forces `[x_0, x_1, x_2, x_3]`.
 pub type TetVector = SVector<f64, 12>;
@@ -175,17 +201,59 @@ impl Tet4 {
         Matrix3::identity() * (lambda * e.trace()) + e * (2.0 * mu)
     }
 
-    /// Second Piola–Kirchhoff stress `S`, Pa.
-    pub fn pk2_stress(&self, x: &TetVector) -> Matrix3<f64> {
-        self.pk2_stress_of(&self.green_strain(x))
+    /// The strain the material's Hooke law acts on: the Green strain `E` (St. Venant–
+    /// Kirchhoff) or the corotated stretch `U - I` (corotational), with the rotation `R`
+    /// of the polar decomposition (identity for St. Venant–Kirchhoff, where it is unused).
+    fn model_strain(&self, f: &Matrix3<f64>) -> (Matrix3<f64>, Matrix3<f64>) {
+        match self.material.model {
+            SolidModel::StVenantKirchhoff => (
+                Matrix3::identity(),
+                0.5 * (f.transpose() * f - Matrix3::identity()),
+            ),
+            SolidModel::Corotational => {
+                let (r, u) = polar(f);
+                (r, u - Matrix3::identity())
+            }
+        }
     }
 
-    /// Cauchy (true) stress `sigma = F S F^T / det F`, Pa. `det F <= 0` (an inverted
+    /// First Piola–Kirchhoff stress `P(F)` of the material model for a deformation
+    /// gradient `f`: `F S` (St. Venant–Kirchhoff) or `R T` (corotational), Pa.
+    pub fn first_piola_of(&self, f: &Matrix3<f64>) -> Matrix3<f64> {
+        let (r, eps) = self.model_strain(f);
+        let t = self.pk2_stress_of(&eps);
+        match self.material.model {
+            SolidModel::StVenantKirchhoff => f * t,
+            SolidModel::Corotational => r * t,
+        }
+    }
+
+    /// First Piola–Kirchhoff stress `P` (force per reference area), Pa.
+    pub fn first_piola_stress(&self, x: &TetVector) -> Matrix3<f64> {
+        self.first_piola_of(&self.deformation_gradient(x))
+    }
+
+    /// Second Piola–Kirchhoff stress `S = F^-1 P`, Pa (for St. Venant–Kirchhoff the
+    /// Hooke stress of the Green strain itself).
+    pub fn pk2_stress(&self, x: &TetVector) -> Matrix3<f64> {
+        let f = self.deformation_gradient(x);
+        match self.material.model {
+            SolidModel::StVenantKirchhoff => {
+                self.pk2_stress_of(&(0.5 * (f.transpose() * f - Matrix3::identity())))
+            }
+            SolidModel::Corotational => {
+                f.try_inverse()
+                    .unwrap_or_else(|| Matrix3::from_element(f64::NAN))
+                    * self.first_piola_of(&f)
+            }
+        }
+    }
+
+    /// Cauchy (true) stress `sigma = P F^T / det F`, Pa. `det F <= 0` (an inverted
     /// element) gives non-finite or meaningless values; check [`jacobian`](Self::jacobian).
     pub fn cauchy_stress(&self, x: &TetVector) -> Matrix3<f64> {
         let f = self.deformation_gradient(x);
-        let s = self.pk2_stress_of(&(0.5 * (f.transpose() * f - Matrix3::identity())));
-        f * s * f.transpose() / f.determinant()
+        self.first_piola_of(&f) * f.transpose() / f.determinant()
     }
 
     /// Volume ratio `J = det F` (current / reference volume), -.
@@ -193,9 +261,10 @@ impl Tet4 {
         self.deformation_gradient(x).determinant()
     }
 
-    /// Strain energy `U = V (lambda/2 tr(E)^2 + mu E:E)`, J.
+    /// Strain energy `U = V (lambda/2 tr(e)^2 + mu e:e)` with `e` the Green strain
+    /// (St. Venant–Kirchhoff) or the corotated stretch `U - I` (corotational), J.
     pub fn strain_energy(&self, x: &TetVector) -> f64 {
-        let e = self.green_strain(x);
+        let (_, e) = self.model_strain(&self.deformation_gradient(x));
         let (lambda, mu) = self.material.lame();
         self.volume * (0.5 * lambda * e.trace().powi(2) + mu * e.component_mul(&e).sum())
     }
@@ -203,6 +272,9 @@ impl Tet4 {
     /// Internal force `f = dU/dx` and, if `tangent`, the tangent stiffness `K = df/dx`
     /// (material + geometric, see the module docs; zero matrix otherwise). No allocation.
     pub fn force_and_tangent(&self, x: &TetVector, tangent: bool) -> (TetVector, TetMatrix) {
+        if self.material.model == SolidModel::Corotational {
+            return self.corotational_force_and_tangent(x, tangent);
+        }
         let f = self.deformation_gradient(x);
         let e = 0.5 * (f.transpose() * f - Matrix3::identity());
         let s = self.pk2_stress_of(&e);
@@ -228,6 +300,52 @@ impl Tet4 {
                         + g[b] * g[a].transpose() * mu
                         + fft * (mu * gab);
                     k.fixed_view_mut::<3, 3>(3 * a, 3 * b).copy_from(&(blk * v));
+                }
+            }
+        }
+        (q, k)
+    }
+
+    /// The corotational force `f_a = V R T G_a` and its consistent tangent (module docs).
+    fn corotational_force_and_tangent(
+        &self,
+        x: &TetVector,
+        tangent: bool,
+    ) -> (TetVector, TetMatrix) {
+        let f = self.deformation_gradient(x);
+        let (r, u) = polar(&f);
+        let t = self.pk2_stress_of(&(u - Matrix3::identity()));
+        let p = r * t;
+        let v = self.volume;
+        let mut q = TetVector::zeros();
+        for a in 0..4 {
+            q.fixed_rows_mut::<3>(3 * a)
+                .copy_from(&(p * self.grad[a] * v));
+        }
+        let mut k = TetMatrix::zeros();
+        if tangent {
+            // (tr U I - U) is positive definite for positive stretches.
+            let m = (Matrix3::identity() * u.trace() - u)
+                .try_inverse()
+                .unwrap_or_else(|| Matrix3::from_element(f64::NAN));
+            let rt = r.transpose();
+            for b in 0..4 {
+                for j in 0..3 {
+                    // dF = e_j G_b^T, so W = R^T dF = (R^T e_j) G_b^T.
+                    let w = rt.column(j) * self.grad[b].transpose();
+                    let a_skew = w - w.transpose();
+                    let axial = Vector3::new(a_skew[(2, 1)], a_skew[(0, 2)], a_skew[(1, 0)]);
+                    let om = m * axial;
+                    let omega = om.cross_matrix();
+                    let du = w - omega * u;
+                    let dt = self.pk2_stress_of(&du);
+                    let dp = r * (omega * t + dt);
+                    for a in 0..4 {
+                        let col = dp * self.grad[a] * v;
+                        for i in 0..3 {
+                            k[(3 * a + i, 3 * b + j)] = col[i];
+                        }
+                    }
                 }
             }
         }
@@ -265,6 +383,26 @@ impl Tet4 {
     }
 }
 
+/// Polar decomposition `F = R U` (`R` a rotation, `U` symmetric) from the SVD
+/// `F = W Sigma V^T`: `R = W V^T`, with the last singular direction flipped when
+/// `det F < 0` so that `R` stays a rotation; `U = R^T F` (symmetrized).
+pub fn polar(f: &Matrix3<f64>) -> (Matrix3<f64>, Matrix3<f64>) {
+    let svd = f.svd(true, true);
+    let (Some(mut w), Some(vt)) = (svd.u, svd.v_t) else {
+        let nan = Matrix3::from_element(f64::NAN);
+        return (nan, nan);
+    };
+    if (w * vt).determinant() < 0.0 {
+        // Flip the direction of the smallest singular value.
+        let (k, _) = svd.singular_values.argmin();
+        let c = -w.column(k);
+        w.set_column(k, &c);
+    }
+    let r = w * vt;
+    let u = r.transpose() * f;
+    (r, 0.5 * (u + u.transpose()))
+}
+
 /// Von Mises equivalent stress of a (symmetric) stress tensor,
 /// `sqrt(3/2 s:s)` with `s` the deviator, Pa.
 pub fn von_mises(sigma: &Matrix3<f64>) -> f64 {
@@ -279,6 +417,10 @@ mod tests {
 
     fn material() -> SolidMaterial {
         SolidMaterial::new(2.0e9, 0.3, 1200.0, 0.0).unwrap()
+    }
+
+    fn both() -> [SolidMaterial; 2] {
+        [material(), material().with_model(SolidModel::Corotational)]
     }
 
     fn reference() -> [Vector3<f64>; 4] {
@@ -330,68 +472,114 @@ mod tests {
     #[test]
     fn rigid_motion_gives_no_force() {
         let r = reference();
-        let el = Tet4::new([0, 1, 2, 3], &r, material()).unwrap();
-        let rot = Rotation3::from_euler_angles(1.1, -0.7, 2.5);
-        let x = coords(&std::array::from_fn(|a| {
-            rot * r[a] + Vector3::new(5.0, -3.0, 2.0)
-        }));
-        let (q, _) = el.force_and_tangent(&x, false);
-        assert!(q.norm() < 1e-15 * 2.0e9, "{}", q.norm());
-        assert!(el.strain_energy(&x).abs() < 1e-20 * 2.0e9);
+        for m in both() {
+            let el = Tet4::new([0, 1, 2, 3], &r, m).unwrap();
+            let rot = Rotation3::from_euler_angles(1.1, -0.7, 2.5);
+            let x = coords(&std::array::from_fn(|a| {
+                rot * r[a] + Vector3::new(5.0, -3.0, 2.0)
+            }));
+            let (q, _) = el.force_and_tangent(&x, false);
+            assert!(q.norm() < 1e-15 * 2.0e9, "{:?}: {}", m.model, q.norm());
+            assert!(el.strain_energy(&x).abs() < 1e-20 * 2.0e9);
+        }
     }
 
     #[test]
     fn force_is_gradient_of_energy() {
         let r = reference();
-        let el = Tet4::new([0, 1, 2, 3], &r, material()).unwrap();
-        let x = deformed();
-        let (q, _) = el.force_and_tangent(&x, false);
-        let h = 1e-6;
-        let mut fd = TetVector::zeros();
-        for i in 0..12 {
-            let (mut xp, mut xm) = (x, x);
-            xp[i] += h;
-            xm[i] -= h;
-            fd[i] = (el.strain_energy(&xp) - el.strain_energy(&xm)) / (2.0 * h);
+        for m in both() {
+            let el = Tet4::new([0, 1, 2, 3], &r, m).unwrap();
+            let x = deformed();
+            let (q, _) = el.force_and_tangent(&x, false);
+            let h = 1e-6;
+            let mut fd = TetVector::zeros();
+            for i in 0..12 {
+                let (mut xp, mut xm) = (x, x);
+                xp[i] += h;
+                xm[i] -= h;
+                fd[i] = (el.strain_energy(&xp) - el.strain_energy(&xm)) / (2.0 * h);
+            }
+            let err = (q - fd).amax() / q.amax();
+            assert!(err < 1e-7, "{:?}: force vs dU/dx: {err:e}", m.model);
         }
-        let err = (q - fd).amax() / q.amax();
-        assert!(err < 1e-7, "force vs dU/dx: {err:e}");
     }
 
     #[test]
     fn tangent_is_jacobian_of_force() {
         let r = reference();
-        let el = Tet4::new([0, 1, 2, 3], &r, material()).unwrap();
-        for x in [coords(&r), deformed()] {
-            let (_, k) = el.force_and_tangent(&x, true);
-            assert!((k - k.transpose()).amax() < 1e-12 * k.amax());
-            let h = 1e-7;
-            let mut fd = TetMatrix::zeros();
-            for j in 0..12 {
-                let (mut xp, mut xm) = (x, x);
-                xp[j] += h;
-                xm[j] -= h;
-                let col = (el.force_and_tangent(&xp, false).0 - el.force_and_tangent(&xm, false).0)
-                    / (2.0 * h);
-                fd.set_column(j, &col);
-            }
-            let err = (k - fd).amax() / k.amax();
-            assert!(err < 1e-7, "tangent vs df/dx: {err:e}");
-            // The geometric part matters in the deformed state: dropping it fails.
-            let s = el.pk2_stress(&x);
-            if s.amax() > 1e-6 * el.material.young {
-                let mut kmat = k;
-                for a in 0..4 {
-                    for b in 0..4 {
-                        let geo = (s * el.grad[a]).dot(&el.grad[b]) * el.volume;
-                        for i in 0..3 {
-                            kmat[(3 * a + i, 3 * b + i)] -= geo;
+        for m in both() {
+            let el = Tet4::new([0, 1, 2, 3], &r, m).unwrap();
+            for x in [coords(&r), deformed()] {
+                let (_, k) = el.force_and_tangent(&x, true);
+                assert!((k - k.transpose()).amax() < 1e-12 * k.amax());
+                let h = 1e-7;
+                let mut fd = TetMatrix::zeros();
+                for j in 0..12 {
+                    let (mut xp, mut xm) = (x, x);
+                    xp[j] += h;
+                    xm[j] -= h;
+                    let col = (el.force_and_tangent(&xp, false).0
+                        - el.force_and_tangent(&xm, false).0)
+                        / (2.0 * h);
+                    fd.set_column(j, &col);
+                }
+                let err = (k - fd).amax() / k.amax();
+                assert!(err < 1e-7, "{:?}: tangent vs df/dx: {err:e}", m.model);
+                // The geometric part matters in the deformed state: dropping it fails.
+                let s = el.pk2_stress(&x);
+                if m.model == SolidModel::StVenantKirchhoff && s.amax() > 1e-6 * el.material.young {
+                    let mut kmat = k;
+                    for a in 0..4 {
+                        for b in 0..4 {
+                            let geo = (s * el.grad[a]).dot(&el.grad[b]) * el.volume;
+                            for i in 0..3 {
+                                kmat[(3 * a + i, 3 * b + i)] -= geo;
+                            }
                         }
                     }
+                    assert!((kmat - fd).amax() / k.amax() > 1e-4);
                 }
-                assert!((kmat - fd).amax() / k.amax() > 1e-4);
+                // Chrono's approximate corotational tangent R K0 R^T misses the rotation
+                // derivative: in the deformed state it differs from the FD Jacobian.
+                if m.model == SolidModel::Corotational && x != coords(&r) {
+                    let f = el.deformation_gradient(&x);
+                    let (rot, _) = polar(&f);
+                    let k0 = Tet4::new([0, 1, 2, 3], &r, material())
+                        .unwrap()
+                        .force_and_tangent(&coords(&r), true)
+                        .1;
+                    let mut rr = TetMatrix::zeros();
+                    for a in 0..4 {
+                        rr.fixed_view_mut::<3, 3>(3 * a, 3 * a).copy_from(&rot);
+                    }
+                    let approx = rr * k0 * rr.transpose();
+                    assert!((approx - fd).amax() / k.amax() > 1e-3);
+                }
             }
         }
+    }
+
+    #[test]
+    fn corotational_is_rotated_linear_elasticity() {
+        // F = R (I + eps) with a symmetric small strain: P = R (lambda tr eps I + 2 mu eps)
+        // exactly, and at small strain both models give the same force.
+        let r = reference();
+        let m = material().with_model(SolidModel::Corotational);
+        let el = Tet4::new([0, 1, 2, 3], &r, m).unwrap();
+        let rot = *Rotation3::from_euler_angles(0.9, 0.2, -1.4).matrix();
+        let eps = Matrix3::new(2e-3, 5e-4, 0.0, 5e-4, -1e-3, 3e-4, 0.0, 3e-4, 1e-3);
+        let f = rot * (Matrix3::identity() + eps);
+        let x = coords(&std::array::from_fn(|a| f * r[a]));
+        let p = el.first_piola_stress(&x);
+        let expected = rot * el.pk2_stress_of(&eps);
+        assert!(
+            (p - expected).amax() < 1e-12 * expected.amax(),
+            "{p} vs {expected}"
+        );
+        let svk = Tet4::new([0, 1, 2, 3], &r, material()).unwrap();
+        let (qc, _) = el.force_and_tangent(&x, false);
+        let (qs, _) = svk.force_and_tangent(&x, false);
+        assert!((qc - qs).amax() < 5e-3 * qs.amax());
     }
 
     #[test]

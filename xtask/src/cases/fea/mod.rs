@@ -17,7 +17,7 @@ pub mod tet_cantilever;
 pub mod tet_patch;
 
 use chrono_core::math::Vector3;
-use chrono_fea::{BeamMaterial, CableMesh, CableQuadrature, HexSplit, NodeId};
+use chrono_fea::{BeamMaterial, CableMesh, CableQuadrature, HexSplit, NodeId, SolidModel};
 
 /// The beam element of a case parameter: only `cable` (the gradient-deficient ANCF
 /// cable/beam) exists so far.
@@ -70,6 +70,15 @@ pub fn parse_split(split: &str) -> anyhow::Result<HexSplit> {
         "six" => Ok(HexSplit::Six),
         "five" => Ok(HexSplit::Five),
         other => anyhow::bail!("parameter `split` must be `six` or `five`, got `{other}`"),
+    }
+}
+
+/// The solid model of a case parameter: `svk` (St. Venant–Kirchhoff) or `corotational`.
+pub fn parse_model(model: &str) -> anyhow::Result<SolidModel> {
+    match model {
+        "svk" => Ok(SolidModel::StVenantKirchhoff),
+        "corotational" => Ok(SolidModel::Corotational),
+        other => anyhow::bail!("parameter `model` must be `svk` or `corotational`, got `{other}`"),
     }
 }
 

@@ -32,7 +32,7 @@ use chrono_fea::analytic::{
 use chrono_fea::{BoxMesh, SolidMaterial, StaticSettings, solve_static};
 use serde::{Deserialize, Serialize};
 
-use super::parse_split;
+use super::{parse_model, parse_split};
 use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series, SweepPoint};
 use crate::params::{CaseParams, ParamCase, ParamInfo};
 
@@ -55,6 +55,8 @@ pub struct TetCantileverParams {
     pub force: f64,
     /// Hexahedron split: `six` or `five`.
     pub split: String,
+    /// Material model: `svk` (St. Venant–Kirchhoff) or `corotational`.
+    pub model: String,
     /// Accepted distance of the observed order (two finest meshes) from 2.
     pub order_tolerance: f64,
     /// Relative tolerance of the extrapolated tip deflection against Timoshenko.
@@ -72,6 +74,7 @@ impl Default for TetCantileverParams {
             poisson: 0.3,
             force: 1.0e3,
             split: "six".into(),
+            model: "svk".into(),
             order_tolerance: 1.0,
             tolerance: 0.02,
         }
@@ -92,6 +95,7 @@ impl CaseParams for TetCantileverParams {
         ParamInfo::new("poisson", "-", "Poisson's ratio"),
         ParamInfo::new("force", "N", "tip force along -Z"),
         ParamInfo::new("split", "-", "hexahedron split: six or five tetrahedra"),
+        ParamInfo::new("model", "-", "material model: svk or corotational"),
         ParamInfo::new(
             "order_tolerance",
             "-",
@@ -134,7 +138,8 @@ fn solve(
         [along, n, n],
         split,
     )?;
-    let material = SolidMaterial::new(p.young, p.poisson, 7850.0, 0.0)?;
+    let material =
+        SolidMaterial::new(p.young, p.poisson, 7850.0, 0.0)?.with_model(parse_model(&p.model)?);
     let mut mesh = b.into_mesh(material)?;
     for &node in &b.faces.x_min {
         mesh.fix_node(node)?;
@@ -193,7 +198,8 @@ fn run(p: &TetCantileverParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> 
             "parameter `{name}` must be > 0, got {v}"
         );
     }
-    let material = SolidMaterial::new(p.young, p.poisson, 7850.0, 0.0)?;
+    let material =
+        SolidMaterial::new(p.young, p.poisson, 7850.0, 0.0)?.with_model(parse_model(&p.model)?);
     let area = p.width * p.height;
     let ei = p.young * p.width * p.height.powi(3) / 12.0;
     let kga = rectangle_shear_coefficient(p.poisson) * material.shear_modulus() * area;

@@ -6,9 +6,10 @@
 //! `x = (I + H) X + c` and held; the interior nodes start at their reference positions
 //! (not translated by `c`, so the first Newton iterates see large strains next to the
 //! boundary) and are free, no load. The exact solution is the same linear field everywhere: every
-//! element has `F = I + H`, the Green strain `E = (F^T F - I) / 2`, the St. Venant–
-//! Kirchhoff stress `S = lambda tr(E) I + 2 mu E` and the Cauchy stress
-//! `sigma = F S F^T / det F`. (The sum over the elements around an interior node of
+//! element has `F = I + H`, the Green strain `E = (F^T F - I) / 2`, the stress of the
+//! material model at that `F` (St. Venant–Kirchhoff `P = F S`, `S = lambda tr(E) I +
+//! 2 mu E`; or corotational `P = R T`, `model = corotational`) and the Cauchy stress
+//! `sigma = P F^T / det F`. (The sum over the elements around an interior node of
 //! `V P G_a` vanishes for a constant stress, so the linear field is in equilibrium.) The
 //! static solver (Newton, one load step) must find it to round-off: the checks are the
 //! largest relative errors of the interior displacement, the strain and the Cauchy stress
@@ -20,7 +21,7 @@ use chrono_core::math::{Matrix3, Vector3};
 use chrono_fea::{BoxMesh, NodeId, SolidMaterial, StaticSettings, solve_static};
 use serde::{Deserialize, Serialize};
 
-use super::parse_split;
+use super::{parse_model, parse_split};
 use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series};
 use crate::params::{CaseParams, ParamCase, ParamInfo};
 
@@ -33,6 +34,8 @@ pub struct TetPatchParams {
     pub size: f64,
     /// Hexahedron split: `six` or `five`.
     pub split: String,
+    /// Material model: `svk` (St. Venant–Kirchhoff) or `corotational`.
+    pub model: String,
     /// Largest random move of an interior node along each axis, in cells (< 0.5).
     pub distortion: f64,
     /// Seed of the node distortion.
@@ -57,6 +60,7 @@ impl Default for TetPatchParams {
             divisions: 3,
             size: 1.0,
             split: "six".into(),
+            model: "svk".into(),
             distortion: 0.3,
             seed: 12345,
             // Stretch, shear and a small rotation, all ~1e-3 .. 1e-2.
@@ -79,6 +83,7 @@ impl CaseParams for TetPatchParams {
         ParamInfo::new("divisions", "-", "cells along each side of the cube"),
         ParamInfo::new("size", "m", "side of the cube"),
         ParamInfo::new("split", "-", "hexahedron split: six or five tetrahedra"),
+        ParamInfo::new("model", "-", "material model: svk or corotational"),
         ParamInfo::new(
             "distortion",
             "cells",
@@ -149,7 +154,8 @@ fn run(p: &TetPatchParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         "parameter `gradient`: det(I + H) = {} must be > 0",
         f.determinant()
     );
-    let material = SolidMaterial::new(p.young, p.poisson, 1000.0, 0.0)?;
+    let material =
+        SolidMaterial::new(p.young, p.poisson, 1000.0, 0.0)?.with_model(parse_model(&p.model)?);
     let n = p.divisions;
     let mut b = BoxMesh::new(Vector3::zeros(), Vector3::repeat(p.size), [n, n, n], split)?;
     let cell = p.size / n as f64;
@@ -183,9 +189,8 @@ fn run(p: &TetPatchParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     )?;
     ctx.progress(0.8);
     let e_exact = 0.5 * (f.transpose() * f - Matrix3::identity());
-    let el0 = &mesh.elements()[0];
-    let s_exact = el0.pk2_stress_of(&e_exact);
-    let sigma_exact = f * s_exact * f.transpose() / f.determinant();
+    let p_exact = mesh.elements()[0].first_piola_of(&f);
+    let sigma_exact = p_exact * f.transpose() / f.determinant();
     let u_scale = b
         .positions
         .iter()
