@@ -1,4 +1,5 @@
-//! The linear 4-node tetrahedron with a St. Venant–Kirchhoff material.
+//! The linear 4-node tetrahedron with a St. Venant–Kirchhoff or a corotational linear
+//! material.
 //!
 //! Four nodes with a position each (3 coordinates, see
 //! [`SolidNode`](crate::node::SolidNode)): 12 coordinates `x = [x_0, x_1, x_2, x_3]`. The
@@ -87,7 +88,8 @@ pub type TetMatrix = SMatrix<f64, 12, 12>;
 /// with `l` its longest edge.
 pub const DEGENERATE_VOLUME: f64 = 1e-10;
 
-/// The linear 4-node tetrahedron, St. Venant–Kirchhoff (see the module docs).
+/// The linear 4-node tetrahedron, St. Venant–Kirchhoff or corotational (the material's
+/// [`SolidModel`]; see the module docs).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Tet4 {
     /// Global indices of the four nodes.
