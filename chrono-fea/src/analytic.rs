@@ -7,6 +7,25 @@ pub fn cantilever_tip_deflection(force: f64, length: f64, bending_stiffness: f64
     force * length.powi(3) / (3.0 * bending_stiffness)
 }
 
+/// Timoshenko tip deflection of a cantilever under a tip force: bending plus shear,
+/// `P L^3 / (3 E I) + P L / (k G A)`, m (`shear_stiffness = k G A`, N). Timoshenko &
+/// Gere, *Mechanics of Materials*; the shear part is the uniform shear strain
+/// `P / (k G A)` over the length.
+pub fn timoshenko_tip_deflection(
+    force: f64,
+    length: f64,
+    bending_stiffness: f64,
+    shear_stiffness: f64,
+) -> f64 {
+    cantilever_tip_deflection(force, length, bending_stiffness) + force * length / shear_stiffness
+}
+
+/// Shear correction factor of a rectangular section, `k = 10 (1 + nu) / (12 + 11 nu)`
+/// (Cowper 1966, J. Appl. Mech. 33: 335; 0.85 at `nu = 0.3`, 5/6 at `nu = 0`), -.
+pub fn rectangle_shear_coefficient(poisson: f64) -> f64 {
+    10.0 * (1.0 + poisson) / (12.0 + 11.0 * poisson)
+}
+
 /// First bending frequency of a uniform Euler–Bernoulli cantilever,
 /// `f_1 = (beta_1 L)^2 sqrt(E I / (rho A L^4)) / (2 pi)` with `beta_1 L = 1.875`
 /// (the root of `cos x cosh x = -1` rounded as in the issue; 1.8751041 exactly), Hz.

@@ -12,8 +12,16 @@
 //! fixed points or rigid bodies by bilateral rows, nodes (and optionally element
 //! midpoints) as contact spheres against the rigid bodies' colliders.
 //!
+//! Solids: the linear 4-node tetrahedron with the St. Venant–Kirchhoff material
+//! ([`Tet4`], [`SolidMaterial`]), meshes of it ([`TetMesh`]) with supports, prescribed
+//! displacements, nodal forces, face tractions and gravity, structured box meshes with
+//! their face node sets ([`BoxMesh`]), solved by the same Newton solver
+//! ([`solve_static`], any [`StaticModel`]), their natural frequencies
+//! ([`natural_frequencies`]), and stepped implicitly in a system like the cable
+//! ([`TetItem`]: supports, attachment rows, surface-node contact spheres).
+//!
 //! Still to come (see the issue): the fully parameterized ANCF beam, ANCF shells,
-//! tetrahedra, slope attachments.
+//! slope attachments.
 //!
 //! ```
 //! use chrono_fea::{BeamMaterial, CableMesh, CableQuadrature, NodeId, StaticSettings, solve_static};
@@ -41,13 +49,19 @@ pub mod node;
 pub mod quadrature;
 pub mod spd;
 pub mod statics;
+pub mod tet_box;
+pub mod tet_dynamics;
+pub mod tet_mesh;
 
 pub use dynamics::{AttachTarget, Attachment, CableItem};
-pub use element::{AncfCable, CableQuadrature};
+pub use element::{AncfCable, CableQuadrature, Tet4, von_mises};
 pub use error::{FeaError, Result};
-pub use material::BeamMaterial;
+pub use material::{BeamMaterial, SolidMaterial, SolidModel};
 pub use mesh::{CableMesh, DofMap};
-pub use modal::natural_frequencies;
-pub use node::{GradientNode, NodeId};
+pub use modal::{MassModel, natural_frequencies};
+pub use node::{GradientNode, NodeId, SolidNode};
 pub use spd::SparseSpd;
-pub use statics::{StaticReport, StaticSettings, solve_static};
+pub use statics::{StaticModel, StaticReport, StaticSettings, solve_static};
+pub use tet_box::{BoxFaces, BoxMesh, HexSplit};
+pub use tet_dynamics::TetItem;
+pub use tet_mesh::TetMesh;

@@ -29,6 +29,21 @@ pub struct DofMap {
 }
 
 impl DofMap {
+    /// The numbering of the coordinates whose `fixed` flag is false, in order.
+    pub fn from_fixed(fixed: impl IntoIterator<Item = bool>) -> Self {
+        let mut nfree = 0;
+        let free = fixed
+            .into_iter()
+            .map(|f| {
+                (!f).then(|| {
+                    nfree += 1;
+                    nfree - 1
+                })
+            })
+            .collect();
+        Self { free, nfree }
+    }
+
     /// Free index of global coordinate `g`.
     pub fn free_index(&self, g: usize) -> Option<usize> {
         self.free[g]
@@ -280,19 +295,11 @@ impl CableMesh {
 
     /// The numbering of the free coordinates.
     pub fn dof_map(&self) -> DofMap {
-        let mut free = Vec::with_capacity(self.ndof());
-        let mut nfree = 0;
-        for node in &self.nodes {
-            for k in 0..GradientNode::NDOF {
-                if node.is_fixed(k) {
-                    free.push(None);
-                } else {
-                    free.push(Some(nfree));
-                    nfree += 1;
-                }
-            }
-        }
-        DofMap { free, nfree }
+        DofMap::from_fixed(
+            self.nodes
+                .iter()
+                .flat_map(|n| (0..GradientNode::NDOF).map(|k| n.is_fixed(k))),
+        )
     }
 
     /// The global coordinate vector `q` of the current configuration.
@@ -431,7 +438,40 @@ impl CableMesh {
 }
 
 /// A square sparse matrix of size `n` from triplets (duplicates summed).
-fn sparse(n: usize, trip: &[Triplet<usize, usize, f64>]) -> Result<SparseColMat<usize, f64>> {
+pub(crate) fn sparse(
+    n: usize,
+    trip: &[Triplet<usize, usize, f64>],
+) -> Result<SparseColMat<usize, f64>> {
     SparseColMat::try_new_from_triplets(n, n, trip)
         .map_err(|e| FeaError::Assembly(format!("{e:?}")))
+}
+
+impl crate::statics::StaticModel for CableMesh {
+    fn coordinates(&self) -> Vec<f64> {
+        CableMesh::coordinates(self)
+    }
+    fn set_coordinates(&mut self, q: &[f64]) -> Result<()> {
+        CableMesh::set_coordinates(self, q)
+    }
+    fn dof_map(&self) -> DofMap {
+        CableMesh::dof_map(self)
+    }
+    fn external_force(&self, lambda: f64) -> Vec<f64> {
+        CableMesh::external_force(self, lambda)
+    }
+    fn internal_force(
+        &self,
+        q: &[f64],
+        map: &DofMap,
+        tangent: bool,
+    ) -> Result<(Vec<f64>, Option<SparseMatrix>)> {
+        CableMesh::internal_force(self, q, map, tangent)
+    }
+    /// `max_e E A`, N.
+    fn force_scale(&self) -> f64 {
+        self.elements
+            .iter()
+            .map(|e| e.material().axial_stiffness())
+            .fold(0.0, f64::max)
+    }
 }

@@ -10,7 +10,27 @@
 use nalgebra::DMatrix;
 
 use crate::error::{FeaError, Result};
-use crate::mesh::CableMesh;
+use crate::mesh::{CableMesh, DofMap, SparseMatrix};
+use crate::statics::StaticModel;
+use crate::tet_mesh::TetMesh;
+
+/// A [`StaticModel`] with a mass matrix: what [`natural_frequencies`] needs.
+pub trait MassModel: StaticModel {
+    /// The consistent mass matrix on the free coordinates of `map`, kg.
+    fn mass_matrix(&self, map: &DofMap) -> Result<SparseMatrix>;
+}
+
+impl MassModel for CableMesh {
+    fn mass_matrix(&self, map: &DofMap) -> Result<SparseMatrix> {
+        CableMesh::mass_matrix(self, map)
+    }
+}
+
+impl MassModel for TetMesh {
+    fn mass_matrix(&self, map: &DofMap) -> Result<SparseMatrix> {
+        TetMesh::mass_matrix(self, map)
+    }
+}
 
 /// Largest number of free coordinates [`natural_frequencies`] accepts.
 pub const MAX_DENSE_DOF: usize = 3000;
@@ -30,7 +50,7 @@ fn dense(m: &faer::sparse::SparseColMat<usize, f64>) -> DMatrix<f64> {
 /// The natural frequencies `omega / (2 pi)` (Hz) of `mesh` about its current
 /// configuration, ascending. Errors: no free coordinate, too many for the dense solver, a
 /// mass matrix that is not positive definite.
-pub fn natural_frequencies(mesh: &CableMesh) -> Result<Vec<f64>> {
+pub fn natural_frequencies<M: MassModel + ?Sized>(mesh: &M) -> Result<Vec<f64>> {
     let map = mesh.dof_map();
     let n = map.nfree();
     if n == 0 {

@@ -1,8 +1,9 @@
-//! ANCF position + gradient nodes.
+//! Nodes: ANCF position + gradient nodes (cables) and position nodes (solids).
 
 use nalgebra::Vector3;
 
-/// Index of a node in a [`CableMesh`](crate::mesh::CableMesh).
+/// Index of a node in a [`CableMesh`](crate::mesh::CableMesh) or a
+/// [`TetMesh`](crate::tet_mesh::TetMesh).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct NodeId(pub usize);
 
@@ -51,5 +52,39 @@ impl GradientNode {
     /// Whether coordinate `k` (0..3 position, 3..6 slope) is held fixed.
     pub fn is_fixed(&self, k: usize) -> bool {
         self.fixed[k]
+    }
+}
+
+/// A node of a solid element: a position only (3 coordinates), the node of the
+/// tetrahedron ([`Tet4`](crate::element::Tet4)).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SolidNode {
+    /// Current position, m.
+    pub position: Vector3<f64>,
+    /// Position in the reference (stress-free) configuration, m.
+    pub reference_position: Vector3<f64>,
+    /// Which of the 3 coordinates a support holds at their current value.
+    pub fixed: [bool; 3],
+    /// Applied nodal force, N (a dead load: constant direction).
+    pub force: Vector3<f64>,
+}
+
+impl SolidNode {
+    /// Number of coordinates of a node.
+    pub const NDOF: usize = 3;
+
+    /// A free, unloaded node at its reference position.
+    pub fn new(position: Vector3<f64>) -> Self {
+        Self {
+            position,
+            reference_position: position,
+            fixed: [false; 3],
+            force: Vector3::zeros(),
+        }
+    }
+
+    /// Displacement from the reference position, m.
+    pub fn displacement(&self) -> Vector3<f64> {
+        self.position - self.reference_position
     }
 }

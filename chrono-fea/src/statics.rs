@@ -12,15 +12,47 @@
 //! ```
 //!
 //! (norm over the free coordinates; position rows in N, slope rows in N m — for the unit
-//! slopes of the cable both are force scales). `atol` defaults to `1e-13 max(E A)`: the
-//! round-off floor of the internal force of a stiff element, far below any load of
-//! interest.
+//! slopes of the cable both are force scales). `atol` defaults to `1e-13` times the
+//! model's [`force_scale`](StaticModel::force_scale) (`max E A` for a cable mesh,
+//! `max (E V^(1/3)) max |X|` for a tetrahedral mesh: its stiffest element displaced by
+//! the size of the coordinates): near the round-off floor of the internal force of a
+//! stiff element (positions are absolute coordinates), far below any load of interest.
+//!
+//! Any model with coordinates, supports, loads, an internal force and its tangent can be
+//! solved: the [`StaticModel`] trait, implemented by [`CableMesh`] and
+//! [`TetMesh`](crate::tet_mesh::TetMesh).
 
 use faer::Mat;
 use faer::prelude::*;
 
 use crate::error::{FeaError, Result, non_negative};
+#[cfg(doc)]
 use crate::mesh::CableMesh;
+use crate::mesh::{DofMap, SparseMatrix};
+
+/// What [`solve_static`] needs of a mesh. Global coordinates are numbered by the mesh;
+/// supports hold coordinates at their current values ([`DofMap`]).
+pub trait StaticModel {
+    /// The global coordinate vector of the current configuration.
+    fn coordinates(&self) -> Vec<f64>;
+    /// Set the current configuration (all coordinates).
+    fn set_coordinates(&mut self, q: &[f64]) -> Result<()>;
+    /// The numbering of the free coordinates.
+    fn dof_map(&self) -> DofMap;
+    /// The dead loads at load factor `lambda` (global vector).
+    fn external_force(&self, lambda: f64) -> Vec<f64>;
+    /// The internal force `Q(q)` (global) and, if `tangent`, `dQ/dq` on the free
+    /// coordinates of `map`.
+    fn internal_force(
+        &self,
+        q: &[f64],
+        map: &DofMap,
+        tangent: bool,
+    ) -> Result<(Vec<f64>, Option<SparseMatrix>)>;
+    /// A force scale of the stiffest element (N): the default absolute tolerance is
+    /// `1e-13` of it.
+    fn force_scale(&self) -> f64;
+}
 
 /// Settings of [`solve_static`].
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -31,7 +63,8 @@ pub struct StaticSettings {
     pub max_iterations: usize,
     /// Relative residual tolerance (to the applied load norm).
     pub relative_tolerance: f64,
-    /// Absolute residual tolerance, N; `None`: `1e-13 max(E A)`.
+    /// Absolute residual tolerance, N; `None`: `1e-13` of the model's
+    /// [`force_scale`](StaticModel::force_scale).
     pub absolute_tolerance: Option<f64>,
 }
 
@@ -70,7 +103,10 @@ fn norm(v: &[f64]) -> f64 {
 
 /// Bring `mesh` to static equilibrium under its loads (see the module docs). The mesh
 /// keeps the converged configuration; on an error it keeps the last converged step.
-pub fn solve_static(mesh: &mut CableMesh, settings: &StaticSettings) -> Result<StaticReport> {
+pub fn solve_static<M: StaticModel + ?Sized>(
+    mesh: &mut M,
+    settings: &StaticSettings,
+) -> Result<StaticReport> {
     if settings.load_steps == 0 {
         return Err(FeaError::invalid("statics.load_steps", 0, "must be >= 1"));
     }
@@ -84,14 +120,7 @@ pub fn solve_static(mesh: &mut CableMesh, settings: &StaticSettings) -> Result<S
     non_negative("statics.relative_tolerance", settings.relative_tolerance)?;
     let atol = match settings.absolute_tolerance {
         Some(a) => non_negative("statics.absolute_tolerance", a)?,
-        None => {
-            1e-13
-                * mesh
-                    .elements()
-                    .iter()
-                    .map(|e| e.material().axial_stiffness())
-                    .fold(0.0, f64::max)
-        }
+        None => 1e-13 * mesh.force_scale(),
     };
     if settings.relative_tolerance == 0.0 && atol == 0.0 {
         return Err(FeaError::invalid(

@@ -5,6 +5,8 @@
 //!   drawn as a square of side [`ShapeMeshOptions::half_space_size`] (default 20 m)
 //!   centered at its local origin.
 //! - [`write_points_vtp`]: particles as vertex cells with named scalar and vector point data.
+//! - [`write_cells_vtu`]: an unstructured grid (`.vtu`) of one cell type (tetrahedra of
+//!   a finite-element mesh ...) with named point and cell data.
 //! - [`write_pvd`]: a collection of `(time, file)` so ParaView animates a series.
 //!
 //! Numbers are written at full precision; non-finite values are rejected (VTK readers
@@ -129,6 +131,104 @@ pub fn write_points_vtp(
     x.ints("Int64", "connectivity", 0..n as u64);
     x.ints("Int64", "offsets", 1..=n as u64);
     x.s.push_str("      </Verts>\n    </Piece>\n");
+    x.finish(path.as_ref())
+}
+
+/// VTK cell type of a linear tetrahedron (`VTK_TETRA`).
+pub const VTK_TETRA: u8 = 10;
+/// VTK cell type of a triangle (`VTK_TRIANGLE`).
+pub const VTK_TRIANGLE: u8 = 5;
+
+/// An unstructured grid of cells of one VTK type for [`write_cells_vtu`].
+#[derive(Debug, Clone, Copy)]
+pub struct CellGrid<'a> {
+    /// Point positions, m.
+    pub points: &'a [Vector3<f64>],
+    /// VTK cell type ([`VTK_TETRA`], [`VTK_TRIANGLE`] ...).
+    pub cell_type: u8,
+    /// Points per cell (4 for a tetrahedron).
+    pub nodes_per_cell: usize,
+    /// Point indices, `nodes_per_cell` per cell.
+    pub connectivity: &'a [usize],
+    /// Named point scalars (one value per point).
+    pub point_scalars: &'a [(&'a str, &'a [f64])],
+    /// Named point vectors (one 3-vector per point).
+    pub point_vectors: &'a [(&'a str, &'a [Vector3<f64>])],
+    /// Named cell scalars (one value per cell).
+    pub cell_scalars: &'a [(&'a str, &'a [f64])],
+}
+
+/// Write an unstructured grid (`.vtu`, ASCII): the cells of `grid` with its point and
+/// cell data. Errors name the array: a connectivity length that is not a multiple of
+/// `nodes_per_cell`, an index out of range, a data array of the wrong length, a
+/// non-finite number.
+pub fn write_cells_vtu(path: impl AsRef<Path>, grid: &CellGrid<'_>) -> Result<()> {
+    let n = grid.points.len();
+    let k = grid.nodes_per_cell;
+    if k == 0 || !grid.connectivity.len().is_multiple_of(k) {
+        return Err(ChronoError::invalid(
+            "connectivity.len()",
+            grid.connectivity.len(),
+            format!("must be a multiple of nodes_per_cell ({k}, > 0)"),
+        ));
+    }
+    let cells = grid.connectivity.len() / k;
+    if let Some(i) = grid.connectivity.iter().position(|&c| c >= n) {
+        return Err(ChronoError::invalid(
+            format!("connectivity[{i}]"),
+            grid.connectivity[i],
+            format!("must be < the number of points ({n})"),
+        ));
+    }
+    let check = |kind: &str, name: &str, len: usize, want: usize| {
+        if len == want {
+            Ok(())
+        } else {
+            Err(ChronoError::invalid(
+                format!("{kind}[\"{name}\"].len()"),
+                len,
+                format!("must be {want}"),
+            ))
+        }
+    };
+    for (name, v) in grid.point_scalars {
+        check("point_scalars", name, v.len(), n)?;
+    }
+    for (name, v) in grid.point_vectors {
+        check("point_vectors", name, v.len(), n)?;
+    }
+    for (name, v) in grid.cell_scalars {
+        check("cell_scalars", name, v.len(), cells)?;
+    }
+    let mut x = Xml::new("UnstructuredGrid");
+    x.s.push_str(&format!(
+        "    <Piece NumberOfPoints=\"{n}\" NumberOfCells=\"{cells}\">\n"
+    ));
+    x.points(grid.points)?;
+    x.s.push_str("      <PointData>\n");
+    for (name, v) in grid.point_scalars {
+        x.floats(name, 1, v.iter().copied())?;
+    }
+    for (name, v) in grid.point_vectors {
+        x.floats(name, 3, v.iter().flat_map(|p| [p.x, p.y, p.z]))?;
+    }
+    x.s.push_str("      </PointData>\n      <CellData>\n");
+    for (name, v) in grid.cell_scalars {
+        x.floats(name, 1, v.iter().copied())?;
+    }
+    x.s.push_str("      </CellData>\n      <Cells>\n");
+    x.ints(
+        "Int64",
+        "connectivity",
+        grid.connectivity.iter().map(|&i| i as u64),
+    );
+    x.ints("Int64", "offsets", (1..=cells as u64).map(|c| c * k as u64));
+    x.ints(
+        "UInt8",
+        "types",
+        std::iter::repeat_n(u64::from(grid.cell_type), cells),
+    );
+    x.s.push_str("      </Cells>\n    </Piece>\n");
     x.finish(path.as_ref())
 }
 
@@ -306,6 +406,51 @@ mod tests {
         assert_eq!(ids.iter().filter(|&&b| b == 0.0).count(), 2);
         let max_z = pts.chunks(3).map(|p| p[2]).fold(f64::MIN, f64::max);
         assert!((max_z - 10.5).abs() < 1e-9, "{max_z}");
+    }
+
+    #[test]
+    fn tetra_grid_file() {
+        let path = temp("tets.vtu");
+        let pts = vec![
+            Vector3::zeros(),
+            Vector3::x(),
+            Vector3::y(),
+            Vector3::z(),
+            Vector3::new(1.0, 1.0, 1.0),
+        ];
+        let disp = vec![Vector3::new(0.0, 0.0, -0.1); 5];
+        let grid = CellGrid {
+            points: &pts,
+            cell_type: VTK_TETRA,
+            nodes_per_cell: 4,
+            connectivity: &[0, 1, 2, 3, 1, 4, 2, 3],
+            point_scalars: &[],
+            point_vectors: &[("displacement", &disp)],
+            cell_scalars: &[("von_mises", &[1.5, 2.5])],
+        };
+        write_cells_vtu(&path, &grid).unwrap();
+        let text = std::fs::read_to_string(&path).unwrap();
+        assert!(text.contains("type=\"UnstructuredGrid\""));
+        assert_eq!(
+            (attr(&text, "NumberOfPoints"), attr(&text, "NumberOfCells")),
+            (5, 2)
+        );
+        assert_eq!(array(&text, "von_mises"), vec![1.5, 2.5]);
+        assert_eq!(array(&text, "offsets"), vec![4.0, 8.0]);
+        assert_eq!(array(&text, "types"), vec![10.0, 10.0]);
+        assert_eq!(array(&text, "displacement").len(), 15);
+        let bad = CellGrid {
+            connectivity: &[0, 1, 2, 7],
+            ..grid
+        };
+        let e = write_cells_vtu(&path, &bad).unwrap_err().to_string();
+        assert!(e.contains("connectivity[3]") && e.contains('7'), "{e}");
+        let bad = CellGrid {
+            cell_scalars: &[("von_mises", &[1.0])],
+            ..grid
+        };
+        let e = write_cells_vtu(&path, &bad).unwrap_err().to_string();
+        assert!(e.contains("von_mises"), "{e}");
     }
 
     #[test]

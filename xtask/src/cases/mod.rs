@@ -90,6 +90,8 @@ pub fn all_cases() -> Vec<Box<dyn Case>> {
         fea::cantilever::case(),
         fea::frequency::case(),
         fea::pendulum::case(),
+        fea::tet_patch::case(),
+        fea::tet_cantilever::case(),
         vehicle::static_settle::case(),
         vehicle::accel::case(),
         vehicle::turn::case(),

@@ -5,14 +5,19 @@
 //! - `fea-cantilever-frequency`: its first bending frequency against the Euler–Bernoulli
 //!   value `1.875^2 sqrt(E I / (rho A L^4)) / (2 pi)`;
 //! - `fea-pendulum`: an undamped flexible pendulum stepped in the system's CCP (implicit
-//!   Euler) keeps its energy; the numerical damping against the step size.
+//!   Euler) keeps its energy; the numerical damping against the step size;
+//! - `fea-tet-patch`: the patch test of the linear tetrahedron on a distorted mesh;
+//! - `fea-tet-cantilever`: a tetrahedral box cantilever under a tip shear load, mesh
+//!   convergence of the tip deflection against beam theory.
 
 pub mod cantilever;
 pub mod frequency;
 pub mod pendulum;
+pub mod tet_cantilever;
+pub mod tet_patch;
 
 use chrono_core::math::Vector3;
-use chrono_fea::{BeamMaterial, CableMesh, CableQuadrature, NodeId};
+use chrono_fea::{BeamMaterial, CableMesh, CableQuadrature, HexSplit, NodeId, SolidModel};
 
 /// The beam element of a case parameter: only `cable` (the gradient-deficient ANCF
 /// cable/beam) exists so far.
@@ -57,4 +62,48 @@ pub fn cantilever_mesh(
     )?;
     mesh.clamp(NodeId(0))?;
     Ok(mesh)
+}
+
+/// The hexahedron split of a case parameter: `six` or `five` tetrahedra per cell.
+pub fn parse_split(split: &str) -> anyhow::Result<HexSplit> {
+    match split {
+        "six" => Ok(HexSplit::Six),
+        "five" => Ok(HexSplit::Five),
+        other => anyhow::bail!("parameter `split` must be `six` or `five`, got `{other}`"),
+    }
+}
+
+/// The solid model of a case parameter: `svk` (St. Venant–Kirchhoff) or `corotational`.
+pub fn parse_model(model: &str) -> anyhow::Result<SolidModel> {
+    match model {
+        "svk" => Ok(SolidModel::StVenantKirchhoff),
+        "corotational" => Ok(SolidModel::Corotational),
+        other => anyhow::bail!("parameter `model` must be `svk` or `corotational`, got `{other}`"),
+    }
+}
+
+/// Write the deformed tetrahedral mesh as a `.vtu`: current positions, the displacement
+/// (point vectors), the von Mises (Cauchy) stress and the volume ratio `det F` per element.
+pub fn write_tet_vtu(mesh: &chrono_fea::TetMesh, path: &std::path::Path) -> anyhow::Result<()> {
+    use chrono_core::io::vtk::{CellGrid, VTK_TETRA, write_cells_vtu};
+    let points: Vec<Vector3<f64>> = mesh.nodes().iter().map(|n| n.position).collect();
+    let displacement: Vec<Vector3<f64>> = mesh.nodes().iter().map(|n| n.displacement()).collect();
+    let connectivity: Vec<usize> = mesh.elements().iter().flat_map(|e| e.nodes).collect();
+    let von_mises = mesh.von_mises_stresses();
+    let jacobian: Vec<f64> = (0..mesh.elements().len())
+        .map(|e| mesh.elements()[e].jacobian(&mesh.current_element_coordinates(e)))
+        .collect();
+    write_cells_vtu(
+        path,
+        &CellGrid {
+            points: &points,
+            cell_type: VTK_TETRA,
+            nodes_per_cell: 4,
+            connectivity: &connectivity,
+            point_scalars: &[],
+            point_vectors: &[("displacement", &displacement)],
+            cell_scalars: &[("von_mises", &von_mises), ("det_F", &jacobian)],
+        },
+    )?;
+    Ok(())
 }
