@@ -31,8 +31,9 @@
 //! factorization (for a mechanism about linear in `n_B`), `n_C` sparse solves and
 //! `O(n_B n_C^2)` for `S`, then `O(n_C^2)` per iteration.
 //! It suits mechanisms (hundreds of joint rows, tens of contacts); past
-//! [`max_dense_rows`](Schur::with_max_dense_rows) rows in either part it hands the problem
-//! to its fallback solver (APGD by default).
+//! [`max_dense_rows`](Schur::with_max_dense_rows) contact rows the complement is applied
+//! matrix-free (two products with `N` and a sparse solve per iteration), and a problem
+//! without bilateral rows goes to the fallback solver (APGD by default) directly.
 //!
 //! Reference: the Schur-complement (reduced) formulation of the contact problem of a
 //! multibody system with bilateral constraints, e.g. M. Anitescu and G. D. Hart, "A
@@ -101,11 +102,187 @@ impl Schur {
         }
     }
 
-    /// The largest number of bilateral rows, and of other rows, handled densely (default
-    /// 1500): beyond it the fallback solver takes the problem.
+    /// The largest number of non-bilateral rows whose Schur complement is formed densely
+    /// (default 1500). Beyond it (a vehicle on granular terrain: thousands of contacts) the
+    /// complement is applied matrix-free ([`implicit`](Self::implicit)).
     pub fn with_max_dense_rows(mut self, n: usize) -> Self {
         self.max_dense_rows = n;
         self
+    }
+
+    /// Set the joint impulses exactly for the current other impulses: `g_B = -N_BB^-1 (r_B +
+    /// N_BC g_C)` (from the gradient of `gamma` with its bilateral part zeroed), then leave
+    /// the full gradient `N g + r` of the completed `gamma` in `self.grad` (its bilateral part
+    /// is zero to round-off; its other part is the gradient of the reduced problem).
+    fn complete(&mut self, problem: &CcpProblem, gamma: &mut [f64]) {
+        for &i in &self.b_rows {
+            gamma[i] = 0.0;
+        }
+        problem.gradient(gamma, &mut self.grad, &mut self.work);
+        self.rhs_b.clear();
+        self.rhs_b.extend(self.b_rows.iter().map(|&i| self.grad[i]));
+        self.factor.solve(&mut self.rhs_b, 1);
+        for (k, &i) in self.b_rows.iter().enumerate() {
+            gamma[i] = -self.rhs_b[k];
+        }
+        problem.gradient(gamma, &mut self.grad, &mut self.work);
+    }
+
+    /// Power-iteration estimate of `lambda_max(D^1/2 S D^1/2)` (`D` the rows' step scales,
+    /// `S` the Schur complement) with the operator applied matrix-free: `S x` is the
+    /// non-bilateral part of `N [z; x]` with `z = -N_BB^-1 N_BC x`.
+    fn reduced_lipschitz(&mut self, problem: &CcpProblem, iterations: usize) -> f64 {
+        let m = problem.n_rows();
+        let sc = problem.scales();
+        let mut x = std::mem::take(&mut self.y);
+        let mut nx = std::mem::take(&mut self.g_prev);
+        x.clear();
+        x.resize(m, 0.0);
+        nx.clear();
+        nx.resize(m, 0.0);
+        for (k, &i) in self.c_rows.iter().enumerate() {
+            x[i] = 0.5 + ((k as f64 + 1.0) * 0.618_033_988_749_895).fract();
+        }
+        let mut lambda = 1.0;
+        for _ in 0..iterations {
+            let norm = self.c_rows.iter().map(|&i| x[i] * x[i]).sum::<f64>().sqrt();
+            if !(norm > 0.0 && norm.is_finite()) {
+                break;
+            }
+            for &i in &self.c_rows {
+                x[i] *= sc[i].sqrt() / norm;
+            }
+            for &i in &self.b_rows {
+                x[i] = 0.0;
+            }
+            problem.apply_n(&x, &mut nx, &mut self.work);
+            self.rhs_b.clear();
+            self.rhs_b.extend(self.b_rows.iter().map(|&i| nx[i]));
+            self.factor.solve(&mut self.rhs_b, 1);
+            for (k, &i) in self.b_rows.iter().enumerate() {
+                x[i] = -self.rhs_b[k];
+            }
+            problem.apply_n(&x, &mut nx, &mut self.work);
+            let mut l2 = 0.0;
+            for &i in &self.c_rows {
+                x[i] = sc[i].sqrt() * nx[i];
+                l2 += x[i] * x[i];
+            }
+            lambda = l2.sqrt();
+        }
+        self.y = x;
+        self.g_prev = nx;
+        if lambda > 0.0 && lambda.is_finite() {
+            lambda
+        } else {
+            1.0
+        }
+    }
+
+    /// The mode for many non-bilateral rows (granular contacts): accelerated projected
+    /// gradient on the reduced problem with the Schur complement applied matrix-free, every
+    /// iterate completed by the exact joint impulses ([`complete`](Self::complete): two
+    /// products with `N` and one sparse solve per iteration). The metric is the rows'
+    /// diagonal scales (Jacobi preconditioning, cone-averaged); the step `1 / L` with `L`
+    /// from a power iteration, doubled while the quadratic model does not bound the step;
+    /// momentum with gradient restart; the best iterate is returned. The joints hold to
+    /// round-off at every iterate, so however far from convergence the iterations stop, no
+    /// joint drifts.
+    fn implicit(&mut self, problem: &CcpProblem, gamma: &mut [f64]) -> SolveStats {
+        let tol = self.settings.tolerance;
+        let m = problem.n_rows();
+        let max_it = self.settings.max_iterations.max(1);
+        let mut history = History::new(self.settings.record_history, max_it);
+        let mut lip = self.reduced_lipschitz(problem, 8);
+        let mut apply_n = 1 + 2 * 8;
+        let sc = problem.scales();
+        // x: the iterate, y: the extrapolated point; both completed (their joints exact),
+        // and since the completion is affine, so is every combination of them.
+        let mut x: Vec<f64> = gamma.to_vec();
+        self.complete(problem, &mut x);
+        apply_n += 2;
+        let mut grad_x = self.grad.clone();
+        let mut best_res = problem.residual(&x, &grad_x, &mut self.work);
+        let mut best = x.clone();
+        let mut y = x.clone();
+        let mut grad_y = grad_x.clone();
+        let mut x_new = vec![0.0; m];
+        let mut theta = 1.0f64;
+        let mut iterations = 0;
+        for it in 1..=max_it {
+            if best_res <= tol {
+                break;
+            }
+            iterations = it;
+            // Projected step from y; backtrack until the quadratic model bounds the step
+            // (d'S d <= L |d|^2 in the metric), as in APGD.
+            for _ in 0..40 {
+                x_new.copy_from_slice(&y);
+                for &i in &self.c_rows {
+                    x_new[i] = y[i] - sc[i] * grad_y[i] / lip;
+                }
+                problem.project(&mut x_new);
+                self.complete(problem, &mut x_new);
+                apply_n += 2;
+                let (mut dnd, mut dpd) = (0.0, 0.0);
+                for &i in &self.c_rows {
+                    let d = x_new[i] - y[i];
+                    dnd += d * (self.grad[i] - grad_y[i]);
+                    if sc[i] > 0.0 {
+                        dpd += d * d / sc[i];
+                    }
+                }
+                if dnd <= lip * dpd || dpd == 0.0 {
+                    break;
+                }
+                lip *= 2.0;
+            }
+            let res = problem.residual(&x_new, &self.grad, &mut self.work);
+            history.push(it, res, apply_n, || {
+                problem.objective_from_gradient(&x_new, &self.grad, &mut self.work)
+            });
+            if !res.is_finite() {
+                break;
+            }
+            if res < best_res {
+                best_res = res;
+                best.copy_from_slice(&x_new);
+            }
+            // Nesterov momentum with gradient restart (O'Donoghue and Candès).
+            let slope: f64 = self
+                .c_rows
+                .iter()
+                .map(|&i| grad_y[i] * (x_new[i] - x[i]))
+                .sum();
+            let next = 0.5 * (1.0 + (1.0 + 4.0 * theta * theta).sqrt());
+            let beta = if slope > 0.0 {
+                theta = 1.0;
+                0.0
+            } else {
+                let b = (theta - 1.0) / next;
+                theta = next;
+                b
+            };
+            for k in 0..m {
+                y[k] = x_new[k] + beta * (x_new[k] - x[k]);
+                grad_y[k] = self.grad[k] + beta * (self.grad[k] - grad_x[k]);
+            }
+            std::mem::swap(&mut x, &mut x_new);
+            grad_x.copy_from_slice(&self.grad);
+        }
+        gamma.copy_from_slice(&best);
+        problem.gradient(gamma, &mut self.grad, &mut self.work);
+        apply_n += 1;
+        final_stats(
+            problem,
+            gamma,
+            &self.grad,
+            &mut self.work,
+            iterations,
+            apply_n,
+            tol,
+            history.into_records(),
+        )
     }
 
     /// Scatter the contact part `gc` into the full-length `full` (bilateral rows 0) and
@@ -165,7 +342,7 @@ impl CcpSolver for Schur {
         let bil = problem.sections().bilateral.clone();
         let nb = bil.len();
         let nc = m - nb;
-        if nb == 0 || nb > self.max_dense_rows || nc > self.max_dense_rows {
+        if nb == 0 {
             return self.fallback.solve(problem, gamma);
         }
         sanitize_and_project(problem, gamma);
@@ -193,6 +370,9 @@ impl CcpSolver for Schur {
         // N_BB, factored (sparse).
         if self.factor.factor(problem, &self.b_rows).is_err() {
             return self.fallback.solve(problem, gamma);
+        }
+        if nc > self.max_dense_rows {
+            return self.implicit(problem, gamma);
         }
 
         // N_BC by columns, X = N_BB^+ N_BC, S = N_CC - N_BC' X, q = r_C - X' r_B.

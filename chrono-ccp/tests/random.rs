@@ -74,6 +74,8 @@ proptest! {
         }
         let mut plain = chrono_ccp::Apgd::new(settings()).with_preconditioning(false);
         objectives.push(("apgd unpreconditioned", run(&mut plain, seed)?.1));
+        let mut implicit = chrono_ccp::Schur::new(settings()).with_max_dense_rows(0);
+        objectives.push(("schur implicit", run(&mut implicit, seed)?.1));
         let mut scalar = chrono_ccp::Psor::new(settings()).with_block_bilateral(false).with_omega(1.3);
         objectives.push(("psor scalar omega 1.3", run(&mut scalar, seed)?.1));
         let f0 = objectives[0].1;

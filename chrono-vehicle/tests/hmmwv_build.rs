@@ -13,12 +13,19 @@ use chrono_vehicle::{DriverInputs, VehicleData, WheeledVehicle};
 const H: f64 = 1e-3;
 
 fn on_flat_ground(data: &VehicleData) -> (System, WheeledVehicle) {
+    on_flat_ground_with(data, usize::MAX)
+}
+
+/// With `max_dense_rows = 0` the Schur solver applies the Schur complement matrix-free
+/// (its mode for granular terrain).
+fn on_flat_ground_with(data: &VehicleData, max_dense_rows: usize) -> (System, WheeledVehicle) {
     let s = SolverSettings {
         tolerance: 1e-8,
         max_iterations: 500,
         record_history: false,
     };
-    let mut sys = System::new(SystemSettings::default(), Box::new(Schur::new(s))).unwrap();
+    let solver = Schur::new(s).with_max_dense_rows(max_dense_rows);
+    let mut sys = System::new(SystemSettings::default(), Box::new(solver)).unwrap();
     let terrain = Arc::new(FlatTerrain::new(0.0, 0.9).unwrap());
     terrain
         .add_to_system(&mut sys, ContactMaterial::with_friction(0.9))
@@ -35,9 +42,18 @@ fn hmmwv_settles_with_its_weight_on_the_tires() {
     }
 }
 
+#[test]
+fn hmmwv_settles_with_the_implicit_schur_mode() {
+    settles_with_solver(TireKind::Rigid, 0);
+}
+
 fn settles_with(kind: TireKind) {
+    settles_with_solver(kind, usize::MAX);
+}
+
+fn settles_with_solver(kind: TireKind, max_dense_rows: usize) {
     let data = hmmwv_data_with(kind).unwrap();
-    let (mut sys, mut v) = on_flat_ground(&data);
+    let (mut sys, mut v) = on_flat_ground_with(&data, max_dense_rows);
     for _ in 0..4000 {
         v.synchronize(&mut sys, DriverInputs::default()).unwrap();
         sys.step(H).unwrap();
