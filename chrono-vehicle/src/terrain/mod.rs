@@ -3,15 +3,19 @@
 //!
 //! - [`FlatTerrain`]: the plane `z = height` with one friction coefficient;
 //! - [`HeightmapTerrain`]: heights on a regular grid (from a function or a text file),
-//!   bilinear in between.
+//!   bilinear in between;
+//! - [`GranularPatch`]: a bed of grains under the vehicle that moves with it (rigid tires
+//!   only: the grains are bodies in the system's contact problem).
 //!
 //! A handling tire ([`crate::tire::TMeasyTire`]) queries the terrain through the
 //! [`Terrain`] trait; a rigid tire touches the collider that
 //! [`Terrain::add_to_system`] adds to a [`System`] through the ordinary contact rows.
 //! World frame: Z up, SI units.
 
+mod granular;
 mod heightmap;
 
+pub use granular::{GranularPatch, GranularPatchParams};
 pub use heightmap::HeightmapTerrain;
 
 use chrono_core::math::{Isometry3, Vector3};

@@ -1,0 +1,247 @@
+//! Granular terrain as a moving patch: a bed of spherical grains (chrono-core granular
+//! bodies, NSC or SMC contact) in a box under the vehicle, of which only the part near the
+//! wheels exists. As the vehicle advances, the slab of grains at the rear is moved to the
+//! front, so the number of grains stays fixed however far the vehicle drives: the scene
+//! models only what it needs.
+//!
+//! The front slab of the freshly settled bed is kept as a *template*: each relocation puts
+//! the rearmost grains at the template's positions shifted to the new front, so the ground
+//! ahead is always an undisturbed settled bed (not the rutted slab the wheels left behind).
+//! The box's floor and side walls are planes along X, so moving the container forward by
+//! the slab length changes only its front and rear walls.
+
+use chrono_core::granular::{LatticeFill, Region, add_box_container, add_grains};
+use chrono_core::math::{UnitQuaternion, Vector3};
+use chrono_core::{BodyHandle, ContactMaterial, System};
+use serde::{Deserialize, Serialize};
+
+use crate::error::{Result, VehicleError, check_positive};
+
+/// A granular patch's description.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GranularPatchParams {
+    /// Length along X (the direction of travel), m.
+    pub length: f64,
+    /// Width along Y, m.
+    pub width: f64,
+    /// Bed depth before settling, m.
+    pub depth: f64,
+    /// Grain radius, m (monodisperse, so a relocated grain fits any template site).
+    pub grain_radius: f64,
+    /// Grain density, kg/m^3.
+    pub density: f64,
+    /// Grain–grain and grain–wall friction coefficient.
+    pub friction: f64,
+    /// Length of the slab moved from the rear to the front at each relocation, m.
+    pub slab: f64,
+    /// Seed of the lattice jitter.
+    pub seed: u64,
+}
+
+impl GranularPatchParams {
+    /// Check every field (the error names it).
+    pub fn validate(&self) -> Result<()> {
+        check_positive("granular_patch.length", self.length)?;
+        check_positive("granular_patch.width", self.width)?;
+        check_positive("granular_patch.depth", self.depth)?;
+        check_positive("granular_patch.grain_radius", self.grain_radius)?;
+        check_positive("granular_patch.density", self.density)?;
+        crate::error::check_non_negative("granular_patch.friction", self.friction)?;
+        check_positive("granular_patch.slab", self.slab)?;
+        if self.slab < 4.0 * self.grain_radius || self.slab > 0.25 * self.length {
+            return Err(VehicleError::invalid(
+                "granular_patch.slab",
+                self.slab,
+                format!(
+                    "must hold at least two grain layers (>= 4 r = {}) and be at most a quarter of the length ({})",
+                    4.0 * self.grain_radius,
+                    0.25 * self.length
+                ),
+            ));
+        }
+        if self.depth < 4.0 * self.grain_radius {
+            return Err(VehicleError::invalid(
+                "granular_patch.depth",
+                self.depth,
+                "must hold at least two grain layers",
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// A granular patch in a system (see the [module documentation](self)).
+#[derive(Debug, Clone, PartialEq)]
+pub struct GranularPatch {
+    params: GranularPatchParams,
+    container: BodyHandle,
+    grains: Vec<BodyHandle>,
+    /// X of the container's rear wall, m.
+    rear: f64,
+    /// Settled grain centres of the front slab, relative to the front wall.
+    template: Vec<Vector3<f64>>,
+    /// Bed surface height after settling, m.
+    surface: f64,
+    relocations: usize,
+    /// Scratch: grain indices sorted by x.
+    order: Vec<usize>,
+}
+
+impl GranularPatch {
+    /// Fill a box `[rear, rear + length] x [-width/2, width/2]` on the floor `z = 0` with a
+    /// jittered lattice of grains (they fall and settle when the system steps).
+    pub fn build(sys: &mut System, params: &GranularPatchParams, rear: f64) -> Result<Self> {
+        params.validate()?;
+        let p = params;
+        let material = ContactMaterial::with_friction(p.friction);
+        let lower = Vector3::new(rear, -0.5 * p.width, 0.0);
+        let upper = Vector3::new(rear + p.length, 0.5 * p.width, p.depth);
+        let fill = LatticeFill {
+            region: Region::Box { lower, upper },
+            r_min: p.grain_radius,
+            r_max: p.grain_radius,
+            gap: 0.05 * p.grain_radius,
+            jitter: 0.5,
+            max_count: usize::MAX,
+            seed: p.seed,
+        };
+        let grains = fill.generate()?;
+        // The walls are taller than the bed so grains thrown up by the wheels stay in.
+        let top = Vector3::new(upper.x, upper.y, 10.0 * p.depth + 1.0);
+        let container = add_box_container(sys, "granular patch", lower, top, material)?;
+        let grains = add_grains(sys, &grains, p.density, material)?;
+        let n = grains.len();
+        Ok(Self {
+            params: p.clone(),
+            container,
+            grains,
+            rear,
+            template: Vec::new(),
+            surface: p.depth,
+            relocations: 0,
+            order: (0..n).collect(),
+        })
+    }
+
+    /// After the bed has settled: record the front slab as the relocation template and the
+    /// bed's surface height (the mean top of the grains in the middle half of the patch).
+    pub fn capture_settled(&mut self, sys: &System) -> Result<()> {
+        let front = self.front();
+        let slab = self.params.slab;
+        self.template.clear();
+        let mut tops = Vec::new();
+        for &g in &self.grains {
+            let c = sys.body(g)?.position();
+            if c.x > front - slab {
+                self.template.push(Vector3::new(c.x - front, c.y, c.z));
+            }
+            let mid = self.rear + 0.5 * self.params.length;
+            if (c.x - mid).abs() < 0.25 * self.params.length {
+                tops.push(c.z + self.params.grain_radius);
+            }
+        }
+        if self.template.is_empty() || tops.is_empty() {
+            return Err(VehicleError::invalid(
+                "granular_patch",
+                self.grains.len(),
+                "no grains in the front slab or the middle of the patch after settling",
+            ));
+        }
+        // The surface: the mean of the highest tenth of the tops (the top layer).
+        tops.sort_by(|a, b| b.total_cmp(a));
+        let k = (tops.len() / 10).max(1);
+        self.surface = tops[..k].iter().sum::<f64>() / k as f64;
+        Ok(())
+    }
+
+    /// Move the patch forward while `x` (the vehicle's position) is past its middle: each
+    /// time, the `template.len()` rearmost grains go to the template sites beyond the
+    /// front, at rest, and the container moves by one slab. Returns the number of
+    /// relocations done now.
+    pub fn advance(&mut self, sys: &mut System, x: f64) -> Result<usize> {
+        if self.template.is_empty() {
+            return Err(VehicleError::invalid(
+                "granular_patch.template",
+                0,
+                "call capture_settled after the bed has settled",
+            ));
+        }
+        let mut done = 0;
+        while x > self.rear + 0.5 * self.params.length + self.params.slab {
+            let positions: Vec<f64> = self
+                .grains
+                .iter()
+                .map(|&g| sys.body(g).map(|b| b.position().x))
+                .collect::<std::result::Result<_, _>>()?;
+            self.order
+                .sort_by(|&a, &b| positions[a].total_cmp(&positions[b]));
+            let new_front = self.front() + self.params.slab;
+            let new_rear = self.rear + self.params.slab;
+            // Every grain that would end up behind the new rear wall moves, at least the
+            // template's count; sites beyond the template's are stacked above it.
+            let behind = positions
+                .iter()
+                .filter(|&&px| px < new_rear + self.params.grain_radius)
+                .count();
+            let count = behind.max(self.template.len()).min(self.grains.len());
+            let (zmin, zmax) = self
+                .template
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), t| {
+                    (a.min(t.z), b.max(t.z))
+                });
+            let layer = zmax - zmin + 2.0 * self.params.grain_radius;
+            let k_t = self.template.len();
+            for k in 0..count {
+                let gi = self.order[k];
+                let site = self.template[k % k_t];
+                let lift = (k / k_t) as f64 * layer;
+                let b = sys.body_mut(self.grains[gi])?;
+                b.set_pose(
+                    Vector3::new(new_front + site.x, site.y, site.z + lift),
+                    UnitQuaternion::identity(),
+                )?;
+                b.set_linear_velocity(Vector3::zeros())?;
+                b.set_angular_velocity(Vector3::zeros())?;
+            }
+            self.rear += self.params.slab;
+            let c = sys.body_mut(self.container)?;
+            let shifted = c.position() + Vector3::new(self.params.slab, 0.0, 0.0);
+            c.set_pose(shifted, c.rotation())?;
+            self.relocations += 1;
+            done += 1;
+        }
+        Ok(done)
+    }
+
+    /// X of the front wall, m.
+    pub fn front(&self) -> f64 {
+        self.rear + self.params.length
+    }
+
+    /// X of the rear wall, m.
+    pub fn rear(&self) -> f64 {
+        self.rear
+    }
+
+    /// The grains (a fixed number).
+    pub fn grains(&self) -> &[BodyHandle] {
+        &self.grains
+    }
+
+    /// The bed's surface height after settling, m.
+    pub fn surface(&self) -> f64 {
+        self.surface
+    }
+
+    /// Relocations so far.
+    pub fn relocations(&self) -> usize {
+        self.relocations
+    }
+
+    /// The description.
+    pub fn params(&self) -> &GranularPatchParams {
+        &self.params
+    }
+}

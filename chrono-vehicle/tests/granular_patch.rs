@@ -1,0 +1,86 @@
+//! The moving granular patch keeps its grain count, moves its walls by one slab per
+//! relocation, and refills the front with the settled template.
+
+use chrono_ccp::{Apgd, SolverSettings};
+use chrono_core::{System, SystemSettings};
+use chrono_vehicle::terrain::{GranularPatch, GranularPatchParams};
+
+fn params() -> GranularPatchParams {
+    GranularPatchParams {
+        length: 1.2,
+        width: 0.4,
+        depth: 0.16,
+        grain_radius: 0.04,
+        density: 2500.0,
+        friction: 0.5,
+        slab: 0.2,
+        seed: 3,
+    }
+}
+
+#[test]
+fn relocation_keeps_the_count_and_refills_the_front() {
+    let s = SolverSettings {
+        tolerance: 1e-4,
+        max_iterations: 200,
+        record_history: false,
+    };
+    let mut sys = System::new(SystemSettings::default(), Box::new(Apgd::new(s))).unwrap();
+    let mut patch = GranularPatch::build(&mut sys, &params(), -0.6).unwrap();
+    let n = patch.grains().len();
+    assert!(n > 20, "{n} grains");
+    assert!(
+        patch.advance(&mut sys, 10.0).is_err(),
+        "advance before capture must fail"
+    );
+    for _ in 0..300 {
+        sys.step(2e-3).unwrap();
+    }
+    patch.capture_settled(&sys).unwrap();
+    assert!(patch.surface() > 0.0 && patch.surface() < params().depth + 0.01);
+    // A vehicle at x = 0.35 is past the middle by more than a slab once: one relocation
+    // (0.35 > -0.6 + 0.6 + 0.2), not two (0.35 < -0.4 + 0.6 + 0.2).
+    assert_eq!(patch.advance(&mut sys, 0.35).unwrap(), 1);
+    assert!((patch.rear() + 0.4).abs() < 1e-12);
+    assert_eq!(patch.grains().len(), n);
+    let r = params().grain_radius;
+    for &g in patch.grains() {
+        let x = sys.body(g).unwrap().position().x;
+        assert!(
+            x > patch.rear() + r - 1e-9,
+            "grain at {x} behind the rear wall {}",
+            patch.rear()
+        );
+        assert!(
+            x < patch.front() - r + 1e-9,
+            "grain at {x} beyond the front wall"
+        );
+    }
+    // The moved grains sit in the new front slab, at rest.
+    let in_front = patch
+        .grains()
+        .iter()
+        .filter(|&&g| sys.body(g).unwrap().position().x > patch.front() - params().slab)
+        .count();
+    assert!(in_front > 0);
+    for _ in 0..50 {
+        sys.step(2e-3).unwrap();
+    }
+    assert_eq!(patch.advance(&mut sys, 0.35).unwrap(), 0);
+}
+
+#[test]
+fn bad_patch_parameters_name_the_field() {
+    let mut p = params();
+    p.slab = 0.01;
+    let e = p.validate().unwrap_err().to_string();
+    assert!(e.contains("granular_patch.slab"), "{e}");
+    p = params();
+    p.grain_radius = -1.0;
+    assert!(
+        p.validate()
+            .unwrap_err()
+            .to_string()
+            .contains("grain_radius")
+    );
+}
