@@ -35,11 +35,7 @@ pub struct Curve {
 impl Curve {
     /// A curve through `points` (at least one; `x` finite and strictly increasing, `y`
     /// finite). One point is a constant. The error names `field` and the offending point.
-    pub fn new(
-        field: &str,
-        points: Vec<[f64; 2]>,
-        extrapolation: Extrapolation,
-    ) -> Result<Self> {
+    pub fn new(field: &str, points: Vec<[f64; 2]>, extrapolation: Extrapolation) -> Result<Self> {
         let c = Self {
             points,
             extrapolation,
@@ -153,7 +149,8 @@ impl Curve {
     /// The same curve with every `x` and `y` scaled (unit conversions: inches to metres,
     /// rpm to rad/s, lbf to N).
     pub fn scaled(&self, sx: f64, sy: f64) -> Result<Self> {
-        let mut points: Vec<[f64; 2]> = self.points.iter().map(|p| [p[0] * sx, p[1] * sy]).collect();
+        let mut points: Vec<[f64; 2]> =
+            self.points.iter().map(|p| [p[0] * sx, p[1] * sy]).collect();
         if sx < 0.0 {
             points.reverse();
         }
@@ -200,9 +197,13 @@ mod tests {
 
     #[test]
     fn bad_tables_name_the_point() {
-        let e = Curve::new("spring", vec![[0.0, 1.0], [0.0, 2.0]], Extrapolation::Linear)
-            .unwrap_err()
-            .to_string();
+        let e = Curve::new(
+            "spring",
+            vec![[0.0, 1.0], [0.0, 2.0]],
+            Extrapolation::Linear,
+        )
+        .unwrap_err()
+        .to_string();
         assert!(e.contains("spring.points[1]"), "{e}");
         let e = Curve::new("map", vec![[0.0, f64::NAN]], Extrapolation::Linear)
             .unwrap_err()

@@ -231,7 +231,11 @@ impl ForceElement for SpringDamper {
         check_finite3(&f("point_b"), &self.world_b)?;
         check_non_negative(&f("rest_length"), self.rest_length)?;
         if !self.preload.is_finite() {
-            return Err(ChronoError::invalid(f("preload"), self.preload, "must be finite"));
+            return Err(ChronoError::invalid(
+                f("preload"),
+                self.preload,
+                "must be finite",
+            ));
         }
         self.spring.validate(&f("spring"))?;
         self.damper.validate(&f("damper"))?;
@@ -239,8 +243,14 @@ impl ForceElement for SpringDamper {
             &bodies[self.body_a.0 as usize],
             &bodies[self.body_b.0 as usize],
         );
-        self.local_a = a.pose().inverse_transform_point(&self.world_a.into()).coords;
-        self.local_b = b.pose().inverse_transform_point(&self.world_b.into()).coords;
+        self.local_a = a
+            .pose()
+            .inverse_transform_point(&self.world_a.into())
+            .coords;
+        self.local_b = b
+            .pose()
+            .inverse_transform_point(&self.world_b.into())
+            .coords;
         if (self.world_b - self.world_a).norm() == 0.0 {
             return Err(ChronoError::invalid(
                 f("point_b"),
@@ -275,9 +285,7 @@ impl ForceElement for SpringDamper {
         }
         let u = d / l;
         let l_dot = u.dot(&(b.point_velocity(&pb) - a.point_velocity(&pa)));
-        let f = self.preload
-            - self.spring.eval(l - self.rest_length)
-            - self.damper.eval(l_dot);
+        let f = self.preload - self.spring.eval(l - self.rest_length) - self.damper.eval(l_dot);
         self.length = l;
         self.speed = l_dot;
         self.force = f;

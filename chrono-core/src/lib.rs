@@ -33,9 +33,9 @@ pub mod system;
 
 pub use error::{ChronoError, Result};
 
+pub use body::{BodyHandle, BodyMotion, RigidBody, RigidBodyBuilder};
 pub use curve::{Curve, Extrapolation};
 pub use force::{ForceElement, ForceHandle, SpringDamper};
-pub use body::{BodyHandle, BodyMotion, RigidBody, RigidBodyBuilder};
 pub use joint::{Drive, Joint, JointBuilder, JointHandle, JointKind};
 pub use material::ContactMaterial;
 pub use shape::Shape;

@@ -88,7 +88,10 @@ fn undamped_spring_oscillates_at_the_natural_frequency_and_keeps_its_energy() {
     );
     // Symplectic Euler: the energy oscillates by O(h omega) of the oscillation energy.
     let e_osc = 0.5 * k * (m * G / k).powi(2);
-    assert!(max_drift < 0.02 * e_osc, "energy drift {max_drift} of {e_osc}");
+    assert!(
+        max_drift < 0.02 * e_osc,
+        "energy drift {max_drift} of {e_osc}"
+    );
     let s: &SpringDamper = sys.force_element(hs).unwrap();
     assert!((s.length() + zs[zs.len() - 2]).abs() < 1e-9);
 }
@@ -229,7 +232,10 @@ fn a_spring_between_free_bodies_conserves_momentum_and_angular_momentum() {
     assert!((p1 - p0).norm() < 1e-12, "momentum {p0} -> {p1}");
     // The force acts at the start-of-step points while the bodies move within the step, so
     // the moment of the pair is balanced to O(h) per step, not exactly.
-    assert!((l1 - l0).norm() < 1e-3 * l0.norm(), "angular momentum {l0} -> {l1}");
+    assert!(
+        (l1 - l0).norm() < 1e-3 * l0.norm(),
+        "angular momentum {l0} -> {l1}"
+    );
     assert!(sys.body(a).unwrap().angular_velocity().norm() > 0.0);
 }
 

@@ -263,11 +263,10 @@ impl System {
         self.loads.reset(&self.bodies);
         for e in &mut self.force_elements {
             e.evaluate(ctx, &self.bodies, &mut self.loads)?;
-            if let Some(i) = self
-                .loads
-                .as_slice()
-                .iter()
-                .position(|l| !(crate::math::is_finite3(&l[0]) && crate::math::is_finite3(&l[1])))
+            if let Some(i) =
+                self.loads.as_slice().iter().position(|l| {
+                    !(crate::math::is_finite3(&l[0]) && crate::math::is_finite3(&l[1]))
+                })
             {
                 return Err(ChronoError::NonFinite {
                     item: format!("force element \"{}\"", e.name()),
