@@ -1,10 +1,14 @@
 //! The [`ConstraintFluid`] physics item.
 
+use chrono_core::body::{BodyHandle, RigidBody};
+use chrono_core::collision::{CollisionProxy, ProxyShape};
 use chrono_core::descriptor::{
     BlockId, CcpProblem, ConstraintRows, MassOperator, RowEntry, RowId, Variables,
 };
 use chrono_core::error::{ChronoError, Result};
 use chrono_core::item::{PhysicsItem, StepContext};
+use chrono_core::material::ContactMaterial;
+use chrono_core::math::{Point3, Vector3};
 use chrono_core::particles::{CellGrid, GridConfig, Kernel, NeighborList};
 
 use crate::density::{Field, RowBuf};
@@ -50,6 +54,29 @@ use crate::settings::{CfluidSettings, SurfaceMode};
 /// the wall needs no contact rows. Use at least [`wall_layers`](crate::wall_layers)
 /// layers so the support is full.
 ///
+/// **Bodies.** Two couplings to rigid bodies, both rows of the same CCP (so the momentum
+/// the fluid gives a body is exactly the momentum the body gives the fluid):
+///
+/// - *contact*: each particle is a collision proxy, a sphere of radius
+///   `contact_radius_over_dp * dp` with friction `contact_friction`
+///   ([`CfluidSettings::body_contacts`]); the system builds friction-cone rows between it
+///   and any body collider, the particle's side being its own block along the contact
+///   directions ([`PhysicsItem::proxy_jacobian`]). This keeps particles out of a body
+///   whatever happens, but alone it gets the pressure on a body wrong: a particle next to
+///   the body misses the neighbours the body would have had, its density has a deficit,
+///   its row is slack, and the near-body layers can pack until the deficit is gone, so
+///   a floating body sinks by a fraction of `dp` too deep.
+/// - *markers* ([`attach_body`](Self::attach_body)): marker points fixed in a body's
+///   frame (BCE-like, e.g. [`box_markers`](crate::box_markers)) enter the density sum like
+///   the wall markers, at `x_k = x_b + R r_k` at the start of each step, so the fluid next
+///   to the body has a full kernel support and its rows hold `rho_0` up to the body face;
+///   each density row then also has a 6-entry block on the body (`sum_k c_k` and
+///   `sum_k (x_k - x_b) x c_k`, see [`crate::density`]), through which the row's pressure
+///   impulse pushes the body: buoyancy comes out of the same multipliers as the fluid's
+///   own pressure. Fixed and kinematic bodies have no block: their markers' known
+///   velocity goes into the right-hand side. With markers attached, the rows are built in
+///   [`PhysicsItem::add_body_constraints`] (which sees the bodies' poses).
+///
 /// **Warm start**: the last impulses times
 /// [`warm_start_factor`](CfluidSettings::warm_start_factor), by particle, through
 /// [`PhysicsItem::warm_start`].
@@ -78,6 +105,23 @@ pub struct ConstraintFluid {
     vel_scratch: Vec<[f64; 3]>,
     last_h: f64,
     neighbors_fresh: bool,
+    /// Number of fluid particles and wall markers (body markers follow).
+    n_static: usize,
+    /// Attached bodies: handle and first marker (index into `marker_local`).
+    bodies: Vec<(BodyHandle, usize)>,
+    /// Body markers in their body's frame, m.
+    marker_local: Vec<Vector3<f64>>,
+    /// Body slot of each body marker.
+    marker_owner: Vec<u32>,
+    /// Each slot's body position at the step, m.
+    body_origin: Vec<[f64; 3]>,
+}
+
+/// The 6 row coefficients `[lin; R' ang]` of a body whose world linear and angular parts
+/// are `c` (angular velocity in the body frame).
+fn body_coefs(body: &RigidBody, c: &[f64; 6]) -> [f64; 6] {
+    let a = body.rotation().inverse() * Vector3::new(c[3], c[4], c[5]);
+    [c[0], c[1], c[2], a.x, a.y, a.z]
 }
 
 /// Re-types an empty vector of row entries for another borrow: the allocation is kept
@@ -155,8 +199,60 @@ impl ConstraintFluid {
             vel_scratch: vec![[0.0; 3]; n_fluid],
             last_h: 0.0,
             neighbors_fresh: false,
+            n_static: n_fluid + walls.len(),
+            bodies: Vec::new(),
+            marker_local: Vec::new(),
+            marker_owner: Vec::new(),
+            body_origin: Vec::new(),
             settings,
         })
+    }
+
+    /// Attach markers fixed in the frame of the body with handle `body` (`local`, m, in the
+    /// body frame; e.g. [`box_markers`](crate::box_markers)): they enter the density sum
+    /// and the density rows push the body (see the type's documentation). `current` is
+    /// that body now (`system.body(handle)?`): the markers are placed at its pose, then at
+    /// the body's pose at the start of every step. Attach a body once. Errors: a
+    /// non-finite or empty marker set, a body attached twice; a handle that is not in the
+    /// system is reported by the first step.
+    pub fn attach_body(
+        &mut self,
+        body: BodyHandle,
+        current: &RigidBody,
+        local: &[[f64; 3]],
+    ) -> Result<()> {
+        if local.is_empty() {
+            return Err(ChronoError::invalid(
+                "attach_body.local",
+                0,
+                "a body needs at least one marker",
+            ));
+        }
+        check_points("attach_body.local", local)?;
+        if self.bodies.iter().any(|b| b.0 == body) {
+            return Err(ChronoError::invalid(
+                "attach_body.body",
+                body.0,
+                "this body is already attached",
+            ));
+        }
+        let slot = self.bodies.len() as u32;
+        self.bodies.push((body, self.marker_local.len()));
+        for p in local {
+            self.marker_local.push(Vector3::new(p[0], p[1], p[2]));
+            self.marker_owner.push(slot);
+            for a in 0..3 {
+                self.pos[a].push(0.0);
+            }
+        }
+        self.body_origin.push([0.0; 3]);
+        self.place_body(slot as usize, current);
+        Ok(())
+    }
+
+    /// Number of body markers (all attached bodies).
+    pub fn n_body_markers(&self) -> usize {
+        self.marker_local.len()
     }
 
     /// The settings.
@@ -181,7 +277,7 @@ impl ConstraintFluid {
 
     /// Number of wall markers.
     pub fn n_walls(&self) -> usize {
-        self.pos[0].len() - self.n_fluid
+        self.n_static - self.n_fluid
     }
 
     /// Position of fluid particle `i`, m.
@@ -275,7 +371,135 @@ impl ConstraintFluid {
             pos: [&self.pos[0], &self.pos[1], &self.pos[2]],
             nbrs: &self.nbrs,
             n_fluid: self.n_fluid,
+            n_static: self.n_static,
+            marker_owner: &self.marker_owner,
+            body_origin: &self.body_origin,
         }
+    }
+
+    /// Place the markers of body slot `slot` at the pose of `body` (periodic axes wrapped).
+    fn place_body(&mut self, slot: usize, body: &RigidBody) {
+        let s = &self.settings;
+        let first = self.bodies[slot].1;
+        let end = self
+            .bodies
+            .get(slot + 1)
+            .map_or(self.marker_local.len(), |b| b.1);
+        let pose = body.pose();
+        let x_b = body.position();
+        self.body_origin[slot] = [x_b.x, x_b.y, x_b.z];
+        for (k, r) in self.marker_local[first..end].iter().enumerate() {
+            let x = pose * Point3::from(*r);
+            let j = self.n_static + first + k;
+            for a in 0..3 {
+                let mut xa = x[a];
+                if s.periodic[a] {
+                    let lo = s.domain_lower[a];
+                    xa = lo + (xa - lo).rem_euclid(s.domain_upper[a] - lo);
+                }
+                self.pos[a][j] = xa;
+            }
+        }
+    }
+
+    /// Place every body's markers at its pose in `bodies` (the system's bodies).
+    fn place_markers(&mut self, bodies: &[RigidBody]) -> Result<()> {
+        for slot in 0..self.bodies.len() {
+            let handle = self.bodies[slot].0;
+            let body = bodies.get(handle.0 as usize).ok_or_else(|| {
+                ChronoError::invalid(
+                    "attach_body.body",
+                    handle.0,
+                    format!(
+                        "constraint fluid \"{}\": no such body in the system",
+                        self.name
+                    ),
+                )
+            })?;
+            self.place_body(slot, body);
+        }
+        Ok(())
+    }
+
+    /// Neighbours, densities and the density rows of the step (bodies at `q(l)`).
+    fn build_rows(
+        &mut self,
+        ctx: &StepContext,
+        bodies: &[RigidBody],
+        rows: &mut ConstraintRows,
+    ) -> Result<()> {
+        let Some(first) = self.first_block else {
+            return Ok(());
+        };
+        self.place_markers(bodies)?;
+        self.refresh_neighbors()?;
+        let mut rho = std::mem::take(&mut self.rho);
+        let mut bufs = std::mem::take(&mut self.rows);
+        {
+            let field = self.field();
+            field.densities(&mut rho);
+            field.rows(&mut bufs);
+        }
+        self.rho = rho;
+        self.rows = bufs;
+        if let Some(i) = self.rho.iter().position(|r| !r.is_finite()) {
+            return Err(self.non_finite(ctx, i, "density"));
+        }
+
+        let h = ctx.h;
+        let s = &self.settings;
+        let eps = s.compressibility * s.rest_density / (h * h * self.mass);
+        let mut entries = recycle(std::mem::take(&mut self.entries));
+        self.row_ids.clear();
+        for (i, buf) in self.rows.iter_mut().enumerate() {
+            // body blocks: rotate the angular part into the body frame; a body without
+            // variables (fixed, kinematic) moves its markers at a known velocity
+            let mut known = 0.0;
+            buf.bodies.retain_mut(|(slot, c)| {
+                let body = &bodies[self.bodies[*slot as usize].0.0 as usize];
+                *c = body_coefs(body, c);
+                match body.block() {
+                    Some(_) => true,
+                    None => {
+                        known += body.jacobian_times_velocity(c);
+                        false
+                    }
+                }
+            });
+            entries.clear();
+            for (k, &p) in buf.particles.iter().enumerate() {
+                entries.push(RowEntry {
+                    block: BlockId(first.0 + p),
+                    coefs: &buf.coefs[3 * k..3 * k + 3],
+                });
+            }
+            for (slot, c) in &buf.bodies {
+                let body = &bodies[self.bodies[*slot as usize].0.0 as usize];
+                if let Some(block) = body.block() {
+                    entries.push(RowEntry { block, coefs: c });
+                }
+            }
+            let c = self.rho[i] / s.rest_density - 1.0;
+            let id = match s.surface {
+                SurfaceMode::OneSided if c < 0.0 => {
+                    rows.push_unilateral(&entries, known - c / h, eps)
+                }
+                SurfaceMode::OneSided => {
+                    rows.push_bilateral(&entries, known - (c / h).min(s.max_recovery_rate), eps)
+                }
+                SurfaceMode::Unilateral => {
+                    rows.push_unilateral(&entries, known - (c / h).min(s.max_recovery_rate), eps)
+                }
+                SurfaceMode::Clamped => rows.push_bilateral(
+                    &entries,
+                    known - (c.max(0.0) / h).min(s.max_recovery_rate),
+                    eps,
+                ),
+            };
+            self.row_ids.push(id);
+        }
+        self.entries = recycle(entries);
+        Ok(())
     }
 
     fn refresh_neighbors(&mut self) -> Result<()> {
@@ -323,58 +547,69 @@ impl PhysicsItem for ConstraintFluid {
         }
     }
 
+    fn collision_proxies(&self, out: &mut Vec<CollisionProxy>) {
+        let s = &self.settings;
+        if !s.body_contacts {
+            return;
+        }
+        let material = ContactMaterial::with_friction(s.contact_friction);
+        let radius = s.contact_radius_over_dp * s.spacing;
+        out.reserve(self.n_fluid);
+        for i in 0..self.n_fluid {
+            let p = self.position(i);
+            out.push(CollisionProxy {
+                shape: ProxyShape::Sphere {
+                    center: Vector3::new(p[0], p[1], p[2]),
+                    radius,
+                },
+                material,
+                id: i as u32,
+            });
+        }
+    }
+
+    /// Particle `proxy`'s own block along the three directions (no known velocity).
+    fn proxy_jacobian(
+        &self,
+        proxy: u32,
+        _p: &Vector3<f64>,
+        dirs: &[Vector3<f64>; 3],
+        entry: &mut dyn FnMut(BlockId, [&[f64]; 3]),
+    ) -> [f64; 3] {
+        if let Some(first) = self.first_block
+            && (proxy as usize) < self.n_fluid
+        {
+            let [a, b, c] = dirs;
+            entry(
+                BlockId(first.0 + proxy),
+                [a.as_slice(), b.as_slice(), c.as_slice()],
+            );
+        }
+        [0.0; 3]
+    }
+
     fn add_constraints(
         &mut self,
         ctx: &StepContext,
         _vars: &Variables,
         rows: &mut ConstraintRows,
     ) -> Result<()> {
-        let Some(first) = self.first_block else {
-            return Ok(());
-        };
-        self.refresh_neighbors()?;
-        let mut rho = std::mem::take(&mut self.rho);
-        let mut bufs = std::mem::take(&mut self.rows);
-        {
-            let field = self.field();
-            field.densities(&mut rho);
-            field.rows(&mut bufs);
+        if self.bodies.is_empty() {
+            self.build_rows(ctx, &[], rows)?;
         }
-        self.rho = rho;
-        self.rows = bufs;
-        if let Some(i) = self.rho.iter().position(|r| !r.is_finite()) {
-            return Err(self.non_finite(ctx, i, "density"));
-        }
+        Ok(())
+    }
 
-        let h = ctx.h;
-        let s = &self.settings;
-        let eps = s.compressibility * s.rest_density / (h * h * self.mass);
-        let mut entries = recycle(std::mem::take(&mut self.entries));
-        self.row_ids.clear();
-        for (i, buf) in self.rows.iter().enumerate() {
-            entries.clear();
-            for (k, &p) in buf.particles.iter().enumerate() {
-                entries.push(RowEntry {
-                    block: BlockId(first.0 + p),
-                    coefs: &buf.coefs[3 * k..3 * k + 3],
-                });
-            }
-            let c = self.rho[i] / s.rest_density - 1.0;
-            let id = match s.surface {
-                SurfaceMode::OneSided if c < 0.0 => rows.push_unilateral(&entries, -c / h, eps),
-                SurfaceMode::OneSided => {
-                    rows.push_bilateral(&entries, -(c / h).min(s.max_recovery_rate), eps)
-                }
-                SurfaceMode::Unilateral => {
-                    rows.push_unilateral(&entries, -(c / h).min(s.max_recovery_rate), eps)
-                }
-                SurfaceMode::Clamped => {
-                    rows.push_bilateral(&entries, -(c.max(0.0) / h).min(s.max_recovery_rate), eps)
-                }
-            };
-            self.row_ids.push(id);
+    fn add_body_constraints(
+        &mut self,
+        ctx: &StepContext,
+        bodies: &[RigidBody],
+        _vars: &Variables,
+        rows: &mut ConstraintRows,
+    ) -> Result<()> {
+        if !self.bodies.is_empty() {
+            self.build_rows(ctx, bodies, rows)?;
         }
-        self.entries = recycle(entries);
         Ok(())
     }
 
