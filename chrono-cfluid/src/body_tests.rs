@@ -220,10 +220,21 @@ fn rigid_tank_keeps_the_fluid_in() {
     assert!(crossed, "without contacts the fluid should leave the tank");
 }
 
-/// A box of density 500 on the surface of a fluid in a marker tank; returns the box's
-/// bottom after 0.4 s and the mean upward impulse of the fluid on it per step over the
-/// last 0.1 s divided by its weight times h.
-fn box_on_fluid(markers: bool) -> (f64, f64) {
+/// What [`box_in_tank`] saw.
+struct BoxRun {
+    /// The box's bottom at the end, m.
+    bottom: f64,
+    /// The mean upward impulse of the fluid on the box per step over the last quarter of
+    /// the run, over its weight times h.
+    support: f64,
+    /// The most fluid particle centres inside the box at the end of a step.
+    inside: usize,
+}
+
+/// A box (0.12 m wide, 0.04 m high, spanning the slab) of density `rho` whose bottom
+/// starts `drop` above the surface of 0.12 m of fluid in a 0.24 m marker tank (with a
+/// rigid floor below the markers), for `steps` steps of 2 ms.
+fn box_in_tank(markers: bool, rho: f64, drop: f64, steps: usize) -> BoxRun {
     let dp = 0.02;
     let (len, depth, ly) = (0.24, 0.12, 6.0 * dp);
     let layers = wall_layers(1.2);
@@ -247,12 +258,22 @@ fn box_on_fluid(markers: bool) -> (f64, f64) {
     let mut item = ConstraintFluid::new("water", settings, &fluid, &walls).unwrap();
     let g = 9.81;
     let mut sys = system(Vector3::new(0.0, 0.0, -g));
+    sys.add_body(
+        RigidBodyBuilder::fixed()
+            .position(Vector3::new(0.5 * len, 0.5 * ly, -t))
+            .collider(
+                cuboid([len, 2.0 * ly, t]),
+                Isometry3::identity(),
+                ContactMaterial::with_friction(0.3),
+            ),
+    )
+    .unwrap();
     let half = [0.06, 0.5 * ly, 0.02];
     let builder = box_body(
         BodyMotion::Dynamic,
         half,
-        500.0,
-        Vector3::new(0.5 * len, 0.5 * ly, depth + half[2]),
+        rho,
+        Vector3::new(0.5 * len, 0.5 * ly, depth + drop + half[2]),
     );
     // the collider spans more than the slab (no y faces near the fluid)
     let body = sys
@@ -262,31 +283,48 @@ fn box_on_fluid(markers: bool) -> (f64, f64) {
         let m = box_markers(half, dp, layers, [false, true, false]).unwrap();
         item.attach_body(body, sys.body(body).unwrap(), &m).unwrap();
     }
-    sys.add_item(Box::new(item));
+    let id = sys.add_item(Box::new(item));
     let h = 2e-3;
     let mass = sys.body(body).unwrap().mass();
-    let (mut impulse, mut n) = (0.0, 0);
-    for step in 0..200 {
+    let (mut impulse, mut n, mut inside) = (0.0, 0, 0);
+    for step in 0..steps {
         let v0 = sys.body(body).unwrap().linear_velocity().z;
         sys.step(h).unwrap();
-        let v1 = sys.body(body).unwrap().linear_velocity().z;
-        if step >= 150 {
+        let b = sys.body(body).unwrap();
+        if step >= steps - steps / 4 {
             // the impulse of everything but gravity
-            impulse += mass * (v1 - v0 + g * h);
+            impulse += mass * (b.linear_velocity().z - v0 + g * h);
             n += 1;
         }
+        let inv = b.pose().inverse();
+        let f = sys.item::<ConstraintFluid>(id).unwrap();
+        let count = (0..f.n_fluid())
+            .filter(|&i| {
+                let l = inv * chrono_core::math::Point3::from(f.position(i));
+                l.x.abs() < half[0] && l.z.abs() < half[2]
+            })
+            .count();
+        inside = inside.max(count);
     }
     let bottom = sys.body(body).unwrap().position().z - half[2];
-    (bottom, impulse / (n as f64 * mass * g * h))
+    BoxRun {
+        bottom,
+        support: impulse / (n as f64 * mass * g * h),
+        inside,
+    }
 }
 
 #[test]
 fn a_box_resting_on_the_fluid_is_held_up() {
     for markers in [true, false] {
-        let (bottom, support) = box_on_fluid(markers);
+        let BoxRun {
+            bottom,
+            support,
+            inside,
+        } = box_in_tank(markers, 500.0, 0.0, 200);
+        assert_eq!(inside, 0, "markers {markers}: particles inside the box");
         eprintln!("markers {markers}: bottom {bottom:.4} m, support {support:.3} x weight");
-        // Archimedes: draft 0.02 m below a surface raised by 0.12/0.24 of it -> bottom
-        // near 0.11 m; it must not sink through (bottom > 0.06) nor sit on top
+        // it must not sink through (bottom > 0.06 m) nor stay on top (0.12 m)
         assert!(
             bottom > 0.06 && bottom < 0.12,
             "markers {markers}: box bottom at {bottom} m"
@@ -295,6 +333,36 @@ fn a_box_resting_on_the_fluid_is_held_up() {
         assert!(
             (support - 1.0).abs() < 0.25,
             "markers {markers}: mean upward impulse {support} x weight h"
+        );
+        if markers {
+            // Archimedes: draft 0.5 x 0.04 = 0.02 m; the 0.12 m of the tank beside the
+            // 0.12 m box rise by 0.02 m, so the level is 0.13 m and the bottom 0.11 m.
+            // Within a tenth of the spacing (contacts alone: 0.0995 m, half a spacing
+            // deep, see the type's documentation).
+            assert!(
+                (bottom - 0.11).abs() < 0.002,
+                "box bottom at {bottom} m, Archimedes 0.11 m"
+            );
+        }
+    }
+}
+
+/// A heavy box (2500 kg/m^3) dropped from 5 cm into the water sinks to the floor and
+/// never has a particle inside it, with either coupling.
+#[test]
+fn a_heavy_box_sinks_without_swallowing_fluid() {
+    for markers in [true, false] {
+        let run = box_in_tank(markers, 2500.0, 0.05, 400);
+        eprintln!(
+            "markers {markers}: bottom {:.4} m, inside {}",
+            run.bottom, run.inside
+        );
+        assert_eq!(run.inside, 0, "markers {markers}: particles inside the box");
+        // on the floor, at most a film of one particle layer under it
+        assert!(
+            run.bottom < 0.021,
+            "markers {markers}: the box stopped at {} m",
+            run.bottom
         );
     }
 }

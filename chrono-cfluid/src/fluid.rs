@@ -27,7 +27,7 @@ use crate::settings::{CfluidSettings, SurfaceMode};
 /// (SPH summation over fluid particles and wall markers with a chrono-core kernel, the
 /// neighbours from the chrono-core cell grid), enforced at the velocity level with the
 /// stabilization `C_i / h`. Each particle contributes one row, written with
-/// `D_i = -grad C_i` (1/m; entries `(m/rho_0) grad W_ij`, see [`crate::density`]) so that
+/// `D_i = -grad C_i` (1/m; entries `(m/rho_0) grad W_ij`, see the `density` module) so that
 /// its multiplier `g_i` (N m s) is a pressure impulse, positive when it pushes:
 ///
 /// ```text
@@ -38,7 +38,7 @@ use crate::settings::{CfluidSettings, SurfaceMode};
 /// bilateral (`c_i = 0`) or unilateral (`0 <= g_i ⊥ c_i >= 0`) according to
 /// [`SurfaceMode`]. After a solve, `C_i(t + h) ~ kappa p_i` (the compliance makes the fluid
 /// as compressible as one of bulk modulus `1 / kappa`), and the pressure is
-/// `p_i = g_i rho_0 / (h m)` (Pa; [`pressures`](Self::pressures)): the force on particle
+/// `p_i = g_i rho_0 / (h m)` (Pa; [`pressure`](Self::pressure)): the force on particle
 /// `j` is `-sum_i (g_i / h) grad_j C_i`, which with `g_i / h = p_i m / rho_0` is the
 /// symmetric SPH pressure force `-m sum_i m (p_i + p_j) / rho_0^2 grad W`.
 ///
@@ -71,7 +71,7 @@ use crate::settings::{CfluidSettings, SurfaceMode};
 ///   the wall markers, at `x_k = x_b + R r_k` at the start of each step, so the fluid next
 ///   to the body has a full kernel support and its rows hold `rho_0` up to the body face;
 ///   each density row then also has a 6-entry block on the body (`sum_k c_k` and
-///   `sum_k (x_k - x_b) x c_k`, see [`crate::density`]), through which the row's pressure
+///   `sum_k (x_k - x_b) x c_k`, see the `density` module), through which the row's pressure
 ///   impulse pushes the body: buoyancy comes out of the same multipliers as the fluid's
 ///   own pressure. Fixed and kinematic bodies have no block: their markers' known
 ///   velocity goes into the right-hand side. With markers attached, the rows are built in
