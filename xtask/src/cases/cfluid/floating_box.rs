@@ -9,12 +9,21 @@
 //! (the fluid lattice is cut out where the box is). The box is coupled to the fluid by
 //! markers in the density rows plus contact spheres (`coupling = "markers"`, the model of
 //! chrono-cfluid) or by contact spheres only (`coupling = "contact"`, for comparison).
+//! The box spans the periodic slab, so it is a slice of an infinitely long body: it
+//! heaves, sways and pitches, and its roll and yaw are suppressed
+//! ([`PLANAR_INERTIA_FACTOR`]; without it the default run rolled over, 37 degrees).
 //!
 //! Reference (Archimedes): a box lighter than water floats with
-//! `draft = (rho_box / rho_water) box_height`. The measured draft is the free surface far
-//! from the box (mean over the fluid columns more than `2 dp` from the box and from the
-//! walls of their highest particle plus `dp / 2`) minus the bottom of the box, both
-//! averaged over the last `window` fraction of the run. Metrics:
+//! `draft = (rho_box / rho_water) box_height`. The measured draft is the still-water
+//! level minus the bottom of the box, averaged over the last `window` fraction of the
+//! run; the level is the one of the fluid's own volume ([`volume_level`]: `n` particles
+//! of `dp^3`, which the density rows hold at `rho_0`, in the tank beside the box). Two
+//! other readings of the surface are reported, not checked, because at a draft of a few
+//! spacings they depend on how the top particle layers pack (the one-sided free surface
+//! lets them compact to `rho_0`): `draft_surface` (the highest particle of the far
+//! columns plus `dp / 2`, [`far_surface`]) and `draft_hydrostatic` (the fluid mass per
+//! area above the box bottom in the far columns over `rho_0`, [`hydrostatic_depth`]).
+//! Metrics:
 //!
 //! - `draft_error`: relative error of the draft (checked below [`DRAFT_TOLERANCE`]);
 //! - `drift`: horizontal displacement of the box at the end, m (checked below
@@ -25,6 +34,8 @@
 //! - `particles_inside`: fluid particles whose centre is inside the box at the end
 //!   (checked 0: a heavy box dropped into the water, `box_density > 1000`, sinks to the
 //!   floor and must not swallow fluid; the draft is then not checked).
+//!
+//! Also written: `final_particles.csv` (positions and densities at the end).
 
 use chrono_cfluid::{
     CfluidSettings, ConstraintFluid, box_markers, lattice_box, tank_markers, wall_layers,
@@ -45,6 +56,10 @@ pub const DRAFT_TOLERANCE: f64 = 0.03;
 pub const DRIFT_FRACTION: f64 = 0.02;
 /// Jitter acceptance, as a fraction of `sqrt(g box_height)` (the speed scale of heave).
 pub const JITTER_FRACTION: f64 = 0.01;
+/// Factor on the box's moments of inertia about x and z (roll and yaw of a body that
+/// spans the periodic slab, see [`scene`]): large enough that those rotations stay
+/// negligible, small enough to keep `M^-1` well scaled.
+pub const PLANAR_INERTIA_FACTOR: f64 = 1e6;
 
 /// Parameters of `cfluid-floating-box`.
 #[derive(Clone, Debug, Serialize, Deserialize)]
@@ -285,11 +300,15 @@ pub fn scene(p: &FloatingBoxParams) -> anyhow::Result<FloatingScene> {
     sys.add_body(wall([-t, yc, 0.5 * top], [t, big, 0.5 * top + t]))?;
     sys.add_body(wall([len + t, yc, 0.5 * top], [t, big, 0.5 * top + t]))?;
     // the box spans the slab; its collider is longer in y (no y faces near the fluid)
+    // The box is a slice of a body infinitely long in y (the slab is periodic): it may
+    // heave, sway and pitch (rotate about y), but a roll or yaw (about x or z) would tilt
+    // it through its own periodic images. Those two rotations are suppressed by giving
+    // them [`PLANAR_INERTIA_FACTOR`] times the slice's moment of inertia.
     let mass = p.box_density * wb * ly * hb;
     let inertia = Vector3::new(
-        mass * (ly * ly + hb * hb) / 12.0,
+        PLANAR_INERTIA_FACTOR * mass * (ly * ly + hb * hb) / 12.0,
         mass * (wb * wb + hb * hb) / 12.0,
-        mass * (wb * wb + ly * ly) / 12.0,
+        PLANAR_INERTIA_FACTOR * mass * (wb * wb + ly * ly) / 12.0,
     );
     let body = sys.add_body(
         RigidBodyBuilder::dynamic()
