@@ -88,6 +88,8 @@ pub struct FloatingBoxParams {
     pub xsph: f64,
     /// `markers` (density rows + contacts) or `contact` (contacts only).
     pub coupling: String,
+    /// Radius of the particles' contact spheres over the spacing.
+    pub contact_radius: f64,
     /// Solver tolerance (chrono-ccp residual).
     pub tolerance: f64,
     /// CCP solver name.
@@ -111,6 +113,7 @@ impl Default for FloatingBoxParams {
             window: 0.25,
             xsph: 0.1,
             coupling: "markers".into(),
+            contact_radius: 0.5,
             tolerance: 1e-4,
             solver: "apgd".into(),
             max_iterations: 300,
@@ -135,6 +138,11 @@ impl CaseParams for FloatingBoxParams {
             "coupling",
             "-",
             "`markers` (density rows + contacts) or `contact`",
+        ),
+        ParamInfo::new(
+            "contact_radius",
+            "-",
+            "particle contact sphere radius over the spacing",
         ),
         ParamInfo::new("tolerance", "1/s", "solver tolerance (chrono-ccp residual)"),
         ParamInfo::new("solver", "-", "CCP solver name (chrono-ccp)"),
@@ -211,6 +219,11 @@ fn check(p: &FloatingBoxParams) -> anyhow::Result<()> {
         p.window
     );
     anyhow::ensure!(
+        (0.0..=1.0).contains(&p.contact_radius),
+        "parameter `contact_radius` must be in [0, 1], got {}",
+        p.contact_radius
+    );
+    anyhow::ensure!(
         p.coupling == "markers" || p.coupling == "contact",
         "parameter `coupling` must be `markers` or `contact`, got `{}`",
         p.coupling
@@ -243,6 +256,7 @@ pub fn scene(p: &FloatingBoxParams) -> anyhow::Result<FloatingScene> {
     let settings = CfluidSettings {
         spacing: dp,
         xsph: p.xsph,
+        contact_radius_over_dp: p.contact_radius,
         domain_lower: [-t, 0.0, -t],
         domain_upper: [len + t, ly, top],
         periodic: [false, true, false],
