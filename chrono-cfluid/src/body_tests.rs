@@ -60,7 +60,9 @@ fn with_box_collider(b: RigidBodyBuilder, half: [f64; 3]) -> RigidBodyBuilder {
 
 /// `d/dt C_i` along a body motion is minus the known velocity the row puts into `b`:
 /// compare `b(moving) - b(at rest)` with central differences of the densities when the
-/// body's pose moves by `+-delta (v, w)`.
+/// body's pose moves by `+-delta (v, w)`, for the fluid's rows and the markers' own rows;
+/// and the markers' rows on the fluid blocks against central differences along a fluid
+/// velocity field.
 #[test]
 fn body_block_matches_finite_differences() {
     let dp = 0.01;
@@ -92,7 +94,7 @@ fn body_block_matches_finite_differences() {
         }
         b
     };
-    let rows_b = |b: &RigidBody| -> (Vec<f64>, usize) {
+    let rows_b = |b: &RigidBody| -> (Vec<f64>, Vec<(u32, f64)>) {
         let mut item = ConstraintFluid::new("fd", settings.clone(), &fluid, &[]).unwrap();
         item.attach_body(BodyHandle(0), b, &markers).unwrap();
         let mut vars = Variables::new();
@@ -121,11 +123,17 @@ fn body_block_matches_finite_differences() {
             .iter()
             .map(|id| problem.b()[problem.row_index(*id)])
             .collect();
-        (b, item.n_body_markers())
+        assert_eq!(item.n_body_markers(), markers.len());
+        let bm = item
+            .marker_row_ids()
+            .iter()
+            .map(|(k, id)| (*k, problem.b()[problem.row_index(*id)]))
+            .collect();
+        (b, bm)
     };
-    let (b0, nm) = rows_b(&body(pos, rot, false));
-    assert_eq!(nm, markers.len());
-    let (b1, _) = rows_b(&body(pos, rot, true));
+    let (b0, bm0) = rows_b(&body(pos, rot, false));
+    let (b1, bm1) = rows_b(&body(pos, rot, true));
+    assert!(bm0.len() > 10, "only {} marker rows", bm0.len());
     let delta = 1e-7;
     let dens = |s: f64| {
         let r = UnitQuaternion::from_scaled_axis(w * (s * delta)) * rot;
@@ -136,20 +144,75 @@ fn body_block_matches_finite_differences() {
             &markers,
         )
         .unwrap();
-        item.compute_densities().unwrap().to_vec()
+        item.compute_densities().unwrap();
+        (item.densities().to_vec(), item.marker_densities().to_vec())
     };
     let (plus, minus) = (dens(1.0), dens(-1.0));
     let (mut worst, mut scale) = (0.0f64, 0.0f64);
     for i in 0..fluid.len() {
-        let dc = (plus[i] - minus[i]) / (2.0 * delta * settings.rest_density);
+        let dc = (plus.0[i] - minus.0[i]) / (2.0 * delta * settings.rest_density);
         let known = b1[i] - b0[i];
         worst = worst.max((known + dc).abs());
+        scale = scale.max(dc.abs());
+    }
+    // the markers' own rows: the same along the body's motion
+    for ((k, m0), (_, m1)) in bm0.iter().zip(&bm1) {
+        let k = *k as usize;
+        let dc = (plus.1[k] - minus.1[k]) / (2.0 * delta * settings.rest_density);
+        worst = worst.max((m1 - m0 + dc).abs());
         scale = scale.max(dc.abs());
     }
     assert!(scale > 1.0, "the body touches no particle ({scale})");
     assert!(
         worst < 1e-6 * scale,
         "body block off by {worst} (scale {scale})"
+    );
+    // the marker rows' fluid entries: D_k' v = -dC_k/dt when the fluid moves with v
+    let still = body(pos, rot, false);
+    let mut item = ConstraintFluid::new("fd", settings.clone(), &fluid, &[]).unwrap();
+    item.attach_body(BodyHandle(0), &still, &markers).unwrap();
+    let mut vars = Variables::new();
+    item.add_variables(&mut vars);
+    let mut rows = ConstraintRows::new();
+    let c = StepContext {
+        h: 1e-3,
+        time: 0.0,
+        step: 0,
+        gravity: Vector3::zeros(),
+    };
+    item.add_body_constraints(&c, std::slice::from_ref(&still), &vars, &mut rows)
+        .unwrap();
+    let mut problem = CcpProblem::new();
+    problem
+        .assemble(&vars, &rows, &vec![0.0; vars.ndof()])
+        .unwrap();
+    let v: Vec<f64> = (0..vars.ndof())
+        .map(|i| ((i * 7919) % 13) as f64 / 6.0 - 1.0)
+        .collect();
+    let shifted = |s: f64| {
+        let pts: Vec<[f64; 3]> = fluid
+            .iter()
+            .enumerate()
+            .map(|(i, p)| std::array::from_fn(|a| p[a] + s * delta * v[3 * i + a]))
+            .collect();
+        let mut it = ConstraintFluid::new("fd", settings.clone(), &pts, &[]).unwrap();
+        it.attach_body(BodyHandle(0), &still, &markers).unwrap();
+        it.compute_densities().unwrap();
+        it.marker_densities().to_vec()
+    };
+    let (plus, minus) = (shifted(1.0), shifted(-1.0));
+    let (mut worst, mut scale) = (0.0f64, 0.0f64);
+    for (k, id) in item.marker_row_ids() {
+        let k = *k as usize;
+        let dc = (plus[k] - minus[k]) / (2.0 * delta * settings.rest_density);
+        let jv = -problem.row_dot(problem.row_index(*id), &v);
+        worst = worst.max((jv - dc).abs());
+        scale = scale.max(dc.abs());
+    }
+    assert!(scale > 1.0, "the fluid moves no marker's density ({scale})");
+    assert!(
+        worst < 1e-6 * scale,
+        "marker rows off by {worst} (scale {scale})"
     );
 }
 

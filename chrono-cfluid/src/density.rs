@@ -107,32 +107,94 @@ impl Field<'_> {
                 row.particles.push(j as u32);
                 row.coefs.extend_from_slice(&c);
             } else if j >= self.n_static {
-                let slot = self.marker_owner[j - self.n_static];
-                let arm = self
-                    .grid
-                    .displacement(self.x(j), self.body_origin[slot as usize]);
-                let m = [
-                    arm[1] * c[2] - arm[2] * c[1],
-                    arm[2] * c[0] - arm[0] * c[2],
-                    arm[0] * c[1] - arm[1] * c[0],
-                ];
-                let k = match row.bodies.iter().position(|b| b.0 == slot) {
-                    Some(k) => k,
-                    None => {
-                        row.bodies.push((slot, [0.0; 6]));
-                        row.bodies.len() - 1
-                    }
-                };
-                let acc = &mut row.bodies[k].1;
-                for a in 0..3 {
-                    acc[a] += c[a];
-                    acc[3 + a] += m[a];
-                }
+                self.add_body(row, j, c);
             }
         }
         for a in 0..3 {
             row.coefs[a] = -self_term[a];
         }
+    }
+
+    /// Adds `c` (the coefficients on the velocity of body marker `j`) to the block of
+    /// `j`'s body in `row`: `[c; (x_j - x_b) x c]` (world frame).
+    fn add_body(&self, row: &mut RowBuf, j: usize, c: [f64; 3]) {
+        let slot = self.marker_owner[j - self.n_static];
+        let arm = self
+            .grid
+            .displacement(self.x(j), self.body_origin[slot as usize]);
+        let m = [
+            arm[1] * c[2] - arm[2] * c[1],
+            arm[2] * c[0] - arm[0] * c[2],
+            arm[0] * c[1] - arm[1] * c[0],
+        ];
+        let k = match row.bodies.iter().position(|b| b.0 == slot) {
+            Some(k) => k,
+            None => {
+                row.bodies.push((slot, [0.0; 6]));
+                row.bodies.len() - 1
+            }
+        };
+        let acc = &mut row.bodies[k].1;
+        for a in 0..3 {
+            acc[a] += c[a];
+            acc[3 + a] += m[a];
+        }
+    }
+
+    /// Fills `row` with `D_k = -grad C_k` of body marker `k` (`k >= n_static`), the
+    /// marker's own density constraint: its fluid neighbours get `(m/rho_0) F x_kj`, the
+    /// marker's own motion (minus the sum over all neighbours but its body's markers) goes
+    /// to its body's block, other bodies' markers to theirs, walls are fixed. Markers of
+    /// the same body are skipped: a rigid motion does not change their distance, and their
+    /// two contributions to the body block cancel. Leaves the row empty when the marker
+    /// has no fluid neighbour (no row is needed).
+    pub fn marker_row(&self, k: usize, row: &mut RowBuf) {
+        row.particles.clear();
+        row.coefs.clear();
+        row.bodies.clear();
+        let s = self.mass / self.rho_0;
+        let own = self.marker_owner[k - self.n_static];
+        let mut self_term = [0.0; 3];
+        let mut fluid = false;
+        for &j in self.nbrs.neighbors(k) {
+            let j = j as usize;
+            if j >= self.n_static && self.marker_owner[j - self.n_static] == own {
+                continue;
+            }
+            let d = self.displacement(k, j);
+            let r = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+            let f = s * self.kernel.grad_factor(r);
+            let c = [f * d[0], f * d[1], f * d[2]];
+            for a in 0..3 {
+                self_term[a] += c[a];
+            }
+            if j < self.n_fluid {
+                fluid = true;
+                row.particles.push(j as u32);
+                row.coefs.extend_from_slice(&c);
+            } else if j >= self.n_static {
+                self.add_body(row, j, c);
+            }
+        }
+        if !fluid {
+            row.particles.clear();
+            row.coefs.clear();
+            row.bodies.clear();
+            return;
+        }
+        self.add_body(row, k, self_term.map(|x| -x));
+    }
+
+    /// The rows and densities of all body markers, in parallel.
+    pub fn marker_rows(&self, rows: &mut [RowBuf], rho: &mut [f64]) {
+        rows.par_iter_mut()
+            .zip(rho.par_iter_mut())
+            .enumerate()
+            .for_each(|(m, (row, r))| {
+                let k = self.n_static + m;
+                self.marker_row(k, row);
+                *r = self.density(k);
+            });
     }
 
     /// All fluid rows, in parallel.

@@ -115,6 +115,82 @@ pub struct ConstraintFluid {
     marker_owner: Vec<u32>,
     /// Each slot's body position at the step, m.
     body_origin: Vec<[f64; 3]>,
+    /// Row buffers, densities (kg/m^3) and impulses (N s) of the body markers.
+    marker_rows: Vec<RowBuf>,
+    marker_rho: Vec<f64>,
+    marker_gamma: Vec<f64>,
+    /// The body markers that have a row this step, and the row.
+    marker_row_ids: Vec<(u32, RowId)>,
+}
+
+/// What pushing one density row needs: the fluid's first block, the system's bodies and
+/// the attached slots, the settings, the step and the compliance.
+struct PushRow<'a> {
+    first: BlockId,
+    bodies: &'a [RigidBody],
+    slots: &'a [(BodyHandle, usize)],
+    settings: &'a CfluidSettings,
+    h: f64,
+    eps: f64,
+}
+
+impl PushRow<'_> {
+    /// Push the row in `buf` (a particle or marker of density `rho`) by the surface mode.
+    /// The body blocks are turned into body coordinates (angular part in the body frame);
+    /// a body without variables (fixed, kinematic) moves its markers at a known velocity,
+    /// which goes into `b`.
+    fn push<'b>(
+        &self,
+        buf: &'b mut RowBuf,
+        rho: f64,
+        entries: &mut Vec<RowEntry<'b>>,
+        rows: &mut ConstraintRows,
+    ) -> RowId {
+        let mut known = 0.0;
+        buf.bodies.retain_mut(|(slot, c)| {
+            let body = &self.bodies[self.slots[*slot as usize].0.0 as usize];
+            *c = body_coefs(body, c);
+            match body.block() {
+                Some(_) => true,
+                None => {
+                    known += body.jacobian_times_velocity(c);
+                    false
+                }
+            }
+        });
+        entries.clear();
+        for (k, &p) in buf.particles.iter().enumerate() {
+            entries.push(RowEntry {
+                block: BlockId(self.first.0 + p),
+                coefs: &buf.coefs[3 * k..3 * k + 3],
+            });
+        }
+        for (slot, c) in &buf.bodies {
+            let body = &self.bodies[self.slots[*slot as usize].0.0 as usize];
+            if let Some(block) = body.block() {
+                entries.push(RowEntry { block, coefs: c });
+            }
+        }
+        let s = self.settings;
+        let (h, eps) = (self.h, self.eps);
+        let c = rho / s.rest_density - 1.0;
+        let id = match s.surface {
+            SurfaceMode::OneSided if c < 0.0 => rows.push_unilateral(entries, known - c / h, eps),
+            SurfaceMode::OneSided => {
+                rows.push_bilateral(entries, known - (c / h).min(s.max_recovery_rate), eps)
+            }
+            SurfaceMode::Unilateral => {
+                rows.push_unilateral(entries, known - (c / h).min(s.max_recovery_rate), eps)
+            }
+            SurfaceMode::Clamped => rows.push_bilateral(
+                entries,
+                known - (c.max(0.0) / h).min(s.max_recovery_rate),
+                eps,
+            ),
+        };
+        entries.clear();
+        id
+    }
 }
 
 /// The 6 row coefficients `[lin; R' ang]` of a body whose world linear and angular parts
@@ -204,6 +280,10 @@ impl ConstraintFluid {
             marker_local: Vec::new(),
             marker_owner: Vec::new(),
             body_origin: Vec::new(),
+            marker_rows: Vec::new(),
+            marker_rho: Vec::new(),
+            marker_gamma: Vec::new(),
+            marker_row_ids: Vec::new(),
             settings,
         })
     }
@@ -241,6 +321,9 @@ impl ConstraintFluid {
         for p in local {
             self.marker_local.push(Vector3::new(p[0], p[1], p[2]));
             self.marker_owner.push(slot);
+            self.marker_rows.push(RowBuf::default());
+            self.marker_rho.push(self.settings.rest_density);
+            self.marker_gamma.push(0.0);
             for a in 0..3 {
                 self.pos[a].push(0.0);
             }
@@ -312,13 +395,35 @@ impl ConstraintFluid {
     }
 
     /// Recompute the neighbours and densities at the current positions (diagnostics:
-    /// the density after the last step).
+    /// the density after the last step), of the fluid particles (returned) and of the body
+    /// markers ([`marker_densities`](Self::marker_densities); markers stay where the last
+    /// step started, or where [`attach_body`](Self::attach_body) put them).
     pub fn compute_densities(&mut self) -> Result<&[f64]> {
         self.refresh_neighbors()?;
         let mut rho = std::mem::take(&mut self.rho);
-        self.field().densities(&mut rho);
+        let mut mrho = std::mem::take(&mut self.marker_rho);
+        {
+            let field = self.field();
+            field.densities(&mut rho);
+            for (k, r) in mrho.iter_mut().enumerate() {
+                *r = field.density(self.n_static + k);
+            }
+        }
         self.rho = rho;
+        self.marker_rho = mrho;
         Ok(&self.rho)
+    }
+
+    /// Densities of the body markers (all attached bodies, in attachment order), kg/m^3,
+    /// as of the last step or [`compute_densities`](Self::compute_densities).
+    pub fn marker_densities(&self) -> &[f64] {
+        &self.marker_rho
+    }
+
+    /// The body-marker rows of the last step: `(marker index, row)` for every marker that
+    /// had fluid neighbours ([`CfluidSettings::body_marker_rows`]).
+    pub fn marker_row_ids(&self) -> &[(u32, RowId)] {
+        &self.marker_row_ids
     }
 
     /// The density-row impulses of the last step, N m s (one per fluid particle, `>= 0`
@@ -435,13 +540,20 @@ impl ConstraintFluid {
         self.refresh_neighbors()?;
         let mut rho = std::mem::take(&mut self.rho);
         let mut bufs = std::mem::take(&mut self.rows);
+        let mut mbufs = std::mem::take(&mut self.marker_rows);
+        let mut mrho = std::mem::take(&mut self.marker_rho);
         {
             let field = self.field();
             field.densities(&mut rho);
             field.rows(&mut bufs);
+            if self.settings.body_marker_rows {
+                field.marker_rows(&mut mbufs, &mut mrho);
+            }
         }
         self.rho = rho;
         self.rows = bufs;
+        self.marker_rows = mbufs;
+        self.marker_rho = mrho;
         if let Some(i) = self.rho.iter().position(|r| !r.is_finite()) {
             return Err(self.non_finite(ctx, i, "density"));
         }
@@ -451,52 +563,31 @@ impl ConstraintFluid {
         let eps = s.compressibility * s.rest_density / (h * h * self.mass);
         let mut entries = recycle(std::mem::take(&mut self.entries));
         self.row_ids.clear();
-        for (i, buf) in self.rows.iter_mut().enumerate() {
-            // body blocks: rotate the angular part into the body frame; a body without
-            // variables (fixed, kinematic) moves its markers at a known velocity
-            let mut known = 0.0;
-            buf.bodies.retain_mut(|(slot, c)| {
-                let body = &bodies[self.bodies[*slot as usize].0.0 as usize];
-                *c = body_coefs(body, c);
-                match body.block() {
-                    Some(_) => true,
-                    None => {
-                        known += body.jacobian_times_velocity(c);
-                        false
-                    }
-                }
-            });
-            entries.clear();
-            for (k, &p) in buf.particles.iter().enumerate() {
-                entries.push(RowEntry {
-                    block: BlockId(first.0 + p),
-                    coefs: &buf.coefs[3 * k..3 * k + 3],
-                });
-            }
-            for (slot, c) in &buf.bodies {
-                let body = &bodies[self.bodies[*slot as usize].0.0 as usize];
-                if let Some(block) = body.block() {
-                    entries.push(RowEntry { block, coefs: c });
-                }
-            }
-            let c = self.rho[i] / s.rest_density - 1.0;
-            let id = match s.surface {
-                SurfaceMode::OneSided if c < 0.0 => {
-                    rows.push_unilateral(&entries, known - c / h, eps)
-                }
-                SurfaceMode::OneSided => {
-                    rows.push_bilateral(&entries, known - (c / h).min(s.max_recovery_rate), eps)
-                }
-                SurfaceMode::Unilateral => {
-                    rows.push_unilateral(&entries, known - (c / h).min(s.max_recovery_rate), eps)
-                }
-                SurfaceMode::Clamped => rows.push_bilateral(
-                    &entries,
-                    known - (c.max(0.0) / h).min(s.max_recovery_rate),
-                    eps,
-                ),
-            };
+        let push = PushRow {
+            first,
+            bodies,
+            slots: &self.bodies,
+            settings: s,
+            h,
+            eps,
+        };
+        for (buf, rho) in self.rows.iter_mut().zip(&self.rho) {
+            let id = push.push(buf, *rho, &mut entries, rows);
             self.row_ids.push(id);
+        }
+        self.marker_row_ids.clear();
+        if s.body_marker_rows {
+            for (k, (buf, rho)) in self
+                .marker_rows
+                .iter_mut()
+                .zip(&self.marker_rho)
+                .enumerate()
+            {
+                if !buf.particles.is_empty() {
+                    let id = push.push(buf, *rho, &mut entries, rows);
+                    self.marker_row_ids.push((k as u32, id));
+                }
+            }
         }
         self.entries = recycle(entries);
         Ok(())
@@ -622,6 +713,9 @@ impl PhysicsItem for ConstraintFluid {
             // a row that became unilateral is projected by the solver
             gamma[problem.row_index(*id)] = f * g;
         }
+        for (k, id) in &self.marker_row_ids {
+            gamma[problem.row_index(*id)] = f * self.marker_gamma[*k as usize];
+        }
     }
 
     fn update(
@@ -641,6 +735,10 @@ impl PhysicsItem for ConstraintFluid {
         }
         for (g, id) in self.gamma.iter_mut().zip(&self.row_ids) {
             *g = gamma[problem.row_index(*id)];
+        }
+        self.marker_gamma.fill(0.0);
+        for (k, id) in &self.marker_row_ids {
+            self.marker_gamma[*k as usize] = gamma[problem.row_index(*id)];
         }
         if let Some(i) = self
             .vel

@@ -93,6 +93,15 @@ pub struct CfluidSettings {
     /// from the centres of the first fluid layer, as it does for the marker walls and the
     /// body markers ([`ConstraintFluid::attach_body`](crate::ConstraintFluid::attach_body)).
     pub contact_radius_over_dp: f64,
+    /// Whether each body marker ([`ConstraintFluid::attach_body`](crate::ConstraintFluid::attach_body))
+    /// with fluid neighbours has a density row of its own, `C_k = rho_k / rho_0 - 1`
+    /// (same surface mode and compliance as the fluid's), on its fluid neighbours and its
+    /// body. Default on: the marker then carries a pressure like a fluid particle, so the
+    /// pair forces across the body surface are symmetric (`g_i + g_k`) and their sum is
+    /// the pressure integral over the face; without it the marker side has zero pressure
+    /// and every marker within reach of the fluid gets about half the buoyancy of its own
+    /// volume on top, which lifts a floating body by a fraction of `dp`.
+    pub body_marker_rows: bool,
     /// Coulomb friction coefficient of the fluid particles against bodies (`>= 0`; the
     /// contact takes the minimum of the two materials' coefficients). Default `0`: an
     /// inviscid fluid slips along a wall; the fluid's tangential stress on a body comes
@@ -118,6 +127,7 @@ impl Default for CfluidSettings {
             body_contacts: true,
             contact_radius_over_dp: 0.5,
             contact_friction: 0.0,
+            body_marker_rows: true,
         }
     }
 }

@@ -86,7 +86,8 @@ pub struct FloatingBoxParams {
     pub window: f64,
     /// XSPH viscosity epsilon.
     pub xsph: f64,
-    /// `markers` (density rows + contacts) or `contact` (contacts only).
+    /// `markers` (markers with density rows + contacts), `passive-markers` (markers in
+    /// the fluid's density only + contacts) or `contact` (contacts only).
     pub coupling: String,
     /// Radius of the particles' contact spheres over the spacing.
     pub contact_radius: f64,
@@ -137,7 +138,7 @@ impl CaseParams for FloatingBoxParams {
         ParamInfo::new(
             "coupling",
             "-",
-            "`markers` (density rows + contacts) or `contact`",
+            "`markers`, `passive-markers` (no marker rows) or `contact`",
         ),
         ParamInfo::new(
             "contact_radius",
@@ -224,8 +225,8 @@ fn check(p: &FloatingBoxParams) -> anyhow::Result<()> {
         p.contact_radius
     );
     anyhow::ensure!(
-        p.coupling == "markers" || p.coupling == "contact",
-        "parameter `coupling` must be `markers` or `contact`, got `{}`",
+        ["markers", "passive-markers", "contact"].contains(&p.coupling.as_str()),
+        "parameter `coupling` must be `markers`, `passive-markers` or `contact`, got `{}`",
         p.coupling
     );
     Ok(())
@@ -257,6 +258,7 @@ pub fn scene(p: &FloatingBoxParams) -> anyhow::Result<FloatingScene> {
         spacing: dp,
         xsph: p.xsph,
         contact_radius_over_dp: p.contact_radius,
+        body_marker_rows: p.coupling == "markers",
         domain_lower: [-t, 0.0, -t],
         domain_upper: [len + t, ly, top],
         periodic: [false, true, false],
@@ -338,7 +340,7 @@ pub fn scene(p: &FloatingBoxParams) -> anyhow::Result<FloatingScene> {
                 material,
             ),
     )?;
-    if p.coupling == "markers" {
+    if p.coupling != "contact" {
         let markers = box_markers(
             [0.5 * wb, 0.5 * ly, 0.5 * hb],
             dp,
