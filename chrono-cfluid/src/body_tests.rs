@@ -70,6 +70,7 @@ fn body_block_matches_finite_differences() {
         spacing: dp,
         domain_lower: [-0.1; 3],
         domain_upper: [0.1; 3],
+        body_marker_rows: true,
         ..CfluidSettings::default()
     };
     // a block of fluid under and around a tilted box of markers
@@ -443,6 +444,7 @@ fn momentum_exchange_is_equal_and_opposite() {
     let settings = CfluidSettings {
         spacing: dp,
         xsph: 0.0,
+        body_marker_rows: true,
         domain_lower: [-0.2; 3],
         domain_upper: [0.2; 3],
         ..CfluidSettings::default()

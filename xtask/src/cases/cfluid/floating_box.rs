@@ -8,7 +8,8 @@
 //! centred in x, and starts with its bottom `initial_draft` below the still water surface
 //! (the fluid lattice is cut out where the box is). The box is coupled to the fluid by
 //! markers in the density rows plus contact spheres (`coupling = "markers"`, the model of
-//! chrono-cfluid) or by contact spheres only (`coupling = "contact"`, for comparison).
+//! chrono-cfluid; `"marker-rows"`: the markers also have density rows of their own) or
+//! by contact spheres only (`coupling = "contact"`, for comparison).
 //! The box spans the periodic slab, so it is a slice of an infinitely long body: it
 //! heaves, sways and pitches, and its roll and yaw are suppressed
 //! ([`PLANAR_INERTIA_FACTOR`]; without it the default run rolled over, 37 degrees).
@@ -86,8 +87,8 @@ pub struct FloatingBoxParams {
     pub window: f64,
     /// XSPH viscosity epsilon.
     pub xsph: f64,
-    /// `markers` (markers with density rows + contacts), `passive-markers` (markers in
-    /// the fluid's density only + contacts) or `contact` (contacts only).
+    /// `markers` (markers in the fluid's density rows + contacts), `marker-rows` (the
+    /// same, and a density row per marker) or `contact` (contacts only).
     pub coupling: String,
     /// Radius of the particles' contact spheres over the spacing.
     pub contact_radius: f64,
@@ -138,7 +139,7 @@ impl CaseParams for FloatingBoxParams {
         ParamInfo::new(
             "coupling",
             "-",
-            "`markers`, `passive-markers` (no marker rows) or `contact`",
+            "`markers`, `marker-rows` (markers with rows of their own) or `contact`",
         ),
         ParamInfo::new(
             "contact_radius",
@@ -225,8 +226,8 @@ fn check(p: &FloatingBoxParams) -> anyhow::Result<()> {
         p.contact_radius
     );
     anyhow::ensure!(
-        ["markers", "passive-markers", "contact"].contains(&p.coupling.as_str()),
-        "parameter `coupling` must be `markers`, `passive-markers` or `contact`, got `{}`",
+        ["markers", "marker-rows", "contact"].contains(&p.coupling.as_str()),
+        "parameter `coupling` must be `markers`, `marker-rows` or `contact`, got `{}`",
         p.coupling
     );
     Ok(())
@@ -258,7 +259,7 @@ pub fn scene(p: &FloatingBoxParams) -> anyhow::Result<FloatingScene> {
         spacing: dp,
         xsph: p.xsph,
         contact_radius_over_dp: p.contact_radius,
-        body_marker_rows: p.coupling == "markers",
+        body_marker_rows: p.coupling == "marker-rows",
         domain_lower: [-t, 0.0, -t],
         domain_upper: [len + t, ly, top],
         periodic: [false, true, false],
