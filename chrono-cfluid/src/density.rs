@@ -14,6 +14,12 @@
 //! The wall markers enter the density sum and the self term, so a particle pressed
 //! against a wall sees its density rise and its row pushes it back, although the markers
 //! carry no variables. The row stored is `D_i = -grad C_i` (see [`crate::fluid`]).
+//!
+//! Body markers (after the wall markers) move with a rigid body `b`:
+//! `x_k = x_b + R r_k`, so `dx_k/dt = v_b + w x (x_k - x_b)` and the row gets, besides
+//! the self term, one 6-entry block on the body, `sum_k [c_k; (x_k - x_b) x c_k]` (world
+//! linear and angular parts, `c_k = -dC_i/dx_k = (m/rho_0) F(r_ik) x_ik`), turned into the
+//! body's coordinates (angular velocity in the body frame) by the caller.
 
 use chrono_core::particles::{CellGrid, Kernel, NeighborList, Positions};
 use rayon::prelude::*;
@@ -25,6 +31,9 @@ use rayon::prelude::*;
 pub(crate) struct RowBuf {
     pub particles: Vec<u32>,
     pub coefs: Vec<f64>,
+    /// `(body slot, [linear; angular])` of the attached bodies among the neighbours
+    /// (world frame as filled here; the item rotates the angular part into the body frame).
+    pub bodies: Vec<(u32, [f64; 6])>,
 }
 
 /// The kernel data every computation needs.
@@ -37,6 +46,12 @@ pub(crate) struct Field<'a> {
     pub pos: Positions<'a>,
     pub nbrs: &'a NeighborList,
     pub n_fluid: usize,
+    /// First body marker (fluid, then wall markers, then body markers).
+    pub n_static: usize,
+    /// Body slot of each body marker.
+    pub marker_owner: &'a [u32],
+    /// Reference point `x_b` of each body slot (its position at the step), m.
+    pub body_origin: &'a [[f64; 3]],
 }
 
 impl Field<'_> {
@@ -73,6 +88,7 @@ impl Field<'_> {
     pub fn row(&self, i: usize, row: &mut RowBuf) {
         row.particles.clear();
         row.coefs.clear();
+        row.bodies.clear();
         row.particles.push(i as u32);
         row.coefs.extend_from_slice(&[0.0; 3]);
         let s = self.mass / self.rho_0;
@@ -85,15 +101,100 @@ impl Field<'_> {
             for a in 0..3 {
                 self_term[a] += f * d[a];
             }
+            // -dC_i/dx_j = +(m/rho_0) F x_ij
+            let c = [f * d[0], f * d[1], f * d[2]];
             if j < self.n_fluid {
                 row.particles.push(j as u32);
-                // -dC_i/dx_j = +(m/rho_0) F x_ij
-                row.coefs.extend_from_slice(&[f * d[0], f * d[1], f * d[2]]);
+                row.coefs.extend_from_slice(&c);
+            } else if j >= self.n_static {
+                self.add_body(row, j, c);
             }
         }
         for a in 0..3 {
             row.coefs[a] = -self_term[a];
         }
+    }
+
+    /// Adds `c` (the coefficients on the velocity of body marker `j`) to the block of
+    /// `j`'s body in `row`: `[c; (x_j - x_b) x c]` (world frame).
+    fn add_body(&self, row: &mut RowBuf, j: usize, c: [f64; 3]) {
+        let slot = self.marker_owner[j - self.n_static];
+        let arm = self
+            .grid
+            .displacement(self.x(j), self.body_origin[slot as usize]);
+        let m = [
+            arm[1] * c[2] - arm[2] * c[1],
+            arm[2] * c[0] - arm[0] * c[2],
+            arm[0] * c[1] - arm[1] * c[0],
+        ];
+        let k = match row.bodies.iter().position(|b| b.0 == slot) {
+            Some(k) => k,
+            None => {
+                row.bodies.push((slot, [0.0; 6]));
+                row.bodies.len() - 1
+            }
+        };
+        let acc = &mut row.bodies[k].1;
+        for a in 0..3 {
+            acc[a] += c[a];
+            acc[3 + a] += m[a];
+        }
+    }
+
+    /// Fills `row` with `D_k = -grad C_k` of body marker `k` (`k >= n_static`), the
+    /// marker's own density constraint: its fluid neighbours get `(m/rho_0) F x_kj`, the
+    /// marker's own motion (minus the sum over all neighbours but its body's markers) goes
+    /// to its body's block, other bodies' markers to theirs, walls are fixed. Markers of
+    /// the same body are skipped: a rigid motion does not change their distance, and their
+    /// two contributions to the body block cancel. Leaves the row empty when the marker
+    /// has no fluid neighbour (no row is needed).
+    pub fn marker_row(&self, k: usize, row: &mut RowBuf) {
+        row.particles.clear();
+        row.coefs.clear();
+        row.bodies.clear();
+        let s = self.mass / self.rho_0;
+        let own = self.marker_owner[k - self.n_static];
+        let mut self_term = [0.0; 3];
+        let mut fluid = false;
+        for &j in self.nbrs.neighbors(k) {
+            let j = j as usize;
+            if j >= self.n_static && self.marker_owner[j - self.n_static] == own {
+                continue;
+            }
+            let d = self.displacement(k, j);
+            let r = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+            let f = s * self.kernel.grad_factor(r);
+            let c = [f * d[0], f * d[1], f * d[2]];
+            for a in 0..3 {
+                self_term[a] += c[a];
+            }
+            if j < self.n_fluid {
+                fluid = true;
+                row.particles.push(j as u32);
+                row.coefs.extend_from_slice(&c);
+            } else if j >= self.n_static {
+                self.add_body(row, j, c);
+            }
+        }
+        if !fluid {
+            row.particles.clear();
+            row.coefs.clear();
+            row.bodies.clear();
+            return;
+        }
+        self.add_body(row, k, self_term.map(|x| -x));
+    }
+
+    /// The rows and densities of all body markers, in parallel.
+    pub fn marker_rows(&self, rows: &mut [RowBuf], rho: &mut [f64]) {
+        rows.par_iter_mut()
+            .zip(rho.par_iter_mut())
+            .enumerate()
+            .for_each(|(m, (row, r))| {
+                let k = self.n_static + m;
+                self.marker_row(k, row);
+                *r = self.density(k);
+            });
     }
 
     /// All fluid rows, in parallel.

@@ -1,10 +1,14 @@
 //! The [`ConstraintFluid`] physics item.
 
+use chrono_core::body::{BodyHandle, RigidBody};
+use chrono_core::collision::{CollisionProxy, ProxyShape};
 use chrono_core::descriptor::{
     BlockId, CcpProblem, ConstraintRows, MassOperator, RowEntry, RowId, Variables,
 };
 use chrono_core::error::{ChronoError, Result};
 use chrono_core::item::{PhysicsItem, StepContext};
+use chrono_core::material::ContactMaterial;
+use chrono_core::math::{Point3, Vector3};
 use chrono_core::particles::{CellGrid, GridConfig, Kernel, NeighborList};
 
 use crate::density::{Field, RowBuf};
@@ -23,7 +27,7 @@ use crate::settings::{CfluidSettings, SurfaceMode};
 /// (SPH summation over fluid particles and wall markers with a chrono-core kernel, the
 /// neighbours from the chrono-core cell grid), enforced at the velocity level with the
 /// stabilization `C_i / h`. Each particle contributes one row, written with
-/// `D_i = -grad C_i` (1/m; entries `(m/rho_0) grad W_ij`, see [`crate::density`]) so that
+/// `D_i = -grad C_i` (1/m; entries `(m/rho_0) grad W_ij`, see the `density` module) so that
 /// its multiplier `g_i` (N m s) is a pressure impulse, positive when it pushes:
 ///
 /// ```text
@@ -34,7 +38,7 @@ use crate::settings::{CfluidSettings, SurfaceMode};
 /// bilateral (`c_i = 0`) or unilateral (`0 <= g_i ⊥ c_i >= 0`) according to
 /// [`SurfaceMode`]. After a solve, `C_i(t + h) ~ kappa p_i` (the compliance makes the fluid
 /// as compressible as one of bulk modulus `1 / kappa`), and the pressure is
-/// `p_i = g_i rho_0 / (h m)` (Pa; [`pressures`](Self::pressures)): the force on particle
+/// `p_i = g_i rho_0 / (h m)` (Pa; [`pressure`](Self::pressure)): the force on particle
 /// `j` is `-sum_i (g_i / h) grad_j C_i`, which with `g_i / h = p_i m / rho_0` is the
 /// symmetric SPH pressure force `-m sum_i m (p_i + p_j) / rho_0^2 grad W`.
 ///
@@ -49,6 +53,31 @@ use crate::settings::{CfluidSettings, SurfaceMode};
 /// the self term of the Jacobian: a fluid particle cannot compress against a wall, and
 /// the wall needs no contact rows. Use at least [`wall_layers`](crate::wall_layers)
 /// layers so the support is full.
+///
+/// **Bodies.** Two couplings to rigid bodies, both rows of the same CCP (so the momentum
+/// the fluid gives a body is exactly the momentum the body gives the fluid):
+///
+/// - *contact*: each particle is a collision proxy, a sphere of radius
+///   `contact_radius_over_dp * dp` with friction `contact_friction`
+///   ([`CfluidSettings::body_contacts`]); the system builds friction-cone rows between it
+///   and any body collider, the particle's side being its own block along the contact
+///   directions ([`PhysicsItem::proxy_jacobian`]). This keeps particles out of a body
+///   whatever happens, but alone it gets the pressure on a body wrong: a particle next to
+///   the body misses the neighbours the body would have had, its density has a deficit,
+///   its row is slack, and the near-body layers can pack until the deficit is gone, so
+///   a floating body sinks by a fraction of `dp` too deep.
+/// - *markers* ([`attach_body`](Self::attach_body)): marker points fixed in a body's
+///   frame (BCE-like, e.g. [`box_markers`](crate::box_markers)) enter the density sum like
+///   the wall markers, at `x_k = x_b + R r_k` at the start of each step, so the fluid next
+///   to the body has a full kernel support and its rows hold `rho_0` up to the body face;
+///   each density row then also has a 6-entry block on the body (`sum_k c_k` and
+///   `sum_k (x_k - x_b) x c_k`, see the `density` module), through which the row's pressure
+///   impulse pushes the body: buoyancy comes out of the same multipliers as the fluid's
+///   own pressure. Fixed and kinematic bodies have no block: their markers' known
+///   velocity goes into the right-hand side. With markers attached, the rows are built in
+///   [`PhysicsItem::add_body_constraints`] (which sees the bodies' poses).
+///   With [`CfluidSettings::body_marker_rows`] each marker with fluid neighbours also
+///   gets a density row of its own (a pressure on the body side of the face).
 ///
 /// **Warm start**: the last impulses times
 /// [`warm_start_factor`](CfluidSettings::warm_start_factor), by particle, through
@@ -78,6 +107,99 @@ pub struct ConstraintFluid {
     vel_scratch: Vec<[f64; 3]>,
     last_h: f64,
     neighbors_fresh: bool,
+    /// Number of fluid particles and wall markers (body markers follow).
+    n_static: usize,
+    /// Attached bodies: handle and first marker (index into `marker_local`).
+    bodies: Vec<(BodyHandle, usize)>,
+    /// Body markers in their body's frame, m.
+    marker_local: Vec<Vector3<f64>>,
+    /// Body slot of each body marker.
+    marker_owner: Vec<u32>,
+    /// Each slot's body position at the step, m.
+    body_origin: Vec<[f64; 3]>,
+    /// Row buffers, densities (kg/m^3) and impulses (N s) of the body markers.
+    marker_rows: Vec<RowBuf>,
+    marker_rho: Vec<f64>,
+    marker_gamma: Vec<f64>,
+    /// The body markers that have a row this step, and the row.
+    marker_row_ids: Vec<(u32, RowId)>,
+}
+
+/// What pushing one density row needs: the fluid's first block, the system's bodies and
+/// the attached slots, the settings, the step and the compliance.
+struct PushRow<'a> {
+    first: BlockId,
+    bodies: &'a [RigidBody],
+    slots: &'a [(BodyHandle, usize)],
+    settings: &'a CfluidSettings,
+    h: f64,
+    eps: f64,
+}
+
+impl PushRow<'_> {
+    /// Push the row in `buf` (a particle or marker of density `rho`) by the surface mode.
+    /// The body blocks are turned into body coordinates (angular part in the body frame);
+    /// a body without variables (fixed, kinematic) moves its markers at a known velocity,
+    /// which goes into `b`.
+    fn push<'b>(
+        &self,
+        buf: &'b mut RowBuf,
+        rho: f64,
+        entries: &mut Vec<RowEntry<'b>>,
+        rows: &mut ConstraintRows,
+    ) -> RowId {
+        let mut known = 0.0;
+        buf.bodies.retain_mut(|(slot, c)| {
+            let body = &self.bodies[self.slots[*slot as usize].0.0 as usize];
+            *c = body_coefs(body, c);
+            match body.block() {
+                Some(_) => true,
+                None => {
+                    known += body.jacobian_times_velocity(c);
+                    false
+                }
+            }
+        });
+        entries.clear();
+        for (k, &p) in buf.particles.iter().enumerate() {
+            entries.push(RowEntry {
+                block: BlockId(self.first.0 + p),
+                coefs: &buf.coefs[3 * k..3 * k + 3],
+            });
+        }
+        for (slot, c) in &buf.bodies {
+            let body = &self.bodies[self.slots[*slot as usize].0.0 as usize];
+            if let Some(block) = body.block() {
+                entries.push(RowEntry { block, coefs: c });
+            }
+        }
+        let s = self.settings;
+        let (h, eps) = (self.h, self.eps);
+        let c = rho / s.rest_density - 1.0;
+        let id = match s.surface {
+            SurfaceMode::OneSided if c < 0.0 => rows.push_unilateral(entries, known - c / h, eps),
+            SurfaceMode::OneSided => {
+                rows.push_bilateral(entries, known - (c / h).min(s.max_recovery_rate), eps)
+            }
+            SurfaceMode::Unilateral => {
+                rows.push_unilateral(entries, known - (c / h).min(s.max_recovery_rate), eps)
+            }
+            SurfaceMode::Clamped => rows.push_bilateral(
+                entries,
+                known - (c.max(0.0) / h).min(s.max_recovery_rate),
+                eps,
+            ),
+        };
+        entries.clear();
+        id
+    }
+}
+
+/// The 6 row coefficients `[lin; R' ang]` of a body whose world linear and angular parts
+/// are `c` (angular velocity in the body frame).
+fn body_coefs(body: &RigidBody, c: &[f64; 6]) -> [f64; 6] {
+    let a = body.rotation().inverse() * Vector3::new(c[3], c[4], c[5]);
+    [c[0], c[1], c[2], a.x, a.y, a.z]
 }
 
 /// Re-types an empty vector of row entries for another borrow: the allocation is kept
@@ -155,8 +277,67 @@ impl ConstraintFluid {
             vel_scratch: vec![[0.0; 3]; n_fluid],
             last_h: 0.0,
             neighbors_fresh: false,
+            n_static: n_fluid + walls.len(),
+            bodies: Vec::new(),
+            marker_local: Vec::new(),
+            marker_owner: Vec::new(),
+            body_origin: Vec::new(),
+            marker_rows: Vec::new(),
+            marker_rho: Vec::new(),
+            marker_gamma: Vec::new(),
+            marker_row_ids: Vec::new(),
             settings,
         })
+    }
+
+    /// Attach markers fixed in the frame of the body with handle `body` (`local`, m, in the
+    /// body frame; e.g. [`box_markers`](crate::box_markers)): they enter the density sum
+    /// and the density rows push the body (see the type's documentation). `current` is
+    /// that body now (`system.body(handle)?`): the markers are placed at its pose, then at
+    /// the body's pose at the start of every step. Attach a body once. Errors: a
+    /// non-finite or empty marker set, a body attached twice; a handle that is not in the
+    /// system is reported by the first step.
+    pub fn attach_body(
+        &mut self,
+        body: BodyHandle,
+        current: &RigidBody,
+        local: &[[f64; 3]],
+    ) -> Result<()> {
+        if local.is_empty() {
+            return Err(ChronoError::invalid(
+                "attach_body.local",
+                0,
+                "a body needs at least one marker",
+            ));
+        }
+        check_points("attach_body.local", local)?;
+        if self.bodies.iter().any(|b| b.0 == body) {
+            return Err(ChronoError::invalid(
+                "attach_body.body",
+                body.0,
+                "this body is already attached",
+            ));
+        }
+        let slot = self.bodies.len() as u32;
+        self.bodies.push((body, self.marker_local.len()));
+        for p in local {
+            self.marker_local.push(Vector3::new(p[0], p[1], p[2]));
+            self.marker_owner.push(slot);
+            self.marker_rows.push(RowBuf::default());
+            self.marker_rho.push(self.settings.rest_density);
+            self.marker_gamma.push(0.0);
+            for a in 0..3 {
+                self.pos[a].push(0.0);
+            }
+        }
+        self.body_origin.push([0.0; 3]);
+        self.place_body(slot as usize, current);
+        Ok(())
+    }
+
+    /// Number of body markers (all attached bodies).
+    pub fn n_body_markers(&self) -> usize {
+        self.marker_local.len()
     }
 
     /// The settings.
@@ -181,7 +362,7 @@ impl ConstraintFluid {
 
     /// Number of wall markers.
     pub fn n_walls(&self) -> usize {
-        self.pos[0].len() - self.n_fluid
+        self.n_static - self.n_fluid
     }
 
     /// Position of fluid particle `i`, m.
@@ -216,13 +397,35 @@ impl ConstraintFluid {
     }
 
     /// Recompute the neighbours and densities at the current positions (diagnostics:
-    /// the density after the last step).
+    /// the density after the last step), of the fluid particles (returned) and of the body
+    /// markers ([`marker_densities`](Self::marker_densities); markers stay where the last
+    /// step started, or where [`attach_body`](Self::attach_body) put them).
     pub fn compute_densities(&mut self) -> Result<&[f64]> {
         self.refresh_neighbors()?;
         let mut rho = std::mem::take(&mut self.rho);
-        self.field().densities(&mut rho);
+        let mut mrho = std::mem::take(&mut self.marker_rho);
+        {
+            let field = self.field();
+            field.densities(&mut rho);
+            for (k, r) in mrho.iter_mut().enumerate() {
+                *r = field.density(self.n_static + k);
+            }
+        }
         self.rho = rho;
+        self.marker_rho = mrho;
         Ok(&self.rho)
+    }
+
+    /// Densities of the body markers (all attached bodies, in attachment order), kg/m^3,
+    /// as of the last step or [`compute_densities`](Self::compute_densities).
+    pub fn marker_densities(&self) -> &[f64] {
+        &self.marker_rho
+    }
+
+    /// The body-marker rows of the last step: `(marker index, row)` for every marker that
+    /// had fluid neighbours ([`CfluidSettings::body_marker_rows`]).
+    pub fn marker_row_ids(&self) -> &[(u32, RowId)] {
+        &self.marker_row_ids
     }
 
     /// The density-row impulses of the last step, N m s (one per fluid particle, `>= 0`
@@ -275,7 +478,121 @@ impl ConstraintFluid {
             pos: [&self.pos[0], &self.pos[1], &self.pos[2]],
             nbrs: &self.nbrs,
             n_fluid: self.n_fluid,
+            n_static: self.n_static,
+            marker_owner: &self.marker_owner,
+            body_origin: &self.body_origin,
         }
+    }
+
+    /// Place the markers of body slot `slot` at the pose of `body` (periodic axes wrapped).
+    fn place_body(&mut self, slot: usize, body: &RigidBody) {
+        let s = &self.settings;
+        let first = self.bodies[slot].1;
+        let end = self
+            .bodies
+            .get(slot + 1)
+            .map_or(self.marker_local.len(), |b| b.1);
+        let pose = body.pose();
+        let x_b = body.position();
+        self.body_origin[slot] = [x_b.x, x_b.y, x_b.z];
+        for (k, r) in self.marker_local[first..end].iter().enumerate() {
+            let x = pose * Point3::from(*r);
+            let j = self.n_static + first + k;
+            for a in 0..3 {
+                let mut xa = x[a];
+                if s.periodic[a] {
+                    let lo = s.domain_lower[a];
+                    xa = lo + (xa - lo).rem_euclid(s.domain_upper[a] - lo);
+                }
+                self.pos[a][j] = xa;
+            }
+        }
+    }
+
+    /// Place every body's markers at its pose in `bodies` (the system's bodies).
+    fn place_markers(&mut self, bodies: &[RigidBody]) -> Result<()> {
+        for slot in 0..self.bodies.len() {
+            let handle = self.bodies[slot].0;
+            let body = bodies.get(handle.0 as usize).ok_or_else(|| {
+                ChronoError::invalid(
+                    "attach_body.body",
+                    handle.0,
+                    format!(
+                        "constraint fluid \"{}\": no such body in the system",
+                        self.name
+                    ),
+                )
+            })?;
+            self.place_body(slot, body);
+        }
+        Ok(())
+    }
+
+    /// Neighbours, densities and the density rows of the step (bodies at `q(l)`).
+    fn build_rows(
+        &mut self,
+        ctx: &StepContext,
+        bodies: &[RigidBody],
+        rows: &mut ConstraintRows,
+    ) -> Result<()> {
+        let Some(first) = self.first_block else {
+            return Ok(());
+        };
+        self.place_markers(bodies)?;
+        self.refresh_neighbors()?;
+        let mut rho = std::mem::take(&mut self.rho);
+        let mut bufs = std::mem::take(&mut self.rows);
+        let mut mbufs = std::mem::take(&mut self.marker_rows);
+        let mut mrho = std::mem::take(&mut self.marker_rho);
+        {
+            let field = self.field();
+            field.densities(&mut rho);
+            field.rows(&mut bufs);
+            if self.settings.body_marker_rows {
+                field.marker_rows(&mut mbufs, &mut mrho);
+            }
+        }
+        self.rho = rho;
+        self.rows = bufs;
+        self.marker_rows = mbufs;
+        self.marker_rho = mrho;
+        if let Some(i) = self.rho.iter().position(|r| !r.is_finite()) {
+            return Err(self.non_finite(ctx, i, "density"));
+        }
+
+        let h = ctx.h;
+        let s = &self.settings;
+        let eps = s.compressibility * s.rest_density / (h * h * self.mass);
+        let mut entries = recycle(std::mem::take(&mut self.entries));
+        self.row_ids.clear();
+        let push = PushRow {
+            first,
+            bodies,
+            slots: &self.bodies,
+            settings: s,
+            h,
+            eps,
+        };
+        for (buf, rho) in self.rows.iter_mut().zip(&self.rho) {
+            let id = push.push(buf, *rho, &mut entries, rows);
+            self.row_ids.push(id);
+        }
+        self.marker_row_ids.clear();
+        if s.body_marker_rows {
+            for (k, (buf, rho)) in self
+                .marker_rows
+                .iter_mut()
+                .zip(&self.marker_rho)
+                .enumerate()
+            {
+                if !buf.particles.is_empty() {
+                    let id = push.push(buf, *rho, &mut entries, rows);
+                    self.marker_row_ids.push((k as u32, id));
+                }
+            }
+        }
+        self.entries = recycle(entries);
+        Ok(())
     }
 
     fn refresh_neighbors(&mut self) -> Result<()> {
@@ -323,58 +640,69 @@ impl PhysicsItem for ConstraintFluid {
         }
     }
 
+    fn collision_proxies(&self, out: &mut Vec<CollisionProxy>) {
+        let s = &self.settings;
+        if !s.body_contacts {
+            return;
+        }
+        let material = ContactMaterial::with_friction(s.contact_friction);
+        let radius = s.contact_radius_over_dp * s.spacing;
+        out.reserve(self.n_fluid);
+        for i in 0..self.n_fluid {
+            let p = self.position(i);
+            out.push(CollisionProxy {
+                shape: ProxyShape::Sphere {
+                    center: Vector3::new(p[0], p[1], p[2]),
+                    radius,
+                },
+                material,
+                id: i as u32,
+            });
+        }
+    }
+
+    /// Particle `proxy`'s own block along the three directions (no known velocity).
+    fn proxy_jacobian(
+        &self,
+        proxy: u32,
+        _p: &Vector3<f64>,
+        dirs: &[Vector3<f64>; 3],
+        entry: &mut dyn FnMut(BlockId, [&[f64]; 3]),
+    ) -> [f64; 3] {
+        if let Some(first) = self.first_block
+            && (proxy as usize) < self.n_fluid
+        {
+            let [a, b, c] = dirs;
+            entry(
+                BlockId(first.0 + proxy),
+                [a.as_slice(), b.as_slice(), c.as_slice()],
+            );
+        }
+        [0.0; 3]
+    }
+
     fn add_constraints(
         &mut self,
         ctx: &StepContext,
         _vars: &Variables,
         rows: &mut ConstraintRows,
     ) -> Result<()> {
-        let Some(first) = self.first_block else {
-            return Ok(());
-        };
-        self.refresh_neighbors()?;
-        let mut rho = std::mem::take(&mut self.rho);
-        let mut bufs = std::mem::take(&mut self.rows);
-        {
-            let field = self.field();
-            field.densities(&mut rho);
-            field.rows(&mut bufs);
+        if self.bodies.is_empty() {
+            self.build_rows(ctx, &[], rows)?;
         }
-        self.rho = rho;
-        self.rows = bufs;
-        if let Some(i) = self.rho.iter().position(|r| !r.is_finite()) {
-            return Err(self.non_finite(ctx, i, "density"));
-        }
+        Ok(())
+    }
 
-        let h = ctx.h;
-        let s = &self.settings;
-        let eps = s.compressibility * s.rest_density / (h * h * self.mass);
-        let mut entries = recycle(std::mem::take(&mut self.entries));
-        self.row_ids.clear();
-        for (i, buf) in self.rows.iter().enumerate() {
-            entries.clear();
-            for (k, &p) in buf.particles.iter().enumerate() {
-                entries.push(RowEntry {
-                    block: BlockId(first.0 + p),
-                    coefs: &buf.coefs[3 * k..3 * k + 3],
-                });
-            }
-            let c = self.rho[i] / s.rest_density - 1.0;
-            let id = match s.surface {
-                SurfaceMode::OneSided if c < 0.0 => rows.push_unilateral(&entries, -c / h, eps),
-                SurfaceMode::OneSided => {
-                    rows.push_bilateral(&entries, -(c / h).min(s.max_recovery_rate), eps)
-                }
-                SurfaceMode::Unilateral => {
-                    rows.push_unilateral(&entries, -(c / h).min(s.max_recovery_rate), eps)
-                }
-                SurfaceMode::Clamped => {
-                    rows.push_bilateral(&entries, -(c.max(0.0) / h).min(s.max_recovery_rate), eps)
-                }
-            };
-            self.row_ids.push(id);
+    fn add_body_constraints(
+        &mut self,
+        ctx: &StepContext,
+        bodies: &[RigidBody],
+        _vars: &Variables,
+        rows: &mut ConstraintRows,
+    ) -> Result<()> {
+        if !self.bodies.is_empty() {
+            self.build_rows(ctx, bodies, rows)?;
         }
-        self.entries = recycle(entries);
         Ok(())
     }
 
@@ -386,6 +714,9 @@ impl PhysicsItem for ConstraintFluid {
         for (id, g) in self.row_ids.iter().zip(&self.gamma) {
             // a row that became unilateral is projected by the solver
             gamma[problem.row_index(*id)] = f * g;
+        }
+        for (k, id) in &self.marker_row_ids {
+            gamma[problem.row_index(*id)] = f * self.marker_gamma[*k as usize];
         }
     }
 
@@ -406,6 +737,10 @@ impl PhysicsItem for ConstraintFluid {
         }
         for (g, id) in self.gamma.iter_mut().zip(&self.row_ids) {
             *g = gamma[problem.row_index(*id)];
+        }
+        self.marker_gamma.fill(0.0);
+        for (k, id) in &self.marker_row_ids {
+            self.marker_gamma[*k as usize] = gamma[problem.row_index(*id)];
         }
         if let Some(i) = self
             .vel

@@ -11,7 +11,9 @@
 //!   rows, compliance, free-surface treatment, XSPH viscosity, wall markers, warm start);
 //! - [`CfluidSettings`], [`SurfaceMode`]: its settings;
 //! - [`lattice_box`], [`tank_markers`], [`lattice_mass`], [`wall_layers`]: initial
-//!   particle sets.
+//!   particle sets; [`box_markers`]: the markers of a rigid box, attached with
+//!   [`ConstraintFluid::attach_body`] (fluid–solid coupling; particles are also contact
+//!   spheres of the body colliders).
 //!
 //! ```
 //! use chrono_cfluid::{CfluidSettings, ConstraintFluid, lattice_box, tank_markers, wall_layers};
@@ -40,6 +42,8 @@
 //! assert!(water.max_compression() < 1e-3);
 //! ```
 
+#[cfg(test)]
+mod body_tests;
 mod density;
 mod fluid;
 mod geometry;
@@ -48,5 +52,5 @@ mod settings;
 mod tests;
 
 pub use fluid::ConstraintFluid;
-pub use geometry::{lattice_box, lattice_mass, tank_markers, wall_layers};
+pub use geometry::{box_markers, lattice_box, lattice_mass, tank_markers, wall_layers};
 pub use settings::{CfluidSettings, SurfaceMode};

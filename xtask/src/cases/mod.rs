@@ -86,6 +86,7 @@ pub fn all_cases() -> Vec<Box<dyn Case>> {
         sph::sloshing::case(),
         cfluid::incompressibility::case(),
         cfluid::dam_break::case(),
+        cfluid::floating_box::case(),
         ccp::solvers::case(),
         fea::cantilever::case(),
         fea::frequency::case(),

@@ -1,8 +1,10 @@
 //! Constraint-fluid validation cases (chrono-cfluid): the incompressibility test of the
-//! seed ("Incompressibility Test" table) and the dam break against Martin and Moyce (1952).
+//! seed ("Incompressibility Test" table), the dam break against Martin and Moyce (1952)
+//! and a floating box against Archimedes.
 //! See `docs/validation-cfluid.md`.
 
 pub mod dam_break;
+pub mod floating_box;
 pub mod incompressibility;
 
 use chrono_cfluid::{CfluidSettings, ConstraintFluid, lattice_box, tank_markers};

@@ -1,0 +1,573 @@
+//! `cfluid-floating-box`: a rigid box floating in a tank of constraint fluid, against
+//! Archimedes' principle.
+//!
+//! A quasi-2D tank (slab periodic in y, [`slab_layers`] particles thick, marker walls at
+//! x-, x+ and the floor, plus fixed box colliders behind them so a sinking body lands
+//! on the floor) holds water of depth `depth`. A box `box_width x slab x box_height` of
+//! density `box_density` spans the slab (its markers are periodic in y like the fluid),
+//! centred in x, and starts with its bottom `initial_draft` below the still water surface
+//! (the fluid lattice is cut out where the box is). The box is coupled to the fluid by
+//! markers in the density rows plus contact spheres (`coupling = "markers"`, the model of
+//! chrono-cfluid; `"marker-rows"`: the markers also have density rows of their own) or
+//! by contact spheres only (`coupling = "contact"`, for comparison).
+//! The box spans the periodic slab, so it is a slice of an infinitely long body: it
+//! heaves, sways and pitches, and its roll and yaw are suppressed
+//! ([`PLANAR_INERTIA_FACTOR`]; without it the default run rolled over, 37 degrees).
+//!
+//! Reference (Archimedes): a box lighter than water floats with
+//! `draft = (rho_box / rho_water) box_height`. The measured draft is the still-water
+//! level minus the bottom of the box, averaged over the last `window` fraction of the
+//! run; the level is the one of the fluid's own volume ([`volume_level`]: `n` particles
+//! of `dp^3`, which the density rows hold at `rho_0`, in the tank beside the box). Two
+//! other readings of the surface are reported, not checked, because at a draft of a few
+//! spacings they depend on how the top particle layers pack (the one-sided free surface
+//! lets them compact to `rho_0`): `draft_surface` (the highest particle of the far
+//! columns plus `dp / 2`, [`far_surface`]) and `draft_hydrostatic` (the fluid mass per
+//! area above the box bottom in the far columns over `rho_0`, [`hydrostatic_depth`]).
+//! Metrics:
+//!
+//! - `draft_error`: relative error of the draft (checked below [`DRAFT_TOLERANCE`]);
+//! - `drift`: horizontal displacement of the box at the end, m (checked below
+//!   [`DRIFT_FRACTION`]` box_width`: the scene is symmetric, any drift is an error);
+//! - `jitter`: RMS vertical speed of the box over the window, m/s (checked below
+//!   [`JITTER_FRACTION`]` sqrt(g box_height)`, i.e. a settled box);
+//! - `tilt_deg`: the largest tilt of the box over the window, degrees (reported);
+//! - `particles_inside`: fluid particles whose centre is inside the box at the end
+//!   (checked 0: a heavy box dropped into the water, `box_density > 1000`, sinks to the
+//!   floor and must not swallow fluid; the draft is then not checked).
+//!
+//! Also written: `final_particles.csv` (positions and densities at the end).
+
+use chrono_cfluid::{
+    CfluidSettings, ConstraintFluid, box_markers, lattice_box, tank_markers, wall_layers,
+};
+use chrono_core::descriptor::SolverSettings;
+use chrono_core::math::{Isometry3, Vector3};
+use chrono_core::{BodyHandle, ContactMaterial, RigidBodyBuilder, Shape, System, SystemSettings};
+use serde::{Deserialize, Serialize};
+
+use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series};
+use crate::cases::sph::slab_layers;
+use crate::params::{CaseParams, ParamCase, ParamInfo};
+
+const G: f64 = 9.81;
+/// Draft acceptance: relative error against Archimedes.
+pub const DRAFT_TOLERANCE: f64 = 0.03;
+/// Drift acceptance, as a fraction of the box width.
+pub const DRIFT_FRACTION: f64 = 0.02;
+/// Jitter acceptance, as a fraction of `sqrt(g box_height)` (the speed scale of heave).
+pub const JITTER_FRACTION: f64 = 0.01;
+/// Factor on the box's moments of inertia about x and z (roll and yaw of a body that
+/// spans the periodic slab, see [`scene`]): large enough that those rotations stay
+/// negligible, small enough to keep `M^-1` well scaled.
+pub const PLANAR_INERTIA_FACTOR: f64 = 1e6;
+
+/// Parameters of `cfluid-floating-box`.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct FloatingBoxParams {
+    /// Box density, kg/m^3.
+    pub box_density: f64,
+    /// Box width (x), m (a whole number of spacings).
+    pub box_width: f64,
+    /// Box height (z), m (a whole number of spacings).
+    pub box_height: f64,
+    /// Initial draft (box bottom below the still water surface), m.
+    pub initial_draft: f64,
+    /// Tank length (x), m.
+    pub tank_length: f64,
+    /// Still water depth, m.
+    pub depth: f64,
+    /// Particle spacing, m.
+    pub spacing: f64,
+    /// Time step, s.
+    pub h: f64,
+    /// Simulated time, s.
+    pub t_end: f64,
+    /// Fraction of the run at its end over which the draft and jitter are measured.
+    pub window: f64,
+    /// XSPH viscosity epsilon.
+    pub xsph: f64,
+    /// `markers` (markers in the fluid's density rows + contacts), `marker-rows` (the
+    /// same, and a density row per marker) or `contact` (contacts only).
+    pub coupling: String,
+    /// Radius of the particles' contact spheres over the spacing.
+    pub contact_radius: f64,
+    /// Solver tolerance (chrono-ccp residual).
+    pub tolerance: f64,
+    /// CCP solver name.
+    pub solver: String,
+    /// Iteration cap per step.
+    pub max_iterations: usize,
+}
+
+impl Default for FloatingBoxParams {
+    fn default() -> Self {
+        Self {
+            box_density: 500.0,
+            box_width: 0.16,
+            box_height: 0.08,
+            initial_draft: 0.0,
+            tank_length: 0.48,
+            depth: 0.16,
+            spacing: 0.01,
+            h: 1e-3,
+            t_end: 3.0,
+            window: 0.25,
+            xsph: 0.1,
+            coupling: "markers".into(),
+            contact_radius: 0.5,
+            tolerance: 1e-4,
+            solver: "apgd".into(),
+            max_iterations: 300,
+        }
+    }
+}
+
+impl CaseParams for FloatingBoxParams {
+    const INFO: &'static [ParamInfo] = &[
+        ParamInfo::new("box_density", "kg/m^3", "box density"),
+        ParamInfo::new("box_width", "m", "box width (x), a multiple of spacing"),
+        ParamInfo::new("box_height", "m", "box height (z), a multiple of spacing"),
+        ParamInfo::new("initial_draft", "m", "initial box bottom below the surface"),
+        ParamInfo::new("tank_length", "m", "tank length (x)"),
+        ParamInfo::new("depth", "m", "still water depth"),
+        ParamInfo::new("spacing", "m", "particle spacing dp"),
+        ParamInfo::new("h", "s", "time step"),
+        ParamInfo::new("t_end", "s", "simulated time"),
+        ParamInfo::new("window", "-", "final fraction of the run that is measured"),
+        ParamInfo::new("xsph", "-", "XSPH viscosity epsilon"),
+        ParamInfo::new(
+            "coupling",
+            "-",
+            "`markers`, `marker-rows` (markers with rows of their own) or `contact`",
+        ),
+        ParamInfo::new(
+            "contact_radius",
+            "-",
+            "particle contact sphere radius over the spacing",
+        ),
+        ParamInfo::new("tolerance", "1/s", "solver tolerance (chrono-ccp residual)"),
+        ParamInfo::new("solver", "-", "CCP solver name (chrono-ccp)"),
+        ParamInfo::new("max_iterations", "-", "iteration cap per step"),
+    ];
+    fn apply_mode(&mut self, mode: Mode) {
+        match mode {
+            Mode::Quick => {
+                self.spacing = 0.02;
+                self.tank_length = 0.4;
+                self.h = 2e-3;
+                self.t_end = 2.0;
+            }
+            Mode::Default => {}
+            Mode::Full => {
+                self.spacing = 0.005;
+                self.h = 5e-4;
+                self.t_end = 4.0;
+            }
+        }
+    }
+}
+
+/// Whether `x` is a whole positive number of spacings `dp`.
+fn whole(x: f64, dp: f64) -> bool {
+    let c = x / dp;
+    c.round() >= 1.0 && (c - c.round()).abs() < 1e-6 * c.max(1.0)
+}
+
+fn check(p: &FloatingBoxParams) -> anyhow::Result<()> {
+    let dp = p.spacing;
+    anyhow::ensure!(
+        dp.is_finite() && dp > 0.0,
+        "parameter `spacing` must be > 0, got {dp}"
+    );
+    for (name, v) in [
+        ("box_width", p.box_width),
+        ("box_height", p.box_height),
+        ("depth", p.depth),
+        ("tank_length", p.tank_length),
+    ] {
+        anyhow::ensure!(
+            v.is_finite() && whole(v, dp),
+            "parameter `{name}` must be a positive multiple of `spacing` = {dp}, got {v}"
+        );
+    }
+    anyhow::ensure!(
+        p.box_density.is_finite() && p.box_density > 0.0,
+        "parameter `box_density` must be > 0, got {}",
+        p.box_density
+    );
+    anyhow::ensure!(
+        p.tank_length >= p.box_width + 8.0 * dp,
+        "parameter `tank_length` must leave 4 spacings each side of the box, got {}",
+        p.tank_length
+    );
+    anyhow::ensure!(
+        p.initial_draft.is_finite()
+            && p.initial_draft >= 0.0
+            && whole(p.initial_draft + dp, dp)
+            && p.initial_draft < p.depth.min(p.box_height),
+        "parameter `initial_draft` must be a multiple of `spacing` in [0, min(depth, box_height)), got {}",
+        p.initial_draft
+    );
+    anyhow::ensure!(
+        p.h.is_finite() && p.h > 0.0 && p.t_end.is_finite() && p.t_end >= p.h,
+        "parameters `h` and `t_end` must be > 0 with t_end >= h, got {} and {}",
+        p.h,
+        p.t_end
+    );
+    anyhow::ensure!(
+        p.window > 0.0 && p.window <= 1.0,
+        "parameter `window` must be in (0, 1], got {}",
+        p.window
+    );
+    anyhow::ensure!(
+        (0.0..=1.0).contains(&p.contact_radius),
+        "parameter `contact_radius` must be in [0, 1], got {}",
+        p.contact_radius
+    );
+    anyhow::ensure!(
+        ["markers", "marker-rows", "contact"].contains(&p.coupling.as_str()),
+        "parameter `coupling` must be `markers`, `marker-rows` or `contact`, got `{}`",
+        p.coupling
+    );
+    Ok(())
+}
+
+/// The scene: the system, the fluid's item index, the box handle, the slab thickness.
+pub struct FloatingScene {
+    /// The system (tank colliders, the box, the fluid item).
+    pub sys: System,
+    /// The fluid item's index.
+    pub id: usize,
+    /// The box.
+    pub body: BodyHandle,
+    /// Slab thickness, m.
+    pub ly: f64,
+}
+
+/// Build the scene of `p` (checked first).
+pub fn scene(p: &FloatingBoxParams) -> anyhow::Result<FloatingScene> {
+    check(p)?;
+    let dp = p.spacing;
+    let h_over_dp = CfluidSettings::default().h_over_dp;
+    let layers = wall_layers(h_over_dp);
+    let ly = slab_layers(h_over_dp) as f64 * dp;
+    let t = layers as f64 * dp;
+    let (len, hb, wb) = (p.tank_length, p.box_height, p.box_width);
+    let top = p.depth + 2.0 * hb;
+    let settings = CfluidSettings {
+        spacing: dp,
+        xsph: p.xsph,
+        contact_radius_over_dp: p.contact_radius,
+        body_marker_rows: p.coupling == "marker-rows",
+        domain_lower: [-t, 0.0, -t],
+        domain_upper: [len + t, ly, top],
+        periodic: [false, true, false],
+        ..CfluidSettings::default()
+    };
+    // the box: centred in x, bottom `initial_draft` below the surface
+    let (xc, zb) = (0.5 * len, p.depth - p.initial_draft);
+    let x_lo = xc - 0.5 * wb;
+    // snap the box faces to the fluid lattice (cell faces)
+    let x_lo = (x_lo / dp).round() * dp;
+    let xc = x_lo + 0.5 * wb;
+    let inside = |q: &[f64; 3]| q[0] > x_lo && q[0] < x_lo + wb && q[2] > zb;
+    let fluid: Vec<[f64; 3]> = lattice_box([0.0; 3], [len, ly, p.depth], dp)?
+        .into_iter()
+        .filter(|q| !inside(q))
+        .collect();
+    let walls = tank_markers(
+        [0.0; 3],
+        [len, ly, top],
+        dp,
+        layers,
+        [true, true, false, false, true, false],
+    )?;
+    let mut item = ConstraintFluid::new("water", settings, &fluid, &walls)?;
+    let solver = chrono_ccp::by_name(
+        &p.solver,
+        SolverSettings {
+            tolerance: p.tolerance,
+            max_iterations: p.max_iterations,
+            record_history: false,
+        },
+    )
+    .map_err(|e| anyhow::anyhow!("parameter `solver`: {e}"))?;
+    let mut sys = System::new(
+        SystemSettings {
+            envelope: 0.25 * dp,
+            ..SystemSettings::default()
+        },
+        solver,
+    )?;
+    // fixed tank colliders behind the marker walls (floor and the two side walls)
+    let material = ContactMaterial::with_friction(0.3);
+    let yc = 0.5 * ly;
+    let wall = |c: [f64; 3], half: [f64; 3]| {
+        RigidBodyBuilder::fixed().collider(
+            Shape::Box {
+                half_extents: Vector3::from(half),
+            },
+            Isometry3::translation(c[0], c[1], c[2]),
+            material,
+        )
+    };
+    let big = 4.0 * ly;
+    sys.add_body(wall([0.5 * len, yc, -t], [0.5 * len + 2.0 * t, big, t]))?;
+    sys.add_body(wall([-t, yc, 0.5 * top], [t, big, 0.5 * top + t]))?;
+    sys.add_body(wall([len + t, yc, 0.5 * top], [t, big, 0.5 * top + t]))?;
+    // the box spans the slab; its collider is longer in y (no y faces near the fluid)
+    // The box is a slice of a body infinitely long in y (the slab is periodic): it may
+    // heave, sway and pitch (rotate about y), but a roll or yaw (about x or z) would tilt
+    // it through its own periodic images. Those two rotations are suppressed by giving
+    // them [`PLANAR_INERTIA_FACTOR`] times the slice's moment of inertia.
+    let mass = p.box_density * wb * ly * hb;
+    let inertia = Vector3::new(
+        PLANAR_INERTIA_FACTOR * mass * (ly * ly + hb * hb) / 12.0,
+        mass * (wb * wb + hb * hb) / 12.0,
+        PLANAR_INERTIA_FACTOR * mass * (wb * wb + ly * ly) / 12.0,
+    );
+    let body = sys.add_body(
+        RigidBodyBuilder::dynamic()
+            .name("box")
+            .mass(mass)
+            .inertia_diagonal(inertia)
+            .position(Vector3::new(xc, yc, zb + 0.5 * hb))
+            .collider(
+                Shape::Box {
+                    half_extents: Vector3::new(0.5 * wb, big, 0.5 * hb),
+                },
+                Isometry3::identity(),
+                material,
+            ),
+    )?;
+    if p.coupling != "contact" {
+        let markers = box_markers(
+            [0.5 * wb, 0.5 * ly, 0.5 * hb],
+            dp,
+            layers,
+            [false, true, false],
+        )?;
+        item.attach_body(body, sys.body(body)?, &markers)?;
+    }
+    let id = sys.add_item(Box::new(item));
+    Ok(FloatingScene { sys, id, body, ly })
+}
+
+impl FloatingScene {
+    /// The fluid item.
+    pub fn fluid(&self) -> anyhow::Result<&ConstraintFluid> {
+        self.sys
+            .item::<ConstraintFluid>(self.id)
+            .ok_or_else(|| anyhow::anyhow!("the fluid item is missing"))
+    }
+}
+
+/// The free surface far from the box: over the columns of fluid more than `2 dp` from
+/// the box faces and from the walls, the mean of the highest particle's `z + dp / 2`, m.
+pub fn far_surface(f: &ConstraintFluid, dp: f64, len: f64, box_x: [f64; 2]) -> f64 {
+    let n_cols = (len / dp).round() as usize;
+    let mut tops = vec![f64::NEG_INFINITY; n_cols];
+    for i in 0..f.n_fluid() {
+        let q = f.position(i);
+        let c = (q[0] / dp).floor();
+        if c >= 0.0 && (c as usize) < n_cols {
+            let t = &mut tops[c as usize];
+            *t = t.max(q[2]);
+        }
+    }
+    let (mut sum, mut count) = (0.0, 0usize);
+    for (c, t) in tops.iter().enumerate() {
+        let x = (c as f64 + 0.5) * dp;
+        let far = x > 2.0 * dp
+            && x < len - 2.0 * dp
+            && (x < box_x[0] - 2.0 * dp || x > box_x[1] + 2.0 * dp);
+        if far && t.is_finite() {
+            sum += t + 0.5 * dp;
+            count += 1;
+        }
+    }
+    if count == 0 {
+        f64::NAN
+    } else {
+        sum / count as f64
+    }
+}
+
+/// The hydrostatic depth of level `z` in the far field, m: the fluid mass per unit area
+/// above `z` over `rho_0`, in the columns [`far_surface`] uses (a particle stands for the
+/// slab `[z_p - dp/2, z_p + dp/2]`, counted by the fraction above `z`). In a fluid at
+/// rest the pressure at `z` is `rho_0 g` times this, so `z` plus this depth is the level
+/// where the hydrostatic pressure vanishes: the surface Archimedes' principle refers to,
+/// independent of how the top particle layers pack.
+pub fn hydrostatic_depth(f: &ConstraintFluid, dp: f64, len: f64, box_x: [f64; 2], z: f64) -> f64 {
+    let ly = f.settings().domain_upper[1] - f.settings().domain_lower[1];
+    let (mut frac, mut cols) = (0.0, 0usize);
+    let n_cols = (len / dp).round() as usize;
+    let far = |x: f64| {
+        x > 2.0 * dp && x < len - 2.0 * dp && (x < box_x[0] - 2.0 * dp || x > box_x[1] + 2.0 * dp)
+    };
+    for c in 0..n_cols {
+        if far((c as f64 + 0.5) * dp) {
+            cols += 1;
+        }
+    }
+    for i in 0..f.n_fluid() {
+        let q = f.position(i);
+        let c = (q[0] / dp).floor();
+        if c >= 0.0 && (c as usize) < n_cols && far((c + 0.5) * dp) {
+            frac += ((q[2] + 0.5 * dp - z) / dp).clamp(0.0, 1.0);
+        }
+    }
+    let volume = f.particle_mass() / f.settings().rest_density;
+    frac * volume / (cols as f64 * dp * ly)
+}
+
+/// The still-water level of the tank with the box bottom at `z_b`, m: the fluid keeps the
+/// volume it started with (`n` lattice cells of `dp^3`, the density rows hold `rho_0`),
+/// so `len level - width (level - z_b) = n dp^3 / ly`.
+pub fn volume_level(n: usize, dp: f64, ly: f64, len: f64, width: f64, z_b: f64) -> f64 {
+    (n as f64 * dp.powi(3) / ly - width * z_b) / (len - width)
+}
+
+/// Fluid particles whose centre is inside the box (its frame, half extents `half` in x, z).
+pub fn particles_inside(f: &ConstraintFluid, pose: &Isometry3<f64>, half: [f64; 2]) -> usize {
+    let inv = pose.inverse();
+    (0..f.n_fluid())
+        .filter(|&i| {
+            let q = f.position(i);
+            let l = inv * chrono_core::math::Point3::new(q[0], q[1], q[2]);
+            l.x.abs() < half[0] && l.z.abs() < half[1]
+        })
+        .count()
+}
+
+fn run(p: &FloatingBoxParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
+    let mut sc = scene(p)?;
+    let dp = p.spacing;
+    let (wb, hb) = (p.box_width, p.box_height);
+    let n = (p.t_end / p.h).round().max(1.0) as u64;
+    let from = ((1.0 - p.window) * n as f64).floor() as u64;
+    let every = ((0.01 / p.h).round() as u64).max(1);
+    let x0 = sc.sys.body(sc.body)?.position();
+    let mut series = Series::new([
+        "t",
+        "box_bottom",
+        "surface",
+        "draft",
+        "draft_surface",
+        "draft_hydrostatic",
+        "vz",
+        "iterations",
+    ]);
+    let (mut iterations, mut vz2, mut n_win) = (0usize, 0.0, 0usize);
+    let (mut draft_sum, mut surf_sum, mut hydro_sum) = (0.0, 0.0, 0.0);
+    let (mut n_draft, mut tilt) = (0usize, 0.0f64);
+    let ly = sc.ly;
+    for step in 1..=n {
+        let report = sc.sys.step(p.h)?;
+        iterations += report.solve.iterations;
+        let b = sc.sys.body(sc.body)?;
+        let (pos, vz) = (b.position(), b.linear_velocity().z);
+        if step > from {
+            vz2 += vz * vz;
+            n_win += 1;
+            tilt = tilt.max(b.rotation().angle());
+        }
+        if step % every == 0 || step == n {
+            let bottom = pos.z - 0.5 * hb;
+            let xs = [pos.x - 0.5 * wb, pos.x + 0.5 * wb];
+            let f = sc.fluid()?;
+            let surface = far_surface(f, dp, p.tank_length, xs);
+            let hydro = hydrostatic_depth(f, dp, p.tank_length, xs, bottom);
+            let level = volume_level(f.n_fluid(), dp, ly, p.tank_length, wb, bottom);
+            let draft = level - bottom;
+            if step > from {
+                draft_sum += draft;
+                surf_sum += surface - bottom;
+                hydro_sum += hydro;
+                n_draft += 1;
+            }
+            let time = step as f64 * p.h;
+            series.push(&[
+                time,
+                bottom,
+                surface,
+                draft,
+                surface - bottom,
+                hydro,
+                vz,
+                report.solve.iterations as f64,
+            ]);
+        }
+        ctx.progress_steps(step, n);
+    }
+    let b = sc.sys.body(sc.body)?;
+    let end = b.position();
+    {
+        // the final particle positions and densities, for inspection
+        let f = sc.fluid()?;
+        let mut csv = String::from("x,y,z,rho\n");
+        for (i, r) in f.densities().iter().enumerate() {
+            let q = f.position(i);
+            csv.push_str(&format!("{},{},{},{}\n", q[0], q[1], q[2], r));
+        }
+        std::fs::write(ctx.out_file("final_particles.csv"), csv)?;
+    }
+    let drift = ((end.x - x0.x).powi(2) + (end.y - x0.y).powi(2)).sqrt();
+    let inside = particles_inside(sc.fluid()?, &b.pose(), [0.5 * wb, 0.5 * hb]);
+    let jitter = (vz2 / n_win.max(1) as f64).sqrt();
+    let draft = draft_sum / n_draft.max(1) as f64;
+    let draft_surface = surf_sum / n_draft.max(1) as f64;
+    let draft_hydro = hydro_sum / n_draft.max(1) as f64;
+    let rho_w = CfluidSettings::default().rest_density;
+    let expected = p.box_density / rho_w * hb;
+    let mut out = CaseOutput::new();
+    if p.box_density < rho_w {
+        out.check(Check::relative(
+            "draft_error",
+            draft,
+            expected,
+            DRAFT_TOLERANCE,
+        ));
+        out.metric("draft", draft)
+            .metric("draft_expected", expected)
+            .metric("draft_surface", draft_surface)
+            .metric("draft_surface_error", draft_surface / expected - 1.0)
+            .metric("draft_hydrostatic", draft_hydro)
+            .metric("draft_hydrostatic_error", draft_hydro / expected - 1.0);
+        out.check(Check::below("drift", drift, DRIFT_FRACTION * wb));
+        out.check(Check::below(
+            "jitter",
+            jitter,
+            JITTER_FRACTION * (G * hb).sqrt(),
+        ));
+    } else {
+        ctx.note("box_density >= rho_water: the box sinks, draft/drift/jitter not checked");
+        out.metric("drift", drift)
+            .metric("jitter", jitter)
+            .metric("final_box_bottom", end.z - 0.5 * hb);
+    }
+    out.metric("tilt_deg", tilt.to_degrees())
+        .metric("avg_iterations", iterations as f64 / n as f64)
+        .check(Check::below("particles_inside", inside as f64, 0.0));
+    out.series = series;
+    out.plot = PlotSpec::new(
+        "floating box: draft against Archimedes",
+        "t [s]",
+        "m",
+        &["draft", "box_bottom"],
+    );
+    out.steps = n;
+    Ok(out)
+}
+
+/// The `cfluid-floating-box` case.
+pub fn case() -> Box<dyn Case> {
+    ParamCase::<FloatingBoxParams>::boxed(
+        "cfluid-floating-box",
+        "cfluid",
+        "A rigid box (density box_density) floats in a quasi-2D tank of constraint fluid; its draft against Archimedes (rho_box/rho_water * height), drift and jitter.",
+        run,
+    )
+}
