@@ -57,13 +57,14 @@ use std::sync::{Arc, Mutex};
 use chrono_core::body::{BodyHandle, RigidBody};
 use chrono_core::collision::{CollisionProxy, ProxyShape};
 use chrono_core::descriptor::{
-    BlockId, CcpProblem, ConstraintRows, MassOperator, RowEntry, RowId, Variables,
+    BlockId, CcpProblem, ConstraintRows, MassOperator, RowId, Variables,
 };
-use chrono_core::item::{Contactable, PhysicsItem, StepContext};
+use chrono_core::item::{PhysicsItem, StepContext};
 use chrono_core::{ChronoError, ContactMaterial, Result as CoreResult};
 use faer::sparse::{SparseColMat, Triplet};
-use nalgebra::{Point3, Vector3};
+use nalgebra::Vector3;
 
+use crate::attach_rows::{AttachContext, push_attachment_rows};
 use crate::element::cable::hermite;
 use crate::element::{AncfCable, ElementVector};
 use crate::error::{FeaError, Result, finite3, positive};
@@ -597,67 +598,24 @@ impl PhysicsItem for CableItem {
         let Some(blk) = self.block else {
             return Ok(());
         };
-        let dirs = [Vector3::x(), Vector3::y(), Vector3::z()];
-        for (ai, att) in self.attachments.iter().enumerate() {
-            let node = self.mesh.node(att.node).map_err(core_error)?;
-            let mut body_rows: Option<(BlockId, [[f64; 6]; 3], usize)> = None;
-            let (target, known) = match att.target {
-                AttachTarget::Point(p) => (p, [0.0; 3]),
-                AttachTarget::Body { body, local } => {
-                    let b = bodies
-                        .get(body.0 as usize)
-                        .ok_or(ChronoError::UnknownHandle {
-                            kind: "body",
-                            index: body.0 as usize,
-                            field: format!("{}: attachment {ai}", self.item_label()),
-                        })?;
-                    let p = (b.pose() * Point3::from(local)).coords;
-                    let known = b.contact_jacobian(&p, &dirs, &mut |id, r| {
-                        let mut c = [[0.0; 6]; 3];
-                        let len = r[0].len().min(6);
-                        for k in 0..3 {
-                            c[k][..len].copy_from_slice(&r[k][..len]);
-                        }
-                        body_rows = Some((id, c, len));
-                    });
-                    (p, known)
-                }
-            };
-            for d in 0..3 {
-                let free = self.map.free_index(6 * att.node.0 + d);
-                if free.is_none() && body_rows.is_none() {
-                    // A supported coordinate at a fixed target: nothing can move.
-                    self.rows.push(None);
-                    continue;
-                }
-                self.coefs.fill(0.0);
-                // At most two entries (the mesh block, the body block): no allocation.
-                let mut entries = [RowEntry {
-                    block: blk,
-                    coefs: &[],
-                }; 2];
-                let mut n_ent = 0;
-                let neg: [f64; 6];
-                if let Some(f) = free {
-                    self.coefs[f] = 1.0;
-                    entries[0].coefs = &self.coefs;
-                    n_ent = 1;
-                }
-                if let Some((id, c, len)) = &body_rows {
-                    neg = c[d].map(|x| -x);
-                    entries[n_ent] = RowEntry {
-                        block: *id,
-                        coefs: &neg[..*len],
-                    };
-                    n_ent += 1;
-                }
-                let phi = node.position[d] - target[d];
-                let b = phi / ctx.h - known[d];
-                let id = rows.push_bilateral(&entries[..n_ent], b, 0.0);
-                self.rows.push(Some(id));
-            }
-        }
-        Ok(())
+        let label = self.item_label();
+        let ctx = AttachContext {
+            block: blk,
+            bodies,
+            h: ctx.h,
+            label: &label,
+        };
+        let (mesh, map) = (&self.mesh, &self.map);
+        self.coefs.fill(0.0);
+        push_attachment_rows(
+            &self.attachments,
+            |n| Ok(mesh.node(NodeId(n)).map_err(core_error)?.position),
+            |n, d| map.free_index(6 * n + d),
+            &ctx,
+            &mut self.coefs,
+            rows,
+            &mut self.rows,
+        )
     }
 
     /// `q+ = q + h v+`; the attachment forces `gamma / h`.

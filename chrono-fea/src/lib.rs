@@ -39,6 +39,7 @@
 //! ```
 
 pub mod analytic;
+mod attach_rows;
 pub mod dynamics;
 pub mod element;
 pub mod error;
