@@ -152,7 +152,17 @@ fn run(p: &GranularParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     let mut speed = SpeedController::new(PidGains::hmmwv_speed(), p.speed)?;
     let t_max = 3.0 * p.distance / p.speed + 5.0;
     let n_max = n_steps(p.h, t_max)?;
-    let mut series = Series::new(["t", "x", "speed", "sinkage", "throttle", "brake"]);
+    let mut series = Series::new([
+        "t",
+        "x",
+        "speed",
+        "sinkage",
+        "throttle",
+        "brake",
+        "residual",
+        "iterations",
+        "joint_violation",
+    ]);
     let mut vtk = VtkFrames::new(ctx, (0.05 / p.h).round() as u64);
     let (mut sum_v, mut n_v, mut sum_sink, mut n_sink) = (0.0, 0usize, 0.0, 0usize);
     let t0 = sys.time();
@@ -171,7 +181,7 @@ fn run(p: &GranularParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
             steering: 0.0,
         };
         v.synchronize(&mut sys, inputs)?;
-        sys.step(p.h)?;
+        let report = sys.step(p.h)?;
         steps = i;
         vtk.record(i, &sys)?;
         let st = v.state(&sys)?;
@@ -195,7 +205,17 @@ fn run(p: &GranularParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
             n_sink += 1;
         }
         if i % 10 == 0 {
-            series.push(&[t, distance, st.forward_speed(), sink, throttle, brake]);
+            series.push(&[
+                t,
+                distance,
+                st.forward_speed(),
+                sink,
+                throttle,
+                brake,
+                report.solve.residual,
+                report.solve.iterations as f64,
+                sys.max_joint_violation(),
+            ]);
         }
         ctx.progress(0.2 + 0.8 * (distance / p.distance).clamp(0.0, 1.0));
         if distance >= p.distance {
