@@ -13,7 +13,8 @@
 //!   (TMeasy-like, forces from slip with relaxation);
 //! - [`driver`]: open loop, speed controller (PID), path follower;
 //! - [`terrain`]: rigid flat and heightmap terrains;
-//! - [`vehicle`]: the wheeled vehicle assembled from a description; [`hmmwv`] is the HMMWV.
+//! - [`vehicle`]: the wheeled vehicle assembled from a description; [`hmmwv`] is the HMMWV;
+//! - [`output`]: the vehicle's time series as CSV.
 //!
 //! The vehicle frame is X forward, Y left, Z up (ISO 8855); units are SI.
 
@@ -21,6 +22,7 @@ pub mod driveline;
 pub mod driver;
 pub mod error;
 pub mod hmmwv;
+pub mod output;
 pub mod powertrain;
 pub mod state;
 pub mod steering;

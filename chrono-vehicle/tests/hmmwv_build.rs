@@ -140,3 +140,32 @@ fn bad_vehicle_data_names_the_field() {
         .to_string();
     assert!(e.contains("x.json"), "{e}");
 }
+
+#[test]
+fn the_vehicle_log_writes_one_row_per_record() {
+    let data = hmmwv_data().unwrap();
+    let (mut sys, mut v) = on_flat_ground(&data);
+    let path = std::env::temp_dir().join(format!("hmmwv_log_{}.csv", std::process::id()));
+    let mut log = chrono_vehicle::output::VehicleLog::create(&path).unwrap();
+    let brake = DriverInputs {
+        brake: 0.5,
+        ..DriverInputs::default()
+    };
+    for _ in 0..5 {
+        v.synchronize(&mut sys, brake).unwrap();
+        sys.step(H).unwrap();
+        log.record(&sys, &v).unwrap();
+    }
+    log.finish().unwrap();
+    let text = std::fs::read_to_string(&path).unwrap();
+    std::fs::remove_file(&path).ok();
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(lines.len(), 6, "{text}");
+    assert_eq!(
+        lines[0].split(',').count(),
+        chrono_vehicle::output::COLUMNS.len()
+    );
+    let last: Vec<f64> = lines[5].split(',').map(|x| x.parse().unwrap()).collect();
+    assert!((last[0] - 5.0 * H).abs() < 1e-12);
+    assert_eq!(last[14], 0.5, "brake column");
+}

@@ -7,6 +7,10 @@
 //! throttle, brake, engine speed and torque, gear and torque-converter speed ratio, which
 //! shows the shifts and the converter's slip.
 //!
+//! The full vehicle log (`chrono_vehicle::output::COLUMNS`: position, speed, accelerations,
+//! wheel speeds, inputs, engine speed and torque, gear, converter) is written to
+//! `vehicle.csv` in the case's output directory.
+//!
 //! References (the published figures of the M998 at curb weight): see
 //! `docs/validation-vehicle.md` for the values and their sources.
 
@@ -120,6 +124,7 @@ fn run(p: &AccelParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     let mut vtk = VtkFrames::new(ctx, (0.05 / p.h).round() as u64);
     let (mut t48, mut top): (Option<f64>, f64) = (None, 0.0);
     let t_start = sys.time();
+    let mut log = chrono_vehicle::output::VehicleLog::create(ctx.out_file("vehicle.csv"))?;
     let wall0 = Instant::now();
     for i in 1..=n {
         v.synchronize(sys, full)?;
@@ -133,6 +138,7 @@ fn run(p: &AccelParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         }
         top = top.max(kmh);
         if i % 10 == 0 {
+            log.record(sys, v)?;
             let pt = v.powertrain();
             series.push(&[
                 t,
@@ -149,6 +155,7 @@ fn run(p: &AccelParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     }
     let wall = wall0.elapsed().as_secs_f64();
     vtk.finish()?;
+    log.finish()?;
     let mut out = CaseOutput::new();
     let t48 = t48.unwrap_or(f64::INFINITY);
     if p.ref_t_0_48kmh > 0.0 && p.ref_top_speed_kmh > 0.0 {
