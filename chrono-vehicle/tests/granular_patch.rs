@@ -13,6 +13,7 @@ fn params() -> GranularPatchParams {
         grain_radius: 0.04,
         density: 2500.0,
         friction: 0.5,
+        restitution: 0.3,
         slab: 0.2,
         seed: 3,
     }

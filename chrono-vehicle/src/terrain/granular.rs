@@ -33,10 +33,17 @@ pub struct GranularPatchParams {
     pub density: f64,
     /// Grain–grain and grain–wall friction coefficient.
     pub friction: f64,
+    /// Coefficient of restitution (SMC damping; NSC contact is plastic).
+    #[serde(default = "default_restitution")]
+    pub restitution: f64,
     /// Length of the slab moved from the rear to the front at each relocation, m.
     pub slab: f64,
     /// Seed of the lattice jitter.
     pub seed: u64,
+}
+
+fn default_restitution() -> f64 {
+    0.3
 }
 
 impl GranularPatchParams {
@@ -48,6 +55,13 @@ impl GranularPatchParams {
         check_positive("granular_patch.grain_radius", self.grain_radius)?;
         check_positive("granular_patch.density", self.density)?;
         crate::error::check_non_negative("granular_patch.friction", self.friction)?;
+        if !(0.0..=1.0).contains(&self.restitution) {
+            return Err(VehicleError::invalid(
+                "granular_patch.restitution",
+                self.restitution,
+                "must be in [0, 1]",
+            ));
+        }
         check_positive("granular_patch.slab", self.slab)?;
         if self.slab < 4.0 * self.grain_radius || self.slab > 0.25 * self.length {
             return Err(VehicleError::invalid(
@@ -94,7 +108,10 @@ impl GranularPatch {
     pub fn build(sys: &mut System, params: &GranularPatchParams, rear: f64) -> Result<Self> {
         params.validate()?;
         let p = params;
-        let material = ContactMaterial::with_friction(p.friction);
+        let material = ContactMaterial {
+            restitution: p.restitution,
+            ..ContactMaterial::with_friction(p.friction)
+        };
         let lower = Vector3::new(rear, -0.5 * p.width, 0.0);
         let upper = Vector3::new(rear + p.length, 0.5 * p.width, p.depth);
         let fill = LatticeFill {
@@ -133,7 +150,9 @@ impl GranularPatch {
         let mut tops = Vec::new();
         for &g in &self.grains {
             let c = sys.body(g)?.position();
-            if c.x > front - slab {
+            // A grain radius clear of the slab's rear edge: shifted to the new front, no
+            // template grain overlaps the grains that stood at the old front wall.
+            if c.x > front - slab + self.params.grain_radius {
                 self.template.push(Vector3::new(c.x - front, c.y, c.z));
             }
             let mid = self.rear + 0.5 * self.params.length;
