@@ -49,6 +49,10 @@ pub struct GranularParams {
     pub distance: f64,
     /// Target speed, m/s.
     pub speed: f64,
+    /// Proportional gain of the speed controller (pedal per m/s).
+    pub speed_kp: f64,
+    /// Integral gain of the speed controller (pedal per m).
+    pub speed_ki: f64,
     /// Time step, s.
     pub h: f64,
     /// Settling time of the bed before the vehicle is set down, s.
@@ -74,6 +78,8 @@ impl Default for GranularParams {
             depth: 0.24,
             distance: 20.0,
             speed: 2.0,
+            speed_kp: 1.0,
+            speed_ki: 0.5,
             h: 2e-3,
             settle: 0.6,
             method: "nsc".into(),
@@ -93,6 +99,12 @@ impl CaseParams for GranularParams {
         ParamInfo::new("depth", "m", "bed depth before settling"),
         ParamInfo::new("distance", "m", "distance to drive"),
         ParamInfo::new("speed", "m/s", "target speed of the speed controller"),
+        ParamInfo::new(
+            "speed_kp",
+            "1/(m/s)",
+            "proportional gain of the speed controller",
+        ),
+        ParamInfo::new("speed_ki", "1/m", "integral gain of the speed controller"),
         ParamInfo::new("h", "s", "time step"),
         ParamInfo::new("settle", "s", "settling time of the bed"),
         ParamInfo::new("method", "-", "grain contact method: nsc | smc"),
@@ -156,7 +168,14 @@ fn run(p: &GranularParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     let flat = std::sync::Arc::new(FlatTerrain::new(surface, p.mu)?);
     let mut v =
         WheeledVehicle::build(&mut sys, &data, &Isometry3::translation(0.0, 0.0, z0), flat)?;
-    let mut speed = SpeedController::new(PidGains::hmmwv_speed(), p.speed)?;
+    // A PI controller: on loose ground the resistance needs a steady throttle that a
+    // proportional controller only gives with a steady speed error.
+    let gains = PidGains {
+        kp: p.speed_kp,
+        ki: p.speed_ki,
+        kd: 0.0,
+    };
+    let mut speed = SpeedController::new(gains, p.speed)?;
     let t_max = 3.0 * p.distance / p.speed + 5.0;
     let n_max = n_steps(p.h, t_max)?;
     let mut series = Series::new([
