@@ -254,15 +254,7 @@ impl Schur {
                 .iter()
                 .map(|&i| grad_y[i] * (x_new[i] - x[i]))
                 .sum();
-            let next = 0.5 * (1.0 + (1.0 + 4.0 * theta * theta).sqrt());
-            let beta = if slope > 0.0 {
-                theta = 1.0;
-                0.0
-            } else {
-                let b = (theta - 1.0) / next;
-                theta = next;
-                b
-            };
+            let beta = momentum(&mut theta, slope);
             for k in 0..m {
                 y[k] = x_new[k] + beta * (x_new[k] - x[k]);
                 grad_y[k] = self.grad[k] + beta * (self.grad[k] - grad_x[k]);
@@ -453,15 +445,7 @@ impl CcpSolver for Schur {
             let descent: f64 = (0..nc)
                 .map(|c| self.grad_c[c] * (self.g[c] - self.g_prev[c]))
                 .sum();
-            let next = 0.5 * (1.0 + (1.0 + 4.0 * theta * theta).sqrt());
-            let beta = if descent > 0.0 {
-                theta = 1.0;
-                0.0
-            } else {
-                let b = (theta - 1.0) / next;
-                theta = next;
-                b
-            };
+            let beta = momentum(&mut theta, descent);
             for c in 0..nc {
                 self.y[c] = self.g[c] + beta * (self.g[c] - self.g_prev[c]);
             }
@@ -492,4 +476,18 @@ impl CcpSolver for Schur {
             history.into_records(),
         )
     }
+}
+
+/// Nesterov's extrapolation weight for the next iterate, with gradient restart
+/// (O'Donoghue and Candès, 2015): `slope = grad(y).(x+ - x)`; a positive slope (the step
+/// went uphill along the momentum) restarts the sequence (`theta = 1`, no momentum).
+fn momentum(theta: &mut f64, slope: f64) -> f64 {
+    if slope > 0.0 {
+        *theta = 1.0;
+        return 0.0;
+    }
+    let next = 0.5 * (1.0 + (1.0 + 4.0 * *theta * *theta).sqrt());
+    let beta = (*theta - 1.0) / next;
+    *theta = next;
+    beta
 }
