@@ -104,3 +104,23 @@ pub(crate) fn finite3(field: &str, v: &nalgebra::Vector3<f64>) -> Result<()> {
         ))
     }
 }
+
+/// Check a global coordinate vector: `ndof` entries (`per_node` per node), all finite; the
+/// error names the length or the first bad entry.
+pub(crate) fn check_coordinates(q: &[f64], ndof: usize, per_node: usize) -> Result<()> {
+    if q.len() != ndof {
+        return Err(FeaError::invalid(
+            "coordinates.len",
+            q.len(),
+            format!("must be {ndof} ({per_node} per node)"),
+        ));
+    }
+    if let Some(i) = q.iter().position(|x| !x.is_finite()) {
+        return Err(FeaError::invalid(
+            format!("coordinates[{i}]"),
+            q[i],
+            "must be finite",
+        ));
+    }
+    Ok(())
+}

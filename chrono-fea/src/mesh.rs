@@ -315,20 +315,7 @@ impl CableMesh {
     /// Set the current configuration from a global coordinate vector (length
     /// [`ndof`](Self::ndof), finite).
     pub fn set_coordinates(&mut self, q: &[f64]) -> Result<()> {
-        if q.len() != self.ndof() {
-            return Err(FeaError::invalid(
-                "coordinates.len",
-                q.len(),
-                format!("must be {} (6 per node)", self.ndof()),
-            ));
-        }
-        if let Some(i) = q.iter().position(|x| !x.is_finite()) {
-            return Err(FeaError::invalid(
-                format!("coordinates[{i}]"),
-                q[i],
-                "must be finite",
-            ));
-        }
+        crate::error::check_coordinates(q, self.ndof(), 6)?;
         for (n, node) in self.nodes.iter_mut().enumerate() {
             node.position = Vector3::new(q[6 * n], q[6 * n + 1], q[6 * n + 2]);
             node.slope = Vector3::new(q[6 * n + 3], q[6 * n + 4], q[6 * n + 5]);
