@@ -14,6 +14,8 @@ fn params() -> GranularPatchParams {
         density: 2500.0,
         friction: 0.5,
         restitution: 0.3,
+        rolling_friction: 0.0,
+        compliance: 0.0,
         slab: 0.2,
         seed: 3,
     }

@@ -36,6 +36,20 @@ pub struct GranularPatchParams {
     /// Coefficient of restitution (SMC damping; NSC contact is plastic).
     #[serde(default = "default_restitution")]
     pub restitution: f64,
+    /// Rolling friction coefficient of the grains (dimensionless; see
+    /// `ContactMaterial::rolling_friction`). Spheres without it roll like ball bearings
+    /// under a driven wheel; real sand grains interlock, and a rolling resistance of order
+    /// 0.1 is the usual stand-in for their angularity (Ai et al., Powder Technol. 206, 2011).
+    #[serde(default)]
+    pub rolling_friction: f64,
+    /// Normal compliance of the grain contacts, m/N (NSC only; 0 = rigid). A small
+    /// compliance `c` makes each contact a stiff implicit spring of stiffness `1/c` (the
+    /// overlap under a load `F` is `c F`) and adds `c / h^2` to the diagonal of the
+    /// contact operator, which bounds its condition number when a heavy body (a loaded
+    /// wheel) rests on light grains: the case where a first-order CCP solver converges
+    /// slowest (see `ContactMaterial::compliance`).
+    #[serde(default)]
+    pub compliance: f64,
     /// Length of the slab moved from the rear to the front at each relocation, m.
     pub slab: f64,
     /// Seed of the lattice jitter.
@@ -55,6 +69,8 @@ impl GranularPatchParams {
         check_positive("granular_patch.grain_radius", self.grain_radius)?;
         check_positive("granular_patch.density", self.density)?;
         crate::error::check_non_negative("granular_patch.friction", self.friction)?;
+        crate::error::check_non_negative("granular_patch.compliance", self.compliance)?;
+        crate::error::check_non_negative("granular_patch.rolling_friction", self.rolling_friction)?;
         if !(0.0..=1.0).contains(&self.restitution) {
             return Err(VehicleError::invalid(
                 "granular_patch.restitution",
@@ -110,6 +126,8 @@ impl GranularPatch {
         let p = params;
         let material = ContactMaterial {
             restitution: p.restitution,
+            compliance: p.compliance,
+            rolling_friction: p.rolling_friction,
             ..ContactMaterial::with_friction(p.friction)
         };
         let lower = Vector3::new(rear, -0.5 * p.width, 0.0);
