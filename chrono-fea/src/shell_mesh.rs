@@ -111,6 +111,17 @@ impl ShellMesh {
         Ok(index)
     }
 
+    /// Rebuild every element with the locking remedies `locking` (same nodes, thickness
+    /// and material; from the nodes' reference configuration).
+    pub fn set_locking(&mut self, locking: ShellLocking) -> Result<()> {
+        for el in &mut self.elements {
+            let x = el.nodes.map(|n| self.nodes[n].reference_position);
+            let d = el.nodes.map(|n| self.nodes[n].reference_slope);
+            *el = AncfShell::new(el.nodes, &x, &d, el.thickness(), *el.material(), locking)?;
+        }
+        Ok(())
+    }
+
     fn node_mut(&mut self, n: NodeId) -> Result<&mut GradientNode> {
         let count = self.nodes.len();
         self.nodes.get_mut(n.0).ok_or_else(|| {
