@@ -41,6 +41,8 @@ pub struct ShellPressureParams {
     pub poisson: f64,
     /// Load increments (Newton solves of the follower load).
     pub load_steps: usize,
+    /// Locking remedies: `ans+eas` (default), `ans`, `eas` or `none`.
+    pub locking: String,
     /// Relative tolerance against the membrane solution.
     pub tolerance: f64,
 }
@@ -55,6 +57,7 @@ impl Default for ShellPressureParams {
             young: 2.0e11,
             poisson: 0.3,
             load_steps: 1,
+            locking: "ans+eas".into(),
             tolerance: 0.02,
         }
     }
@@ -73,6 +76,11 @@ impl CaseParams for ShellPressureParams {
         ParamInfo::new("young", "Pa", "Young's modulus"),
         ParamInfo::new("poisson", "-", "Poisson's ratio"),
         ParamInfo::new("load_steps", "-", "load increments"),
+        ParamInfo::new(
+            "locking",
+            "-",
+            "locking remedies: ans+eas, ans, eas or none",
+        ),
         ParamInfo::new(
             "tolerance",
             "-",
@@ -101,6 +109,7 @@ fn run(p: &ShellPressureParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> 
     );
     let material = ShellMaterial::isotropic(p.young, p.poisson, 1000.0)?;
     let mut mesh = ShellMesh::sphere_octant(p.radius, p.n_elements, p.thickness, material)?;
+    mesh.set_locking(super::shell_cantilever::parse_locking(&p.locking)?)?;
     let r = p.radius;
     for k in 0..mesh.nodes().len() {
         let x = mesh.nodes()[k].reference_position;
