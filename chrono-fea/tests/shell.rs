@@ -421,3 +421,60 @@ fn sphere_octant_under_pressure_expands_like_the_membrane_solution() {
     assert!((mean / exact - 1.0).abs() < 0.05, "{mean} vs {exact}");
     assert!(m.force_scale() > 0.0);
 }
+
+/// A curved regular mesh: a quarter of a long cylinder (R = 1, t = 0.01) under internal
+/// pressure, symmetry planes at x = 0, y = 0 and both ends (zero axial strain). The
+/// membrane solution `u = p R^2 (1 - nu^2) / (E t)` holds at every node: with a regular
+/// mesh (no irregular vertex) the ANS element has no spread.
+#[test]
+fn cylinder_under_pressure_expands_uniformly() {
+    let (r, t, e, nu, p) = (1.0f64, 0.01, 2.0e11, 0.3, 1.0e6);
+    let mat = ShellMaterial::isotropic(e, nu, 7800.0).unwrap();
+    let (nth, nz) = (8, 2);
+    let mut m = ShellMesh::grid(
+        nth,
+        nz,
+        |u, v| {
+            let th = u * std::f64::consts::FRAC_PI_2;
+            let n = Vector3::new(th.cos(), th.sin(), 0.0);
+            (n * r + Vector3::new(0.0, 0.0, 0.3 * v), n)
+        },
+        t,
+        mat,
+    )
+    .unwrap();
+    for j in 0..=nz {
+        for i in 0..=nth {
+            let id = ShellMesh::grid_node(nth, i, j);
+            if i == 0 {
+                m.fix_symmetry(id, 1).unwrap();
+            }
+            if i == nth {
+                m.fix_symmetry(id, 0).unwrap();
+            }
+            m.fix_symmetry(id, 2).unwrap();
+        }
+    }
+    m.set_pressure(p).unwrap();
+    solve_static(
+        &mut m,
+        &StaticSettings {
+            load_steps: 1,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    let exact = p * r * r * (1.0 - nu * nu) / (e * t);
+    let ur: Vec<f64> = m
+        .nodes()
+        .iter()
+        .map(|n| Vector3::new(n.position.x, n.position.y, 0.0).norm() - r)
+        .collect();
+    let (lo, hi) = ur
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
+            (a.min(x), b.max(x))
+        });
+    eprintln!("cylinder: u in [{lo:e}, {hi:e}] vs {exact:e}");
+    assert!((lo / exact - 1.0).abs() < 0.02 && (hi / exact - 1.0).abs() < 0.02);
+}
