@@ -20,8 +20,13 @@
 //! ([`natural_frequencies`]), and stepped implicitly in a system like the cable
 //! ([`TetItem`]: supports, attachment rows, surface-node contact spheres).
 //!
-//! Still to come (see the issue): the fully parameterized ANCF beam, ANCF shells,
-//! slope attachments.
+//! Shells: the ANCF 4-node shell of Yamashita et al. (2015) with ANS and EAS locking
+//! remedies, a curved reference configuration and a follower pressure ([`AncfShell`],
+//! [`ShellMaterial`]), meshes of it ([`ShellMesh`]: plates, parametric grids, a sphere
+//! octant) solved statically by the same Newton solver.
+//!
+//! Still to come (see the issue): the fully parameterized ANCF beam, shells in the
+//! dynamic (CCP) stepper and with gravity, slope attachments.
 //!
 //! ```
 //! use chrono_fea::{BeamMaterial, CableMesh, CableQuadrature, NodeId, StaticSettings, solve_static};
@@ -48,6 +53,7 @@ pub mod mesh;
 pub mod modal;
 pub mod node;
 pub mod quadrature;
+pub mod shell_mesh;
 pub mod spd;
 pub mod statics;
 pub mod tet_box;
@@ -55,12 +61,15 @@ pub mod tet_dynamics;
 pub mod tet_mesh;
 
 pub use dynamics::{AttachTarget, Attachment, CableItem};
-pub use element::{AncfCable, CableQuadrature, Tet4, von_mises};
+pub use element::{
+    AncfCable, AncfShell, CableQuadrature, ShellLocking, ShellMaterial, Tet4, von_mises,
+};
 pub use error::{FeaError, Result};
 pub use material::{BeamMaterial, SolidMaterial, SolidModel};
 pub use mesh::{CableMesh, DofMap};
 pub use modal::{MassModel, natural_frequencies};
 pub use node::{GradientNode, NodeId, SolidNode};
+pub use shell_mesh::ShellMesh;
 pub use spd::SparseSpd;
 pub use statics::{StaticModel, StaticReport, StaticSettings, solve_static};
 pub use tet_box::{BoxFaces, BoxMesh, HexSplit};

@@ -1,14 +1,16 @@
 //! Static equilibrium by Newton's method with load stepping.
 //!
-//! Solves `R(q) = Q(q) - lambda F = 0` on the free coordinates for the load factors
-//! `lambda_k = k / n`, `k = 1..n` (`F`: nodal forces and gravity of the mesh, dead loads),
+//! Solves `R(q) = Q(q) - lambda F - F_f(q, lambda) = 0` on the free coordinates for the
+//! load factors `lambda_k = k / n`, `k = 1..n` (`F`: nodal forces and gravity of the
+//! mesh, dead loads; `F_f`: follower loads such as a shell pressure, with their load
+//! stiffness `dF_f/dq` subtracted from the tangent, [`StaticModel::follower_force`]),
 //! starting from the mesh's current configuration. Each Newton iteration solves
 //! `K(q) dq = -R(q)` with the exact tangent `K = dQ/dq` factorized by faer's sparse LU
 //! (partial pivoting: the tangent may be indefinite past a limit point). A load step has
 //! converged when
 //!
 //! ```text
-//! ||R||_2 <= rtol ||lambda F||_2 + atol
+//! ||R||_2 <= rtol (||lambda F||_2 + ||F_f||_2) + atol
 //! ```
 //!
 //! (norm over the free coordinates; position rows in N, slope rows in N m — for the unit
@@ -19,8 +21,8 @@
 //! stiff element (positions are absolute coordinates), far below any load of interest.
 //!
 //! Any model with coordinates, supports, loads, an internal force and its tangent can be
-//! solved: the [`StaticModel`] trait, implemented by [`CableMesh`] and
-//! [`TetMesh`](crate::tet_mesh::TetMesh).
+//! solved: the [`StaticModel`] trait, implemented by [`CableMesh`],
+//! [`TetMesh`](crate::tet_mesh::TetMesh) and [`ShellMesh`](crate::shell_mesh::ShellMesh).
 
 use faer::Mat;
 use faer::prelude::*;
@@ -52,6 +54,19 @@ pub trait StaticModel {
     /// A force scale of the stiffest element (N): the default absolute tolerance is
     /// `1e-13` of it.
     fn force_scale(&self) -> f64;
+    /// Configuration-dependent (follower) loads at load factor `lambda`, e.g. a pressure
+    /// along the deformed normal: their global force `F_f(q, lambda)` and, if `tangent`,
+    /// the load stiffness `dF_f/dq` on the free coordinates of `map` (not necessarily
+    /// symmetric). `None` (the default): no follower load.
+    fn follower_force(
+        &self,
+        _q: &[f64],
+        _lambda: f64,
+        _map: &DofMap,
+        _tangent: bool,
+    ) -> Result<Option<(Vec<f64>, Option<SparseMatrix>)>> {
+        Ok(None)
+    }
 }
 
 /// Settings of [`solve_static`].
@@ -140,18 +155,32 @@ pub fn solve_static<M: StaticModel + ?Sized>(
     for step in 1..=n {
         let lambda = step as f64 / n as f64;
         let fext = map.restrict(&mesh.external_force(lambda));
-        let tol = settings.relative_tolerance * norm(&fext) + atol;
+        let mut tol = settings.relative_tolerance * norm(&fext) + atol;
         let mut q_trial = q.clone();
         let mut iterations = 0;
         let mut residual;
         loop {
-            let (fint, k) = mesh.internal_force(&q_trial, &map, true)?;
-            let r: Vec<f64> = map
+            let (fint, mut k) = mesh.internal_force(&q_trial, &map, true)?;
+            let mut r: Vec<f64> = map
                 .restrict(&fint)
                 .iter()
                 .zip(&fext)
                 .map(|(a, b)| a - b)
                 .collect();
+            if let Some((ff, kf)) = mesh.follower_force(&q_trial, lambda, &map, true)? {
+                let ff = map.restrict(&ff);
+                for (ri, fi) in r.iter_mut().zip(&ff) {
+                    *ri -= fi;
+                }
+                // The follower load counts in the relative tolerance like a dead load.
+                tol = settings.relative_tolerance * (norm(&fext) + norm(&ff)) + atol;
+                if let (Some(kk), Some(kf)) = (k.as_ref(), kf) {
+                    k = Some(
+                        faer::sparse::ops::sub(kk.as_ref(), kf.as_ref())
+                            .map_err(|e| FeaError::Assembly(format!("{e:?}")))?,
+                    );
+                }
+            }
             residual = norm(&r);
             if !residual.is_finite() {
                 return Err(FeaError::NonFinite {

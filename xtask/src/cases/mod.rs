@@ -93,6 +93,8 @@ pub fn all_cases() -> Vec<Box<dyn Case>> {
         fea::pendulum::case(),
         fea::tet_patch::case(),
         fea::tet_cantilever::case(),
+        fea::shell_cantilever::case(),
+        fea::shell_pressure::case(),
         vehicle::static_settle::case(),
         vehicle::accel::case(),
         vehicle::turn::case(),

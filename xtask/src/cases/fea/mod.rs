@@ -8,11 +8,17 @@
 //!   Euler) keeps its energy; the numerical damping against the step size;
 //! - `fea-tet-patch`: the patch test of the linear tetrahedron on a distorted mesh;
 //! - `fea-tet-cantilever`: a tetrahedral box cantilever under a tip shear load, mesh
-//!   convergence of the tip deflection against beam theory.
+//!   convergence of the tip deflection against beam theory;
+//! - `fea-shell-cantilever`: the ANCF shell plate strip under end shear against the
+//!   load–displacement curve of Sze, Liu & Lo (2004);
+//! - `fea-shell-pressure`: an ANCF shell sphere under internal follower pressure against
+//!   the membrane solution.
 
 pub mod cantilever;
 pub mod frequency;
 pub mod pendulum;
+pub mod shell_cantilever;
+pub mod shell_pressure;
 pub mod tet_cantilever;
 pub mod tet_patch;
 
