@@ -205,6 +205,79 @@ impl Field<'_> {
             .for_each(|(i, row)| self.row(i, row));
     }
 
+    /// The multipliers of one Jacobi sweep of the position projection (see
+    /// [`CfluidSettings::position_iterations`](crate::CfluidSettings::position_iterations)):
+    /// `lambda_i = -C_i / (sum_k |dC_i/dx_k|^2)` for a compressed particle (`C_i > 0`,
+    /// `k` over `i` and its fluid neighbours), 0 otherwise (a deficit is never pulled
+    /// back). Fills `rho` with the densities; returns the largest `C_i`.
+    pub fn projection(&self, rho: &mut [f64], lambda: &mut [f64]) -> f64 {
+        let s = self.mass / self.rho_0;
+        rho[..self.n_fluid]
+            .par_iter_mut()
+            .zip(lambda[..self.n_fluid].par_iter_mut())
+            .enumerate()
+            .map(|(i, (r, l))| {
+                *r = self.density(i);
+                let c = *r / self.rho_0 - 1.0;
+                *l = 0.0;
+                if c <= 0.0 {
+                    return c;
+                }
+                let mut self_term = [0.0; 3];
+                let mut sum2 = 0.0;
+                for &j in self.nbrs.neighbors(i) {
+                    let j = j as usize;
+                    let d = self.displacement(i, j);
+                    let r = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+                    let f = s * self.kernel.grad_factor(r);
+                    let g = [f * d[0], f * d[1], f * d[2]];
+                    for a in 0..3 {
+                        self_term[a] += g[a];
+                    }
+                    if j < self.n_fluid {
+                        sum2 += g[0] * g[0] + g[1] * g[1] + g[2] * g[2];
+                    }
+                }
+                sum2 += self_term[0] * self_term[0]
+                    + self_term[1] * self_term[1]
+                    + self_term[2] * self_term[2];
+                if sum2 > 0.0 {
+                    *l = -c / sum2;
+                }
+                c
+            })
+            .reduce(|| f64::NEG_INFINITY, f64::max)
+    }
+
+    /// The position corrections of a projection sweep,
+    /// `dx_k = sum_i lambda_i dC_i/dx_k = (m / rho_0) sum_j F(r_kj) x_kj (lambda_k + lambda_j)`
+    /// (`lambda_j = 0` for markers), times `relax`. Symmetric in each pair, so the fluid's
+    /// centre of mass does not move except by the walls' pushes.
+    pub fn projection_step(&self, lambda: &[f64], relax: f64, out: &mut [[f64; 3]]) {
+        let s = self.mass / self.rho_0;
+        out[..self.n_fluid]
+            .par_iter_mut()
+            .enumerate()
+            .for_each(|(k, o)| {
+                let mut acc = [0.0; 3];
+                for &j in self.nbrs.neighbors(k) {
+                    let j = j as usize;
+                    let lj = if j < self.n_fluid { lambda[j] } else { 0.0 };
+                    let l = lambda[k] + lj;
+                    if l == 0.0 {
+                        continue;
+                    }
+                    let d = self.displacement(k, j);
+                    let r = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+                    let f = s * self.kernel.grad_factor(r) * l;
+                    for a in 0..3 {
+                        acc[a] += f * d[a];
+                    }
+                }
+                *o = [relax * acc[0], relax * acc[1], relax * acc[2]];
+            });
+    }
+
     /// XSPH smoothing (Monaghan 1989), fluid neighbours only:
     /// `v_i <- v_i + eps sum_j (2 m / (rho_i + rho_j)) (v_j - v_i) W_ij`.
     pub fn xsph(&self, eps: f64, rho: &[f64], vel: &[[f64; 3]], out: &mut [[f64; 3]]) {

@@ -105,6 +105,10 @@ pub struct ConstraintFluid {
     rows: Vec<RowBuf>,
     entries: Vec<RowEntry<'static>>,
     vel_scratch: Vec<[f64; 3]>,
+    /// Position projection scratch (densities, multipliers) and its last outcome.
+    proj_rho: Vec<f64>,
+    proj_lambda: Vec<f64>,
+    projection: (u32, f64),
     last_h: f64,
     neighbors_fresh: bool,
     /// Number of fluid particles and wall markers (body markers follow).
@@ -275,6 +279,9 @@ impl ConstraintFluid {
             rows: vec![RowBuf::default(); n_fluid],
             entries: Vec::new(),
             vel_scratch: vec![[0.0; 3]; n_fluid],
+            proj_rho: Vec::new(),
+            proj_lambda: Vec::new(),
+            projection: (0, f64::NAN),
             last_h: 0.0,
             neighbors_fresh: false,
             n_static: n_fluid + walls.len(),
@@ -595,6 +602,61 @@ impl ConstraintFluid {
         Ok(())
     }
 
+    /// The position projection of [`CfluidSettings::position_iterations`] (after
+    /// `x += h v`): Jacobi sweeps until the largest compression is at most
+    /// `position_tolerance`. Records the sweeps and the compression left.
+    fn project_positions(&mut self) -> Result<()> {
+        self.projection = (0, f64::NAN);
+        let iters = self.settings.position_iterations;
+        if iters == 0 {
+            return Ok(());
+        }
+        let n = self.n_fluid;
+        let mut rho = std::mem::take(&mut self.proj_rho);
+        let mut lambda = std::mem::take(&mut self.proj_lambda);
+        let mut dx = std::mem::take(&mut self.vel_scratch);
+        rho.resize(n, 0.0);
+        lambda.resize(n, 0.0);
+        dx.resize(n, [0.0; 3]);
+        let (tol, relax) = (
+            self.settings.position_tolerance,
+            self.settings.position_relaxation,
+        );
+        let mut sweeps = 0;
+        let mut worst;
+        loop {
+            self.refresh_neighbors()?;
+            let field = self.field();
+            worst = field.projection(&mut rho, &mut lambda);
+            if worst <= tol || sweeps >= iters {
+                break;
+            }
+            field.projection_step(&lambda, relax, &mut dx);
+            sweeps += 1;
+            let s = &self.settings;
+            for a in 0..3 {
+                let (lo, hi) = (s.domain_lower[a], s.domain_upper[a]);
+                for (x, d) in self.pos[a][..n].iter_mut().zip(&dx) {
+                    *x += d[a];
+                    if s.periodic[a] {
+                        *x = lo + (*x - lo).rem_euclid(hi - lo);
+                    }
+                }
+            }
+        }
+        self.projection = (sweeps, worst);
+        self.proj_rho = rho;
+        self.proj_lambda = lambda;
+        self.vel_scratch = dx;
+        Ok(())
+    }
+
+    /// The position projection of the last step: sweeps done and the largest compression
+    /// left (NaN when the projection is off).
+    pub fn last_projection(&self) -> (u32, f64) {
+        self.projection
+    }
+
     fn refresh_neighbors(&mut self) -> Result<()> {
         let pos = [&self.pos[0][..], &self.pos[1][..], &self.pos[2][..]];
         self.grid.build(pos)?;
@@ -769,6 +831,10 @@ impl PhysicsItem for ConstraintFluid {
         }
         if let Some(i) = (0..self.n_fluid).find(|&i| (0..3).any(|a| !self.pos[a][i].is_finite())) {
             return Err(self.non_finite(ctx, i, "position after the step"));
+        }
+        self.project_positions()?;
+        if let Some(i) = (0..self.n_fluid).find(|&i| (0..3).any(|a| !self.pos[a][i].is_finite())) {
+            return Err(self.non_finite(ctx, i, "position after the projection"));
         }
         self.last_h = h;
         self.neighbors_fresh = false;

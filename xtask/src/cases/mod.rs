@@ -87,6 +87,8 @@ pub fn all_cases() -> Vec<Box<dyn Case>> {
         cfluid::incompressibility::case(),
         cfluid::dam_break::case(),
         cfluid::floating_box::case(),
+        cfluid::timestep::case(),
+        cfluid::sloshing::case(),
         ccp::solvers::case(),
         fea::cantilever::case(),
         fea::frequency::case(),

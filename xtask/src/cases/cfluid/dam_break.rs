@@ -99,7 +99,7 @@ impl CaseParams for CfluidDamBreakParams {
 }
 
 /// The surge front `x + dp/2` (see the module documentation).
-fn front(f: &ConstraintFluid, dp: f64, ly: f64) -> f64 {
+pub(crate) fn front(f: &ConstraintFluid, dp: f64, ly: f64) -> f64 {
     let n = f.n_fluid();
     let near: Vec<usize> = (0..n).filter(|&i| f.position(i)[2] < 2.0 * dp).collect();
     let r2 = 4.0 * dp * dp;

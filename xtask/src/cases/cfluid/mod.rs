@@ -6,6 +6,9 @@
 pub mod dam_break;
 pub mod floating_box;
 pub mod incompressibility;
+pub mod sloshing;
+pub mod still_water;
+pub mod timestep;
 
 use chrono_cfluid::{CfluidSettings, ConstraintFluid, lattice_box, tank_markers};
 use chrono_core::descriptor::SolverSettings;

@@ -178,7 +178,21 @@ struct Outcome {
 }
 
 fn build(p: &DamBreakParams, dp: f64) -> anyhow::Result<(SphSystem, [f64; 3])> {
+    build_with(p, dp, 10.0 * (2.0 * G * p.column_height).sqrt())
+}
+
+/// The dam-break system at spacing `dp` with the sound speed `sound_speed` (m/s; the case
+/// itself uses `10 sqrt(2 g H)`), and the tank's upper corner.
+pub(crate) fn build_with(
+    p: &DamBreakParams,
+    dp: f64,
+    sound_speed: f64,
+) -> anyhow::Result<(SphSystem, [f64; 3])> {
     let (a, hc) = (p.column_width, p.column_height);
+    anyhow::ensure!(
+        sound_speed > 0.0 && sound_speed.is_finite(),
+        "sound speed must be > 0, got {sound_speed}"
+    );
     anyhow::ensure!(a > 0.0, "parameter `column_width` must be > 0, got {a}");
     let ratio = hc / a;
     anyhow::ensure!(
@@ -205,7 +219,7 @@ fn build(p: &DamBreakParams, dp: f64) -> anyhow::Result<(SphSystem, [f64; 3])> {
     let top = 1.25 * hc;
     let settings = SphSettings {
         spacing: dp,
-        sound_speed: 10.0 * (2.0 * G * hc).sqrt(),
+        sound_speed,
         artificial_viscosity: p.alpha,
         diffusion_delta: 0.1,
         xsph: p.xsph,
@@ -231,7 +245,7 @@ fn build(p: &DamBreakParams, dp: f64) -> anyhow::Result<(SphSystem, [f64; 3])> {
 /// `2 dp` of the floor that have at least [`FRONT_MIN_NEIGHBOURS`] fluid neighbours within
 /// `2 dp` (minimum image along the periodic y), plus `dp / 2`; and the same without the
 /// neighbour filter (the raw front, for the sensitivity of the detection).
-fn front_position(sys: &SphSystem, ly: f64) -> (f64, f64) {
+pub(crate) fn front_position(sys: &SphSystem, ly: f64) -> (f64, f64) {
     let d = sys.data();
     let dp = sys.settings().spacing;
     let mut fluid: Vec<[f64; 3]> = (0..d.len())

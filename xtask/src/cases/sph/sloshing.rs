@@ -53,7 +53,7 @@ use crate::params::{CaseParams, ParamCase, ParamInfo};
 const G: f64 = 9.81;
 
 /// Terms of the modal sum of the reference formula (converged to < 1e-6 at 200).
-const MODES: usize = 200;
+pub(crate) const MODES: usize = 200;
 
 /// Parameters of `sph-sloshing`.
 #[derive(Clone, Debug, Serialize, Deserialize)]
@@ -263,7 +263,12 @@ fn fit_at(samples: &[(f64, f64)], omega: f64, w1: f64, w2: f64) -> Option<(f64, 
 /// The fit with the free frequency of smallest residual in `[0.85, 1.15] omega_1`:
 /// `(w1, A, B)`. A free frequency within 3 % of `Omega` is excluded (the columns would be
 /// nearly collinear over the window).
-fn fit(samples: &[(f64, f64)], omega: f64, om1: f64, om2: f64) -> anyhow::Result<(f64, f64, f64)> {
+pub(crate) fn fit(
+    samples: &[(f64, f64)],
+    omega: f64,
+    om1: f64,
+    om2: f64,
+) -> anyhow::Result<(f64, f64, f64)> {
     let mut best: Option<(f64, f64, f64, f64)> = None;
     for k in 0..=120 {
         let w1 = om1 * (0.85 + 0.3 * k as f64 / 120.0);
