@@ -10,7 +10,7 @@ use chrono_core::math::{Isometry3, Point3, Vector3};
 use chrono_core::{BodyHandle, RigidBodyBuilder, System};
 use serde::{Deserialize, Serialize};
 
-use crate::driveline::{FourWd, FourWdParams, ShaftSystem};
+use crate::driveline::{FourWd, FourWdParams, ShaftSystem, Wheel};
 use crate::error::{Result, VehicleError};
 use crate::powertrain::{Powertrain, PowertrainParams};
 use crate::state::{DriverInputs, VehicleState};
@@ -189,6 +189,8 @@ pub struct WheeledVehicle {
     driveline: FourWd,
     /// Index of the [`ShaftSystem`] item in the system.
     shafts: usize,
+    /// The bodies `build` added (handles `first_body..end_body`).
+    bodies: std::ops::Range<u32>,
     inputs: DriverInputs,
 }
 
@@ -204,6 +206,7 @@ impl WheeledVehicle {
         terrain: Arc<dyn Terrain>,
     ) -> Result<Self> {
         data.validate()?;
+        let first_body = sys.bodies().len() as u32;
         let com = Vector3::from(data.chassis.com);
         let chassis = sys.add_body(
             RigidBodyBuilder::dynamic()
@@ -270,6 +273,7 @@ impl WheeledVehicle {
             chassis,
         )?;
         let shafts = sys.add_item(Box::new(shafts));
+        let bodies = first_body..sys.bodies().len() as u32;
         Ok(Self {
             data: data.clone(),
             chassis,
@@ -280,6 +284,7 @@ impl WheeledVehicle {
             powertrain,
             driveline,
             shafts,
+            bodies,
             inputs: DriverInputs::default(),
         })
     }
@@ -394,6 +399,68 @@ impl WheeledVehicle {
             }
         }
         out
+    }
+
+    /// Start the vehicle rolling straight ahead at `speed` (m/s along the chassis X axis),
+    /// as a vehicle test starts at its target speed: every body of the vehicle translates
+    /// at `speed`, the spindles turn at `w = speed / R` (R the tire radius; rolling without
+    /// slip: the contact point `v - w R` is at rest) about the spindle axis, and the
+    /// driveline and transmission shafts turn at the speeds their gears and differentials
+    /// impose on that `w` (axles `w`, differential boxes `w`, driveshafts `w / r_conical`,
+    /// gearbox input `w_out / r_gear`), with the engine at the gearbox input speed (the
+    /// converter at speed ratio 1). Without the shafts' speeds the first step would spin
+    /// them up through the gears, and their inertia reflected through the ratios (about
+    /// 1 000 kg equivalent for the HMMWV in first gear) would brake the vehicle. The
+    /// transmission stays in its current gear; if the speed is past that gear's upshift
+    /// point, the first `synchronize` shifts (and the gearbox row exchanges the shafts'
+    /// momentum with the vehicle's).
+    pub fn set_forward_speed(&self, sys: &mut System, speed: f64) -> Result<()> {
+        if !speed.is_finite() {
+            return Err(VehicleError::invalid(
+                "speed",
+                speed,
+                "the initial forward speed must be finite",
+            ));
+        }
+        let rot = sys.body(self.chassis)?.rotation();
+        let fwd = rot * Vector3::x();
+        let p = self.driveline.params();
+        // The axle shafts turn with the spindles about this axis (chassis frame).
+        let axle = rot * Vector3::from(p.spindle_axis).normalize();
+        let radius = self.data.wheel.tire.radius();
+        let w = speed / radius;
+        for i in self.bodies.clone() {
+            let b = sys.body_mut(BodyHandle(i))?;
+            b.set_linear_velocity(fwd * speed)?;
+            b.set_angular_velocity(Vector3::zeros())?;
+        }
+        for wh in &self.wheels {
+            sys.body_mut(wh.spindle)?.set_angular_velocity(axle * w)?;
+        }
+        let [front_ds, rear_ds] = self.driveline.driveshafts();
+        let (w_front, w_rear) = (w / p.front_conical_ratio, w / p.rear_conical_ratio);
+        let w_out = 0.5 * (w_front + w_rear);
+        let w_in = self
+            .powertrain
+            .transmission()
+            .ratio()
+            .map_or(0.0, |r| w_out / r);
+        let shafts = sys
+            .item_mut::<ShaftSystem>(self.shafts)
+            .ok_or_else(|| VehicleError::invalid("shafts", self.shafts, "no shaft system"))?;
+        for wheel in Wheel::ALL {
+            shafts.set_speed(self.driveline.axle(wheel), w)?;
+        }
+        let [central, front, rear] = self.driveline.differential_boxes();
+        shafts.set_speed(front, w)?;
+        shafts.set_speed(rear, w)?;
+        shafts.set_speed(front_ds, w_front)?;
+        shafts.set_speed(rear_ds, w_rear)?;
+        shafts.set_speed(central, w_out)?;
+        shafts.set_speed(self.driveline.input_shaft(), w_out)?;
+        shafts.set_speed(self.powertrain.input_shaft(), w_in)?;
+        shafts.set_speed(self.powertrain.crankshaft(), w_in)?;
+        Ok(())
     }
 
     /// The chassis reference frame's pose in the world.

@@ -169,3 +169,32 @@ fn the_vehicle_log_writes_one_row_per_record() {
     assert!((last[0] - 5.0 * H).abs() < 1e-12);
     assert_eq!(last[14], 0.5, "brake column");
 }
+
+/// Started at 2 m/s (first gear) with the shafts turning at the speeds the gears impose,
+/// the vehicle coasts on: after 50 ms its speed is within 1 % of 2 m/s and the wheels still roll
+/// without slip. (With the shafts at rest the first step would spin up their inertia
+/// through the gear ratios, about 1 000 kg reflected to the wheels, and cut the speed by a
+/// third.)
+#[test]
+fn set_forward_speed_starts_the_vehicle_rolling() {
+    let data = hmmwv_data_with(TireKind::Rigid).unwrap();
+    let (mut sys, mut v) = on_flat_ground(&data);
+    v.set_forward_speed(&mut sys, 2.0).unwrap();
+    for _ in 0..50 {
+        v.synchronize(&mut sys, DriverInputs::default()).unwrap();
+        sys.step(H).unwrap();
+    }
+    let speed = v.state(&sys).unwrap().forward_speed();
+    assert!((speed - 2.0).abs() < 0.02, "speed {speed}");
+    for w in v.wheels() {
+        let rolling = sys.body(w.spindle).unwrap().angular_velocity().y * 0.467;
+        assert!(
+            (rolling - speed).abs() < 0.02 * speed,
+            "wheel {rolling} vs {speed}"
+        );
+    }
+    let shafts = v.shafts(&sys).unwrap();
+    let engine = shafts.speed(v.powertrain().crankshaft());
+    assert!(engine > 50.0, "engine speed {engine} rad/s");
+    assert!(v.set_forward_speed(&mut sys, f64::NAN).is_err());
+}

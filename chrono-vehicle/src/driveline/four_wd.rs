@@ -163,6 +163,8 @@ pub struct FourWd {
     front_driveshaft: ShaftId,
     rear_driveshaft: ShaftId,
     axles: [ShaftId; 4],
+    /// Central, front and rear differential boxes (carriers).
+    boxes: [ShaftId; 3],
     differentials: [LinkId; 3],
     locks: [LinkId; 3],
     brakes: [LinkId; 4],
@@ -222,6 +224,7 @@ impl FourWd {
             front_driveshaft,
             rear_driveshaft,
             axles,
+            boxes: [central_box, front_box, rear_box],
             differentials,
             locks,
             brakes,
@@ -293,6 +296,11 @@ impl FourWd {
     /// Speed of the input (transmission output) shaft, rad/s.
     pub fn driveshaft_speed(&self, shafts: &ShaftSystem) -> f64 {
         shafts.speed(self.input)
+    }
+
+    /// The central, front and rear differential boxes (carriers).
+    pub fn differential_boxes(&self) -> [ShaftId; 3] {
+        self.boxes
     }
 
     /// The input shaft.

@@ -101,6 +101,7 @@ pub fn all_cases() -> Vec<Box<dyn Case>> {
         vehicle::accel::case(),
         vehicle::turn::case(),
         vehicle::lane_change::case(),
+        vehicle::granular::case(),
     ]
 }
 
