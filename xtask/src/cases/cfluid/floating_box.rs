@@ -98,6 +98,12 @@ pub struct FloatingBoxParams {
     pub solver: String,
     /// Iteration cap per step.
     pub max_iterations: usize,
+    /// Smoothing length over spacing `h_k / dp`.
+    pub h_over_dp: f64,
+    /// Position projection sweeps per step (`CfluidSettings::position_iterations`).
+    pub position_iterations: u32,
+    /// Compression at which the projection stops.
+    pub position_tolerance: f64,
 }
 
 impl Default for FloatingBoxParams {
@@ -119,6 +125,9 @@ impl Default for FloatingBoxParams {
             tolerance: 1e-4,
             solver: "apgd".into(),
             max_iterations: 300,
+            h_over_dp: CfluidSettings::default().h_over_dp,
+            position_iterations: 0,
+            position_tolerance: 1e-4,
         }
     }
 }
@@ -149,6 +158,17 @@ impl CaseParams for FloatingBoxParams {
         ParamInfo::new("tolerance", "1/s", "solver tolerance (chrono-ccp residual)"),
         ParamInfo::new("solver", "-", "CCP solver name (chrono-ccp)"),
         ParamInfo::new("max_iterations", "-", "iteration cap per step"),
+        ParamInfo::new("h_over_dp", "-", "smoothing length over spacing"),
+        ParamInfo::new(
+            "position_iterations",
+            "-",
+            "position projection sweeps per step",
+        ),
+        ParamInfo::new(
+            "position_tolerance",
+            "-",
+            "compression at which the projection stops",
+        ),
     ];
     fn apply_mode(&mut self, mode: Mode) {
         match mode {
@@ -249,7 +269,7 @@ pub struct FloatingScene {
 pub fn scene(p: &FloatingBoxParams) -> anyhow::Result<FloatingScene> {
     check(p)?;
     let dp = p.spacing;
-    let h_over_dp = CfluidSettings::default().h_over_dp;
+    let h_over_dp = p.h_over_dp;
     let layers = wall_layers(h_over_dp);
     let ly = slab_layers(h_over_dp) as f64 * dp;
     let t = layers as f64 * dp;
@@ -260,6 +280,9 @@ pub fn scene(p: &FloatingBoxParams) -> anyhow::Result<FloatingScene> {
         xsph: p.xsph,
         contact_radius_over_dp: p.contact_radius,
         body_marker_rows: p.coupling == "marker-rows",
+        h_over_dp,
+        position_iterations: p.position_iterations,
+        position_tolerance: p.position_tolerance,
         domain_lower: [-t, 0.0, -t],
         domain_upper: [len + t, ly, top],
         periodic: [false, true, false],
