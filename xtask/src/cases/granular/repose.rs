@@ -43,7 +43,7 @@ use chrono_core::system::{ContactMethod, SmcSettings};
 use chrono_core::{BodyHandle, ContactMaterial, RigidBodyBuilder, Shape, System, SystemSettings};
 use serde::{Deserialize, Serialize};
 
-use super::{make_system, method_name, parse_methods};
+use super::{make_system, method_name, parse_methods, parse_rolling_model};
 use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series, SweepPoint};
 use crate::fit::line_fit;
 use crate::params::{CaseParams, ParamCase, ParamInfo, ensure_at_least, ensure_positive};
@@ -76,6 +76,11 @@ pub struct ReposeParams {
     pub mu: f64,
     /// Rolling friction coefficients of the sweep (dimensionless, torque `mu_r R F_n`).
     pub rolling_friction: Vec<f64>,
+    /// SMC rolling resistance model: `relative` (default: against the relative rotation of
+    /// the two grains) or `per_body` (Zhou et al.'s: against each grain's own rotation; it
+    /// did not close the gap to their fit, docs/validation-granular.md). NSC has the
+    /// relative model only.
+    pub rolling_model: String,
     /// Largest grain diameter `d`, m (diameters uniform in [0.95 d, d]).
     pub grain_diameter: f64,
     /// Plate length, in grain diameters.
@@ -117,6 +122,7 @@ impl Default for ReposeParams {
             method: vec!["nsc".into(), "smc".into()],
             mu: 0.5,
             rolling_friction: vec![0.0, 0.01, 0.02, 0.05, 0.1],
+            rolling_model: "relative".into(),
             grain_diameter: 0.01,
             plate_width: 30.0,
             thickness: 4.0,
@@ -145,6 +151,11 @@ impl CaseParams for ReposeParams {
             "rolling_friction",
             "-",
             "rolling friction coefficients of the sweep (torque mu_r R F_n)",
+        ),
+        ParamInfo::new(
+            "rolling_model",
+            "-",
+            "SMC rolling model: per_body (Zhou et al.) | relative",
         ),
         ParamInfo::new(
             "grain_diameter",
@@ -337,7 +348,10 @@ fn heap(
     let (half, w) = (0.5 * p.plate_width * d, p.thickness * d);
     let settings = SystemSettings {
         envelope: 0.05 * d,
-        smc: SmcSettings::default(),
+        smc: SmcSettings {
+            rolling_model: parse_rolling_model(&p.rolling_model)?,
+            ..SmcSettings::default()
+        },
         ..SystemSettings::default()
     };
     let mut sys = make_system(method, settings, p.tolerance, p.max_iterations)?;
@@ -500,6 +514,7 @@ fn heap(
 
 fn run(p: &ReposeParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     validate(p)?;
+    parse_rolling_model(&p.rolling_model)?;
     let methods: Vec<(&str, ContactMethod)> = parse_methods(&p.method)?
         .into_iter()
         .map(|c| (method_name(c), c))
