@@ -89,8 +89,10 @@ pub struct BallDropParams {
     /// frictional spheres with `mu = 0.5` and no rolling resistance flow steadily down a
     /// rough incline between ~20° and ~24° (L. E. Silbert et al., "Granular flow down an
     /// inclined plane: Bagnold scaling and rheology", Phys. Rev. E 64, 051302, 2001), and
-    /// glass beads pile at 22–25°. To be cross-checked against `granular-repose` with the
-    /// same friction: the prefactor scales as `1 / tan(theta_r)` (±2° is ±10 %).
+    /// glass beads pile at 22–25°. Cited, not measured: on `granular-repose`'s smooth plate
+    /// this medium forms no heap at all (docs/validation-granular.md). With a medium that
+    /// has rolling resistance, measure its angle with `granular-repose` (same grains and
+    /// friction) and set it here: the prefactor scales as `1 / tan(theta_r)` (±2° is ±10 %).
     pub repose_angle_deg: f64,
     /// Largest grain diameter `d`, m (diameters uniform in [0.9 d, d]).
     pub grain_diameter: f64,
