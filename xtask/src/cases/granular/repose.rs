@@ -29,6 +29,10 @@
 //! away. After `t_discharge` the highest grain centre in each column of width `d` over the
 //! plate gives the surface; a least-squares line over both flanks (`|x|` between 15 % and
 //! 85 % of the half-width, so neither the crest nor the toe) gives `repose_angle_deg`.
+//! `rough_base = true` glues a layer of fixed spheres (diameter `d`, touching) on the plate:
+//! on the smooth plate the bottom layer rolls out unless the rolling friction holds it, and
+//! at `mu_r = 0.02` the angle is ~15 degrees there against ~34 on the rough base
+//! (docs/validation-granular.md).
 //!
 //! `--quick` (CI) checks `mu_r = 0.02` on a 12 d plate (7 d bed, ~400 grains); the default
 //! run a 30 d plate (14 d bed, ~2000 grains) at `mu_r` = 0, 0.02, 0.05; `--full` adds 0.01
@@ -81,6 +85,9 @@ pub struct ReposeParams {
     /// did not close the gap to their fit, docs/validation-granular.md). NSC has the
     /// relative model only.
     pub rolling_model: String,
+    /// Glue a layer of fixed spheres (diameter `d`, square lattice, touching) on the plate:
+    /// a rough base instead of the smooth plate.
+    pub rough_base: bool,
     /// Largest grain diameter `d`, m (diameters uniform in [0.95 d, d]).
     pub grain_diameter: f64,
     /// Plate length, in grain diameters.
@@ -123,6 +130,7 @@ impl Default for ReposeParams {
             mu: 0.5,
             rolling_friction: vec![0.0, 0.01, 0.02, 0.05, 0.1],
             rolling_model: "relative".into(),
+            rough_base: false,
             grain_diameter: 0.01,
             plate_width: 30.0,
             thickness: 4.0,
@@ -156,6 +164,11 @@ impl CaseParams for ReposeParams {
             "rolling_model",
             "-",
             "SMC rolling model: per_body (Zhou et al.) | relative",
+        ),
+        ParamInfo::new(
+            "rough_base",
+            "-",
+            "a layer of fixed spheres glued on the plate (rough base)",
         ),
         ParamInfo::new(
             "grain_diameter",
@@ -382,6 +395,24 @@ fn heap(
         Isometry3::translation(0.0, 0.5 * w, -r),
         mat,
     ))?;
+    let base_top = if p.rough_base { d } else { 0.0 };
+    if p.rough_base {
+        // Touching spheres of diameter d on the plate, one fixed body.
+        let (nx, ny) = ((2.0 * half / d).floor() as usize, (w / d).floor() as usize);
+        let mut base = RigidBodyBuilder::fixed().name("rough base");
+        for i in 0..nx {
+            for j in 0..ny {
+                let x = -half + r + i as f64 * d;
+                let y = r + j as f64 * d + 0.5 * (w - ny as f64 * d);
+                base = base.collider(
+                    Shape::Sphere { radius: r },
+                    Isometry3::translation(x, y, r),
+                    mat,
+                );
+            }
+        }
+        sys.add_body(base)?;
+    }
     let gates = [
         half_space(
             &mut sys,
@@ -404,8 +435,8 @@ fn heap(
     let count = (0.58 * 2.0 * half * w * p.bed_height * d / v_grain).round() as usize;
     let fill = LatticeFill {
         region: Region::Box {
-            lower: Vector3::new(-half, 0.0, 0.0),
-            upper: Vector3::new(half, w, 4.0 * p.bed_height * d),
+            lower: Vector3::new(-half, 0.0, base_top),
+            upper: Vector3::new(half, w, base_top + 4.0 * p.bed_height * d),
         },
         r_min: 0.95 * r,
         r_max: r,
