@@ -1,7 +1,7 @@
 //! SMC (penalty) contact through the public `System` API, against analytic results.
 
 use chrono_ccp::{Apgd, SolverSettings};
-use chrono_core::contact::smc::{SmcPair, contact_duration};
+use chrono_core::contact::smc::{RollingModel, SmcPair, contact_duration};
 use chrono_core::material::effective_young_modulus;
 use chrono_core::math::{Isometry3, Vector3};
 use chrono_core::system::{ContactMethod, SmcModel, SmcSettings};
@@ -64,6 +64,7 @@ fn elastic_hertz_impact_has_hertz_contact_time_and_keeps_energy() {
         friction: 0.0,
         rolling_friction: 0.0,
         spinning_friction: 0.0,
+        rolling_model: RollingModel::Relative,
     };
     let tc = contact_duration(SmcModel::Hertz, &pair, v);
     let h = tc / 1000.0;

@@ -26,7 +26,7 @@ use serde::{Deserialize, Serialize};
 use crate::body::{BodyHandle, RigidBody, RigidBodyBuilder};
 use crate::collision::{CollisionProxy, CollisionWorld, ContactPoint, ProxyContact};
 use crate::contact::nsc::{NscContact, NscProxyContact, TripletScratch, WarmStartCache};
-pub use crate::contact::smc::{SmcModel, SmcSettings};
+pub use crate::contact::smc::{RollingModel, SmcModel, SmcSettings};
 use crate::descriptor::{CcpProblem, CcpSolver, ConstraintRows, SolveStats, Variables};
 use crate::error::{ChronoError, Result, check_finite3, check_non_negative, check_positive};
 use crate::force::{BodyLoads, ForceElement, ForceHandle};

@@ -8,7 +8,8 @@ use super::{StepReport, System};
 use crate::body::{BodyHandle, BodyMotion, RigidBody};
 use crate::collision::{CollisionWorld, ContactKey, ContactPoint};
 use crate::contact::smc::{
-    self, SmcContact, SmcKinematics, SmcModel, SmcPair, SmcSettings, damping_for_restitution,
+    self, RollingModel, SmcContact, SmcKinematics, SmcModel, SmcPair, SmcSettings,
+    damping_for_restitution,
 };
 use crate::error::{ChronoError, Result};
 use crate::material::{effective_shear_modulus, effective_young_modulus};
@@ -34,6 +35,8 @@ pub(crate) struct SmcState {
     next_history: Vec<HistoryEntry>,
     /// Per body: contact force (world) and torque (world).
     loads: Vec<[Vector3<f64>; 2]>,
+    /// Per body: summed per-body rolling torque magnitudes (N m, `RollingModel::PerBody`).
+    rolling: Vec<f64>,
     /// Per collider: curvature radius (infinite for flat shapes).
     radius: Vec<f64>,
     /// `(restitution bits, alpha)` sorted, for `alpha_model`.
@@ -107,6 +110,7 @@ fn step_limit(
             friction: 0.0,
             rolling_friction: 0.0,
             spinning_friction: 0.0,
+            rolling_model: s.rolling_model,
         };
         let tc = smc::contact_duration(s.model, &pair, s.characteristic_velocity);
         let h = tc / s.min_steps_per_contact;
@@ -285,6 +289,7 @@ impl System {
             normal_force: 0.0,
             force: Vector3::zeros(),
             torque: Vector3::zeros(),
+            rolling: [0.0; 2],
         };
         st.contacts.clear();
         st.contacts.resize(n, blank);
@@ -330,6 +335,8 @@ impl System {
         // Loads per body, in contact order (deterministic).
         st.loads.clear();
         st.loads.resize(self.bodies.len(), [Vector3::zeros(); 2]);
+        st.rolling.clear();
+        st.rolling.resize(self.bodies.len(), 0.0);
         for c in &st.contacts {
             if c.normal_force == 0.0 && c.force == Vector3::zeros() {
                 continue;
@@ -340,6 +347,18 @@ impl System {
             st.loads[b][1] += (c.point - xb).cross(&c.force) + c.torque;
             st.loads[a][0] -= c.force;
             st.loads[a][1] -= (c.point - xa).cross(&c.force) + c.torque;
+            st.rolling[a] += c.rolling[0];
+            st.rolling[b] += c.rolling[1];
+        }
+        // Per-body rolling resistance: summed over the body's contacts, limited once.
+        if self.settings.smc.rolling_model == RollingModel::PerBody {
+            for (i, b) in self.bodies.iter().enumerate() {
+                if st.rolling[i] > 0.0 && st.inv_inertia[i] > 0.0 {
+                    let w = b.angular_velocity();
+                    st.loads[i][1] +=
+                        smc::per_body_rolling_torque(&w, st.rolling[i], 1.0 / st.inv_inertia[i], h);
+                }
+            }
         }
     }
 
@@ -510,13 +529,15 @@ impl ForceContext<'_> {
             friction: cp.material.friction,
             rolling_friction: cp.material.rolling_friction,
             spinning_friction: cp.material.spinning_friction,
+            rolling_model: self.settings.rolling_model,
         };
         let point = 0.5 * (cp.point_a + cp.point_b);
         let kin = SmcKinematics {
             normal: cp.normal,
             overlap: -cp.distance,
             relative_velocity: bb.point_velocity(&point) - ba.point_velocity(&point),
-            relative_angular_velocity: bb.angular_velocity() - ba.angular_velocity(),
+            angular_velocity_a: ba.angular_velocity(),
+            angular_velocity_b: bb.angular_velocity(),
         };
         let at = self.history.partition_point(|e| e.key < cp.key);
         let xi = match self.history.get(at) {
@@ -542,6 +563,7 @@ impl ForceContext<'_> {
                 normal_force: f.normal,
                 force: f.force,
                 torque: f.torque,
+                rolling: f.rolling,
             },
             f.history,
         )

@@ -51,7 +51,7 @@ use chrono_core::system::{ContactMethod, SmcSettings};
 use chrono_core::{BodyHandle, ContactMaterial, RigidBodyBuilder, Shape, System, SystemSettings};
 use serde::{Deserialize, Serialize};
 
-use super::{make_system, method_name, parse_methods};
+use super::{make_system, method_name, parse_methods, parse_rolling_model};
 use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series, SweepPoint};
 use crate::fit::line_fit;
 use crate::params::{CaseParams, ParamCase, ParamInfo, ensure_at_least, ensure_positive};
@@ -82,12 +82,17 @@ pub struct BallDropParams {
     pub mu: f64,
     /// Rolling friction coefficient (dimensionless; torque `mu_r R F_n`).
     pub rolling_friction: f64,
+    /// SMC rolling resistance model: `relative` or `per_body` (Zhou et al.'s; see
+    /// `chrono_core::contact::smc`). NSC has the relative model only.
+    pub rolling_model: String,
     /// Angle of repose of the medium, degrees: the law's `mu = tan(theta_r)`. Default 23°:
     /// frictional spheres with `mu = 0.5` and no rolling resistance flow steadily down a
     /// rough incline between ~20° and ~24° (L. E. Silbert et al., "Granular flow down an
     /// inclined plane: Bagnold scaling and rheology", Phys. Rev. E 64, 051302, 2001), and
-    /// glass beads pile at 22–25°. To be cross-checked against `granular-repose` with the
-    /// same friction: the prefactor scales as `1 / tan(theta_r)` (±2° is ±10 %).
+    /// glass beads pile at 22–25°. Cited, not measured: on `granular-repose`'s smooth plate
+    /// this medium forms no heap at all (docs/validation-granular.md). With a medium that
+    /// has rolling resistance, measure its angle with `granular-repose` (same grains and
+    /// friction) and set it here: the prefactor scales as `1 / tan(theta_r)` (±2° is ±10 %).
     pub repose_angle_deg: f64,
     /// Largest grain diameter `d`, m (diameters uniform in [0.9 d, d]).
     pub grain_diameter: f64,
@@ -137,6 +142,7 @@ impl Default for BallDropParams {
             drop_height: vec![ball, 2.0 * ball, 4.0 * ball, 8.0 * ball],
             mu: 0.5,
             rolling_friction: 0.0,
+            rolling_model: "relative".into(),
             repose_angle_deg: 23.0,
             grain_diameter: 0.005,
             grain_density: 2500.0,
@@ -170,6 +176,11 @@ impl CaseParams for BallDropParams {
         ),
         ParamInfo::new("mu", "-", "sliding friction coefficient"),
         ParamInfo::new("rolling_friction", "-", "rolling friction coefficient"),
+        ParamInfo::new(
+            "rolling_model",
+            "-",
+            "SMC rolling model: relative | per_body (Zhou et al.)",
+        ),
         ParamInfo::new(
             "repose_angle_deg",
             "deg",
@@ -274,16 +285,17 @@ fn material(p: &BallDropParams) -> anyhow::Result<ContactMaterial> {
     Ok(mat)
 }
 
-fn settings(p: &BallDropParams, v_impact: f64) -> SystemSettings {
-    SystemSettings {
+fn settings(p: &BallDropParams, v_impact: f64) -> anyhow::Result<SystemSettings> {
+    Ok(SystemSettings {
         envelope: 0.05 * p.grain_diameter,
         // The step check must cover the fastest contact, the ball's impact.
         smc: SmcSettings {
             characteristic_velocity: v_impact.max(1.0),
+            rolling_model: parse_rolling_model(&p.rolling_model)?,
             ..SmcSettings::default()
         },
         ..SystemSettings::default()
-    }
+    })
 }
 
 /// Half width of the box (m).
@@ -307,7 +319,7 @@ fn settle_bed(p: &BallDropParams, method: ContactMethod, v_max: f64) -> anyhow::
     let d = p.grain_diameter;
     let hw = half_width(p);
     let depth = p.bed_depth * p.ball_diameter;
-    let mut sys = make_system(method, settings(p, v_max), p.tolerance, p.max_iterations)?;
+    let mut sys = make_system(method, settings(p, v_max)?, p.tolerance, p.max_iterations)?;
     let mat = material(p)?;
     let top = 3.0 * depth + 4.0 * d;
     let (lower, upper) = (
@@ -432,7 +444,7 @@ fn drop_ball(
     let start = std::time::Instant::now();
     let d = p.grain_diameter;
     let hw = half_width(p);
-    let mut sys = make_system(method, settings(p, v_max), p.tolerance, p.max_iterations)?;
+    let mut sys = make_system(method, settings(p, v_max)?, p.tolerance, p.max_iterations)?;
     let mat = material(p)?;
     let top = 3.0 * p.bed_depth * p.ball_diameter + 4.0 * d;
     add_box_container(
@@ -555,6 +567,7 @@ fn validate(p: &BallDropParams) -> anyhow::Result<Vec<ContactMethod>> {
             0.5 * d
         );
     }
+    parse_rolling_model(&p.rolling_model)?;
     parse_methods(&p.method)
 }
 

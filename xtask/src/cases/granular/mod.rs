@@ -20,7 +20,7 @@ pub mod shear;
 pub mod smc_bounce;
 
 use chrono_ccp::{Apgd, CcpSolver, SolverSettings};
-use chrono_core::system::{ContactMethod, SmcModel};
+use chrono_core::system::{ContactMethod, RollingModel, SmcModel};
 use chrono_core::{System, SystemSettings};
 
 /// The contact method of a case parameter (`nsc` or `smc`).
@@ -56,6 +56,17 @@ pub fn parse_model(model: &str) -> anyhow::Result<SmcModel> {
         "hooke" => Ok(SmcModel::Hooke),
         "hertz" => Ok(SmcModel::Hertz),
         other => anyhow::bail!("parameter `model` must be `hooke` or `hertz`, got `{other}`"),
+    }
+}
+
+/// The SMC rolling resistance model of a case parameter (`relative` or `per_body`).
+pub fn parse_rolling_model(model: &str) -> anyhow::Result<RollingModel> {
+    match model {
+        "relative" => Ok(RollingModel::Relative),
+        "per_body" => Ok(RollingModel::PerBody),
+        other => anyhow::bail!(
+            "parameter `rolling_model` must be `relative` or `per_body`, got `{other}`"
+        ),
     }
 }
 

@@ -33,13 +33,22 @@
 //! is well below 1e-2; it is estimated with a shear zone `5 d` thick (thinner than the
 //! ~10 d usually seen, so an upper bound) and reported.
 //!
-//! The reference band (`ref_peak_deg`, `ref_residual_deg` and their scatter) is an
-//! estimate of typical direct shear angles of glass beads, *not* read from Härtl and Ooi
-//! (their tables were not available when the case was written), so the angles are
-//! reported as metrics next to it and checked only with `check_angles = true`, once the
-//! band is set from the paper (docs/validation-granular.md). Always checked: the
-//! quasi-static state (inertial number, the two halves' shear forces within 5 %) and,
-//! with several stresses, that the residual angle does not depend on the stress.
+//! Residual reference (`ref_residual_deg`, checked unless `check_residual = false`):
+//! steady sliding of spherical glass beads in direct shear, `mu = 0.45` (24.2 degrees)
+//! against 0.6 for angular sand: K. Mair, K. M. Frye and C. Marone, "Influence of grain
+//! characteristics on the friction of granular shear zones", J. Geophys. Res. 107 (B10)
+//! 2219 (2002); K. M. Frye and C. Marone, "The effect of particle dimensionality on
+//! granular friction in laboratory shear zones", Geophys. Res. Lett. 29 (19) (2002) (thin
+//! layers of 0.1–0.15 mm beads at MPa stresses, below grain fracture; the steady-state
+//! friction of a sphere packing does not depend on the grain size and, without fracture,
+//! little on the stress). The +-2 degree band (+-0.04 in `mu`) is ours: the abstracts give
+//! `mu ~ 0.45` without a scatter. The peak (`ref_peak_deg`, checked only with
+//! `check_angles = true`) depends on the packing's density; no published value for glass
+//! beads at this density was found, and the default band is *an estimate*, not Härtl and
+//! Ooi's values (their tables were not available: see docs/validation-granular.md). The
+//! other checks, always on: the quasi-static state (inertial number, the two halves'
+//! shear forces within 5 %) and, with several stresses, that the residual angle does not
+//! depend on the stress.
 //!
 //! `method` lists the contact methods to run (`["nsc", "smc"]` runs both, `--set method=smc` one).
 
@@ -111,20 +120,21 @@ pub struct ShearParams {
     pub tolerance: f64,
     /// APGD iteration cap (NSC).
     pub max_iterations: usize,
-    /// Reference peak friction angle, degrees (an estimate until set from Härtl and Ooi).
+    /// Reference peak friction angle, degrees (an estimate: no published value at hand).
     pub ref_peak_deg: f64,
     /// Scatter (half width) of the reference peak angle, degrees.
     pub ref_peak_scatter_deg: f64,
-    /// Reference residual friction angle, degrees (an estimate until set from Härtl and
-    /// Ooi).
+    /// Reference residual friction angle, degrees: `atan 0.45`, the steady sliding friction
+    /// of glass beads (Mair et al. 2002; Frye and Marone 2002).
     pub ref_residual_deg: f64,
     /// Scatter (half width) of the reference residual angle, degrees.
     pub ref_residual_scatter_deg: f64,
     /// Seed of the packing.
     pub seed: u64,
-    /// Check the angles against the reference band (off until `ref_*` hold the published
-    /// values: the defaults are an estimate, so the angles are reported, not checked).
+    /// Check the peak angle against `ref_peak_deg` too (off: that band is an estimate).
     pub check_angles: bool,
+    /// Check the residual angle against `ref_residual_deg` (the published value).
+    pub check_residual: bool,
 }
 
 impl Default for ShearParams {
@@ -155,10 +165,11 @@ impl Default for ShearParams {
             max_iterations: 300,
             ref_peak_deg: 27.0,
             ref_peak_scatter_deg: 3.0,
-            ref_residual_deg: 23.0,
+            ref_residual_deg: 24.2,
             ref_residual_scatter_deg: 2.0,
             seed: 7,
             check_angles: false,
+            check_residual: true,
         }
     }
 }
@@ -224,7 +235,12 @@ impl CaseParams for ShearParams {
         ParamInfo::new(
             "check_angles",
             "-",
-            "check the angles against the ref_* band (false until it is the published one)",
+            "check the peak angle too (its ref_* band is an estimate)",
+        ),
+        ParamInfo::new(
+            "check_residual",
+            "-",
+            "check the residual angle against ref_residual_deg (Mair et al. 2002)",
         ),
     ];
     fn apply_mode(&mut self, mode: Mode) {
@@ -610,22 +626,27 @@ fn run(p: &ShearParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
             let (peak_deg, res_deg) = (r.peak.atan().to_degrees(), r.residual.atan().to_degrees());
             // I with a shear zone 5 d thick: gamma_dot = v / (5 d).
             let inertial = p.shear_speed / 5.0 * (p.density / sigma).sqrt();
+            let peak_name = format!("peak_friction_angle_deg_{tag}");
             if p.check_angles {
                 out.check(Check::absolute(
-                    format!("peak_friction_angle_deg_{tag}"),
+                    peak_name,
                     peak_deg,
                     p.ref_peak_deg,
                     p.ref_peak_scatter_deg,
-                ))
-                .check(Check::absolute(
-                    format!("residual_friction_angle_deg_{tag}"),
+                ));
+            } else {
+                out.metric(peak_name, peak_deg);
+            }
+            let residual_name = format!("residual_friction_angle_deg_{tag}");
+            if p.check_residual {
+                out.check(Check::absolute(
+                    residual_name,
                     res_deg,
                     p.ref_residual_deg,
                     p.ref_residual_scatter_deg,
                 ));
             } else {
-                out.metric(format!("peak_friction_angle_deg_{tag}"), peak_deg)
-                    .metric(format!("residual_friction_angle_deg_{tag}"), res_deg);
+                out.metric(residual_name, res_deg);
             }
             let last = r.bins.last().copied().unwrap_or([0.0; 5]);
             let late = &r.bins[r.bins.len() * 7 / 10..];

@@ -10,7 +10,7 @@
 //! Besides the run with the set parameters, the case checks both force laws at
 //! `e = 0.1, 0.3, 0.5, 0.7, 0.9` (the acceptance: within 2 %), reported as a sweep.
 
-use chrono_core::contact::smc::{SmcPair, contact_duration};
+use chrono_core::contact::smc::{RollingModel, SmcPair, contact_duration};
 use chrono_core::material::effective_young_modulus;
 use chrono_core::math::{Isometry3, Vector3};
 use chrono_core::system::{ContactMethod, SmcModel, SmcSettings};
@@ -144,6 +144,7 @@ fn bounce(p: &BounceParams, model: SmcModel, e: f64) -> anyhow::Result<Bounce> {
         friction: 0.0,
         rolling_friction: 0.0,
         spinning_friction: 0.0,
+        rolling_model: RollingModel::Relative,
     };
     let tc = contact_duration(model, &pair, p.impact_velocity);
     let h = tc / p.steps_per_contact;
