@@ -9,7 +9,7 @@
 use faer::sparse::{SparseColMat, Triplet};
 use nalgebra::Vector3;
 
-use crate::element::{AncfCable, CableQuadrature, ElementMatrix, ElementVector};
+use crate::element::{AncfCable, CableQuadrature, ElementVector};
 use crate::error::{FeaError, Result, finite3};
 use crate::material::BeamMaterial;
 use crate::node::{GradientNode, NodeId};
@@ -376,7 +376,7 @@ impl CableMesh {
                 f[Self::global_index(el, i)] += qe[i];
             }
             if tangent {
-                Self::scatter(el, &ke, map, &mut trip);
+                scatter_element_matrix(&el.nodes, 6, &ke, map, &mut trip);
             }
         }
         let k = if tangent {
@@ -391,27 +391,9 @@ impl CableMesh {
     pub fn mass_matrix(&self, map: &DofMap) -> Result<SparseColMat<usize, f64>> {
         let mut trip = Vec::new();
         for el in &self.elements {
-            Self::scatter(el, &el.mass_matrix(), map, &mut trip);
+            scatter_element_matrix(&el.nodes, 6, &el.mass_matrix(), map, &mut trip);
         }
         sparse(map.nfree(), &trip)
-    }
-
-    fn scatter(
-        el: &AncfCable,
-        m: &ElementMatrix,
-        map: &DofMap,
-        trip: &mut Vec<Triplet<usize, usize, f64>>,
-    ) {
-        for i in 0..12 {
-            let Some(fi) = map.free_index(Self::global_index(el, i)) else {
-                continue;
-            };
-            for j in 0..12 {
-                if let Some(fj) = map.free_index(Self::global_index(el, j)) {
-                    trip.push(Triplet::new(fi, fj, m[(i, j)]));
-                }
-            }
-        }
     }
 
     /// Strain energy of the current configuration, J.
@@ -421,6 +403,34 @@ impl CableMesh {
             .iter()
             .map(|el| el.strain_energy(&self.element_coordinates(el, &q)))
             .sum()
+    }
+}
+
+/// Add an element matrix to the triplets of the free coordinates. The element's local
+/// coordinate `i` is coordinate `i % per_node` of its node `nodes[i / per_node]`, i.e. the
+/// global coordinate `per_node * nodes[i / per_node] + i % per_node` (every mesh here
+/// numbers a node's coordinates contiguously). Rows or columns of fixed coordinates are
+/// dropped.
+pub(crate) fn scatter_element_matrix<M>(
+    nodes: &[usize],
+    per_node: usize,
+    m: &M,
+    map: &DofMap,
+    trip: &mut Vec<Triplet<usize, usize, f64>>,
+) where
+    M: std::ops::Index<(usize, usize), Output = f64>,
+{
+    let n = nodes.len() * per_node;
+    let global = |i: usize| per_node * nodes[i / per_node] + i % per_node;
+    for i in 0..n {
+        let Some(fi) = map.free_index(global(i)) else {
+            continue;
+        };
+        for j in 0..n {
+            if let Some(fj) = map.free_index(global(j)) {
+                trip.push(Triplet::new(fi, fj, m[(i, j)]));
+            }
+        }
     }
 }
 

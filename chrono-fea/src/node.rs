@@ -11,7 +11,10 @@ pub struct NodeId(pub usize);
 /// `e = [r, r_x]` with `r` the position (m) and `r_x = dr/dx` the derivative of the
 /// position along the element's reference arc length `x` (dimensionless; unit length
 /// and tangent to the centre line in the undeformed state). This is the node of the
-/// gradient-deficient cable/beam element (Gerstmayr & Shabana 2006).
+/// gradient-deficient cable/beam element (Gerstmayr & Shabana 2006). The ANCF shell
+/// (`element::shell`) uses the same node with the gradient along the thickness instead:
+/// `slope` holds the transverse gradient (director) `r_z = dr/dz`, a unit normal to the
+/// mid-surface in the undeformed state (Yamashita et al. 2015).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct GradientNode {
     /// Current position `r`, m.

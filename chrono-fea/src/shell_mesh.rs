@@ -14,12 +14,11 @@
 //! [`ShellMesh::grid`] builds a structured mesh on a parametric surface (plates,
 //! cylinders), [`ShellMesh::sphere_octant`] an octant of a sphere.
 
-use faer::sparse::Triplet;
 use nalgebra::Vector3;
 
-use crate::element::{AncfShell, ShellLocking, ShellMaterial, ShellMatrix, ShellVector};
+use crate::element::{AncfShell, ShellLocking, ShellMaterial, ShellVector};
 use crate::error::{FeaError, Result, finite3, positive};
-use crate::mesh::{DofMap, SparseMatrix, sparse};
+use crate::mesh::{DofMap, SparseMatrix, scatter_element_matrix, sparse};
 use crate::node::{GradientNode, NodeId};
 use crate::statics::StaticModel;
 
@@ -302,7 +301,7 @@ impl ShellMesh {
             let (qe, ke) = el.force_and_tangent(&x, tangent);
             add_vector(el, &qe, &mut f);
             if tangent {
-                scatter(el, &ke, map, &mut trip);
+                scatter_element_matrix(&el.nodes, 6, &ke, map, &mut trip);
             }
         }
         let k = if tangent {
@@ -332,7 +331,7 @@ impl ShellMesh {
             let (fe, ke) = el.pressure_force(&x, lambda * p, tangent);
             add_vector(el, &fe, &mut f);
             if tangent {
-                scatter(el, &ke, map, &mut trip);
+                scatter_element_matrix(&el.nodes, 6, &ke, map, &mut trip);
             }
         }
         let k = if tangent {
@@ -347,7 +346,7 @@ impl ShellMesh {
     pub fn mass_matrix(&self, map: &DofMap) -> Result<SparseMatrix> {
         let mut trip = Vec::with_capacity(576 * self.elements.len());
         for el in &self.elements {
-            scatter(el, &el.mass_matrix(), map, &mut trip);
+            scatter_element_matrix(&el.nodes, 6, &el.mass_matrix(), map, &mut trip);
         }
         sparse(map.nfree(), &trip)
     }
@@ -488,24 +487,6 @@ impl ShellMesh {
 fn add_vector(el: &AncfShell, v: &ShellVector, f: &mut [f64]) {
     for i in 0..24 {
         f[6 * el.nodes[i / 6] + i % 6] += v[i];
-    }
-}
-
-fn scatter(
-    el: &AncfShell,
-    m: &ShellMatrix,
-    map: &DofMap,
-    trip: &mut Vec<Triplet<usize, usize, f64>>,
-) {
-    for i in 0..24 {
-        let Some(fi) = map.free_index(6 * el.nodes[i / 6] + i % 6) else {
-            continue;
-        };
-        for j in 0..24 {
-            if let Some(fj) = map.free_index(6 * el.nodes[j / 6] + j % 6) {
-                trip.push(Triplet::new(fi, fj, m[(i, j)]));
-            }
-        }
     }
 }
 

@@ -8,13 +8,12 @@
 //! [`StaticModel`]). Box meshes with named faces come from
 //! [`BoxMesh`](crate::tet_box::BoxMesh).
 
-use faer::sparse::Triplet;
 use nalgebra::{Matrix3, Vector3};
 
-use crate::element::{Tet4, TetMatrix, TetVector, von_mises};
+use crate::element::{Tet4, TetVector, von_mises};
 use crate::error::{FeaError, Result, finite3};
 use crate::material::SolidMaterial;
-use crate::mesh::{DofMap, SparseMatrix, sparse};
+use crate::mesh::{DofMap, SparseMatrix, scatter_element_matrix, sparse};
 use crate::node::{NodeId, SolidNode};
 use crate::statics::StaticModel;
 
@@ -306,7 +305,7 @@ impl TetMesh {
                 f[3 * el.nodes[i / 3] + i % 3] += qe[i];
             }
             if tangent {
-                scatter(el, &ke, map, &mut trip);
+                scatter_element_matrix(&el.nodes, 3, &ke, map, &mut trip);
             }
         }
         let k = if tangent {
@@ -321,7 +320,7 @@ impl TetMesh {
     pub fn mass_matrix(&self, map: &DofMap) -> Result<SparseMatrix> {
         let mut trip = Vec::with_capacity(144 * self.elements.len());
         for el in &self.elements {
-            scatter(el, &el.mass_matrix(), map, &mut trip);
+            scatter_element_matrix(&el.nodes, 3, &el.mass_matrix(), map, &mut trip);
         }
         sparse(map.nfree(), &trip)
     }
@@ -343,19 +342,6 @@ impl TetMesh {
     /// Von Mises stress of each element in the current configuration, Pa.
     pub fn von_mises_stresses(&self) -> Vec<f64> {
         self.cauchy_stresses().iter().map(von_mises).collect()
-    }
-}
-
-fn scatter(el: &Tet4, m: &TetMatrix, map: &DofMap, trip: &mut Vec<Triplet<usize, usize, f64>>) {
-    for i in 0..12 {
-        let Some(fi) = map.free_index(3 * el.nodes[i / 3] + i % 3) else {
-            continue;
-        };
-        for j in 0..12 {
-            if let Some(fj) = map.free_index(3 * el.nodes[j / 3] + j % 3) {
-                trip.push(Triplet::new(fi, fj, m[(i, j)]));
-            }
-        }
     }
 }
 
