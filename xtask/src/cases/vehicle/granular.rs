@@ -192,6 +192,16 @@ fn run(p: &GranularParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         p.distance > 0.0 && p.speed > 0.0,
         "parameters `distance` and `speed` must be > 0"
     );
+    for (name, value) in [
+        ("max_slip", p.max_slip),
+        ("diff_lock_torque", p.diff_lock_torque),
+        ("vehicle_settle", p.vehicle_settle),
+    ] {
+        anyhow::ensure!(
+            value.is_finite() && value >= 0.0,
+            "parameter `{name}` must be finite and >= 0, got {value}"
+        );
+    }
     let settings = SolverSettings {
         tolerance: p.tolerance,
         max_iterations: p.max_iterations,
@@ -253,7 +263,11 @@ fn run(p: &GranularParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     );
     // Set down on the bed with the brakes on, then start rolling at `initial_speed`: the
     // landing is not part of the test.
-    let n_land = n_steps(p.h, p.vehicle_settle)?;
+    let n_land = if p.vehicle_settle > 0.0 {
+        n_steps(p.h, p.vehicle_settle)?
+    } else {
+        0
+    };
     let brakes = DriverInputs {
         throttle: 0.0,
         brake: 1.0,
