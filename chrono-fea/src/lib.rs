@@ -45,6 +45,7 @@
 
 pub mod analytic;
 mod attach_rows;
+pub mod beam_mesh;
 pub mod dynamics;
 pub mod element;
 pub mod error;
@@ -61,14 +62,15 @@ pub mod tet_dynamics;
 pub mod tet_mesh;
 
 pub use dynamics::{AttachTarget, Attachment, CableItem};
+pub use beam_mesh::BeamMesh;
 pub use element::{
-    AncfCable, AncfShell, CableQuadrature, ShellLocking, ShellMaterial, Tet4, von_mises,
+    AncfBeam, AncfCable, BeamQuadrature, AncfShell, CableQuadrature, ShellLocking, ShellMaterial, Tet4, von_mises,
 };
 pub use error::{FeaError, Result};
-pub use material::{BeamMaterial, SolidMaterial, SolidModel};
+pub use material::{BeamMaterial, BeamSection, SolidMaterial, SolidModel};
 pub use mesh::{CableMesh, DofMap};
 pub use modal::{MassModel, natural_frequencies};
-pub use node::{GradientNode, NodeId, SolidNode};
+pub use node::{BeamNode, GradientNode, NodeId, SolidNode};
 pub use shell_mesh::ShellMesh;
 pub use spd::SparseSpd;
 pub use statics::{StaticModel, StaticReport, StaticSettings, solve_static};

@@ -1,0 +1,582 @@
+//! The fully parameterized 3D ANCF beam element, with a structural-mechanics strain
+//! energy, selective reduced integration of the shear and cross-section strains, a
+//! curved (pre-shaped) reference configuration and torsion.
+//!
+//! Nodes carry 12 coordinates `[r, r_x, r_y, r_z]` ([`BeamNode`](crate::node::BeamNode)):
+//! the position and the three position gradients, as in the element of Shabana & Yakoub
+//! (2001, "Three dimensional absolute nodal coordinate formulation for beam elements",
+//! J. Mech. Design 123: 606–621). With `xi = x / L` in `[0, 1]` (`L` the reference
+//! parameter length, about the arc length) the position field is
+//!
+//! ```text
+//! r(x, y, z) = r_c(x) + y a(x) + z b(x)
+//! r_c = h1 r_A + L h2 r_x,A + h3 r_B + L h4 r_x,B        (cubic Hermite centre line)
+//! a   = (1 - xi) r_y,A + xi r_y,B,   b = (1 - xi) r_z,A + xi r_z,B   (linear)
+//! h1 = 1 - 3 xi^2 + 2 xi^3, h2 = xi - 2 xi^2 + xi^3, h3 = 3 xi^2 - 2 xi^3, h4 = xi^3 - xi^2
+//! ```
+//!
+//! ## Strain energy (structural mechanics approach)
+//!
+//! The continuum-mechanics energy of this element (St. Venant–Kirchhoff over the volume)
+//! locks: its bending curvature comes from `a'`, `b'` (constant per element) while the
+//! shear ties them to the cubic centre line; the linear cross-section cannot contract
+//! (Poisson locking); its torsion stiffness is the polar moment `I_y + I_z`, not `J`.
+//! Following the structural-mechanics idea of Gerstmayr, Matikainen & Mikkola (2008, "A
+//! geometrically exact beam element based on the absolute nodal coordinate formulation",
+//! Multibody Syst. Dyn. 20: 359–384) and Nachbagauer, Gruber & Gerstmayr (2013,
+//! "Structural and continuum mechanics approaches for a 3D shear deformable ANCF beam
+//! finite element", J. Comput. Nonlinear Dyn. 8: 021004), the energy is written with
+//! beam strains of the centre line `t = r_c'`, its derivative `t' = r_c''` and the
+//! cross-section vectors `a`, `b` (`'` = `d/dx`; `0`: reference; `l0 = |t0|`,
+//! `na = |a0|`, `nb = |b0|`):
+//!
+//! ```text
+//! eps  = (t.t - t0.t0) / (2 l0^2)                      axial          E A
+//! K_z  = (t'.a - t0'.a0) / (l0^2 na)                   bending (y)    E I_z
+//! K_y  = (t'.b - t0'.b0) / (l0^2 nb)                   bending (z)    E I_y
+//! g_y  = (t.a - t0.a0) / (l0 na)                       shear          k G A
+//! g_z  = (t.b - t0.b0) / (l0 nb)                       shear          k G A
+//! K_x  = ((a'.b - b'.a) - (a0'.b0 - b0'.a0)) / (2 l0 na nb)   twist   G J
+//! e_yy = (a.a - a0.a0) / (2 na^2), e_zz likewise       section        E A
+//! g_yz = (a.b - a0.b0) / (na nb)                        section        G A
+//! U = 1/2 ∫ sum_s C_s s^2 l0 dx
+//! ```
+//!
+//! For an orthonormal frame `(t, a, b)` these are the material strains of Reissner's
+//! (Simo's) geometrically exact beam: `K_z = t'.a` and `K_y = -b'.t` are the bending
+//! curvatures, `K_x = a'.b` the twist. Each is a difference of dot products of deformed
+//! vectors, so any rigid motion leaves every strain (and the force) zero, and the
+//! reference configuration — straight or curved — is stress free by construction.
+//! Bending is carried by the cubic centre line (`t'` is linear in `xi`), so a tip-loaded
+//! cantilever is represented exactly, as in an Euler–Bernoulli element.
+//!
+//! ## Locking remedy: selective reduced integration
+//!
+//! `eps`, `K_y`, `K_z` are integrated with 3 Gauss points ([`BeamQuadrature::bending`]):
+//! exact for the linearized energy. The shear strains `g_y`, `g_z` and the cross-section
+//! strains `e_yy`, `e_zz`, `g_yz`, `K_x` with 2 points ([`BeamQuadrature::shear`]): the
+//! shear `t.a` mixes the quadratic `t` with the linear `a`, and the second Legendre
+//! polynomial `P2` — the part the linear `a` cannot follow — vanishes at the 2 Gauss
+//! points, so a slender beam does not shear-lock; likewise the interpolated section
+//! vectors shorten in the middle of a rotating element by a `xi (1 - xi)` (`P2`-like)
+//! term, which the 2 points do not see. The rank stays complete: 18 deformation modes of
+//! the 24 coordinates (6 rigid motions), checked by the tests. With 3 shear points the
+//! centre line is tied to the linear section vectors (constant curvature per element):
+//! one element of a tip-loaded cantilever gives 3/4 of the Euler–Bernoulli deflection,
+//! against 99.9 % with 2 points (test `full_shear_integration_is_too_stiff` in the mesh;
+//! the clamp leaves the shear tilt of the section free, see `BeamMesh::clamp`).
+//!
+//! Internal force `Q = dU/de` and the tangent `K = d^2U/de^2` are exact: every strain is
+//! `s = sum_k c_k U_k.V_k - s0` with `U_k`, `V_k` linear in `e`, so `ds/de` is linear in
+//! `e` and `d^2s/de^2` is constant (checked against finite differences in the tests).
+//!
+//! Consistent mass and gravity from `r(x, y, z)` over the volume (centroidal, doubly
+//! symmetric section): `M = rho ∫ (A S_c^T S_c + I_z S_a^T S_a + I_y S_b^T S_b) l0 dx`,
+//! `Q_g = rho A ∫ S_c^T g l0 dx`, 5 Gauss points.
+
+use nalgebra::{SMatrix, SVector, Vector3};
+
+use crate::error::{FeaError, Result, positive};
+use crate::material::BeamSection;
+use crate::quadrature::gauss_unit;
+
+/// The 24 element coordinates (or forces) `[r_A, r_x,A, r_y,A, r_z,A, r_B, ...]`.
+pub type BeamVector = SVector<f64, 24>;
+/// A 24 x 24 element matrix.
+pub type BeamMatrix = SMatrix<f64, 24, 24>;
+
+/// Numbers of Gauss points along the element (see the module docs).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct BeamQuadrature {
+    /// Points for the axial and bending strains, 1..=5 (default 3).
+    pub bending: usize,
+    /// Points for the shear, twist and cross-section strains, 1..=5 (default 2, the
+    /// locking remedy; 3 and more lock in shear).
+    pub shear: usize,
+}
+
+impl Default for BeamQuadrature {
+    fn default() -> Self {
+        Self {
+            bending: 3,
+            shear: 2,
+        }
+    }
+}
+
+impl BeamQuadrature {
+    fn validate(&self) -> Result<()> {
+        for (field, n) in [
+            ("quadrature.bending", self.bending),
+            ("quadrature.shear", self.shear),
+        ] {
+            if !(1..=5).contains(&n) {
+                return Err(FeaError::invalid(field, n, "must be in 1..=5"));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Scalar weights of the 8 nodal vectors `[r_A, r_x,A, r_y,A, r_z,A, r_B, ..]` in a field.
+type Weights = [f64; 8];
+
+/// The interpolation weights at `xi` for an element of parameter length `l`:
+/// `(r_c, t = r_c', t' = r_c'', a, a', b, b')`.
+fn shape(xi: f64, l: f64) -> [Weights; 7] {
+    let (x2, x3) = (xi * xi, xi * xi * xi);
+    let h = [1.0 - 3.0 * x2 + 2.0 * x3, xi - 2.0 * x2 + x3, 3.0 * x2 - 2.0 * x3, x3 - x2];
+    let d = [-6.0 * xi + 6.0 * x2, 1.0 - 4.0 * xi + 3.0 * x2, 6.0 * xi - 6.0 * x2, 3.0 * x2 - 2.0 * xi];
+    let dd = [-6.0 + 12.0 * xi, -4.0 + 6.0 * xi, 6.0 - 12.0 * xi, 6.0 * xi - 2.0];
+    let r = [h[0], l * h[1], 0.0, 0.0, h[2], l * h[3], 0.0, 0.0];
+    let t = [d[0] / l, d[1], 0.0, 0.0, d[2] / l, d[3], 0.0, 0.0];
+    let tp = [dd[0] / (l * l), dd[1] / l, 0.0, 0.0, dd[2] / (l * l), dd[3] / l, 0.0, 0.0];
+    let a = [0.0, 0.0, 1.0 - xi, 0.0, 0.0, 0.0, xi, 0.0];
+    let ap = [0.0, 0.0, -1.0 / l, 0.0, 0.0, 0.0, 1.0 / l, 0.0];
+    let b = [0.0, 0.0, 0.0, 1.0 - xi, 0.0, 0.0, 0.0, xi];
+    let bp = [0.0, 0.0, 0.0, -1.0 / l, 0.0, 0.0, 0.0, 1.0 / l];
+    [r, t, tp, a, ap, b, bp]
+}
+
+fn field(w: &Weights, q: &[Vector3<f64>; 8]) -> Vector3<f64> {
+    w.iter().zip(q).map(|(wi, qi)| *wi * qi).sum()
+}
+
+/// The 8 nodal vectors of a coordinate vector.
+fn vectors(e: &BeamVector) -> [Vector3<f64>; 8] {
+    std::array::from_fn(|i| Vector3::new(e[3 * i], e[3 * i + 1], e[3 * i + 2]))
+}
+
+/// One strain measure at one Gauss point: `s = sum_k c_k U_k . V_k - s0`,
+/// `U_k = sum_i u_k,i q_i`, `V_k = sum_i v_k,i q_i`, with energy weight `w`
+/// (stiffness x Gauss weight x `L l0`): `U_s = w s^2 / 2`.
+#[derive(Debug, Clone, PartialEq)]
+struct StrainTerm {
+    terms: Vec<(f64, Weights, Weights)>,
+    reference: f64,
+    weight: f64,
+}
+
+impl StrainTerm {
+    fn raw(&self, q: &[Vector3<f64>; 8]) -> f64 {
+        self.terms
+            .iter()
+            .map(|(c, u, v)| c * field(u, q).dot(&field(v, q)))
+            .sum()
+    }
+
+    /// The strain, its gradient (24) and, if asked, its constant Hessian (8 x 8 scalar
+    /// blocks times the 3 x 3 identity).
+    fn evaluate(&self, q: &[Vector3<f64>; 8]) -> (f64, BeamVector) {
+        let mut s = -self.reference;
+        let mut g = BeamVector::zeros();
+        for (c, u, v) in &self.terms {
+            let (uu, vv) = (field(u, q), field(v, q));
+            s += c * uu.dot(&vv);
+            for i in 0..8 {
+                let gi = *c * (u[i] * vv + v[i] * uu);
+                for k in 0..3 {
+                    g[3 * i + k] += gi[k];
+                }
+            }
+        }
+        (s, g)
+    }
+
+    fn hessian(&self) -> SMatrix<f64, 8, 8> {
+        let mut h = SMatrix::<f64, 8, 8>::zeros();
+        for (c, u, v) in &self.terms {
+            for i in 0..8 {
+                for j in 0..8 {
+                    h[(i, j)] += c * (u[i] * v[j] + v[i] * u[j]);
+                }
+            }
+        }
+        h
+    }
+}
+
+/// A fully parameterized ANCF beam element on two nodes (see the module docs).
+#[derive(Debug, Clone, PartialEq)]
+pub struct AncfBeam {
+    /// Indices of the two nodes in the mesh.
+    pub nodes: [usize; 2],
+    length: f64,
+    section: BeamSection,
+    quadrature: BeamQuadrature,
+    strains: Vec<StrainTerm>,
+    /// Mass matrix (8 x 8 scalar blocks) and gravity weights of the 8 nodal vectors.
+    mass8: SMatrix<f64, 8, 8>,
+    gravity8: Weights,
+}
+
+impl AncfBeam {
+    /// The parameter length `L` of an element whose reference nodal vectors are
+    /// `reference` (`[r_A, r_x,A, r_y,A, r_z,A, r_B, ..]`, unit slopes `r_x`): the fixed
+    /// point of `L = ∫_0^1 |dr_c/dxi(L)| dxi` (the arc length of the Hermite centre line
+    /// built with that `L`), so that `x` is close to the arc length (`|t0| = 1` on
+    /// average). The chord for a straight element; `2e-5` shorter than `R phi` for an
+    /// arc of `phi = 20` degrees (the Hermite interpolation error, `~ phi^4`).
+    pub fn reference_length(reference: &[Vector3<f64>; 8]) -> f64 {
+        let mut l = (reference[4] - reference[0]).norm();
+        for _ in 0..50 {
+            let next: f64 = gauss_unit(5)
+                .iter()
+                .map(|&(xi, w)| w * l * field(&shape(xi, l)[1], reference).norm())
+                .sum();
+            let done = (next - l).abs() <= 1e-15 * l;
+            l = next;
+            if done {
+                break;
+            }
+        }
+        l
+    }
+
+    /// An element on `nodes` with reference nodal vectors `reference`, parameter length
+    /// `length` (m, see [`reference_length`](Self::reference_length)), `section` and
+    /// `quadrature`. The reference must be regular at every Gauss point (`t0`, `a0`, `b0`
+    /// non-zero).
+    pub fn new(
+        nodes: [usize; 2],
+        reference: &[Vector3<f64>; 8],
+        length: f64,
+        section: BeamSection,
+        quadrature: BeamQuadrature,
+    ) -> Result<Self> {
+        let l = positive("element.length", length)?;
+        section.validate()?;
+        quadrature.validate()?;
+        if reference.iter().any(|v| !v.iter().all(|c| c.is_finite())) {
+            return Err(FeaError::invalid(
+                "element.reference",
+                format!("{reference:?}"),
+                "must be finite",
+            ));
+        }
+        let s = &section;
+        let (ea, ga) = (s.young * s.area, s.shear_modulus * s.area);
+        let mut strains = Vec::new();
+        let frame = |xi: f64| -> Result<([Weights; 7], f64, f64, f64)> {
+            let w = shape(xi, l);
+            let (t0, a0, b0) = (field(&w[1], reference), field(&w[3], reference), field(&w[5], reference));
+            let (l0, na, nb) = (t0.norm(), a0.norm(), b0.norm());
+            if !(l0 > 0.0 && na > 0.0 && nb > 0.0) {
+                return Err(FeaError::invalid(
+                    "element.reference",
+                    format!("|r_x| = {l0}, |r_y| = {na}, |r_z| = {nb} at xi = {xi}"),
+                    "the reference gradients must be non-zero inside the element",
+                ));
+            }
+            Ok((w, l0, na, nb))
+        };
+        let mut push = |terms: Vec<(f64, Weights, Weights)>, stiffness: f64, gw: f64, l0: f64| {
+            let mut st = StrainTerm {
+                terms,
+                reference: 0.0,
+                weight: stiffness * gw * l * l0,
+            };
+            st.reference = st.raw(reference);
+            strains.push(st);
+        };
+        for &(xi, gw) in gauss_unit(quadrature.bending) {
+            let (w, l0, na, nb) = frame(xi)?;
+            let [_, t, tp, a, _, b, _] = w;
+            push(vec![(0.5 / (l0 * l0), t, t)], ea, gw, l0);
+            push(vec![(1.0 / (l0 * l0 * na), tp, a)], s.young * s.iz, gw, l0);
+            push(vec![(1.0 / (l0 * l0 * nb), tp, b)], s.young * s.iy, gw, l0);
+        }
+        for &(xi, gw) in gauss_unit(quadrature.shear) {
+            let (w, l0, na, nb) = frame(xi)?;
+            let [_, t, _, a, ap, b, bp] = w;
+            let kga = s.shear_factor * ga;
+            push(vec![(1.0 / (l0 * na), t, a)], kga, gw, l0);
+            push(vec![(1.0 / (l0 * nb), t, b)], kga, gw, l0);
+            let c = 0.5 / (l0 * na * nb);
+            push(vec![(c, ap, b), (-c, bp, a)], s.shear_modulus * s.torsion, gw, l0);
+            push(vec![(0.5 / (na * na), a, a)], ea, gw, l0);
+            push(vec![(0.5 / (nb * nb), b, b)], ea, gw, l0);
+            push(vec![(1.0 / (na * nb), a, b)], ga, gw, l0);
+        }
+        let mut mass8 = SMatrix::<f64, 8, 8>::zeros();
+        let mut gravity8 = [0.0; 8];
+        for &(xi, gw) in gauss_unit(5) {
+            let (w, l0, _, _) = frame(xi)?;
+            let ds = gw * l * l0 * s.density;
+            let (r, a, b) = (w[0], w[3], w[5]);
+            for i in 0..8 {
+                gravity8[i] += ds * s.area * r[i];
+                for j in 0..8 {
+                    mass8[(i, j)] += ds * (s.area * r[i] * r[j] + s.iz * a[i] * a[j] + s.iy * b[i] * b[j]);
+                }
+            }
+        }
+        Ok(Self {
+            nodes,
+            length: l,
+            section,
+            quadrature,
+            strains,
+            mass8,
+            gravity8,
+        })
+    }
+
+    /// Parameter length `L`, m.
+    pub fn length(&self) -> f64 {
+        self.length
+    }
+
+    /// The section.
+    pub fn section(&self) -> &BeamSection {
+        &self.section
+    }
+
+    /// The quadrature.
+    pub fn quadrature(&self) -> BeamQuadrature {
+        self.quadrature
+    }
+
+    /// Strain energy, J.
+    pub fn strain_energy(&self, e: &BeamVector) -> f64 {
+        let q = vectors(e);
+        self.strains
+            .iter()
+            .map(|s| {
+                let v = s.raw(&q) - s.reference;
+                0.5 * s.weight * v * v
+            })
+            .sum()
+    }
+
+    /// The internal force `Q = dU/de` and, if `tangent`, the tangent stiffness
+    /// `K = d^2U/de^2` (otherwise zeros).
+    pub fn force_and_tangent(&self, e: &BeamVector, tangent: bool) -> (BeamVector, BeamMatrix) {
+        let q = vectors(e);
+        let mut f = BeamVector::zeros();
+        let mut k = BeamMatrix::zeros();
+        for st in &self.strains {
+            let (s, g) = st.evaluate(&q);
+            f += st.weight * s * g;
+            if tangent {
+                k.ger(st.weight, &g, &g, 1.0);
+                let h = st.hessian();
+                for i in 0..8 {
+                    for j in 0..8 {
+                        let hij = st.weight * s * h[(i, j)];
+                        if hij != 0.0 {
+                            for c in 0..3 {
+                                k[(3 * i + c, 3 * j + c)] += hij;
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        (f, k)
+    }
+
+    /// The internal force `Q = dU/de`, N (position rows) and N m (gradient rows).
+    pub fn internal_force(&self, e: &BeamVector) -> BeamVector {
+        self.force_and_tangent(e, false).0
+    }
+
+    /// The tangent stiffness `dQ/de`.
+    pub fn tangent_stiffness(&self, e: &BeamVector) -> BeamMatrix {
+        self.force_and_tangent(e, true).1
+    }
+
+    /// The consistent mass matrix, kg (constant).
+    pub fn mass_matrix(&self) -> BeamMatrix {
+        let mut m = BeamMatrix::zeros();
+        for i in 0..8 {
+            for j in 0..8 {
+                for c in 0..3 {
+                    m[(3 * i + c, 3 * j + c)] = self.mass8[(i, j)];
+                }
+            }
+        }
+        m
+    }
+
+    /// The generalized gravity force `rho A ∫ S_c^T g l0 dx` for the acceleration
+    /// `gravity` (m/s^2).
+    pub fn gravity_force(&self, gravity: &Vector3<f64>) -> BeamVector {
+        BeamVector::from_fn(|r, _| self.gravity8[r / 3] * gravity[r % 3])
+    }
+
+    /// Reference mass `rho A ∫ l0 dx`, kg.
+    pub fn mass(&self) -> f64 {
+        self.gravity8[0] + self.gravity8[4]
+    }
+
+    /// Position of the centre line at `xi` in `[0, 1]`, m.
+    pub fn position_at(&self, e: &BeamVector, xi: f64) -> Vector3<f64> {
+        field(&shape(xi, self.length)[0], &vectors(e))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::{Rotation3, Unit};
+
+    fn section() -> BeamSection {
+        BeamSection::rectangle(2e11, 0.3, 7850.0, 0.02, 0.01).unwrap()
+    }
+
+    /// A curved element: a 20 degree arc of radius 1 in a tilted plane, unit frames.
+    fn curved_reference() -> [Vector3<f64>; 8] {
+        let rot = Rotation3::from_axis_angle(&Unit::new_normalize(Vector3::new(0.3, -0.5, 1.0)), 0.7);
+        let node = |phi: f64| {
+            let p = Vector3::new(phi.sin(), 1.0 - phi.cos(), 0.0);
+            let t = Vector3::new(phi.cos(), phi.sin(), 0.0);
+            let a = Vector3::new(-phi.sin(), phi.cos(), 0.0);
+            [rot * p, rot * t, rot * a, rot * Vector3::z()]
+        };
+        let (na, nb) = (node(0.1), node(0.1 + 20f64.to_radians()));
+        [na[0], na[1], na[2], na[3], nb[0], nb[1], nb[2], nb[3]]
+    }
+
+    fn element(reference: &[Vector3<f64>; 8], quad: BeamQuadrature) -> AncfBeam {
+        let l = AncfBeam::reference_length(reference);
+        AncfBeam::new([0, 1], reference, l, section(), quad).unwrap()
+    }
+
+    fn coords(v: &[Vector3<f64>; 8]) -> BeamVector {
+        BeamVector::from_fn(|r, _| v[r / 3][r % 3])
+    }
+
+    /// A deterministic, well spread perturbation of the element coordinates.
+    fn perturbed(e0: &BeamVector, amp: f64) -> BeamVector {
+        BeamVector::from_fn(|r, _| e0[r] + amp * ((r as f64 * 1.7 + 0.3).sin()))
+    }
+
+    #[test]
+    fn reference_length_of_an_arc_is_its_arc_length() {
+        // The Hermite cubic through the end points and unit tangents of a 20 degree arc
+        // is 2e-5 shorter than the arc (an interpolation error, ~ phi^4).
+        let l = AncfBeam::reference_length(&curved_reference());
+        let exact = 20f64.to_radians();
+        assert!((l / exact - 1.0).abs() < 3e-5, "{l} vs {exact}");
+        let straight = [Vector3::zeros(), Vector3::x(), Vector3::y(), Vector3::z(), 0.5 * Vector3::x(), Vector3::x(), Vector3::y(), Vector3::z()];
+        assert!((AncfBeam::reference_length(&straight) - 0.5).abs() < 1e-15);
+    }
+
+    #[test]
+    fn reference_is_stress_free_and_rigid_motions_give_no_force() {
+        let r0 = curved_reference();
+        let el = element(&r0, BeamQuadrature::default());
+        let e0 = coords(&r0);
+        let scale = section().young * section().area;
+        assert_eq!(el.strain_energy(&e0), 0.0);
+        assert!(el.internal_force(&e0).amax() < 1e-9 * scale);
+        // A large rotation and a translation of the whole element.
+        let rot = Rotation3::from_axis_angle(&Unit::new_normalize(Vector3::new(-1.0, 2.0, 0.5)), 2.1);
+        let shift = Vector3::new(3.0, -1.0, 7.0);
+        let moved: [Vector3<f64>; 8] =
+            std::array::from_fn(|i| if i % 4 == 0 { rot * r0[i] + shift } else { rot * r0[i] });
+        let f = el.internal_force(&coords(&moved));
+        assert!(f.amax() < 1e-6 * scale * 1e-3, "rigid motion force {}", f.amax());
+        assert!(el.strain_energy(&coords(&moved)) < 1e-9);
+        // ... while a deformation does produce one (the test can fail).
+        assert!(el.internal_force(&perturbed(&e0, 1e-3)).amax() > 1e-3 * scale * 1e-3);
+    }
+
+    #[test]
+    fn force_is_the_gradient_of_the_energy() {
+        let r0 = curved_reference();
+        for quad in [BeamQuadrature::default(), BeamQuadrature { bending: 5, shear: 4 }] {
+            let el = element(&r0, quad);
+            let e = perturbed(&coords(&r0), 0.02);
+            let f = el.internal_force(&e);
+            let h = 1e-6;
+            for i in 0..24 {
+                let (mut ep, mut em) = (e, e);
+                ep[i] += h;
+                em[i] -= h;
+                let fd = (el.strain_energy(&ep) - el.strain_energy(&em)) / (2.0 * h);
+                assert!(
+                    (fd - f[i]).abs() <= 1e-6 * f.amax(),
+                    "coordinate {i}: fd {fd} vs {}",
+                    f[i]
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn tangent_is_the_derivative_of_the_force() {
+        let r0 = curved_reference();
+        let el = element(&r0, BeamQuadrature::default());
+        let e = perturbed(&coords(&r0), 0.05);
+        let k = el.tangent_stiffness(&e);
+        let h = 1e-6;
+        for j in 0..24 {
+            let (mut ep, mut em) = (e, e);
+            ep[j] += h;
+            em[j] -= h;
+            let fd = (el.internal_force(&ep) - el.internal_force(&em)) / (2.0 * h);
+            for i in 0..24 {
+                assert!(
+                    (fd[i] - k[(i, j)]).abs() <= 1e-6 * k.amax(),
+                    "K[{i},{j}] = {} vs fd {}",
+                    k[(i, j)],
+                    fd[i]
+                );
+            }
+        }
+        assert!((k - k.transpose()).amax() <= 1e-12 * k.amax());
+    }
+
+    #[test]
+    fn stiffness_has_exactly_six_rigid_body_modes() {
+        for r0 in [curved_reference(), {
+            let x = Vector3::x();
+            [Vector3::zeros(), x, Vector3::y(), Vector3::z(), 0.5 * x, x, Vector3::y(), Vector3::z()]
+        }] {
+            let el = element(&r0, BeamQuadrature::default());
+            let k = el.tangent_stiffness(&coords(&r0));
+            let eig = k.symmetric_eigen().eigenvalues;
+            let max = eig.amax();
+            let zero = eig.iter().filter(|&&v| v.abs() < 1e-10 * max).count();
+            assert_eq!(zero, 6, "eigenvalues {eig:?}");
+            assert!(eig.iter().all(|&v| v > -1e-10 * max));
+        }
+    }
+
+    #[test]
+    fn mass_of_a_rigid_translation_and_gravity() {
+        let r0 = curved_reference();
+        let el = element(&r0, BeamQuadrature::default());
+        let s = section();
+        let m = el.mass_matrix();
+        let v = Vector3::new(0.3, -1.2, 2.0);
+        let vt = BeamVector::from_fn(|r, _| if (r / 3) % 4 == 0 { v[r % 3] } else { 0.0 });
+        // The mass of the reference centre line: rho A times its length, which is the
+        // parameter length L by construction.
+        let mass = s.density * s.area * el.length();
+        let ke = 0.5 * vt.dot(&(m * vt));
+        assert!((ke / (0.5 * mass * v.norm_squared()) - 1.0).abs() < 1e-5);
+        let g = Vector3::new(0.0, 0.0, -9.81);
+        let qg = el.gravity_force(&g);
+        let total: Vector3<f64> = (0..8).step_by(4).map(|i| Vector3::new(qg[3 * i], qg[3 * i + 1], qg[3 * i + 2])).sum();
+        assert!((total - mass * g).norm() < 1e-5 * mass * 9.81);
+        assert!((el.mass() / mass - 1.0).abs() < 1e-5);
+    }
+
+    #[test]
+    fn bad_input_is_rejected_with_the_field() {
+        let r0 = curved_reference();
+        let err = AncfBeam::new([0, 1], &r0, -1.0, section(), BeamQuadrature::default()).unwrap_err();
+        assert!(err.to_string().contains("element.length"), "{err}");
+        let err = AncfBeam::new([0, 1], &r0, 0.3, section(), BeamQuadrature { bending: 0, shear: 2 })
+            .unwrap_err();
+        assert!(err.to_string().contains("quadrature.bending"), "{err}");
+        let mut bad = r0;
+        bad[2] = Vector3::zeros();
+        bad[6] = Vector3::zeros();
+        let err = AncfBeam::new([0, 1], &bad, 0.3, section(), BeamQuadrature::default()).unwrap_err();
+        assert!(err.to_string().contains("element.reference"), "{err}");
+    }
+}
