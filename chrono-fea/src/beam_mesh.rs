@@ -3,9 +3,8 @@
 //! (sparse) assembly of forces, tangent stiffness and mass.
 //!
 //! Global coordinates: node `n` owns `q[12 n .. 12 n + 12] = [r, r_x, r_y, r_z]`.
-//! Supports hold coordinates at their current values: [`BeamMesh::clamp`] (position,
-//! tangent, section twist and shape; the shear tilt free), [`BeamMesh::fix_node`] (all
-//! 12), [`BeamMesh::fix_position`] (a spherical joint), [`BeamMesh::fix_coordinate`]. Loads are dead: nodal forces, couples
+//! Supports hold coordinates at their current values: [`BeamMesh::clamp`] (all 12),
+//! [`BeamMesh::fix_position`] (a spherical joint), [`BeamMesh::fix_coordinate`]. Loads are dead: nodal forces, couples
 //! ([`BeamMesh::set_torque`]) and gravity. The mesh implements [`StaticModel`], so
 //! [`solve_static`](crate::statics::solve_static) (Newton with load stepping) solves it.
 //!
@@ -257,33 +256,9 @@ impl BeamMesh {
         &self.elements
     }
 
-    /// Clamp node `n`: hold its position, its slope `r_x` (direction and stretch) and
-    /// the components of `r_y`, `r_z` normal to the reference tangent `t0` (the twist and
-    /// the deformation of the section); the components of `r_y`, `r_z` along `t0` — the
-    /// shear tilt of the section against the centre line — stay free. Holding them too
-    /// ([`fix_node`](Self::fix_node)) over-constrains the 2-point shear field of the first
-    /// element: one element of a tip-loaded cantilever then gives 75 % of the
-    /// Euler–Bernoulli deflection, against 99.9 % with this clamp (tested). Needs a
-    /// reference tangent along a coordinate axis (supports remove coordinates).
+    /// Clamp node `n`: hold all 12 coordinates (position and the whole frame
+    /// `r_x`, `r_y`, `r_z`, any orientation).
     pub fn clamp(&mut self, n: NodeId) -> Result<()> {
-        let node = self.node_mut(n)?;
-        let t = node.reference_gradients[0];
-        let Some(axis) = (0..3).find(|&i| (t[i].abs() - 1.0).abs() < FRAME_TOLERANCE) else {
-            return Err(FeaError::invalid(
-                format!("node {}.reference_gradients[0]", n.0),
-                format!("{t:?}"),
-                "a clamp needs a reference tangent along a coordinate axis (or use `fix_node`)",
-            ));
-        };
-        node.fixed = [true; 12];
-        node.fixed[6 + axis] = false;
-        node.fixed[9 + axis] = false;
-        Ok(())
-    }
-
-    /// Hold all 12 coordinates of node `n` (position and the whole frame, any
-    /// orientation; see [`clamp`](Self::clamp) for the difference).
-    pub fn fix_node(&mut self, n: NodeId) -> Result<()> {
         self.node_mut(n)?.fixed = [true; 12];
         Ok(())
     }

@@ -1,6 +1,6 @@
 //! The fully parameterized 3D ANCF beam element, with a structural-mechanics strain
-//! energy, selective reduced integration of the shear and cross-section strains, a
-//! curved (pre-shaped) reference configuration and torsion.
+//! energy, the shear and cross-section strains sampled at the nodes (the locking
+//! remedy), a curved (pre-shaped) reference configuration and torsion.
 //!
 //! Nodes carry 12 coordinates `[r, r_x, r_y, r_z]` ([`BeamNode`](crate::node::BeamNode)):
 //! the position and the three position gradients, as in the element of Shabana & Yakoub
@@ -28,47 +28,52 @@
 //! finite element", J. Comput. Nonlinear Dyn. 8: 021004), the energy is written with
 //! beam strains of the centre line `t = r_c'`, its derivative `t' = r_c''` and the
 //! cross-section vectors `a`, `b` (`'` = `d/dx`; `0`: reference; `l0 = |t0|`,
-//! `na = |a0|`, `nb = |b0|`):
+//! `na = |a0|`, `nb = |b0|`; the strain definitions are this crate's own):
 //!
 //! ```text
-//! eps  = (t.t - t0.t0) / (2 l0^2)                      axial          E A
-//! K_z  = (t'.a - t0'.a0) / (l0^2 na)                   bending (y)    E I_z
-//! K_y  = (t'.b - t0'.b0) / (l0^2 nb)                   bending (z)    E I_y
-//! g_y  = (t.a - t0.a0) / (l0 na)                       shear          k G A
-//! g_z  = (t.b - t0.b0) / (l0 nb)                       shear          k G A
-//! K_x  = ((a'.b - b'.a) - (a0'.b0 - b0'.a0)) / (2 l0 na nb)   twist   G J
-//! e_yy = (a.a - a0.a0) / (2 na^2), e_zz likewise       section        E A
-//! g_yz = (a.b - a0.b0) / (na nb)                        section        G A
+//! eps  = (t.t - t0.t0) / (2 l0^2)                              axial        E A
+//! K_z  = (t'.a / |a| - t0'.a0 / na) / l0^2                     bending (y)  E I_z
+//! K_y  = (t'.b / |b| - t0'.b0 / nb) / l0^2                     bending (z)  E I_y
+//! K_x  = ((a'.b - b'.a) / |a||b| - (a0'.b0 - b0'.a0) / na nb) / (2 l0)   twist  G J
+//! g_y  = (t.a - t0.a0) / (l0 na),  g_z likewise                shear        k G A
+//! e_yy = (a.a - a0.a0) / (2 na^2), e_zz likewise               section      E A
+//! g_yz = (a.b - a0.b0) / (na nb)                               section      G A
 //! U = 1/2 ∫ sum_s C_s s^2 l0 dx
 //! ```
 //!
 //! For an orthonormal frame `(t, a, b)` these are the material strains of Reissner's
 //! (Simo's) geometrically exact beam: `K_z = t'.a` and `K_y = -b'.t` are the bending
-//! curvatures, `K_x = a'.b` the twist. Each is a difference of dot products of deformed
-//! vectors, so any rigid motion leaves every strain (and the force) zero, and the
-//! reference configuration — straight or curved — is stress free by construction.
+//! curvatures, `K_x = a'.b` the twist. Each is built from dot products and lengths of
+//! deformed vectors, so any rigid motion leaves every strain (and the force) zero, and
+//! the reference configuration — straight or curved — is stress free by construction.
 //! Bending is carried by the cubic centre line (`t'` is linear in `xi`), so a tip-loaded
-//! cantilever is represented exactly, as in an Euler–Bernoulli element.
+//! cantilever is represented exactly, as in an Euler–Bernoulli element. The curvatures
+//! and the twist divide by the current `|a|`, `|b|`: the linear interpolation of two
+//! section vectors at an angle `D` is shorter inside the element (by `(1 - cos D) / 4`
+//! at the middle), which would otherwise read as a smaller curvature and make coarse
+//! meshes too flexible under large rotations (the 45-degree bend with 4 elements: tip
+//! `z` 55.35 instead of 53.5 without the division, 53.54 with it).
 //!
-//! ## Locking remedy: selective reduced integration
+//! ## Locking remedy: shear and section strains at the nodes
 //!
-//! `eps`, `K_y`, `K_z` are integrated with 3 Gauss points ([`BeamQuadrature::bending`]):
-//! exact for the linearized energy. The shear strains `g_y`, `g_z` and the cross-section
-//! strains `e_yy`, `e_zz`, `g_yz`, `K_x` with 2 points ([`BeamQuadrature::shear`]): the
-//! shear `t.a` mixes the quadratic `t` with the linear `a`, and the second Legendre
-//! polynomial `P2` — the part the linear `a` cannot follow — vanishes at the 2 Gauss
-//! points, so a slender beam does not shear-lock; likewise the interpolated section
-//! vectors shorten in the middle of a rotating element by a `xi (1 - xi)` (`P2`-like)
-//! term, which the 2 points do not see. The rank stays complete: 18 deformation modes of
-//! the 24 coordinates (6 rigid motions), checked by the tests. With 3 shear points the
-//! centre line is tied to the linear section vectors (constant curvature per element):
-//! one element of a tip-loaded cantilever gives 3/4 of the Euler–Bernoulli deflection,
-//! against 99.9 % with 2 points (test `full_shear_integration_is_too_stiff` in the mesh;
-//! the clamp leaves the shear tilt of the section free, see `BeamMesh::clamp`).
+//! `eps`, `K_y`, `K_z` use 3 Gauss points ([`BeamQuadrature::bending`], exact for the
+//! linearized energy), `K_x` 2 points ([`BeamQuadrature::twist`]). The shear strains
+//! `g_y`, `g_z` and the section strains `e_yy`, `e_zz`, `g_yz` are sampled at the two
+//! nodes with weights `L/2` ([`BeamQuadrature::shear`] = 0), where `t`, `a`, `b` are the
+//! nodal coordinates themselves: the shear constraint `r_x . r_y = 0` ties the section
+//! vectors to the nodal slopes only and leaves the cubic centre line free to bend, and
+//! the section vectors' rotation inside an element is never seen as a stretch (a tying
+//! of the constraints at the nodes, in the spirit of assumed natural strains). Inside
+//! the element, by contrast, `t` is quadratic and `a` linear: sampling the shear at 3
+//! Gauss points gives a constant curvature per element (one element of a tip-loaded
+//! cantilever: 3/4 of the Euler–Bernoulli deflection), at 2 Gauss points the clamp
+//! contradicts the 2-point shear field and rotating elements lock (the 45-degree bend
+//! with 4 elements: tip `z` 41.6 instead of 53.5). The rank stays complete: 18
+//! deformation modes of the 24 coordinates (6 rigid motions), checked by the tests.
 //!
 //! Internal force `Q = dU/de` and the tangent `K = d^2U/de^2` are exact: every strain is
-//! `s = sum_k c_k U_k.V_k - s0` with `U_k`, `V_k` linear in `e`, so `ds/de` is linear in
-//! `e` and `d^2s/de^2` is constant (checked against finite differences in the tests).
+//! `s = (sum_k c_k U_k.V_k) prod_m |W_m|^-1 - s0` with `U_k`, `V_k`, `W_m` linear in `e`
+//! (product rule, checked against finite differences in the tests).
 //!
 //! Consistent mass and gravity from `r(x, y, z)` over the volume (centroidal, doubly
 //! symmetric section): `M = rho ∫ (A S_c^T S_c + I_z S_a^T S_a + I_y S_b^T S_b) l0 dx`,
@@ -85,13 +90,16 @@ pub type BeamVector = SVector<f64, 24>;
 /// A 24 x 24 element matrix.
 pub type BeamMatrix = SMatrix<f64, 24, 24>;
 
-/// Numbers of Gauss points along the element (see the module docs).
+/// Where the element samples its strains (see the module docs).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct BeamQuadrature {
-    /// Points for the axial and bending strains, 1..=5 (default 3).
+    /// Gauss points for the axial and bending strains, 1..=5 (default 3).
     pub bending: usize,
-    /// Points for the shear, twist and cross-section strains, 1..=5 (default 2, the
-    /// locking remedy; 3 and more lock in shear).
+    /// Gauss points for the twist, 1..=5 (default 2).
+    pub twist: usize,
+    /// Sampling of the transverse shear and cross-section strains: 0 (default) at the
+    /// two nodes (weights 1/2, the locking remedy), 1..=5 Gauss points (2 and more lock
+    /// under large rotations, 3 and more also in small-deflection bending).
     pub shear: usize,
 }
 
@@ -99,24 +107,34 @@ impl Default for BeamQuadrature {
     fn default() -> Self {
         Self {
             bending: 3,
-            shear: 2,
+            twist: 2,
+            shear: 0,
         }
     }
 }
 
 impl BeamQuadrature {
     fn validate(&self) -> Result<()> {
-        for (field, n) in [
-            ("quadrature.bending", self.bending),
-            ("quadrature.shear", self.shear),
+        for (field, n, min) in [
+            ("quadrature.bending", self.bending, 1),
+            ("quadrature.twist", self.twist, 1),
+            ("quadrature.shear", self.shear, 0),
         ] {
-            if !(1..=5).contains(&n) {
-                return Err(FeaError::invalid(field, n, "must be in 1..=5"));
+            if !(min..=5).contains(&n) {
+                return Err(FeaError::invalid(field, n, format!("must be in {min}..=5")));
             }
         }
         Ok(())
     }
+
+    /// The sampling points `(xi, weight)` of the shear and cross-section strains.
+    fn shear_points(&self) -> &'static [(f64, f64)] {
+        if self.shear == 0 { &NODES } else { gauss_unit(self.shear) }
+    }
 }
+
+/// The two nodes as sampling points (trapezoidal weights).
+const NODES: [(f64, f64); 2] = [(0.0, 0.5), (1.0, 0.5)];
 
 /// Scalar weights of the 8 nodal vectors `[r_A, r_x,A, r_y,A, r_z,A, r_B, ..]` in a field.
 type Weights = [f64; 8];
@@ -147,28 +165,40 @@ fn vectors(e: &BeamVector) -> [Vector3<f64>; 8] {
     std::array::from_fn(|i| Vector3::new(e[3 * i], e[3 * i + 1], e[3 * i + 2]))
 }
 
-/// One strain measure at one Gauss point: `s = sum_k c_k U_k . V_k - s0`,
-/// `U_k = sum_i u_k,i q_i`, `V_k = sum_i v_k,i q_i`, with energy weight `w`
-/// (stiffness x Gauss weight x `L l0`): `U_s = w s^2 / 2`.
+/// One strain measure at one sampling point:
+/// `s = (sum_k c_k U_k . V_k) prod_m |W_m|^-1 - s0` with `U_k = sum_i u_k,i q_i` (likewise
+/// `V_k`, `W_m`) and energy weight `w` (stiffness x Gauss weight x `L l0`):
+/// `U_s = w s^2 / 2`. The divisions by the current `|a|`, `|b|` (`norms`) make the
+/// curvatures and the twist those of the unit section axes.
 #[derive(Debug, Clone, PartialEq)]
 struct StrainTerm {
     terms: Vec<(f64, Weights, Weights)>,
+    norms: Vec<Weights>,
     reference: f64,
     weight: f64,
 }
 
+/// A factor of a strain: value, gradient and Hessian in the 24 coordinates.
+type Factor = (f64, BeamVector, BeamMatrix);
+
+/// Hessian block `(i, j)` of a scalar times the identity, dense.
+fn kron_identity(h: &SMatrix<f64, 8, 8>) -> BeamMatrix {
+    BeamMatrix::from_fn(|r, c| if r % 3 == c % 3 { h[(r / 3, c / 3)] } else { 0.0 })
+}
+
 impl StrainTerm {
     fn raw(&self, q: &[Vector3<f64>; 8]) -> f64 {
-        self.terms
+        let f: f64 = self
+            .terms
             .iter()
             .map(|(c, u, v)| c * field(u, q).dot(&field(v, q)))
-            .sum()
+            .sum();
+        self.norms.iter().fold(f, |acc, w| acc / field(w, q).norm())
     }
 
-    /// The strain, its gradient (24) and, if asked, its constant Hessian (8 x 8 scalar
-    /// blocks times the 3 x 3 identity).
-    fn evaluate(&self, q: &[Vector3<f64>; 8]) -> (f64, BeamVector) {
-        let mut s = -self.reference;
+    /// The dot-product part `f = sum_k c_k U_k . V_k` and its gradient.
+    fn dot_part(&self, q: &[Vector3<f64>; 8]) -> (f64, BeamVector) {
+        let mut s = 0.0;
         let mut g = BeamVector::zeros();
         for (c, u, v) in &self.terms {
             let (uu, vv) = (field(u, q), field(v, q));
@@ -183,7 +213,9 @@ impl StrainTerm {
         (s, g)
     }
 
-    fn hessian(&self) -> SMatrix<f64, 8, 8> {
+    /// The constant Hessian of the dot-product part, as 8 x 8 scalar blocks (times the
+    /// 3 x 3 identity).
+    fn dot_hessian(&self) -> SMatrix<f64, 8, 8> {
         let mut h = SMatrix::<f64, 8, 8>::zeros();
         for (c, u, v) in &self.terms {
             for i in 0..8 {
@@ -193,6 +225,62 @@ impl StrainTerm {
             }
         }
         h
+    }
+
+    /// `n = |W|^-1` with its gradient and Hessian:
+    /// `dn/dq_i = -n^3 w_i W`, `d^2n/dq_i dq_j = w_i w_j (3 n^5 W W^T - n^3 I)`.
+    fn inverse_norm(w: &Weights, q: &[Vector3<f64>; 8], hessian: bool) -> Factor {
+        let ww = field(w, q);
+        let n = 1.0 / ww.norm();
+        let n3 = n * n * n;
+        let g = BeamVector::from_fn(|r, _| -n3 * w[r / 3] * ww[r % 3]);
+        let h = if hessian {
+            let n5 = n3 * n * n;
+            BeamMatrix::from_fn(|r, c| {
+                let (i, j) = (r / 3, c / 3);
+                let id = if r % 3 == c % 3 { 1.0 } else { 0.0 };
+                w[i] * w[j] * (3.0 * n5 * ww[r % 3] * ww[c % 3] - n3 * id)
+            })
+        } else {
+            BeamMatrix::zeros()
+        };
+        (n, g, h)
+    }
+
+    /// The strain, its gradient and (if `hessian`) its Hessian; a plain dot-product
+    /// strain returns `None` for the Hessian: it is `dot_hessian`, constant.
+    fn evaluate(&self, q: &[Vector3<f64>; 8], hessian: bool) -> (f64, BeamVector, Option<BeamMatrix>) {
+        let (f, gf) = self.dot_part(q);
+        if self.norms.is_empty() {
+            return (f - self.reference, gf, None);
+        }
+        // Product rule over the factors f, n_1, .., n_m.
+        let hf = if hessian { kron_identity(&self.dot_hessian()) } else { BeamMatrix::zeros() };
+        let mut factors: Vec<Factor> = vec![(f, gf, hf)];
+        factors.extend(self.norms.iter().map(|w| Self::inverse_norm(w, q, hessian)));
+        let others = |skip: &[usize]| -> f64 {
+            factors
+                .iter()
+                .enumerate()
+                .filter(|(k, _)| !skip.contains(k))
+                .map(|(_, x)| x.0)
+                .product()
+        };
+        let value = others(&[]);
+        let mut g = BeamVector::zeros();
+        let mut h = BeamMatrix::zeros();
+        for (a, fa) in factors.iter().enumerate() {
+            g += others(&[a]) * fa.1;
+            if hessian {
+                h += others(&[a]) * fa.2;
+                for (b, fb) in factors.iter().enumerate() {
+                    if b != a {
+                        h.ger(others(&[a, b]), &fa.1, &fb.1, 1.0);
+                    }
+                }
+            }
+        }
+        (value - self.reference, g, hessian.then_some(h))
     }
 }
 
@@ -270,9 +358,14 @@ impl AncfBeam {
             }
             Ok((w, l0, na, nb))
         };
-        let mut push = |terms: Vec<(f64, Weights, Weights)>, stiffness: f64, gw: f64, l0: f64| {
+        let mut push = |terms: Vec<(f64, Weights, Weights)>,
+                        norms: Vec<Weights>,
+                        stiffness: f64,
+                        gw: f64,
+                        l0: f64| {
             let mut st = StrainTerm {
                 terms,
+                norms,
                 reference: 0.0,
                 weight: stiffness * gw * l * l0,
             };
@@ -280,23 +373,27 @@ impl AncfBeam {
             strains.push(st);
         };
         for &(xi, gw) in gauss_unit(quadrature.bending) {
-            let (w, l0, na, nb) = frame(xi)?;
+            let (w, l0, _, _) = frame(xi)?;
             let [_, t, tp, a, _, b, _] = w;
-            push(vec![(0.5 / (l0 * l0), t, t)], ea, gw, l0);
-            push(vec![(1.0 / (l0 * l0 * na), tp, a)], s.young * s.iz, gw, l0);
-            push(vec![(1.0 / (l0 * l0 * nb), tp, b)], s.young * s.iy, gw, l0);
+            push(vec![(0.5 / (l0 * l0), t, t)], vec![], ea, gw, l0);
+            push(vec![(1.0 / (l0 * l0), tp, a)], vec![a], s.young * s.iz, gw, l0);
+            push(vec![(1.0 / (l0 * l0), tp, b)], vec![b], s.young * s.iy, gw, l0);
         }
-        for &(xi, gw) in gauss_unit(quadrature.shear) {
+        for &(xi, gw) in gauss_unit(quadrature.twist) {
+            let (w, l0, _, _) = frame(xi)?;
+            let [_, _, _, a, ap, b, bp] = w;
+            let c = 0.5 / l0;
+            push(vec![(c, ap, b), (-c, bp, a)], vec![a, b], s.shear_modulus * s.torsion, gw, l0);
+        }
+        for &(xi, gw) in quadrature.shear_points() {
             let (w, l0, na, nb) = frame(xi)?;
-            let [_, t, _, a, ap, b, bp] = w;
+            let [_, t, _, a, _, b, _] = w;
             let kga = s.shear_factor * ga;
-            push(vec![(1.0 / (l0 * na), t, a)], kga, gw, l0);
-            push(vec![(1.0 / (l0 * nb), t, b)], kga, gw, l0);
-            let c = 0.5 / (l0 * na * nb);
-            push(vec![(c, ap, b), (-c, bp, a)], s.shear_modulus * s.torsion, gw, l0);
-            push(vec![(0.5 / (na * na), a, a)], ea, gw, l0);
-            push(vec![(0.5 / (nb * nb), b, b)], ea, gw, l0);
-            push(vec![(1.0 / (na * nb), a, b)], ga, gw, l0);
+            push(vec![(1.0 / (l0 * na), t, a)], vec![], kga, gw, l0);
+            push(vec![(1.0 / (l0 * nb), t, b)], vec![], kga, gw, l0);
+            push(vec![(0.5 / (na * na), a, a)], vec![], ea, gw, l0);
+            push(vec![(0.5 / (nb * nb), b, b)], vec![], ea, gw, l0);
+            push(vec![(1.0 / (na * nb), a, b)], vec![], ga, gw, l0);
         }
         let mut mass8 = SMatrix::<f64, 8, 8>::zeros();
         let mut gravity8 = [0.0; 8];
@@ -356,11 +453,15 @@ impl AncfBeam {
         let mut f = BeamVector::zeros();
         let mut k = BeamMatrix::zeros();
         for st in &self.strains {
-            let (s, g) = st.evaluate(&q);
+            let (s, g, dense) = st.evaluate(&q, tangent);
             f += st.weight * s * g;
             if tangent {
                 k.ger(st.weight, &g, &g, 1.0);
-                let h = st.hessian();
+                if let Some(h) = dense {
+                    k += (st.weight * s) * h;
+                    continue;
+                }
+                let h = st.dot_hessian();
                 for i in 0..8 {
                     for j in 0..8 {
                         let hij = st.weight * s * h[(i, j)];
@@ -486,7 +587,7 @@ mod tests {
     #[test]
     fn force_is_the_gradient_of_the_energy() {
         let r0 = curved_reference();
-        for quad in [BeamQuadrature::default(), BeamQuadrature { bending: 5, shear: 4 }] {
+        for quad in [BeamQuadrature::default(), BeamQuadrature { bending: 5, twist: 3, shear: 2 }] {
             let el = element(&r0, quad);
             let e = perturbed(&coords(&r0), 0.02);
             let f = el.internal_force(&e);
@@ -570,7 +671,7 @@ mod tests {
         let r0 = curved_reference();
         let err = AncfBeam::new([0, 1], &r0, -1.0, section(), BeamQuadrature::default()).unwrap_err();
         assert!(err.to_string().contains("element.length"), "{err}");
-        let err = AncfBeam::new([0, 1], &r0, 0.3, section(), BeamQuadrature { bending: 0, shear: 2 })
+        let err = AncfBeam::new([0, 1], &r0, 0.3, section(), BeamQuadrature { bending: 0, ..Default::default() })
             .unwrap_err();
         assert!(err.to_string().contains("quadrature.bending"), "{err}");
         let mut bad = r0;

@@ -1,5 +1,7 @@
 //! Finite-element validation cases (chrono-fea):
 //!
+//! - `fea-bend-45`: the 45-degree bend of Bathe & Bolourchi (1979), a curved cantilever
+//!   under an out-of-plane tip load, with the fully parameterized ANCF beam;
 //! - `fea-cantilever`: an ANCF cantilever under a dead tip force, from the small-load
 //!   Euler–Bernoulli regime to the large-deflection elastica (`P L^2 / (E I)` up to 10);
 //! - `fea-cantilever-frequency`: its first bending frequency against the Euler–Bernoulli
@@ -14,6 +16,7 @@
 //! - `fea-shell-pressure`: an ANCF shell sphere under internal follower pressure against
 //!   the membrane solution.
 
+pub mod bend45;
 pub mod cantilever;
 pub mod frequency;
 pub mod pendulum;
