@@ -107,10 +107,18 @@ impl BeamMesh {
         finite3("toward", &toward)?;
         let r = positive("radius", radius)?;
         if !(angle.is_finite() && angle > 0.0 && angle < std::f64::consts::TAU) {
-            return Err(FeaError::invalid("angle", angle, "must be in (0, 2 pi) rad"));
+            return Err(FeaError::invalid(
+                "angle",
+                angle,
+                "must be in (0, 2 pi) rad",
+            ));
         }
         if tangent.norm() == 0.0 {
-            return Err(FeaError::invalid("tangent", "[0, 0, 0]", "must be non-zero"));
+            return Err(FeaError::invalid(
+                "tangent",
+                "[0, 0, 0]",
+                "must be non-zero",
+            ));
         }
         let t = tangent.normalize();
         let n = toward - t * t.dot(&toward);
@@ -140,7 +148,11 @@ impl BeamMesh {
 
     /// Add a node at `position` (m) with the reference gradients `[r_x, r_y, r_z]`: an
     /// orthonormal frame (unit tangent, unit section axes), within `1e-9`.
-    pub fn add_node(&mut self, position: Vector3<f64>, gradients: [Vector3<f64>; 3]) -> Result<NodeId> {
+    pub fn add_node(
+        &mut self,
+        position: Vector3<f64>,
+        gradients: [Vector3<f64>; 3],
+    ) -> Result<NodeId> {
         finite3("node.position", &position)?;
         for (k, g) in gradients.iter().enumerate() {
             finite3(&format!("node.gradient[{k}]"), g)?;
@@ -200,14 +212,20 @@ impl BeamMesh {
         }
         let reference = Self::reference_vectors(&self.nodes[a.0], &self.nodes[b.0]);
         let length = AncfBeam::reference_length(&reference);
-        let el = AncfBeam::new([a.0, b.0], &reference, length, section, quadrature).map_err(|e| match e {
-            FeaError::InvalidParameter { field, value, reason } => FeaError::InvalidParameter {
-                field: format!("element {index}: {field}"),
-                value,
-                reason,
+        let el = AncfBeam::new([a.0, b.0], &reference, length, section, quadrature).map_err(
+            |e| match e {
+                FeaError::InvalidParameter {
+                    field,
+                    value,
+                    reason,
+                } => FeaError::InvalidParameter {
+                    field: format!("element {index}: {field}"),
+                    value,
+                    reason,
+                },
+                other => other,
             },
-            other => other,
-        })?;
+        )?;
         self.elements.push(el);
         Ok(index)
     }
@@ -215,7 +233,16 @@ impl BeamMesh {
     fn reference_vectors(a: &BeamNode, b: &BeamNode) -> [Vector3<f64>; 8] {
         let [ax, ay, az] = a.reference_gradients;
         let [bx, by, bz] = b.reference_gradients;
-        [a.reference_position, ax, ay, az, b.reference_position, bx, by, bz]
+        [
+            a.reference_position,
+            ax,
+            ay,
+            az,
+            b.reference_position,
+            bx,
+            by,
+            bz,
+        ]
     }
 
     /// Rebuild every element with `quadrature` (same nodes and sections).
@@ -337,7 +364,13 @@ impl BeamMesh {
     pub fn set_coordinates(&mut self, q: &[f64]) -> Result<()> {
         crate::error::check_coordinates(q, self.ndof(), BeamNode::NDOF)?;
         for (n, node) in self.nodes.iter_mut().enumerate() {
-            let v = |k: usize| Vector3::new(q[12 * n + 3 * k], q[12 * n + 3 * k + 1], q[12 * n + 3 * k + 2]);
+            let v = |k: usize| {
+                Vector3::new(
+                    q[12 * n + 3 * k],
+                    q[12 * n + 3 * k + 1],
+                    q[12 * n + 3 * k + 2],
+                )
+            };
             node.position = v(0);
             node.gradients = [v(1), v(2), v(3)];
         }

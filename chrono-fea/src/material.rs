@@ -262,7 +262,13 @@ impl BeamSection {
     /// ```
     ///
     /// (a square: `J = 0.1406 a^4`).
-    pub fn rectangle(young: f64, poisson: f64, density: f64, width: f64, height: f64) -> Result<Self> {
+    pub fn rectangle(
+        young: f64,
+        poisson: f64,
+        density: f64,
+        width: f64,
+        height: f64,
+    ) -> Result<Self> {
         let w = positive("section.width", width)?;
         let h = positive("section.height", height)?;
         if !(poisson.is_finite() && poisson > -1.0 && poisson < 0.5) {

@@ -47,7 +47,12 @@
 //! deformed vectors, so any rigid motion leaves every strain (and the force) zero, and
 //! the reference configuration — straight or curved — is stress free by construction.
 //! Bending is carried by the cubic centre line (`t'` is linear in `xi`), so a tip-loaded
-//! cantilever is represented exactly, as in an Euler–Bernoulli element. The curvatures
+//! cantilever is represented exactly, as in an Euler–Bernoulli element. The transverse
+//! shear strain ties the section vectors to the centre line (its stiffness `k G A` acts
+//! on the tilt of the section) but does not add deflection: the centre line bends like
+//! an Euler–Bernoulli beam, which slender beams are (Timoshenko's shear term
+//! `3 E I / (k G A L^2)` is `1e-4` at `L / h = 100`); thick beams come out too stiff by
+//! that term. The curvatures
 //! and the twist divide by the current `|a|`, `|b|`: the linear interpolation of two
 //! section vectors at an angle `D` is shorter inside the element (by `(1 - cos D) / 4`
 //! at the middle), which would otherwise read as a smaller curvature and make coarse
@@ -129,7 +134,11 @@ impl BeamQuadrature {
 
     /// The sampling points `(xi, weight)` of the shear and cross-section strains.
     fn shear_points(&self) -> &'static [(f64, f64)] {
-        if self.shear == 0 { &NODES } else { gauss_unit(self.shear) }
+        if self.shear == 0 {
+            &NODES
+        } else {
+            gauss_unit(self.shear)
+        }
     }
 }
 
@@ -143,12 +152,36 @@ type Weights = [f64; 8];
 /// `(r_c, t = r_c', t' = r_c'', a, a', b, b')`.
 fn shape(xi: f64, l: f64) -> [Weights; 7] {
     let (x2, x3) = (xi * xi, xi * xi * xi);
-    let h = [1.0 - 3.0 * x2 + 2.0 * x3, xi - 2.0 * x2 + x3, 3.0 * x2 - 2.0 * x3, x3 - x2];
-    let d = [-6.0 * xi + 6.0 * x2, 1.0 - 4.0 * xi + 3.0 * x2, 6.0 * xi - 6.0 * x2, 3.0 * x2 - 2.0 * xi];
-    let dd = [-6.0 + 12.0 * xi, -4.0 + 6.0 * xi, 6.0 - 12.0 * xi, 6.0 * xi - 2.0];
+    let h = [
+        1.0 - 3.0 * x2 + 2.0 * x3,
+        xi - 2.0 * x2 + x3,
+        3.0 * x2 - 2.0 * x3,
+        x3 - x2,
+    ];
+    let d = [
+        -6.0 * xi + 6.0 * x2,
+        1.0 - 4.0 * xi + 3.0 * x2,
+        6.0 * xi - 6.0 * x2,
+        3.0 * x2 - 2.0 * xi,
+    ];
+    let dd = [
+        -6.0 + 12.0 * xi,
+        -4.0 + 6.0 * xi,
+        6.0 - 12.0 * xi,
+        6.0 * xi - 2.0,
+    ];
     let r = [h[0], l * h[1], 0.0, 0.0, h[2], l * h[3], 0.0, 0.0];
     let t = [d[0] / l, d[1], 0.0, 0.0, d[2] / l, d[3], 0.0, 0.0];
-    let tp = [dd[0] / (l * l), dd[1] / l, 0.0, 0.0, dd[2] / (l * l), dd[3] / l, 0.0, 0.0];
+    let tp = [
+        dd[0] / (l * l),
+        dd[1] / l,
+        0.0,
+        0.0,
+        dd[2] / (l * l),
+        dd[3] / l,
+        0.0,
+        0.0,
+    ];
     let a = [0.0, 0.0, 1.0 - xi, 0.0, 0.0, 0.0, xi, 0.0];
     let ap = [0.0, 0.0, -1.0 / l, 0.0, 0.0, 0.0, 1.0 / l, 0.0];
     let b = [0.0, 0.0, 0.0, 1.0 - xi, 0.0, 0.0, 0.0, xi];
@@ -183,7 +216,13 @@ type Factor = (f64, BeamVector, BeamMatrix);
 
 /// Hessian block `(i, j)` of a scalar times the identity, dense.
 fn kron_identity(h: &SMatrix<f64, 8, 8>) -> BeamMatrix {
-    BeamMatrix::from_fn(|r, c| if r % 3 == c % 3 { h[(r / 3, c / 3)] } else { 0.0 })
+    BeamMatrix::from_fn(|r, c| {
+        if r % 3 == c % 3 {
+            h[(r / 3, c / 3)]
+        } else {
+            0.0
+        }
+    })
 }
 
 impl StrainTerm {
@@ -249,13 +288,21 @@ impl StrainTerm {
 
     /// The strain, its gradient and (if `hessian`) its Hessian; a plain dot-product
     /// strain returns `None` for the Hessian: it is `dot_hessian`, constant.
-    fn evaluate(&self, q: &[Vector3<f64>; 8], hessian: bool) -> (f64, BeamVector, Option<BeamMatrix>) {
+    fn evaluate(
+        &self,
+        q: &[Vector3<f64>; 8],
+        hessian: bool,
+    ) -> (f64, BeamVector, Option<BeamMatrix>) {
         let (f, gf) = self.dot_part(q);
         if self.norms.is_empty() {
             return (f - self.reference, gf, None);
         }
         // Product rule over the factors f, n_1, .., n_m.
-        let hf = if hessian { kron_identity(&self.dot_hessian()) } else { BeamMatrix::zeros() };
+        let hf = if hessian {
+            kron_identity(&self.dot_hessian())
+        } else {
+            BeamMatrix::zeros()
+        };
         let mut factors: Vec<Factor> = vec![(f, gf, hf)];
         factors.extend(self.norms.iter().map(|w| Self::inverse_norm(w, q, hessian)));
         let others = |skip: &[usize]| -> f64 {
@@ -347,7 +394,11 @@ impl AncfBeam {
         let mut strains = Vec::new();
         let frame = |xi: f64| -> Result<([Weights; 7], f64, f64, f64)> {
             let w = shape(xi, l);
-            let (t0, a0, b0) = (field(&w[1], reference), field(&w[3], reference), field(&w[5], reference));
+            let (t0, a0, b0) = (
+                field(&w[1], reference),
+                field(&w[3], reference),
+                field(&w[5], reference),
+            );
             let (l0, na, nb) = (t0.norm(), a0.norm(), b0.norm());
             if !(l0 > 0.0 && na > 0.0 && nb > 0.0) {
                 return Err(FeaError::invalid(
@@ -376,14 +427,32 @@ impl AncfBeam {
             let (w, l0, _, _) = frame(xi)?;
             let [_, t, tp, a, _, b, _] = w;
             push(vec![(0.5 / (l0 * l0), t, t)], vec![], ea, gw, l0);
-            push(vec![(1.0 / (l0 * l0), tp, a)], vec![a], s.young * s.iz, gw, l0);
-            push(vec![(1.0 / (l0 * l0), tp, b)], vec![b], s.young * s.iy, gw, l0);
+            push(
+                vec![(1.0 / (l0 * l0), tp, a)],
+                vec![a],
+                s.young * s.iz,
+                gw,
+                l0,
+            );
+            push(
+                vec![(1.0 / (l0 * l0), tp, b)],
+                vec![b],
+                s.young * s.iy,
+                gw,
+                l0,
+            );
         }
         for &(xi, gw) in gauss_unit(quadrature.twist) {
             let (w, l0, _, _) = frame(xi)?;
             let [_, _, _, a, ap, b, bp] = w;
             let c = 0.5 / l0;
-            push(vec![(c, ap, b), (-c, bp, a)], vec![a, b], s.shear_modulus * s.torsion, gw, l0);
+            push(
+                vec![(c, ap, b), (-c, bp, a)],
+                vec![a, b],
+                s.shear_modulus * s.torsion,
+                gw,
+                l0,
+            );
         }
         for &(xi, gw) in quadrature.shear_points() {
             let (w, l0, na, nb) = frame(xi)?;
@@ -404,7 +473,8 @@ impl AncfBeam {
             for i in 0..8 {
                 gravity8[i] += ds * s.area * r[i];
                 for j in 0..8 {
-                    mass8[(i, j)] += ds * (s.area * r[i] * r[j] + s.iz * a[i] * a[j] + s.iy * b[i] * b[j]);
+                    mass8[(i, j)] +=
+                        ds * (s.area * r[i] * r[j] + s.iz * a[i] * a[j] + s.iy * b[i] * b[j]);
                 }
             }
         }
@@ -528,7 +598,8 @@ mod tests {
 
     /// A curved element: a 20 degree arc of radius 1 in a tilted plane, unit frames.
     fn curved_reference() -> [Vector3<f64>; 8] {
-        let rot = Rotation3::from_axis_angle(&Unit::new_normalize(Vector3::new(0.3, -0.5, 1.0)), 0.7);
+        let rot =
+            Rotation3::from_axis_angle(&Unit::new_normalize(Vector3::new(0.3, -0.5, 1.0)), 0.7);
         let node = |phi: f64| {
             let p = Vector3::new(phi.sin(), 1.0 - phi.cos(), 0.0);
             let t = Vector3::new(phi.cos(), phi.sin(), 0.0);
@@ -560,7 +631,16 @@ mod tests {
         let l = AncfBeam::reference_length(&curved_reference());
         let exact = 20f64.to_radians();
         assert!((l / exact - 1.0).abs() < 3e-5, "{l} vs {exact}");
-        let straight = [Vector3::zeros(), Vector3::x(), Vector3::y(), Vector3::z(), 0.5 * Vector3::x(), Vector3::x(), Vector3::y(), Vector3::z()];
+        let straight = [
+            Vector3::zeros(),
+            Vector3::x(),
+            Vector3::y(),
+            Vector3::z(),
+            0.5 * Vector3::x(),
+            Vector3::x(),
+            Vector3::y(),
+            Vector3::z(),
+        ];
         assert!((AncfBeam::reference_length(&straight) - 0.5).abs() < 1e-15);
     }
 
@@ -573,12 +653,22 @@ mod tests {
         assert_eq!(el.strain_energy(&e0), 0.0);
         assert!(el.internal_force(&e0).amax() < 1e-9 * scale);
         // A large rotation and a translation of the whole element.
-        let rot = Rotation3::from_axis_angle(&Unit::new_normalize(Vector3::new(-1.0, 2.0, 0.5)), 2.1);
+        let rot =
+            Rotation3::from_axis_angle(&Unit::new_normalize(Vector3::new(-1.0, 2.0, 0.5)), 2.1);
         let shift = Vector3::new(3.0, -1.0, 7.0);
-        let moved: [Vector3<f64>; 8] =
-            std::array::from_fn(|i| if i % 4 == 0 { rot * r0[i] + shift } else { rot * r0[i] });
+        let moved: [Vector3<f64>; 8] = std::array::from_fn(|i| {
+            if i % 4 == 0 {
+                rot * r0[i] + shift
+            } else {
+                rot * r0[i]
+            }
+        });
         let f = el.internal_force(&coords(&moved));
-        assert!(f.amax() < 1e-6 * scale * 1e-3, "rigid motion force {}", f.amax());
+        assert!(
+            f.amax() < 1e-6 * scale * 1e-3,
+            "rigid motion force {}",
+            f.amax()
+        );
         assert!(el.strain_energy(&coords(&moved)) < 1e-9);
         // ... while a deformation does produce one (the test can fail).
         assert!(el.internal_force(&perturbed(&e0, 1e-3)).amax() > 1e-3 * scale * 1e-3);
@@ -587,7 +677,14 @@ mod tests {
     #[test]
     fn force_is_the_gradient_of_the_energy() {
         let r0 = curved_reference();
-        for quad in [BeamQuadrature::default(), BeamQuadrature { bending: 5, twist: 3, shear: 2 }] {
+        for quad in [
+            BeamQuadrature::default(),
+            BeamQuadrature {
+                bending: 5,
+                twist: 3,
+                shear: 2,
+            },
+        ] {
             let el = element(&r0, quad);
             let e = perturbed(&coords(&r0), 0.02);
             let f = el.internal_force(&e);
@@ -634,7 +731,16 @@ mod tests {
     fn stiffness_has_exactly_six_rigid_body_modes() {
         for r0 in [curved_reference(), {
             let x = Vector3::x();
-            [Vector3::zeros(), x, Vector3::y(), Vector3::z(), 0.5 * x, x, Vector3::y(), Vector3::z()]
+            [
+                Vector3::zeros(),
+                x,
+                Vector3::y(),
+                Vector3::z(),
+                0.5 * x,
+                x,
+                Vector3::y(),
+                Vector3::z(),
+            ]
         }] {
             let el = element(&r0, BeamQuadrature::default());
             let k = el.tangent_stiffness(&coords(&r0));
@@ -661,7 +767,10 @@ mod tests {
         assert!((ke / (0.5 * mass * v.norm_squared()) - 1.0).abs() < 1e-5);
         let g = Vector3::new(0.0, 0.0, -9.81);
         let qg = el.gravity_force(&g);
-        let total: Vector3<f64> = (0..8).step_by(4).map(|i| Vector3::new(qg[3 * i], qg[3 * i + 1], qg[3 * i + 2])).sum();
+        let total: Vector3<f64> = (0..8)
+            .step_by(4)
+            .map(|i| Vector3::new(qg[3 * i], qg[3 * i + 1], qg[3 * i + 2]))
+            .sum();
         assert!((total - mass * g).norm() < 1e-5 * mass * 9.81);
         assert!((el.mass() / mass - 1.0).abs() < 1e-5);
     }
@@ -669,15 +778,26 @@ mod tests {
     #[test]
     fn bad_input_is_rejected_with_the_field() {
         let r0 = curved_reference();
-        let err = AncfBeam::new([0, 1], &r0, -1.0, section(), BeamQuadrature::default()).unwrap_err();
+        let err =
+            AncfBeam::new([0, 1], &r0, -1.0, section(), BeamQuadrature::default()).unwrap_err();
         assert!(err.to_string().contains("element.length"), "{err}");
-        let err = AncfBeam::new([0, 1], &r0, 0.3, section(), BeamQuadrature { bending: 0, ..Default::default() })
-            .unwrap_err();
+        let err = AncfBeam::new(
+            [0, 1],
+            &r0,
+            0.3,
+            section(),
+            BeamQuadrature {
+                bending: 0,
+                ..Default::default()
+            },
+        )
+        .unwrap_err();
         assert!(err.to_string().contains("quadrature.bending"), "{err}");
         let mut bad = r0;
         bad[2] = Vector3::zeros();
         bad[6] = Vector3::zeros();
-        let err = AncfBeam::new([0, 1], &bad, 0.3, section(), BeamQuadrature::default()).unwrap_err();
+        let err =
+            AncfBeam::new([0, 1], &bad, 0.3, section(), BeamQuadrature::default()).unwrap_err();
         assert!(err.to_string().contains("element.reference"), "{err}");
     }
 }

@@ -102,7 +102,11 @@ impl CaseParams for Bend45Params {
             "-",
             "shear/section strain sampling: 0 nodes (default), 1..=5 Gauss points",
         ),
-        ParamInfo::new("refine", "-", "meshes of the refinement study (largest load)"),
+        ParamInfo::new(
+            "refine",
+            "-",
+            "meshes of the refinement study (largest load)",
+        ),
         ParamInfo::new("tolerance", "-", "relative tolerance against the reference"),
     ];
     fn apply_mode(&mut self, mode: Mode) {

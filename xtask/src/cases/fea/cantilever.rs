@@ -105,14 +105,22 @@ fn solve(p: &CantileverParams, n_elements: usize) -> anyhow::Result<(Vec<(f64, f
     if is_beam(&p.element)? {
         let mut mesh =
             beam_cantilever_mesh(n_elements, p.length, p.young, 1000.0, p.width, p.height)?;
-        load_path(p, ei, &mut mesh, |m, f| m.set_force(tip, f), |m| {
-            m.node(tip).map(|n| n.displacement())
-        })
+        load_path(
+            p,
+            ei,
+            &mut mesh,
+            |m, f| m.set_force(tip, f),
+            |m| m.node(tip).map(|n| n.displacement()),
+        )
     } else {
         let mut mesh = cantilever_mesh(n_elements, p.length, p.young, 1000.0, p.width, p.height)?;
-        load_path(p, ei, &mut mesh, |m, f| m.set_force(tip, f), |m| {
-            m.node(tip).map(|n| n.displacement())
-        })
+        load_path(
+            p,
+            ei,
+            &mut mesh,
+            |m, f| m.set_force(tip, f),
+            |m| m.node(tip).map(|n| n.displacement()),
+        )
     }
 }
 

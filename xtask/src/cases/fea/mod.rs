@@ -26,7 +26,9 @@ pub mod tet_cantilever;
 pub mod tet_patch;
 
 use chrono_core::math::Vector3;
-use chrono_fea::{BeamMaterial, BeamMesh, BeamSection, CableMesh, CableQuadrature, HexSplit, NodeId, SolidModel};
+use chrono_fea::{
+    BeamMaterial, BeamMesh, BeamSection, CableMesh, CableQuadrature, HexSplit, NodeId, SolidModel,
+};
 
 /// The beam element of a case parameter for the cases that only run the cable
 /// (`fea-cantilever-frequency`, `fea-pendulum`): `cable`; `beam` (the fully
