@@ -410,7 +410,9 @@ impl PhysicsItem for CableItem {
         gamma: &[f64],
     ) -> CoreResult<()> {
         if self.core.advance(ctx, vars, v, problem, gamma, 6)? {
-            self.mesh.set_coordinates(&self.core.q).map_err(core_error)?;
+            self.mesh
+                .set_coordinates(&self.core.q)
+                .map_err(core_error)?;
         }
         Ok(())
     }

@@ -110,7 +110,11 @@ impl ShellItem {
     /// `damping`): `R = beta K`. Default 0.
     pub fn set_damping(&mut self, beta: f64) -> Result<()> {
         if !(beta.is_finite() && beta >= 0.0) {
-            return Err(FeaError::invalid("damping", beta, "must be finite and >= 0"));
+            return Err(FeaError::invalid(
+                "damping",
+                beta,
+                "must be finite and >= 0",
+            ));
         }
         self.damping = beta;
         Ok(())
@@ -218,8 +222,7 @@ impl ShellItem {
     /// Linear momentum `sum M v` over the position rows, kg m/s (the director rows carry
     /// no translation).
     pub fn linear_momentum(&self) -> Vector3<f64> {
-        self.core
-            .momentum(|g| (g % 6 < 3).then_some(g % 6))
+        self.core.momentum(|g| (g % 6 < 3).then_some(g % 6))
     }
 
     /// Strain energy of the current configuration, J.
@@ -344,7 +347,9 @@ impl PhysicsItem for ShellItem {
         gamma: &[f64],
     ) -> CoreResult<()> {
         if self.core.advance(ctx, vars, v, problem, gamma, 6)? {
-            self.mesh.set_coordinates(&self.core.q).map_err(core_error)?;
+            self.mesh
+                .set_coordinates(&self.core.q)
+                .map_err(core_error)?;
         }
         Ok(())
     }

@@ -157,8 +157,11 @@ impl TetItem {
     pub fn set_node_velocity(&mut self, n: NodeId, velocity: Vector3<f64>) -> Result<()> {
         self.mesh.node(n)?;
         finite3("node.velocity", &velocity)?;
-        self.core
-            .set_velocity(3 * n.0, velocity.as_slice(), &format!("node {} velocity", n.0))
+        self.core.set_velocity(
+            3 * n.0,
+            velocity.as_slice(),
+            &format!("node {} velocity", n.0),
+        )
     }
 
     /// Set the configuration (all coordinates, [`TetMesh::set_coordinates`]); the
@@ -289,7 +292,9 @@ impl PhysicsItem for TetItem {
         gamma: &[f64],
     ) -> CoreResult<()> {
         if self.core.advance(ctx, vars, v, problem, gamma, 3)? {
-            self.mesh.set_coordinates(&self.core.q).map_err(core_error)?;
+            self.mesh
+                .set_coordinates(&self.core.q)
+                .map_err(core_error)?;
         }
         Ok(())
     }

@@ -209,7 +209,11 @@ fn plate_hangs_from_a_rigid_body_by_attachment_rows() {
     assert!(err.abs() < 1e-6, "{total:?} vs {weight}");
     for &n in &top {
         let node = item.mesh().node(n).unwrap();
-        assert!(node.displacement().norm() < 1e-9, "{:?}", node.displacement());
+        assert!(
+            node.displacement().norm() < 1e-9,
+            "{:?}",
+            node.displacement()
+        );
     }
     let bottom = ShellMesh::grid_node(nx, 1, nz);
     let u = item.mesh().node(bottom).unwrap().displacement();
