@@ -23,10 +23,14 @@
 //! Shells: the ANCF 4-node shell of Yamashita et al. (2015) with ANS and EAS locking
 //! remedies, a curved reference configuration and a follower pressure ([`AncfShell`],
 //! [`ShellMaterial`]), meshes of it ([`ShellMesh`]: plates, parametric grids, a sphere
-//! octant) solved statically by the same Newton solver.
+//! octant; [`TireMesh`]: an open torus cut at the rim) solved statically by the same
+//! Newton solver (with gravity, [`ShellMesh::set_gravity`]) and stepped in a system
+//! ([`ShellItem`]: gravity, follower pressure with its symmetrized load stiffness,
+//! stiffness-proportional damping, attachment rows, node contact spheres). The three
+//! items share their block bookkeeping (module `implicit`).
 //!
-//! Still to come (see the issue): the fully parameterized ANCF beam, shells in the
-//! dynamic (CCP) stepper and with gravity, slope attachments.
+//! Still to come (see the issue): the fully parameterized ANCF beam, slope and director
+//! attachments.
 //!
 //! ```
 //! use chrono_fea::{BeamMaterial, CableMesh, CableQuadrature, NodeId, StaticSettings, solve_static};
@@ -72,7 +76,7 @@ pub use material::{BeamMaterial, SolidMaterial, SolidModel};
 pub use mesh::{CableMesh, DofMap};
 pub use modal::{MassModel, natural_frequencies};
 pub use node::{GradientNode, NodeId, SolidNode};
-pub use shell_dynamics::ShellItem;
+pub use shell_dynamics::{DirectorTarget, ShellItem};
 pub use shell_mesh::ShellMesh;
 pub use spd::SparseSpd;
 pub use statics::{StaticModel, StaticReport, StaticSettings, solve_static};

@@ -29,9 +29,10 @@
 //! ## The non-symmetric load stiffness
 //!
 //! `H` is the coupled mass operator of the block and must be symmetric positive
-//! definite (faer sparse Cholesky, [`SparseSpd`]; the CCP needs `N = D' H^-1 D` positive
-//! semidefinite). The element load stiffness `K_p` is not symmetric. For a closed
-//! surface at constant pressure the pressure load is conservative (potential `-p V`), so
+//! definite (faer sparse Cholesky, [`SparseSpd`](crate::SparseSpd); the CCP needs
+//! `N = D' H^-1 D` positive semidefinite). The element load stiffness `K_p` is not
+//! symmetric. For a closed surface at constant pressure the pressure load is
+//! conservative (potential `-p V`), so
 //! the assembled `K_p` is symmetric and `sym(K_p) = K_p`: the skew parts of neighbouring
 //! elements cancel. On an open surface (a tire cut at the rim, a membrane edge) a skew
 //! part remains at the boundary; the item keeps the symmetric part `(K_p + K_p')/2` in
@@ -42,9 +43,12 @@
 //!
 //! # Attachments and contact
 //!
-//! As for the other items: an [`Attachment`] ties a node's position (not its director:
-//! the section can turn about the attached node line, a hinge) to a fixed point or a
-//! point of a rigid body by three bilateral rows (module [`crate::attach_rows`]). With
+//! As for the other items: an [`Attachment`] ties a node's position to a fixed point or
+//! a point of a rigid body by three bilateral rows; the director stays free (a hinge about
+//! a line of attached nodes). [`ShellItem::attach_director`] ties the director too (a
+//! clamp; all three components, so the thickness stretch at the node is held as well):
+//! `d - a = 0` per axis with `a` a fixed direction or `R a_local` of a rigid body, the
+//! body's side `-(a x e_c) . omega`, stabilized as the position rows (`C / h`). With
 //! [`ShellItem::set_contact_spheres`] every node is a sphere proxy of the given radius
 //! (id = node index) against the body colliders; the item's side of a contact row along
 //! `d` is `d` on the node's free position coordinates. The spheres sit on the nodes: a
@@ -52,13 +56,14 @@
 //! node touches, and between nodes the bilinear mid surface is straight, so a flat
 //! collider cannot pass between the nodes of an element lying on it.
 
-use chrono_core::body::RigidBody;
+use chrono_core::body::{BodyHandle, RigidBody};
 use chrono_core::collision::{CollisionProxy, ProxyShape};
-use chrono_core::descriptor::{BlockId, CcpProblem, ConstraintRows, Variables};
+use chrono_core::descriptor::{BlockId, CcpProblem, ConstraintRows, RowId, Variables};
 use chrono_core::item::{PhysicsItem, StepContext};
 use chrono_core::{ContactMaterial, Result as CoreResult};
 use nalgebra::Vector3;
 
+use crate::attach_rows::{AttachContext, push_director_rows};
 use crate::dynamics::{AttachTarget, Attachment};
 use crate::element::{AncfShell, ShellMatrix};
 use crate::error::{FeaError, Result, finite3, positive};
@@ -68,6 +73,20 @@ use crate::node::NodeId;
 use crate::shell_mesh::ShellMesh;
 
 const EL: usize = AncfShell::NDOF;
+
+/// The direction a node's director is tied to ([`ShellItem::attach_director`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum DirectorTarget {
+    /// A fixed world vector (the director's value, not only its direction), -.
+    Fixed(Vector3<f64>),
+    /// A vector fixed in a rigid body, given in the body frame, -.
+    Body {
+        /// The body (of the system the item is added to).
+        body: BodyHandle,
+        /// The vector in the body frame.
+        local: Vector3<f64>,
+    },
+}
 
 /// A [`ShellMesh`] stepped implicitly in the system's CCP (see the module docs).
 #[derive(Debug)]
@@ -80,6 +99,12 @@ pub struct ShellItem {
     /// Radius of the contact spheres, m (`None`: no contact).
     contact_radius: Option<f64>,
     contact_material: ContactMaterial,
+    /// Director attachments `(node, target)`.
+    directors: Vec<(usize, DirectorTarget)>,
+    /// Rows of this step, 3 per director attachment (`None`: not needed).
+    director_rows: Vec<Option<RowId>>,
+    /// One row's coefficients on the block (`nfree`, scratch, zero between uses).
+    director_coefs: Vec<f64>,
 }
 
 impl ShellItem {
@@ -96,6 +121,7 @@ impl ShellItem {
             |e, a| 6 * els[e].nodes[a / 6] + a % 6,
             |e| els[e].mass_matrix(),
         )?;
+        let nfree = core.map.nfree();
         Ok(Self {
             name,
             mesh,
@@ -103,6 +129,9 @@ impl ShellItem {
             damping: 0.0,
             contact_radius: None,
             contact_material: ContactMaterial::default(),
+            directors: Vec::new(),
+            director_rows: Vec::new(),
+            director_coefs: vec![0.0; nfree],
         })
     }
 
@@ -130,6 +159,24 @@ impl ShellItem {
     pub fn attach(&mut self, node: NodeId, target: AttachTarget) -> Result<usize> {
         self.mesh.node(node)?;
         self.core.attach(node, target)
+    }
+
+    /// Tie the director of `node` to `target` (module docs; with [`attach`](Self::attach)
+    /// of the same node: a clamp); returns its index. Errors: unknown node, non-finite
+    /// vector. A body handle is checked at the step.
+    pub fn attach_director(&mut self, node: NodeId, target: DirectorTarget) -> Result<usize> {
+        self.mesh.node(node)?;
+        match &target {
+            DirectorTarget::Fixed(a) => finite3("director.target", a)?,
+            DirectorTarget::Body { local, .. } => finite3("director.local", local)?,
+        }
+        self.directors.push((node.0, target));
+        Ok(self.directors.len() - 1)
+    }
+
+    /// The director attachments `(node index, target)`.
+    pub fn director_attachments(&self) -> &[(usize, DirectorTarget)] {
+        &self.directors
     }
 
     /// The attachments.
@@ -334,7 +381,27 @@ impl PhysicsItem for ShellItem {
         let mesh = &self.mesh;
         self.core.attachment_rows(ctx, bodies, rows, 6, |n| {
             Ok(mesh.node(NodeId(n)).map_err(core_error)?.position)
-        })
+        })?;
+        self.director_rows.clear();
+        let Some(block) = self.core.block else {
+            return Ok(());
+        };
+        let nodes = mesh.nodes();
+        let map = &self.core.map;
+        push_director_rows(
+            &self.directors,
+            |n| nodes[n].slope,
+            |n, c| map.free_index(6 * n + 3 + c),
+            &AttachContext {
+                block,
+                bodies,
+                h: ctx.h,
+                label: &self.core.label,
+            },
+            &mut self.director_coefs,
+            rows,
+            &mut self.director_rows,
+        )
     }
 
     /// `q+ = q + h v+`; the attachment forces `gamma / h`.

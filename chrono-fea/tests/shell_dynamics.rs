@@ -4,11 +4,11 @@
 //! rigid body, a plate resting on the ground through its node spheres.
 
 use chrono_ccp::{Apgd, Cg, SolverSettings};
-use chrono_core::math::Isometry3;
+use chrono_core::math::{Isometry3, UnitQuaternion};
 use chrono_core::{ContactMaterial, RigidBodyBuilder, Shape, System, SystemSettings};
 use chrono_fea::{
-    AttachTarget, FeaError, NodeId, ShellItem, ShellMaterial, ShellMesh, StaticSettings,
-    natural_frequencies, solve_static,
+    AttachTarget, DirectorTarget, FeaError, NodeId, ShellItem, ShellMaterial, ShellMesh,
+    StaticSettings, natural_frequencies, solve_static,
 };
 use nalgebra::Vector3;
 
@@ -289,4 +289,79 @@ fn dropped_plate_rests_on_the_ground() {
     assert!((force / weight - 1.0).abs() < 0.01, "{force} vs {weight}");
     assert!(speed < 1e-4, "still moving at {speed} m/s");
     assert!(pen < 0.01 * 0.5 * t, "penetration {pen} m");
+}
+
+/// A steel strip clamped by attachment rows (positions and directors) to a fixed, rotated
+/// rigid body sags under gravity to the static solution of the same mesh with its root
+/// nodes supported (`fix_node`): the director rows hold the slope at the root.
+#[test]
+fn strip_clamped_by_director_rows_matches_the_supported_static_solution() {
+    let (l, w, t, n) = (1.0, 0.1, 0.01, 8);
+    let mesh = ShellMesh::plate(l, w, n, 1, t, steel()).unwrap();
+    let root: Vec<NodeId> = (0..2).map(|j| ShellMesh::grid_node(n, 0, j)).collect();
+    let g = Vector3::new(0.0, 0.0, -9.81);
+    let mut reference = mesh.clone();
+    for &r in &root {
+        reference.fix_node(r).unwrap();
+    }
+    reference.set_gravity(g).unwrap();
+    solve_static(&mut reference, &StaticSettings::default()).unwrap();
+    let mut sys = system(g);
+    let at = Vector3::new(-0.2, 0.05, 0.1);
+    let rot = UnitQuaternion::from_euler_angles(0.3, -0.2, 0.7);
+    let body = sys
+        .add_body(RigidBodyBuilder::fixed().position(at).rotation(rot))
+        .unwrap();
+    let mut item = ShellItem::new("strip", mesh).unwrap();
+    item.set_damping(0.02).unwrap();
+    for &r in &root {
+        let node = *item.mesh().node(r).unwrap();
+        item.attach(
+            r,
+            AttachTarget::Body {
+                body,
+                local: rot.inverse() * (node.position - at),
+            },
+        )
+        .unwrap();
+        item.attach_director(
+            r,
+            DirectorTarget::Body {
+                body,
+                local: rot.inverse() * node.slope,
+            },
+        )
+        .unwrap();
+    }
+    let e = item
+        .attach_director(
+            root[0],
+            DirectorTarget::Fixed(Vector3::new(f64::NAN, 0.0, 1.0)),
+        )
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("director.target"), "{e}");
+    let idx = sys.add_item(Box::new(item));
+    for _ in 0..1500 {
+        sys.step(1e-3).unwrap();
+    }
+    let item = sys.item::<ShellItem>(idx).unwrap();
+    let tip = ShellMesh::grid_node(n, n, 0);
+    let u = item.mesh().node(tip).unwrap().displacement();
+    let u_ref = reference.node(tip).unwrap().displacement();
+    let err = (u - u_ref).norm() / u_ref.norm();
+    eprintln!(
+        "clamped strip: tip {:e} m vs static {:e} m: {err:e}",
+        u.z, u_ref.z
+    );
+    assert!(u_ref.z < -1e-3, "{u_ref:?}");
+    assert!(err < 1e-5, "{u:?} vs {u_ref:?}");
+    for &r in &root {
+        let node = item.mesh().node(r).unwrap();
+        assert!(
+            (node.slope - node.reference_slope).norm() < 1e-9,
+            "{:?}",
+            node.slope
+        );
+    }
 }
