@@ -14,8 +14,8 @@
 //!
 //! (the `h R v` on both sides cancels). This is the form of every block of the NSC step,
 //! `H v+ = k + D gamma`, with `H = M + h R + h^2 K` as the block's coupled mass operator
-//! ([`SparseSpd`], faer sparse Cholesky, symbolic analysis once, numeric refactorization
-//! every step in [`begin_step`](PhysicsItem::begin_step)), `k` from
+//! ([`SparseSpd`](crate::SparseSpd), faer sparse Cholesky, symbolic analysis once,
+//! numeric refactorization every step in [`begin_step`](PhysicsItem::begin_step)), `k` from
 //! [`load_momentum`](PhysicsItem::load_momentum). The solver finds `gamma` for the rows of
 //! joints, contacts and this mesh's attachments together; [`update`](PhysicsItem::update)
 //! sets `q+ = q + h v+`. Anitescu & Tasora's stepper with a stiff item, as Chrono's

@@ -12,8 +12,8 @@
 //! [`Tet4::force_and_tangent`]), `R = beta K` (`beta` = [`SolidMaterial::damping`] of each
 //! element), `F_ext` the nodal dead loads of the mesh and `F_g = rho V g / 4` per node
 //! from the system's gravity. `H = M + h R + h^2 K` is the block's coupled mass operator
-//! ([`SparseSpd`]: symbolic Cholesky once, numeric refactorization every step into the same
-//! buffers; the element matrices are scattered through a precomputed index map, so a
+//! ([`SparseSpd`](crate::SparseSpd): symbolic Cholesky once, numeric refactorization
+//! every step into the same buffers; the element matrices are scattered through a precomputed index map, so a
 //! step allocates nothing; this bookkeeping is shared with the other mesh items,
 //! `crate::implicit`). Supported coordinates ([`TetMesh::fix_node`] ...) are removed
 //! from the block and stay where they are.
