@@ -14,7 +14,9 @@
 //! - `fea-shell-cantilever`: the ANCF shell plate strip under end shear against the
 //!   load–displacement curve of Sze, Liu & Lo (2004);
 //! - `fea-shell-pressure`: an ANCF shell sphere under internal follower pressure against
-//!   the membrane solution.
+//!   the membrane solution;
+//! - `fea-tire-drop`: a pressurized ANCF shell tire on a rigid rim dropped on rigid
+//!   ground comes to rest: static deflection against the membrane estimate.
 
 pub mod bend45;
 pub mod cantilever;
@@ -24,6 +26,7 @@ pub mod shell_cantilever;
 pub mod shell_pressure;
 pub mod tet_cantilever;
 pub mod tet_patch;
+pub mod tire_drop;
 
 use chrono_core::math::Vector3;
 use chrono_fea::{
