@@ -5,7 +5,7 @@
 //! Global coordinates: node `n` owns `q[12 n .. 12 n + 12] = [r, r_x, r_y, r_z]`.
 //! Supports hold coordinates at their current values: [`BeamMesh::clamp`] (all 12),
 //! [`BeamMesh::fix_position`] (a spherical joint), [`BeamMesh::fix_coordinate`]. Loads are dead: nodal forces, couples
-//! ([`BeamMesh::set_torque`]) and gravity. The mesh implements [`StaticModel`], so
+//! ([`BeamMesh::set_torque`]) and gravity. The mesh implements [`StaticModel`](crate::statics::StaticModel), so
 //! [`solve_static`](crate::statics::solve_static) (Newton with load stepping) solves it.
 //!
 //! Generators: [`BeamMesh::straight`] and [`BeamMesh::arc`] (a circular arc whose
@@ -18,7 +18,6 @@ use crate::error::{FeaError, Result, finite3, positive};
 use crate::material::BeamSection;
 use crate::mesh::{DofMap, SparseMatrix, scatter_element_matrix, sparse};
 use crate::node::{BeamNode, NodeId};
-use crate::statics::StaticModel;
 
 /// Tolerance on the unit length and orthogonality of a node's reference gradients.
 const FRAME_TOLERANCE: f64 = 1e-9;
@@ -455,27 +454,7 @@ impl BeamMesh {
     }
 }
 
-impl StaticModel for BeamMesh {
-    fn coordinates(&self) -> Vec<f64> {
-        BeamMesh::coordinates(self)
-    }
-    fn set_coordinates(&mut self, q: &[f64]) -> Result<()> {
-        BeamMesh::set_coordinates(self, q)
-    }
-    fn dof_map(&self) -> DofMap {
-        BeamMesh::dof_map(self)
-    }
-    fn external_force(&self, lambda: f64) -> Vec<f64> {
-        BeamMesh::external_force(self, lambda)
-    }
-    fn internal_force(
-        &self,
-        q: &[f64],
-        map: &DofMap,
-        tangent: bool,
-    ) -> Result<(Vec<f64>, Option<SparseMatrix>)> {
-        BeamMesh::internal_force(self, q, map, tangent)
-    }
+crate::statics::static_model_via_inherent!(BeamMesh {
     /// `max_e E A`, N.
     fn force_scale(&self) -> f64 {
         self.elements
@@ -483,7 +462,7 @@ impl StaticModel for BeamMesh {
             .map(|e| e.section().young * e.section().area)
             .fold(0.0, f64::max)
     }
-}
+});
 
 #[cfg(test)]
 #[path = "beam_mesh_tests.rs"]

@@ -9,7 +9,7 @@
 //! a symmetry plane `x = 0` holds `r_x` and `d_x`). The mesh is solved by
 //! [`solve_static`](crate::statics::solve_static): the nodal forces are dead loads, the
 //! pressure is a follower load with its load stiffness
-//! ([`StaticModel::follower_force`]), gravity ([`ShellMesh::set_gravity`]) the consistent
+//! ([`StaticModel::follower_force`](crate::statics::StaticModel::follower_force)), gravity ([`ShellMesh::set_gravity`]) the consistent
 //! body-force load [`AncfShell::gravity_force`]. In a system the mesh steps as a
 //! [`ShellItem`](crate::ShellItem).
 //!
@@ -22,7 +22,6 @@ use crate::element::{AncfShell, ShellLocking, ShellMaterial, ShellVector};
 use crate::error::{FeaError, Result, finite3, positive};
 use crate::mesh::{DofMap, SparseMatrix, scatter_element_matrix, sparse};
 use crate::node::{GradientNode, NodeId};
-use crate::statics::StaticModel;
 
 /// A mesh of ANCF shell elements (see the module docs).
 #[derive(Debug, Clone, Default)]
@@ -519,27 +518,7 @@ fn add_vector(el: &AncfShell, v: &ShellVector, f: &mut [f64]) {
     }
 }
 
-impl StaticModel for ShellMesh {
-    fn coordinates(&self) -> Vec<f64> {
-        ShellMesh::coordinates(self)
-    }
-    fn set_coordinates(&mut self, q: &[f64]) -> Result<()> {
-        ShellMesh::set_coordinates(self, q)
-    }
-    fn dof_map(&self) -> DofMap {
-        ShellMesh::dof_map(self)
-    }
-    fn external_force(&self, lambda: f64) -> Vec<f64> {
-        ShellMesh::external_force(self, lambda)
-    }
-    fn internal_force(
-        &self,
-        q: &[f64],
-        map: &DofMap,
-        tangent: bool,
-    ) -> Result<(Vec<f64>, Option<SparseMatrix>)> {
-        ShellMesh::internal_force(self, q, map, tangent)
-    }
+crate::statics::static_model_via_inherent!(ShellMesh {
     /// `max_e (E_max t) x max(|X|, 1 m)`, N: the membrane stiffness of the stiffest
     /// element (N/m) times the size of the coordinates.
     fn force_scale(&self) -> f64 {
@@ -565,7 +544,7 @@ impl StaticModel for ShellMesh {
         }
         self.pressure_force(q, lambda, map, tangent).map(Some)
     }
-}
+});
 
 impl crate::modal::MassModel for ShellMesh {
     fn mass_matrix(&self, map: &DofMap) -> Result<SparseMatrix> {
