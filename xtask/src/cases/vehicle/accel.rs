@@ -53,6 +53,10 @@ pub struct AccelParams {
     pub ref_top_speed_kmh: f64,
     /// Relative tolerance of both checks.
     pub tolerance: f64,
+    /// Factor on the chassis drag area `C_d A` of the data (sensitivity studies; 1 = data).
+    pub drag_scale: f64,
+    /// Tire rolling resistance coefficient `f_r` (handling tire; negative = the data's).
+    pub rolling_resistance: f64,
 }
 
 impl Default for AccelParams {
@@ -68,6 +72,8 @@ impl Default for AccelParams {
             ref_t_0_48kmh: 0.0,
             ref_top_speed_kmh: 65.0 * 1.609_344,
             tolerance: 0.15,
+            drag_scale: 1.0,
+            rolling_resistance: -1.0,
         }
     }
 }
@@ -100,6 +106,16 @@ impl CaseParams for AccelParams {
             "published top speed (0: none, not checked)",
         ),
         ParamInfo::new("tolerance", "-", "relative tolerance of the checks"),
+        ParamInfo::new(
+            "drag_scale",
+            "-",
+            "factor on the data's chassis drag area C_d A (sensitivity; 1 = data)",
+        ),
+        ParamInfo::new(
+            "rolling_resistance",
+            "-",
+            "handling tire's rolling resistance f_r (negative: the data's)",
+        ),
     ];
     fn apply_mode(&mut self, mode: Mode) {
         if mode == Mode::Quick {
@@ -114,7 +130,7 @@ const MIN_T_END_TOP_SPEED: f64 = 40.0;
 fn run(p: &AccelParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     let n_settle = n_steps(p.h, p.settle)?;
     let n = n_steps(p.h, p.t_end)?;
-    let mut scene = VehicleScene::flat_with(&p.tire, &p.powertrain, p.mu, &p.solver, 1e-8, 500)?;
+    let mut scene = VehicleScene::flat_from(vehicle_data(p)?, p.mu, &p.solver, 1e-8, 500)?;
     let (sys, v) = (&mut scene.sys, &mut scene.vehicle);
     let braked = DriverInputs {
         brake: 1.0,
@@ -214,6 +230,12 @@ fn run(p: &AccelParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     ));
     out.check(Check::absolute("downshifts", downshifts as f64, 0.0, 0.0));
     out.metric("final_gear", v.powertrain().current_gear() as f64);
+    // Where the plateau sits: on the governor (engine speed) or on the power curve.
+    out.metric("final_engine_rpm", v.powertrain().engine_speed_rpm());
+    out.metric(
+        "final_converter_speed_ratio",
+        v.powertrain().converter_state().speed_ratio,
+    );
     out.metric("real_time_factor", p.t_end / wall);
     out.series = series;
     out.plot = PlotSpec::new(
@@ -224,6 +246,41 @@ fn run(p: &AccelParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     );
     out.steps = n + n_settle;
     Ok(out)
+}
+
+/// The HMMWV description of the run: tire and powertrain variant, with the drag area and
+/// the rolling resistance overridden when set.
+fn vehicle_data(p: &AccelParams) -> anyhow::Result<chrono_vehicle::VehicleData> {
+    let mut data = chrono_vehicle::hmmwv::hmmwv_data_variant(
+        super::scene::tire_kind(&p.tire)?,
+        super::scene::powertrain_kind(&p.powertrain)?,
+    )?;
+    if !(p.drag_scale.is_finite() && p.drag_scale >= 0.0) {
+        anyhow::bail!(
+            "parameter `drag_scale` must be finite and >= 0, got {}",
+            p.drag_scale
+        );
+    }
+    if let Some(aero) = data.chassis.aero.as_mut() {
+        aero.drag_coefficient *= p.drag_scale;
+    } else if p.drag_scale != 1.0 {
+        anyhow::bail!(
+            "parameter `drag_scale` = {} needs a powertrain with chassis drag (m998), got `{}`",
+            p.drag_scale,
+            p.powertrain
+        );
+    }
+    if p.rolling_resistance >= 0.0 {
+        match &mut data.wheel.tire {
+            chrono_vehicle::tire::Tire::TMeasy(t) => t.rolling_resistance = p.rolling_resistance,
+            _ => anyhow::bail!(
+                "parameter `rolling_resistance` = {} applies to the handling tire, got tire `{}`",
+                p.rolling_resistance,
+                p.tire
+            ),
+        }
+    }
+    Ok(data)
 }
 
 /// The case.

@@ -63,6 +63,18 @@ impl VehicleScene {
         max_iterations: usize,
     ) -> anyhow::Result<Self> {
         let data = hmmwv_data_variant(tire_kind(tire)?, powertrain_kind(powertrain)?)?;
+        Self::flat_from(data, mu, solver, tol, max_iterations)
+    }
+
+    /// [`flat`](Self::flat) with a vehicle description prepared by the caller (a case that
+    /// overrides some of the data's values).
+    pub fn flat_from(
+        data: VehicleData,
+        mu: f64,
+        solver: &str,
+        tol: f64,
+        max_iterations: usize,
+    ) -> anyhow::Result<Self> {
         let mut sys = System::new(
             SystemSettings::default(),
             make_solver(solver, tol, max_iterations)?,
