@@ -15,7 +15,10 @@ use crate::density::{Field, RowBuf};
 use crate::geometry::lattice_mass;
 use crate::settings::{CfluidSettings, SurfaceMode};
 
+mod output;
 mod projection;
+
+pub use output::{KIND_BODY_MARKER, KIND_FLUID, KIND_WALL};
 
 /// A constraint fluid (H. Mazhar, "Parallel multi-body dynamics with frictional contact
 /// and constraint fluids", PhD thesis, UW-Madison 2016; the seed's "Alternative Approach:

@@ -51,6 +51,6 @@ mod settings;
 #[cfg(test)]
 mod tests;
 
-pub use fluid::ConstraintFluid;
+pub use fluid::{ConstraintFluid, KIND_BODY_MARKER, KIND_FLUID, KIND_WALL};
 pub use geometry::{box_markers, lattice_box, lattice_mass, tank_markers, wall_layers};
 pub use settings::{CfluidSettings, SurfaceMode};

@@ -13,12 +13,15 @@
 //! densities of the start of each step), `avg_iterations`, `left_tank` (checked 0).
 //! The column starts at rest on its lattice (no hydrostatic pre-compression is needed:
 //! the constraint takes the load in the first step).
+//! With `--vtk`, 50 frames of the particles (fluid and markers: `ConstraintFluid::write_vtk`)
+//! and their `.pvd` collection.
 
 use chrono_cfluid::{CfluidSettings, ConstraintFluid};
 use serde::{Deserialize, Serialize};
 
 use super::{TankScene, left_tank};
 use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series};
+use crate::cases::sph::SphFrames;
 use crate::cases::sph::dam_break::{
     FRONT_MIN_NEIGHBOURS, FRONT_TOLERANCE, MARTIN_MOYCE_N2_1, front_rms, interpolate,
 };
@@ -168,6 +171,7 @@ fn run(p: &CfluidDamBreakParams, ctx: &RunContext) -> anyhow::Result<CaseOutput>
     let every = ((0.002 / p.h).round() as u64).max(1);
     let mut series = Series::new(["t", "front", "max_compression_pct", "iterations"]);
     let mut samples = vec![(0.0, 1.0)];
+    let mut frames = SphFrames::new(ctx, p.t_end / 50.0);
     let (mut iterations, mut max_c) = (0usize, 0.0f64);
     for step in 1..=n {
         let report = scene.sys.step(p.h)?;
@@ -175,6 +179,7 @@ fn run(p: &CfluidDamBreakParams, ctx: &RunContext) -> anyhow::Result<CaseOutput>
         let f = scene.fluid()?;
         let c = f.max_compression().max(0.0);
         max_c = max_c.max(c);
+        frames.record_with(step as f64 * p.h, |path| Ok(f.write_vtk(path, true)?))?;
         if step % every == 0 || step == n {
             let time = step as f64 * p.h;
             let x = front(f, dp, ly);
@@ -183,6 +188,7 @@ fn run(p: &CfluidDamBreakParams, ctx: &RunContext) -> anyhow::Result<CaseOutput>
         }
         ctx.progress_steps(step, n);
     }
+    frames.finish()?;
     let left = left_tank(scene.fluid()?, dp, p.tank_length);
     let mut out = CaseOutput::new();
     let square = ((p.column_height / a) - 1.0).abs() < 1e-6;

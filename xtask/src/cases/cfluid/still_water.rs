@@ -42,7 +42,13 @@
 //!   lattice's surface layers, whose kernels are truncated, compact until their density
 //!   reaches `rho_0`; reported);
 //! - `max_compression_pct`: the worst compression over the run (reported);
-//! - `left_tank` (checked 0), `avg_iterations`.
+//! - `left_tank` (checked 0), `avg_iterations`;
+//! - `probe_pressure_error`: the pressure probe (`ConstraintFluid::pressure_at`, Shepard
+//!   interpolation as chrono-sph's) at mid-depth in the middle of the tank, averaged over
+//!   the second half, against the hydrostatic `rho_0 g (H - z)` with the nominal depth
+//!   `H` (reported).
+//!
+//! With `--vtk`, 50 frames of the particles (fluid and markers) and their `.pvd`.
 //!
 //! Also written: `final_particles.csv` (positions, velocities, densities at the end) and,
 //! if a particle exceeds `3 g h` in the second half, `burst_particles.csv` (the first
@@ -57,6 +63,7 @@ use serde::{Deserialize, Serialize};
 
 use super::{TankScene, left_tank};
 use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series};
+use crate::cases::sph::SphFrames;
 use crate::params::{CaseParams, ParamCase, ParamInfo};
 
 const G: f64 = 9.81;
@@ -301,8 +308,15 @@ fn run(p: &StillWaterParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         "surface_change",
         "max_compression_pct",
         "iterations",
+        "probe_pressure",
     ]);
     let (mut iterations, mut late_speed, mut max_c) = (0usize, 0.0f64, 0.0f64);
+    // hydrostatic probe at mid-depth in the middle of the tank, averaged over the second
+    // half (a single step's pressure carries the solver's step-to-step noise)
+    let probe = [0.5 * p.tank_length, 0.5 * scene.ly, 0.5 * p.depth];
+    let p_exact = scene.fluid()?.settings().rest_density * G * (p.depth - probe[2]);
+    let (mut probe_sum, mut probe_n) = (0.0, 0usize);
+    let mut frames = SphFrames::new(ctx, p.t_end / 50.0);
     let mut late_rms = 0.0f64;
     let mut burst_written = false;
     let (mut z_half, mut z_settled) = (f64::NAN, f64::NAN);
@@ -317,7 +331,11 @@ fn run(p: &StillWaterParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         let c = f.max_compression().max(0.0);
         max_c = max_c.max(c);
         let speed = max_speed(f);
+        let probe_p = f.pressure_at(probe)?.unwrap_or(f64::NAN);
+        frames.record_with(step as f64 * p.h, |path| Ok(f.write_vtk(path, true)?))?;
         if step > half {
+            probe_sum += probe_p;
+            probe_n += 1;
             late_speed = late_speed.max(speed);
             late_rms = late_rms.max((2.0 * f.kinetic_energy() / mass).sqrt());
         }
@@ -339,12 +357,15 @@ fn run(p: &StillWaterParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
                 surface_height(f, dp, p.tank_length) - z0,
                 100.0 * c,
                 report.solve.iterations as f64,
+                probe_p,
             ]);
         }
         ctx.progress_steps(step, n);
     }
     let wall = start.elapsed().as_secs_f64();
+    frames.finish()?;
     let f = scene.fluid()?;
+    let probe_mean = probe_sum / probe_n.max(1) as f64;
     let z_end = surface_height(f, dp, p.tank_length);
     std::fs::write(ctx.out_file("final_particles.csv"), particles_csv(f))?;
     let mut out = CaseOutput::new();
@@ -373,6 +394,9 @@ fn run(p: &StillWaterParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         .metric("final_specific_kinetic_energy", f.kinetic_energy() / mass)
         .metric("max_compression_pct", 100.0 * max_c)
         .metric("avg_iterations", iterations as f64 / n as f64)
+        .metric("probe_pressure", probe_mean)
+        .metric("probe_pressure_hydrostatic", p_exact)
+        .metric("probe_pressure_error", probe_mean / p_exact - 1.0)
         .metric("wall_s", wall);
     out.series = series;
     out.plot = PlotSpec::new(

@@ -68,8 +68,9 @@ pub fn sweep_point(dp: f64, error: f64, wall_s: f64) -> SweepPoint {
     }
 }
 
-/// VTK frames of an SPH system when the run asked for them (`--vtk`), every `every_s`
-/// seconds of simulated time, plus the `.pvd` collection.
+/// VTK frames of an SPH system (or, by [`record_with`](Self::record_with), of any particle
+/// system) when the run asked for them (`--vtk`), every `every_s` seconds of simulated
+/// time, plus the `.pvd` collection.
 pub struct SphFrames {
     dir: Option<std::path::PathBuf>,
     every_s: f64,
@@ -90,14 +91,24 @@ impl SphFrames {
 
     /// Writes a frame when due.
     pub fn record(&mut self, sys: &SphSystem) -> anyhow::Result<()> {
+        self.record_with(sys.time(), |path| Ok(sys.write_vtk(path, true)?))
+    }
+
+    /// Writes a frame at simulated time `time` (s) with `write` when due (any particle
+    /// system: `write` gets the frame's path).
+    pub fn record_with(
+        &mut self,
+        time: f64,
+        write: impl FnOnce(&std::path::Path) -> anyhow::Result<()>,
+    ) -> anyhow::Result<()> {
         let Some(dir) = &self.dir else { return Ok(()) };
-        if sys.time() + 1e-12 < self.next {
+        if time + 1e-12 < self.next {
             return Ok(());
         }
         self.next += self.every_s;
         let name = format!("frame_{:05}.vtp", self.frames.len());
-        sys.write_vtk(dir.join(&name), true)?;
-        self.frames.push((sys.time(), name));
+        write(&dir.join(&name))?;
+        self.frames.push((time, name));
         Ok(())
     }
 
