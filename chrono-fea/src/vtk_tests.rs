@@ -44,7 +44,10 @@ impl Vtu {
                 .map(|s| s.parse().unwrap())
                 .collect();
             assert!(values.iter().all(|x| x.is_finite()), "{name}");
-            assert!(arrays.insert(name.clone(), (values, comps)).is_none(), "{name}");
+            assert!(
+                arrays.insert(name.clone(), (values, comps)).is_none(),
+                "{name}"
+            );
         }
         let vtu = Self {
             points,
@@ -56,7 +59,11 @@ impl Vtu {
     }
 
     fn get(&self, name: &str) -> &[f64] {
-        &self.arrays.get(name).unwrap_or_else(|| panic!("no {name}")).0
+        &self
+            .arrays
+            .get(name)
+            .unwrap_or_else(|| panic!("no {name}"))
+            .0
     }
 
     /// Points, offsets, types and connectivity agree; every point and cell array has one
@@ -116,7 +123,10 @@ fn tet_under_homogeneous_stretch_writes_the_analytic_strain_and_stress() {
     let path = temp("tets.vtu");
     write_tet_vtu(&mesh, &path).unwrap();
     let v = Vtu::read(&path);
-    assert_eq!((v.points, v.cells), (mesh.nodes().len(), mesh.elements().len()));
+    assert_eq!(
+        (v.points, v.cells),
+        (mesh.nodes().len(), mesh.elements().len())
+    );
     assert!(v.get("types").iter().all(|&t| t == 10.0));
 
     let e = 0.5 * (f.transpose() * f - Matrix3::identity());
@@ -128,7 +138,12 @@ fn tet_under_homogeneous_stretch_writes_the_analytic_strain_and_stress() {
     let names = ["xx", "yy", "zz", "yz", "xz", "xy"];
     for (k, &(i, j)) in ij.iter().enumerate() {
         for &x in v.get(&format!("E_{}", names[k])) {
-            assert!((x - e[(i, j)]).abs() < 1e-13, "E_{}: {x} vs {}", names[k], e[(i, j)]);
+            assert!(
+                (x - e[(i, j)]).abs() < 1e-13,
+                "E_{}: {x} vs {}",
+                names[k],
+                e[(i, j)]
+            );
         }
         for &x in v.get(&format!("sigma_{}", names[k])) {
             assert!(
@@ -181,10 +196,11 @@ fn cable_under_axial_pull_writes_the_analytic_strain() {
     mesh.clamp(NodeId(0)).unwrap();
     let ea = mat.axial_stiffness();
     let f = 0.02 * ea;
-    mesh.set_force(NodeId(4), Vector3::new(f, 0.0, 0.0)).unwrap();
+    mesh.set_force(NodeId(4), Vector3::new(f, 0.0, 0.0))
+        .unwrap();
     solve_static(&mut mesh, &StaticSettings::default()).unwrap();
     // Newton on g(lambda) = E A (lambda^3 - lambda)/2 - F.
-    let mut lam = 1.0;
+    let mut lam: f64 = 1.0;
     for _ in 0..50 {
         lam -= (0.5 * ea * (lam.powi(3) - lam) - f) / (0.5 * ea * (3.0 * lam * lam - 1.0));
     }
@@ -216,12 +232,18 @@ fn cable_under_axial_pull_writes_the_analytic_strain() {
 #[test]
 fn cable_cantilever_writes_the_bending_moment() {
     let mat = BeamMaterial::rectangle(2e11, 7850.0, 0.01, 0.01, 0.0).unwrap();
-    let mut mesh =
-        CableMesh::straight(Vector3::zeros(), Vector3::x(), 8, mat, CableQuadrature::default())
-            .unwrap();
+    let mut mesh = CableMesh::straight(
+        Vector3::zeros(),
+        Vector3::x(),
+        8,
+        mat,
+        CableQuadrature::default(),
+    )
+    .unwrap();
     mesh.clamp(NodeId(0)).unwrap();
     let p = 3.0 * mat.bending_stiffness() * 1e-3;
-    mesh.set_force(NodeId(8), Vector3::new(0.0, 0.0, -p)).unwrap();
+    mesh.set_force(NodeId(8), Vector3::new(0.0, 0.0, -p))
+        .unwrap();
     solve_static(&mut mesh, &StaticSettings::default()).unwrap();
     let path = temp("cantilever.vtu");
     write_cable_vtu(&mesh, &path, 2).unwrap();
@@ -242,9 +264,15 @@ fn cable_cantilever_writes_the_bending_moment() {
 #[test]
 fn shell_under_homogeneous_stretch_writes_the_analytic_membrane_strain() {
     let (young, nu) = (1e7, 0.3);
-    let mut mesh =
-        ShellMesh::plate(1.0, 0.5, 3, 2, 0.01, ShellMaterial::isotropic(young, nu, 1000.0).unwrap())
-            .unwrap();
+    let mut mesh = ShellMesh::plate(
+        1.0,
+        0.5,
+        3,
+        2,
+        0.01,
+        ShellMaterial::isotropic(young, nu, 1000.0).unwrap(),
+    )
+    .unwrap();
     let (a, b) = (0.01, 0.004);
     let q: Vec<f64> = mesh
         .nodes()
@@ -261,7 +289,10 @@ fn shell_under_homogeneous_stretch_writes_the_analytic_membrane_strain() {
     let v = Vtu::read(&path);
     assert_eq!((v.points, v.cells), (12, 6));
     assert!(v.get("types").iter().all(|&t| t == 9.0));
-    let (e11, e22) = (0.5 * ((1.0 + a) * (1.0 + a) - 1.0), 0.5 * ((1.0 - b) * (1.0 - b) - 1.0));
+    let (e11, e22) = (
+        0.5 * ((1.0 + a) * (1.0 + a) - 1.0),
+        0.5 * ((1.0 - b) * (1.0 - b) - 1.0),
+    );
     let lambda = young * nu / ((1.0 + nu) * (1.0 - 2.0 * nu));
     let mu = young / (2.0 * (1.0 + nu));
     let s11 = (lambda + 2.0 * mu) * e11 + lambda * e22;
@@ -316,9 +347,41 @@ fn beam_under_stretch_and_rotation_writes_the_axial_strain_only() {
     for &x in v.get("axial_strain") {
         assert!((x - eps).abs() < 1e-12, "{x} vs {eps}");
     }
-    for name in ["twist", "curvature_y", "curvature_z", "bending_moment", "torque"] {
+    for name in [
+        "twist",
+        "curvature_y",
+        "curvature_z",
+        "bending_moment",
+        "torque",
+    ] {
         for &x in v.get(name) {
             assert!(x.abs() < 1e-9, "{name}: {x}");
         }
+    }
+}
+
+/// A clamped beam with a small tip load `P` along `-z`: the written bending moment at each
+/// segment centre is `P (L - x)`, the torque zero.
+#[test]
+fn beam_cantilever_writes_the_bending_moment() {
+    let section = BeamSection::rectangle(2e11, 0.3, 7850.0, 0.02, 0.01).unwrap();
+    let n = 6;
+    let mut mesh =
+        BeamMesh::straight(Vector3::zeros(), Vector3::x(), n, Vector3::y(), section).unwrap();
+    mesh.clamp(NodeId(0)).unwrap();
+    let p = 3.0 * section.young * section.iy.min(section.iz) * 1e-4;
+    mesh.set_force(NodeId(n), Vector3::new(0.0, 0.0, -p))
+        .unwrap();
+    solve_static(&mut mesh, &StaticSettings::default()).unwrap();
+    let path = temp("beam_cantilever.vtu");
+    write_beam_vtu(&mesh, &path, 2).unwrap();
+    let v = Vtu::read(&path);
+    for (c, &x) in v.get("bending_moment").iter().enumerate() {
+        let xs = (c as f64 + 0.5) / (2 * n) as f64;
+        let want = p * (1.0 - xs);
+        assert!((x - want).abs() < 2e-3 * p, "cell {c}: {x} vs {want}");
+    }
+    for &x in v.get("torque") {
+        assert!(x.abs() < 1e-9 * p, "{x}");
     }
 }

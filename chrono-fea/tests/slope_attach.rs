@@ -138,7 +138,10 @@ fn spin(sys: &mut System, body: BodyHandle, idx: usize, omega: f64, h: f64) -> f
         worst = worst.max(tangent_error(sys, body, idx, &r0));
     }
     let turned = sys.body(body).unwrap().rotation().angle_to(&r0);
-    assert!((turned - 0.5 * std::f64::consts::PI).abs() < 0.01, "{turned}");
+    assert!(
+        (turned - 0.5 * std::f64::consts::PI).abs() < 0.01,
+        "{turned}"
+    );
     worst
 }
 
@@ -175,7 +178,10 @@ fn clamped_tangent_follows_a_spinning_kinematic_body() {
     eprintln!("kinematic spin: max tangent error {worst:e} rad");
     assert!(worst < 1e-5, "{worst}");
     let tip = sys.item::<CableItem>(idx).unwrap().mesh().nodes()[N].position;
-    assert!(tip.y > 0.9 && tip.x.abs() < 0.1, "the cable turned: {tip:?}");
+    assert!(
+        tip.y > 0.9 && tip.x.abs() < 0.1,
+        "the cable turned: {tip:?}"
+    );
     let (mut sys, body, idx) = build(false);
     let worst = spin(&mut sys, body, idx, omega, h);
     assert!(worst > 1.0, "a pinned cable does not turn: {worst}");
@@ -261,7 +267,11 @@ fn body_on_a_revolute_joint_receives_the_bending_moment() {
             sys.step(0.01).unwrap();
         }
         let angle = sys.body(body).unwrap().rotation().scaled_axis().y;
-        let couple = sys.item::<CableItem>(idx).unwrap().slope_reaction(0).unwrap();
+        let couple = sys
+            .item::<CableItem>(idx)
+            .unwrap()
+            .slope_reaction(0)
+            .unwrap();
         (angle, couple)
     };
     let (held, couple) = run(-p);
@@ -277,4 +287,3 @@ fn body_on_a_revolute_joint_receives_the_bending_moment() {
     assert!((free / rigid - 1.0).abs() < 0.015, "{free} vs {rigid}");
     assert!((couple.y / -p - 1.0).abs() < 1e-3, "{couple:?}");
 }
-
