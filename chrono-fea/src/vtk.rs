@@ -2,7 +2,7 @@
 //!
 //! Each writer produces one unstructured grid (`.vtu`, ASCII) of the current
 //! configuration through chrono-core's writer
-//! ([`write_cells_vtu`](chrono_core::io::vtk::write_cells_vtu); series of frames with
+//! ([`write_cells_vtu`]; series of frames with
 //! [`write_pvd`](chrono_core::io::write_pvd)). Point data: `displacement` (m, current
 //! minus reference position). Cell data, per cell type:
 //!
