@@ -37,7 +37,9 @@
 //! body with three bilateral rows `d . (r_node - p) = 0` (`d` the world axes), stabilized
 //! like the joints: `b = d . (r_node - p) / h` (minus the known velocity of a kinematic
 //! body's point). The slope stays free: a pin (spherical joint) for the cable element,
-//! which has no torsion.
+//! which has no torsion. [`CableItem::attach_slope`] keeps the slope along a fixed
+//! direction or a direction of a rigid body as well (two more rows, module
+//! [`slope_attach`](crate::slope_attach)): with both, the node is clamped to the body.
 //!
 //! # Contact
 //!
@@ -59,12 +61,14 @@ use chrono_core::item::{PhysicsItem, StepContext};
 use chrono_core::{ContactMaterial, Result as CoreResult};
 use nalgebra::Vector3;
 
+use crate::attach_rows::AttachContext;
 use crate::element::cable::hermite;
 use crate::element::{AncfCable, ElementVector};
 use crate::error::{FeaError, Result, finite3, positive};
 use crate::implicit::{ImplicitBlock, core_error};
 use crate::mesh::{CableMesh, DofMap};
 use crate::node::NodeId;
+use crate::slope_attach::{SlopeAttachment, SlopeRows, SlopeTarget};
 
 /// What a node is attached to.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -105,6 +109,8 @@ pub struct CableItem {
     contact_enabled: bool,
     /// Whether element midpoints carry a sphere too.
     midpoint_contacts: bool,
+    /// Slope attachments and their rows.
+    slopes: SlopeRows,
 }
 
 impl CableItem {
@@ -130,6 +136,7 @@ impl CableItem {
             contact_material: ContactMaterial::default(),
             contact_enabled: true,
             midpoint_contacts: false,
+            slopes: SlopeRows::default(),
         })
     }
 
@@ -219,6 +226,26 @@ impl CableItem {
     /// The force of attachment `i` on its node during the last step (`gamma / h`), N.
     pub fn reaction(&self, i: usize) -> Option<Vector3<f64>> {
         self.core.reaction(i)
+    }
+
+    /// Keep the slope `r_x` of `node` along `target` (two bilateral rows, module
+    /// [`slope_attach`](crate::slope_attach)); with [`attach`](Self::attach) of the same
+    /// node to the same body, a clamp. Returns its index. Errors: unknown node, zero or
+    /// non-finite direction. A body handle is checked at the step.
+    pub fn attach_slope(&mut self, node: NodeId, target: SlopeTarget) -> Result<usize> {
+        self.mesh.node(node)?;
+        Ok(self.slopes.push(SlopeAttachment::new(node, target)?))
+    }
+
+    /// The slope attachments.
+    pub fn slope_attachments(&self) -> &[SlopeAttachment] {
+        &self.slopes.attachments
+    }
+
+    /// The couple of slope attachment `i` on its node's section during the last step
+    /// (world, N m; the body receives its opposite): `s x sum_k e_k gamma_k / h`.
+    pub fn slope_reaction(&self, i: usize) -> Option<Vector3<f64>> {
+        self.slopes.couple(i)
     }
 
     /// Velocity of node `n`: `(r_dot, r_x_dot)`, m/s and 1/s.
@@ -397,7 +424,23 @@ impl PhysicsItem for CableItem {
         let mesh = &self.mesh;
         self.core.attachment_rows(ctx, bodies, rows, 6, |n| {
             Ok(mesh.node(NodeId(n)).map_err(core_error)?.position)
-        })
+        })?;
+        let Some(block) = self.core.block else {
+            return Ok(());
+        };
+        let (nodes, map) = (mesh.nodes(), &self.core.map);
+        self.slopes.push_rows(
+            |n| nodes[n].slope,
+            |n, c| map.free_index(6 * n + 3 + c),
+            map.nfree(),
+            &AttachContext {
+                block,
+                bodies,
+                h: ctx.h,
+                label: &self.core.label,
+            },
+            rows,
+        )
     }
 
     /// `q+ = q + h v+`; the attachment forces `gamma / h`.
@@ -410,6 +453,7 @@ impl PhysicsItem for CableItem {
         gamma: &[f64],
     ) -> CoreResult<()> {
         if self.core.advance(ctx, vars, v, problem, gamma, 6)? {
+            self.slopes.record(problem, gamma, ctx.h);
             self.mesh
                 .set_coordinates(&self.core.q)
                 .map_err(core_error)?;

@@ -35,8 +35,15 @@
 //! meshes of it ([`BeamMesh`]: straight, arcs, clamps, forces, couples, gravity), solved
 //! by the same Newton solver (the 45-degree bend of Bathe & Bolourchi 1979).
 //!
+//! A cable node's slope can be kept along a direction of a rigid body
+//! ([`CableItem::attach_slope`], module [`slope_attach`]): with a position attachment, a
+//! clamp of the cable to the body, its bending moment carried by CCP rows.
+//!
+//! Output: the deformed meshes with their strain and stress fields as VTK unstructured
+//! grids for ParaView (module [`vtk`]).
+//!
 //! Still to come (see the issue): the fully parameterized beam in the dynamic (CCP)
-//! stepper, slope attachments.
+//! stepper.
 //!
 //! ```
 //! use chrono_fea::{BeamMaterial, CableMesh, CableQuadrature, NodeId, StaticSettings, solve_static};
@@ -67,12 +74,14 @@ pub mod node;
 pub mod quadrature;
 pub mod shell_dynamics;
 pub mod shell_mesh;
+pub mod slope_attach;
 pub mod spd;
 pub mod statics;
 pub mod tet_box;
 pub mod tet_dynamics;
 pub mod tet_mesh;
 pub mod tire_mesh;
+pub mod vtk;
 
 pub use beam_mesh::BeamMesh;
 pub use dynamics::{AttachTarget, Attachment, CableItem};
@@ -87,6 +96,7 @@ pub use modal::{MassModel, natural_frequencies};
 pub use node::{BeamNode, GradientNode, NodeId, SolidNode};
 pub use shell_dynamics::{DirectorTarget, ShellItem};
 pub use shell_mesh::ShellMesh;
+pub use slope_attach::{SlopeAttachment, SlopeTarget};
 pub use spd::SparseSpd;
 pub use statics::{StaticModel, StaticReport, StaticSettings, solve_static};
 pub use tet_box::{BoxFaces, BoxMesh, HexSplit};

@@ -233,8 +233,8 @@ impl CableMesh {
     /// Hold the direction of the slope of node `n` (the rotation of the section) and leave
     /// its length (the axial stretch) free: the two slope components normal to the
     /// reference slope are fixed. Needs a reference slope along a coordinate axis (the
-    /// supports remove coordinates; a general direction needs constraint rows, which come
-    /// with the `PhysicsItem` coupling).
+    /// supports remove coordinates; a general direction, or one that turns with a rigid
+    /// body, needs constraint rows: [`CableItem::attach_slope`](crate::CableItem::attach_slope)).
     pub fn fix_slope_direction(&mut self, n: NodeId) -> Result<()> {
         let node = self.node_mut(n)?;
         let t = node.reference_slope;

@@ -5,8 +5,9 @@
 //!   drawn as a square of side [`ShapeMeshOptions::half_space_size`] (default 20 m)
 //!   centered at its local origin.
 //! - [`write_points_vtp`]: particles as vertex cells with named scalar and vector point data.
-//! - [`write_cells_vtu`]: an unstructured grid (`.vtu`) of one cell type (tetrahedra of
-//!   a finite-element mesh ...) with named point and cell data.
+//! - [`write_cells_vtu`]: an unstructured grid (`.vtu`) of one cell type (tetrahedra,
+//!   quadrilaterals, line segments of a finite-element mesh ...) with named point and
+//!   cell data.
 //! - [`write_pvd`]: a collection of `(time, file)` so ParaView animates a series.
 //!
 //! Numbers are written at full precision; non-finite values are rejected (VTK readers
@@ -138,6 +139,10 @@ pub fn write_points_vtp(
 pub const VTK_TETRA: u8 = 10;
 /// VTK cell type of a triangle (`VTK_TRIANGLE`).
 pub const VTK_TRIANGLE: u8 = 5;
+/// VTK cell type of a straight line segment (`VTK_LINE`).
+pub const VTK_LINE: u8 = 3;
+/// VTK cell type of a bilinear quadrilateral (`VTK_QUAD`).
+pub const VTK_QUAD: u8 = 9;
 
 /// An unstructured grid of cells of one VTK type for [`write_cells_vtu`].
 #[derive(Debug, Clone, Copy)]

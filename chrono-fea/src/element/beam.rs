@@ -585,6 +585,33 @@ impl AncfBeam {
     pub fn position_at(&self, e: &BeamVector, xi: f64) -> Vector3<f64> {
         field(&shape(xi, self.length)[0], &vectors(e))
     }
+
+    /// The beam strains at `xi` in `[0, 1]` for coordinates `e` and the reference
+    /// coordinates `reference` (the element's own definitions, module docs):
+    /// `[eps, K_x, K_y, K_z]` (axial Green strain, -; twist, 1/m; bending curvatures
+    /// about the section axes, 1/m), zero in the reference configuration.
+    pub fn strains_at(&self, e: &BeamVector, reference: &BeamVector, xi: f64) -> [f64; 4] {
+        let w = shape(xi, self.length);
+        let parts = |q: &[Vector3<f64>; 8]| {
+            let [_, t, tp, a, ap, b, bp] = w.map(|wi| field(&wi, q));
+            let (na, nb) = (a.norm(), b.norm());
+            (
+                t.dot(&t),
+                (ap.dot(&b) - bp.dot(&a)) / (na * nb),
+                tp.dot(&b) / nb,
+                tp.dot(&a) / na,
+            )
+        };
+        let (tt, kx, ky, kz) = parts(&vectors(e));
+        let (tt0, kx0, ky0, kz0) = parts(&vectors(reference));
+        let l0 = tt0.sqrt();
+        [
+            (tt - tt0) / (2.0 * l0 * l0),
+            (kx - kx0) / (2.0 * l0),
+            (ky - ky0) / (l0 * l0),
+            (kz - kz0) / (l0 * l0),
+        ]
+    }
 }
 
 #[cfg(test)]

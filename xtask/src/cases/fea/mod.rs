@@ -138,28 +138,48 @@ pub fn parse_model(model: &str) -> anyhow::Result<SolidModel> {
     }
 }
 
-/// Write the deformed tetrahedral mesh as a `.vtu`: current positions, the displacement
-/// (point vectors), the von Mises (Cauchy) stress and the volume ratio `det F` per element.
-pub fn write_tet_vtu(mesh: &chrono_fea::TetMesh, path: &std::path::Path) -> anyhow::Result<()> {
-    use chrono_core::io::vtk::{CellGrid, VTK_TETRA, write_cells_vtu};
-    let points: Vec<Vector3<f64>> = mesh.nodes().iter().map(|n| n.position).collect();
-    let displacement: Vec<Vector3<f64>> = mesh.nodes().iter().map(|n| n.displacement()).collect();
-    let connectivity: Vec<usize> = mesh.elements().iter().flat_map(|e| e.nodes).collect();
-    let von_mises = mesh.von_mises_stresses();
-    let jacobian: Vec<f64> = (0..mesh.elements().len())
-        .map(|e| mesh.elements()[e].jacobian(&mesh.current_element_coordinates(e)))
-        .collect();
-    write_cells_vtu(
-        path,
-        &CellGrid {
-            points: &points,
-            cell_type: VTK_TETRA,
-            nodes_per_cell: 4,
-            connectivity: &connectivity,
-            point_scalars: &[],
-            point_vectors: &[("displacement", &displacement)],
-            cell_scalars: &[("von_mises", &von_mises), ("det_F", &jacobian)],
-        },
-    )?;
-    Ok(())
+/// Frames of a mesh item written every `every` steps into the case's VTK directory
+/// when the run asked for them (`--vtk`), with their `.pvd` collection at the end.
+pub struct MeshFrames {
+    dir: Option<std::path::PathBuf>,
+    prefix: &'static str,
+    every: u64,
+    frames: Vec<(f64, String)>,
+}
+
+impl MeshFrames {
+    /// Frames `<prefix>_NNNNNN.vtu` every `every` steps, if `--vtk` was given.
+    pub fn new(ctx: &crate::case::RunContext, prefix: &'static str, every: u64) -> Self {
+        Self {
+            dir: ctx.vtk_dir(),
+            prefix,
+            every: every.max(1),
+            frames: Vec::new(),
+        }
+    }
+
+    /// At a multiple of `every` (and VTK output on), write a frame with `write(path)`.
+    pub fn record(
+        &mut self,
+        step: u64,
+        time: f64,
+        write: impl FnOnce(&std::path::Path) -> chrono_core::Result<()>,
+    ) -> anyhow::Result<()> {
+        let Some(dir) = &self.dir else { return Ok(()) };
+        if !step.is_multiple_of(self.every) {
+            return Ok(());
+        }
+        let name = format!("{}_{:06}.vtu", self.prefix, self.frames.len());
+        write(&dir.join(&name))?;
+        self.frames.push((time, name));
+        Ok(())
+    }
+
+    /// Write `<prefix>.pvd` (ParaView opens it as an animation).
+    pub fn finish(&self) -> anyhow::Result<()> {
+        let Some(dir) = &self.dir else { return Ok(()) };
+        let frames: Vec<(f64, &str)> = self.frames.iter().map(|(t, n)| (*t, n.as_str())).collect();
+        chrono_core::io::write_pvd(dir.join(format!("{}.pvd", self.prefix)), &frames)?;
+        Ok(())
+    }
 }

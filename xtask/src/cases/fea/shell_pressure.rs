@@ -129,6 +129,9 @@ fn run(p: &ShellPressureParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> 
         },
     )?;
     ctx.progress(0.9);
+    if let Some(dir) = ctx.vtk_dir() {
+        chrono_fea::vtk::write_shell_vtu(&mesh, dir.join("sphere_octant.vtu"))?;
+    }
     let exact = p.pressure * r * r * (1.0 - p.poisson) / (2.0 * p.young * p.thickness);
     let mut series = Series::new(["node", "polar_angle_deg", "radial_displacement", "membrane"]);
     let (mut sum, mut lo, mut hi) = (0.0, f64::INFINITY, f64::NEG_INFINITY);

@@ -164,7 +164,7 @@ fn solve(
         .sum::<Result<f64, _>>()?
         / b.faces.x_max.len() as f64;
     if last && let Some(dir) = ctx.vtk_dir() {
-        super::write_tet_vtu(&mesh, &dir.join("cantilever.vtu"))?;
+        chrono_fea::vtk::write_tet_vtu(&mesh, dir.join("cantilever.vtu"))?;
     }
     Ok(Solution {
         tip,

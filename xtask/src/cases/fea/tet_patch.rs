@@ -240,7 +240,7 @@ fn run(p: &TetPatchParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     out.metric("volume_ratio_max", v_max);
     out.metric("von_mises_exact_Pa", chrono_fea::von_mises(&sigma_exact));
     if let Some(dir) = ctx.vtk_dir() {
-        super::write_tet_vtu(&mesh, &dir.join("patch.vtu"))?;
+        chrono_fea::vtk::write_tet_vtu(&mesh, dir.join("patch.vtu"))?;
     }
     out.series = series;
     out.plot = PlotSpec::new(

@@ -340,9 +340,16 @@ fn run(p: &TireDropParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     let width = 2.0 * p.section_radius;
     let (mut pen_max, mut force_ratio) = (0.0f64, 0.0);
     let start = std::time::Instant::now();
+    // With --vtk: the tire (strain and stress fields) and the rim and ground every 5 ms.
+    let mut tire_frames = super::MeshFrames::new(ctx, "tire", every);
+    let mut body_frames = crate::cases::rigid::VtkFrames::new(ctx, every);
     for s in 1..=steps {
         sys.step(p.h)?;
         let item = sys.item::<ShellItem>(idx).expect("the tire item");
+        tire_frames.record(s, sys.time(), |path| {
+            chrono_fea::vtk::write_shell_vtu(item.mesh(), path)
+        })?;
+        body_frames.record(s, &sys)?;
         let pen = item
             .mesh()
             .nodes()
@@ -372,6 +379,8 @@ fn run(p: &TireDropParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         }
     }
     let wall = start.elapsed().as_secs_f64();
+    tire_frames.finish()?;
+    body_frames.finish()?;
     let body = sys.body(rim)?;
     let deflection = h_free - body.position().z;
     let rim_speed = body.linear_velocity().norm();
