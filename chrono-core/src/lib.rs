@@ -37,6 +37,6 @@ pub use body::{BodyHandle, BodyMotion, RigidBody, RigidBodyBuilder};
 pub use curve::{Curve, Extrapolation};
 pub use force::{ForceElement, ForceHandle, SpringDamper};
 pub use joint::{Drive, Joint, JointBuilder, JointHandle, JointKind};
-pub use material::ContactMaterial;
+pub use material::{ContactFriction, ContactMaterial};
 pub use shape::Shape;
 pub use system::{ContactMethod, StepReport, System, SystemSettings};

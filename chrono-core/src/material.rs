@@ -128,6 +128,61 @@ impl ContactMaterial {
     }
 }
 
+/// Friction coefficients that one body imposes on all its contacts with other bodies,
+/// in place of [`ContactMaterial::combine`]'s minimum (set with
+/// [`System::set_contact_friction`](crate::System::set_contact_friction)).
+///
+/// The minimum rule cannot make a wall rougher than the grains it touches: DEM studies
+/// give grain–wall friction its own value, e.g. Y. C. Zhou, B. H. Xu, A. B. Yu and
+/// P. Zulli, "An experimental and numerical study of the angle of repose of coarse
+/// spheres", Powder Technol. 125 (2002) 45–54, whose base case has `mu_pw = 0.6` against
+/// `mu_pp = 0.4`. Elastic constants and restitution are still taken from both sides.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct ContactFriction {
+    /// Coulomb friction coefficient `mu` (dimensionless, >= 0).
+    pub friction: f64,
+    /// Rolling friction coefficient `mu_r` (dimensionless, >= 0; torque `mu_r R F_n`).
+    pub rolling_friction: f64,
+    /// Spinning friction coefficient `mu_s` (dimensionless, >= 0; torque `mu_s R F_n`).
+    pub spinning_friction: f64,
+}
+
+impl ContactFriction {
+    /// The friction coefficients of `material`.
+    pub fn of(material: &ContactMaterial) -> Self {
+        Self {
+            friction: material.friction,
+            rolling_friction: material.rolling_friction,
+            spinning_friction: material.spinning_friction,
+        }
+    }
+
+    /// Check every field; the error names the field and the value.
+    pub fn validate(&self) -> Result<()> {
+        check_non_negative("contact_friction.friction", self.friction)?;
+        check_non_negative("contact_friction.rolling_friction", self.rolling_friction)?;
+        check_non_negative("contact_friction.spinning_friction", self.spinning_friction)?;
+        Ok(())
+    }
+
+    /// The coefficient-wise minimum of two (a contact between two bodies that both carry
+    /// one).
+    pub fn min(&self, other: &ContactFriction) -> ContactFriction {
+        ContactFriction {
+            friction: self.friction.min(other.friction),
+            rolling_friction: self.rolling_friction.min(other.rolling_friction),
+            spinning_friction: self.spinning_friction.min(other.spinning_friction),
+        }
+    }
+
+    /// Write the coefficients into a contact's combined material.
+    pub fn apply(&self, material: &mut ContactMaterial) {
+        material.friction = self.friction;
+        material.rolling_friction = self.rolling_friction;
+        material.spinning_friction = self.spinning_friction;
+    }
+}
+
 /// Hertz's effective Young's modulus of two elastic bodies (Pa):
 /// `1/E* = (1 - nu_a^2)/E_a + (1 - nu_b^2)/E_b` (K. L. Johnson, *Contact Mechanics*,
 /// Cambridge 1985, eq. 4.22).
@@ -186,6 +241,29 @@ mod tests {
         let m: ContactMaterial = serde_json::from_str(r#"{"friction": 0.4}"#).unwrap();
         assert_eq!(m.friction, 0.4);
         assert_eq!(m.rolling_friction, 0.0);
+    }
+
+    #[test]
+    fn contact_friction_checks_its_fields_and_takes_the_minimum() {
+        let f = ContactFriction {
+            friction: 0.6,
+            rolling_friction: -0.01,
+            spinning_friction: 0.0,
+        };
+        let e = f.validate().unwrap_err().to_string();
+        assert!(
+            e.contains("contact_friction.rolling_friction") && e.contains("-0.01"),
+            "{e}"
+        );
+        let a =
+            ContactFriction::of(&ContactMaterial::with_friction(0.6).with_rolling_friction(0.02));
+        let b =
+            ContactFriction::of(&ContactMaterial::with_friction(0.4).with_rolling_friction(0.05));
+        let m = a.min(&b);
+        assert_eq!((m.friction, m.rolling_friction), (0.4, 0.02));
+        let mut mat = ContactMaterial::with_friction(0.1);
+        a.apply(&mut mat);
+        assert_eq!((mat.friction, mat.rolling_friction), (0.6, 0.02));
     }
 
     #[test]

@@ -250,6 +250,19 @@ pub fn write_report_md(dir: &Path, title: &str, results: &[CaseResult]) -> anyho
             writeln!(md, "- **{}**: {}", r.name, list.join(", "))?;
         }
     }
+    let sweeps = sweep_rows(results);
+    if !sweeps.is_empty() {
+        writeln!(
+            md,
+            "\n## Speed against error\n\nEach run of a case (e.g. one per contact method): its error against the case's reference and its wall time.\n"
+        )?;
+        writeln!(md, "| {} |", SWEEP_HEADER.join(" | "))?;
+        writeln!(md, "|---|---|--:|--:|")?;
+        for row in &sweeps {
+            let cells: Vec<String> = row.iter().map(|c| md_escape(c)).collect();
+            writeln!(md, "| {} |", cells.join(" | "))?;
+        }
+    }
     if results.iter().any(|r| !r.plots.is_empty()) {
         writeln!(md, "\n## Plots")?;
         for r in results.iter().filter(|r| !r.plots.is_empty()) {
@@ -309,6 +322,38 @@ pub fn text_table<const N: usize>(header: [&str; N], rows: &[[String; N]]) -> St
         line(row.iter().map(String::as_str).collect());
     }
     out
+}
+
+/// Rows of the speed-against-error comparison: every run a case recorded in its sweep
+/// (`CaseOutput::sweep`: e.g. one per contact method and parameter value), with its error
+/// against the case's reference and its wall time. Empty when no case has a sweep.
+pub fn sweep_rows(results: &[CaseResult]) -> Vec<[String; 4]> {
+    let mut rows = Vec::new();
+    for r in results {
+        let Some(o) = &r.output else { continue };
+        for s in &o.sweep {
+            rows.push([
+                r.name.clone(),
+                s.label.clone(),
+                fmt_sig(s.error, 3),
+                fmt_sig(s.wall_s, 3),
+            ]);
+        }
+    }
+    rows
+}
+
+const SWEEP_HEADER: [&str; 4] = ["case", "run", "error", "wall s"];
+
+/// The speed-against-error comparison for stdout (nothing when no case has a sweep).
+pub fn print_sweeps(results: &[CaseResult]) {
+    let rows = sweep_rows(results);
+    if !rows.is_empty() {
+        println!(
+            "\nspeed against error (each run of a case: error against its reference, wall time)"
+        );
+        print!("{}", text_table(SWEEP_HEADER, &rows));
+    }
 }
 
 /// The result table for stdout.

@@ -299,6 +299,7 @@ pub fn validate(
     }
     println!();
     report::print_table(&results);
+    report::print_sweeps(&results);
     let failed: Vec<&str> = results
         .iter()
         .filter(|r| !r.passed())

@@ -62,6 +62,12 @@ fn full_run_writes_report_csv_summary_and_plots() {
     assert!(md.contains("![test-decay](test-decay/plot.png)"), "{md}");
     assert!(md.contains("panicked: deliberate panic"), "{md}");
     assert!(md.contains("`not_finite` = NaN"), "{md}");
+    // The sweep's runs, each with its error and wall time.
+    assert!(md.contains("## Speed against error"), "{md}");
+    assert!(
+        md.contains("| test-decay | h/1 |") && md.contains("| test-decay | h/4 |"),
+        "{md}"
+    );
 
     let v: Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
     let cases = v["cases"].as_array().unwrap();

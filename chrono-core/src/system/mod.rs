@@ -32,6 +32,7 @@ use crate::error::{ChronoError, Result, check_finite3, check_non_negative, check
 use crate::force::{BodyLoads, ForceElement, ForceHandle};
 use crate::item::{PhysicsItem, StepContext};
 use crate::joint::{Joint, JointBuilder, JointHandle};
+use crate::material::ContactFriction;
 
 /// How contacts act: by complementarity (impulses from the CCP) or by penalty forces.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -138,6 +139,8 @@ pub struct System {
     pub(crate) smc: smc_step::SmcState,
     /// Loads of force elements and joint efforts of the current step.
     pub(crate) loads: BodyLoads,
+    /// Per-body friction overrides ([`System::set_contact_friction`]), indexed by body.
+    pub(crate) contact_friction: Vec<Option<ContactFriction>>,
 }
 
 impl System {
@@ -172,6 +175,7 @@ impl System {
             active: Vec::new(),
             smc: smc_step::SmcState::default(),
             loads: BodyLoads::default(),
+            contact_friction: Vec::new(),
         })
     }
 
@@ -213,6 +217,54 @@ impl System {
         }
         self.bodies.push(body);
         Ok(handle)
+    }
+
+    /// Make every contact of `body` with another body use the friction coefficients
+    /// `friction` instead of the minimum of the two colliders' ([`ContactMaterial::combine`](crate::ContactMaterial::combine);
+    /// `None` restores it). Where both bodies of a contact carry one, their minimum applies.
+    /// Applies to body–body contacts by both methods (NSC cones and SMC forces), not to the
+    /// contacts of physics items' proxies. For walls rougher than the grains they hold
+    /// (grain–wall friction above grain–grain friction, Zhou et al., Powder Technol. 125,
+    /// 2002); see [`ContactFriction`].
+    pub fn set_contact_friction(
+        &mut self,
+        body: BodyHandle,
+        friction: Option<ContactFriction>,
+    ) -> Result<()> {
+        self.body(body)?;
+        if let Some(f) = &friction {
+            f.validate()?;
+        }
+        let i = body.0 as usize;
+        if self.contact_friction.len() <= i {
+            self.contact_friction.resize(i + 1, None);
+        }
+        self.contact_friction[i] = friction;
+        Ok(())
+    }
+
+    /// The friction override of `body`, if any ([`System::set_contact_friction`]).
+    pub fn contact_friction(&self, body: BodyHandle) -> Option<ContactFriction> {
+        self.contact_friction
+            .get(body.0 as usize)
+            .copied()
+            .flatten()
+    }
+
+    /// Write the per-body friction overrides into this step's contact points.
+    pub(crate) fn apply_contact_friction(&mut self) {
+        if self.contact_friction.iter().all(Option::is_none) {
+            return;
+        }
+        let get = |i: u32| self.contact_friction.get(i as usize).copied().flatten();
+        for cp in &mut self.points {
+            let f = match (get(cp.owner_a), get(cp.owner_b)) {
+                (None, None) => continue,
+                (Some(f), None) | (None, Some(f)) => f,
+                (Some(a), Some(b)) => a.min(&b),
+            };
+            f.apply(&mut cp.material);
+        }
     }
 
     /// Add a joint; an error if it names a body that is not in the system or has bad

@@ -177,6 +177,7 @@ impl System {
         }
         self.collision
             .detect(&self.poses, &self.active, &mut self.points)?;
+        self.apply_contact_friction();
         let (broad, narrow) = self.collision.last_timing();
         let t0 = std::time::Instant::now();
         self.smc_forces(h);

@@ -98,6 +98,7 @@ impl System {
         self.points.clear();
         self.collision
             .detect(&self.poses, &self.active, &mut self.points)?;
+        self.apply_contact_friction();
         self.proxy_points.clear();
         for (i, item) in self.items.iter().enumerate() {
             self.proxies.clear();

@@ -390,7 +390,7 @@ fn run(p: &HopperParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
             .metric(format!("grains_{tag}"), r.grains as f64)
             .metric(format!("wall_s_{tag}"), r.wall_s);
         out.sweep.push(SweepPoint {
-            label: tag.clone(),
+            label: format!("{}_{tag}", p.method),
             error: ((r.flow_rate - reference) / reference).abs(),
             wall_s: r.wall_s,
         });

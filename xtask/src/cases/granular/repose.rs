@@ -19,9 +19,13 @@
 //!
 //! Our rolling friction is dimensionless, torque `mu_r R F_n` with `R` the contact's
 //! effective radius (`r/2` between equal grains, `r` against a flat wall), so
-//! `mr_pp = mu_r r / 2` and `mr_pw = mu_r r`. Materials combine by the minimum (Chrono's
-//! rule), so the walls and the plate carry the grains' `mu` and `mu_r` (`mu_pw = mu_pp`;
-//! Zhou et al.'s base case had walls 1.5x rougher, which the minimum rule cannot express).
+//! `mr_pp = mu_r r / 2` and `mr_pw = mu_r r`. Zhou et al.'s base case (`mu_pp = 0.4`,
+//! `mu_pw = 0.6`, `mr_pp = 0.05` mm, `mr_pw = 0.1` mm, 10 mm: 28.5 degrees) is therefore
+//! `mu = 0.4`, `wall_mu = 0.6` and one dimensionless `mu_r = 0.02` for both pairs (the
+//! case's default). Materials combine by the minimum, which cannot make the walls rougher
+//! than the grains, so the walls, the plate and the gates carry a per-body friction override
+//! (`System::set_contact_friction`): `wall_mu` and `wall_rolling_friction` on every grain
+//! contact with them.
 //!
 //! Scene: a plate `plate_width` long (x) between two walls `thickness` apart (y), a settled
 //! bed of `bed_height` held by two gates at the plate's ends; the gates are removed at
@@ -29,14 +33,12 @@
 //! away. After `t_discharge` the highest grain centre in each column of width `d` over the
 //! plate gives the surface; a least-squares line over both flanks (`|x|` between 15 % and
 //! 85 % of the half-width, so neither the crest nor the toe) gives `repose_angle_deg`.
-//! `rough_base = true` glues a layer of fixed spheres (diameter `d`, touching) on the plate:
-//! on the smooth plate the bottom layer rolls out unless the rolling friction holds it, and
-//! at `mu_r = 0.02` the angle is ~15 degrees there against ~34 on the rough base
-//! (docs/validation-granular.md).
+//! `rough_base = true` glues a layer of fixed spheres (diameter `d`, touching, the grains'
+//! own material) on the plate: on the smooth plate the bottom layer rolls out unless the
+//! rolling friction holds it (docs/validation-granular.md).
 //!
-//! `--quick` (CI) checks `mu_r = 0.02` on a 12 d plate (7 d bed, ~400 grains); the default
-//! run a 30 d plate (14 d bed, ~2000 grains) at `mu_r` = 0, 0.02, 0.05; `--full` adds 0.01
-//! and 0.1. Measured and discussed in `docs/validation-granular.md`.
+//! Modes and defaults are set from the measurements in `docs/validation-granular.md`
+//! (section granular-repose): see [`ReposeParams::apply_mode`].
 //!
 //! Both methods: `method = ["nsc", "smc"]` (DEM-C: friction and rolling cones, APGD; DEM-P:
 //! Hertz–Mindlin with constant rolling torque).
@@ -44,13 +46,19 @@
 use chrono_core::granular::{LatticeFill, Region, Rng, add_grains};
 use chrono_core::math::{Isometry3, UnitQuaternion, Vector3};
 use chrono_core::system::{ContactMethod, SmcSettings};
-use chrono_core::{BodyHandle, ContactMaterial, RigidBodyBuilder, Shape, System, SystemSettings};
+use chrono_core::{
+    BodyHandle, ContactFriction, ContactMaterial, RigidBodyBuilder, Shape, System, SystemSettings,
+};
 use serde::{Deserialize, Serialize};
 
 use super::{make_system, method_name, parse_methods, parse_rolling_model};
 use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series, SweepPoint};
 use crate::fit::line_fit;
 use crate::params::{CaseParams, ParamCase, ParamInfo, ensure_at_least, ensure_positive};
+
+/// Plate length (in grain diameters) of Zhou et al.'s heaps: the angle is compared with
+/// their fit from this size on.
+pub const ZHOU_PLATE_WIDTH: f64 = 30.0;
 
 /// Zhou et al. (2002), Eq. 3 (`w = 4 d`): the angle of repose (degrees) of their DEM heaps
 /// for sliding friction `mu_pp`, `mu_pw`, rolling friction lengths `mr_pp`, `mr_pw` (m) and
@@ -76,17 +84,26 @@ pub fn zhou_glass_beads_angle(d: f64, w: f64) -> f64 {
 pub struct ReposeParams {
     /// Contact methods, each run in turn (`--set method=smc` runs one).
     pub method: Vec<String>,
-    /// Sliding friction coefficient (grain–grain, grain–wall, grain–plate).
+    /// Sliding friction coefficient between grains (`mu_pp`).
     pub mu: f64,
-    /// Rolling friction coefficients of the sweep (dimensionless, torque `mu_r R F_n`).
+    /// Sliding friction coefficient of the grains on the walls, the plate and the gates
+    /// (`mu_pw`; `null`: `mu`).
+    pub wall_mu: Option<f64>,
+    /// Rolling friction coefficients of the sweep (dimensionless, torque `mu_r R F_n`)
+    /// between grains.
     pub rolling_friction: Vec<f64>,
-    /// SMC rolling resistance model: `relative` (default: against the relative rotation of
-    /// the two grains) or `per_body` (Zhou et al.'s: against each grain's own rotation; it
-    /// did not close the gap to their fit, docs/validation-granular.md). NSC has the
-    /// relative model only.
+    /// Rolling friction coefficient of the grains on the walls and the plate
+    /// (dimensionless; `null`: the run's `rolling_friction`, i.e. `mr_pw = 2 mr_pp` as in
+    /// Zhou et al.'s base case).
+    pub wall_rolling_friction: Option<f64>,
+    /// SMC rolling resistance model: `per_body` (default, Zhou et al.'s: against each
+    /// grain's own rotation) or `relative` (against the relative rotation of the two
+    /// grains). NSC has the relative model only.
     pub rolling_model: String,
-    /// Glue a layer of fixed spheres (diameter `d`, square lattice, touching) on the plate:
-    /// a rough base instead of the smooth plate.
+    /// Glue a layer of fixed spheres (diameter `d`, square lattice, touching, the grains'
+    /// material) on the plate: a rough base instead of the smooth plate. Default `false`:
+    /// Zhou et al.'s fit gives the particle–wall pair its own friction, which only matters
+    /// if the heap stands on a wall.
     pub rough_base: bool,
     /// Largest grain diameter `d`, m (diameters uniform in [0.95 d, d]).
     pub grain_diameter: f64,
@@ -127,9 +144,11 @@ impl Default for ReposeParams {
     fn default() -> Self {
         Self {
             method: vec!["nsc".into(), "smc".into()],
-            mu: 0.5,
-            rolling_friction: vec![0.0, 0.01, 0.02, 0.05, 0.1],
-            rolling_model: "relative".into(),
+            mu: 0.4,
+            wall_mu: Some(0.6),
+            rolling_friction: vec![0.01, 0.02, 0.05, 0.1],
+            wall_rolling_friction: None,
+            rolling_model: "per_body".into(),
             rough_base: false,
             grain_diameter: 0.01,
             plate_width: 30.0,
@@ -140,7 +159,9 @@ impl Default for ReposeParams {
             restitution: 0.5,
             h: 0.0,
             t_settle: 0.6,
-            t_discharge: 1.5,
+            // The 30 d heap of Zhou's base case by SMC was still creeping at 5 s (kinetic
+            // energy 6e-3 m g d) and at rest at 8 s.
+            t_discharge: 8.0,
             solver: "apgd".into(),
             tolerance: 1e-5,
             max_iterations: 100,
@@ -154,11 +175,25 @@ impl Default for ReposeParams {
 impl CaseParams for ReposeParams {
     const INFO: &'static [ParamInfo] = &[
         ParamInfo::new("method", "-", "contact methods: [\"nsc\", \"smc\"] or one"),
-        ParamInfo::new("mu", "-", "sliding friction coefficient"),
+        ParamInfo::new(
+            "mu",
+            "-",
+            "sliding friction coefficient grain-grain (mu_pp)",
+        ),
+        ParamInfo::new(
+            "wall_mu",
+            "-",
+            "sliding friction grain-wall/plate (mu_pw; null: mu)",
+        ),
         ParamInfo::new(
             "rolling_friction",
             "-",
-            "rolling friction coefficients of the sweep (torque mu_r R F_n)",
+            "grain-grain rolling friction coefficients of the sweep (torque mu_r R F_n)",
+        ),
+        ParamInfo::new(
+            "wall_rolling_friction",
+            "-",
+            "rolling friction grain-wall/plate (null: the run's rolling_friction)",
         ),
         ParamInfo::new(
             "rolling_model",
@@ -201,21 +236,23 @@ impl CaseParams for ReposeParams {
     ];
     fn apply_mode(&mut self, mode: Mode) {
         match mode {
-            // The smallest heap with a fittable flank, for the CI budget: 12 d plate (flanks
-            // of 6 columns, 4 in the fitted band), 7 d bed (above the 5 d crest of a
-            // 40 degree heap), ~400 grains. A smoke run of the SMC heap at mu_r = 0.1 (NSC
-            // takes ~7x longer here). Open (docs/validation-granular.md): at mu_r = 0.02
-            // both methods are 9-11 degrees below Zhou et al.'s fit, NSC at 0.1 5.5 below;
-            // the default mode runs those and reports the failures.
+            // Zhou et al.'s base case (mu_r = 0.02 for both pairs) on the smallest heap with
+            // a fittable flank, for the CI budget: 12 d plate (flanks of 6 columns, 4 in the
+            // fitted band), 7 d bed, ~400 grains, SMC only (NSC takes ~3-5x longer). The
+            // angle is reported, not compared with Zhou's fit: this heap is ~6 degrees lower
+            // than the 30 d one (19 against 25.6, docs/validation-granular.md). Checked: the
+            // heap at rest.
             Mode::Quick => {
                 self.method = vec!["smc".into()];
-                self.rolling_friction = vec![0.1];
+                self.rolling_friction = vec![0.02];
                 self.plate_width = 12.0;
                 self.bed_height = 7.0;
                 self.t_settle = 0.3;
-                self.t_discharge = 1.2;
+                self.t_discharge = 3.0;
             }
-            Mode::Default => self.rolling_friction = vec![0.0, 0.02, 0.05],
+            // Zhou et al.'s base case on the 30 d plate, both methods, checked against their
+            // fit (28.5 +- 4 degrees).
+            Mode::Default => self.rolling_friction = vec![0.02],
             Mode::Full => {}
         }
     }
@@ -325,6 +362,15 @@ fn validate(p: &ReposeParams) -> anyhow::Result<()> {
     let d = p.grain_diameter;
     ensure_positive("grain_diameter", d)?;
     ensure_positive("mu", p.mu)?;
+    if let Some(m) = p.wall_mu {
+        ensure_positive("wall_mu", m)?;
+    }
+    if let Some(m) = p.wall_rolling_friction {
+        anyhow::ensure!(
+            m >= 0.0 && m.is_finite(),
+            "parameter `wall_rolling_friction` must be >= 0, got {m}"
+        );
+    }
     ensure_at_least("plate_width", p.plate_width, 8.0, "grain diameters")?;
     ensure_at_least("thickness", p.thickness, 1.5, "grain diameters")?;
     ensure_at_least("bed_height", p.bed_height, 2.0, "grain diameters")?;
@@ -371,10 +417,16 @@ fn heap(
     sys.set_solver(solver(&p.solver, p.tolerance, p.max_iterations)?);
     let mat = ContactMaterial::smc(p.young, 0.3, p.restitution, p.mu).with_rolling_friction(mu_r);
     mat.validate()?;
+    // Walls, plate and gates impose their own friction on the grains (Zhou et al.'s mu_pw).
+    let wall = ContactFriction {
+        friction: p.wall_mu.unwrap_or(p.mu),
+        rolling_friction: p.wall_rolling_friction.unwrap_or(mu_r),
+        spinning_friction: 0.0,
+    };
     // The slot's two walls and, 30 d down, the floor where discharged grains are parked.
     let z_park = -30.0 * d;
-    half_space(&mut sys, "front wall", Vector3::y(), Vector3::zeros(), mat)?;
-    half_space(
+    let front = half_space(&mut sys, "front wall", Vector3::y(), Vector3::zeros(), mat)?;
+    let back = half_space(
         &mut sys,
         "back wall",
         -Vector3::y(),
@@ -388,7 +440,7 @@ fn heap(
         Vector3::new(0.0, 0.0, z_park),
         mat,
     )?;
-    sys.add_body(RigidBodyBuilder::fixed().name("plate").collider(
+    let plate = sys.add_body(RigidBodyBuilder::fixed().name("plate").collider(
         Shape::Box {
             half_extents: Vector3::new(half, 0.5 * w, r),
         },
@@ -429,6 +481,9 @@ fn heap(
             mat,
         )?,
     ];
+    for b in [front, back, plate, gates[0], gates[1]] {
+        sys.set_contact_friction(b, Some(wall))?;
+    }
     // A loose jittered lattice (sites 1.25 d apart) settles to a solid fraction ~0.6: the
     // grain count of the target bed at 0.58, the lattice region tall enough to hold them.
     let v_grain = std::f64::consts::PI / 6.0 * (0.975 * d).powi(3);
@@ -567,16 +622,35 @@ fn run(p: &ReposeParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
             let tag = format!("{name}_mur{mu_r}");
             // Rolling friction lengths of the pairs (mean radius r): r/2 between grains,
             // r against the walls and the plate.
-            let reference = zhou_dem_angle(p.mu, p.mu, mu_r * 0.5 * r, mu_r * r, 2.0 * r);
+            let (wall_mu, wall_mur) = (
+                p.wall_mu.unwrap_or(p.mu),
+                p.wall_rolling_friction.unwrap_or(mu_r),
+            );
+            let reference = if wall_mur > 0.0 {
+                zhou_dem_angle(p.mu, wall_mu, mu_r * 0.5 * r, wall_mur * r, 2.0 * r)
+            } else {
+                0.0
+            };
             let angle = format!("repose_angle_deg_{tag}");
-            if mu_r > 0.0 {
-                out.check(Check::absolute(
-                    angle,
-                    hp.angle,
-                    reference,
-                    p.angle_tolerance,
-                ));
+            if reference > 0.0 {
+                // Zhou et al.'s heaps stood on a 30 d plate; smaller heaps are lower (12 d:
+                // 19 degrees against 25 on 30 d, docs/validation-granular.md), so they are
+                // reported, not compared.
+                if p.plate_width >= ZHOU_PLATE_WIDTH {
+                    out.check(Check::absolute(
+                        angle,
+                        hp.angle,
+                        reference,
+                        p.angle_tolerance,
+                    ));
+                } else {
+                    out.metric(angle, hp.angle);
+                }
                 out.metric(format!("zhou_dem_deg_mur{mu_r}"), reference);
+                out.metric(
+                    format!("minus_glass_beads_experiment_deg_{tag}"),
+                    hp.angle - zhou_glass_beads_angle(2.0 * r, w),
+                );
                 out.sweep.push(SweepPoint {
                     label: tag.clone(),
                     error: (hp.angle - reference).abs(),
