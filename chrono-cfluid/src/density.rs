@@ -1,6 +1,6 @@
 //! SPH density summation and the Jacobian of the density constraint.
 //!
-//! With fluid particles `0..n_fluid` followed by wall markers (same mass `m`, no
+//! With fluid particles `0..n_fluid` followed by wall markers (same kernel mass `m`, no
 //! variables), `x_ij = x_i - x_j` (minimum image on periodic axes) and
 //! `grad_i W_ij = F(r_ij) x_ij` ([`Kernel::grad_factor`]):
 //!

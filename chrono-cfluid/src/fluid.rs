@@ -23,29 +23,41 @@ mod projection;
 /// incompressibility is one holonomic constraint per particle,
 ///
 /// ```text
-/// C_i(x) = rho_i / rho_0 - 1,     rho_i = m W(0) + sum_j m W(|x_i - x_j|)
+/// C_i(x) = rho_i / rho_0 - 1,     rho_i = m_k W(0) + sum_j m_k W(|x_i - x_j|)
 /// ```
 ///
 /// (SPH summation over fluid particles and wall markers with a chrono-core kernel, the
 /// neighbours from the chrono-core cell grid), enforced at the velocity level with the
-/// stabilization `C_i / h`. Each particle contributes one row, written with
-/// `D_i = -grad C_i` (1/m; entries `(m/rho_0) grad W_ij`, see the `density` module) so that
+/// stabilization `C_i / h`.
+///
+/// **Two masses.** A particle stands for one lattice cell of fluid: its inertial and
+/// gravitational mass is `m = rho_0 dp^3` ([`particle_mass`](Self::particle_mass)). The
+/// density sum uses the kernel mass `m_k = rho_0 / sum_lattice W`
+/// ([`kernel_mass`](Self::kernel_mass), [`lattice_mass`]), so that the initial cubic
+/// lattice sums to exactly `rho_0` (`C_i = 0` at the start): the rows hold the kernel
+/// number density of the lattice. With one mass for both (`m = m_k`), the lattice fluid
+/// held `C_i = 0` at a true mass density `n m = rho_0 / (dp^3 sum_lattice W)`, 1.7 % light
+/// for Wendland C2 at `h_k = 1.2 dp` (`dp^3 sum_lattice W = 1.0175`), and a floating body
+/// sat 1.7 % too deep (`cfluid-floating-box`, `docs/validation-cfluid.md`).
+///
+/// Each particle contributes one row, written with
+/// `D_i = -grad C_i` (1/m; entries `(m_k/rho_0) grad W_ij`, see the `density` module) so that
 /// its multiplier `g_i` (N m s) is a pressure impulse, positive when it pushes:
 ///
 /// ```text
 /// c_i = D_i' v + b_i + eps_i g_i,   b_i = -min(C_i / h, max_recovery_rate),
-/// eps_i = kappa rho_0 / (h^2 m)
+/// eps_i = kappa rho_0 / (h^2 m_k)
 /// ```
 ///
 /// bilateral (`c_i = 0`) or unilateral (`0 <= g_i ⊥ c_i >= 0`) according to
 /// [`SurfaceMode`]. After a solve, `C_i(t + h) ~ kappa p_i` (the compliance makes the fluid
 /// as compressible as one of bulk modulus `1 / kappa`), and the pressure is
-/// `p_i = g_i rho_0 / (h m)` (Pa; [`pressure`](Self::pressure)): the force on particle
-/// `j` is `-sum_i (g_i / h) grad_j C_i`, which with `g_i / h = p_i m / rho_0` is the
-/// symmetric SPH pressure force `-m sum_i m (p_i + p_j) / rho_0^2 grad W`.
+/// `p_i = g_i rho_0 / (h m_k)` (Pa; [`pressure`](Self::pressure)): the force on particle
+/// `j` is `-sum_i (g_i / h) grad_j C_i`, which with `g_i / h = p_i m_k / rho_0` is the
+/// symmetric SPH pressure force `-m_k sum_i m_k (p_i + p_j) / rho_0^2 grad W`.
 ///
 /// **Viscosity** is an XSPH velocity smoothing applied after the solve (Monaghan 1989):
-/// `v_i <- v_i + eps sum_j (2 m / (rho_i + rho_j)) (v_j - v_i) W_ij` over fluid
+/// `v_i <- v_i + eps sum_j (2 m_k / (rho_i + rho_j)) (v_j - v_i) W_ij` over fluid
 /// neighbours, then `x <- x + h v` with the smoothed velocity (symplectic Euler). It damps
 /// the relative motion of neighbours (an artificial viscosity of order
 /// `eps h_k^2 / h`), conserves momentum (the pair weights are symmetric), and perturbs
@@ -92,7 +104,10 @@ pub struct ConstraintFluid {
     name: String,
     settings: CfluidSettings,
     kernel: Kernel,
+    /// Inertial and gravitational mass of a particle, `rho_0 dp^3`, kg.
     mass: f64,
+    /// Mass in the density sums, `rho_0 / sum_lattice W` ([`lattice_mass`]), kg.
+    kernel_mass: f64,
     mass_op: MassOperator,
     n_fluid: usize,
     /// Positions of fluid particles then wall markers (structure of arrays), m.
@@ -143,14 +158,17 @@ struct PushRow<'a> {
 }
 
 impl PushRow<'_> {
-    /// Push the row in `buf` (a particle or marker of density `rho`) by the surface mode.
-    /// The body blocks are turned into body coordinates (angular part in the body frame);
-    /// a body without variables (fixed, kinematic) moves its markers at a known velocity,
-    /// which goes into `b`.
+    /// Push the row in `buf` (a particle or marker of density `rho`) by the surface mode,
+    /// or unilateral whatever the density if `marker` (a body face may be pushed by the
+    /// fluid but never holds it: a bilateral marker row held the film under a sinking body
+    /// in tension). The body blocks are turned into body coordinates (angular part in the
+    /// body frame); a body without variables (fixed, kinematic) moves its markers at a
+    /// known velocity, which goes into `b`.
     fn push<'b>(
         &self,
         buf: &'b mut RowBuf,
         rho: f64,
+        marker: bool,
         entries: &mut Vec<RowEntry<'b>>,
         rows: &mut ConstraintRows,
     ) -> RowId {
@@ -182,7 +200,12 @@ impl PushRow<'_> {
         let s = self.settings;
         let (h, eps) = (self.h, self.eps);
         let c = rho / s.rest_density - 1.0;
-        let id = match s.surface {
+        let surface = if marker {
+            SurfaceMode::Unilateral
+        } else {
+            s.surface
+        };
+        let id = match surface {
             SurfaceMode::OneSided if c < 0.0 => rows.push_unilateral(entries, known - c / h, eps),
             SurfaceMode::OneSided => {
                 rows.push_bilateral(entries, known - (c / h).min(s.max_recovery_rate), eps)
@@ -233,9 +256,9 @@ fn check_points(field: &str, pts: &[[f64; 3]]) -> Result<()> {
 
 impl ConstraintFluid {
     /// A fluid of particles at `fluid` (at rest) in walls of markers at `walls`, m. The
-    /// particle mass is [`lattice_mass`] (the lattice of `settings.spacing` sums to
-    /// `rho_0`). Errors name the bad field: settings, an empty fluid, a non-finite
-    /// position.
+    /// particle mass is `rho_0 dp^3`, the kernel mass [`lattice_mass`] (the lattice of
+    /// `settings.spacing` sums to `rho_0`; see the type's documentation). Errors name
+    /// the bad field: settings, an empty fluid, a non-finite position.
     pub fn new(
         name: impl Into<String>,
         settings: CfluidSettings,
@@ -253,7 +276,8 @@ impl ConstraintFluid {
         check_points("fluid", fluid)?;
         check_points("walls", walls)?;
         let kernel = Kernel::new(settings.kernel, settings.smoothing_length(), 3)?;
-        let mass = lattice_mass(&kernel, settings.spacing, settings.rest_density);
+        let kernel_mass = lattice_mass(&kernel, settings.spacing, settings.rest_density);
+        let mass = settings.rest_density * settings.spacing.powi(3);
         let mass_op = MassOperator::particle(mass)?;
         let config = GridConfig::bounded(
             kernel.support(),
@@ -268,6 +292,7 @@ impl ConstraintFluid {
             name: name.into(),
             kernel,
             mass,
+            kernel_mass,
             mass_op,
             n_fluid,
             pos,
@@ -359,9 +384,19 @@ impl ConstraintFluid {
         &self.kernel
     }
 
-    /// Mass of every particle (fluid and markers), kg.
+    /// Inertial and gravitational mass of every fluid particle, `rho_0 dp^3`, kg: a
+    /// particle stands for one lattice cell of fluid at the rest density.
     pub fn particle_mass(&self) -> f64 {
         self.mass
+    }
+
+    /// The mass in the SPH density sums (fluid, wall and body markers),
+    /// `m_k = rho_0 / sum_lattice W` ([`lattice_mass`]), kg: the cubic lattice of spacing
+    /// `dp` sums to exactly `rho_0`. It differs from [`particle_mass`](Self::particle_mass)
+    /// by the kernel's lattice-sum error (`m_k = 0.983 rho_0 dp^3` for Wendland C2 at
+    /// `h_k = 1.2 dp`).
+    pub fn kernel_mass(&self) -> f64 {
+        self.kernel_mass
     }
 
     /// Number of fluid particles.
@@ -449,10 +484,10 @@ impl ConstraintFluid {
         &self.row_ids
     }
 
-    /// Pressure of fluid particle `i` from the last step, `p_i = g_i rho_0 / (h m)`, Pa.
+    /// Pressure of fluid particle `i` from the last step, `p_i = g_i rho_0 / (h m_k)`, Pa.
     pub fn pressure(&self, i: usize) -> f64 {
         if self.last_h > 0.0 {
-            self.gamma[i] * self.settings.rest_density / (self.last_h * self.mass)
+            self.gamma[i] * self.settings.rest_density / (self.last_h * self.kernel_mass)
         } else {
             0.0
         }
@@ -481,7 +516,7 @@ impl ConstraintFluid {
     fn field(&self) -> Field<'_> {
         Field {
             kernel: &self.kernel,
-            mass: self.mass,
+            mass: self.kernel_mass,
             rho_0: self.settings.rest_density,
             grid: &self.grid,
             pos: [&self.pos[0], &self.pos[1], &self.pos[2]],
@@ -571,7 +606,7 @@ impl ConstraintFluid {
 
         let h = ctx.h;
         let s = &self.settings;
-        let eps = s.compressibility * s.rest_density / (h * h * self.mass);
+        let eps = s.compressibility * s.rest_density / (h * h * self.kernel_mass);
         let mut entries = recycle(std::mem::take(&mut self.entries));
         self.row_ids.clear();
         let push = PushRow {
@@ -583,7 +618,7 @@ impl ConstraintFluid {
             eps,
         };
         for (buf, rho) in self.rows.iter_mut().zip(&self.rho) {
-            let id = push.push(buf, *rho, &mut entries, rows);
+            let id = push.push(buf, *rho, false, &mut entries, rows);
             self.row_ids.push(id);
         }
         self.marker_row_ids.clear();
@@ -595,7 +630,7 @@ impl ConstraintFluid {
                 .enumerate()
             {
                 if !buf.particles.is_empty() {
-                    let id = push.push(buf, *rho, &mut entries, rows);
+                    let id = push.push(buf, *rho, true, &mut entries, rows);
                     self.marker_row_ids.push((k as u32, id));
                 }
             }

@@ -60,7 +60,7 @@ pub struct CfluidSettings {
     /// The smoothing kernel.
     pub kernel: KernelKind,
     /// Compressibility `kappa = 1 / K`, 1/Pa (`>= 0`). Sets the compliance of each density
-    /// row, `eps = kappa rho_0 / (h^2 m)` (h the step, m the particle mass), so that at
+    /// row, `eps = kappa rho_0 / (h^2 m_k)` (h the step, m_k the kernel mass), so that at
     /// rest a row holds `C_i = kappa p_i`: the fluid behaves as if its bulk modulus were
     /// `K`. Zero is the rigid constraint; a small positive value regularizes `N`
     /// (strictly convex problem, unique pressures, faster convergence) at the cost of a
@@ -113,9 +113,13 @@ pub struct CfluidSettings {
     /// (same surface mode and compliance as the fluid's), on its fluid neighbours and its
     /// body: the marker then carries a pressure like a fluid particle and the pair forces
     /// across the body face are symmetric (`g_i + g_k`); without it the marker side has
-    /// zero pressure. Default off: in `cfluid-floating-box` it changed the draft by less
-    /// than the spread of its readings (0.5 % at the default resolution) for ~3 % more
-    /// iterations (`docs/validation-cfluid.md`).
+    /// zero pressure. The row also keeps the fluid from crowding a face: a first fluid
+    /// layer that packs more particles per area than the lattice raises the markers'
+    /// densities, which the rows forbid. Default on: without it a submerged box of the
+    /// fluid's density sank by 0.22 dp in 0.4 s (the layer under it packed; unit test
+    /// `a_neutral_box_stays_where_it_is`), and `cfluid-floating-box` read its draft
+    /// -28 % by the hydrostatic reading at `--quick` (-2.6 % with it;
+    /// `docs/validation-cfluid.md`), for ~3-10 % more solver iterations.
     pub body_marker_rows: bool,
     /// Coulomb friction coefficient of the fluid particles against bodies (`>= 0`; the
     /// contact takes the minimum of the two materials' coefficients). Default `0`: an
@@ -145,7 +149,7 @@ impl Default for CfluidSettings {
             body_contacts: true,
             contact_radius_over_dp: 0.5,
             contact_friction: 0.0,
-            body_marker_rows: false,
+            body_marker_rows: true,
         }
     }
 }
