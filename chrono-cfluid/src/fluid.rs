@@ -46,11 +46,11 @@ mod projection;
 ///
 /// ```text
 /// c_i = D_i' v + b_i + eps_i g_i,   b_i = -min(C_i / h, max_recovery_rate),
-/// eps_i = kappa rho_0 / (h^2 m_k)
+/// eps_i = kappa rho_0 / (h^2 m)
 /// ```
 ///
 /// bilateral (`c_i = 0`) or unilateral (`0 <= g_i ⊥ c_i >= 0`) according to
-/// [`SurfaceMode`]. After a solve, `C_i(t + h) ~ kappa p_i` (the compliance makes the fluid
+/// [`SurfaceMode`]. After a solve, `C_i(t + h) ~ kappa p_i m_k / m` (the compliance makes the fluid
 /// as compressible as one of bulk modulus `1 / kappa`), and the pressure is
 /// `p_i = g_i rho_0 / (h m_k)` (Pa; [`pressure`](Self::pressure)): the force on particle
 /// `j` is `-sum_i (g_i / h) grad_j C_i`, which with `g_i / h = p_i m_k / rho_0` is the
@@ -606,7 +606,9 @@ impl ConstraintFluid {
 
         let h = ctx.h;
         let s = &self.settings;
-        let eps = s.compressibility * s.rest_density / (h * h * self.kernel_mass);
+        // with the inertial mass, a fluid without bodies solves the same problem as with
+        // `m = m_k`, scaled (impulses by `m / m_k`): the mass does not change its motion
+        let eps = s.compressibility * s.rest_density / (h * h * self.mass);
         let mut entries = recycle(std::mem::take(&mut self.entries));
         self.row_ids.clear();
         let push = PushRow {

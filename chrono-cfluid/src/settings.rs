@@ -60,8 +60,10 @@ pub struct CfluidSettings {
     /// The smoothing kernel.
     pub kernel: KernelKind,
     /// Compressibility `kappa = 1 / K`, 1/Pa (`>= 0`). Sets the compliance of each density
-    /// row, `eps = kappa rho_0 / (h^2 m_k)` (h the step, m_k the kernel mass), so that at
-    /// rest a row holds `C_i = kappa p_i`: the fluid behaves as if its bulk modulus were
+    /// row, `eps = kappa rho_0 / (h^2 m)` (h the step, m the particle mass), so that at
+    /// rest a row holds `C_i = kappa p_i m_k / m` (`m_k` the kernel mass, 1.7 % below `m`
+    /// at `h_k = 1.2 dp`; with `m` here the motion of a fluid without bodies does not
+    /// depend on the particle mass): the fluid behaves as if its bulk modulus were
     /// `K`. Zero is the rigid constraint; a small positive value regularizes `N`
     /// (strictly convex problem, unique pressures, faster convergence) at the cost of a
     /// static compression `kappa p` (water: `kappa = 4.6e-10` 1/Pa).
@@ -110,7 +112,8 @@ pub struct CfluidSettings {
     pub contact_radius_over_dp: f64,
     /// Whether each body marker ([`ConstraintFluid::attach_body`](crate::ConstraintFluid::attach_body))
     /// with fluid neighbours has a density row of its own, `C_k = rho_k / rho_0 - 1`
-    /// (same surface mode and compliance as the fluid's), on its fluid neighbours and its
+    /// (same compliance as the fluid's, always unilateral: a face is pushed by the fluid
+    /// but never holds it in tension), on its fluid neighbours and its
     /// body: the marker then carries a pressure like a fluid particle and the pair forces
     /// across the body face are symmetric (`g_i + g_k`); without it the marker side has
     /// zero pressure. The row also keeps the fluid from crowding a face: a first fluid
