@@ -13,9 +13,12 @@ use chrono_core::particles::{CellGrid, GridConfig, Kernel, NeighborList};
 
 use crate::density::{Field, RowBuf};
 use crate::geometry::lattice_mass;
-use crate::settings::{CfluidSettings, SurfaceMode};
+use crate::settings::CfluidSettings;
 
 mod projection;
+mod push;
+
+use push::PushRow;
 
 /// A constraint fluid (H. Mazhar, "Parallel multi-body dynamics with frictional contact
 /// and constraint fluids", PhD thesis, UW-Madison 2016; the seed's "Alternative Approach:
@@ -50,8 +53,9 @@ mod projection;
 /// ```
 ///
 /// bilateral (`c_i = 0`) or unilateral (`0 <= g_i ⊥ c_i >= 0`) according to
-/// [`SurfaceMode`]. After a solve, `C_i(t + h) ~ kappa p_i m_k / m` (the compliance makes the fluid
-/// as compressible as one of bulk modulus `1 / kappa`), and the pressure is
+/// [`SurfaceMode`](crate::SurfaceMode). After a solve, `C_i(t + h) ~ kappa p_i m_k / m`
+/// (the compliance makes the fluid as compressible as one of bulk modulus `1 / kappa`),
+/// and the pressure is
 /// `p_i = g_i rho_0 / (h m_k)` (Pa; [`pressure`](Self::pressure)): the force on particle
 /// `j` is `-sum_i (g_i / h) grad_j C_i`, which with `g_i / h = p_i m_k / rho_0` is the
 /// symmetric SPH pressure force `-m_k sum_i m_k (p_i + p_j) / rho_0^2 grad W`.
@@ -144,91 +148,6 @@ pub struct ConstraintFluid {
     marker_gamma: Vec<f64>,
     /// The body markers that have a row this step, and the row.
     marker_row_ids: Vec<(u32, RowId)>,
-}
-
-/// What pushing one density row needs: the fluid's first block, the system's bodies and
-/// the attached slots, the settings, the step and the compliance.
-struct PushRow<'a> {
-    first: BlockId,
-    bodies: &'a [RigidBody],
-    slots: &'a [(BodyHandle, usize)],
-    settings: &'a CfluidSettings,
-    h: f64,
-    eps: f64,
-}
-
-impl PushRow<'_> {
-    /// Push the row in `buf` (a particle or marker of density `rho`) by the surface mode,
-    /// or unilateral whatever the density if `marker` (a body face may be pushed by the
-    /// fluid but never holds it: a bilateral marker row held the film under a sinking body
-    /// in tension). The body blocks are turned into body coordinates (angular part in the
-    /// body frame); a body without variables (fixed, kinematic) moves its markers at a
-    /// known velocity, which goes into `b`.
-    fn push<'b>(
-        &self,
-        buf: &'b mut RowBuf,
-        rho: f64,
-        marker: bool,
-        entries: &mut Vec<RowEntry<'b>>,
-        rows: &mut ConstraintRows,
-    ) -> RowId {
-        let mut known = 0.0;
-        buf.bodies.retain_mut(|(slot, c)| {
-            let body = &self.bodies[self.slots[*slot as usize].0.0 as usize];
-            *c = body_coefs(body, c);
-            match body.block() {
-                Some(_) => true,
-                None => {
-                    known += body.jacobian_times_velocity(c);
-                    false
-                }
-            }
-        });
-        entries.clear();
-        for (k, &p) in buf.particles.iter().enumerate() {
-            entries.push(RowEntry {
-                block: BlockId(self.first.0 + p),
-                coefs: &buf.coefs[3 * k..3 * k + 3],
-            });
-        }
-        for (slot, c) in &buf.bodies {
-            let body = &self.bodies[self.slots[*slot as usize].0.0 as usize];
-            if let Some(block) = body.block() {
-                entries.push(RowEntry { block, coefs: c });
-            }
-        }
-        let s = self.settings;
-        let (h, eps) = (self.h, self.eps);
-        let c = rho / s.rest_density - 1.0;
-        let surface = if marker {
-            SurfaceMode::Unilateral
-        } else {
-            s.surface
-        };
-        let id = match surface {
-            SurfaceMode::OneSided if c < 0.0 => rows.push_unilateral(entries, known - c / h, eps),
-            SurfaceMode::OneSided => {
-                rows.push_bilateral(entries, known - (c / h).min(s.max_recovery_rate), eps)
-            }
-            SurfaceMode::Unilateral => {
-                rows.push_unilateral(entries, known - (c / h).min(s.max_recovery_rate), eps)
-            }
-            SurfaceMode::Clamped => rows.push_bilateral(
-                entries,
-                known - (c.max(0.0) / h).min(s.max_recovery_rate),
-                eps,
-            ),
-        };
-        entries.clear();
-        id
-    }
-}
-
-/// The 6 row coefficients `[lin; R' ang]` of a body whose world linear and angular parts
-/// are `c` (angular velocity in the body frame).
-fn body_coefs(body: &RigidBody, c: &[f64; 6]) -> [f64; 6] {
-    let a = body.rotation().inverse() * Vector3::new(c[3], c[4], c[5]);
-    [c[0], c[1], c[2], a.x, a.y, a.z]
 }
 
 /// Re-types an empty vector of row entries for another borrow: the allocation is kept
