@@ -94,8 +94,9 @@ use push::PushRow;
 ///   own pressure. Fixed and kinematic bodies have no block: their markers' known
 ///   velocity goes into the right-hand side. With markers attached, the rows are built in
 ///   [`PhysicsItem::add_body_constraints`] (which sees the bodies' poses).
-///   With [`CfluidSettings::body_marker_rows`] each marker with fluid neighbours also
-///   gets a density row of its own (a pressure on the body side of the face).
+///   With [`CfluidSettings::body_marker_rows`] (the default) each marker with fluid
+///   neighbours also gets a density row of its own, always unilateral (a pressure on
+///   the body side of the face, which also keeps the fluid from packing against it).
 ///
 /// **Warm start**: the last impulses times
 /// [`warm_start_factor`](CfluidSettings::warm_start_factor), by particle, through
