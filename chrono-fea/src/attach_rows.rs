@@ -1,5 +1,7 @@
 //! The rows that tie mesh nodes to fixed points or rigid-body points, shared by the
-//! implicit mesh items ([`crate::dynamics::CableItem`], [`crate::tet_dynamics::TetItem`]).
+//! implicit mesh items ([`crate::dynamics::CableItem`], [`crate::tet_dynamics::TetItem`],
+//! [`crate::shell_dynamics::ShellItem`]), and the rows that tie a shell node's director to
+//! a fixed direction or a direction of a rigid body.
 //!
 //! Per attachment and axis `d`, one bilateral row on the node's position coordinate and, for
 //! a body target, the body's point Jacobian: `C_d = x_d - p_d` (node minus target point),
@@ -12,6 +14,7 @@ use chrono_core::{ChronoError, Result as CoreResult};
 use nalgebra::{Point3, Vector3};
 
 use crate::dynamics::{AttachTarget, Attachment};
+use crate::shell_dynamics::DirectorTarget;
 
 /// Where a mesh item's attachment rows get their data.
 pub(crate) struct AttachContext<'a> {
@@ -95,6 +98,81 @@ pub(crate) fn push_attachment_rows(
                 n_ent += 1;
             }
             let b = (node_position[d] - target[d]) / ctx.h - known[d];
+            ids.push(Some(rows.push_bilateral(&entries[..n_ent], b, 0.0)));
+            if let Some(f) = f {
+                coefs[f] = 0.0;
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Push the three rows of every director attachment `(node, target)`: per axis `c`,
+/// `C_c = d_c - a_c` with `d` the node's director and `a` the target direction (a fixed
+/// world vector, or `R a_local` for a body), `d_dot_c - (omega x a)_c + C_c / h = 0`;
+/// the body's side is `-(a x e_c) . omega` ([`RigidBody::angular_jacobian`]), its known
+/// value for a body without a block. `director(n)` is node `n`'s director, `free(n, c)`
+/// the column of its director coordinate `c` (`None` if supported); `coefs` a zeroed
+/// scratch row of the block's length (left zeroed); ids as in [`push_attachment_rows`].
+pub(crate) fn push_director_rows(
+    attachments: &[(usize, DirectorTarget)],
+    director: impl Fn(usize) -> Vector3<f64>,
+    free: impl Fn(usize, usize) -> Option<usize>,
+    ctx: &AttachContext<'_>,
+    coefs: &mut [f64],
+    rows: &mut ConstraintRows,
+    ids: &mut Vec<Option<RowId>>,
+) -> CoreResult<()> {
+    for (ai, &(node, target)) in attachments.iter().enumerate() {
+        let d = director(node);
+        let (a, body) = match target {
+            DirectorTarget::Fixed(a) => (a, None),
+            DirectorTarget::Body { body, local } => {
+                let b = ctx
+                    .bodies
+                    .get(body.0 as usize)
+                    .ok_or(ChronoError::UnknownHandle {
+                        kind: "body",
+                        index: body.0 as usize,
+                        field: format!("{}: director attachment {ai}", ctx.label),
+                    })?;
+                (b.rotation() * local, Some(b))
+            }
+        };
+        for c in 0..3 {
+            let f = free(node, c);
+            let mut e_c = Vector3::zeros();
+            e_c[c] = 1.0;
+            let (mut known, mut body_entry) = (0.0, None);
+            if let Some(b) = body {
+                let j = b.angular_jacobian(&a.cross(&e_c));
+                match b.block() {
+                    Some(id) => body_entry = Some((id, j.map(|x| -x))),
+                    None => known = b.jacobian_times_velocity(&j),
+                }
+            }
+            if f.is_none() && body_entry.is_none() {
+                ids.push(None);
+                continue;
+            }
+            let mut entries = [RowEntry {
+                block: ctx.block,
+                coefs: &[],
+            }; 2];
+            let mut n_ent = 0;
+            if let Some(f) = f {
+                coefs[f] = 1.0;
+                entries[0].coefs = coefs;
+                n_ent = 1;
+            }
+            if let Some((id, j)) = &body_entry {
+                entries[n_ent] = RowEntry {
+                    block: *id,
+                    coefs: j,
+                };
+                n_ent += 1;
+            }
+            let b = (d[c] - a[c]) / ctx.h - known;
             ids.push(Some(rows.push_bilateral(&entries[..n_ent], b, 0.0)));
             if let Some(f) = f {
                 coefs[f] = 0.0;

@@ -14,8 +14,8 @@
 //!
 //! (the `h R v` on both sides cancels). This is the form of every block of the NSC step,
 //! `H v+ = k + D gamma`, with `H = M + h R + h^2 K` as the block's coupled mass operator
-//! ([`SparseSpd`], faer sparse Cholesky, symbolic analysis once, numeric refactorization
-//! every step in [`begin_step`](PhysicsItem::begin_step)), `k` from
+//! ([`SparseSpd`](crate::SparseSpd), faer sparse Cholesky, symbolic analysis once,
+//! numeric refactorization every step in [`begin_step`](PhysicsItem::begin_step)), `k` from
 //! [`load_momentum`](PhysicsItem::load_momentum). The solver finds `gamma` for the rows of
 //! joints, contacts and this mesh's attachments together; [`update`](PhysicsItem::update)
 //! sets `q+ = q + h v+`. Anitescu & Tasora's stepper with a stiff item, as Chrono's
@@ -52,25 +52,19 @@
 //! the coupled block (a supported coordinate does not move and contributes nothing).
 //! The proxies are at the positions of the start of the step, as the body colliders.
 
-use std::sync::{Arc, Mutex};
-
 use chrono_core::body::{BodyHandle, RigidBody};
 use chrono_core::collision::{CollisionProxy, ProxyShape};
-use chrono_core::descriptor::{
-    BlockId, CcpProblem, ConstraintRows, MassOperator, RowId, Variables,
-};
+use chrono_core::descriptor::{BlockId, CcpProblem, ConstraintRows, Variables};
 use chrono_core::item::{PhysicsItem, StepContext};
-use chrono_core::{ChronoError, ContactMaterial, Result as CoreResult};
-use faer::sparse::{SparseColMat, Triplet};
+use chrono_core::{ContactMaterial, Result as CoreResult};
 use nalgebra::Vector3;
 
-use crate::attach_rows::{AttachContext, push_attachment_rows};
 use crate::element::cable::hermite;
 use crate::element::{AncfCable, ElementVector};
 use crate::error::{FeaError, Result, finite3, positive};
+use crate::implicit::{ImplicitBlock, core_error};
 use crate::mesh::{CableMesh, DofMap};
 use crate::node::NodeId;
-use crate::spd::{SparseSpd, symmetric_upper_mul};
 
 /// What a node is attached to.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -95,7 +89,6 @@ pub struct Attachment {
     pub target: AttachTarget,
 }
 
-const NONE: usize = usize::MAX;
 const EL: usize = AncfCable::NDOF;
 
 /// A [`CableMesh`] stepped implicitly in the system's CCP (see the module docs).
@@ -103,30 +96,7 @@ const EL: usize = AncfCable::NDOF;
 pub struct CableItem {
     name: String,
     mesh: CableMesh,
-    map: DofMap,
-    /// Global coordinate of each free index.
-    free_global: Vec<usize>,
-    /// Generalized velocities of all coordinates (`[r_dot, r_x_dot]` per node; 0 on the
-    /// supported ones): m/s and 1/s.
-    velocity: Vec<f64>,
-    attachments: Vec<Attachment>,
-    /// Rows of this step, 3 per attachment (`None`: the row was not needed).
-    rows: Vec<Option<RowId>>,
-    /// Attachment forces on the nodes from the last step, N.
-    reactions: Vec<Vector3<f64>>,
-    op: Arc<SparseSpd>,
-    /// Consistent mass on the free coordinates (upper triangle, the pattern of `op`), kg.
-    mass: SparseColMat<usize, f64>,
-    /// For element `e` and local pair `(a, b)`: the index in the pattern's values of the
-    /// upper-triangle entry it adds to (`NONE` if a coordinate is supported or the entry is
-    /// in the lower triangle).
-    scatter: Vec<usize>,
-    h_values: Vec<f64>,
-    /// `F_ext - Q(q)` at the start of the step (all coordinates), N and N m.
-    force: Vec<f64>,
-    q: Vec<f64>,
-    coefs: Vec<f64>,
-    block: Option<BlockId>,
+    core: ImplicitBlock,
     /// Radius of the contact spheres, m.
     contact_radius: f64,
     /// Surface material of the contact spheres.
@@ -135,113 +105,31 @@ pub struct CableItem {
     contact_enabled: bool,
     /// Whether element midpoints carry a sphere too.
     midpoint_contacts: bool,
-    /// The three Jacobian rows of a proxy on the free coordinates (`3 nfree`, all zero
-    /// between calls): `proxy_jacobian` takes `&self`, and a scratch avoids an allocation
-    /// per contact.
-    jacobian: Mutex<Vec<f64>>,
-}
-
-fn core_error(e: FeaError) -> ChronoError {
-    ChronoError::invalid("fea", e.to_string(), "rejected by chrono-fea")
 }
 
 impl CableItem {
     /// The item for `mesh` (its supports are taken now; the mesh starts at rest). Errors:
     /// no element, every coordinate supported.
     pub fn new(name: impl Into<String>, mesh: CableMesh) -> Result<Self> {
-        if mesh.elements().is_empty() {
-            return Err(FeaError::invalid("mesh.elements", 0, "needs an element"));
-        }
-        let map = mesh.dof_map();
-        let n = map.nfree();
-        if n == 0 {
-            return Err(FeaError::invalid(
-                "mesh",
-                "all coordinates supported",
-                "needs a free coordinate",
-            ));
-        }
-        let free_global: Vec<usize> = (0..map.ndof())
-            .filter(|&g| map.free_index(g).is_some())
-            .collect();
-        let ne = mesh.elements().len();
-        let gidx = |el: &AncfCable, a: usize| 6 * el.nodes[a / 6] + a % 6;
-        // Pattern: the union of the element blocks on the free coordinates, upper part;
-        // the diagonal is always present (the mass is positive definite).
-        let mut trip = Vec::new();
-        for f in 0..n {
-            trip.push(Triplet::new(f, f, 0.0));
-        }
-        for el in mesh.elements() {
-            for a in 0..EL {
-                for b in 0..EL {
-                    if let (Some(i), Some(j)) =
-                        (map.free_index(gidx(el, a)), map.free_index(gidx(el, b)))
-                        && i <= j
-                    {
-                        trip.push(Triplet::new(i, j, 0.0));
-                    }
-                }
-            }
-        }
-        let pattern = SparseColMat::try_new_from_triplets(n, n, &trip)
-            .map_err(|e| FeaError::Assembly(format!("{e:?}")))?;
-        let (cp, ri) = (
-            pattern.symbolic().col_ptr().to_vec(),
-            pattern.symbolic().row_idx().to_vec(),
-        );
-        let find = |i: usize, j: usize| -> usize {
-            cp[j]
-                + ri[cp[j]..cp[j + 1]]
-                    .iter()
-                    .position(|&r| r == i)
-                    .expect("entry in the pattern")
-        };
-        let mut scatter = vec![NONE; ne * EL * EL];
-        let mut mass = pattern.clone();
-        let mvals = mass.val_mut();
-        mvals.fill(0.0);
-        for (e, el) in mesh.elements().iter().enumerate() {
-            let me = el.mass_matrix();
-            for a in 0..EL {
-                for b in 0..EL {
-                    if let (Some(i), Some(j)) =
-                        (map.free_index(gidx(el, a)), map.free_index(gidx(el, b)))
-                        && i <= j
-                    {
-                        let idx = find(i, j);
-                        scatter[(e * EL + a) * EL + b] = idx;
-                        mvals[idx] += me[(a, b)];
-                    }
-                }
-            }
-        }
-        let op = Arc::new(SparseSpd::new(pattern)?);
-        let nnz = op.nnz();
-        let ndof = mesh.ndof();
+        let name = name.into();
+        let els = mesh.elements();
+        let core = ImplicitBlock::new(
+            name.clone(),
+            mesh.dof_map(),
+            els.len(),
+            EL,
+            |e, a| 6 * els[e].nodes[a / 6] + a % 6,
+            |e| els[e].mass_matrix(),
+        )?;
         let contact_radius = default_contact_radius(&mesh);
         Ok(Self {
-            name: name.into(),
+            name,
             mesh,
-            map,
-            free_global,
-            velocity: vec![0.0; ndof],
-            attachments: Vec::new(),
-            rows: Vec::new(),
-            reactions: Vec::new(),
-            op,
-            mass,
-            scatter,
-            h_values: vec![0.0; nnz],
-            force: vec![0.0; ndof],
-            q: vec![0.0; ndof],
-            coefs: vec![0.0; n],
-            block: None,
+            core,
             contact_radius,
             contact_material: ContactMaterial::default(),
             contact_enabled: true,
             midpoint_contacts: false,
-            jacobian: Mutex::new(vec![0.0; 3 * n]),
         })
     }
 
@@ -313,36 +201,30 @@ impl CableItem {
 
     /// The numbering of the free coordinates (the dof of the item's block).
     pub fn dof_map(&self) -> &DofMap {
-        &self.map
+        &self.core.map
     }
 
     /// Attach a node's position to `target` (see [`Attachment`]); returns its index.
     /// Errors: unknown node, non-finite point. A body handle is checked at the step.
     pub fn attach(&mut self, node: NodeId, target: AttachTarget) -> Result<usize> {
         self.mesh.node(node)?;
-        match &target {
-            AttachTarget::Point(p) => finite3("attachment.point", p)?,
-            AttachTarget::Body { local, .. } => finite3("attachment.local", local)?,
-        }
-        self.attachments.push(Attachment { node, target });
-        self.reactions.push(Vector3::zeros());
-        Ok(self.attachments.len() - 1)
+        self.core.attach(node, target)
     }
 
     /// The attachments.
     pub fn attachments(&self) -> &[Attachment] {
-        &self.attachments
+        &self.core.attachments
     }
 
     /// The force of attachment `i` on its node during the last step (`gamma / h`), N.
     pub fn reaction(&self, i: usize) -> Option<Vector3<f64>> {
-        self.reactions.get(i).copied()
+        self.core.reaction(i)
     }
 
     /// Velocity of node `n`: `(r_dot, r_x_dot)`, m/s and 1/s.
     pub fn node_velocity(&self, n: NodeId) -> Result<(Vector3<f64>, Vector3<f64>)> {
         self.mesh.node(n)?;
-        let v = &self.velocity[6 * n.0..6 * n.0 + 6];
+        let v = &self.core.velocity[6 * n.0..6 * n.0 + 6];
         Ok((
             Vector3::new(v[0], v[1], v[2]),
             Vector3::new(v[3], v[4], v[5]),
@@ -360,22 +242,16 @@ impl CableItem {
         self.mesh.node(n)?;
         finite3("node.velocity", &velocity)?;
         finite3("node.slope_rate", &slope_rate)?;
-        for k in 0..6 {
-            let x = if k < 3 {
-                velocity[k]
-            } else {
-                slope_rate[k - 3]
-            };
-            if x != 0.0 && self.map.free_index(6 * n.0 + k).is_none() {
-                return Err(FeaError::invalid(
-                    format!("node {} velocity[{k}]", n.0),
-                    x,
-                    "a supported coordinate cannot move",
-                ));
-            }
-            self.velocity[6 * n.0 + k] = x;
-        }
-        Ok(())
+        let v = [
+            velocity.x,
+            velocity.y,
+            velocity.z,
+            slope_rate.x,
+            slope_rate.y,
+            slope_rate.z,
+        ];
+        self.core
+            .set_velocity(6 * n.0, &v, &format!("node {} velocity", n.0))
     }
 
     /// Set the configuration (all coordinates, [`CableMesh::set_coordinates`]); the
@@ -386,10 +262,7 @@ impl CableItem {
 
     /// Kinetic energy `v' M v / 2` (consistent mass), J.
     pub fn kinetic_energy(&self) -> f64 {
-        let v: Vec<f64> = self.free_global.iter().map(|&g| self.velocity[g]).collect();
-        let mut mv = vec![0.0; v.len()];
-        symmetric_upper_mul(self.mass.as_ref(), &v, &mut mv);
-        0.5 * v.iter().zip(&mv).map(|(a, b)| a * b).sum::<f64>()
+        self.core.kinetic_energy()
     }
 
     /// Strain energy of the current configuration, J.
@@ -411,10 +284,6 @@ impl CableItem {
             })
             .sum::<f64>()
     }
-
-    fn item_label(&self) -> String {
-        format!("FEA item \"{}\"", self.name)
-    }
 }
 
 /// `max_e sqrt(3 I_e / A_e)` (see [`CableItem::contact_radius`]), m.
@@ -433,72 +302,33 @@ impl PhysicsItem for CableItem {
     /// Assemble `F_ext - Q(q)` and `H = M + (h^2 + h beta) K` at `q(l)`, refactorize `H`.
     fn begin_step(&mut self, ctx: &StepContext) -> CoreResult<()> {
         let h = ctx.h;
+        let core = &mut self.core;
         for (n, node) in self.mesh.nodes().iter().enumerate() {
-            self.q[6 * n..6 * n + 3].copy_from_slice(node.position.as_slice());
-            self.q[6 * n + 3..6 * n + 6].copy_from_slice(node.slope.as_slice());
-            self.force[6 * n..6 * n + 3].copy_from_slice(node.force.as_slice());
-            self.force[6 * n + 3..6 * n + 6].fill(0.0);
+            core.q[6 * n..6 * n + 3].copy_from_slice(node.position.as_slice());
+            core.q[6 * n + 3..6 * n + 6].copy_from_slice(node.slope.as_slice());
+            core.force[6 * n..6 * n + 3].copy_from_slice(node.force.as_slice());
+            core.force[6 * n + 3..6 * n + 6].fill(0.0);
         }
-        self.h_values.copy_from_slice(self.mass.val());
+        core.begin_assembly();
         for (e, el) in self.mesh.elements().iter().enumerate() {
-            let ee: ElementVector = self.mesh.element_coordinates(el, &self.q);
+            let ee: ElementVector = self.mesh.element_coordinates(el, &core.q);
             let (qe, ke) = el.force_and_tangent(&ee, true);
             let qg = el.gravity_force(&ctx.gravity);
-            let c = h * h + h * el.material().damping;
+            core.add_element_matrix(e, &ke, h * h + h * el.material().damping);
             for a in 0..EL {
-                self.force[6 * el.nodes[a / 6] + a % 6] += qg[a] - qe[a];
-                for b in 0..EL {
-                    let idx = self.scatter[(e * EL + a) * EL + b];
-                    if idx != NONE {
-                        self.h_values[idx] += c * ke[(a, b)];
-                    }
-                }
+                core.force[6 * el.nodes[a / 6] + a % 6] += qg[a] - qe[a];
             }
         }
-        if let Some(i) = self.force.iter().position(|x| !x.is_finite()) {
-            return Err(ChronoError::NonFinite {
-                item: self.item_label(),
-                step: ctx.step,
-                time: ctx.time,
-                what: format!("internal force (coordinate {i})"),
-            });
-        }
-        self.op
-            .refactor(&self.h_values)
-            .map_err(|e| ChronoError::Diverged {
-                item: self.item_label(),
-                step: ctx.step,
-                time: ctx.time,
-                what: format!(
-                    "iteration matrix M + h R + h^2 K (h = {h} s): {e}; reduce the step size"
-                ),
-            })
+        core.finish_assembly(ctx, 6)
     }
 
     fn add_variables(&mut self, vars: &mut Variables) {
-        self.block = Some(vars.add(MassOperator::Coupled(self.op.clone())));
+        self.core.add_variables(vars);
     }
 
     /// `k = M v + h (F_ext - Q(q))` on the free coordinates.
     fn load_momentum(&self, ctx: &StepContext, vars: &Variables, k: &mut [f64]) {
-        let Some(blk) = self.block else { return };
-        let kb = &mut k[vars.range(blk)];
-        let m = self.mass.as_ref();
-        let s = m.symbolic();
-        let (cp, ri, val) = (s.col_ptr(), s.row_idx(), m.val());
-        let v = |f: usize| self.velocity[self.free_global[f]];
-        for j in 0..kb.len() {
-            for idx in cp[j]..cp[j + 1] {
-                let (i, a) = (ri[idx], val[idx]);
-                kb[i] += a * v(j);
-                if i != j {
-                    kb[j] += a * v(i);
-                }
-            }
-        }
-        for (f, &g) in self.free_global.iter().enumerate() {
-            kb[f] += ctx.h * self.force[g];
-        }
+        self.core.load_momentum(ctx, vars, k);
     }
 
     /// One sphere per node at `r` (id = node index), and with
@@ -551,38 +381,8 @@ impl PhysicsItem for CableItem {
         dirs: &[Vector3<f64>; 3],
         entry: &mut dyn FnMut(BlockId, [&[f64]; 3]),
     ) -> [f64; 3] {
-        let (Some(blk), Some(w)) = (self.block, self.proxy_weights(proxy)) else {
-            return [0.0; 3];
-        };
-        let n = self.free_global.len();
-        // A poisoned lock only means a panic elsewhere; the buffer is re-zeroed below.
-        let mut buf = self.jacobian.lock().unwrap_or_else(|e| e.into_inner());
-        let mut touched = false;
-        for &(g, s) in &w {
-            for c in 0..3 {
-                if let Some(f) = self.map.free_index(g + c)
-                    && s != 0.0
-                {
-                    for (k, d) in dirs.iter().enumerate() {
-                        buf[k * n + f] += s * d[c];
-                    }
-                    touched = true;
-                }
-            }
-        }
-        if touched {
-            let (j0, rest) = buf.split_at(n);
-            let (j1, j2) = rest.split_at(n);
-            entry(blk, [j0, j1, j2]);
-            for &(g, _) in &w {
-                for c in 0..3 {
-                    if let Some(f) = self.map.free_index(g + c) {
-                        for k in 0..3 {
-                            buf[k * n + f] = 0.0;
-                        }
-                    }
-                }
-            }
+        if let Some(w) = self.proxy_weights(proxy) {
+            self.core.point_jacobian(&w, dirs, entry);
         }
         [0.0; 3]
     }
@@ -594,28 +394,10 @@ impl PhysicsItem for CableItem {
         _vars: &Variables,
         rows: &mut ConstraintRows,
     ) -> CoreResult<()> {
-        self.rows.clear();
-        let Some(blk) = self.block else {
-            return Ok(());
-        };
-        let label = self.item_label();
-        let ctx = AttachContext {
-            block: blk,
-            bodies,
-            h: ctx.h,
-            label: &label,
-        };
-        let (mesh, map) = (&self.mesh, &self.map);
-        self.coefs.fill(0.0);
-        push_attachment_rows(
-            &self.attachments,
-            |n| Ok(mesh.node(NodeId(n)).map_err(core_error)?.position),
-            |n, d| map.free_index(6 * n + d),
-            &ctx,
-            &mut self.coefs,
-            rows,
-            &mut self.rows,
-        )
+        let mesh = &self.mesh;
+        self.core.attachment_rows(ctx, bodies, rows, 6, |n| {
+            Ok(mesh.node(NodeId(n)).map_err(core_error)?.position)
+        })
     }
 
     /// `q+ = q + h v+`; the attachment forces `gamma / h`.
@@ -627,32 +409,10 @@ impl PhysicsItem for CableItem {
         problem: &CcpProblem,
         gamma: &[f64],
     ) -> CoreResult<()> {
-        let Some(blk) = self.block else {
-            return Ok(());
-        };
-        let vb = &v[vars.range(blk)];
-        for (f, &g) in self.free_global.iter().enumerate() {
-            self.velocity[g] = vb[f];
-        }
-        for (g, qg) in self.q.iter_mut().enumerate() {
-            *qg += ctx.h * self.velocity[g];
-        }
-        if let Some(i) = self.q.iter().position(|x| !x.is_finite()) {
-            return Err(ChronoError::NonFinite {
-                item: self.item_label(),
-                step: ctx.step,
-                time: ctx.time,
-                what: format!("coordinate {i} of node {}", i / 6),
-            });
-        }
-        self.mesh.set_coordinates(&self.q).map_err(core_error)?;
-        for (ai, r) in self.reactions.iter_mut().enumerate() {
-            *r = Vector3::zeros();
-            for d in 0..3 {
-                if let Some(Some(id)) = self.rows.get(3 * ai + d) {
-                    r[d] = gamma[problem.row_index(*id)] / ctx.h;
-                }
-            }
+        if self.core.advance(ctx, vars, v, problem, gamma, 6)? {
+            self.mesh
+                .set_coordinates(&self.core.q)
+                .map_err(core_error)?;
         }
         Ok(())
     }

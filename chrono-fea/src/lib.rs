@@ -23,10 +23,20 @@
 //! Shells: the ANCF 4-node shell of Yamashita et al. (2015) with ANS and EAS locking
 //! remedies, a curved reference configuration and a follower pressure ([`AncfShell`],
 //! [`ShellMaterial`]), meshes of it ([`ShellMesh`]: plates, parametric grids, a sphere
-//! octant) solved statically by the same Newton solver.
+//! octant; [`TireMesh`]: an open torus cut at the rim) solved statically by the same
+//! Newton solver (with gravity, [`ShellMesh::set_gravity`]) and stepped in a system
+//! ([`ShellItem`]: gravity, follower pressure with its symmetrized load stiffness,
+//! stiffness-proportional damping, attachment rows, node contact spheres). The three
+//! items share their block bookkeeping (module `implicit`).
 //!
-//! Still to come (see the issue): the fully parameterized ANCF beam, shells in the
-//! dynamic (CCP) stepper and with gravity, slope attachments.
+//! Beams with torsion: the fully parameterized ANCF beam (nodes `[r, r_x, r_y, r_z]`,
+//! structural-mechanics strains, shear and section strains sampled at the nodes against
+//! locking, curved stress-free reference configurations; [`AncfBeam`], [`BeamSection`]),
+//! meshes of it ([`BeamMesh`]: straight, arcs, clamps, forces, couples, gravity), solved
+//! by the same Newton solver (the 45-degree bend of Bathe & Bolourchi 1979).
+//!
+//! Still to come (see the issue): the fully parameterized beam in the dynamic (CCP)
+//! stepper, slope attachments.
 //!
 //! ```
 //! use chrono_fea::{BeamMaterial, CableMesh, CableQuadrature, NodeId, StaticSettings, solve_static};
@@ -45,33 +55,41 @@
 
 pub mod analytic;
 mod attach_rows;
+pub mod beam_mesh;
 pub mod dynamics;
 pub mod element;
 pub mod error;
+mod implicit;
 pub mod material;
 pub mod mesh;
 pub mod modal;
 pub mod node;
 pub mod quadrature;
+pub mod shell_dynamics;
 pub mod shell_mesh;
 pub mod spd;
 pub mod statics;
 pub mod tet_box;
 pub mod tet_dynamics;
 pub mod tet_mesh;
+pub mod tire_mesh;
 
+pub use beam_mesh::BeamMesh;
 pub use dynamics::{AttachTarget, Attachment, CableItem};
 pub use element::{
-    AncfCable, AncfShell, CableQuadrature, ShellLocking, ShellMaterial, Tet4, von_mises,
+    AncfBeam, AncfCable, AncfShell, BeamQuadrature, CableQuadrature, ShellLocking, ShellMaterial,
+    Tet4, von_mises,
 };
 pub use error::{FeaError, Result};
-pub use material::{BeamMaterial, SolidMaterial, SolidModel};
+pub use material::{BeamMaterial, BeamSection, SolidMaterial, SolidModel};
 pub use mesh::{CableMesh, DofMap};
 pub use modal::{MassModel, natural_frequencies};
-pub use node::{GradientNode, NodeId, SolidNode};
+pub use node::{BeamNode, GradientNode, NodeId, SolidNode};
+pub use shell_dynamics::{DirectorTarget, ShellItem};
 pub use shell_mesh::ShellMesh;
 pub use spd::SparseSpd;
 pub use statics::{StaticModel, StaticReport, StaticSettings, solve_static};
 pub use tet_box::{BoxFaces, BoxMesh, HexSplit};
 pub use tet_dynamics::TetItem;
 pub use tet_mesh::TetMesh;
+pub use tire_mesh::{TireGeometry, TireMesh};

@@ -443,27 +443,7 @@ pub(crate) fn sparse(
         .map_err(|e| FeaError::Assembly(format!("{e:?}")))
 }
 
-impl crate::statics::StaticModel for CableMesh {
-    fn coordinates(&self) -> Vec<f64> {
-        CableMesh::coordinates(self)
-    }
-    fn set_coordinates(&mut self, q: &[f64]) -> Result<()> {
-        CableMesh::set_coordinates(self, q)
-    }
-    fn dof_map(&self) -> DofMap {
-        CableMesh::dof_map(self)
-    }
-    fn external_force(&self, lambda: f64) -> Vec<f64> {
-        CableMesh::external_force(self, lambda)
-    }
-    fn internal_force(
-        &self,
-        q: &[f64],
-        map: &DofMap,
-        tangent: bool,
-    ) -> Result<(Vec<f64>, Option<SparseMatrix>)> {
-        CableMesh::internal_force(self, q, map, tangent)
-    }
+crate::statics::static_model_via_inherent!(CableMesh {
     /// `max_e E A`, N.
     fn force_scale(&self) -> f64 {
         self.elements
@@ -471,4 +451,4 @@ impl crate::statics::StaticModel for CableMesh {
             .map(|e| e.material().axial_stiffness())
             .fold(0.0, f64::max)
     }
-}
+});

@@ -26,6 +26,12 @@ impl MassModel for CableMesh {
     }
 }
 
+impl MassModel for crate::beam_mesh::BeamMesh {
+    fn mass_matrix(&self, map: &DofMap) -> Result<SparseMatrix> {
+        crate::beam_mesh::BeamMesh::mass_matrix(self, map)
+    }
+}
+
 impl MassModel for TetMesh {
     fn mass_matrix(&self, map: &DofMap) -> Result<SparseMatrix> {
         TetMesh::mass_matrix(self, map)

@@ -91,3 +91,59 @@ impl SolidNode {
         self.position - self.reference_position
     }
 }
+
+/// A node of the fully parameterized ANCF beam ([`AncfBeam`](crate::element::AncfBeam)):
+/// 12 coordinates `[r, r_x, r_y, r_z]`, the position (m) and the three position
+/// gradients (dimensionless): `r_x` along the centre line (unit tangent in the reference
+/// configuration), `r_y`, `r_z` the cross-section axes (unit, orthogonal to the tangent
+/// and to each other in the reference configuration).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BeamNode {
+    /// Current position `r`, m.
+    pub position: Vector3<f64>,
+    /// Current gradients `[r_x, r_y, r_z]`.
+    pub gradients: [Vector3<f64>; 3],
+    /// Position in the reference (stress-free) configuration, m.
+    pub reference_position: Vector3<f64>,
+    /// Gradients in the reference configuration.
+    pub reference_gradients: [Vector3<f64>; 3],
+    /// Which of the 12 coordinates a support holds at their current value.
+    pub fixed: [bool; 12],
+    /// Applied nodal force, N (a dead load).
+    pub force: Vector3<f64>,
+    /// Applied generalized forces on the gradients `[r_x, r_y, r_z]`, N m (dead loads;
+    /// a couple, see [`BeamMesh::set_torque`](crate::beam_mesh::BeamMesh::set_torque)).
+    pub gradient_force: [Vector3<f64>; 3],
+}
+
+impl BeamNode {
+    /// Number of coordinates of a node.
+    pub const NDOF: usize = 12;
+
+    /// A free, unloaded node at its reference configuration.
+    pub fn new(position: Vector3<f64>, gradients: [Vector3<f64>; 3]) -> Self {
+        Self {
+            position,
+            gradients,
+            reference_position: position,
+            reference_gradients: gradients,
+            fixed: [false; 12],
+            force: Vector3::zeros(),
+            gradient_force: [Vector3::zeros(); 3],
+        }
+    }
+
+    /// Displacement from the reference position, m.
+    pub fn displacement(&self) -> Vector3<f64> {
+        self.position - self.reference_position
+    }
+
+    /// The rotation angle (rad) of the cross-section about the reference tangent, from
+    /// the current `r_y` projected on the reference section plane: the twist for small
+    /// bending rotations.
+    pub fn twist(&self) -> f64 {
+        let [_, a0, b0] = self.reference_gradients;
+        let a = self.gradients[1];
+        a.dot(&b0).atan2(a.dot(&a0))
+    }
+}

@@ -9,7 +9,9 @@
 //! a symmetry plane `x = 0` holds `r_x` and `d_x`). The mesh is solved by
 //! [`solve_static`](crate::statics::solve_static): the nodal forces are dead loads, the
 //! pressure is a follower load with its load stiffness
-//! ([`StaticModel::follower_force`]). Gravity is not implemented for shells yet.
+//! ([`StaticModel::follower_force`](crate::statics::StaticModel::follower_force)), gravity ([`ShellMesh::set_gravity`]) the consistent
+//! body-force load [`AncfShell::gravity_force`]. In a system the mesh steps as a
+//! [`ShellItem`](crate::ShellItem).
 //!
 //! [`ShellMesh::grid`] builds a structured mesh on a parametric surface (plates,
 //! cylinders), [`ShellMesh::sphere_octant`] an octant of a sphere.
@@ -20,7 +22,6 @@ use crate::element::{AncfShell, ShellLocking, ShellMaterial, ShellVector};
 use crate::error::{FeaError, Result, finite3, positive};
 use crate::mesh::{DofMap, SparseMatrix, scatter_element_matrix, sparse};
 use crate::node::{GradientNode, NodeId};
-use crate::statics::StaticModel;
 
 /// A mesh of ANCF shell elements (see the module docs).
 #[derive(Debug, Clone, Default)]
@@ -28,6 +29,8 @@ pub struct ShellMesh {
     nodes: Vec<GradientNode>,
     elements: Vec<AncfShell>,
     pressure: Vec<f64>,
+    /// Gravity for the static solver, m/s^2 (the dynamic item takes the system's).
+    gravity: Vector3<f64>,
 }
 
 impl ShellMesh {
@@ -210,6 +213,25 @@ impl ShellMesh {
         Ok(())
     }
 
+    /// The follower pressure of element `e`, Pa (`None`: no such element).
+    pub fn element_pressure(&self, e: usize) -> Option<f64> {
+        self.pressure.get(e).copied()
+    }
+
+    /// Set the gravity acceleration for the static solver, m/s^2 (a dead load, the
+    /// consistent [`AncfShell::gravity_force`] of every element). A
+    /// [`ShellItem`](crate::ShellItem) ignores it and uses the system's gravity.
+    pub fn set_gravity(&mut self, gravity: Vector3<f64>) -> Result<()> {
+        finite3("gravity", &gravity)?;
+        self.gravity = gravity;
+        Ok(())
+    }
+
+    /// The gravity of the static solver, m/s^2.
+    pub fn gravity(&self) -> Vector3<f64> {
+        self.gravity
+    }
+
     /// Set the follower pressure (Pa) on element `e`.
     pub fn set_element_pressure(&mut self, e: usize, pressure: f64) -> Result<()> {
         if !pressure.is_finite() {
@@ -272,12 +294,18 @@ impl ShellMesh {
         ShellVector::from_fn(|i, _| q[6 * el.nodes[i / 6] + i % 6])
     }
 
-    /// The applied nodal (dead) forces at load factor `lambda`, global, N.
+    /// The applied dead loads at load factor `lambda`: the nodal forces and gravity,
+    /// global (N on positions, N m on directors).
     pub fn external_force(&self, lambda: f64) -> Vec<f64> {
         let mut f = vec![0.0; self.ndof()];
         for (n, node) in self.nodes.iter().enumerate() {
             for i in 0..3 {
                 f[6 * n + i] = lambda * node.force[i];
+            }
+        }
+        if self.gravity != Vector3::zeros() {
+            for el in &self.elements {
+                add_vector(el, &(lambda * el.gravity_force(&self.gravity)), &mut f);
             }
         }
         f
@@ -490,27 +518,7 @@ fn add_vector(el: &AncfShell, v: &ShellVector, f: &mut [f64]) {
     }
 }
 
-impl StaticModel for ShellMesh {
-    fn coordinates(&self) -> Vec<f64> {
-        ShellMesh::coordinates(self)
-    }
-    fn set_coordinates(&mut self, q: &[f64]) -> Result<()> {
-        ShellMesh::set_coordinates(self, q)
-    }
-    fn dof_map(&self) -> DofMap {
-        ShellMesh::dof_map(self)
-    }
-    fn external_force(&self, lambda: f64) -> Vec<f64> {
-        ShellMesh::external_force(self, lambda)
-    }
-    fn internal_force(
-        &self,
-        q: &[f64],
-        map: &DofMap,
-        tangent: bool,
-    ) -> Result<(Vec<f64>, Option<SparseMatrix>)> {
-        ShellMesh::internal_force(self, q, map, tangent)
-    }
+crate::statics::static_model_via_inherent!(ShellMesh {
     /// `max_e (E_max t) x max(|X|, 1 m)`, N: the membrane stiffness of the stiffest
     /// element (N/m) times the size of the coordinates.
     fn force_scale(&self) -> f64 {
@@ -536,7 +544,7 @@ impl StaticModel for ShellMesh {
         }
         self.pressure_force(q, lambda, map, tangent).map(Some)
     }
-}
+});
 
 impl crate::modal::MassModel for ShellMesh {
     fn mass_matrix(&self, map: &DofMap) -> Result<SparseMatrix> {

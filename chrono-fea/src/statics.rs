@@ -32,6 +32,39 @@ use crate::error::{FeaError, Result, non_negative};
 use crate::mesh::CableMesh;
 use crate::mesh::{DofMap, SparseMatrix};
 
+/// Implements [`StaticModel`] for a mesh type whose inherent methods `coordinates`,
+/// `set_coordinates`, `dof_map`, `external_force` and `internal_force` have the trait's
+/// signatures (every mesh of this crate), followed by the type's own items
+/// (`force_scale`, optionally `follower_force`, ...).
+macro_rules! static_model_via_inherent {
+    ($ty:ty { $($rest:tt)* }) => {
+        impl $crate::statics::StaticModel for $ty {
+            fn coordinates(&self) -> Vec<f64> {
+                <$ty>::coordinates(self)
+            }
+            fn set_coordinates(&mut self, q: &[f64]) -> $crate::error::Result<()> {
+                <$ty>::set_coordinates(self, q)
+            }
+            fn dof_map(&self) -> $crate::mesh::DofMap {
+                <$ty>::dof_map(self)
+            }
+            fn external_force(&self, lambda: f64) -> Vec<f64> {
+                <$ty>::external_force(self, lambda)
+            }
+            fn internal_force(
+                &self,
+                q: &[f64],
+                map: &$crate::mesh::DofMap,
+                tangent: bool,
+            ) -> $crate::error::Result<(Vec<f64>, Option<$crate::mesh::SparseMatrix>)> {
+                <$ty>::internal_force(self, q, map, tangent)
+            }
+            $($rest)*
+        }
+    };
+}
+pub(crate) use static_model_via_inherent;
+
 /// What [`solve_static`] needs of a mesh. Global coordinates are numbered by the mesh;
 /// supports hold coordinates at their current values ([`DofMap`]).
 pub trait StaticModel {

@@ -5,7 +5,7 @@
 //! coordinates at their current values (a clamp or a prescribed displacement: move the
 //! node, then fix it); the free coordinates are numbered by a [`DofMap`]. The mesh is
 //! solved statically by [`solve_static`](crate::statics::solve_static) (it implements
-//! [`StaticModel`]). Box meshes with named faces come from
+//! [`StaticModel`](crate::statics::StaticModel)). Box meshes with named faces come from
 //! [`BoxMesh`](crate::tet_box::BoxMesh).
 
 use nalgebra::{Matrix3, Vector3};
@@ -15,7 +15,6 @@ use crate::error::{FeaError, Result, finite3};
 use crate::material::SolidMaterial;
 use crate::mesh::{DofMap, SparseMatrix, scatter_element_matrix, sparse};
 use crate::node::{NodeId, SolidNode};
-use crate::statics::StaticModel;
 
 /// A mesh of linear tetrahedra (see the module docs).
 #[derive(Debug, Clone, Default)]
@@ -345,27 +344,7 @@ impl TetMesh {
     }
 }
 
-impl StaticModel for TetMesh {
-    fn coordinates(&self) -> Vec<f64> {
-        TetMesh::coordinates(self)
-    }
-    fn set_coordinates(&mut self, q: &[f64]) -> Result<()> {
-        TetMesh::set_coordinates(self, q)
-    }
-    fn dof_map(&self) -> DofMap {
-        TetMesh::dof_map(self)
-    }
-    fn external_force(&self, lambda: f64) -> Vec<f64> {
-        TetMesh::external_force(self, lambda)
-    }
-    fn internal_force(
-        &self,
-        q: &[f64],
-        map: &DofMap,
-        tangent: bool,
-    ) -> Result<(Vec<f64>, Option<SparseMatrix>)> {
-        TetMesh::internal_force(self, q, map, tangent)
-    }
+crate::statics::static_model_via_inherent!(TetMesh {
     /// `max_e (E V^(1/3)) x max(|X|)`, N: the stiffest element (stiffness `~ E V^(1/3)`,
     /// N/m) displaced by the largest reference coordinate. Positions are absolute, so
     /// their round-off (`1e-16 |X|`) times the stiffness is the floor of the residual.
@@ -383,4 +362,4 @@ impl StaticModel for TetMesh {
             })
             .fold(0.0, f64::max)
     }
-}
+});

@@ -18,6 +18,7 @@
 //!
 //! The vehicle frame is X forward, Y left, Z up (ISO 8855); units are SI.
 
+pub mod aero;
 pub mod driveline;
 pub mod driver;
 pub mod error;

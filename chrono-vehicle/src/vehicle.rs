@@ -10,6 +10,7 @@ use chrono_core::math::{Isometry3, Point3, Vector3};
 use chrono_core::{BodyHandle, RigidBodyBuilder, System};
 use serde::{Deserialize, Serialize};
 
+use crate::aero::{AeroDrag, AeroDragData};
 use crate::driveline::{FourWd, FourWdParams, ShaftSystem, Wheel};
 use crate::error::{Result, VehicleError};
 use crate::powertrain::{Powertrain, PowertrainParams};
@@ -30,6 +31,9 @@ pub struct ChassisData {
     pub mass: MassData,
     /// Center of mass in the chassis reference frame, m.
     pub com: [f64; 3],
+    /// Aerodynamic drag on the chassis ([`AeroDragData`]); none when absent.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub aero: Option<AeroDragData>,
 }
 
 /// A wheel: the rim and its tire (rigid or handling).
@@ -112,6 +116,9 @@ impl VehicleData {
     /// Check every field.
     pub fn validate(&self) -> Result<()> {
         self.chassis.mass.validate("chassis")?;
+        if let Some(a) = &self.chassis.aero {
+            a.validate("chassis.aero")?;
+        }
         if self.axles.is_empty() {
             return Err(VehicleError::invalid(
                 "axles",
@@ -216,6 +223,10 @@ impl WheeledVehicle {
                 .position(pose.transform_point(&Point3::from(com)).coords)
                 .rotation(pose.rotation),
         )?;
+        if let Some(aero) = &data.chassis.aero {
+            let drag = AeroDrag::new(format!("{}.chassis.aero", data.name), chassis, aero)?;
+            sys.add_force_element(Box::new(drag))?;
+        }
         let steering = PitmanArm::build(sys, "steering", &data.steering, chassis, pose)?;
         let w = &data.wheel;
         let mount = WheelMount {

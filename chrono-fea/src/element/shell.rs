@@ -544,6 +544,24 @@ impl AncfShell {
         kron3(&self.mass8)
     }
 
+    /// The consistent load of a uniform body force (gravity) `g` (m/s^2): the virtual
+    /// work `int rho g . dr dV` with `r = sum_n s0_n p_n` gives the block
+    /// `F_n = rho int s0_n dV g`, and since `sum_i N_i = 1` (the position entries of
+    /// `s0` sum to 1) that is `F_n = sum_i M8[n, 2i] g` (N on the positions, N m on
+    /// the directors: a nonzero moment for a curved element, where `int z dV != 0`).
+    /// The position blocks sum to `rho V g`. The load is constant, so its potential is
+    /// `-F . e`.
+    pub fn gravity_force(&self, g: &Vector3<f64>) -> ShellVector {
+        let mut f = ShellVector::zeros();
+        for n in 0..8 {
+            let w: f64 = (0..4).map(|i| self.mass8[(n, 2 * i)]).sum();
+            for c in 0..3 {
+                f[3 * n + c] = w * g[c];
+            }
+        }
+        f
+    }
+
     /// Strain energy at coordinates `e`, J.
     pub fn strain_energy(&self, e: &ShellVector) -> f64 {
         self.evaluate(e, false).0

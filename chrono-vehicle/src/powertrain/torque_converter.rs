@@ -15,10 +15,22 @@
 //! (the housing, not modelled). The torques are explicit: evaluated from the speeds at the
 //! start of each step, as applied shaft torques.
 //!
-//! A turbine faster than the pump (`w_t / w_p > 1`, reverse flow: engine braking) or
-//! turning the other way (`< 0`) is clamped to the ends of the curves: the converter keeps
-//! its lock-up (`s = 1`) or stall (`s = 0`) behaviour there; [`ConverterTorques::reverse_flow`]
-//! flags the first case. A converter model for reverse flow is left for later.
+//! Reverse flow (the turbine overruns the pump, `w_t > w_p >= 0`: coasting, engine braking):
+//! the roles swap, the turbine drives the pump as a fluid coupling (the stator freewheels,
+//! torque ratio 1) with the capacity curve read at the inverse ratio:
+//!
+//! ```text
+//! s_r = w_p / w_t,   T = (w_t / K(s_r))^2,   turbine receives -T,   crankshaft receives +T
+//! ```
+//!
+//! so torque always flows from the faster member to the slower one. (Clamping `s` to 1
+//! instead, as a forward converter at lock-up, keeps pushing the turbine forward however
+//! fast it overruns the engine: a vehicle at full throttle then accelerates past its
+//! governed speed, which the M998 acceleration run showed.) The torque is continuous
+//! through `s = 1` only if `T(1) -> 0`, i.e. `K(1)` much larger than `w / sqrt(T)`:
+//! true of a real converter (a coupling transmits no torque without slip), not of Chrono's
+//! HMMWV curve (`K(1) = 35`, a lock-up), which then jumps by `2 (w / K(1))^2` at `s = 1`.
+//! A turbine turning the other way (`w_t / w_p < 0`) is clamped to stall (`s = 0`).
 //!
 //! Reference: Chrono's `ChShaftsTorqueConverter` as described in our notes (section 7,
 //! `HMMWV_AutomaticTransmissionShafts`: K 15 ... 35, R 2.0 ... 1.0).
@@ -95,11 +107,14 @@ impl TorqueConverterParams {
 /// The converter's state for a pair of speeds.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct ConverterTorques {
-    /// Speed ratio `s` used in the curves (clamped to `[0, 1]`).
+    /// Speed ratio `w_t / w_p` (0 when the pump stands, 0 when they turn opposite ways;
+    /// above 1 in reverse flow).
     pub speed_ratio: f64,
-    /// Torque absorbed by the pump, N m (the crankshaft receives `-pump_torque`).
+    /// Torque absorbed by the pump, N m (the crankshaft receives `-pump_torque`; negative
+    /// in reverse flow: the crankshaft is driven).
     pub pump_torque: f64,
-    /// Torque delivered to the turbine (transmission input shaft), N m.
+    /// Torque delivered to the turbine (transmission input shaft), N m (negative in
+    /// reverse flow: the turbine is braked).
     pub turbine_torque: f64,
     /// True when the turbine overran the pump (`w_t / w_p > 1`).
     pub reverse_flow: bool,
@@ -125,6 +140,22 @@ impl TorqueConverter {
     /// Pump and turbine torques at pump speed `w_pump` and turbine speed `w_turbine`
     /// (rad/s).
     pub fn torques(&self, w_pump: f64, w_turbine: f64) -> ConverterTorques {
+        if w_pump >= 0.0 && w_turbine > w_pump {
+            // Reverse flow: a coupling driven by the turbine.
+            let s_r = w_pump / w_turbine;
+            let x = w_turbine / self.k.eval(s_r);
+            let t = x * x;
+            return ConverterTorques {
+                speed_ratio: if w_pump > 0.0 {
+                    w_turbine / w_pump
+                } else {
+                    0.0
+                },
+                pump_torque: -t,
+                turbine_torque: -t,
+                reverse_flow: true,
+            };
+        }
         let raw = if w_pump != 0.0 {
             w_turbine / w_pump
         } else {
@@ -137,7 +168,7 @@ impl TorqueConverter {
             speed_ratio: s,
             pump_torque: pump,
             turbine_torque: self.r.eval(s) * pump,
-            reverse_flow: raw > 1.0,
+            reverse_flow: false,
         }
     }
 }
@@ -159,12 +190,52 @@ mod tests {
         // A pump turning backwards absorbs a negative torque (signed square).
         let t = c.torques(-150.0, 0.0);
         assert!((t.pump_torque + 100.0).abs() < 1e-9 && (t.turbine_torque + 200.0).abs() < 1e-9);
-        // Turbine overrunning the pump: clamped to lock-up (K = 35, R = 1), flagged.
+        // Turbine overrunning the pump: reverse flow, a coupling driven by the turbine at
+        // s_r = 100/120: K = 16 + (0.0833 / 0.15) (18 - 16), torque ratio 1.
         let t = c.torques(100.0, 120.0);
-        assert!(t.reverse_flow && t.speed_ratio == 1.0);
-        assert!((t.pump_torque - (100.0f64 / 35.0).powi(2)).abs() < 1e-12);
-        // No pump speed, no torque.
-        assert_eq!(c.torques(0.0, 50.0).pump_torque, 0.0);
+        assert!(t.reverse_flow && (t.speed_ratio - 1.2).abs() < 1e-12);
+        let k = 16.0 + (100.0 / 120.0 - 0.75) / 0.15 * 2.0;
+        let tr = (120.0f64 / k).powi(2);
+        assert!((t.turbine_torque + tr).abs() < 1e-9 * tr, "{t:?}");
+        assert!((t.pump_torque + tr).abs() < 1e-9 * tr);
+        // A stopped pump is driven by a turning turbine (s_r = 0, K = 15).
+        let t = c.torques(0.0, 60.0);
+        assert!(t.reverse_flow && (t.turbine_torque + 16.0).abs() < 1e-9);
+        // Nothing turns, no torque.
+        assert_eq!(c.torques(0.0, 0.0).pump_torque, 0.0);
+    }
+
+    /// Torque flows from the faster member to the slower one, and with a capacity that
+    /// grows without bound at s = 1 (a coupling without lock-up) the turbine torque is
+    /// continuous through s = 1, so an overrunning turbine is braked, not pushed.
+    #[test]
+    fn reverse_flow_brakes_the_turbine_and_is_continuous_without_lock_up() {
+        let p = TorqueConverterParams {
+            capacity_factor: Curve::new(
+                "k",
+                vec![[0.0, 12.0], [0.9, 14.0], [0.98, 30.0], [1.0, 1e6]],
+                Extrapolation::Constant,
+            )
+            .unwrap(),
+            torque_ratio: Curve::new(
+                "r",
+                vec![[0.0, 2.2], [0.85, 1.0], [1.0, 1.0]],
+                Extrapolation::Constant,
+            )
+            .unwrap(),
+        };
+        let c = TorqueConverter::new(&p).unwrap();
+        let w = 380.0;
+        let below = c.torques(w, w * (1.0 - 1e-9)).turbine_torque;
+        let above = c.torques(w, w * (1.0 + 1e-9)).turbine_torque;
+        assert!(below >= 0.0 && above <= 0.0);
+        assert!((below - above).abs() < 1e-6, "{below} {above}");
+        // Well into reverse flow the turbine is braked as a coupling at the inverse ratio.
+        let t = c.torques(w, w / 0.9);
+        assert!((t.turbine_torque + (w / 0.9 / 14.0f64).powi(2)).abs() < 1e-9);
+        // Forward near s = 1: small positive torque.
+        let f = c.torques(w, 0.97 * w);
+        assert!(f.turbine_torque > 0.0 && !f.reverse_flow);
     }
 
     #[test]

@@ -98,6 +98,8 @@ pub fn all_cases() -> Vec<Box<dyn Case>> {
         fea::tet_cantilever::case(),
         fea::shell_cantilever::case(),
         fea::shell_pressure::case(),
+        fea::bend45::case(),
+        fea::tire_drop::case(),
         vehicle::static_settle::case(),
         vehicle::accel::case(),
         vehicle::turn::case(),

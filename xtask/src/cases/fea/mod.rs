@@ -1,5 +1,7 @@
 //! Finite-element validation cases (chrono-fea):
 //!
+//! - `fea-bend-45`: the 45-degree bend of Bathe & Bolourchi (1979), a curved cantilever
+//!   under an out-of-plane tip load, with the fully parameterized ANCF beam;
 //! - `fea-cantilever`: an ANCF cantilever under a dead tip force, from the small-load
 //!   Euler–Bernoulli regime to the large-deflection elastica (`P L^2 / (E I)` up to 10);
 //! - `fea-cantilever-frequency`: its first bending frequency against the Euler–Bernoulli
@@ -12,8 +14,11 @@
 //! - `fea-shell-cantilever`: the ANCF shell plate strip under end shear against the
 //!   load–displacement curve of Sze, Liu & Lo (2004);
 //! - `fea-shell-pressure`: an ANCF shell sphere under internal follower pressure against
-//!   the membrane solution.
+//!   the membrane solution;
+//! - `fea-tire-drop`: a pressurized ANCF shell tire on a rigid rim dropped on rigid
+//!   ground comes to rest: static deflection against the membrane estimate.
 
+pub mod bend45;
 pub mod cantilever;
 pub mod frequency;
 pub mod pendulum;
@@ -21,22 +26,67 @@ pub mod shell_cantilever;
 pub mod shell_pressure;
 pub mod tet_cantilever;
 pub mod tet_patch;
+pub mod tire_drop;
 
 use chrono_core::math::Vector3;
-use chrono_fea::{BeamMaterial, CableMesh, CableQuadrature, HexSplit, NodeId, SolidModel};
+use chrono_fea::{
+    BeamMaterial, BeamMesh, BeamSection, CableMesh, CableQuadrature, HexSplit, NodeId, SolidModel,
+};
 
-/// The beam element of a case parameter: only `cable` (the gradient-deficient ANCF
-/// cable/beam) exists so far.
+/// The beam element of a case parameter for the cases that only run the cable
+/// (`fea-cantilever-frequency`, `fea-pendulum`): `cable`; `beam` (the fully
+/// parameterized ANCF beam) is rejected here with a clear error — it runs in
+/// `fea-cantilever` and `fea-bend-45`.
 pub fn check_element(element: &str) -> anyhow::Result<()> {
     match element {
         "cable" => Ok(()),
         "beam" => anyhow::bail!(
-            "parameter `element` = `beam`: the fully parameterized ANCF beam is not implemented yet; use `cable`"
+            "parameter `element` = `beam`: this case runs the cable only (the fully parameterized ANCF beam runs in fea-cantilever and fea-bend-45); use `cable`"
         ),
-        other => {
-            anyhow::bail!("parameter `element` must be `cable` (or, later, `beam`), got `{other}`")
-        }
+        other => anyhow::bail!("parameter `element` must be `cable` or `beam`, got `{other}`"),
     }
+}
+
+/// Whether a case parameter selects the fully parameterized beam (`beam`) rather than
+/// the cable (`cable`); anything else is an error naming the value.
+pub fn is_beam(element: &str) -> anyhow::Result<bool> {
+    match element {
+        "cable" => Ok(false),
+        "beam" => Ok(true),
+        other => anyhow::bail!("parameter `element` must be `cable` or `beam`, got `{other}`"),
+    }
+}
+
+/// The straight cantilever of [`cantilever_mesh`] with the fully parameterized ANCF
+/// beam: section `width` (along Y) x `height` (along Z), `nu = 0` (the references are
+/// shear-rigid; the beam's shear flexibility adds `~ 3 E I / (k G A L^2) ~ 1e-4`
+/// relative at `L / h = 100`), clamped at node 0 (all 12 coordinates).
+pub fn beam_cantilever_mesh(
+    n_elements: usize,
+    length: f64,
+    young: f64,
+    density: f64,
+    width: f64,
+    height: f64,
+) -> anyhow::Result<BeamMesh> {
+    anyhow::ensure!(
+        n_elements >= 1,
+        "parameter `n_elements` must be >= 1, got {n_elements}"
+    );
+    anyhow::ensure!(
+        length.is_finite() && length > 0.0,
+        "parameter `length` must be > 0, got {length}"
+    );
+    let section = BeamSection::rectangle(young, 0.0, density, width, height)?;
+    let mut mesh = BeamMesh::straight(
+        Vector3::zeros(),
+        Vector3::new(length, 0.0, 0.0),
+        n_elements,
+        Vector3::y(),
+        section,
+    )?;
+    mesh.clamp(NodeId(0))?;
+    Ok(mesh)
 }
 
 /// A straight cantilever along +X from the origin, clamped at node 0 (position and slope direction),

@@ -11,8 +11,14 @@
 //! wheel speeds, inputs, engine speed and torque, gear, converter) is written to
 //! `vehicle.csv` in the case's output directory.
 //!
-//! References (the published figures of the M998 at curb weight): see
-//! `docs/validation-vehicle.md` for the values and their sources.
+//! Powertrain `m998` (default): the M998's published drivetrain
+//! (`chrono-vehicle/data/hmmwv_m998_powertrain.json`) with chassis drag; `chrono`: Chrono's
+//! HMMWV engine map and gears (no drag). Reference: the M998's maximum speed, 65 mph
+//! (104.6 km/h; US Army fact file), checked within `tolerance` when the run is long enough
+//! to reach it (`t_end >= 40` s). No published 0-48 km/h time was found: `ref_t_0_48kmh`
+//! is 0 (reported, not checked) until one is cited. Every run checks that the automatic
+//! shifted through its gears (the series shows the shifts and the converter's slip).
+//! Sources and measured figures: `docs/validation-vehicle.md`.
 
 use std::time::Instant;
 
@@ -35,6 +41,8 @@ pub struct AccelParams {
     pub settle: f64,
     /// Tire model: `rigid` or `handling`.
     pub tire: String,
+    /// Powertrain: `m998` (published drivetrain, with drag) or `chrono`.
+    pub powertrain: String,
     /// Tire–ground friction coefficient.
     pub mu: f64,
     /// CCP solver.
@@ -54,10 +62,11 @@ impl Default for AccelParams {
             t_end: 60.0,
             settle: 0.5,
             tire: "handling".into(),
+            powertrain: "m998".into(),
             mu: 0.9,
             solver: "schur".into(),
             ref_t_0_48kmh: 0.0,
-            ref_top_speed_kmh: 0.0,
+            ref_top_speed_kmh: 65.0 * 1.609_344,
             tolerance: 0.15,
         }
     }
@@ -73,6 +82,11 @@ impl CaseParams for AccelParams {
             "settling time with the brakes on before the start",
         ),
         ParamInfo::new("tire", "-", "tire model: rigid | handling"),
+        ParamInfo::new(
+            "powertrain",
+            "-",
+            "m998 (published drivetrain, drag) | chrono (Chrono's map and gears)",
+        ),
         ParamInfo::new("mu", "-", "tire-ground friction coefficient"),
         ParamInfo::new("solver", "-", "CCP solver"),
         ParamInfo::new(
@@ -94,10 +108,13 @@ impl CaseParams for AccelParams {
     }
 }
 
+/// Shortest run whose largest speed is taken for the top speed, s.
+const MIN_T_END_TOP_SPEED: f64 = 40.0;
+
 fn run(p: &AccelParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     let n_settle = n_steps(p.h, p.settle)?;
     let n = n_steps(p.h, p.t_end)?;
-    let mut scene = VehicleScene::flat(&p.tire, p.mu, &p.solver, 1e-8, 500)?;
+    let mut scene = VehicleScene::flat_with(&p.tire, &p.powertrain, p.mu, &p.solver, 1e-8, 500)?;
     let (sys, v) = (&mut scene.sys, &mut scene.vehicle);
     let braked = DriverInputs {
         brake: 1.0,
@@ -123,6 +140,8 @@ fn run(p: &AccelParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     ]);
     let mut vtk = VtkFrames::new(ctx, (0.05 / p.h).round() as u64);
     let (mut t48, mut top): (Option<f64>, f64) = (None, 0.0);
+    let n_gears = scene.data.powertrain.transmission.forward_ratios.len();
+    let (mut upshifts, mut downshifts, mut gear) = (0usize, 0usize, v.powertrain().current_gear());
     let t_start = sys.time();
     let mut log = chrono_vehicle::output::VehicleLog::create(ctx.out_file("vehicle.csv"))?;
     let wall0 = Instant::now();
@@ -137,6 +156,13 @@ fn run(p: &AccelParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
             t48 = Some(t);
         }
         top = top.max(kmh);
+        let g = v.powertrain().current_gear();
+        if g > gear {
+            upshifts += 1;
+        } else if g < gear {
+            downshifts += 1;
+        }
+        gear = g;
         if i % 10 == 0 {
             log.record(sys, v)?;
             let pt = v.powertrain();
@@ -158,13 +184,18 @@ fn run(p: &AccelParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     log.finish()?;
     let mut out = CaseOutput::new();
     let t48 = t48.unwrap_or(f64::INFINITY);
-    if p.ref_t_0_48kmh > 0.0 && p.ref_top_speed_kmh > 0.0 {
+    if p.ref_t_0_48kmh > 0.0 {
         out.check(Check::relative(
             "t_0_48kmh",
             t48,
             p.ref_t_0_48kmh,
             p.tolerance,
         ));
+    } else {
+        out.metric("t_0_48kmh", t48);
+    }
+    // The top speed is only a plateau if the run is long enough to reach it.
+    if p.ref_top_speed_kmh > 0.0 && p.t_end >= MIN_T_END_TOP_SPEED {
         out.check(Check::relative(
             "top_speed_kmh",
             top,
@@ -172,9 +203,16 @@ fn run(p: &AccelParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
             p.tolerance,
         ));
     } else {
-        out.metric("t_0_48kmh", t48);
         out.metric("top_speed_kmh", top);
     }
+    // At full throttle from rest the automatic climbs through every gear, once each.
+    out.check(Check::absolute(
+        "upshifts",
+        upshifts as f64,
+        (n_gears - 1) as f64,
+        0.0,
+    ));
+    out.check(Check::absolute("downshifts", downshifts as f64, 0.0, 0.0));
     out.metric("final_gear", v.powertrain().current_gear() as f64);
     out.metric("real_time_factor", p.t_end / wall);
     out.series = series;

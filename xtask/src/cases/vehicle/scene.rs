@@ -6,7 +6,7 @@ use std::sync::Arc;
 
 use chrono_core::math::Isometry3;
 use chrono_core::{ContactMaterial, System, SystemSettings};
-use chrono_vehicle::hmmwv::{TireKind, hmmwv_data_with};
+use chrono_vehicle::hmmwv::{PowertrainKind, TireKind, hmmwv_data_variant};
 use chrono_vehicle::terrain::{FlatTerrain, Terrain};
 use chrono_vehicle::{VehicleData, WheeledVehicle};
 
@@ -21,6 +21,15 @@ pub fn tire_kind(name: &str) -> anyhow::Result<TireKind> {
     }
 }
 
+/// Parse a powertrain parameter (`chrono` | `m998`).
+pub fn powertrain_kind(name: &str) -> anyhow::Result<PowertrainKind> {
+    match name {
+        "chrono" => Ok(PowertrainKind::Chrono),
+        "m998" => Ok(PowertrainKind::M998),
+        other => anyhow::bail!("parameter `powertrain` must be chrono or m998, got `{other}`"),
+    }
+}
+
 /// A HMMWV on flat rigid ground (friction `mu`), its wheels `gap` m above it.
 pub struct VehicleScene {
     /// The system.
@@ -32,7 +41,8 @@ pub struct VehicleScene {
 }
 
 impl VehicleScene {
-    /// Build the scene with `solver` (tolerance `tol`, at most `max_iterations`).
+    /// Build the scene with `solver` (tolerance `tol`, at most `max_iterations`) and
+    /// Chrono's powertrain.
     pub fn flat(
         tire: &str,
         mu: f64,
@@ -40,7 +50,19 @@ impl VehicleScene {
         tol: f64,
         max_iterations: usize,
     ) -> anyhow::Result<Self> {
-        let data = hmmwv_data_with(tire_kind(tire)?)?;
+        Self::flat_with(tire, "chrono", mu, solver, tol, max_iterations)
+    }
+
+    /// [`flat`](Self::flat) with the named powertrain (`chrono` | `m998`).
+    pub fn flat_with(
+        tire: &str,
+        powertrain: &str,
+        mu: f64,
+        solver: &str,
+        tol: f64,
+        max_iterations: usize,
+    ) -> anyhow::Result<Self> {
+        let data = hmmwv_data_variant(tire_kind(tire)?, powertrain_kind(powertrain)?)?;
         let mut sys = System::new(
             SystemSettings::default(),
             make_solver(solver, tol, max_iterations)?,
