@@ -28,14 +28,14 @@
 //! `sqrt(sum_i r_i^2)`). chrono-ccp's common residual is the RMS of the same quantity
 //! (`sqrt(sum_i r_i^2 / n)`), `sqrt(n)` times looser at the same number. With
 //! `tolerance_norm = "l2"` (the default) the case gives the solver `tolerance / sqrt(n)`
-//! (`n` the density rows, the only rows of this scene), i.e. it stops by Chrono's rule;
+//! (`n` the rows of the previous step: the fluid's density rows, and the wall markers'
+//! when they have rows), i.e. it stops by Chrono's rule;
 //! `"rms"` passes the tolerance through unchanged (chrono-ccp's rule).
 
 use std::fmt::Write as _;
 use std::time::Instant;
 
 use chrono_cfluid::{CfluidSettings, SurfaceMode};
-use chrono_core::descriptor::SolverSettings;
 use serde::{Deserialize, Serialize};
 
 use super::{TankScene, left_tank};
@@ -224,25 +224,16 @@ fn simulate(
         tolerance,
         p.max_iterations,
     )?;
-    // the scene's only rows are the n density rows: RMS * sqrt(n) is the Euclidean norm
-    let n_rows = scene.fluid()?.n_fluid() as f64;
-    let solver_tolerance = match p.tolerance_norm.as_str() {
-        "l2" => tolerance / n_rows.sqrt(),
-        "rms" => tolerance,
+    // RMS * sqrt(n) is the Euclidean norm over the n rows of the step; the count of a
+    // step is known after it, so each step uses the previous step's (the first: the
+    // fluid's rows; with wall-marker rows the count changes by a few rows a step)
+    let l2 = match p.tolerance_norm.as_str() {
+        "l2" => true,
+        "rms" => false,
         other => anyhow::bail!("parameter `tolerance_norm` must be `l2` or `rms`, got `{other}`"),
     };
-    if solver_tolerance != tolerance {
-        let solver = chrono_ccp::by_name(
-            &p.solver,
-            SolverSettings {
-                tolerance: solver_tolerance,
-                max_iterations: p.max_iterations,
-                record_history: false,
-            },
-        )
-        .map_err(|e| anyhow::anyhow!("parameter `solver`: {e}"))?;
-        scene.sys.set_solver(solver);
-    }
+    let mut solver_tolerance = tolerance;
+    let mut n_rows = scene.fluid()?.n_fluid();
     let n = (p.t_end / p.h).round().max(1.0) as u64;
     // steps whose start-of-step densities (the end of the previous step) are in the window
     let first_window_step = ((1.0 - p.window) * n as f64).ceil() as u64 + 1;
@@ -252,7 +243,12 @@ fn simulate(
     let mut series = Series::new(["t", "max_compression_pct", "iterations", "kinetic_energy"]);
     let every = (n / 400).max(1);
     for step in 1..=n {
+        if l2 {
+            solver_tolerance = tolerance / (n_rows.max(1) as f64).sqrt();
+            scene.sys.solver_mut().settings_mut().tolerance = solver_tolerance;
+        }
         let report = scene.sys.step(p.h)?;
+        n_rows = scene.sys.last_problem().n_rows();
         iterations += report.solve.iterations;
         let f = scene.fluid()?;
         let c = f.max_compression().max(0.0);
