@@ -149,6 +149,12 @@ pub struct ConstraintFluid {
     marker_gamma: Vec<f64>,
     /// The body markers that have a row this step, and the row.
     marker_row_ids: Vec<(u32, RowId)>,
+    /// Row buffers, densities (kg/m^3), impulses (N s) of the wall markers, and the wall
+    /// markers that have a row this step ([`CfluidSettings::wall_marker_rows`]).
+    wall_rows: Vec<RowBuf>,
+    wall_rho: Vec<f64>,
+    wall_gamma: Vec<f64>,
+    wall_row_ids: Vec<(u32, RowId)>,
 }
 
 /// Re-types an empty vector of row entries for another borrow: the allocation is kept
@@ -240,6 +246,10 @@ impl ConstraintFluid {
             marker_rho: Vec::new(),
             marker_gamma: Vec::new(),
             marker_row_ids: Vec::new(),
+            wall_rows: vec![RowBuf::default(); walls.len()],
+            wall_rho: vec![settings.rest_density; walls.len()],
+            wall_gamma: vec![0.0; walls.len()],
+            wall_row_ids: Vec::new(),
             settings,
         })
     }
@@ -361,23 +371,42 @@ impl ConstraintFluid {
     }
 
     /// Recompute the neighbours and densities at the current positions (diagnostics:
-    /// the density after the last step), of the fluid particles (returned) and of the body
+    /// the density after the last step), of the fluid particles (returned), of the body
     /// markers ([`marker_densities`](Self::marker_densities); markers stay where the last
-    /// step started, or where [`attach_body`](Self::attach_body) put them).
+    /// step started, or where [`attach_body`](Self::attach_body) put them) and of the wall
+    /// markers ([`wall_densities`](Self::wall_densities)).
     pub fn compute_densities(&mut self) -> Result<&[f64]> {
         self.refresh_neighbors()?;
         let mut rho = std::mem::take(&mut self.rho);
         let mut mrho = std::mem::take(&mut self.marker_rho);
+        let mut wrho = std::mem::take(&mut self.wall_rho);
         {
             let field = self.field();
             field.densities(&mut rho);
             for (k, r) in mrho.iter_mut().enumerate() {
                 *r = field.density(self.n_static + k);
             }
+            for (k, r) in wrho.iter_mut().enumerate() {
+                *r = field.density(self.n_fluid + k);
+            }
         }
         self.rho = rho;
         self.marker_rho = mrho;
+        self.wall_rho = wrho;
         Ok(&self.rho)
+    }
+
+    /// Densities of the wall markers, kg/m^3, as of the last step with
+    /// [`CfluidSettings::wall_marker_rows`] or the last
+    /// [`compute_densities`](Self::compute_densities).
+    pub fn wall_densities(&self) -> &[f64] {
+        &self.wall_rho
+    }
+
+    /// The wall-marker rows of the last step: `(wall marker index, row)` for every wall
+    /// marker that had fluid neighbours ([`CfluidSettings::wall_marker_rows`]).
+    pub fn wall_row_ids(&self) -> &[(u32, RowId)] {
+        &self.wall_row_ids
     }
 
     /// Densities of the body markers (all attached bodies, in attachment order), kg/m^3,
@@ -508,6 +537,8 @@ impl ConstraintFluid {
         let mut bufs = std::mem::take(&mut self.rows);
         let mut mbufs = std::mem::take(&mut self.marker_rows);
         let mut mrho = std::mem::take(&mut self.marker_rho);
+        let mut wbufs = std::mem::take(&mut self.wall_rows);
+        let mut wrho = std::mem::take(&mut self.wall_rho);
         {
             let field = self.field();
             field.densities(&mut rho);
@@ -515,11 +546,16 @@ impl ConstraintFluid {
             if self.settings.body_marker_rows {
                 field.marker_rows(&mut mbufs, &mut mrho);
             }
+            if self.settings.wall_marker_rows {
+                field.wall_rows(&mut wbufs, &mut wrho);
+            }
         }
         self.rho = rho;
         self.rows = bufs;
         self.marker_rows = mbufs;
         self.marker_rho = mrho;
+        self.wall_rows = wbufs;
+        self.wall_rho = wrho;
         if let Some(i) = self.rho.iter().position(|r| !r.is_finite()) {
             return Err(self.non_finite(ctx, i, "density"));
         }
@@ -545,17 +581,13 @@ impl ConstraintFluid {
         }
         self.marker_row_ids.clear();
         if s.body_marker_rows {
-            for (k, (buf, rho)) in self
-                .marker_rows
-                .iter_mut()
-                .zip(&self.marker_rho)
-                .enumerate()
-            {
-                if !buf.particles.is_empty() {
-                    let id = push.push(buf, *rho, true, &mut entries, rows);
-                    self.marker_row_ids.push((k as u32, id));
-                }
-            }
+            let (bufs, rho) = (&mut self.marker_rows, &self.marker_rho);
+            push.push_markers(bufs, rho, &mut entries, rows, &mut self.marker_row_ids);
+        }
+        self.wall_row_ids.clear();
+        if s.wall_marker_rows {
+            let (bufs, rho) = (&mut self.wall_rows, &self.wall_rho);
+            push.push_markers(bufs, rho, &mut entries, rows, &mut self.wall_row_ids);
         }
         self.entries = recycle(entries);
         Ok(())
@@ -684,6 +716,9 @@ impl PhysicsItem for ConstraintFluid {
         for (k, id) in &self.marker_row_ids {
             gamma[problem.row_index(*id)] = f * self.marker_gamma[*k as usize];
         }
+        for (k, id) in &self.wall_row_ids {
+            gamma[problem.row_index(*id)] = f * self.wall_gamma[*k as usize];
+        }
     }
 
     fn update(
@@ -707,6 +742,10 @@ impl PhysicsItem for ConstraintFluid {
         self.marker_gamma.fill(0.0);
         for (k, id) in &self.marker_row_ids {
             self.marker_gamma[*k as usize] = gamma[problem.row_index(*id)];
+        }
+        self.wall_gamma.fill(0.0);
+        for (k, id) in &self.wall_row_ids {
+            self.wall_gamma[*k as usize] = gamma[problem.row_index(*id)];
         }
         if let Some(i) = self
             .vel

@@ -124,6 +124,13 @@ pub struct CfluidSettings {
     /// -28 % by the hydrostatic reading at `--quick` (-2.6 % with it;
     /// `docs/validation-cfluid.md`), for ~3-10 % more solver iterations.
     pub body_marker_rows: bool,
+    /// Whether each wall marker with fluid neighbours has a density row of its own,
+    /// `C_k = rho_k / rho_0 - 1`, unilateral like the body markers' rows (entries on its
+    /// fluid neighbours and on the bodies of body-marker neighbours; the wall does not
+    /// move). The same defect as at a body face without marker rows: the first fluid
+    /// layer on a wall of rowless markers can pack more particles per area than the
+    /// lattice (the floor layer under the floating box held 1.05 per `dp^2`).
+    pub wall_marker_rows: bool,
     /// Coulomb friction coefficient of the fluid particles against bodies (`>= 0`; the
     /// contact takes the minimum of the two materials' coefficients). Default `0`: an
     /// inviscid fluid slips along a wall; the fluid's tangential stress on a body comes
@@ -153,6 +160,7 @@ impl Default for CfluidSettings {
             contact_radius_over_dp: 0.5,
             contact_friction: 0.0,
             body_marker_rows: true,
+            wall_marker_rows: false,
         }
     }
 }

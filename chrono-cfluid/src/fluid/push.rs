@@ -85,6 +85,25 @@ impl PushRow<'_> {
         entries.clear();
         id
     }
+
+    /// Push the unilateral rows of the markers in `bufs` (densities `rho`) that have
+    /// fluid neighbours; `ids` gets `(marker index, row)` of each.
+    pub(super) fn push_markers<'b>(
+        &self,
+        bufs: &'b mut [RowBuf],
+        rho: &[f64],
+        entries: &mut Vec<RowEntry<'b>>,
+        rows: &mut ConstraintRows,
+        ids: &mut Vec<(u32, RowId)>,
+    ) {
+        ids.clear();
+        for (k, (buf, rho)) in bufs.iter_mut().zip(rho).enumerate() {
+            if !buf.particles.is_empty() {
+                let id = self.push(buf, *rho, true, entries, rows);
+                ids.push((k as u32, id));
+            }
+        }
+    }
 }
 
 /// The 6 row coefficients `[lin; R' ang]` of a body whose world linear and angular parts
