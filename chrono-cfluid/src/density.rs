@@ -1,6 +1,6 @@
 //! SPH density summation and the Jacobian of the density constraint.
 //!
-//! With fluid particles `0..n_fluid` followed by wall markers (same mass `m`, no
+//! With fluid particles `0..n_fluid` followed by wall markers (same kernel mass `m`, no
 //! variables), `x_ij = x_i - x_j` (minimum image on periodic axes) and
 //! `grad_i W_ij = F(r_ij) x_ij` ([`Kernel::grad_factor`]):
 //!
@@ -183,6 +183,48 @@ impl Field<'_> {
             return;
         }
         self.add_body(row, k, self_term.map(|x| -x));
+    }
+
+    /// Fills `row` with `D_k = -grad C_k` of wall marker `k` (`n_fluid <= k < n_static`):
+    /// the marker is fixed, so the row has entries on its fluid neighbours
+    /// (`(m/rho_0) F x_kj`) and on the bodies of its body-marker neighbours only; other
+    /// wall markers do not move. Left empty when the marker has no fluid neighbour.
+    pub fn wall_row(&self, k: usize, row: &mut RowBuf) {
+        row.particles.clear();
+        row.coefs.clear();
+        row.bodies.clear();
+        let s = self.mass / self.rho_0;
+        for &j in self.nbrs.neighbors(k) {
+            let j = j as usize;
+            if (self.n_fluid..self.n_static).contains(&j) {
+                continue;
+            }
+            let d = self.displacement(k, j);
+            let r = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+            let f = s * self.kernel.grad_factor(r);
+            let c = [f * d[0], f * d[1], f * d[2]];
+            if j < self.n_fluid {
+                row.particles.push(j as u32);
+                row.coefs.extend_from_slice(&c);
+            } else {
+                self.add_body(row, j, c);
+            }
+        }
+        if row.particles.is_empty() {
+            row.bodies.clear();
+        }
+    }
+
+    /// The rows and densities of all wall markers, in parallel.
+    pub fn wall_rows(&self, rows: &mut [RowBuf], rho: &mut [f64]) {
+        rows.par_iter_mut()
+            .zip(rho.par_iter_mut())
+            .enumerate()
+            .for_each(|(m, (row, r))| {
+                let k = self.n_fluid + m;
+                self.wall_row(k, row);
+                *r = self.density(k);
+            });
     }
 
     /// The rows and densities of all body markers, in parallel.

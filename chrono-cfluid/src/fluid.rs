@@ -13,10 +13,13 @@ use chrono_core::particles::{CellGrid, GridConfig, Kernel, NeighborList};
 
 use crate::density::{Field, RowBuf};
 use crate::geometry::lattice_mass;
-use crate::settings::{CfluidSettings, SurfaceMode};
+use crate::settings::CfluidSettings;
 
 mod output;
 mod projection;
+mod push;
+
+use push::PushRow;
 
 pub use output::{KIND_BODY_MARKER, KIND_FLUID, KIND_WALL};
 
@@ -26,13 +29,25 @@ pub use output::{KIND_BODY_MARKER, KIND_FLUID, KIND_WALL};
 /// incompressibility is one holonomic constraint per particle,
 ///
 /// ```text
-/// C_i(x) = rho_i / rho_0 - 1,     rho_i = m W(0) + sum_j m W(|x_i - x_j|)
+/// C_i(x) = rho_i / rho_0 - 1,     rho_i = m_k W(0) + sum_j m_k W(|x_i - x_j|)
 /// ```
 ///
 /// (SPH summation over fluid particles and wall markers with a chrono-core kernel, the
 /// neighbours from the chrono-core cell grid), enforced at the velocity level with the
-/// stabilization `C_i / h`. Each particle contributes one row, written with
-/// `D_i = -grad C_i` (1/m; entries `(m/rho_0) grad W_ij`, see the `density` module) so that
+/// stabilization `C_i / h`.
+///
+/// **Two masses.** A particle stands for one lattice cell of fluid: its inertial and
+/// gravitational mass is `m = rho_0 dp^3` ([`particle_mass`](Self::particle_mass)). The
+/// density sum uses the kernel mass `m_k = rho_0 / sum_lattice W`
+/// ([`kernel_mass`](Self::kernel_mass), [`lattice_mass`]), so that the initial cubic
+/// lattice sums to exactly `rho_0` (`C_i = 0` at the start): the rows hold the kernel
+/// number density of the lattice. With one mass for both (`m = m_k`), the lattice fluid
+/// held `C_i = 0` at a true mass density `n m = rho_0 / (dp^3 sum_lattice W)`, 1.7 % light
+/// for Wendland C2 at `h_k = 1.2 dp` (`dp^3 sum_lattice W = 1.0175`), and a floating body
+/// sat 1.7 % too deep (`cfluid-floating-box`, `docs/validation-cfluid.md`).
+///
+/// Each particle contributes one row, written with
+/// `D_i = -grad C_i` (1/m; entries `(m_k/rho_0) grad W_ij`, see the `density` module) so that
 /// its multiplier `g_i` (N m s) is a pressure impulse, positive when it pushes:
 ///
 /// ```text
@@ -41,14 +56,15 @@ pub use output::{KIND_BODY_MARKER, KIND_FLUID, KIND_WALL};
 /// ```
 ///
 /// bilateral (`c_i = 0`) or unilateral (`0 <= g_i ⊥ c_i >= 0`) according to
-/// [`SurfaceMode`]. After a solve, `C_i(t + h) ~ kappa p_i` (the compliance makes the fluid
-/// as compressible as one of bulk modulus `1 / kappa`), and the pressure is
-/// `p_i = g_i rho_0 / (h m)` (Pa; [`pressure`](Self::pressure)): the force on particle
-/// `j` is `-sum_i (g_i / h) grad_j C_i`, which with `g_i / h = p_i m / rho_0` is the
-/// symmetric SPH pressure force `-m sum_i m (p_i + p_j) / rho_0^2 grad W`.
+/// [`SurfaceMode`](crate::SurfaceMode). After a solve, `C_i(t + h) ~ kappa p_i m_k / m`
+/// (the compliance makes the fluid as compressible as one of bulk modulus `1 / kappa`),
+/// and the pressure is
+/// `p_i = g_i rho_0 / (h m_k)` (Pa; [`pressure`](Self::pressure)): the force on particle
+/// `j` is `-sum_i (g_i / h) grad_j C_i`, which with `g_i / h = p_i m_k / rho_0` is the
+/// symmetric SPH pressure force `-m_k sum_i m_k (p_i + p_j) / rho_0^2 grad W`.
 ///
 /// **Viscosity** is an XSPH velocity smoothing applied after the solve (Monaghan 1989):
-/// `v_i <- v_i + eps sum_j (2 m / (rho_i + rho_j)) (v_j - v_i) W_ij` over fluid
+/// `v_i <- v_i + eps sum_j (2 m_k / (rho_i + rho_j)) (v_j - v_i) W_ij` over fluid
 /// neighbours, then `x <- x + h v` with the smoothed velocity (symplectic Euler). It damps
 /// the relative motion of neighbours (an artificial viscosity of order
 /// `eps h_k^2 / h`), conserves momentum (the pair weights are symmetric), and perturbs
@@ -81,8 +97,9 @@ pub use output::{KIND_BODY_MARKER, KIND_FLUID, KIND_WALL};
 ///   own pressure. Fixed and kinematic bodies have no block: their markers' known
 ///   velocity goes into the right-hand side. With markers attached, the rows are built in
 ///   [`PhysicsItem::add_body_constraints`] (which sees the bodies' poses).
-///   With [`CfluidSettings::body_marker_rows`] each marker with fluid neighbours also
-///   gets a density row of its own (a pressure on the body side of the face).
+///   With [`CfluidSettings::body_marker_rows`] (the default) each marker with fluid
+///   neighbours also gets a density row of its own, always unilateral (a pressure on
+///   the body side of the face, which also keeps the fluid from packing against it).
 ///
 /// **Warm start**: the last impulses times
 /// [`warm_start_factor`](CfluidSettings::warm_start_factor), by particle, through
@@ -95,7 +112,10 @@ pub struct ConstraintFluid {
     name: String,
     settings: CfluidSettings,
     kernel: Kernel,
+    /// Inertial and gravitational mass of a particle, `rho_0 dp^3`, kg.
     mass: f64,
+    /// Mass in the density sums, `rho_0 / sum_lattice W` ([`lattice_mass`]), kg.
+    kernel_mass: f64,
     mass_op: MassOperator,
     n_fluid: usize,
     /// Positions of fluid particles then wall markers (structure of arrays), m.
@@ -132,83 +152,12 @@ pub struct ConstraintFluid {
     marker_gamma: Vec<f64>,
     /// The body markers that have a row this step, and the row.
     marker_row_ids: Vec<(u32, RowId)>,
-}
-
-/// What pushing one density row needs: the fluid's first block, the system's bodies and
-/// the attached slots, the settings, the step and the compliance.
-struct PushRow<'a> {
-    first: BlockId,
-    bodies: &'a [RigidBody],
-    slots: &'a [(BodyHandle, usize)],
-    settings: &'a CfluidSettings,
-    h: f64,
-    eps: f64,
-}
-
-impl PushRow<'_> {
-    /// Push the row in `buf` (a particle or marker of density `rho`) by the surface mode.
-    /// The body blocks are turned into body coordinates (angular part in the body frame);
-    /// a body without variables (fixed, kinematic) moves its markers at a known velocity,
-    /// which goes into `b`.
-    fn push<'b>(
-        &self,
-        buf: &'b mut RowBuf,
-        rho: f64,
-        entries: &mut Vec<RowEntry<'b>>,
-        rows: &mut ConstraintRows,
-    ) -> RowId {
-        let mut known = 0.0;
-        buf.bodies.retain_mut(|(slot, c)| {
-            let body = &self.bodies[self.slots[*slot as usize].0.0 as usize];
-            *c = body_coefs(body, c);
-            match body.block() {
-                Some(_) => true,
-                None => {
-                    known += body.jacobian_times_velocity(c);
-                    false
-                }
-            }
-        });
-        entries.clear();
-        for (k, &p) in buf.particles.iter().enumerate() {
-            entries.push(RowEntry {
-                block: BlockId(self.first.0 + p),
-                coefs: &buf.coefs[3 * k..3 * k + 3],
-            });
-        }
-        for (slot, c) in &buf.bodies {
-            let body = &self.bodies[self.slots[*slot as usize].0.0 as usize];
-            if let Some(block) = body.block() {
-                entries.push(RowEntry { block, coefs: c });
-            }
-        }
-        let s = self.settings;
-        let (h, eps) = (self.h, self.eps);
-        let c = rho / s.rest_density - 1.0;
-        let id = match s.surface {
-            SurfaceMode::OneSided if c < 0.0 => rows.push_unilateral(entries, known - c / h, eps),
-            SurfaceMode::OneSided => {
-                rows.push_bilateral(entries, known - (c / h).min(s.max_recovery_rate), eps)
-            }
-            SurfaceMode::Unilateral => {
-                rows.push_unilateral(entries, known - (c / h).min(s.max_recovery_rate), eps)
-            }
-            SurfaceMode::Clamped => rows.push_bilateral(
-                entries,
-                known - (c.max(0.0) / h).min(s.max_recovery_rate),
-                eps,
-            ),
-        };
-        entries.clear();
-        id
-    }
-}
-
-/// The 6 row coefficients `[lin; R' ang]` of a body whose world linear and angular parts
-/// are `c` (angular velocity in the body frame).
-fn body_coefs(body: &RigidBody, c: &[f64; 6]) -> [f64; 6] {
-    let a = body.rotation().inverse() * Vector3::new(c[3], c[4], c[5]);
-    [c[0], c[1], c[2], a.x, a.y, a.z]
+    /// Row buffers, densities (kg/m^3), impulses (N s) of the wall markers, and the wall
+    /// markers that have a row this step ([`CfluidSettings::wall_marker_rows`]).
+    wall_rows: Vec<RowBuf>,
+    wall_rho: Vec<f64>,
+    wall_gamma: Vec<f64>,
+    wall_row_ids: Vec<(u32, RowId)>,
 }
 
 /// Re-types an empty vector of row entries for another borrow: the allocation is kept
@@ -236,9 +185,9 @@ fn check_points(field: &str, pts: &[[f64; 3]]) -> Result<()> {
 
 impl ConstraintFluid {
     /// A fluid of particles at `fluid` (at rest) in walls of markers at `walls`, m. The
-    /// particle mass is [`lattice_mass`] (the lattice of `settings.spacing` sums to
-    /// `rho_0`). Errors name the bad field: settings, an empty fluid, a non-finite
-    /// position.
+    /// particle mass is `rho_0 dp^3`, the kernel mass [`lattice_mass`] (the lattice of
+    /// `settings.spacing` sums to `rho_0`; see the type's documentation). Errors name
+    /// the bad field: settings, an empty fluid, a non-finite position.
     pub fn new(
         name: impl Into<String>,
         settings: CfluidSettings,
@@ -256,7 +205,8 @@ impl ConstraintFluid {
         check_points("fluid", fluid)?;
         check_points("walls", walls)?;
         let kernel = Kernel::new(settings.kernel, settings.smoothing_length(), 3)?;
-        let mass = lattice_mass(&kernel, settings.spacing, settings.rest_density);
+        let kernel_mass = lattice_mass(&kernel, settings.spacing, settings.rest_density);
+        let mass = settings.rest_density * settings.spacing.powi(3);
         let mass_op = MassOperator::particle(mass)?;
         let config = GridConfig::bounded(
             kernel.support(),
@@ -271,6 +221,7 @@ impl ConstraintFluid {
             name: name.into(),
             kernel,
             mass,
+            kernel_mass,
             mass_op,
             n_fluid,
             pos,
@@ -298,6 +249,10 @@ impl ConstraintFluid {
             marker_rho: Vec::new(),
             marker_gamma: Vec::new(),
             marker_row_ids: Vec::new(),
+            wall_rows: vec![RowBuf::default(); walls.len()],
+            wall_rho: vec![settings.rest_density; walls.len()],
+            wall_gamma: vec![0.0; walls.len()],
+            wall_row_ids: Vec::new(),
             settings,
         })
     }
@@ -362,9 +317,19 @@ impl ConstraintFluid {
         &self.kernel
     }
 
-    /// Mass of every particle (fluid and markers), kg.
+    /// Inertial and gravitational mass of every fluid particle, `rho_0 dp^3`, kg: a
+    /// particle stands for one lattice cell of fluid at the rest density.
     pub fn particle_mass(&self) -> f64 {
         self.mass
+    }
+
+    /// The mass in the SPH density sums (fluid, wall and body markers),
+    /// `m_k = rho_0 / sum_lattice W` ([`lattice_mass`]), kg: the cubic lattice of spacing
+    /// `dp` sums to exactly `rho_0`. It differs from [`particle_mass`](Self::particle_mass)
+    /// by the kernel's lattice-sum error (`m_k = 0.983 rho_0 dp^3` for Wendland C2 at
+    /// `h_k = 1.2 dp`).
+    pub fn kernel_mass(&self) -> f64 {
+        self.kernel_mass
     }
 
     /// Number of fluid particles.
@@ -409,23 +374,42 @@ impl ConstraintFluid {
     }
 
     /// Recompute the neighbours and densities at the current positions (diagnostics:
-    /// the density after the last step), of the fluid particles (returned) and of the body
+    /// the density after the last step), of the fluid particles (returned), of the body
     /// markers ([`marker_densities`](Self::marker_densities); markers stay where the last
-    /// step started, or where [`attach_body`](Self::attach_body) put them).
+    /// step started, or where [`attach_body`](Self::attach_body) put them) and of the wall
+    /// markers ([`wall_densities`](Self::wall_densities)).
     pub fn compute_densities(&mut self) -> Result<&[f64]> {
         self.refresh_neighbors()?;
         let mut rho = std::mem::take(&mut self.rho);
         let mut mrho = std::mem::take(&mut self.marker_rho);
+        let mut wrho = std::mem::take(&mut self.wall_rho);
         {
             let field = self.field();
             field.densities(&mut rho);
             for (k, r) in mrho.iter_mut().enumerate() {
                 *r = field.density(self.n_static + k);
             }
+            for (k, r) in wrho.iter_mut().enumerate() {
+                *r = field.density(self.n_fluid + k);
+            }
         }
         self.rho = rho;
         self.marker_rho = mrho;
+        self.wall_rho = wrho;
         Ok(&self.rho)
+    }
+
+    /// Densities of the wall markers, kg/m^3, as of the last step with
+    /// [`CfluidSettings::wall_marker_rows`] or the last
+    /// [`compute_densities`](Self::compute_densities).
+    pub fn wall_densities(&self) -> &[f64] {
+        &self.wall_rho
+    }
+
+    /// The wall-marker rows of the last step: `(wall marker index, row)` for every wall
+    /// marker that had fluid neighbours ([`CfluidSettings::wall_marker_rows`]).
+    pub fn wall_row_ids(&self) -> &[(u32, RowId)] {
+        &self.wall_row_ids
     }
 
     /// Densities of the body markers (all attached bodies, in attachment order), kg/m^3,
@@ -452,10 +436,10 @@ impl ConstraintFluid {
         &self.row_ids
     }
 
-    /// Pressure of fluid particle `i` from the last step, `p_i = g_i rho_0 / (h m)`, Pa.
+    /// Pressure of fluid particle `i` from the last step, `p_i = g_i rho_0 / (h m_k)`, Pa.
     pub fn pressure(&self, i: usize) -> f64 {
         if self.last_h > 0.0 {
-            self.gamma[i] * self.settings.rest_density / (self.last_h * self.mass)
+            self.gamma[i] * self.settings.rest_density / (self.last_h * self.kernel_mass)
         } else {
             0.0
         }
@@ -484,7 +468,7 @@ impl ConstraintFluid {
     fn field(&self) -> Field<'_> {
         Field {
             kernel: &self.kernel,
-            mass: self.mass,
+            mass: self.kernel_mass,
             rho_0: self.settings.rest_density,
             grid: &self.grid,
             pos: [&self.pos[0], &self.pos[1], &self.pos[2]],
@@ -556,6 +540,8 @@ impl ConstraintFluid {
         let mut bufs = std::mem::take(&mut self.rows);
         let mut mbufs = std::mem::take(&mut self.marker_rows);
         let mut mrho = std::mem::take(&mut self.marker_rho);
+        let mut wbufs = std::mem::take(&mut self.wall_rows);
+        let mut wrho = std::mem::take(&mut self.wall_rho);
         {
             let field = self.field();
             field.densities(&mut rho);
@@ -563,17 +549,24 @@ impl ConstraintFluid {
             if self.settings.body_marker_rows {
                 field.marker_rows(&mut mbufs, &mut mrho);
             }
+            if self.settings.wall_marker_rows {
+                field.wall_rows(&mut wbufs, &mut wrho);
+            }
         }
         self.rho = rho;
         self.rows = bufs;
         self.marker_rows = mbufs;
         self.marker_rho = mrho;
+        self.wall_rows = wbufs;
+        self.wall_rho = wrho;
         if let Some(i) = self.rho.iter().position(|r| !r.is_finite()) {
             return Err(self.non_finite(ctx, i, "density"));
         }
 
         let h = ctx.h;
         let s = &self.settings;
+        // with the inertial mass, a fluid without bodies solves the same problem as with
+        // `m = m_k`, scaled (impulses by `m / m_k`): the mass does not change its motion
         let eps = s.compressibility * s.rest_density / (h * h * self.mass);
         let mut entries = recycle(std::mem::take(&mut self.entries));
         self.row_ids.clear();
@@ -586,22 +579,18 @@ impl ConstraintFluid {
             eps,
         };
         for (buf, rho) in self.rows.iter_mut().zip(&self.rho) {
-            let id = push.push(buf, *rho, &mut entries, rows);
+            let id = push.push(buf, *rho, false, &mut entries, rows);
             self.row_ids.push(id);
         }
         self.marker_row_ids.clear();
         if s.body_marker_rows {
-            for (k, (buf, rho)) in self
-                .marker_rows
-                .iter_mut()
-                .zip(&self.marker_rho)
-                .enumerate()
-            {
-                if !buf.particles.is_empty() {
-                    let id = push.push(buf, *rho, &mut entries, rows);
-                    self.marker_row_ids.push((k as u32, id));
-                }
-            }
+            let (bufs, rho) = (&mut self.marker_rows, &self.marker_rho);
+            push.push_markers(bufs, rho, &mut entries, rows, &mut self.marker_row_ids);
+        }
+        self.wall_row_ids.clear();
+        if s.wall_marker_rows {
+            let (bufs, rho) = (&mut self.wall_rows, &self.wall_rho);
+            push.push_markers(bufs, rho, &mut entries, rows, &mut self.wall_row_ids);
         }
         self.entries = recycle(entries);
         Ok(())
@@ -730,6 +719,9 @@ impl PhysicsItem for ConstraintFluid {
         for (k, id) in &self.marker_row_ids {
             gamma[problem.row_index(*id)] = f * self.marker_gamma[*k as usize];
         }
+        for (k, id) in &self.wall_row_ids {
+            gamma[problem.row_index(*id)] = f * self.wall_gamma[*k as usize];
+        }
     }
 
     fn update(
@@ -753,6 +745,10 @@ impl PhysicsItem for ConstraintFluid {
         self.marker_gamma.fill(0.0);
         for (k, id) in &self.marker_row_ids {
             self.marker_gamma[*k as usize] = gamma[problem.row_index(*id)];
+        }
+        self.wall_gamma.fill(0.0);
+        for (k, id) in &self.wall_row_ids {
+            self.wall_gamma[*k as usize] = gamma[problem.row_index(*id)];
         }
         if let Some(i) = self
             .vel

@@ -90,10 +90,12 @@ pub fn wall_layers(h_over_dp: f64) -> usize {
     ((2.0 * h_over_dp) - 1e-9).ceil().max(1.0) as usize
 }
 
-/// The particle mass `m = rho_0 / sum_j W(|x_j|)` over the infinite cubic lattice of
+/// The kernel mass `m_k = rho_0 / sum_j W(|x_j|)` over the infinite cubic lattice of
 /// spacing `dp` (self term included), kg: a particle whose support is full of lattice
 /// neighbours then has exactly `rho_i = rho_0`, so the initial lattice starts at rest with
 /// `C_i = 0` instead of the few-percent error of `m = rho_0 dp^3` with a truncated kernel.
+/// It is the mass of the density sums only; a particle's inertial mass is `rho_0 dp^3`
+/// ([`ConstraintFluid`](crate::ConstraintFluid), "Two masses").
 pub fn lattice_mass(kernel: &Kernel, dp: f64, rho_0: f64) -> f64 {
     let reach = (kernel.support() / dp).ceil() as i64;
     let mut sum = 0.0;

@@ -61,7 +61,9 @@ pub struct CfluidSettings {
     pub kernel: KernelKind,
     /// Compressibility `kappa = 1 / K`, 1/Pa (`>= 0`). Sets the compliance of each density
     /// row, `eps = kappa rho_0 / (h^2 m)` (h the step, m the particle mass), so that at
-    /// rest a row holds `C_i = kappa p_i`: the fluid behaves as if its bulk modulus were
+    /// rest a row holds `C_i = kappa p_i m_k / m` (`m_k` the kernel mass, 1.7 % below `m`
+    /// at `h_k = 1.2 dp`; with `m` here the motion of a fluid without bodies does not
+    /// depend on the particle mass): the fluid behaves as if its bulk modulus were
     /// `K`. Zero is the rigid constraint; a small positive value regularizes `N`
     /// (strictly convex problem, unique pressures, faster convergence) at the cost of a
     /// static compression `kappa p` (water: `kappa = 4.6e-10` 1/Pa).
@@ -110,13 +112,25 @@ pub struct CfluidSettings {
     pub contact_radius_over_dp: f64,
     /// Whether each body marker ([`ConstraintFluid::attach_body`](crate::ConstraintFluid::attach_body))
     /// with fluid neighbours has a density row of its own, `C_k = rho_k / rho_0 - 1`
-    /// (same surface mode and compliance as the fluid's), on its fluid neighbours and its
+    /// (same compliance as the fluid's, always unilateral: a face is pushed by the fluid
+    /// but never holds it in tension), on its fluid neighbours and its
     /// body: the marker then carries a pressure like a fluid particle and the pair forces
     /// across the body face are symmetric (`g_i + g_k`); without it the marker side has
-    /// zero pressure. Default off: in `cfluid-floating-box` it changed the draft by less
-    /// than the spread of its readings (0.5 % at the default resolution) for ~3 % more
-    /// iterations (`docs/validation-cfluid.md`).
+    /// zero pressure. The row also keeps the fluid from crowding a face: a first fluid
+    /// layer that packs more particles per area than the lattice raises the markers'
+    /// densities, which the rows forbid. Default on: without it a submerged box of the
+    /// fluid's density sank by 0.22 dp in 0.4 s (the layer under it packed; unit test
+    /// `a_neutral_box_stays_where_it_is`), and `cfluid-floating-box` read its draft
+    /// -28 % by the hydrostatic reading at `--quick` (-2.6 % with it;
+    /// `docs/validation-cfluid.md`), for ~3-10 % more solver iterations.
     pub body_marker_rows: bool,
+    /// Whether each wall marker with fluid neighbours has a density row of its own,
+    /// `C_k = rho_k / rho_0 - 1`, unilateral like the body markers' rows (entries on its
+    /// fluid neighbours and on the bodies of body-marker neighbours; the wall does not
+    /// move). The same defect as at a body face without marker rows: the first fluid
+    /// layer on a wall of rowless markers can pack more particles per area than the
+    /// lattice (the floor layer under the floating box held 1.05 per `dp^2`).
+    pub wall_marker_rows: bool,
     /// Coulomb friction coefficient of the fluid particles against bodies (`>= 0`; the
     /// contact takes the minimum of the two materials' coefficients). Default `0`: an
     /// inviscid fluid slips along a wall; the fluid's tangential stress on a body comes
@@ -145,7 +159,8 @@ impl Default for CfluidSettings {
             body_contacts: true,
             contact_radius_over_dp: 0.5,
             contact_friction: 0.0,
-            body_marker_rows: false,
+            body_marker_rows: true,
+            wall_marker_rows: false,
         }
     }
 }

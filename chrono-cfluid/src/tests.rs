@@ -32,6 +32,17 @@ fn ctx(h: f64, gravity: Vector3<f64>) -> StepContext {
 /// A quasi-2D tank: fluid `[0, w] x [0, ly] x [0, depth]`, periodic along y, walls at
 /// x-, x+, z-.
 fn tank(dp: f64, w: f64, depth: f64, surface: SurfaceMode) -> ConstraintFluid {
+    tank_with(dp, w, depth, surface, false)
+}
+
+/// [`tank`] with or without wall-marker rows.
+fn tank_with(
+    dp: f64,
+    w: f64,
+    depth: f64,
+    surface: SurfaceMode,
+    wall_marker_rows: bool,
+) -> ConstraintFluid {
     let h_over_dp = 1.2;
     let layers = wall_layers(h_over_dp);
     let ly = 6.0 * dp;
@@ -40,6 +51,7 @@ fn tank(dp: f64, w: f64, depth: f64, surface: SurfaceMode) -> ConstraintFluid {
         spacing: dp,
         h_over_dp,
         surface,
+        wall_marker_rows,
         domain_lower: [-t, 0.0, -t],
         domain_upper: [w + t, ly, 2.0 * depth],
         periodic: [false, true, false],
@@ -64,9 +76,21 @@ fn system(tolerance: f64) -> System {
 
 #[test]
 fn jacobian_matches_finite_differences() {
+    jacobian_check(false);
+}
+
+/// The wall markers' own rows (`wall_marker_rows`) against central differences of the
+/// markers' densities along the same fluid velocity fields, and the fluid rows with them.
+#[test]
+fn wall_marker_rows_match_finite_differences() {
+    jacobian_check(true);
+}
+
+fn jacobian_check(wall_marker_rows: bool) {
     let dp = 0.01;
     let mut rng = Lcg(7);
     let settings = CfluidSettings {
+        wall_marker_rows,
         spacing: dp,
         domain_lower: [-0.05, 0.0, -0.05],
         domain_upper: [0.1, 0.08, 0.1],
@@ -110,7 +134,9 @@ fn jacobian_matches_finite_differences() {
                 .map(|(i, p)| std::array::from_fn(|a| p[a] + s * delta * v[3 * i + a]))
                 .collect();
             let mut it = ConstraintFluid::new("fd", settings.clone(), &pts, &walls).unwrap();
-            it.compute_densities().unwrap().to_vec()
+            let mut rho = it.compute_densities().unwrap().to_vec();
+            rho.extend_from_slice(it.wall_densities());
+            rho
         };
         let (plus, minus) = (shifted(1.0), shifted(-1.0));
         let mut worst = 0.0f64;
@@ -122,6 +148,22 @@ fn jacobian_matches_finite_differences() {
             let jv = -problem.row_dot(row, &v);
             worst = worst.max((jv - dc).abs());
             scale = scale.max(dc.abs());
+        }
+        if wall_marker_rows {
+            assert!(
+                item.wall_row_ids().len() >= 32,
+                "{} wall rows: the markers under the block have fluid neighbours",
+                item.wall_row_ids().len()
+            );
+            for (k, id) in item.wall_row_ids() {
+                let k = n + *k as usize;
+                let dc = (plus[k] - minus[k]) / (2.0 * delta * rho_0);
+                let jv = -problem.row_dot(problem.row_index(*id), &v);
+                worst = worst.max((jv - dc).abs());
+                scale = scale.max(dc.abs());
+            }
+        } else {
+            assert!(item.wall_row_ids().is_empty());
         }
         assert!(
             scale > 1.0,
@@ -397,5 +439,82 @@ fn position_projection_removes_the_drift_of_a_large_step() {
     assert!(
         on <= 2.5e-4,
         "projected: worst compression {on} (off: {off})"
+    );
+}
+
+/// A column at rest (6 x 6 x 12 at dp = 1 cm, 0.5 s at h = 2 ms): the pressure of the
+/// first fluid layer on the floor, averaged over the last 0.2 s and over the particles
+/// away from the side walls, over the bulk's linear fit of pressure against depth
+/// extrapolated to that layer's height; and that layer's mean height over `dp`.
+fn floor_layer_pressure_ratio(wall_marker_rows: bool) -> (f64, f64) {
+    let (dp, w, depth) = (0.01, 0.06, 0.12);
+    let item = tank_with(dp, w, depth, SurfaceMode::OneSided, wall_marker_rows);
+    let mut sys = system(1e-6);
+    let id = sys.add_item(Box::new(item));
+    let (steps, averaged) = (250, 100);
+    let mut p_mean = Vec::new();
+    for step in 0..steps {
+        sys.step(2e-3).unwrap();
+        let f = sys.item::<ConstraintFluid>(id).unwrap();
+        if step >= steps - averaged {
+            p_mean.resize(f.n_fluid(), 0.0);
+            for (i, pm) in p_mean.iter_mut().enumerate() {
+                *pm += f.pressure(i) / averaged as f64;
+            }
+        }
+    }
+    let f = sys.item::<ConstraintFluid>(id).unwrap();
+    let support = f.kernel().support();
+    let (mut zs, mut ps, mut first) = (Vec::new(), Vec::new(), Vec::new());
+    for i in 0..f.n_fluid() {
+        let p = f.position(i);
+        if p[0] > support && p[0] < w - support {
+            if p[2] < dp {
+                first.push((p[2], p_mean[i]));
+            } else if p[2] > support && p[2] < depth - support {
+                zs.push(p[2]);
+                ps.push(p_mean[i]);
+            }
+        }
+    }
+    assert!(zs.len() > 10 && !first.is_empty());
+    let n = zs.len() as f64;
+    let (mz, mp) = (zs.iter().sum::<f64>() / n, ps.iter().sum::<f64>() / n);
+    let sxy: f64 = zs.iter().zip(&ps).map(|(z, p)| (z - mz) * (p - mp)).sum();
+    let sxx: f64 = zs.iter().map(|z| (z - mz) * (z - mz)).sum();
+    let slope = sxy / sxx;
+    let m = first.len() as f64;
+    let z1 = first.iter().map(|f| f.0).sum::<f64>() / m;
+    let p1 = first.iter().map(|f| f.1).sum::<f64>() / m;
+    let ratio = p1 / (mp + slope * (z1 - mz));
+    eprintln!(
+        "wall rows {wall_marker_rows}: floor layer at z = {z1:.4} m, p = {p1:.1} Pa, \
+         bulk fit there {:.1} Pa, ratio {ratio:.3}",
+        mp + slope * (z1 - mz)
+    );
+    (ratio, z1 / dp)
+}
+
+/// Without rows of their own, the floor's markers are neighbours of zero pressure in the
+/// symmetric pair forces, so the first layer carries about twice the hydrostatic
+/// pressure; with `wall_marker_rows` the markers carry the pressure and the first layer's
+/// pressure continues the bulk's hydrostatic profile. The rows also keep the first layer
+/// where the lattice put it, `dp / 2` above the floor face: without them (and without
+/// colliders behind the markers) it sinks toward the markers.
+#[test]
+fn wall_marker_rows_carry_the_floor_pressure() {
+    let (with, z_with) = floor_layer_pressure_ratio(true);
+    let (without, z_without) = floor_layer_pressure_ratio(false);
+    assert!(
+        z_with > 0.4 && z_without < 0.35,
+        "floor layer at {z_with} dp with wall rows, {z_without} dp without"
+    );
+    assert!(
+        (with - 1.0).abs() < 0.15,
+        "with wall rows: floor layer at {with} x the bulk's profile"
+    );
+    assert!(
+        without > 1.5,
+        "without wall rows: floor layer at {without} x the bulk's profile (expected ~2)"
     );
 }

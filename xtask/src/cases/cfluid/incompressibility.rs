@@ -9,14 +9,28 @@
 //! writes it to `table.md`. Checks, per swept tolerance (issue 6): density error no worse
 //! than the seed's and average iterations at most the seed's.
 //!
-//! Definitions (ours): `final_density` is the largest particle density at `t_end`
-//! (SPH summation at the final positions; the free-surface deficit is not counted as an
-//! error), `density_error_pct = 100 (final_density / rho_0 - 1)`, so it is the worst
-//! particle rather than an average; `avg_iterations` the mean solver iterations per step;
-//! `final_kinetic_energy` the fluid's kinetic energy at `t_end` (J; it depends on the
-//! amount of fluid, so `final_specific_kinetic_energy` in J/kg is reported too). The
-//! solver tolerance is on the common residual of chrono-ccp (RMS constraint velocity;
-//! for density rows the rate of relative density change, 1/s), not Chrono's own measure.
+//! Definitions (ours): `density_error_pct` is the worst particle's compression
+//! `100 max_i (rho_i / rho_0 - 1)` (SPH summation at the positions at the end of a step;
+//! the free-surface deficit is not counted as an error), **averaged over the steps of the
+//! last `window` of the run**, and `final_density = rho_0 (1 + density_error_pct / 100)`.
+//! The worst particle of one frame is a chaotic statistic at a loose tolerance (it jumps
+//! from step to step by a factor 2-5: at tolerance 1e-1 the solver stops after a few
+//! iterations and leaves a residual spread over the particles), so one frame is not a
+//! measure; the snapshot at `t_end` and the largest value over the window are reported
+//! beside it (`density_error_end_pct`, `density_error_max_pct`). `avg_iterations` is the
+//! mean solver iterations per step; `final_kinetic_energy` the fluid's kinetic energy at
+//! `t_end` (J; it depends on the amount of fluid, so `final_specific_kinetic_energy` in
+//! J/kg is reported too).
+//!
+//! Tolerance: the seed's numbers are Chrono::Multicore tolerances, and Chrono's APGD stops
+//! when the **Euclidean norm** over all rows of the projected gradient (constraint
+//! velocities, 1/s for density rows) is below it (`ChSolverMulticoreAPGD`, residual
+//! `sqrt(sum_i r_i^2)`). chrono-ccp's common residual is the RMS of the same quantity
+//! (`sqrt(sum_i r_i^2 / n)`), `sqrt(n)` times looser at the same number. With
+//! `tolerance_norm = "l2"` (the default) the case gives the solver `tolerance / sqrt(n)`
+//! (`n` the rows of the previous step: the fluid's density rows, and the wall markers'
+//! when they have rows), i.e. it stops by Chrono's rule;
+//! `"rms"` passes the tolerance through unchanged (chrono-ccp's rule).
 
 use std::fmt::Write as _;
 use std::time::Instant;
@@ -66,6 +80,11 @@ pub struct IncompressibilityParams {
     pub solver: String,
     /// Iteration cap per step.
     pub max_iterations: usize,
+    /// How `tolerance` is read: `l2` (Chrono's: Euclidean norm of the residual over all
+    /// rows; the solver gets `tolerance / sqrt(n_rows)`) or `rms` (chrono-ccp's RMS).
+    pub tolerance_norm: String,
+    /// Final fraction of the run over which the density error is averaged.
+    pub window: f64,
 }
 
 impl Default for IncompressibilityParams {
@@ -84,6 +103,8 @@ impl Default for IncompressibilityParams {
             surface: "one_sided".into(),
             solver: "apgd".into(),
             max_iterations: 1000,
+            tolerance_norm: "l2".into(),
+            window: 0.25,
         }
     }
 }
@@ -111,6 +132,16 @@ impl CaseParams for IncompressibilityParams {
         ParamInfo::new("surface", "-", "one_sided | unilateral | clamped"),
         ParamInfo::new("solver", "-", "CCP solver name (chrono-ccp)"),
         ParamInfo::new("max_iterations", "-", "iteration cap per step"),
+        ParamInfo::new(
+            "tolerance_norm",
+            "-",
+            "`l2` (Chrono's norm: solver gets tolerance/sqrt(rows)) or `rms` (chrono-ccp's)",
+        ),
+        ParamInfo::new(
+            "window",
+            "-",
+            "final fraction of the run over which the density error is averaged",
+        ),
     ];
     fn apply_mode(&mut self, mode: Mode) {
         match mode {
@@ -134,6 +165,9 @@ struct Outcome {
     avg_iterations: f64,
     final_density: f64,
     density_error_pct: f64,
+    density_error_max_pct: f64,
+    density_error_end_pct: f64,
+    solver_tolerance: f64,
     max_compression_pct: f64,
     final_kinetic_energy: f64,
     specific_kinetic_energy: f64,
@@ -161,6 +195,11 @@ fn simulate(
         tolerance > 0.0 && tolerance.is_finite(),
         "parameter `tolerance` must be > 0, got {tolerance}"
     );
+    anyhow::ensure!(
+        p.window > 0.0 && p.window <= 1.0,
+        "parameter `window` must be in (0, 1], got {}",
+        p.window
+    );
     let dp = p.spacing;
     anyhow::ensure!(
         dp > 0.0 && dp <= p.depth / 4.0 && dp <= p.tank_length / 2.0,
@@ -185,17 +224,38 @@ fn simulate(
         tolerance,
         p.max_iterations,
     )?;
+    // RMS * sqrt(n) is the Euclidean norm over the n rows of the step; the count of a
+    // step is known after it, so each step uses the previous step's (the first: the
+    // fluid's rows; with wall-marker rows the count changes by a few rows a step)
+    let l2 = match p.tolerance_norm.as_str() {
+        "l2" => true,
+        "rms" => false,
+        other => anyhow::bail!("parameter `tolerance_norm` must be `l2` or `rms`, got `{other}`"),
+    };
+    let mut solver_tolerance = tolerance;
+    let mut n_rows = scene.fluid()?.n_fluid();
     let n = (p.t_end / p.h).round().max(1.0) as u64;
+    // steps whose start-of-step densities (the end of the previous step) are in the window
+    let first_window_step = ((1.0 - p.window) * n as f64).ceil() as u64 + 1;
+    let mut window = Vec::new();
     let mut iterations = 0usize;
     let mut max_compression = 0.0f64;
     let mut series = Series::new(["t", "max_compression_pct", "iterations", "kinetic_energy"]);
     let every = (n / 400).max(1);
     for step in 1..=n {
+        if l2 {
+            solver_tolerance = tolerance / (n_rows.max(1) as f64).sqrt();
+            scene.sys.solver_mut().settings_mut().tolerance = solver_tolerance;
+        }
         let report = scene.sys.step(p.h)?;
+        n_rows = scene.sys.last_problem().n_rows();
         iterations += report.solve.iterations;
         let f = scene.fluid()?;
         let c = f.max_compression().max(0.0);
         max_compression = max_compression.max(c);
+        if step >= first_window_step {
+            window.push(c);
+        }
         if step % every == 0 || step == n {
             series.push(&[
                 step as f64 * p.h,
@@ -211,13 +271,19 @@ fn simulate(
     let left = left_tank(scene.fluid()?, dp, p.tank_length);
     let f = scene.fluid_mut()?;
     anyhow::ensure!(left == 0, "{left} fluid particles left the tank");
-    let final_density = f.compute_densities()?.iter().fold(rho_0, |m, r| m.max(*r));
+    let end = f.compute_densities()?.iter().fold(rho_0, |m, r| m.max(*r)) / rho_0 - 1.0;
+    window.push(end);
+    let mean = window.iter().sum::<f64>() / window.len() as f64;
+    let worst = window.iter().fold(0.0f64, |m, c| m.max(*c));
     let ke = f.kinetic_energy();
     let mass = f.particle_mass() * f.n_fluid() as f64;
     Ok(Outcome {
         avg_iterations: iterations as f64 / n as f64,
-        final_density,
-        density_error_pct: 100.0 * (final_density / rho_0 - 1.0),
+        final_density: rho_0 * (1.0 + mean),
+        density_error_pct: 100.0 * mean,
+        density_error_max_pct: 100.0 * worst,
+        density_error_end_pct: 100.0 * end,
+        solver_tolerance,
         max_compression_pct: 100.0 * max_compression,
         final_kinetic_energy: ke,
         specific_kinetic_energy: ke / mass,
@@ -237,9 +303,9 @@ fn run(p: &IncompressibilityParams, ctx: &RunContext) -> anyhow::Result<CaseOutp
     let mut table = String::new();
     let _ = writeln!(
         table,
-        "| tolerance | avg iterations (seed / ours) | final density kg/m^3 (seed / ours) | density error % (seed / ours) | final KE J (seed / ours) | ours: KE J/kg | ours: wall s |"
+        "| tolerance | avg iterations (seed / ours) | final density kg/m^3 (seed / ours) | density error % (seed / ours) | final KE J (seed / ours) | ours: KE J/kg | ours: error % max over window / at t_end | ours: solver RMS tolerance | ours: wall s |"
     );
-    let _ = writeln!(table, "|---|---|---|---|---|---|---|");
+    let _ = writeln!(table, "|---|---|---|---|---|---|---|---|---|");
     let mut main = None;
     let tols = p.sweep_tolerances.clone();
     for (k, &tol) in tols.iter().enumerate() {
@@ -257,12 +323,15 @@ fn run(p: &IncompressibilityParams, ctx: &RunContext) -> anyhow::Result<CaseOutp
         };
         let _ = writeln!(
             table,
-            "| {key} | {} | {} | {} | {} | {} | {:.2} |",
+            "| {key} | {} | {} | {} | {} | {} | {} / {} | {} | {:.2} |",
             cell(seed.map(|r| r.1), o.avg_iterations),
             cell(seed.map(|r| r.2), o.final_density),
             cell(seed.map(|r| r.3), o.density_error_pct),
             cell(seed.map(|r| r.4), o.final_kinetic_energy),
             crate::report::fmt_num(o.specific_kinetic_energy),
+            crate::report::fmt_num(o.density_error_max_pct),
+            crate::report::fmt_num(o.density_error_end_pct),
+            crate::report::fmt_num(o.solver_tolerance),
             o.wall_s,
         );
         out.metric(format!("tol={key}.final_density"), o.final_density)
@@ -273,6 +342,14 @@ fn run(p: &IncompressibilityParams, ctx: &RunContext) -> anyhow::Result<CaseOutp
             .metric(
                 format!("tol={key}.max_compression_pct"),
                 o.max_compression_pct,
+            )
+            .metric(
+                format!("tol={key}.density_error_max_pct"),
+                o.density_error_max_pct,
+            )
+            .metric(
+                format!("tol={key}.density_error_end_pct"),
+                o.density_error_end_pct,
             );
         match seed {
             Some(r) => {
@@ -309,12 +386,14 @@ fn run(p: &IncompressibilityParams, ctx: &RunContext) -> anyhow::Result<CaseOutp
     out.metric("avg_iterations", o.avg_iterations)
         .metric("final_density", o.final_density)
         .metric("density_error_pct", o.density_error_pct)
+        .metric("density_error_max_pct", o.density_error_max_pct)
+        .metric("density_error_end_pct", o.density_error_end_pct)
         .metric("max_compression_pct", o.max_compression_pct)
         .metric("final_kinetic_energy", o.final_kinetic_energy)
         .metric("final_specific_kinetic_energy", o.specific_kinetic_energy);
     ctx.note(format!(
-        "cfluid-incompressibility (dp = {} m, h = {} s, t_end = {} s, solver {}): seed table beside ours\n{table}",
-        p.spacing, p.h, p.t_end, p.solver
+        "cfluid-incompressibility (dp = {} m, h = {} s, t_end = {} s, solver {}, tolerance norm {}, density error averaged over the last {} of the run): seed table beside ours\n{table}",
+        p.spacing, p.h, p.t_end, p.solver, p.tolerance_norm, p.window
     ));
     std::fs::write(ctx.out_file("table.md"), &table)?;
     out.series = o.series;

@@ -1,0 +1,114 @@
+//! Pushing one density row (a fluid particle's or a body marker's) into the system's
+//! rows: the surface mode, the body blocks in body coordinates, the known velocity of
+//! fixed and kinematic bodies.
+
+use chrono_core::body::{BodyHandle, RigidBody};
+use chrono_core::descriptor::{BlockId, ConstraintRows, RowEntry, RowId};
+use chrono_core::math::Vector3;
+
+use crate::density::RowBuf;
+use crate::settings::{CfluidSettings, SurfaceMode};
+
+/// What pushing one density row needs: the fluid's first block, the system's bodies and
+/// the attached slots, the settings, the step and the compliance.
+pub(super) struct PushRow<'a> {
+    pub(super) first: BlockId,
+    pub(super) bodies: &'a [RigidBody],
+    pub(super) slots: &'a [(BodyHandle, usize)],
+    pub(super) settings: &'a CfluidSettings,
+    pub(super) h: f64,
+    pub(super) eps: f64,
+}
+
+impl PushRow<'_> {
+    /// Push the row in `buf` (a particle or marker of density `rho`) by the surface mode,
+    /// or unilateral whatever the density if `marker` (a body face may be pushed by the
+    /// fluid but never holds it: a bilateral marker row held the film under a sinking body
+    /// in tension). The body blocks are turned into body coordinates (angular part in the
+    /// body frame); a body without variables (fixed, kinematic) moves its markers at a
+    /// known velocity, which goes into `b`.
+    pub(super) fn push<'b>(
+        &self,
+        buf: &'b mut RowBuf,
+        rho: f64,
+        marker: bool,
+        entries: &mut Vec<RowEntry<'b>>,
+        rows: &mut ConstraintRows,
+    ) -> RowId {
+        let mut known = 0.0;
+        buf.bodies.retain_mut(|(slot, c)| {
+            let body = &self.bodies[self.slots[*slot as usize].0.0 as usize];
+            *c = body_coefs(body, c);
+            match body.block() {
+                Some(_) => true,
+                None => {
+                    known += body.jacobian_times_velocity(c);
+                    false
+                }
+            }
+        });
+        entries.clear();
+        for (k, &p) in buf.particles.iter().enumerate() {
+            entries.push(RowEntry {
+                block: BlockId(self.first.0 + p),
+                coefs: &buf.coefs[3 * k..3 * k + 3],
+            });
+        }
+        for (slot, c) in &buf.bodies {
+            let body = &self.bodies[self.slots[*slot as usize].0.0 as usize];
+            if let Some(block) = body.block() {
+                entries.push(RowEntry { block, coefs: c });
+            }
+        }
+        let s = self.settings;
+        let (h, eps) = (self.h, self.eps);
+        let c = rho / s.rest_density - 1.0;
+        let surface = if marker {
+            SurfaceMode::Unilateral
+        } else {
+            s.surface
+        };
+        let id = match surface {
+            SurfaceMode::OneSided if c < 0.0 => rows.push_unilateral(entries, known - c / h, eps),
+            SurfaceMode::OneSided => {
+                rows.push_bilateral(entries, known - (c / h).min(s.max_recovery_rate), eps)
+            }
+            SurfaceMode::Unilateral => {
+                rows.push_unilateral(entries, known - (c / h).min(s.max_recovery_rate), eps)
+            }
+            SurfaceMode::Clamped => rows.push_bilateral(
+                entries,
+                known - (c.max(0.0) / h).min(s.max_recovery_rate),
+                eps,
+            ),
+        };
+        entries.clear();
+        id
+    }
+
+    /// Push the unilateral rows of the markers in `bufs` (densities `rho`) that have
+    /// fluid neighbours; `ids` gets `(marker index, row)` of each.
+    pub(super) fn push_markers<'b>(
+        &self,
+        bufs: &'b mut [RowBuf],
+        rho: &[f64],
+        entries: &mut Vec<RowEntry<'b>>,
+        rows: &mut ConstraintRows,
+        ids: &mut Vec<(u32, RowId)>,
+    ) {
+        ids.clear();
+        for (k, (buf, rho)) in bufs.iter_mut().zip(rho).enumerate() {
+            if !buf.particles.is_empty() {
+                let id = self.push(buf, *rho, true, entries, rows);
+                ids.push((k as u32, id));
+            }
+        }
+    }
+}
+
+/// The 6 row coefficients `[lin; R' ang]` of a body whose world linear and angular parts
+/// are `c` (angular velocity in the body frame).
+fn body_coefs(body: &RigidBody, c: &[f64; 6]) -> [f64; 6] {
+    let a = body.rotation().inverse() * Vector3::new(c[3], c[4], c[5]);
+    [c[0], c[1], c[2], a.x, a.y, a.z]
+}
