@@ -438,11 +438,7 @@ impl ConstraintFluid {
 
     /// Pressure of fluid particle `i` from the last step, `p_i = g_i rho_0 / (h m_k)`, Pa.
     pub fn pressure(&self, i: usize) -> f64 {
-        if self.last_h > 0.0 {
-            self.gamma[i] * self.settings.rest_density / (self.last_h * self.kernel_mass)
-        } else {
-            0.0
-        }
+        self.impulse_to_pressure(self.gamma[i])
     }
 
     /// The largest compression `max_i (rho_i / rho_0 - 1)` over the current densities

@@ -23,7 +23,7 @@ pub const KIND_BODY_MARKER: f64 = 2.0;
 impl ConstraintFluid {
     /// Write the particles as a VTK PolyData frame (`.vtp`, ASCII) with point data
     /// `velocity` (m/s), `density` (kg/m^3), `compression` (`rho / rho_0 - 1`), `pressure`
-    /// (Pa, `p_i = g_i rho_0 / (h m)` of the last solve, see [`pressure`](Self::pressure))
+    /// (Pa, `p_i = g_i rho_0 / (h m_k)` of the last solve, see [`pressure`](Self::pressure))
     /// and `kind` ([`KIND_FLUID`], [`KIND_WALL`], [`KIND_BODY_MARKER`]).
     ///
     /// With `with_markers` the wall and body markers follow the fluid particles. Wall
@@ -130,10 +130,11 @@ impl ConstraintFluid {
         Ok(top.is_finite().then_some(top + 0.5 * self.settings.spacing))
     }
 
-    /// `p = g rho_0 / (h m)` for an impulse `g` of the last step (0 before the first).
-    fn impulse_to_pressure(&self, g: f64) -> f64 {
+    /// `p = g rho_0 / (h m_k)` for an impulse `g` of the last step (0 before the first),
+    /// `m_k` the kernel mass of the density rows.
+    pub(super) fn impulse_to_pressure(&self, g: f64) -> f64 {
         if self.last_h > 0.0 {
-            g * self.settings.rest_density / (self.last_h * self.mass)
+            g * self.settings.rest_density / (self.last_h * self.kernel_mass)
         } else {
             0.0
         }
@@ -246,7 +247,7 @@ mod tests {
         f.rho.fill(1000.0);
         let field = |z: f64| 2000.0 + 9810.0 * (0.05 - z);
         for i in 0..f.n_fluid() {
-            f.gamma[i] = field(f.pos[2][i]) * h * f.mass / 1000.0;
+            f.gamma[i] = field(f.pos[2][i]) * h * f.kernel_mass / 1000.0;
         }
         for i in 0..f.n_fluid() {
             assert!((f.pressure(i) - field(f.pos[2][i])).abs() < 1e-9);
