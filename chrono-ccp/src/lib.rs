@@ -77,6 +77,31 @@ macro_rules! solver_accessors {
     };
 }
 
+/// The builder methods `with_tolerance`, `with_max_iterations` and `with_record_history`
+/// of a solver whose [`SolverSettings`] are its field `settings` (inside its inherent
+/// `impl`).
+macro_rules! settings_builders {
+    () => {
+        /// Set the residual tolerance (m/s).
+        pub fn with_tolerance(mut self, tolerance: f64) -> Self {
+            self.settings.tolerance = tolerance;
+            self
+        }
+
+        /// Set the iteration cap.
+        pub fn with_max_iterations(mut self, max_iterations: usize) -> Self {
+            self.settings.max_iterations = max_iterations;
+            self
+        }
+
+        /// Record the residual history.
+        pub fn with_record_history(mut self, record_history: bool) -> Self {
+            self.settings.record_history = record_history;
+            self
+        }
+    };
+}
+
 pub mod apgd;
 pub mod bb;
 pub mod cg;
@@ -135,4 +160,30 @@ pub fn by_name(name: &str, settings: SolverSettings) -> Result<Box<dyn CcpSolver
             ));
         }
     })
+}
+
+#[cfg(test)]
+mod builder_tests {
+    use super::*;
+
+    #[test]
+    fn settings_builders_set_the_common_settings() {
+        let a = Apgd::new(SolverSettings::default())
+            .with_tolerance(3e-7)
+            .with_max_iterations(17)
+            .with_record_history(true);
+        let p = Psor::new(SolverSettings::default())
+            .with_tolerance(4e-6)
+            .with_max_iterations(23)
+            .with_record_history(true);
+        let (sa, sp) = (a.settings(), p.settings());
+        assert_eq!(
+            (sa.tolerance, sa.max_iterations, sa.record_history),
+            (3e-7, 17, true)
+        );
+        assert_eq!(
+            (sp.tolerance, sp.max_iterations, sp.record_history),
+            (4e-6, 23, true)
+        );
+    }
 }

@@ -225,23 +225,7 @@ impl Psor {
         self
     }
 
-    /// Set the residual tolerance (m/s).
-    pub fn with_tolerance(mut self, tolerance: f64) -> Self {
-        self.settings.tolerance = tolerance;
-        self
-    }
-
-    /// Set the iteration cap.
-    pub fn with_max_iterations(mut self, max_iterations: usize) -> Self {
-        self.settings.max_iterations = max_iterations;
-        self
-    }
-
-    /// Record the residual history.
-    pub fn with_record_history(mut self, record_history: bool) -> Self {
-        self.settings.record_history = record_history;
-        self
-    }
+    settings_builders!();
 
     /// Replace all PSOR-specific options.
     ///
