@@ -7,7 +7,7 @@
 //! a body target, the body's point Jacobian: `C_d = x_d - p_d` (node minus target point),
 //! `D' v + C_d / h = 0` with the target's known velocity (a kinematic body's) on the right.
 
-use chrono_core::body::RigidBody;
+use chrono_core::body::{BodyHandle, RigidBody};
 use chrono_core::descriptor::{BlockId, ConstraintRows, RowEntry, RowId};
 use chrono_core::item::Contactable;
 use chrono_core::{ChronoError, Result as CoreResult};
@@ -26,6 +26,24 @@ pub(crate) struct AttachContext<'a> {
     pub h: f64,
     /// The item's name for messages.
     pub label: &'a str,
+}
+
+impl AttachContext<'_> {
+    /// The body of `handle` at the start of the step; the error names the item and
+    /// `what` (e.g. `"slope attachment 2"`) when the handle is not in the system.
+    pub fn body(
+        &self,
+        handle: BodyHandle,
+        what: std::fmt::Arguments<'_>,
+    ) -> CoreResult<&RigidBody> {
+        self.bodies
+            .get(handle.0 as usize)
+            .ok_or(ChronoError::UnknownHandle {
+                kind: "body",
+                index: handle.0 as usize,
+                field: format!("{}: {what}", self.label),
+            })
+    }
 }
 
 /// Push the rows of every attachment into `rows` and their ids (or `None` for an axis that
@@ -49,14 +67,7 @@ pub(crate) fn push_attachment_rows(
         let (target, known) = match att.target {
             AttachTarget::Point(p) => (p, [0.0; 3]),
             AttachTarget::Body { body, local } => {
-                let b = ctx
-                    .bodies
-                    .get(body.0 as usize)
-                    .ok_or(ChronoError::UnknownHandle {
-                        kind: "body",
-                        index: body.0 as usize,
-                        field: format!("{}: attachment {ai}", ctx.label),
-                    })?;
+                let b = ctx.body(body, format_args!("attachment {ai}"))?;
                 let p = (b.pose() * Point3::from(local)).coords;
                 let known = b.contact_jacobian(&p, &dirs, &mut |id, r| {
                     let mut c = [[0.0; 6]; 3];
@@ -128,14 +139,7 @@ pub(crate) fn push_director_rows(
         let (a, body) = match target {
             DirectorTarget::Fixed(a) => (a, None),
             DirectorTarget::Body { body, local } => {
-                let b = ctx
-                    .bodies
-                    .get(body.0 as usize)
-                    .ok_or(ChronoError::UnknownHandle {
-                        kind: "body",
-                        index: body.0 as usize,
-                        field: format!("{}: director attachment {ai}", ctx.label),
-                    })?;
+                let b = ctx.body(body, format_args!("director attachment {ai}"))?;
                 (b.rotation() * local, Some(b))
             }
         };

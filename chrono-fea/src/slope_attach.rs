@@ -33,9 +33,9 @@
 //! (`sum_k gamma_k (e_k x s) / h`). The rows exert no force: the clamp force is the
 //! position attachment's.
 
+use chrono_core::Result as CoreResult;
 use chrono_core::body::{BodyHandle, RigidBody};
 use chrono_core::descriptor::{CcpProblem, ConstraintRows, RowEntry, RowId};
-use chrono_core::{ChronoError, Result as CoreResult};
 use nalgebra::Vector3;
 
 use crate::attach_rows::AttachContext;
@@ -147,14 +147,7 @@ impl SlopeRows {
             let (e, body): ([Vector3<f64>; 2], Option<&RigidBody>) = match att.target {
                 SlopeTarget::Direction(_) => (att.across, None),
                 SlopeTarget::Body { body, .. } => {
-                    let b = ctx
-                        .bodies
-                        .get(body.0 as usize)
-                        .ok_or(ChronoError::UnknownHandle {
-                            kind: "body",
-                            index: body.0 as usize,
-                            field: format!("{}: slope attachment {ai}", ctx.label),
-                        })?;
+                    let b = ctx.body(body, format_args!("slope attachment {ai}"))?;
                     let r = b.rotation();
                     ([r * att.across[0], r * att.across[1]], Some(b))
                 }
