@@ -35,6 +35,22 @@ pub fn project_friction_cone(mu: f64, g: &mut [f64]) {
     g[0] = gn_new;
     g[1] = gu * scale;
     g[2] = gw * scale;
+    shrink_into_ball(&mut g[1..3], mu * gn_new);
+}
+
+/// After a radial scaling onto the ball of `radius`, round-off can leave the norm an ulp
+/// outside it; shrink by ulps until the inside test `|x| <= radius` holds, so that the
+/// projection is idempotent exactly (a projected warm start is not moved again).
+#[inline]
+fn shrink_into_ball(x: &mut [f64], radius: f64) {
+    for _ in 0..4 {
+        if x.iter().map(|v| v * v).sum::<f64>().sqrt() <= radius {
+            return;
+        }
+        for v in x.iter_mut() {
+            *v *= 1.0 - f64::EPSILON;
+        }
+    }
 }
 
 /// Project a contact block `g = (g_n, g_u, g_w, g_s, g_ru, g_rw)` (sliding, spinning and
@@ -102,6 +118,7 @@ pub fn project_rolling_cone(mu: [f64; 3], g: &mut [f64]) {
             for v in x.iter_mut() {
                 *v *= s;
             }
+            shrink_into_ball(x, radius);
         }
     };
     clamp(&mut g[1..3], norms[0], mu[0] * n);
