@@ -7,7 +7,7 @@ use chrono_core::system::ContactMethod;
 use chrono_core::{ContactMaterial, RigidBodyBuilder, Shape, SystemSettings};
 use xtask::cases::granular::forces::grain_forces_on;
 use xtask::cases::granular::make_system;
-use xtask::cases::granular::shear::peak_and_residual;
+use xtask::cases::granular::shear::{dilation_rate, peak_and_residual, peak_bin};
 
 #[test]
 fn peak_and_residual_of_a_curve() {
@@ -27,6 +27,34 @@ fn peak_and_residual_of_a_curve() {
     assert!(peak > 0.5 && peak <= 0.6, "{peak}");
     assert!((res - 0.4).abs() < 0.01, "{res}");
     assert!(peak_and_residual(&bins[..3], 0.5, 0.3).is_err());
+    // The best 3-bin window is the corner (0.6 at s = 0.2) and the two bins after it,
+    // whose decay is slower than the rise before it: centred at s = 0.25.
+    let i = peak_bin(&bins, 0.5).unwrap();
+    assert!((bins[i].0 - 0.25).abs() < 1e-12, "{}", bins[i].0);
+    // Searched only up to peak_window: from s = 1.0 on, the last bins win.
+    let rising: Vec<(f64, f64)> = bins.iter().map(|&(s, _)| (s, s)).collect();
+    let i = peak_bin(&rising, 0.5).unwrap();
+    assert!((rising[i].0 - 1.0).abs() < 1e-12, "{}", rising[i].0);
+}
+
+#[test]
+fn dilation_rate_is_the_local_slope() {
+    // Plate rise: y = 0.1 x up to x = 0.5, then flat (a dense sample reaching its
+    // critical state); noise-free, so the fit is exact inside each part.
+    let rise: Vec<(f64, f64)> = (0..=40)
+        .map(|k| {
+            let x = k as f64 * 0.05;
+            (x, 0.1 * x.min(0.5))
+        })
+        .collect();
+    let at = |x: f64| rise.iter().position(|p| (p.0 - x).abs() < 1e-9).unwrap();
+    assert!((dilation_rate(&rise, at(0.25), 0.15) - 0.1).abs() < 1e-12);
+    assert!(dilation_rate(&rise, at(1.5), 0.15).abs() < 1e-12);
+    // Straddling the corner: between the two slopes.
+    let r = dilation_rate(&rise, at(0.5), 0.15);
+    assert!(r > 0.02 && r < 0.08, "{r}");
+    // Outside the bins: no rate (NaN, not a panic).
+    assert!(dilation_rate(&rise, 99, 0.15).is_nan());
 }
 
 /// A sphere resting on a fixed plate and pushed sideways by a force below the
