@@ -22,9 +22,24 @@ pub fn line_fit(pts: &[(f64, f64)]) -> Option<(f64, f64)> {
     })
 }
 
+/// Standard error of the least-squares slope of the points `(x, y)`:
+/// `sqrt(sum r^2 / (n - 2) / sum (x - x_mean)^2)` with `r` the residuals (None below 3
+/// points or without spread in `x`).
+pub fn slope_standard_error(pts: &[(f64, f64)]) -> Option<f64> {
+    let (slope, icept) = line_fit(pts)?;
+    let n = pts.len() as f64;
+    let mx = pts.iter().map(|p| p.0).sum::<f64>() / n;
+    let sxx: f64 = pts.iter().map(|p| (p.0 - mx).powi(2)).sum();
+    let ssr: f64 = pts
+        .iter()
+        .map(|p| (p.1 - slope * p.0 - icept).powi(2))
+        .sum();
+    (pts.len() >= 3 && sxx > 0.0).then(|| (ssr / (n - 2.0) / sxx).sqrt())
+}
+
 #[cfg(test)]
 mod tests {
-    use super::line_fit;
+    use super::{line_fit, slope_standard_error};
 
     #[test]
     fn recovers_a_line_and_rejects_degenerate_input() {
@@ -33,5 +48,17 @@ mod tests {
         assert!((a - 3.0).abs() < 1e-12 && (b + 2.0).abs() < 1e-12);
         assert!(line_fit(&pts[..1]).is_none());
         assert!(line_fit(&[(1.0, 2.0), (1.0, 3.0)]).is_none());
+    }
+
+    #[test]
+    fn slope_error_of_scattered_points() {
+        // y = x +- 0.1 alternating at x = 0, 0, 1, 1: residuals all 0.1, slope 1,
+        // SE = sqrt(4 * 0.01 / 2 / 1) = 0.1414.
+        let pts = [(0.0, 0.1), (0.0, -0.1), (1.0, 1.1), (1.0, 0.9)];
+        let se = slope_standard_error(&pts).unwrap();
+        assert!((se - 0.02f64.sqrt()).abs() < 1e-12, "{se}");
+        let exact = [(0.0, 0.0), (1.0, 1.0), (2.0, 2.0)];
+        assert!(slope_standard_error(&exact).unwrap() < 1e-12);
+        assert!(slope_standard_error(&pts[..2]).is_none());
     }
 }

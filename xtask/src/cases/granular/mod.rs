@@ -12,11 +12,13 @@
 //!   against Zhou et al.'s (2002) DEM correlation and glass-bead experiments.
 
 pub mod ball_drop;
+mod ball_drop_scene;
 pub mod forces;
 pub mod hopper;
 pub mod repose;
 pub mod settle;
 pub mod shear;
+mod shear_curve;
 pub mod smc_bounce;
 
 use chrono_ccp::{Apgd, CcpSolver, SolverSettings};
