@@ -39,4 +39,4 @@ pub use force::{ForceElement, ForceHandle, SpringDamper};
 pub use joint::{Drive, Joint, JointBuilder, JointHandle, JointKind};
 pub use material::{ContactFriction, ContactMaterial};
 pub use shape::Shape;
-pub use system::{ContactMethod, StepReport, System, SystemSettings};
+pub use system::{ContactMethod, FrictionLaw, StepReport, System, SystemSettings};

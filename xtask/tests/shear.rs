@@ -7,7 +7,9 @@ use chrono_core::system::ContactMethod;
 use chrono_core::{ContactMaterial, RigidBodyBuilder, Shape, SystemSettings};
 use xtask::cases::granular::forces::grain_forces_on;
 use xtask::cases::granular::make_system;
-use xtask::cases::granular::shear::{dilation_rate, peak_and_residual, peak_bin};
+use xtask::cases::granular::shear::{
+    dilatancy_corrected_ratio, dilation_rate, peak_and_residual, peak_bin,
+};
 
 #[test]
 fn peak_and_residual_of_a_curve() {
@@ -55,6 +57,24 @@ fn dilation_rate_is_the_local_slope() {
     assert!(r > 0.02 && r < 0.08, "{r}");
     // Outside the bins: no rate (NaN, not a panic).
     assert!(dilation_rate(&rise, 99, 0.15).is_nan());
+}
+
+#[test]
+fn dilatancy_corrected_ratio_recovers_mu_cv() {
+    // A sample that obeys Taylor's balance with mu_cv = 0.45: it contracts (y = -0.05 x^2,
+    // dy/dx = -0.1 x) and its ratio is 0.45 + dy/dx; the correction over the bins from
+    // x = 0.3 gives back 0.45 (the local fit of a parabola's slope is exact at interior bins;
+    // near the end the one-sided window shifts it by O(h^2)).
+    let xs: Vec<f64> = (1..=30).map(|k| k as f64 * 0.05).collect();
+    let rise: Vec<(f64, f64)> = xs.iter().map(|&x| (x, -0.05 * x * x)).collect();
+    let ratio: Vec<(f64, f64)> = xs.iter().map(|&x| (x, 0.45 - 0.1 * x)).collect();
+    let mu = dilatancy_corrected_ratio(&ratio, &rise, 0.3, 0.15);
+    assert!((mu - 0.45).abs() < 2e-3, "{mu}");
+    // A ratio above the balance by 0.05 everywhere shows as 0.50.
+    let high: Vec<(f64, f64)> = ratio.iter().map(|&(x, r)| (x, r + 0.05)).collect();
+    let mu = dilatancy_corrected_ratio(&high, &rise, 0.3, 0.15);
+    assert!((mu - 0.50).abs() < 2e-3, "{mu}");
+    assert!(dilatancy_corrected_ratio(&ratio, &rise, 9.0, 0.15).is_nan());
 }
 
 /// A sphere resting on a fixed plate and pushed sideways by a force below the

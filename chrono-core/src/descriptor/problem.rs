@@ -489,6 +489,16 @@ impl CcpProblem {
         &self.b
     }
 
+    /// Add `delta` to the stabilization term of row `i` (`b_i` and `r_i`), e.g. the normal
+    /// shift of the de Saxcé passes ([`crate::FrictionLaw::Coulomb`]).
+    ///
+    /// # Panics
+    /// If `i >= n_rows()`.
+    pub fn add_to_bias(&mut self, i: usize, delta: f64) {
+        self.b[i] += delta;
+        self.r[i] += delta;
+    }
+
     /// The compliances `eps`.
     #[inline]
     pub fn eps(&self) -> &[f64] {

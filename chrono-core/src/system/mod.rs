@@ -15,8 +15,11 @@
 //! println!("{}", sys.body(bx).unwrap().position());
 //! ```
 
+mod coulomb;
 mod smc_step;
 mod step;
+
+pub use coulomb::FrictionLaw;
 
 pub use smc_step::SmcTiming;
 
@@ -68,6 +71,10 @@ pub struct SystemSettings {
     /// Settings of SMC contact (used when `contact_method` is `Smc`).
     #[serde(default)]
     pub smc: SmcSettings,
+    /// Friction law of NSC contacts: the relaxed cone (default, one solve per step) or
+    /// Coulomb's law by de Saxcé passes ([`FrictionLaw`]).
+    #[serde(default)]
+    pub friction_law: FrictionLaw,
 }
 
 impl Default for SystemSettings {
@@ -81,6 +88,7 @@ impl Default for SystemSettings {
             max_angular_speed: 1e5,
             contact_method: ContactMethod::Nsc,
             smc: SmcSettings::default(),
+            friction_law: FrictionLaw::Relaxed,
         }
     }
 }
@@ -94,6 +102,7 @@ impl SystemSettings {
         check_positive("settings.max_speed", self.max_speed)?;
         check_positive("settings.max_angular_speed", self.max_angular_speed)?;
         self.smc.validate()?;
+        self.friction_law.validate()?;
         Ok(())
     }
 }
@@ -105,8 +114,10 @@ pub struct StepReport {
     pub contacts: usize,
     /// Number of rows of the CCP.
     pub rows: usize,
-    /// The solver's statistics.
+    /// The solver's statistics (summed over the solves of the step).
     pub solve: SolveStats,
+    /// Re-solves of [`FrictionLaw::Coulomb`] done in this step (0 for the relaxed law).
+    pub friction_passes: usize,
 }
 
 /// A multibody system stepped by the NSC (complementarity) method.
@@ -141,6 +152,9 @@ pub struct System {
     pub(crate) loads: BodyLoads,
     /// Per-body friction overrides ([`System::set_contact_friction`]), indexed by body.
     pub(crate) contact_friction: Vec<Option<ContactFriction>>,
+    /// Normal-bias shifts of the de Saxcé passes, per cone block (friction, then rolling).
+    pub(crate) coulomb_shift: Vec<f64>,
+    pub(crate) coulomb_next: Vec<f64>,
 }
 
 impl System {
@@ -176,6 +190,8 @@ impl System {
             smc: smc_step::SmcState::default(),
             loads: BodyLoads::default(),
             contact_friction: Vec::new(),
+            coulomb_shift: Vec::new(),
+            coulomb_next: Vec::new(),
         })
     }
 

@@ -459,6 +459,7 @@ impl System {
             contacts: self.smc.contacts.len(),
             rows: m,
             solve,
+            friction_passes: 0,
         })
     }
 

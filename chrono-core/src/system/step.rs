@@ -164,7 +164,11 @@ impl System {
                 item.warm_start(&self.problem, &mut self.gamma);
             }
         }
-        let solve = self.solver.solve(&self.problem, &mut self.gamma);
+        let mut solve = self.solver.solve(&self.problem, &mut self.gamma);
+        let mut friction_passes = 0;
+        if let super::FrictionLaw::Coulomb { passes } = self.settings.friction_law {
+            (solve, friction_passes) = self.coulomb_passes(passes, solve);
+        }
         if let Some(i) = self.gamma.iter().position(|g| !g.is_finite()) {
             return Err(ChronoError::NonFinite {
                 item: format!("CCP row {i}"),
@@ -215,6 +219,7 @@ impl System {
             contacts: self.contacts.len() + self.proxy_contacts.len(),
             rows: m,
             solve,
+            friction_passes,
         })
     }
 }

@@ -19,6 +19,7 @@ pub mod repose;
 pub mod settle;
 pub mod shear;
 mod shear_curve;
+mod shear_params;
 pub mod smc_bounce;
 
 use chrono_ccp::{Apgd, CcpSolver, SolverSettings};

@@ -65,242 +65,41 @@ use chrono_core::joint::{JointBuilder, JointKind};
 use chrono_core::math::{Isometry3, UnitQuaternion, Vector3};
 use chrono_core::system::{ContactMethod, SmcSettings};
 use chrono_core::{
-    BodyHandle, ContactFriction, ContactMaterial, RigidBodyBuilder, Shape, SystemSettings,
+    BodyHandle, ContactFriction, ContactMaterial, FrictionLaw, RigidBodyBuilder, Shape,
+    SystemSettings,
 };
-use serde::{Deserialize, Serialize};
 
 use super::forces::grain_forces_on;
-pub use super::shear_curve::{dilation_rate, peak_and_residual, peak_bin};
+pub use super::shear_curve::{
+    dilatancy_corrected_ratio, dilation_rate, peak_and_residual, peak_bin,
+};
+pub use super::shear_params::ShearParams;
+use super::shear_params::check_params;
 use super::{make_system, method_name, parse_methods};
-use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series, SweepPoint};
-use crate::params::{CaseParams, ParamCase, ParamInfo, ensure_at_least, ensure_positive};
+use crate::case::{Case, CaseOutput, Check, PlotSpec, RunContext, Series, SweepPoint};
+use crate::params::{ParamCase, ensure_positive};
 
 /// Solid fraction assumed for the settled sample when sizing the grain count.
 const SETTLED_FRACTION: f64 = 0.6;
 
+/// Start (in grain diameters of displacement) of the bins over which Taylor's balance is
+/// averaged along the curve: past the initial elastic rise of the ratio.
+const BALANCE_FROM: f64 = 0.3;
+
 /// APGD iteration cap (NSC) while the grains settle, before the load.
 const SETTLE_ITERATIONS: usize = 60;
 
-/// Parameters of `granular-shear` (`Default` is the `--full` setup: the reference box and
-/// its four normal stresses).
-#[derive(Clone, Debug, Serialize, Deserialize)]
-pub struct ShearParams {
-    /// Normal stresses of the sweep, Pa (a single number runs one).
-    pub normal_stress: Vec<f64>,
-    /// Contact methods to run, each in turn (`--set method=smc` runs one).
-    pub method: Vec<String>,
-    /// Grain–grain sliding friction coefficient.
-    pub mu: f64,
-    /// Grain–wall (box, floor, plate) sliding friction coefficient.
-    pub wall_mu: f64,
-    /// Rolling friction coefficient (dimensionless; 0 for smooth glass beads).
-    pub rolling_friction: f64,
-    /// Grain diameter `d`, m (mono-disperse, as the reference beads).
-    pub grain_diameter: f64,
-    /// Box side over grain diameter (the box is square).
-    pub box_length: f64,
-    /// Depth of the lower half over grain diameter (the sample is about twice as high).
-    pub half_height: f64,
-    /// Gap between the two halves over grain diameter (below 1: no grain passes).
-    pub gap: f64,
-    /// Grain density, kg/m^3.
-    pub density: f64,
-    /// Young's modulus (SMC), Pa.
-    pub young: f64,
-    /// Poisson's ratio (SMC).
-    pub poisson: f64,
-    /// Restitution (SMC).
-    pub restitution: f64,
-    /// Shear speed of the lower half, m/s.
-    pub shear_speed: f64,
-    /// Shear displacement, over grain diameter.
-    pub displacement: f64,
-    /// Width of the averaging bins of the force ratio, over grain diameter of displacement.
-    pub bin: f64,
-    /// Fraction of the displacement (from the start) searched for the peak.
-    pub peak_window: f64,
-    /// Fraction of the displacement (at the end) averaged for the residual.
-    pub residual_window: f64,
-    /// Settling time under gravity before the load, s.
-    pub t_settle: f64,
-    /// Consolidation time under the load before shearing, s.
-    pub t_consolidate: f64,
-    /// Time step, s (0: 1e-3 for NSC, the SMC limit for SMC).
-    pub h: f64,
-    /// APGD tolerance (NSC), m/s.
-    pub tolerance: f64,
-    /// APGD iteration cap (NSC) once the sample is loaded. 300: 100 under-resolve the
-    /// friction (residual 4 degrees low); 1000 did not bring the peak closer to Taylor's
-    /// balance on the whole (+0.4 and +4.3 degrees against +2.0 and +2.6 at 300, at 3.1
-    /// and 12.5 kPa) for 2-3x the cost (docs/validation-granular.md).
-    pub max_iterations: usize,
-    /// Scatter (half width) of the peak reference `atan(tan(ref_residual_deg) + dy/dx)`
-    /// (Taylor's energy balance, see [`dilation_rate`]), degrees.
-    pub ref_peak_scatter_deg: f64,
-    /// Half width of the displacement window (over grain diameter) around the peak over
-    /// which the dilation rate `dy/dx` is fitted.
-    pub dilation_window: f64,
-    /// Reference residual friction angle, degrees: `atan 0.45`, the steady sliding friction
-    /// of glass beads (Mair et al. 2002; Frye and Marone 2002).
-    pub ref_residual_deg: f64,
-    /// Scatter (half width) of the reference residual angle, degrees.
-    pub ref_residual_scatter_deg: f64,
-    /// Seed of the packing.
-    pub seed: u64,
-    /// Settle the grains without friction (a dense packing, the usual way to prepare a dense
-    /// DEM sample), then restore `mu` and `wall_mu` before the load; `false`: poured with
-    /// friction (looser).
-    pub dense_fill: bool,
-    /// Check the peak angle against Taylor's `atan(tan(ref_residual_deg) + dy/dx)`.
-    pub check_peak: bool,
-    /// Check the residual angle against `ref_residual_deg` (the published value).
-    pub check_residual: bool,
-}
-
-impl Default for ShearParams {
-    fn default() -> Self {
-        Self {
-            normal_stress: vec![3.1e3, 6.4e3, 12.5e3, 24.2e3],
-            method: vec!["nsc".into(), "smc".into()],
-            mu: 0.18,
-            wall_mu: 0.13,
-            rolling_friction: 0.0,
-            grain_diameter: 0.006,
-            box_length: 20.0,
-            half_height: 5.5,
-            gap: 0.5,
-            density: 2550.0,
-            young: 4e7,
-            poisson: 0.22,
-            restitution: 0.87,
-            shear_speed: 0.005,
-            displacement: 1.5,
-            bin: 0.05,
-            peak_window: 1.0,
-            residual_window: 0.3,
-            t_settle: 0.4,
-            t_consolidate: 0.1,
-            h: 0.0,
-            tolerance: 1e-5,
-            max_iterations: 300,
-            ref_peak_scatter_deg: 2.0,
-            dilation_window: 0.15,
-            ref_residual_deg: 24.2,
-            ref_residual_scatter_deg: 2.0,
-            seed: 7,
-            dense_fill: false,
-            check_peak: true,
-            check_residual: true,
-        }
-    }
-}
-
-impl CaseParams for ShearParams {
-    const INFO: &'static [ParamInfo] = &[
-        ParamInfo::new(
-            "normal_stress",
-            "Pa",
-            "normal stresses of the sweep ([a, b, ..] or one number)",
-        ),
-        ParamInfo::new("method", "-", "contact methods: [\"nsc\", \"smc\"] or one"),
-        ParamInfo::new("mu", "-", "grain-grain sliding friction"),
-        ParamInfo::new("wall_mu", "-", "grain-wall sliding friction"),
-        ParamInfo::new("rolling_friction", "-", "rolling friction coefficient"),
-        ParamInfo::new("grain_diameter", "m", "grain diameter d (mono-disperse)"),
-        ParamInfo::new("box_length", "d", "box side / grain diameter"),
-        ParamInfo::new("half_height", "d", "lower half depth / grain diameter"),
-        ParamInfo::new("gap", "d", "gap between the halves / grain diameter"),
-        ParamInfo::new("density", "kg/m^3", "grain density"),
-        ParamInfo::new("young", "Pa", "Young's modulus (SMC)"),
-        ParamInfo::new("poisson", "-", "Poisson's ratio (SMC)"),
-        ParamInfo::new("restitution", "-", "restitution (SMC)"),
-        ParamInfo::new("shear_speed", "m/s", "speed of the lower half"),
-        ParamInfo::new("displacement", "d", "shear displacement / grain diameter"),
-        ParamInfo::new(
-            "bin",
-            "d",
-            "averaging bin of the force ratio (displacement)",
-        ),
-        ParamInfo::new(
-            "peak_window",
-            "-",
-            "fraction of the displacement searched for the peak",
-        ),
-        ParamInfo::new(
-            "residual_window",
-            "-",
-            "final fraction averaged for the residual",
-        ),
-        ParamInfo::new("t_settle", "s", "settling time before the load"),
-        ParamInfo::new("t_consolidate", "s", "consolidation time under the load"),
-        ParamInfo::new("h", "s", "time step (0: 1e-3 NSC, the SMC limit SMC)"),
-        ParamInfo::new("tolerance", "m/s", "APGD tolerance (NSC)"),
-        ParamInfo::new("max_iterations", "-", "APGD iteration cap (NSC)"),
-        ParamInfo::new(
-            "ref_peak_scatter_deg",
-            "deg",
-            "scatter of the peak reference (Taylor: mu_cv + dy/dx)",
-        ),
-        ParamInfo::new(
-            "dilation_window",
-            "d",
-            "half width of the fit of dy/dx around the peak",
-        ),
-        ParamInfo::new(
-            "ref_residual_deg",
-            "deg",
-            "reference residual friction angle",
-        ),
-        ParamInfo::new(
-            "ref_residual_scatter_deg",
-            "deg",
-            "scatter of the reference residual angle",
-        ),
-        ParamInfo::new("seed", "-", "seed of the packing"),
-        ParamInfo::new(
-            "dense_fill",
-            "-",
-            "settle without friction (dense sample), then restore it",
-        ),
-        ParamInfo::new(
-            "check_peak",
-            "-",
-            "check the peak angle against Taylor's mu_cv + dy/dx",
-        ),
-        ParamInfo::new(
-            "check_residual",
-            "-",
-            "check the residual angle against ref_residual_deg (Mair et al. 2002)",
-        ),
-    ];
-    fn apply_mode(&mut self, mode: Mode) {
-        match mode {
-            // ~600 grains, one stress, 1.5 d of displacement at 2 cm/s (I ~ 3e-3).
-            // SMC only (NSC at 300 iterations is ~3x its cost): a smoke run of the setup,
-            // the force read-out and the quasi-static state. The peak is reported, not
-            // checked: in this 8 d box the ratio peaks (0.66 at 0.8 d) before the sample
-            // dilates (dy/dx 0.09 there, 0.15-0.2 just after), 4.4 degrees over Taylor's
-            // balance, a small-box effect (docs/validation-granular.md).
-            Mode::Quick => {
-                self.check_peak = false;
-                self.method = vec!["smc".into()];
-                self.normal_stress = vec![6.4e3];
-                self.box_length = 8.0;
-                self.half_height = 4.0;
-                self.shear_speed = 0.02;
-                self.t_settle = 0.25;
-                self.t_consolidate = 0.05;
-            }
-            // ~1700 grains, two stresses.
-            Mode::Default => {
-                self.normal_stress = vec![3.1e3, 12.5e3];
-                self.box_length = 12.0;
-                self.half_height = 5.0;
-                self.shear_speed = 0.01;
-            }
-            Mode::Full => {}
-        }
-    }
+/// Means over the shear steps of the NSC step's CCP solves.
+#[derive(Debug, Clone, Copy, Default)]
+struct SolveMeans {
+    /// Solver iterations per step (summed over the Coulomb passes).
+    iterations: f64,
+    /// Fraction of steps whose (last) solve reached the tolerance.
+    converged: f64,
+    /// Residual of the (last) solve, m/s.
+    residual: f64,
+    /// De Saxcé re-solves per step (0 for the relaxed cone).
+    passes: f64,
 }
 
 /// One shear test: the force ratio by displacement bin and its summary.
@@ -311,9 +110,11 @@ struct ShearRun {
     residual: f64,
     /// Dilation rate `dy/dx` of the load plate at the peak.
     peak_dilation: f64,
-    /// Mean iterations, fraction of converged solves and mean residual (m/s) of the CCP
-    /// solve over the shear steps (NSC; zeros for SMC).
-    solve: (f64, f64, f64),
+    /// `S/N - dy/dx` averaged over the bins from [`BALANCE_FROM`] d on
+    /// ([`dilatancy_corrected_ratio`]): `mu_cv` where Taylor's balance holds.
+    balance: f64,
+    /// The CCP solves over the shear steps (NSC; zeros for SMC).
+    solve: SolveMeans,
     grains: usize,
     steps: u64,
     h: f64,
@@ -322,58 +123,10 @@ struct ShearRun {
     self_weight: f64,
     /// Kinetic energy per grain when the load is applied, over `m g d`.
     ke_settled: f64,
+    /// Solid fraction of the consolidated sample, before the shear.
+    solid_fraction: f64,
     /// Deepest penetration (NSC) or overlap (SMC) of the last step, over `d`.
     penetration: f64,
-}
-
-fn check_params(p: &ShearParams) -> anyhow::Result<()> {
-    let positive = [
-        ("grain_diameter", p.grain_diameter),
-        ("density", p.density),
-        ("young", p.young),
-        ("shear_speed", p.shear_speed),
-        ("displacement", p.displacement),
-        ("bin", p.bin),
-        ("t_settle", p.t_settle),
-        ("t_consolidate", p.t_consolidate),
-    ];
-    for (name, v) in positive {
-        ensure_positive(name, v)?;
-    }
-    ensure_at_least("box_length", p.box_length, 4.0, "grain diameters")?;
-    anyhow::ensure!(
-        p.dilation_window >= p.bin && p.dilation_window.is_finite(),
-        "parameter `dilation_window` must be at least one `bin` ({}) for a slope, got {}",
-        p.bin,
-        p.dilation_window
-    );
-    ensure_at_least("half_height", p.half_height, 2.0, "grain diameters")?;
-    anyhow::ensure!(
-        p.gap >= 0.0 && p.gap < 0.9,
-        "parameter `gap` must be in [0, 0.9) grain diameters (grains must not pass), got {}",
-        p.gap
-    );
-    anyhow::ensure!(
-        p.displacement < 0.5 * p.box_length,
-        "parameter `displacement` must be below half the box length ({}), got {}",
-        0.5 * p.box_length,
-        p.displacement
-    );
-    for (name, v) in [
-        ("peak_window", p.peak_window),
-        ("residual_window", p.residual_window),
-    ] {
-        anyhow::ensure!(
-            v > 0.0 && v <= 1.0,
-            "parameter `{name}` must be in (0, 1], got {v}"
-        );
-    }
-    anyhow::ensure!(
-        p.h >= 0.0 && p.h.is_finite(),
-        "parameter `h` must be >= 0, got {}",
-        p.h
-    );
-    Ok(())
 }
 
 /// Four walls of thickness `t` around the square `[-l/2, l/2]^2`, between heights `z0` and
@@ -533,14 +286,14 @@ fn shear_test(
     // The pour only has to make a packing: NSC settles with a cheaper solve (at most
     // `SETTLE_ITERATIONS`), the loaded sample is solved with `max_iterations`.
     sys.solver_mut().settings_mut().max_iterations = p.max_iterations.min(SETTLE_ITERATIONS);
-    let frictionless = ContactFriction {
-        friction: 0.0,
-        rolling_friction: 0.0,
-        spinning_friction: 0.0,
-    };
-    if p.dense_fill {
+    if let Some(friction) = p.fill_mu {
+        let fill = ContactFriction {
+            friction,
+            rolling_friction: 0.0,
+            spinning_friction: 0.0,
+        };
         for &b in &handles {
-            sys.set_contact_friction(b, Some(frictionless))?;
+            sys.set_contact_friction(b, Some(fill))?;
         }
     }
     for _ in 0..n_settle {
@@ -549,12 +302,20 @@ fn shear_test(
         vtk.record(step, &sys)?;
         report(step);
     }
-    if p.dense_fill {
+    if p.fill_mu.is_some() {
         for &b in &handles {
             sys.set_contact_friction(b, None)?;
         }
     }
     sys.solver_mut().settings_mut().max_iterations = p.max_iterations;
+    if p.coulomb_passes > 0 {
+        sys.set_settings(SystemSettings {
+            friction_law: FrictionLaw::Coulomb {
+                passes: p.coulomb_passes,
+            },
+            ..sys.settings().clone()
+        })?;
+    }
     let ke_settled = sys.kinetic_energy() / handles.len() as f64 / (grain_mass * g * d);
     // Load: the plate just above the highest grain, pushing with sigma L^2 in all.
     let mut top = f64::NEG_INFINITY;
@@ -582,20 +343,24 @@ fn shear_test(
         report(step);
     }
     let z_plate0 = sys.body(plate)?.position().z;
+    // Grain volume over the box's volume between the floor (top at -hl) and the plate's
+    // underside: the consolidated sample's solid fraction (walls included, so below the
+    // bulk value; it compares preparations).
+    let solid_fraction = handles.len() as f64 * v_grain / (l * l * (z_plate0 - 0.5 * t + hl));
     sys.body_mut(lower)?
         .set_linear_velocity(Vector3::new(p.shear_speed, 0.0, 0.0))?;
     let z_plane = 0.5 * gap;
     let x0 = sys.body(lower)?.position().x;
     let (mut bins, mut weight_sum) = (Vec::with_capacity(n_bins as usize), 0.0);
-    // Sums over the shear steps of the CCP solve's iterations, convergence and residual.
-    let mut solve = (0.0, 0.0, 0.0);
+    let mut solve = SolveMeans::default();
     for _ in 0..n_bins {
         let (mut f, mut f_lower) = (Vector3::zeros(), Vector3::zeros());
         for _ in 0..steps_per_bin {
             let rep = sys.step(h)?;
-            solve.0 += rep.solve.iterations as f64;
-            solve.1 += f64::from(u8::from(rep.solve.converged));
-            solve.2 += rep.solve.residual;
+            solve.iterations += rep.solve.iterations as f64;
+            solve.converged += f64::from(u8::from(rep.solve.converged));
+            solve.residual += rep.solve.residual;
+            solve.passes += rep.friction_passes as f64;
             step += 1;
             f += grain_forces_on(&sys, h, &[upper.0, plate.0], &structure);
             f_lower += grain_forces_on(&sys, h, &[lower.0], &structure);
@@ -626,19 +391,27 @@ fn shear_test(
     let pairs: Vec<(f64, f64)> = bins.iter().map(|b| (b[0], b[1])).collect();
     let (peak, residual) = peak_and_residual(&pairs, p.peak_window, p.residual_window)?;
     let rise: Vec<(f64, f64)> = bins.iter().map(|b| (b[0], b[3])).collect();
+    let balance = dilatancy_corrected_ratio(&pairs, &rise, BALANCE_FROM, p.dilation_window);
     let peak_dilation = peak_bin(&pairs, p.peak_window)
         .map_or(f64::NAN, |i| dilation_rate(&rise, i, p.dilation_window));
     Ok(ShearRun {
         self_weight: weight_sum / n_bins as f64,
         ke_settled,
+        solid_fraction,
         penetration: super::max_penetration(&sys) / d,
         bins,
         peak,
         residual,
         peak_dilation,
+        balance,
         solve: {
             let n = (n_bins * steps_per_bin) as f64;
-            (solve.0 / n, solve.1 / n, solve.2 / n)
+            SolveMeans {
+                iterations: solve.iterations / n,
+                converged: solve.converged / n,
+                residual: solve.residual / n,
+                passes: solve.passes / n,
+            }
         },
         grains: handles.len(),
         steps: n_total,
@@ -712,21 +485,24 @@ fn run(p: &ShearParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
             let applied = late.iter().map(|b| b[2]).sum::<f64>() / late.len().max(1) as f64;
             out.metric(format!("ref_peak_deg_{tag}"), ref_peak_deg)
                 .metric(format!("peak_dilation_rate_{tag}"), r.peak_dilation)
+                .metric(format!("dilatancy_corrected_ratio_{tag}"), r.balance)
                 .metric(format!("ref_residual_deg_{tag}"), p.ref_residual_deg)
                 .metric(format!("peak_ratio_{tag}"), r.peak)
                 .metric(format!("residual_ratio_{tag}"), r.residual)
                 .metric(format!("self_weight_over_load_{tag}"), r.self_weight)
                 .metric(format!("residual_ratio_applied_{tag}"), applied)
                 .metric(format!("ke_settled_over_mgd_{tag}"), r.ke_settled)
+                .metric(format!("solid_fraction_{tag}"), r.solid_fraction)
                 .metric(format!("max_penetration_over_d_{tag}"), r.penetration)
                 .metric(format!("plate_rise_over_d_{tag}"), last[3])
                 .metric(format!("grains_{tag}"), r.grains as f64)
                 .metric(format!("h_{tag}"), r.h)
                 .metric(format!("wall_s_{tag}"), r.wall_s);
             if method == ContactMethod::Nsc {
-                out.metric(format!("solve_iterations_{tag}"), r.solve.0)
-                    .metric(format!("solve_converged_fraction_{tag}"), r.solve.1)
-                    .metric(format!("solve_residual_{tag}"), r.solve.2);
+                out.metric(format!("solve_iterations_{tag}"), r.solve.iterations)
+                    .metric(format!("solve_converged_fraction_{tag}"), r.solve.converged)
+                    .metric(format!("solve_residual_{tag}"), r.solve.residual)
+                    .metric(format!("coulomb_passes_{tag}"), r.solve.passes);
             }
             out.sweep.push(SweepPoint {
                 label: tag.clone(),

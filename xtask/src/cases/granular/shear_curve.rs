@@ -65,3 +65,24 @@ pub fn dilation_rate(bins: &[(f64, f64)], center: usize, half_width: f64) -> f64
         .collect();
     crate::fit::line_fit(&pts).map_or(f64::NAN, |(slope, _)| slope)
 }
+
+/// Taylor's balance along the whole curve: the mean of `S/N - dy/dx` over the bins at
+/// displacement `x >= from`, with `dy/dx` the [`dilation_rate`] over `half_width` around
+/// each bin. `ratio` and `rise` are bins `(x, S/N)` and `(x, y)` at the same displacements.
+/// Where the energy balance `S dx = mu_cv N dx + N dy` holds, this is `mu_cv` whether the
+/// sample dilates or contracts. NaN if no bin is at `x >= from`.
+pub fn dilatancy_corrected_ratio(
+    ratio: &[(f64, f64)],
+    rise: &[(f64, f64)],
+    from: f64,
+    half_width: f64,
+) -> f64 {
+    let (mut sum, mut n) = (0.0, 0usize);
+    for (i, &(x, r)) in ratio.iter().enumerate() {
+        if x >= from {
+            sum += r - dilation_rate(rise, i, half_width);
+            n += 1;
+        }
+    }
+    if n == 0 { f64::NAN } else { sum / n as f64 }
+}
