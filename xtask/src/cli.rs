@@ -31,7 +31,7 @@ pub enum Command {
         /// Options shared with `bench`.
         #[command(flatten)]
         run: RunArgs,
-        /// Write VTK frames into DIR/<case>/vtk/.
+        /// Write VTK frames into `DIR/<case>/vtk/`.
         #[arg(long)]
         vtk: bool,
     },
@@ -59,7 +59,7 @@ pub struct RunArgs {
     /// parsed as JSON, else taken as a string.
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<Override>,
-    /// Output directory [default: <workspace>/target/validation or target/bench].
+    /// Output directory (default: `<workspace>/target/validation` or `target/bench`).
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
     /// Also write the summary JSON to FILE.

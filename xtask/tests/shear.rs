@@ -5,10 +5,10 @@ use chrono_core::granular::{Grain, add_grains};
 use chrono_core::math::{Isometry3, Vector3};
 use chrono_core::system::ContactMethod;
 use chrono_core::{ContactMaterial, RigidBodyBuilder, Shape, SystemSettings};
-use xtask::cases::granular::forces::grain_forces_on;
+use xtask::cases::granular::forces::{grain_forces_on, uniaxial_overlap_strain};
 use xtask::cases::granular::make_system;
 use xtask::cases::granular::shear::{
-    dilatancy_corrected_ratio, dilation_rate, peak_and_residual, peak_bin,
+    dilatancy_corrected_ratio, dilation_rate, peak_and_residual, peak_bin, residual_dilation_rate,
 };
 
 #[test]
@@ -77,6 +77,27 @@ fn dilatancy_corrected_ratio_recovers_mu_cv() {
     assert!(dilatancy_corrected_ratio(&ratio, &rise, 9.0, 0.15).is_nan());
 }
 
+#[test]
+fn residual_dilation_rate_is_the_late_slope() {
+    // Rise 0.1 x up to x = 1, then 0.02 x (a dense sample still dilating slowly at the end):
+    // the slope over the last 30 % of x_max = 1.5 (x >= 1.05) is 0.02.
+    let rise: Vec<(f64, f64)> = (1..=30)
+        .map(|k| {
+            let x = k as f64 * 0.05;
+            (
+                x,
+                if x <= 1.0 {
+                    0.1 * x
+                } else {
+                    0.1 + 0.02 * (x - 1.0)
+                },
+            )
+        })
+        .collect();
+    assert!((residual_dilation_rate(&rise, 0.3) - 0.02).abs() < 1e-12);
+    assert!(residual_dilation_rate(&rise[..1], 0.3).is_nan());
+}
+
 /// A sphere resting on a fixed plate and pushed sideways by a force below the
 /// friction limit: the grain forces on the plate are its weight and the push, by both
 /// methods.
@@ -136,5 +157,69 @@ fn grain_forces_on_a_plate_balance_weight_and_push() {
             (f.x - expect).abs() < 0.05 * push,
             "{method:?}: {f:?} vs {expect}"
         );
+    }
+}
+
+/// Grains placed by an affine uniaxial compression `z -> (1 - eps) z` of touching
+/// columns, plus an inclined pair closed by the same field and a fixed floor that overlaps
+/// the bottom grains (structure: excluded): the overlap strain is `eps`, by both methods.
+#[test]
+fn uniaxial_overlap_strain_of_an_affine_compression() {
+    let (r, eps) = (0.003, 0.01);
+    let d = 2.0 * r;
+    for method in [ContactMethod::Nsc, ContactMethod::Smc] {
+        let settings = SystemSettings {
+            envelope: 1e-4,
+            ..SystemSettings::default()
+        };
+        let mut sys = make_system(method, settings, 1e-8, 50).unwrap();
+        let mat = ContactMaterial::smc(1e7, 0.3, 0.5, 0.5);
+        let floor = sys
+            .add_body(RigidBodyBuilder::fixed().collider(
+                Shape::Box {
+                    half_extents: Vector3::new(0.1, 0.1, 0.005),
+                },
+                Isometry3::from_parts(
+                    Vector3::new(0.0, 0.0, -0.005 + 0.2 * r).into(),
+                    Default::default(),
+                ),
+                mat,
+            ))
+            .unwrap();
+        let mut grains = Vec::new();
+        // Two touching columns of four (side by side: horizontal contacts at zero overlap).
+        for ix in 0..2 {
+            for k in 0..4 {
+                grains.push(Grain {
+                    center: Vector3::new(ix as f64 * d, 0.0, r + k as f64 * d * (1.0 - eps)),
+                    radius: r,
+                });
+            }
+        }
+        // A touching pair at 60 degrees from vertical, away from the columns, mapped by the
+        // same compression.
+        let (th, c0) = (60f64.to_radians(), Vector3::new(0.05, 0.05, 0.02));
+        grains.push(Grain {
+            center: c0,
+            radius: r,
+        });
+        grains.push(Grain {
+            center: c0 + d * Vector3::new(th.sin(), 0.0, th.cos() * (1.0 - eps)),
+            radius: r,
+        });
+        add_grains(&mut sys, &grains, 2500.0, mat).unwrap();
+        // A step short enough that the contacts are those of the placed configuration.
+        sys.step(1e-7).unwrap();
+        let e = uniaxial_overlap_strain(&sys, &[floor.0]).unwrap();
+        // Exact for the columns; the inclined pair's normal turns by O(eps), which moves the
+        // fit by O(eps^2).
+        assert!(
+            (e - eps).abs() < 2.0 * eps * eps,
+            "{method:?}: {e} vs {eps}"
+        );
+        // With the floor counted as a grain its deep overlaps (0.8 r, n_z = 1) pull the
+        // fit up: the exclusion is what makes it `eps`.
+        let with_floor = uniaxial_overlap_strain(&sys, &[]).unwrap();
+        assert!(with_floor > 2.0 * eps, "{method:?}: {with_floor}");
     }
 }

@@ -41,3 +41,46 @@ pub fn grain_forces_on(sys: &System, h: f64, targets: &[u32], structure: &[u32])
     }
     f
 }
+
+/// Vertical strain `eps` (compression positive) of the affine uniaxial compression that
+/// best explains the overlaps of the last step's grain–grain contacts (bodies outside
+/// `structure`): an affine field `u_z = -eps z` closes a contact of unstrained branch
+/// length `l` (the touching distance `|x_b - x_a| + delta`) and unit normal `n` by
+/// `delta = eps l n_z^2` (to first order in `eps`), so the least-squares fit over the
+/// contacts is
+///
+/// `eps = sum(delta l n_z^2) / sum(l^2 n_z^4)`.
+///
+/// This is the elastic part of a sample's height under load (penalty contacts: the
+/// overlaps; NSC: the solver's residual penetration), so `phi (1 - eps)` is the solid
+/// fraction the same packing would have with rigid grains. Laterally confined (a box), the
+/// compression is close to uniaxial. 0 without grain–grain contacts.
+pub fn uniaxial_overlap_strain(sys: &System, structure: &[u32]) -> anyhow::Result<f64> {
+    let mut contacts: Vec<(u32, u32, Vector3<f64>, f64)> = Vec::new();
+    match sys.settings().contact_method {
+        ContactMethod::Nsc => {
+            for c in sys.contacts() {
+                let p = &c.point;
+                contacts.push((p.owner_a, p.owner_b, c.normal(), -p.distance));
+            }
+        }
+        ContactMethod::Smc => {
+            for c in sys.smc_contacts() {
+                contacts.push((c.owner_a, c.owner_b, c.normal, c.overlap));
+            }
+        }
+    }
+    let (mut num, mut den) = (0.0, 0.0);
+    for (a, b, n, delta) in contacts {
+        if delta <= 0.0 || structure.contains(&a) || structure.contains(&b) || a == b {
+            continue;
+        }
+        let xa = sys.body(chrono_core::BodyHandle(a))?.position();
+        let xb = sys.body(chrono_core::BodyHandle(b))?.position();
+        let l = (xb - xa).norm() + delta;
+        let nz2 = n.z * n.z;
+        num += delta * l * nz2;
+        den += l * l * nz2 * nz2;
+    }
+    Ok(if den > 0.0 { num / den } else { 0.0 })
+}

@@ -86,3 +86,16 @@ pub fn dilatancy_corrected_ratio(
     }
     if n == 0 { f64::NAN } else { sum / n as f64 }
 }
+
+/// Dilation rate `dy/dx` over the residual window: the least-squares slope of the rise bins
+/// `(x, y)` with `x >= (1 - residual_window) x_max`. Zero where the sample has reached its
+/// critical state (steady volume); NaN with fewer than two bins there.
+pub fn residual_dilation_rate(rise: &[(f64, f64)], residual_window: f64) -> f64 {
+    let x_max = rise.last().map_or(0.0, |b| b.0);
+    let late: Vec<(f64, f64)> = rise
+        .iter()
+        .copied()
+        .filter(|b| b.0 >= (1.0 - residual_window) * x_max)
+        .collect();
+    crate::fit::line_fit(&late).map_or(f64::NAN, |(slope, _)| slope)
+}
