@@ -98,33 +98,48 @@ fn residual_dilation_rate_is_the_late_slope() {
     assert!(residual_dilation_rate(&rise[..1], 0.3).is_nan());
 }
 
+/// The material of every body in the contact tests below.
+fn material() -> ContactMaterial {
+    ContactMaterial::smc(1e7, 0.3, 0.5, 0.5)
+}
+
+/// A system of `method` with a 0.1 mm envelope and a tight solve (NSC).
+fn small_system(method: ContactMethod, max_iterations: usize) -> chrono_core::System {
+    let settings = SystemSettings {
+        envelope: 1e-4,
+        ..SystemSettings::default()
+    };
+    make_system(method, settings, 1e-8, max_iterations).unwrap()
+}
+
+/// A fixed square plate 1 cm thick, half side `half` (m), its top at height `top` (m).
+fn fixed_plate(half: f64, top: f64) -> RigidBodyBuilder {
+    RigidBodyBuilder::fixed().collider(
+        Shape::Box {
+            half_extents: Vector3::new(half, half, 0.005),
+        },
+        Isometry3::from_parts(
+            Vector3::new(0.0, 0.0, top - 0.005).into(),
+            Default::default(),
+        ),
+        material(),
+    )
+}
+
 /// A sphere resting on a fixed plate and pushed sideways by a force below the
 /// friction limit: the grain forces on the plate are its weight and the push, by both
 /// methods.
 #[test]
 fn grain_forces_on_a_plate_balance_weight_and_push() {
     for method in [ContactMethod::Nsc, ContactMethod::Smc] {
-        let settings = SystemSettings {
-            envelope: 1e-4,
-            ..SystemSettings::default()
-        };
-        let mut sys = make_system(method, settings, 1e-8, 500).unwrap();
-        let mat = ContactMaterial::smc(1e7, 0.3, 0.5, 0.5);
-        let plate = sys
-            .add_body(RigidBodyBuilder::fixed().collider(
-                Shape::Box {
-                    half_extents: Vector3::new(0.05, 0.05, 0.005),
-                },
-                Isometry3::identity(),
-                mat,
-            ))
-            .unwrap();
+        let mut sys = small_system(method, 500);
+        let plate = sys.add_body(fixed_plate(0.05, 0.005)).unwrap();
         let r = 0.003;
         let g = [Grain {
             center: Vector3::new(0.0, 0.0, 0.005 + r),
             radius: r,
         }];
-        let b = add_grains(&mut sys, &g, 2500.0, mat).unwrap()[0];
+        let b = add_grains(&mut sys, &g, 2500.0, material()).unwrap()[0];
         let m = sys.body(b).unwrap().mass();
         let push = 0.2 * m * 9.81;
         sys.body_mut(b)
@@ -168,24 +183,8 @@ fn uniaxial_overlap_strain_of_an_affine_compression() {
     let (r, eps) = (0.003, 0.01);
     let d = 2.0 * r;
     for method in [ContactMethod::Nsc, ContactMethod::Smc] {
-        let settings = SystemSettings {
-            envelope: 1e-4,
-            ..SystemSettings::default()
-        };
-        let mut sys = make_system(method, settings, 1e-8, 50).unwrap();
-        let mat = ContactMaterial::smc(1e7, 0.3, 0.5, 0.5);
-        let floor = sys
-            .add_body(RigidBodyBuilder::fixed().collider(
-                Shape::Box {
-                    half_extents: Vector3::new(0.1, 0.1, 0.005),
-                },
-                Isometry3::from_parts(
-                    Vector3::new(0.0, 0.0, -0.005 + 0.2 * r).into(),
-                    Default::default(),
-                ),
-                mat,
-            ))
-            .unwrap();
+        let mut sys = small_system(method, 50);
+        let floor = sys.add_body(fixed_plate(0.1, 0.2 * r)).unwrap();
         let mut grains = Vec::new();
         // Two touching columns of four (side by side: horizontal contacts at zero overlap).
         for ix in 0..2 {
@@ -207,7 +206,7 @@ fn uniaxial_overlap_strain_of_an_affine_compression() {
             center: c0 + d * Vector3::new(th.sin(), 0.0, th.cos() * (1.0 - eps)),
             radius: r,
         });
-        add_grains(&mut sys, &grains, 2500.0, mat).unwrap();
+        add_grains(&mut sys, &grains, 2500.0, material()).unwrap();
         // A step short enough that the contacts are those of the placed configuration.
         sys.step(1e-7).unwrap();
         let e = uniaxial_overlap_strain(&sys, &[floor.0]).unwrap();
