@@ -1,5 +1,5 @@
 //! Least-squares fits shared by the cases (flow rates, slopes of heaps, exponents,
-//! convergence orders).
+//! convergence orders), and the mean and spread of repeated runs.
 
 /// Least-squares line `y = a x + b` through `pts`: `Some((a, b))`, or `None` with fewer
 /// than two points or no spread in `x`.
@@ -37,9 +37,31 @@ pub fn slope_standard_error(pts: &[(f64, f64)]) -> Option<f64> {
     (pts.len() >= 3 && sxx > 0.0).then(|| (ssr / (n - 2.0) / sxx).sqrt())
 }
 
+/// Mean and sample standard deviation `sqrt(sum (x - mean)^2 / (n - 1))` of `xs` (the
+/// spread 0 for one value; NaN for none).
+pub fn mean_std(xs: &[f64]) -> (f64, f64) {
+    let n = xs.len() as f64;
+    let mean = xs.iter().sum::<f64>() / n;
+    let var = if xs.len() > 1 {
+        xs.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0)
+    } else {
+        0.0
+    };
+    (mean, var.sqrt())
+}
+
 #[cfg(test)]
 mod tests {
-    use super::{line_fit, slope_standard_error};
+    use super::{line_fit, mean_std, slope_standard_error};
+
+    #[test]
+    fn mean_and_sample_std() {
+        let (m, s) = mean_std(&[1.0, 2.0, 6.0]);
+        assert!((m - 3.0).abs() < 1e-15);
+        // ((4 + 1 + 9) / 2)^(1/2)
+        assert!((s - 7f64.sqrt()).abs() < 1e-15);
+        assert_eq!(mean_std(&[2.5]), (2.5, 0.0));
+    }
 
     #[test]
     fn recovers_a_line_and_rejects_degenerate_input() {

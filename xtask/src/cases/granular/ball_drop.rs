@@ -61,7 +61,7 @@ use serde::{Deserialize, Serialize};
 use super::ball_drop_scene::{Drop, drop_ball, half_width, impact, settle_bed};
 use super::{method_name, parse_methods, parse_rolling_model};
 use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series, SweepPoint};
-use crate::fit::{line_fit, slope_standard_error};
+use crate::fit::{line_fit, mean_std, slope_standard_error};
 use crate::params::{CaseParams, ParamCase, ParamInfo, ensure_at_least, ensure_positive};
 
 /// Prefactor of Uehara et al.'s law.
@@ -407,8 +407,7 @@ fn run(p: &BallDropParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
             }
             let n = drops.len() as f64;
             let mean = |f: &dyn Fn(&Drop) -> f64| drops.iter().map(f).sum::<f64>() / n;
-            let depth = mean(&|r| r.depth);
-            let spread = (mean(&|r| (r.depth - depth).powi(2)) * n / (n - 1.0).max(1.0)).sqrt();
+            let (depth, spread) = mean_std(&drops.iter().map(|r| r.depth).collect::<Vec<_>>());
             let rho_g = mean(&|r| r.bulk_density);
             let total_drop = drop + depth;
             let reference = uehara_depth(mu, p.ball_density, rho_g, p.ball_diameter, total_drop);

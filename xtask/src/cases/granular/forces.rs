@@ -1,8 +1,8 @@
 //! Forces that the grains of a granular scene exert on chosen bodies (walls, a shear box's
 //! frame, an intruder), from the last step's contacts of either method.
 
-use chrono_core::System;
 use chrono_core::system::ContactMethod;
+use chrono_core::{BodyHandle, System};
 use nalgebra::Vector3;
 
 /// Sum of the contact forces (N, world) that bodies outside `structure` (the grains) exert
@@ -56,31 +56,31 @@ pub fn grain_forces_on(sys: &System, h: f64, targets: &[u32], structure: &[u32])
 /// fraction the same packing would have with rigid grains. Laterally confined (a box), the
 /// compression is close to uniaxial. 0 without grain–grain contacts.
 pub fn uniaxial_overlap_strain(sys: &System, structure: &[u32]) -> anyhow::Result<f64> {
-    let mut contacts: Vec<(u32, u32, Vector3<f64>, f64)> = Vec::new();
-    match sys.settings().contact_method {
-        ContactMethod::Nsc => {
-            for c in sys.contacts() {
-                let p = &c.point;
-                contacts.push((p.owner_a, p.owner_b, c.normal(), -p.distance));
-            }
-        }
-        ContactMethod::Smc => {
-            for c in sys.smc_contacts() {
-                contacts.push((c.owner_a, c.owner_b, c.normal, c.overlap));
-            }
-        }
-    }
     let (mut num, mut den) = (0.0, 0.0);
-    for (a, b, n, delta) in contacts {
+    let mut add = |a: u32, b: u32, n: Vector3<f64>, delta: f64| -> anyhow::Result<()> {
         if delta <= 0.0 || structure.contains(&a) || structure.contains(&b) || a == b {
-            continue;
+            return Ok(());
         }
-        let xa = sys.body(chrono_core::BodyHandle(a))?.position();
-        let xb = sys.body(chrono_core::BodyHandle(b))?.position();
+        let xa = sys.body(BodyHandle(a))?.position();
+        let xb = sys.body(BodyHandle(b))?.position();
         let l = (xb - xa).norm() + delta;
         let nz2 = n.z * n.z;
         num += delta * l * nz2;
         den += l * l * nz2 * nz2;
+        Ok(())
+    };
+    match sys.settings().contact_method {
+        ContactMethod::Nsc => {
+            for c in sys.contacts() {
+                let p = &c.point;
+                add(p.owner_a, p.owner_b, c.normal(), -p.distance)?;
+            }
+        }
+        ContactMethod::Smc => {
+            for c in sys.smc_contacts() {
+                add(c.owner_a, c.owner_b, c.normal, c.overlap)?;
+            }
+        }
     }
     Ok(if den > 0.0 { num / den } else { 0.0 })
 }

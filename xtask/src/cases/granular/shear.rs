@@ -90,6 +90,7 @@ pub use super::shear_params::ShearParams;
 use super::shear_params::check_params;
 use super::{make_system, method_name, parse_methods};
 use crate::case::{Case, CaseOutput, Check, PlotSpec, RunContext, Series, SweepPoint};
+use crate::fit::mean_std;
 use crate::params::{ParamCase, ensure_positive};
 
 /// Solid fraction assumed for the settled sample when sizing the grain count.
@@ -544,18 +545,6 @@ fn run_metrics(out: &mut CaseOutput, p: &ShearParams, sigma: f64, tag: &str, r: 
     }
 }
 
-/// Mean and sample standard deviation (0 for one value).
-fn mean_std(xs: &[f64]) -> (f64, f64) {
-    let n = xs.len() as f64;
-    let mean = xs.iter().sum::<f64>() / n;
-    let var = if xs.len() > 1 {
-        xs.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0)
-    } else {
-        0.0
-    };
-    (mean, var.sqrt())
-}
-
 fn run(p: &ShearParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     check_params(p)?;
     let methods = parse_methods(&p.method)?;
@@ -715,15 +704,6 @@ pub fn case() -> Box<dyn Case> {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn mean_and_sample_std() {
-        let (m, s) = mean_std(&[1.0, 2.0, 6.0]);
-        assert!((m - 3.0).abs() < 1e-15);
-        // ((4 + 1 + 9) / 2)^(1/2)
-        assert!((s - 7f64.sqrt()).abs() < 1e-15);
-        assert_eq!(mean_std(&[2.5]), (2.5, 0.0));
-    }
 
     #[test]
     fn bad_params_name_the_field() {
