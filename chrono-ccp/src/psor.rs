@@ -8,8 +8,8 @@
 //! with `v = M^-1 k + w` the new velocity) at the cost of one sparse row.
 
 use chrono_core::descriptor::{
-    CcpProblem, CcpSolver, CcpWork, SolveStats, SolverSettings, project_friction_cone,
-    project_rolling_cone, upper_index,
+    CcpProblem, CcpSolver, CcpWork, PER_BODY_ROWS, SolveStats, SolverSettings,
+    project_friction_cone, project_rolling_cone, project_rolling_per_body_cone, upper_index,
 };
 use serde::{Deserialize, Serialize};
 
@@ -103,7 +103,7 @@ impl PsorOptions {
 }
 
 /// One unit of a sweep: a scalar row, a group of bilateral rows relaxed together, a friction
-/// triplet or a rolling contact.
+/// triplet or a rolling contact (either model).
 #[derive(Debug, Clone, Copy)]
 enum Unit {
     /// Bilateral, box or unilateral row.
@@ -118,6 +118,8 @@ enum Unit {
     Triplet(usize),
     /// Rolling contact (6 rows) starting at this row.
     Rolling(usize),
+    /// Per-body rolling contact ([`PER_BODY_ROWS`] rows) starting at this row.
+    RollingPerBody(usize),
 }
 
 /// Projected SOR solver of the CCP `Y ∋ g ⊥ -(N g + r) ∈ Y°`.
@@ -312,6 +314,18 @@ impl Psor {
             self.step[t..t + 6].fill(inv(lambda));
             self.units.push(Unit::Rolling(t));
         }
+        let n = PER_BODY_ROWS;
+        for t in s.rolling_per_body.clone().step_by(n) {
+            let lambda = match self.options.triplet_step {
+                TripletStep::Average => diag[t..t + n].iter().sum::<f64>() / n as f64,
+                TripletStep::MaxEigen => {
+                    let b = problem.cone_block(t).expect("a per-body rolling contact");
+                    gershgorin_bound(b, n)
+                }
+            };
+            self.step[t..t + n].fill(inv(lambda));
+            self.units.push(Unit::RollingPerBody(t));
+        }
         self.colouring = if self.options.parallel {
             self.colour(problem)
         } else {
@@ -499,6 +513,7 @@ impl Unit {
             Unit::Bilateral { start, len, .. } => (start, len),
             Unit::Triplet(t) => (t, 3),
             Unit::Rolling(t) => (t, 6),
+            Unit::RollingPerBody(t) => (t, PER_BODY_ROWS),
         }
     }
 }
@@ -556,17 +571,25 @@ fn unit_update(d: &SweepData, unit: Unit, g: &[f64], w: &[f64]) -> UnitUpdate {
                 new[j] = g[start + j] - d.omega * c[j];
             }
         }
-        Unit::Triplet(t) | Unit::Rolling(t) => {
+        Unit::Triplet(t) | Unit::Rolling(t) | Unit::RollingPerBody(t) => {
             let h = d.step[t];
             for j in 0..len {
                 new[j] = g[t + j] - h * velocity(problem, t + j, g, w);
             }
-            if len == 3 {
-                let mu = problem.friction_mu()[(t - s.friction.start) / 3];
-                project_friction_cone(mu, &mut new[..3]);
-            } else {
-                let mu = problem.rolling_mu()[(t - s.rolling.start) / 6];
-                project_rolling_cone(mu, &mut new[..6]);
+            match unit {
+                Unit::Triplet(_) => {
+                    let mu = problem.friction_mu()[(t - s.friction.start) / 3];
+                    project_friction_cone(mu, &mut new[..3]);
+                }
+                Unit::Rolling(_) => {
+                    let mu = problem.rolling_mu()[(t - s.rolling.start) / 6];
+                    project_rolling_cone(mu, &mut new[..6]);
+                }
+                _ => {
+                    let c = (t - s.rolling_per_body.start) / PER_BODY_ROWS;
+                    let mu = problem.rolling_per_body_mu()[c];
+                    project_rolling_per_body_cone(mu, &mut new[..PER_BODY_ROWS]);
+                }
             }
         }
     }

@@ -5,7 +5,9 @@
 
 mod common;
 
-use chrono_core::descriptor::{project_friction_cone, project_rolling_cone};
+use chrono_core::descriptor::{
+    project_friction_cone, project_rolling_cone, project_rolling_per_body_cone,
+};
 use common::Rng;
 use proptest::prelude::*;
 
@@ -182,5 +184,84 @@ proptest! {
         let mut f2 = f;
         project_friction_cone(mu0, &mut f2);
         prop_assert_eq!(f2, f);
+    }
+}
+
+fn in_per_body_cone(mu: [f64; 3], g: &[f64; 10], tol: f64) -> bool {
+    let norm = |x: &[f64]| x.iter().map(|v| v * v).sum::<f64>().sqrt();
+    g[0] >= -tol
+        && norm(&g[1..3]) <= mu[0] * g[0] + tol
+        && g[3].abs() <= mu[1] * g[0] + tol
+        && norm(&g[4..7]) <= mu[2] * g[0] + tol
+        && norm(&g[7..10]) <= mu[2] * g[0] + tol
+}
+
+/// A point of the per-body cone from parameters in `[-1, 1]`: `n = 2 |p0|`, each part a
+/// vector of the parameters scaled into its ball (the boundary included).
+fn per_body_point(mu: [f64; 3], p: &[f64; 10]) -> [f64; 10] {
+    let n = 2.0 * p[0].abs();
+    let mut q = [0.0; 10];
+    q[0] = n;
+    for (s, len, m) in [(1, 2, mu[0]), (3, 1, mu[1]), (4, 3, mu[2]), (7, 3, mu[2])] {
+        let x = &p[s..s + len];
+        let norm = x.iter().map(|v| v * v).sum::<f64>().sqrt();
+        let scale = if norm > 1.0 { 1.0 / norm } else { 1.0 };
+        for k in 0..len {
+            q[s + k] = m * n * x[k] * scale;
+        }
+    }
+    q
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 512, ..ProptestConfig::default() })]
+
+    /// The per-body cone's projection: in the cone, exactly idempotent, and the projection
+    /// onto a closed convex cone by its characterization: `x - p` is orthogonal to `p` and
+    /// makes a non-positive product with every cone point (sampled, boundary included).
+    #[test]
+    fn per_body_projection_is_the_nearest_cone_point(
+        mu0 in 0.0f64..1.5, mu1 in 0.0f64..0.5, mu2 in 0.0f64..0.5,
+        zero in 0usize..4,
+        x in proptest::array::uniform10(-3.0f64..3.0),
+        samples in proptest::collection::vec(proptest::array::uniform10(-1.2f64..1.2), 64),
+    ) {
+        let mut mu = [mu0, mu1, mu2];
+        if zero < 3 { mu[zero] = 0.0; }
+        let mut p = x;
+        project_rolling_per_body_cone(mu, &mut p);
+        prop_assert!(in_per_body_cone(mu, &p, 1e-12), "{p:?} not in the cone {mu:?}");
+        let mut again = p;
+        project_rolling_per_body_cone(mu, &mut again);
+        prop_assert_eq!(again, p);
+        let scale = 1.0 + x.iter().map(|v| v * v).sum::<f64>();
+        let dot = |q: &[f64; 10]| (0..10).map(|k| (x[k] - p[k]) * q[k]).sum::<f64>();
+        prop_assert!(dot(&p).abs() < 1e-9 * scale, "x - p not orthogonal to p: {}", dot(&p));
+        for s in &samples {
+            let q = per_body_point(mu, s);
+            prop_assert!(in_per_body_cone(mu, &q, 1e-12));
+            prop_assert!(dot(&q) <= 1e-9 * scale, "x - p not in the polar cone: {}", dot(&q));
+            // and so no sampled cone point is nearer than the projection
+            prop_assert!(dist(&x, &p) <= dist(&x, &q) + 1e-9);
+        }
+    }
+
+    /// With body A's normal part and body B's part zero the per-body cone is the rolling
+    /// cone (A's tangential part in the rolling part's place): the two projections agree.
+    #[test]
+    fn per_body_projection_reduces_to_the_rolling_cone(
+        mu0 in 0.0f64..1.5, mu1 in 0.0f64..0.5, mu2 in 0.0f64..0.5,
+        x in proptest::array::uniform6(-3.0f64..3.0),
+    ) {
+        let mu = [mu0, mu1, mu2];
+        let mut r = x;
+        project_rolling_cone(mu, &mut r);
+        let mut p = [x[0], x[1], x[2], x[3], 0.0, x[4], x[5], 0.0, 0.0, 0.0];
+        project_rolling_per_body_cone(mu, &mut p);
+        let same = [p[0], p[1], p[2], p[3], p[5], p[6]];
+        for k in 0..6 {
+            prop_assert!((same[k] - r[k]).abs() <= 1e-12 * (1.0 + r[k].abs()), "{same:?} vs {r:?}");
+        }
+        prop_assert!(p[4] == 0.0 && p[7..].iter().all(|v| *v == 0.0));
     }
 }

@@ -1,7 +1,7 @@
-//! Random small CCPs (friction, rolling/spinning cones, bilateral, box, unilateral and mixed
-//! rows): at convergence every solver satisfies the complementarity conditions
-//! `g ∈ K`, `N g + r ∈ K*`, `g'(N g + r) = 0`, and all reach the same objective value (the
-//! problem is a convex QP).
+//! Random small CCPs (friction, rolling/spinning cones of both models, bilateral, box,
+//! unilateral and mixed rows): at convergence every solver satisfies the complementarity
+//! conditions `g ∈ K`, `N g + r ∈ K*`, `g'(N g + r) = 0`, and all reach the same objective
+//! value (the problem is a convex QP).
 
 mod common;
 

@@ -1,9 +1,12 @@
 //! NSC rolling and spinning friction (six-row contacts, Tasora and Anitescu 2013) through the
 //! public `System` API, against the rigid-body solutions of a solid sphere (`I = 2/5 m R^2`)
-//! with a resisting torque of at most `mu_r R F_n` (rolling) or `mu_s R F_n` (spinning).
+//! with a resisting torque of at most `mu_r R F_n` (rolling) or `mu_s R F_n` (spinning),
+//! for both rolling models (`RollingModel::Relative`, the default, and `PerBody`, ten-row
+//! contacts against each body's own rotation, Zhou et al. 1999).
 
 use chrono_ccp::{Apgd, SolverSettings};
 use chrono_core::math::{Isometry3, UnitQuaternion, Vector3};
+use chrono_core::system::RollingModel;
 use chrono_core::{BodyHandle, ContactMaterial, RigidBodyBuilder, Shape, System, SystemSettings};
 
 const G: f64 = 9.81;
@@ -13,8 +16,14 @@ const H: f64 = 1e-3;
 /// A system whose gravity is tilted by `angle` about Y (an incline of that angle with the
 /// ground plane z = 0): the slope runs down along +x.
 fn system(angle: f64) -> System {
+    system_with(angle, RollingModel::Relative)
+}
+
+/// [`system`] with the rolling model `model`.
+fn system_with(angle: f64, model: RollingModel) -> System {
     let settings = SystemSettings {
         gravity: Vector3::new(G * angle.sin(), 0.0, -G * angle.cos()),
+        rolling_model: model,
         ..SystemSettings::default()
     };
     let solver = Apgd::new(SolverSettings {
@@ -31,7 +40,18 @@ fn scene(
     v: Vector3<f64>,
     w: Vector3<f64>,
 ) -> (System, BodyHandle) {
-    let mut sys = system(angle);
+    scene_with(RollingModel::Relative, angle, mat, v, w)
+}
+
+/// [`scene`] with the rolling model `model`.
+fn scene_with(
+    model: RollingModel,
+    angle: f64,
+    mat: ContactMaterial,
+    v: Vector3<f64>,
+    w: Vector3<f64>,
+) -> (System, BodyHandle) {
+    let mut sys = system_with(angle, model);
     sys.add_body(RigidBodyBuilder::fixed().name("ground").collider(
         Shape::HalfSpace {
             normal: Vector3::z(),
@@ -70,29 +90,37 @@ fn omega_world(sys: &System, b: BodyHandle) -> Vector3<f64> {
 }
 
 #[test]
-fn rolling_resistance_decelerates_a_rolling_sphere_at_five_sevenths_mu_r_g() {
+fn rolling_resistance_decelerates_a_rolling_sphere_at_five_sevenths_mu_r_g_by_both_models() {
     let (mu_r, v0) = (0.05, 1.0);
     let mat = ContactMaterial::with_friction(0.5).with_rolling_friction(mu_r);
     // Rolling without slip about world Y.
     let w_roll = Vector3::new(0.0, v0 / R, 0.0);
-    let (mut sys, b) = scene(0.0, mat, Vector3::new(v0, 0.0, 0.0), w_roll);
-    run(&mut sys, 0.05);
-    let (t0, v1) = (sys.time(), sys.body(b).unwrap().linear_velocity().x);
-    run(&mut sys, 0.5);
-    let (t1, v2) = (sys.time(), sys.body(b).unwrap().linear_velocity().x);
-    let a = (v1 - v2) / (t1 - t0);
-    let expect = 5.0 / 7.0 * mu_r * G;
-    assert!(
-        (a - expect).abs() < 0.02 * expect,
-        "deceleration {a} vs {expect}"
-    );
-    // Still rolling without slip.
-    let w = omega_world(&sys, b);
-    assert!(
-        (w.y * R - v2).abs() < 1e-3 * v0,
-        "slip: {} vs {v2}",
-        w.y * R
-    );
+    // Against a fixed plane a body's own rotation is the relative rotation: both models
+    // decelerate alike (different rows, the same solution).
+    let mut end = Vec::new();
+    for (model, rows) in [(RollingModel::Relative, 6), (RollingModel::PerBody, 10)] {
+        let (mut sys, b) = scene_with(model, 0.0, mat, Vector3::new(v0, 0.0, 0.0), w_roll);
+        run(&mut sys, 0.05);
+        let (t0, v1) = (sys.time(), sys.body(b).unwrap().linear_velocity().x);
+        run(&mut sys, 0.5);
+        let (t1, v2) = (sys.time(), sys.body(b).unwrap().linear_velocity().x);
+        let a = (v1 - v2) / (t1 - t0);
+        let expect = 5.0 / 7.0 * mu_r * G;
+        assert!(
+            (a - expect).abs() < 0.02 * expect,
+            "{model:?}: deceleration {a} vs {expect}"
+        );
+        // Still rolling without slip.
+        let w = omega_world(&sys, b);
+        assert!(
+            (w.y * R - v2).abs() < 1e-3 * v0,
+            "{model:?}: slip: {} vs {v2}",
+            w.y * R
+        );
+        assert_eq!(sys.last_problem().n_rows(), rows, "{model:?}");
+        end.push(v2);
+    }
+    assert!((end[0] - end[1]).abs() < 1e-6, "the models differ: {end:?}");
     // Without rolling friction it keeps its speed.
     let (mut free, bf) = scene(
         0.0,
@@ -197,4 +225,88 @@ fn a_box_on_the_ground_keeps_plain_triplets() {
     assert!(sys.body(b).unwrap().linear_velocity().norm() < 1e-6);
     let p = sys.last_problem();
     assert_eq!(p.n_rows(), 12, "four corner triplets");
+}
+
+#[test]
+fn per_body_rolling_stops_a_spin_about_the_normal_at_five_halves_mu_r_g_over_r() {
+    // Zhou's torque opposes the body's whole angular velocity, its normal part included:
+    // without spinning friction the relative model leaves the spin alone, the per-body
+    // model stops it at I dw/dt = -mu_r R m g.
+    let (mu_r, w0) = (0.02, 20.0);
+    let mat = ContactMaterial::with_friction(0.5).with_rolling_friction(mu_r);
+    let spin = Vector3::new(0.0, 0.0, w0);
+    let (mut rel, b) = scene_with(RollingModel::Relative, 0.0, mat, Vector3::zeros(), spin);
+    run(&mut rel, 0.25);
+    let w = omega_world(&rel, b).z;
+    assert!((w - w0).abs() < 1e-6 * w0, "relative model: spin {w}");
+    let (mut sys, b) = scene_with(RollingModel::PerBody, 0.0, mat, Vector3::zeros(), spin);
+    run(&mut sys, 0.05);
+    let (t0, w1) = (sys.time(), omega_world(&sys, b).z);
+    run(&mut sys, 0.2);
+    let (t1, w2) = (sys.time(), omega_world(&sys, b).z);
+    let alpha = (w1 - w2) / (t1 - t0);
+    let expect = 2.5 * mu_r * G / R;
+    assert!(
+        (alpha - expect).abs() < 0.02 * expect,
+        "spin-down {alpha} vs {expect}"
+    );
+}
+
+/// Two spheres in zero gravity approach along x at `v` each, both spinning at `w0` about
+/// z, frictionless but with rolling friction `mu_r`: the spin of each after the impact.
+fn spins_after_a_head_on_impact(model: RollingModel, mu_r: f64, v: f64, w0: f64) -> [f64; 2] {
+    let settings = SystemSettings {
+        gravity: Vector3::zeros(),
+        rolling_model: model,
+        ..SystemSettings::default()
+    };
+    let solver = Apgd::new(SolverSettings {
+        tolerance: 1e-10,
+        max_iterations: 2000,
+        record_history: false,
+    });
+    let mut sys = System::new(settings, Box::new(solver)).unwrap();
+    let mat = ContactMaterial::with_friction(0.0).with_rolling_friction(mu_r);
+    let s = Shape::Sphere { radius: R };
+    let spin = Vector3::new(0.0, 0.0, w0);
+    let mut ball = |x: f64, vx: f64| {
+        sys.add_body(
+            RigidBodyBuilder::dynamic()
+                .mass_from_shape(&s, 2500.0)
+                .unwrap()
+                .position(Vector3::new(x, 0.0, 0.0))
+                .linear_velocity(Vector3::new(vx, 0.0, 0.0))
+                .angular_velocity(spin)
+                .collider(s.clone(), Isometry3::identity(), mat),
+        )
+        .unwrap()
+    };
+    let (a, b) = (ball(-1.5 * R, v), ball(1.5 * R, -v));
+    // They meet after (R / 2) / v and stop against each other (NSC impacts are plastic).
+    run(&mut sys, 0.5 * R / v + 0.05);
+    let va = sys.body(a).unwrap().linear_velocity().x;
+    assert!(
+        va.abs() < 1e-6,
+        "{model:?}: not at rest after the impact, v = {va}"
+    );
+    [omega_world(&sys, a).z, omega_world(&sys, b).z]
+}
+
+#[test]
+fn per_body_rolling_resists_two_spheres_turning_together_and_the_relative_model_does_not() {
+    let (mu_r, v, w0) = (0.1, 0.1, 1.0);
+    // Relative: omega_B - omega_A = 0, no resistance.
+    let rel = spins_after_a_head_on_impact(RollingModel::Relative, mu_r, v, w0);
+    assert!(rel.iter().all(|w| (w - w0).abs() < 1e-9), "{rel:?}");
+    // Per body: the impact's normal impulse m v bounds each torque impulse by
+    // mu_r (R / 2) m v (effective radius R / 2), so each spin drops by
+    // mu_r (R / 2) m v / (2/5 m R^2) = 1.25 mu_r v / R (0.25 rad/s here, < w0).
+    let pb = spins_after_a_head_on_impact(RollingModel::PerBody, mu_r, v, w0);
+    let expect = w0 - 1.25 * mu_r * v / R;
+    for w in pb {
+        assert!(
+            (w - expect).abs() < 0.01 * (w0 - expect),
+            "{pb:?} vs {expect}"
+        );
+    }
 }

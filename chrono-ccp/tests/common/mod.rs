@@ -3,7 +3,7 @@
 #![allow(dead_code)]
 
 use chrono_core::descriptor::{
-    BlockId, CcpProblem, CcpWork, ConstraintRows, MassOperator, RowEntry, Variables,
+    BlockId, CcpProblem, CcpWork, ConstraintRows, MassOperator, PER_BODY_ROWS, RowEntry, Variables,
 };
 use chrono_core::math::{Matrix3, Vector3};
 use nalgebra::DMatrix;
@@ -200,6 +200,42 @@ pub fn check_complementarity(problem: &CcpProblem, gamma: &[f64], tol: f64) -> R
             ));
         }
     }
+    let n = PER_BODY_ROWS;
+    for (k, t) in s.rolling_per_body.clone().step_by(n).enumerate() {
+        let m = problem.rolling_per_body_mu()[k];
+        // Parts (first row, length, coefficient): sliding, spin, body A, body B.
+        let parts = [(1, 2, m[0]), (3, 1, m[1]), (4, 3, m[2]), (7, 3, m[2])];
+        let norm = |x: &[f64], (s, len, _): (usize, usize, f64)| {
+            x[s..s + len].iter().map(|v| v * v).sum::<f64>().sqrt()
+        };
+        let g = &gamma[t..t + n];
+        if g[0] < 0.0
+            || parts
+                .iter()
+                .any(|&p| norm(g, p) > p.2 * g[0] * (1.0 + 1e-12) + 1e-300)
+        {
+            return Err(format!(
+                "per-body rolling contact {t}: g = {g:?} outside the cone mu = {m:?}"
+            ));
+        }
+        // -c in the polar cone  <=>  c_n >= sum_parts mu_p |c_p|
+        let cv = &c[t..t + n];
+        let dual = cv[0] - parts.iter().map(|&p| p.2 * norm(cv, p)).sum::<f64>();
+        if dual < -tol * (1.0 + m[0] + m[1] + 2.0 * m[2]) {
+            return Err(format!(
+                "per-body rolling contact {t}: c = {cv:?} not in the dual cone (mu = {m:?})"
+            ));
+        }
+        let sc = problem.residual_scale(t);
+        let gc: f64 = (0..n).map(|j| g[j] * cv[j]).sum();
+        let gnorm = g.iter().map(|x| x * x).sum::<f64>().sqrt();
+        let cnorm = cv.iter().map(|x| x * x).sum::<f64>().sqrt();
+        if gc.abs() > 4.0 * tol * (gnorm + sc * cnorm + sc * tol) {
+            return Err(format!(
+                "per-body rolling contact {t}: g'c = {gc:e} (g = {g:?}, c = {cv:?})"
+            ));
+        }
+    }
     Ok(())
 }
 
@@ -376,6 +412,21 @@ pub fn random_problem(seed: u64) -> CcpProblem {
         ];
         roll_rows.push((rows6, mu));
     }
+    // A per-body rolling contact (10 rows, two 3-row balls) in a third of the problems,
+    // drawn after the rolling contacts for the same reason.
+    let n_per_body = usize::from(rng.int(0, 2) == 0);
+    let mut per_body_rows = Vec::new();
+    for _ in 0..n_per_body {
+        let rows10: Vec<_> = (0..PER_BODY_ROWS)
+            .map(|_| (row(&mut rng), rng.uniform(-0.5, 0.5)))
+            .collect();
+        let mu = [
+            rng.uniform(0.0, 1.0),
+            rng.uniform(0.0, 0.5),
+            rng.uniform(0.0, 0.5),
+        ];
+        per_body_rows.push((rows10, mu));
+    }
 
     let build = |eps: f64| {
         let mut rows = ConstraintRows::new();
@@ -427,6 +478,15 @@ pub fn random_problem(seed: u64) -> CcpProblem {
                 [&e[0], &e[1], &e[2], &e[3], &e[4], &e[5]],
                 b,
                 [eps; 6],
+            );
+        }
+        for (rows10, mu) in &per_body_rows {
+            let e: Vec<Vec<RowEntry>> = rows10.iter().map(|(e, _)| entries(e)).collect();
+            rows.push_rolling_per_body(
+                *mu,
+                std::array::from_fn(|j| &e[j][..]),
+                std::array::from_fn(|j| rows10[j].1),
+                [eps; PER_BODY_ROWS],
             );
         }
         let mut p = CcpProblem::new();

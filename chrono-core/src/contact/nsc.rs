@@ -21,6 +21,16 @@
 //! (`~ 1 / m`) by `1 / R^2` (1e5 for 5 mm grains), the iterative solvers' step is set by
 //! the torque rows and a settling bed of grains gains energy instead of coming to rest.
 //! Flat contacts (box on ground, `R` infinite) and proxy contacts keep the plain triplet.
+//!
+//! With [`RollingModel::PerBody`] (Zhou et al. 1999, Physica A 269; used for the angle of
+//! repose by Zhou et al. 2002, Powder Technol. 125) the rolling resistance opposes each
+//! body's *own* rotation instead: [`PER_BODY_ROWS`] rows `(n, u, w, s, a_n, a_u, a_w, b_n,
+//! b_u, b_w)` in the [`RowGroup::RollingPerBody`] group, `a_*` = `R omega_A` and `b_*` =
+//! `R omega_B` along `n, u, w` (all three components: the resistance also acts on a
+//! rotation about the normal, as Zhou's torque `-mu_r R F_n omega_i / |omega_i|`), each
+//! bounded by `|g_a| <= mu_r g_n`, `|g_b| <= mu_r g_n`; the spinning rows stay relative. A
+//! side without variables (fixed or kinematic body) leaves its three rows empty: the
+//! resistance acts on the moving body only, and not against a kinematic body's own spin.
 
 use std::collections::HashMap;
 use std::hash::Hash;
@@ -29,7 +39,10 @@ use nalgebra::Vector3;
 
 use crate::body::RigidBody;
 use crate::collision::{ContactKey, ContactPoint, ProxyContact, ProxyKey};
-use crate::descriptor::{BlockId, CcpProblem, ConstraintRows, RowEntry, RowGroup, RowId};
+use crate::contact::smc::RollingModel;
+use crate::descriptor::{
+    BlockId, CcpProblem, ConstraintRows, PER_BODY_ROWS, RowEntry, RowGroup, RowId,
+};
 use crate::error::{ChronoError, Result};
 use crate::item::{Contactable, JacobianSink, PhysicsItem};
 use crate::material::ContactMaterial;
@@ -82,9 +95,20 @@ impl HasNormal for ProxyContact {
 /// One active NSC contact between a body collider and an item's proxy.
 pub type NscProxyContact = NscContact<ProxyContact>;
 
-/// Cached impulses of one contact: normal, tangential as a world vector, and the rolling
-/// and spinning torque impulse over `R` as a world vector (zero for a plain triplet).
-type Impulses = (f64, Vector3<f64>, Vector3<f64>);
+/// Cached impulses of one contact, as world vectors so that they survive a change of the
+/// tangent frame (zero where the contact has no such rows).
+#[derive(Debug, Clone, Copy, Default)]
+struct Impulses {
+    /// Normal impulse (N s).
+    normal: f64,
+    /// Tangential impulse (N s).
+    tangential: Vector3<f64>,
+    /// Relative model: the rolling and spinning torque impulse over `R`; per-body model:
+    /// the spinning part along the normal.
+    torque: Vector3<f64>,
+    /// Per-body model: body A's and body B's own rolling torque impulses over `R`.
+    own: [Vector3<f64>; 2],
+}
 
 /// Cached impulses of the previous step, by persistence key: the normal impulse and the
 /// tangential force and torque impulses as world vectors (so they survive a change of the
@@ -118,14 +142,16 @@ pub struct NscRowSettings {
     pub h: f64,
     /// Maximum penetration recovery speed `v_rec`, m/s.
     pub max_recovery_speed: f64,
+    /// Which rotation the rolling resistance opposes (see the module docs).
+    pub rolling_model: RollingModel,
 }
 
-/// Reused storage for the Jacobian blocks of one contact (three force rows, and three
-/// torque rows for rolling friction).
+/// Reused storage for the Jacobian blocks of one contact (three force rows, three torque
+/// rows for rolling friction, four more for the per-body model).
 #[derive(Debug, Clone, Default)]
 pub struct TripletScratch {
     blocks: Vec<(BlockId, usize, usize)>,
-    coefs: [Vec<f64>; 6],
+    coefs: [Vec<f64>; PER_BODY_ROWS],
 }
 
 impl TripletScratch {
@@ -172,6 +198,39 @@ impl TripletScratch {
             }
         }
         known
+    }
+
+    /// Record a rigid body's side of a per-body rolling contact (see the module docs): the
+    /// force rows and the relative spin row as [`add_body`](Self::add_body), and the three
+    /// rows `R d . omega` (`d` = `n, u, w`) of this body's own rolling resistance in
+    /// `side` (0: rows `a_*`, 1: rows `b_*`), with zeros in the other side's rows (they keep
+    /// the scratch's column layout; [`push_rolling_per_body`](Self::push_rolling_per_body)
+    /// does not reference them). Returns the known velocities of rows `n, u, w, s` (a body
+    /// without variables resists nothing of its own).
+    fn add_body_per_body(
+        &mut self,
+        body: &RigidBody,
+        p: &Vector3<f64>,
+        sign: f64,
+        dirs: &[Vector3<f64>; 3],
+        radius: f64,
+        side: usize,
+    ) -> [f64; 4] {
+        let signed = dirs.map(|d| d * sign);
+        let k = self.add(&|e| body.contact_jacobian(p, &signed, e));
+        let rinv = body.rotation.inverse();
+        let spin = rinv * signed[0] * radius;
+        if body.block.is_none() {
+            return [k[0], k[1], k[2], spin.dot(&body.angular_velocity)];
+        }
+        self.coefs[3].extend_from_slice(&[0.0, 0.0, 0.0, spin.x, spin.y, spin.z]);
+        for (r, d) in dirs.iter().enumerate() {
+            let a = rinv * d * radius;
+            let (own, other) = if side == 0 { (4, 7) } else { (7, 4) };
+            self.coefs[own + r].extend_from_slice(&[0.0, 0.0, 0.0, a.x, a.y, a.z]);
+            self.coefs[other + r].extend_from_slice(&[0.0; 6]);
+        }
+        [k[0], k[1], k[2], 0.0]
     }
 
     /// Push the friction triplet of the recorded blocks: `b_n = max(Phi/h, -v_rec)` plus the
@@ -241,6 +300,47 @@ impl TripletScratch {
         ))
     }
 
+    /// Push the [`PER_BODY_ROWS`] rows of a per-body rolling contact whose first `na`
+    /// recorded blocks are body A's: rows `n, u, w, s` on all blocks (as in
+    /// [`push_rolling`](Self::push_rolling)), `a_*` on A's blocks, `b_*` on B's, with zero
+    /// right-hand sides; coefficients `[mu, mu_s, mu_r]`.
+    fn push_rolling_per_body(
+        &self,
+        rows: &mut ConstraintRows,
+        settings: NscRowSettings,
+        distance: f64,
+        material: &ContactMaterial,
+        known: [f64; 4],
+        na: usize,
+    ) -> Option<RowId> {
+        let nb = self.blocks.len();
+        if nb == 0 {
+            return None;
+        }
+        let h = settings.h;
+        let e: [_; PER_BODY_ROWS] = std::array::from_fn(|r| self.entries(r));
+        let bn = (distance / h).max(-settings.max_recovery_speed) + known[0];
+        let eps_n = material.compliance / (h * h);
+        let mut b = [0.0; PER_BODY_ROWS];
+        b[..4].copy_from_slice(&[bn, known[1], known[2], known[3]]);
+        let mut eps = [0.0; PER_BODY_ROWS];
+        eps[0] = eps_n;
+        Some(rows.push_rolling_per_body(
+            [
+                material.friction,
+                material.spinning_friction,
+                material.rolling_friction,
+            ],
+            std::array::from_fn(|r| match r {
+                0..4 => &e[r][..nb],
+                4..7 => &e[r][..na],
+                _ => &e[r][na..nb],
+            }),
+            b,
+            eps,
+        ))
+    }
+
     /// The row entries of direction `r`, the first `n` of the returned array used.
     fn entries(&self, r: usize) -> [RowEntry<'_>; MAX_CONTACT_BLOCKS] {
         std::array::from_fn(|i| match self.blocks.get(i) {
@@ -276,15 +376,39 @@ pub fn add_contact_rows(
             && cp.radius > 0.0;
         scratch.clear();
         let dirs = [n, u, w];
+        let too_many = |nb: usize| {
+            ChronoError::invalid(
+                format!("contact {:?}", cp.key),
+                nb,
+                "a contact row touches too many variable blocks (limit MAX_CONTACT_BLOCKS)",
+            )
+        };
+        if rolling && settings.rolling_model == RollingModel::PerBody {
+            let r = cp.radius;
+            let ka = scratch.add_body_per_body(a, &cp.point_a, -1.0, &dirs, r, 0);
+            let na = scratch.blocks.len();
+            let kb = scratch.add_body_per_body(b, &cp.point_b, 1.0, &dirs, r, 1);
+            if scratch.blocks.len() > MAX_CONTACT_BLOCKS {
+                return Err(too_many(scratch.blocks.len()));
+            }
+            let known = std::array::from_fn(|r| ka[r] + kb[r]);
+            if let Some(row) =
+                scratch.push_rolling_per_body(rows, settings, cp.distance, m, known, na)
+            {
+                out.push(NscContact {
+                    point: *cp,
+                    u,
+                    w,
+                    row,
+                });
+            }
+            continue;
+        }
         let rolling = rolling.then_some(cp.radius);
         let ka = scratch.add_body(a, &cp.point_a, -1.0, &dirs, rolling);
         let kb = scratch.add_body(b, &cp.point_b, 1.0, &dirs, rolling);
         if scratch.blocks.len() > MAX_CONTACT_BLOCKS {
-            return Err(ChronoError::invalid(
-                format!("contact {:?}", cp.key),
-                scratch.blocks.len(),
-                "a contact row touches too many variable blocks (limit MAX_CONTACT_BLOCKS)",
-            ));
+            return Err(too_many(scratch.blocks.len()));
         }
         let known: [f64; 6] = std::array::from_fn(|r| ka[r] + kb[r]);
         let row = if rolling.is_some() {
@@ -360,18 +484,25 @@ fn warm_start_from<P: HasNormal, K: Hash + Eq>(
 ) {
     for c in contacts {
         let i = problem.row_index(c.row);
-        let zero = Vector3::zeros();
-        let (gn, gt, gr) = map
-            .get(&key(&c.point))
-            .copied()
-            .unwrap_or((0.0, zero, zero));
-        gamma[i] = gn;
-        gamma[i + 1] = gt.dot(&c.u);
-        gamma[i + 2] = gt.dot(&c.w);
-        if c.row.group == RowGroup::Rolling {
-            gamma[i + 3] = gr.dot(&c.normal());
-            gamma[i + 4] = gr.dot(&c.u);
-            gamma[i + 5] = gr.dot(&c.w);
+        let g = map.get(&key(&c.point)).copied().unwrap_or_default();
+        gamma[i] = g.normal;
+        gamma[i + 1] = g.tangential.dot(&c.u);
+        gamma[i + 2] = g.tangential.dot(&c.w);
+        let dirs = [c.normal(), c.u, c.w];
+        match c.row.group {
+            RowGroup::Rolling => {
+                for (k, d) in dirs.iter().enumerate() {
+                    gamma[i + 3 + k] = g.torque.dot(d);
+                }
+            }
+            RowGroup::RollingPerBody => {
+                gamma[i + 3] = g.torque.dot(&dirs[0]);
+                for (k, d) in dirs.iter().enumerate() {
+                    gamma[i + 4 + k] = g.own[0].dot(d);
+                    gamma[i + 7 + k] = g.own[1].dot(d);
+                }
+            }
+            _ => {}
         }
     }
 }
@@ -387,13 +518,22 @@ fn store_into<P: HasNormal, K: Hash + Eq>(
     map.clear();
     for c in contacts {
         let i = problem.row_index(c.row);
-        let gt = c.u * gamma[i + 1] + c.w * gamma[i + 2];
-        let gr = if c.row.group == RowGroup::Rolling {
-            c.normal() * gamma[i + 3] + c.u * gamma[i + 4] + c.w * gamma[i + 5]
-        } else {
-            Vector3::zeros()
+        let n = c.normal();
+        let at = |j: usize| n * gamma[j] + c.u * gamma[j + 1] + c.w * gamma[j + 2];
+        let mut g = Impulses {
+            normal: gamma[i],
+            tangential: c.u * gamma[i + 1] + c.w * gamma[i + 2],
+            ..Impulses::default()
         };
-        map.insert(key(&c.point), (gamma[i], gt, gr));
+        match c.row.group {
+            RowGroup::Rolling => g.torque = at(i + 3),
+            RowGroup::RollingPerBody => {
+                g.torque = n * gamma[i + 3];
+                g.own = [at(i + 4), at(i + 7)];
+            }
+            _ => {}
+        }
+        map.insert(key(&c.point), g);
     }
 }
 

@@ -38,7 +38,8 @@
 //!
 //! # Rolling and spinning resistance
 //!
-//! Two models, chosen by [`SmcSettings::rolling_model`] ([`RollingModel`]); both are a
+//! Two models, chosen by [`SystemSettings::rolling_model`](crate::SystemSettings)
+//! ([`RollingModel`], shared with NSC contact); both are a
 //! constant-magnitude torque `mu_r R F_n` (`R` the contact's effective radius, so the
 //! rolling-friction length of the literature is `mu_r R`):
 //!
@@ -90,7 +91,8 @@ impl SmcModel {
     }
 }
 
-/// Which rotation the rolling resistance opposes (see the module docs).
+/// Which rotation the rolling resistance opposes, for both contact methods (see the module
+/// docs here for SMC and [`crate::contact::nsc`] for NSC).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum RollingModel {
@@ -119,8 +121,6 @@ pub struct SmcSettings {
     /// Effective radius (m) of a contact between two shapes without a curvature radius
     /// (boxes against half-spaces, meshes ...).
     pub flat_contact_radius: f64,
-    /// The rolling resistance model (default [`RollingModel::Relative`]).
-    pub rolling_model: RollingModel,
 }
 
 impl Default for SmcSettings {
@@ -130,7 +130,6 @@ impl Default for SmcSettings {
             characteristic_velocity: 1.0,
             min_steps_per_contact: 10.0,
             flat_contact_radius: 1.0,
-            rolling_model: RollingModel::Relative,
         }
     }
 }

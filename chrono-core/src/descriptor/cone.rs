@@ -72,22 +72,51 @@ fn shrink_into_ball(x: &mut [f64], radius: f64) {
 /// part to zero.
 pub fn project_rolling_cone(mu: [f64; 3], g: &mut [f64]) {
     debug_assert!(g.len() >= 6);
-    let norms = [
-        (g[1] * g[1] + g[2] * g[2]).sqrt(),
-        g[3].abs(),
-        (g[4] * g[4] + g[5] * g[5]).sqrt(),
-    ];
+    project_parts(&[(1, 2, mu[0]), (3, 1, mu[1]), (4, 2, mu[2])], &mut g[..6]);
+}
+
+/// Project a per-body rolling contact block
+/// `g = (g_n, g_u, g_w, g_s, g_a (3), g_b (3))` ([`RowGroup::RollingPerBody`](super::RowGroup))
+/// onto the convex cone
+///
+/// ```text
+/// K = { |(g_u, g_w)| <= mu[0] g_n,  |g_s| <= mu[1] g_n,  |g_a| <= mu[2] g_n,  |g_b| <= mu[2] g_n }
+/// ```
+///
+/// exactly, by the scan of [`project_rolling_cone`] over the four parts.
+pub fn project_rolling_per_body_cone(mu: [f64; 3], g: &mut [f64]) {
+    debug_assert!(g.len() >= 10);
+    project_parts(
+        &[(1, 2, mu[0]), (3, 1, mu[1]), (4, 3, mu[2]), (7, 3, mu[2])],
+        &mut g[..10],
+    );
+}
+
+/// The Euclidean projection of `g` onto `{ |g[s..s + len]| <= mu g[0] for each part }`
+/// (parts `(s, len, mu)`, at most four, disjoint, after `g[0]`): see
+/// [`project_rolling_cone`] for the scan over the breakpoints `|x_k| / mu_k`.
+fn project_parts(parts: &[(usize, usize, f64)], g: &mut [f64]) {
+    const MAX: usize = 4;
+    debug_assert!(parts.len() <= MAX);
+    let mut norms = [0.0; MAX];
+    for (k, &(s, len, _)) in parts.iter().enumerate() {
+        norms[k] = if len == 1 {
+            g[s].abs()
+        } else {
+            g[s..s + len].iter().map(|v| v * v).sum::<f64>().sqrt()
+        };
+    }
     let gn = g[0];
     // Inside K: keep.
-    if gn >= 0.0 && (0..3).all(|k| norms[k] <= mu[k] * gn) {
+    if gn >= 0.0 && parts.iter().enumerate().all(|(k, p)| norms[k] <= p.2 * gn) {
         return;
     }
     // Breakpoints of the parts that can be clamped against a positive n.
-    let mut bp = [(f64::INFINITY, 0usize); 3];
+    let mut bp = [(f64::INFINITY, 0usize); MAX];
     let mut nb = 0;
-    for k in 0..3 {
-        if mu[k] > 0.0 && norms[k] > 0.0 {
-            bp[nb] = (norms[k] / mu[k], k);
+    for (k, p) in parts.iter().enumerate() {
+        if p.2 > 0.0 && norms[k] > 0.0 {
+            bp[nb] = (norms[k] / p.2, k);
             nb += 1;
         }
     }
@@ -98,8 +127,8 @@ pub fn project_rolling_cone(mu: [f64; 3], g: &mut [f64]) {
     for j in 0..=nb {
         let (mut num, mut den) = (gn, 1.0);
         for &(_, k) in &bp[j..nb] {
-            num += mu[k] * norms[k];
-            den += mu[k] * mu[k];
+            num += parts[k].2 * norms[k];
+            den += parts[k].2 * parts[k].2;
         }
         let cand = num / den;
         let lo = if j == 0 { 0.0 } else { bp[j - 1].0 };
@@ -112,18 +141,21 @@ pub fn project_rolling_cone(mu: [f64; 3], g: &mut [f64]) {
         }
     }
     g[0] = n;
-    let clamp = |x: &mut [f64], norm: f64, radius: f64| {
-        if norm > radius {
-            let s = if norm > 0.0 { radius / norm } else { 0.0 };
+    for (k, &(s, len, mu)) in parts.iter().enumerate() {
+        let radius = mu * n;
+        let x = &mut g[s..s + len];
+        if norms[k] > radius {
+            let sc = if norms[k] > 0.0 {
+                radius / norms[k]
+            } else {
+                0.0
+            };
             for v in x.iter_mut() {
-                *v *= s;
+                *v *= sc;
             }
             shrink_into_ball(x, radius);
         }
-    };
-    clamp(&mut g[1..3], norms[0], mu[0] * n);
-    clamp(&mut g[3..4], norms[1], mu[1] * n);
-    clamp(&mut g[4..6], norms[2], mu[2] * n);
+    }
 }
 
 /// Project a unilateral multiplier onto `g >= 0`.

@@ -18,7 +18,7 @@ use nalgebra::Matrix3;
 use serde::{Deserialize, Serialize};
 
 use super::problem::{CcpProblem, GROUP_ORDER, group_name};
-use super::rows::{ConstraintRows, N_GROUPS};
+use super::rows::{ConstraintRows, N_GROUPS, PER_BODY_ROWS};
 use super::variables::{BlockId, MassOperator, Variables};
 use crate::error::{ChronoError, Result};
 
@@ -81,7 +81,8 @@ pub enum MassData {
 /// and the start of its coefficients in `coefs`).
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 pub struct GroupData {
-    /// Group name (`bilateral`, `box`, `unilateral`, `friction`, `rolling`).
+    /// Group name (`bilateral`, `box`, `unilateral`, `friction`, `rolling`,
+    /// `rolling_per_body`).
     pub group: String,
     /// Entries of row `i`: `row_ptr[i]..row_ptr[i+1]` (length rows + 1).
     pub row_ptr: Vec<u32>,
@@ -99,7 +100,7 @@ pub struct GroupData {
     pub lo: Vec<f64>,
     /// Box upper bounds (box group).
     pub hi: Vec<f64>,
-    /// Friction coefficients (one per triplet; three per rolling contact).
+    /// Friction coefficients (one per triplet; three per rolling or per-body rolling contact).
     pub mu: Vec<f64>,
 }
 
@@ -115,7 +116,8 @@ pub struct ProblemFile {
     /// One mass operator per variable block.
     pub masses: Vec<MassData>,
     /// The rows, one entry per group in the order bilateral, box, unilateral, friction,
-    /// rolling.
+    /// rolling, rolling_per_body (files written before the per-body group have five: it is
+    /// then empty).
     pub groups: Vec<GroupData>,
     /// Momentum `k = M v + h f` (N s).
     pub k: Vec<f64>,
@@ -201,11 +203,15 @@ impl ProblemFile {
             .map_err(|e| ChronoError::invalid(format!("masses[{i}]"), e, "invalid mass"))?;
             vars.add(op);
         }
-        if self.groups.len() != N_GROUPS {
+        // Five groups: a file from before the per-body rolling group (which is then empty).
+        if self.groups.len() != N_GROUPS && self.groups.len() != N_GROUPS - 1 {
             return Err(ChronoError::invalid(
                 "groups.len()",
                 self.groups.len(),
-                format!("must be {N_GROUPS}"),
+                format!(
+                    "must be {N_GROUPS} (or {} without rolling_per_body)",
+                    N_GROUPS - 1
+                ),
             ));
         }
         let mut rows = ConstraintRows::new();
@@ -437,6 +443,7 @@ fn check_group(name: &str, g: &GroupData) -> Result<()> {
         "box" => (n, 0),
         "friction" => (0, n / 3),
         "rolling" => (0, n / 2),
+        "rolling_per_body" => (0, 3 * (n / PER_BODY_ROWS)),
         _ => (0, 0),
     };
     if g.lo.len() != nlo || g.hi.len() != nlo {
@@ -445,6 +452,7 @@ fn check_group(name: &str, g: &GroupData) -> Result<()> {
     if g.mu.len() != nmu
         || (name == "friction" && !n.is_multiple_of(3))
         || (name == "rolling" && !n.is_multiple_of(6))
+        || (name == "rolling_per_body" && !n.is_multiple_of(PER_BODY_ROWS))
     {
         return bad(
             "mu.len()",

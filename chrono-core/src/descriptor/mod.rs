@@ -6,7 +6,7 @@
 //! - [`ConstraintRows`]: sparse Jacobian rows `D_i'` (one per row of the problem, seed
 //!   notation: `D` has one column per row), each with a right-hand side `b_i` and a compliance
 //!   `eps_i`, grouped by kind: bilateral (free), box-bounded, unilateral (`>= 0`), and
-//!   friction cones (3 rows `n, u, w` with `mu`), rolling/spinning friction cones (6 rows).
+//!   friction cones (3 rows `n, u, w` with `mu`), rolling/spinning friction cones (6 rows), per-body rolling cones (10 rows).
 //! - [`CcpProblem`]: `N = D'M^-1 D + E`, `r = b + D'M^-1 k` and the cone of each row group,
 //!   with allocation-free, rayon-parallel, deterministic `apply_n`, `project` and `residual`.
 //! - [`ProblemFile`]: a problem saved to / loaded from a file (binary or JSON), bit for bit.
@@ -28,10 +28,13 @@ mod solver;
 mod tests;
 mod variables;
 
-pub use cone::{project_box, project_friction_cone, project_rolling_cone, project_unilateral};
+pub use cone::{
+    project_box, project_friction_cone, project_rolling_cone, project_rolling_per_body_cone,
+    project_unilateral,
+};
 pub use coupled::{CoupledMass, DenseMass, dense_matrix};
 pub use file::{ProblemFile, ProblemFormat};
 pub use problem::{CcpProblem, CcpWork, Sections, upper_index};
-pub use rows::{ConstraintRows, N_GROUPS, RowEntry, RowGroup, RowId};
+pub use rows::{ConstraintRows, N_GROUPS, PER_BODY_ROWS, RowEntry, RowGroup, RowId};
 pub use solver::{CcpSolver, IterationRecord, SolveStats, SolverSettings};
 pub use variables::{BlockId, MassOperator, Run, Variables};

@@ -4,9 +4,13 @@
 
 use rayon::prelude::*;
 
-use super::cone::{project_box, project_friction_cone, project_rolling_cone, project_unilateral};
+use super::cone::{
+    project_box, project_friction_cone, project_rolling_cone, project_rolling_per_body_cone,
+    project_unilateral,
+};
 use super::problem::{CcpProblem, CcpWork};
 use super::reduce::{self, sum_by};
+use super::rows::PER_BODY_ROWS;
 
 /// Below this many rows, row-wise loops run on the calling thread.
 const PAR_MIN_ROWS: usize = 4096;
@@ -114,7 +118,7 @@ impl CcpProblem {
 
     /// Project `g` onto `Y` in place: bilateral rows unchanged, box rows clamped, unilateral
     /// rows to `>= 0`, friction triplets onto their Coulomb cones, rolling contacts onto
-    /// their cones ([`project_rolling_cone`]).
+    /// their cones ([`project_rolling_cone`], [`project_rolling_per_body_cone`]).
     pub fn project(&self, gamma: &mut [f64]) {
         let s = &self.sections;
         let (lo, hi) = (&self.lo, &self.hi);
@@ -147,6 +151,16 @@ impl CcpProblem {
             ro.chunks_mut(6)
                 .zip(&self.mu_rolling)
                 .for_each(|(g, &mu)| project_rolling_cone(mu, g));
+        }
+        let pb = &mut gamma[s.rolling_per_body.clone()];
+        if par {
+            pb.par_chunks_mut(PER_BODY_ROWS)
+                .zip(self.mu_per_body.par_iter())
+                .for_each(|(g, &mu)| project_rolling_per_body_cone(mu, g));
+        } else {
+            pb.chunks_mut(PER_BODY_ROWS)
+                .zip(&self.mu_per_body)
+                .for_each(|(g, &mu)| project_rolling_per_body_cone(mu, g));
         }
     }
 
@@ -217,6 +231,20 @@ impl CcpProblem {
             }
             project_rolling_cone(self.mu_rolling[c], &mut z);
             (0..6).map(|j| ((gamma[t + j] - z[j]) / h).powi(2)).sum()
+        });
+        let n = PER_BODY_ROWS;
+        total += sum_by(s.rolling_per_body.len() / n, &mut work.partials, |c| {
+            let t = s.rolling_per_body.start + n * c;
+            let h = sc[t];
+            if h <= 0.0 {
+                return 0.0;
+            }
+            let mut z = [0.0; PER_BODY_ROWS];
+            for j in 0..n {
+                z[j] = gamma[t + j] - h * grad[t + j];
+            }
+            project_rolling_per_body_cone(self.mu_per_body[c], &mut z);
+            (0..n).map(|j| ((gamma[t + j] - z[j]) / h).powi(2)).sum()
         });
         (total / self.n_rows as f64).sqrt()
     }

@@ -3,11 +3,11 @@
 
 use std::ops::Range;
 
-use super::rows::{ConstraintRows, N_GROUPS, RowGroup, RowId};
+use super::rows::{ConstraintRows, N_GROUPS, PER_BODY_ROWS, RowGroup, RowId};
 use super::variables::{BlockId, Variables};
 use crate::error::{ChronoError, Result};
 
-/// The global row ranges of the five groups, in this order.
+/// The global row ranges of the six groups, in this order.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
 pub struct Sections {
     /// Bilateral (free) rows.
@@ -20,14 +20,21 @@ pub struct Sections {
     pub friction: Range<usize>,
     /// Contacts with rolling and spinning friction (length a multiple of 6).
     pub rolling: Range<usize>,
+    /// Contacts with per-body rolling resistance (length a multiple of [`PER_BODY_ROWS`]).
+    pub rolling_per_body: Range<usize>,
 }
 
 impl Sections {
     /// The cone block (first row, number of rows) that contains row `i`: a friction
-    /// triplet (3 rows), a rolling contact (6 rows), or the row itself (1).
+    /// triplet (3 rows), a rolling contact (6 rows), a per-body rolling contact
+    /// ([`PER_BODY_ROWS`]), or the row itself (1).
     #[inline]
     pub fn block_of(&self, i: usize) -> (usize, usize) {
-        if i >= self.rolling.start && i < self.rolling.end {
+        let pb = &self.rolling_per_body;
+        if i >= pb.start && i < pb.end {
+            let n = PER_BODY_ROWS;
+            (pb.start + n * ((i - pb.start) / n), n)
+        } else if i >= self.rolling.start && i < self.rolling.end {
             (self.rolling.start + 6 * ((i - self.rolling.start) / 6), 6)
         } else if i >= self.friction.start && i < self.friction.end {
             (self.friction.start + 3 * ((i - self.friction.start) / 3), 3)
@@ -116,8 +123,9 @@ pub struct CcpProblem {
     pub(super) hi: Vec<f64>,
     pub(super) mu: Vec<f64>,
     pub(super) mu_rolling: Vec<[f64; 3]>,
+    pub(super) mu_per_body: Vec<[f64; 3]>,
     /// Upper triangles of the diagonal blocks of `N`: 6 per triplet, then 21 per rolling
-    /// contact (row-major upper triangle).
+    /// contact, then 55 per per-body rolling contact (row-major upper triangles).
     pub(super) cone_blocks: Vec<f64>,
     pub(super) v_free: Vec<f64>,
     pub(super) sections: Sections,
@@ -130,6 +138,7 @@ pub(super) const GROUP_ORDER: [RowGroup; N_GROUPS] = [
     RowGroup::Unilateral,
     RowGroup::Friction,
     RowGroup::Rolling,
+    RowGroup::RollingPerBody,
 ];
 
 pub(super) fn group_name(g: RowGroup) -> &'static str {
@@ -139,6 +148,7 @@ pub(super) fn group_name(g: RowGroup) -> &'static str {
         RowGroup::Unilateral => "unilateral",
         RowGroup::Friction => "friction",
         RowGroup::Rolling => "rolling",
+        RowGroup::RollingPerBody => "rolling_per_body",
     }
 }
 
@@ -199,6 +209,7 @@ impl CcpProblem {
             v.clear();
         }
         self.mu_rolling.clear();
+        self.mu_per_body.clear();
         self.row_ptr.push(0);
 
         let mut row = 0usize;
@@ -297,6 +308,13 @@ impl CcpProblem {
                     self.mu_rolling
                         .extend(g.mu.chunks_exact(3).map(|c| [c[0], c[1], c[2]]));
                 }
+                RowGroup::RollingPerBody => {
+                    if let Some(i) = g.mu.iter().position(|m| !(m.is_finite() && *m >= 0.0)) {
+                        return Err(bad_mu(i / 3, g.mu[i]));
+                    }
+                    self.mu_per_body
+                        .extend(g.mu.chunks_exact(3).map(|c| [c[0], c[1], c[2]]));
+                }
                 _ => {}
             }
         }
@@ -308,7 +326,8 @@ impl CcpProblem {
             boxed: gs[1]..gs[2],
             unilateral: gs[2]..gs[3],
             friction: gs[3]..gs[4],
-            rolling: gs[4]..row,
+            rolling: gs[4]..gs[5],
+            rolling_per_body: gs[5]..row,
         };
         self.build_transpose(nblocks);
         self.build_diagonal();
@@ -411,6 +430,11 @@ impl CcpProblem {
             .step_by(3)
             .map(|t| (t, 3))
             .chain(s.rolling.step_by(6).map(|t| (t, 6)))
+            .chain(
+                s.rolling_per_body
+                    .step_by(PER_BODY_ROWS)
+                    .map(|t| (t, PER_BODY_ROWS)),
+            )
     }
 
     /// Number of rows `m` (the length of `g`).
@@ -517,6 +541,12 @@ impl CcpProblem {
         &self.mu_rolling
     }
 
+    /// `[mu_slide, mu_spin, mu_roll]` of each contact of the per-body rolling section.
+    #[inline]
+    pub fn rolling_per_body_mu(&self) -> &[[f64; 3]] {
+        &self.mu_per_body
+    }
+
     /// Lower and upper bounds of the box section.
     #[inline]
     pub fn box_bounds(&self) -> (&[f64], &[f64]) {
@@ -576,10 +606,17 @@ impl CcpProblem {
 
     /// The diagonal block `N_tt` of the friction triplet or rolling contact whose first row
     /// is `t`, as a row-major upper triangle (6 values for a triplet, 21 for a rolling
-    /// contact); cached at assembly. `None` if `t` does not start a cone block.
+    /// contact, 55 for a per-body rolling contact); cached at assembly. `None` if `t` does
+    /// not start a cone block.
     pub fn cone_block(&self, t: usize) -> Option<&[f64]> {
         let s = &self.sections;
         let nf = s.friction.len() / 3;
+        let (pb, n) = (&s.rolling_per_body, PER_BODY_ROWS);
+        if pb.contains(&t) && (t - pb.start).is_multiple_of(n) {
+            let size = n * (n + 1) / 2;
+            let o = 6 * nf + 21 * (s.rolling.len() / 6) + size * ((t - pb.start) / n);
+            return Some(&self.cone_blocks[o..o + size]);
+        }
         if s.friction.contains(&t) && (t - s.friction.start).is_multiple_of(3) {
             let c = (t - s.friction.start) / 3;
             Some(&self.cone_blocks[6 * c..6 * c + 6])
@@ -662,6 +699,16 @@ impl CcpProblem {
                     [self.eps[i], self.eps[i + 1], self.eps[i + 2]],
                 );
                 i += 3;
+            } else if s.rolling_per_body.contains(&i) {
+                let n = PER_BODY_ROWS;
+                let e: Vec<_> = (0..n).map(|j| entries(i + j)).collect();
+                rows.push_rolling_per_body(
+                    self.mu_per_body[(i - s.rolling_per_body.start) / n],
+                    std::array::from_fn(|j| &e[j][..]),
+                    std::array::from_fn(|j| self.b[i + j]),
+                    std::array::from_fn(|j| self.eps[i + j]),
+                );
+                i += n;
             } else {
                 let e: Vec<_> = (0..6).map(|j| entries(i + j)).collect();
                 let mut b = [0.0; 6];

@@ -19,10 +19,20 @@ pub enum RowGroup {
     /// (Tasora and Anitescu 2013, "A complementarity-based rolling friction model for rigid
     /// contacts", Meccanica 48). `s, r_u, r_w` are torque impulses (N m s).
     Rolling = 4,
+    /// [`PER_BODY_ROWS`] rows `(n, u, w, s, a_n, a_u, a_w, b_n, b_u, b_w)` per contact:
+    /// sliding and spinning friction as in [`Rolling`](Self::Rolling), and a rolling
+    /// resistance on each body's *own* rotation (Zhou et al. 1999, Physica A 269): `a_*`
+    /// touch body A's angular velocity only, `b_*` body B's, each a ball
+    /// `|(g_an, g_au, g_aw)| <= mu_r g_n`, `|(g_bn, g_bu, g_bw)| <= mu_r g_n` (the rows of a
+    /// body without variables have no entries).
+    RollingPerBody = 5,
 }
 
 /// The number of row groups.
-pub const N_GROUPS: usize = 5;
+pub const N_GROUPS: usize = 6;
+
+/// Rows of one contact of the [`RowGroup::RollingPerBody`] group.
+pub const PER_BODY_ROWS: usize = 10;
 
 /// One block of a row: the coefficients of `D_i'` on the dof of one variable block.
 #[derive(Debug, Clone, Copy)]
@@ -56,7 +66,7 @@ pub(crate) struct GroupRows {
     pub lo: Vec<f64>,
     pub hi: Vec<f64>,
     /// One friction coefficient per triplet (Friction group), three per contact
-    /// (`mu, mu_spin, mu_roll`, Rolling group).
+    /// (`mu, mu_spin, mu_roll`, Rolling and RollingPerBody groups).
     pub mu: Vec<f64>,
 }
 
@@ -94,7 +104,7 @@ impl GroupRows {
     }
 }
 
-/// The rows of one step, in four groups. Reused across steps: [`clear`](Self::clear) keeps
+/// The rows of one step, in six groups ([`RowGroup`]). Reused across steps: [`clear`](Self::clear) keeps
 /// the allocations.
 ///
 /// Row `i` stands for the constraint velocity `c_i = D_i' v + b_i + eps_i g_i`:
@@ -203,6 +213,31 @@ impl ConstraintRows {
         g.mu.extend_from_slice(&mu);
         RowId {
             group: RowGroup::Rolling,
+            index,
+        }
+    }
+
+    /// Add a contact with sliding and spinning friction and a per-body rolling resistance:
+    /// [`PER_BODY_ROWS`] rows `n, u, w, s` (as in
+    /// [`push_rolling_friction`](Self::push_rolling_friction)), then `a_n, a_u, a_w` (body
+    /// A's angular velocity only) and `b_n, b_u, b_w` (body B's), with coefficients
+    /// `mu = [mu_slide, mu_spin, mu_roll]`; see [`RowGroup::RollingPerBody`]. Returns the id
+    /// of the normal row; the other rows follow it.
+    pub fn push_rolling_per_body(
+        &mut self,
+        mu: [f64; 3],
+        rows: [&[RowEntry]; PER_BODY_ROWS],
+        b: [f64; PER_BODY_ROWS],
+        eps: [f64; PER_BODY_ROWS],
+    ) -> RowId {
+        let g = &mut self.groups[RowGroup::RollingPerBody as usize];
+        let index = g.push(rows[0], b[0], eps[0]);
+        for j in 1..PER_BODY_ROWS {
+            g.push(rows[j], b[j], eps[j]);
+        }
+        g.mu.extend_from_slice(&mu);
+        RowId {
+            group: RowGroup::RollingPerBody,
             index,
         }
     }

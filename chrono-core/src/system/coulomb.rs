@@ -17,7 +17,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::System;
-use crate::descriptor::SolveStats;
+use crate::descriptor::{PER_BODY_ROWS, SolveStats};
 use crate::error::{ChronoError, Result};
 
 /// The friction law of the NSC step's contacts.
@@ -31,11 +31,12 @@ pub enum FrictionLaw {
     Relaxed,
     /// Coulomb's law: after the relaxed solve, up to `passes` re-solves with the normal
     /// bias of each contact shifted by `s = mu |u_t|` of the last solution (spinning and
-    /// rolling parts add `mu_spin |u_s| + mu_roll |u_r|`), stopping early when no shift
-    /// changes by more than the solver's tolerance. Each pass costs one solve. The passes
-    /// converge linearly: for one sliding contact the shift's error shrinks by
-    /// `k mu^2 / (1 + k mu^2)` per pass, with `k` the tangential over the normal inverse
-    /// effective mass (3.5 for a sphere on a plate): 0.1 at `mu = 0.18`, 0.78 at `mu = 1`.
+    /// rolling parts add `mu_spin |u_s| + mu_roll |u_r|`, per body for the per-body model),
+    /// stopping early when no shift changes by more than the solver's tolerance. Each pass
+    /// costs one solve. The passes converge linearly: for one sliding contact the shift's
+    /// error shrinks by `k mu^2 / (1 + k mu^2)` per pass, with `k` the tangential over the
+    /// normal inverse effective mass (3.5 for a sphere on a plate): 0.1 at `mu = 0.18`, 0.78
+    /// at `mu = 1`.
     Coulomb {
         /// Maximum number of re-solves per step (>= 1).
         passes: usize,
@@ -72,7 +73,7 @@ impl System {
         let tol = self.solver.settings().tolerance;
         let sections = self.problem.sections().clone();
         let nf = sections.friction.len() / 3;
-        let nr = sections.rolling.len() / 6;
+        let nr = sections.rolling.len() / 6 + sections.rolling_per_body.len() / PER_BODY_ROWS;
         self.coulomb_shift.clear();
         self.coulomb_shift.resize(nf + nr, 0.0);
         self.coulomb_next.resize(nf + nr, 0.0);
@@ -98,6 +99,21 @@ impl System {
                     + m[1] * u(t + 3).abs()
                     + m[2] * u(t + 4).hypot(u(t + 5));
             }
+            // Per-body: both bodies' own rolling parts (3 rows each) add to the shift.
+            let n6 = sections.rolling.len() / 6;
+            let mu_pb = p.rolling_per_body_mu();
+            let norm3 = |t: usize| (u(t).powi(2) + u(t + 1).powi(2) + u(t + 2).powi(2)).sqrt();
+            for (c, t) in sections
+                .rolling_per_body
+                .clone()
+                .step_by(PER_BODY_ROWS)
+                .enumerate()
+            {
+                let m = mu_pb[c];
+                self.coulomb_next[nf + n6 + c] = m[0] * u(t + 1).hypot(u(t + 2))
+                    + m[1] * u(t + 3).abs()
+                    + m[2] * (norm3(t + 4) + norm3(t + 7));
+            }
             let change = self
                 .coulomb_shift
                 .iter()
@@ -111,7 +127,8 @@ impl System {
                 .friction
                 .clone()
                 .step_by(3)
-                .chain(sections.rolling.clone().step_by(6));
+                .chain(sections.rolling.clone().step_by(6))
+                .chain(sections.rolling_per_body.clone().step_by(PER_BODY_ROWS));
             for (c, t) in rows.enumerate() {
                 let d = self.coulomb_next[c] - self.coulomb_shift[c];
                 self.problem.add_to_bias(t, d);

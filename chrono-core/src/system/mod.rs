@@ -75,6 +75,10 @@ pub struct SystemSettings {
     /// Coulomb's law by de Saxcé passes ([`FrictionLaw`]).
     #[serde(default)]
     pub friction_law: FrictionLaw,
+    /// Which rotation rolling resistance opposes, for both methods: the relative rotation
+    /// of the two bodies (default) or each body's own (Zhou et al. 1999) ([`RollingModel`]).
+    #[serde(default)]
+    pub rolling_model: RollingModel,
 }
 
 impl Default for SystemSettings {
@@ -89,6 +93,7 @@ impl Default for SystemSettings {
             contact_method: ContactMethod::Nsc,
             smc: SmcSettings::default(),
             friction_law: FrictionLaw::Relaxed,
+            rolling_model: RollingModel::Relative,
         }
     }
 }

@@ -110,7 +110,8 @@ fn step_limit(
             friction: 0.0,
             rolling_friction: 0.0,
             spinning_friction: 0.0,
-            rolling_model: s.rolling_model,
+            // No rolling friction in the step estimate: the model does not matter.
+            rolling_model: RollingModel::default(),
         };
         let tc = smc::contact_duration(s.model, &pair, s.characteristic_velocity);
         let h = tc / s.min_steps_per_contact;
@@ -312,6 +313,7 @@ impl System {
             inv_inertia: &st.inv_inertia,
             history: &st.history,
             settings: &self.settings.smc,
+            rolling_model: self.settings.rolling_model,
             h,
         };
         self.points
@@ -352,7 +354,7 @@ impl System {
             st.rolling[b] += c.rolling[1];
         }
         // Per-body rolling resistance: summed over the body's contacts, limited once.
-        if self.settings.smc.rolling_model == RollingModel::PerBody {
+        if self.settings.rolling_model == RollingModel::PerBody {
             for (i, b) in self.bodies.iter().enumerate() {
                 if st.rolling[i] > 0.0 && st.inv_inertia[i] > 0.0 {
                     let w = b.angular_velocity();
@@ -501,6 +503,7 @@ struct ForceContext<'a> {
     inv_inertia: &'a [f64],
     history: &'a [HistoryEntry],
     settings: &'a SmcSettings,
+    rolling_model: RollingModel,
     h: f64,
 }
 
@@ -531,7 +534,7 @@ impl ForceContext<'_> {
             friction: cp.material.friction,
             rolling_friction: cp.material.rolling_friction,
             spinning_friction: cp.material.spinning_friction,
-            rolling_model: self.settings.rolling_model,
+            rolling_model: self.rolling_model,
         };
         let point = 0.5 * (cp.point_a + cp.point_b);
         let kin = SmcKinematics {

@@ -116,6 +116,7 @@ impl System {
         let row_settings = NscRowSettings {
             h,
             max_recovery_speed: self.settings.max_recovery_speed,
+            rolling_model: self.settings.rolling_model,
         };
         nsc::add_contact_rows(
             &self.points,

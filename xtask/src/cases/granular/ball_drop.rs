@@ -90,8 +90,8 @@ pub struct BallDropParams {
     pub mu: f64,
     /// Rolling friction coefficient (dimensionless; torque `mu_r R F_n`).
     pub rolling_friction: f64,
-    /// SMC rolling resistance model: `relative` or `per_body` (Zhou et al.'s; see
-    /// `chrono_core::contact::smc`). NSC has the relative model only.
+    /// Rolling resistance model of both methods: `relative` or `per_body` (Zhou et al.'s;
+    /// see `chrono_core::contact::smc` and `chrono_core::contact::nsc`).
     pub rolling_model: String,
     /// Angle of repose of the medium, degrees: the law's `mu = tan(theta_r)`. Default 23°:
     /// frictional spheres with `mu = 0.5` and no rolling resistance flow steadily down a
@@ -205,7 +205,7 @@ impl CaseParams for BallDropParams {
         ParamInfo::new(
             "rolling_model",
             "-",
-            "SMC rolling model: relative | per_body (Zhou et al.)",
+            "rolling model (both methods): relative | per_body (Zhou et al.)",
         ),
         ParamInfo::new(
             "repose_angle_deg",

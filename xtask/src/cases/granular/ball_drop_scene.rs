@@ -47,9 +47,9 @@ pub(super) fn settings(p: &BallDropParams, v_impact: f64) -> anyhow::Result<Syst
         // The step check must cover the fastest contact, the ball's impact.
         smc: SmcSettings {
             characteristic_velocity: v_impact.max(1.0),
-            rolling_model: parse_rolling_model(&p.rolling_model)?,
             ..SmcSettings::default()
         },
+        rolling_model: parse_rolling_model(&p.rolling_model)?,
         ..SystemSettings::default()
     })
 }

@@ -16,6 +16,7 @@ mod ball_drop_scene;
 pub mod forces;
 pub mod hopper;
 pub mod repose;
+mod repose_scene;
 pub mod settle;
 pub mod shear;
 mod shear_curve;

@@ -1,0 +1,343 @@
+//! The scene of `granular-repose` (see `repose.rs` for the reference and the checks): a
+//! bed settled between two gates on a plate in a slot, discharged over both edges, and the
+//! angle of the heap that stays, fitted to the highest grain centre of each column.
+
+use chrono_core::granular::{LatticeFill, Region, Rng, add_grains};
+use chrono_core::math::{Isometry3, UnitQuaternion, Vector3};
+use chrono_core::system::ContactMethod;
+use chrono_core::{
+    BodyHandle, ContactFriction, ContactMaterial, RigidBodyBuilder, Shape, System, SystemSettings,
+};
+
+use super::repose::ReposeParams;
+use super::{make_system, parse_rolling_model};
+use crate::case::RunContext;
+use crate::fit::line_fit;
+
+/// The heap left on the plate by one run.
+pub(super) struct Heap {
+    /// Angle of both flanks fitted together, degrees.
+    pub angle: f64,
+    /// Angles of the left (x < 0) and right flanks, degrees.
+    pub flanks: [f64; 2],
+    /// Highest grain centre above the plate, m.
+    pub crest: f64,
+    pub grains: usize,
+    pub on_plate: usize,
+    /// Kinetic energy per grain on the plate at the end, in `m g d`.
+    pub ke: f64,
+    pub steps: u64,
+    pub wall_s: f64,
+    /// Surface: column centre x (m) and its highest grain centre z (m), NaN if empty.
+    pub profile: Vec<(f64, f64)>,
+}
+
+/// Least-squares slope of `z` against `x`; `None` with fewer than 3 points or no spread.
+fn fit_slope(pts: &[(f64, f64)]) -> Option<f64> {
+    if pts.len() < 3 {
+        return None;
+    }
+    line_fit(pts).map(|(a, _)| a)
+}
+
+/// The surface of a heap: the highest `z` among `points` (x, z) in each of `bins` columns
+/// of width `width` starting at `x0`; NaN where a column is empty.
+fn surface(points: &[(f64, f64)], x0: f64, width: f64, bins: usize) -> Vec<(f64, f64)> {
+    let mut top = vec![f64::NAN; bins];
+    for &(x, z) in points {
+        let b = ((x - x0) / width).floor();
+        if b >= 0.0 && (b as usize) < bins {
+            let t = &mut top[b as usize];
+            if t.is_nan() || z > *t {
+                *t = z;
+            }
+        }
+    }
+    top.into_iter()
+        .enumerate()
+        .map(|(i, z)| (x0 + (i as f64 + 0.5) * width, z))
+        .collect()
+}
+
+/// Angles (degrees) of a symmetric heap's surface centred on x = 0 with half-width `half`:
+/// both flanks together (slope of `z` against `|x|`, sign flipped) and each flank, over
+/// `|x|` in [0.15, 0.85] `half`.
+fn flank_angles(profile: &[(f64, f64)], half: f64) -> Option<(f64, [f64; 2])> {
+    let band = |x: f64| (0.15 * half..=0.85 * half).contains(&x.abs());
+    let pick = |side: f64| -> Vec<(f64, f64)> {
+        profile
+            .iter()
+            .filter(|(x, z)| z.is_finite() && band(*x) && x * side > 0.0)
+            .map(|&(x, z)| (x.abs(), z))
+            .collect()
+    };
+    let (left, right) = (pick(-1.0), pick(1.0));
+    let both: Vec<_> = left.iter().chain(&right).copied().collect();
+    let deg = |s: f64| (-s).atan().to_degrees();
+    Some((
+        deg(fit_slope(&both)?),
+        [deg(fit_slope(&left)?), deg(fit_slope(&right)?)],
+    ))
+}
+
+/// A fixed body with one half-space collider through `at` with outward `normal`.
+fn half_space(
+    sys: &mut System,
+    name: &str,
+    normal: Vector3<f64>,
+    at: Vector3<f64>,
+    mat: ContactMaterial,
+) -> anyhow::Result<BodyHandle> {
+    Ok(sys.add_body(RigidBodyBuilder::fixed().name(name).collider(
+        Shape::HalfSpace { normal },
+        Isometry3::translation(at.x, at.y, at.z),
+        mat,
+    ))?)
+}
+
+/// The NSC solver named by the `solver` parameter.
+pub(super) fn solver(
+    name: &str,
+    tolerance: f64,
+    max_iterations: usize,
+) -> anyhow::Result<Box<dyn chrono_ccp::CcpSolver>> {
+    let settings = chrono_ccp::SolverSettings {
+        tolerance,
+        max_iterations,
+        record_history: false,
+    };
+    Ok(match name {
+        "apgd" => Box::new(chrono_ccp::Apgd::new(settings)),
+        "bb" => Box::new(chrono_ccp::BarzilaiBorwein::new(settings)),
+        "psor" => Box::new(chrono_ccp::Psor::new(settings)),
+        other => anyhow::bail!("parameter `solver` must be `apgd`, `bb` or `psor`, got `{other}`"),
+    })
+}
+
+/// Settle a bed behind the gates, open them and return the heap left on the plate after
+/// `t_discharge`, for one method, rolling friction `mu_r` and packing `seed`.
+pub(super) fn heap(
+    p: &ReposeParams,
+    method: ContactMethod,
+    mu_r: f64,
+    seed: u64,
+    ctx: &RunContext,
+    progress: (usize, usize),
+) -> anyhow::Result<Heap> {
+    let start = std::time::Instant::now();
+    let d = p.grain_diameter;
+    let r = 0.5 * d;
+    let (half, w) = (0.5 * p.plate_width * d, p.thickness * d);
+    let settings = SystemSettings {
+        envelope: 0.05 * d,
+        rolling_model: parse_rolling_model(&p.rolling_model)?,
+        ..SystemSettings::default()
+    };
+    let mut sys = make_system(method, settings, p.tolerance, p.max_iterations)?;
+    sys.set_solver(solver(&p.solver, p.tolerance, p.max_iterations)?);
+    let mat = ContactMaterial::smc(p.young, 0.3, p.restitution, p.mu).with_rolling_friction(mu_r);
+    mat.validate()?;
+    // Walls, plate and gates impose their own friction on the grains (Zhou et al.'s mu_pw).
+    let wall = ContactFriction {
+        friction: p.wall_mu.unwrap_or(p.mu),
+        rolling_friction: p.wall_rolling_friction.unwrap_or(mu_r),
+        spinning_friction: 0.0,
+    };
+    // The slot's two walls and, 30 d down, the floor where discharged grains are parked.
+    let z_park = -30.0 * d;
+    let front = half_space(&mut sys, "front wall", Vector3::y(), Vector3::zeros(), mat)?;
+    let back = half_space(
+        &mut sys,
+        "back wall",
+        -Vector3::y(),
+        Vector3::new(0.0, w, 0.0),
+        mat,
+    )?;
+    half_space(
+        &mut sys,
+        "park floor",
+        Vector3::z(),
+        Vector3::new(0.0, 0.0, z_park),
+        mat,
+    )?;
+    let plate = sys.add_body(RigidBodyBuilder::fixed().name("plate").collider(
+        Shape::Box {
+            half_extents: Vector3::new(half, 0.5 * w, r),
+        },
+        Isometry3::translation(0.0, 0.5 * w, -r),
+        mat,
+    ))?;
+    let base_top = if p.rough_base { d } else { 0.0 };
+    if p.rough_base {
+        // Touching spheres of diameter d on the plate, one fixed body.
+        let (nx, ny) = ((2.0 * half / d).floor() as usize, (w / d).floor() as usize);
+        let mut base = RigidBodyBuilder::fixed().name("rough base");
+        for i in 0..nx {
+            for j in 0..ny {
+                let x = -half + r + i as f64 * d;
+                let y = r + j as f64 * d + 0.5 * (w - ny as f64 * d);
+                base = base.collider(
+                    Shape::Sphere { radius: r },
+                    Isometry3::translation(x, y, r),
+                    mat,
+                );
+            }
+        }
+        sys.add_body(base)?;
+    }
+    let gates = [
+        half_space(
+            &mut sys,
+            "left gate",
+            Vector3::x(),
+            Vector3::new(-half, 0.0, 0.0),
+            mat,
+        )?,
+        half_space(
+            &mut sys,
+            "right gate",
+            -Vector3::x(),
+            Vector3::new(half, 0.0, 0.0),
+            mat,
+        )?,
+    ];
+    for b in [front, back, plate, gates[0], gates[1]] {
+        sys.set_contact_friction(b, Some(wall))?;
+    }
+    // A loose jittered lattice (sites 1.25 d apart) settles to a solid fraction ~0.6: the
+    // grain count of the target bed at 0.58, the lattice region tall enough to hold them.
+    let v_grain = std::f64::consts::PI / 6.0 * (0.975 * d).powi(3);
+    let count = (0.58 * 2.0 * half * w * p.bed_height * d / v_grain).round() as usize;
+    let fill = LatticeFill {
+        region: Region::Box {
+            lower: Vector3::new(-half, 0.0, base_top),
+            upper: Vector3::new(half, w, base_top + 4.0 * p.bed_height * d),
+        },
+        r_min: 0.95 * r,
+        r_max: r,
+        gap: 0.5 * r,
+        jitter: 1.0,
+        max_count: count,
+        seed,
+    };
+    let grains = fill.generate()?;
+    anyhow::ensure!(
+        grains.len() == count,
+        "granular-repose: the lattice holds {} of {count} grains (bed_height too large for the region)",
+        grains.len()
+    );
+    let handles = add_grains(&mut sys, &grains, p.density, mat)?;
+    // Random horizontal velocities break the lattice's columns (see granular-hopper).
+    let mut rng = Rng::new(seed ^ 0x5851_f42d_4c95_7f2d);
+    for &b in &handles {
+        let v = Vector3::new(rng.range(-0.1, 0.1), rng.range(-0.1, 0.1), 0.0);
+        sys.body_mut(b)?.set_linear_velocity(v)?;
+    }
+    let h = if p.h > 0.0 {
+        p.h
+    } else if method == ContactMethod::Nsc {
+        1e-3
+    } else {
+        sys.smc_max_step().map(|(h, _)| h).unwrap_or(1e-4)
+    };
+    let n_settle = (p.t_settle / h).round() as u64;
+    let n = n_settle + (p.t_discharge / h).round().max(1.0) as u64;
+    let mut vtk = super::GrainFrames::new(ctx, (0.02 / h).round() as u64);
+    let mut parked = vec![false; handles.len()];
+    let mut n_parked = 0usize;
+    let rows = ((w / (1.5 * d)).floor() as usize).max(1);
+    for i in 1..=n {
+        if i == n_settle + 1 {
+            // Open the gates: move them 100 m outwards, out of the scene.
+            for (g, s) in gates.iter().zip([-1.0, 1.0]) {
+                sys.body_mut(*g)?.set_pose(
+                    Vector3::new(100.0 * s, 0.0, 0.0),
+                    UnitQuaternion::identity(),
+                )?;
+            }
+        }
+        sys.step(h)?;
+        vtk.record(i, &sys)?;
+        // Park the grains that left the plate: at rest on the floor, 1.5 d apart in rows
+        // beyond the plate's end, touching nothing but the floor.
+        for (k, &b) in handles.iter().enumerate() {
+            if parked[k] || sys.body(b)?.position().z > -2.0 * d {
+                continue;
+            }
+            let (col, row) = (n_parked / rows, n_parked % rows);
+            let at = Vector3::new(
+                half + 10.0 * d + 1.5 * d * col as f64,
+                (row as f64 + 0.5) * w / rows as f64,
+                z_park + 1.01 * r,
+            );
+            let body = sys.body_mut(b)?;
+            body.set_pose(at, UnitQuaternion::identity())?;
+            body.set_linear_velocity(Vector3::zeros())?;
+            body.set_angular_velocity(Vector3::zeros())?;
+            parked[k] = true;
+            n_parked += 1;
+        }
+        let (j, m) = progress;
+        ctx.progress((j as f64 + i as f64 / n as f64) / m as f64);
+    }
+    vtk.finish()?;
+    let g = sys.settings().gravity.norm();
+    let (mut points, mut ke, mut mass) = (Vec::new(), 0.0, 0.0);
+    for (k, &b) in handles.iter().enumerate() {
+        if parked[k] {
+            continue;
+        }
+        let body = sys.body(b)?;
+        let x = body.position();
+        points.push((x.x, x.z));
+        ke += body.kinetic_energy();
+        mass += body.mass();
+    }
+    let on_plate = points.len();
+    anyhow::ensure!(
+        on_plate > 0,
+        "granular-repose: no grain is left on the plate (mu = {}, mu_r = {mu_r})",
+        p.mu
+    );
+    let mean_mass = mass / on_plate as f64;
+    let bins = p.plate_width.round() as usize;
+    let profile = surface(&points, -half, 2.0 * half / bins as f64, bins);
+    let (angle, flanks) = flank_angles(&profile, half).ok_or_else(|| {
+        anyhow::anyhow!("granular-repose: too few surface columns on a flank to fit a slope")
+    })?;
+    Ok(Heap {
+        angle,
+        flanks,
+        crest: points.iter().map(|q| q.1).fold(f64::MIN, f64::max),
+        grains: handles.len(),
+        on_plate,
+        ke: ke / on_plate as f64 / (mean_mass * g * d),
+        steps: n,
+        wall_s: start.elapsed().as_secs_f64(),
+        profile,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn flank_fit_recovers_the_angle_of_a_cone_profile() {
+        let half = 0.1;
+        let slope = 30f64.to_radians().tan();
+        let pts: Vec<(f64, f64)> = (0..400)
+            .map(|i| -half + i as f64 * 0.0005)
+            .map(|x| {
+                (
+                    x,
+                    (half - x.abs()) * slope - if x > 0.0 { 0.002 } else { 0.0 },
+                )
+            })
+            .collect();
+        let prof = surface(&pts, -half, 0.01, 20);
+        let (a, [l, r]) = flank_angles(&prof, half).unwrap();
+        assert!((l - 30.0).abs() < 0.5 && (r - 30.0).abs() < 0.5, "{l} {r}");
+        assert!((a - 30.0).abs() < 1.0, "{a}");
+    }
+}
