@@ -4,10 +4,12 @@
 use chrono_ccp::{SolverSettings, by_name};
 use chrono_core::descriptor::{CcpProblem, ProblemFile, ProblemFormat};
 use chrono_core::math::{Isometry3, Vector3};
+use chrono_core::system::RollingModel;
 use chrono_core::{ContactMaterial, RigidBodyBuilder, Shape, System, SystemSettings};
 
 /// A small scene: spheres dropped in a loose column on a ground box, a few steps, then the
-/// problem of the last step.
+/// problem of the last step: friction triplets on the ground, per-body rolling contacts
+/// between the spheres (rolling friction on the spheres only; materials take the minimum).
 fn captured() -> CcpProblem {
     let settings = SolverSettings {
         tolerance: 1e-6,
@@ -15,11 +17,15 @@ fn captured() -> CcpProblem {
         record_history: false,
     };
     let mut sys = System::new(
-        SystemSettings::default(),
+        SystemSettings {
+            rolling_model: RollingModel::PerBody,
+            ..SystemSettings::default()
+        },
         by_name("apgd", settings).unwrap(),
     )
     .unwrap();
     let mat = ContactMaterial::with_friction(0.4);
+    let ball_mat = mat.with_rolling_friction(0.05);
     sys.add_body(RigidBodyBuilder::fixed().collider(
         Shape::Box {
             half_extents: Vector3::new(2.0, 2.0, 0.5),
@@ -36,7 +42,7 @@ fn captured() -> CcpProblem {
                 .mass_from_shape(&ball, 1000.0)
                 .unwrap()
                 .position(Vector3::new(x, y, 0.1 + 0.2 * (i / 4) as f64))
-                .collider(ball.clone(), Isometry3::identity(), mat),
+                .collider(ball.clone(), Isometry3::identity(), ball_mat),
         )
         .unwrap();
     }
@@ -44,10 +50,12 @@ fn captured() -> CcpProblem {
         sys.step(0.005).unwrap();
     }
     let p = sys.last_problem().clone();
+    let s = p.sections();
+    assert!(s.friction.len() >= 12, "{} friction rows", s.friction.len());
     assert!(
-        p.sections().friction.len() >= 30,
-        "{} friction rows",
-        p.sections().friction.len()
+        s.rolling_per_body.len() >= 50,
+        "{} per-body rolling rows",
+        s.rolling_per_body.len()
     );
     p
 }
@@ -97,6 +105,27 @@ fn saved_reloaded_and_solved_bit_for_bit() {
 }
 
 #[test]
+fn files_without_the_per_body_group_still_load() {
+    // Files written before the per-body rolling group have five groups; with the sixth
+    // (empty) dropped, a problem without per-body contacts loads unchanged.
+    let mut p = captured();
+    let mut f = ProblemFile::from_problem(&p, "x");
+    f.groups[5] = Default::default();
+    f.groups[5].group = "rolling_per_body".into();
+    f.groups[5].row_ptr = vec![0];
+    p = f.to_problem().unwrap();
+    let mut old = ProblemFile::from_problem(&p, "x");
+    assert_eq!(old.groups.pop().map(|g| g.row_ptr.len()), Some(1));
+    let q = old.to_problem().unwrap();
+    assert_eq!(q.n_rows(), p.n_rows());
+    assert_eq!(bits(q.r()), bits(p.r()));
+    // Four groups are an error naming the field.
+    old.groups.pop();
+    let e = old.to_problem().unwrap_err().to_string();
+    assert!(e.contains("groups.len()"), "{e}");
+}
+
+#[test]
 fn corrupt_files_are_errors_naming_the_problem() {
     let p = captured();
     let mut f = ProblemFile::from_problem(&p, "x");
@@ -110,6 +139,10 @@ fn corrupt_files_are_errors_naming_the_problem() {
         e.contains("friction") && e.contains("variable block"),
         "{e}"
     );
+    let mut f = ProblemFile::from_problem(&p, "x");
+    f.groups[5].mu.pop();
+    let e = f.to_problem().unwrap_err().to_string();
+    assert!(e.contains("rolling_per_body") && e.contains("mu"), "{e}");
     let dir = std::env::temp_dir().join(format!("chrono-ccp-bad-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("bad.bin");
