@@ -172,16 +172,22 @@ fn rolling_friction_holds_a_sphere_on_a_slope_below_mu_r_and_not_above() {
     );
 }
 
+/// The rate (rad/s^2) at which the ball's spin about world Z falls between 0.05 and
+/// 0.25 s.
+fn spin_down_rate(sys: &mut System, b: BodyHandle) -> f64 {
+    run(sys, 0.05);
+    let (t0, w1) = (sys.time(), omega_world(sys, b).z);
+    run(sys, 0.2);
+    let (t1, w2) = (sys.time(), omega_world(sys, b).z);
+    (w1 - w2) / (t1 - t0)
+}
+
 #[test]
 fn spinning_friction_stops_a_spinning_sphere_at_five_halves_mu_s_g_over_r() {
     let (mu_s, w0) = (0.02, 20.0);
     let mat = ContactMaterial::with_friction(0.5).with_spinning_friction(mu_s);
     let (mut sys, b) = scene(0.0, mat, Vector3::zeros(), Vector3::new(0.0, 0.0, w0));
-    run(&mut sys, 0.05);
-    let (t0, w1) = (sys.time(), omega_world(&sys, b).z);
-    run(&mut sys, 0.2);
-    let (t1, w2) = (sys.time(), omega_world(&sys, b).z);
-    let alpha = (w1 - w2) / (t1 - t0);
+    let alpha = spin_down_rate(&mut sys, b);
     // I dw/dt = -mu_s R m g with I = 2/5 m R^2.
     let expect = 2.5 * mu_s * G / R;
     assert!(
@@ -240,11 +246,7 @@ fn per_body_rolling_stops_a_spin_about_the_normal_at_five_halves_mu_r_g_over_r()
     let w = omega_world(&rel, b).z;
     assert!((w - w0).abs() < 1e-6 * w0, "relative model: spin {w}");
     let (mut sys, b) = scene_with(RollingModel::PerBody, 0.0, mat, Vector3::zeros(), spin);
-    run(&mut sys, 0.05);
-    let (t0, w1) = (sys.time(), omega_world(&sys, b).z);
-    run(&mut sys, 0.2);
-    let (t1, w2) = (sys.time(), omega_world(&sys, b).z);
-    let alpha = (w1 - w2) / (t1 - t0);
+    let alpha = spin_down_rate(&mut sys, b);
     let expect = 2.5 * mu_r * G / R;
     assert!(
         (alpha - expect).abs() < 0.02 * expect,
