@@ -470,5 +470,9 @@ mod tests {
         p.plate_width = 3.0;
         let e = run(&p, &ctx).unwrap_err().to_string();
         assert!(e.contains("plate_width"), "{e}");
+        p.plate_width = 30.0;
+        p.seed = vec![];
+        let e = run(&p, &ctx).unwrap_err().to_string();
+        assert!(e.contains("seed"), "{e}");
     }
 }
