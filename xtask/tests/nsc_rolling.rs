@@ -21,8 +21,14 @@ fn system(angle: f64) -> System {
 
 /// [`system`] with the rolling model `model`.
 fn system_with(angle: f64, model: RollingModel) -> System {
+    let gravity = Vector3::new(G * angle.sin(), 0.0, -G * angle.cos());
+    system_in(gravity, model)
+}
+
+/// A system with `gravity`, the rolling model `model` and a tight APGD solve.
+fn system_in(gravity: Vector3<f64>, model: RollingModel) -> System {
     let settings = SystemSettings {
-        gravity: Vector3::new(G * angle.sin(), 0.0, -G * angle.cos()),
+        gravity,
         rolling_model: model,
         ..SystemSettings::default()
     };
@@ -257,17 +263,7 @@ fn per_body_rolling_stops_a_spin_about_the_normal_at_five_halves_mu_r_g_over_r()
 /// Two spheres in zero gravity approach along x at `v` each, both spinning at `w0` about
 /// z, frictionless but with rolling friction `mu_r`: the spin of each after the impact.
 fn spins_after_a_head_on_impact(model: RollingModel, mu_r: f64, v: f64, w0: f64) -> [f64; 2] {
-    let settings = SystemSettings {
-        gravity: Vector3::zeros(),
-        rolling_model: model,
-        ..SystemSettings::default()
-    };
-    let solver = Apgd::new(SolverSettings {
-        tolerance: 1e-10,
-        max_iterations: 2000,
-        record_history: false,
-    });
-    let mut sys = System::new(settings, Box::new(solver)).unwrap();
+    let mut sys = system_in(Vector3::zeros(), model);
     let mat = ContactMaterial::with_friction(0.0).with_rolling_friction(mu_r);
     let s = Shape::Sphere { radius: R };
     let spin = Vector3::new(0.0, 0.0, w0);

@@ -60,13 +60,7 @@ pub(super) fn half_width(p: &BallDropParams) -> f64 {
 }
 
 pub(super) fn step_size(p: &BallDropParams, sys: &System, method: ContactMethod) -> f64 {
-    if p.h > 0.0 {
-        p.h
-    } else if method == ContactMethod::Nsc {
-        1e-3
-    } else {
-        sys.smc_max_step().map(|(h, _)| h).unwrap_or(1e-4)
-    }
+    super::step_size(p.h, method, sys)
 }
 
 /// Settle the bed from a jittered lattice; the grains at rest.

@@ -23,7 +23,7 @@
 
 use chrono_core::granular::{Grain, LatticeFill, Region, Rng, add_cylinder_wall, add_grains};
 use chrono_core::math::{Isometry3, UnitQuaternion, Vector3};
-use chrono_core::system::{ContactMethod, SmcSettings};
+use chrono_core::system::SmcSettings;
 use chrono_core::{BodyHandle, ContactMaterial, RigidBodyBuilder, Shape, SystemSettings};
 use serde::{Deserialize, Serialize};
 
@@ -271,13 +271,7 @@ fn discharge(
         .iter()
         .map(|&b| sys.body(b).map(|b| b.mass()))
         .collect::<Result<_, _>>()?;
-    let h = if p.h > 0.0 {
-        p.h
-    } else if method == ContactMethod::Nsc {
-        1e-3
-    } else {
-        sys.smc_max_step().map(|(h, _)| h).unwrap_or(1e-4)
-    };
+    let h = super::step_size(p.h, method, &sys);
     let n = (p.t_end / h).round().max(1.0) as u64;
     let (mut discharged, mut series) = (0.0, Vec::new());
     let (mut rho_sum, mut rho_n) = (0.0, 0usize);

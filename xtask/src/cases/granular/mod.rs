@@ -137,6 +137,18 @@ impl GrainFrames {
     }
 }
 
+/// The time step of a granular scene (s): `h` if set (> 0), else 1 ms for NSC and the SMC
+/// limit of `sys` ([`System::smc_max_step`]; 1e-4 s without grains) for SMC.
+pub fn step_size(h: f64, method: ContactMethod, sys: &System) -> f64 {
+    if h > 0.0 {
+        h
+    } else if method == ContactMethod::Nsc {
+        1e-3
+    } else {
+        sys.smc_max_step().map(|(h, _)| h).unwrap_or(1e-4)
+    }
+}
+
 /// A system for a granular scene: `method` NSC (APGD, warm-started, `tolerance` m/s,
 /// `max_iterations`) or SMC (`model`); the settings' other fields as given.
 pub fn make_system(

@@ -233,13 +233,7 @@ pub(super) fn heap(
         let v = Vector3::new(rng.range(-0.1, 0.1), rng.range(-0.1, 0.1), 0.0);
         sys.body_mut(b)?.set_linear_velocity(v)?;
     }
-    let h = if p.h > 0.0 {
-        p.h
-    } else if method == ContactMethod::Nsc {
-        1e-3
-    } else {
-        sys.smc_max_step().map(|(h, _)| h).unwrap_or(1e-4)
-    };
+    let h = super::step_size(p.h, method, &sys);
     let n_settle = (p.t_settle / h).round() as u64;
     let n = n_settle + (p.t_discharge / h).round().max(1.0) as u64;
     let mut vtk = super::GrainFrames::new(ctx, (0.02 / h).round() as u64);

@@ -18,7 +18,7 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use chrono_core::descriptor::{CcpProblem, CcpSolver, SolveStats, SolverSettings};
 use chrono_core::granular::{LatticeFill, Region, add_box_container, add_grains};
 use chrono_core::math::Vector3;
-use chrono_core::system::{ContactMethod, SmcSettings};
+use chrono_core::system::SmcSettings;
 use chrono_core::{BodyHandle, ContactMaterial, System, SystemSettings};
 use serde::{Deserialize, Serialize};
 
@@ -214,13 +214,7 @@ fn scene(p: &SettleParams) -> anyhow::Result<Scene> {
     anyhow::ensure!(g.len() == p.n, "placed {} of {} grains", g.len(), p.n);
     add_box_container(&mut sys, "box", lower, upper, mat)?;
     let grains = add_grains(&mut sys, &g, p.density, mat)?;
-    let h = if p.h > 0.0 {
-        p.h
-    } else if method == ContactMethod::Nsc {
-        1e-3
-    } else {
-        sys.smc_max_step().map(|(h, _)| h).unwrap_or(1e-4)
-    };
+    let h = super::step_size(p.h, method, &sys);
     Ok(Scene {
         sys,
         grains,

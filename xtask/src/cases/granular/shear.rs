@@ -307,13 +307,7 @@ fn shear_test(
         sys.body_mut(b)?.set_linear_velocity(v)?;
     }
     let grain_mass = sys.body(handles[0])?.mass();
-    let h = if p.h > 0.0 {
-        p.h
-    } else if method == ContactMethod::Nsc {
-        1e-3
-    } else {
-        sys.smc_max_step().map(|(h, _)| h).unwrap_or(1e-4)
-    };
+    let h = super::step_size(p.h, method, &sys);
     let structure = [lower.0, upper.0, plate.0];
     let n_settle = (p.t_settle / h).round().max(1.0) as u64;
     let n_cons = (p.t_consolidate / h).round().max(1.0) as u64;
