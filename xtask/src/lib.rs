@@ -15,6 +15,7 @@ pub mod fit;
 pub mod output;
 pub mod params;
 pub mod plot;
+pub mod reference;
 pub mod report;
 pub mod runner;
 

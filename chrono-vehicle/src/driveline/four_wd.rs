@@ -92,7 +92,7 @@ pub struct FourWdParams {
 }
 
 impl Default for FourWdParams {
-    /// The HMMWV (notes section 7). The brake torques (4000 N m per wheel) are not in our
+    /// The HMMWV (Chrono's `HMMWV_Driveline4WD`). The brake torques (4000 N m per wheel) are not in
     /// notes: they are our choice, to be checked against the HMMWV brake data.
     fn default() -> Self {
         Self {

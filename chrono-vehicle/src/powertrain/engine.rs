@@ -32,7 +32,7 @@ pub struct EngineParams {
 }
 
 impl Default for EngineParams {
-    /// The HMMWV engine (our notes, section 7: `HMMWV_EngineShafts`).
+    /// The HMMWV engine (Project Chrono's `HMMWV_EngineShafts`).
     fn default() -> Self {
         let map = vec![
             [-100.0, 300.0],

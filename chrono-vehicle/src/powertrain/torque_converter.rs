@@ -51,7 +51,7 @@ pub struct TorqueConverterParams {
 }
 
 impl Default for TorqueConverterParams {
-    /// The HMMWV converter (our notes, section 7).
+    /// The HMMWV converter (Project Chrono's `HMMWV_AutomaticTransmissionShafts`).
     fn default() -> Self {
         let k = vec![
             [0.0, 15.0],

@@ -68,7 +68,7 @@ pub struct TransmissionParams {
 }
 
 impl Default for TransmissionParams {
-    /// The HMMWV's (notes section 7). The shaft inertias are not in our notes: 0.3 (input)
+    /// The HMMWV's (Project Chrono's `HMMWV_AutomaticTransmissionShafts`). The shaft inertias are not published there: 0.3 (input)
     /// and 0.5 (output, the notes' driveline shaft inertia) are our choice.
     fn default() -> Self {
         Self {

@@ -7,7 +7,7 @@
 //! the solver `tolerance`, `solver` and `max_iterations`. The front is found as in
 //! `sph-dam-break` (largest `x + dp/2` of the fluid particles within `2 dp` of the floor
 //! with at least [`FRONT_MIN_NEIGHBOURS`] fluid neighbours within `2 dp`), and
-//! `front_error` is the same RMS of `Z = x / a` against [`MARTIN_MOYCE_N2_1`] for
+//! `front_error` is the same RMS of `Z = x / a` against [`martin_moyce_n2_1`](crate::reference::martin_moyce_n2_1) for
 //! `0 < T <= 3` (checked below [`FRONT_TOLERANCE`], square column only). Also:
 //! `max_compression_pct` (the worst `100 (rho_i / rho_0 - 1)` over the run, from the
 //! densities of the start of each step), `avg_iterations`, `left_tank` (checked 0).
@@ -23,7 +23,7 @@ use super::{TankScene, left_tank};
 use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series};
 use crate::cases::sph::SphFrames;
 use crate::cases::sph::dam_break::{
-    FRONT_MIN_NEIGHBOURS, FRONT_TOLERANCE, MARTIN_MOYCE_N2_1, front_rms, interpolate,
+    FRONT_MIN_NEIGHBOURS, FRONT_TOLERANCE, front_rms, interpolate, martin_moyce_n2_1,
 };
 use crate::params::{CaseParams, ParamCase, ParamInfo};
 
@@ -212,7 +212,7 @@ fn run(p: &CfluidDamBreakParams, ctx: &RunContext) -> anyhow::Result<CaseOutput>
         .metric("avg_iterations", iterations as f64 / n as f64)
         .check(Check::below("left_tank", left as f64, 0.0));
     let mut reference = Series::new(["t", "front_exp"]);
-    for &(tt, z) in &MARTIN_MOYCE_N2_1 {
+    for &(tt, z) in martin_moyce_n2_1() {
         reference.push(&[tt * t_of, z * a]);
     }
     out.series = series;

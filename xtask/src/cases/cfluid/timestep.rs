@@ -63,7 +63,7 @@ use super::dam_break::front as cfluid_front;
 use super::{TankScene, left_tank};
 use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series};
 use crate::cases::sph::dam_break::{
-    DamBreakParams, FRONT_TOLERANCE, MARTIN_MOYCE_N2_1, build_with, front_position, interpolate,
+    DamBreakParams, FRONT_TOLERANCE, build_with, front_position, interpolate, martin_moyce_n2_1,
 };
 use crate::params::{CaseParams, ParamCase, ParamInfo};
 
@@ -414,7 +414,7 @@ fn search(
 /// RMS of `Z - Z_exp` over the Martin and Moyce points with `0 < T <= min(3, T_end)`.
 fn front_error(samples: &[(f64, f64)]) -> f64 {
     let t_max = samples.last().map_or(0.0, |s| s.0).min(3.0);
-    let errs: Vec<f64> = MARTIN_MOYCE_N2_1
+    let errs: Vec<f64> = martin_moyce_n2_1()
         .iter()
         .filter(|(t, _)| *t > 0.0 && *t <= t_max)
         .map(|&(t, z)| interpolate(samples, t) - z)
@@ -619,7 +619,7 @@ fn run(p: &TimestepParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         ]);
     }
     let mut reference = Series::new(["t", "front_exp"]);
-    for &(tt, z) in MARTIN_MOYCE_N2_1
+    for &(tt, z) in martin_moyce_n2_1()
         .iter()
         .filter(|(tt, _)| *tt <= t_end_scaled)
     {
@@ -693,7 +693,7 @@ mod tests {
 
     #[test]
     fn front_error_of_the_reference_is_zero() {
-        let s: Vec<(f64, f64)> = MARTIN_MOYCE_N2_1.to_vec();
+        let s: Vec<(f64, f64)> = martin_moyce_n2_1().to_vec();
         assert!(front_error(&s).abs() < 1e-12);
         assert!(front_error(&s[..5]).abs() < 1e-12);
     }

@@ -8,7 +8,7 @@
 //! force `P` at the free end, split equally over the tip nodes (the consistent load of a
 //! uniform edge load on the bilinear element), up to `P_max = 4`. The reference is the
 //! tabulated load–displacement curve of the paper (S4R 16 x 1),
-//! `../shared/reference/data/shell_sze2004_3-1_cantilever_end_shear.csv`: tip vertical
+//! `data/reference/shell_sze2004_3-1_cantilever_end_shear.csv`: tip vertical
 //! `w` and tip horizontal `-u` against `P / P_max` at 20 load points.
 //!
 //! The loads of the reference are applied in ascending order, each from the previous
@@ -23,7 +23,6 @@ use chrono_fea::{NodeId, ShellLocking, ShellMaterial, ShellMesh, StaticSettings,
 use serde::{Deserialize, Serialize};
 
 use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series};
-use crate::cases::sph::read_reference_csv;
 use crate::params::{CaseParams, ParamCase, ParamInfo};
 
 /// The reference data file.
@@ -149,7 +148,7 @@ fn run(p: &ShellCantileverParams, ctx: &RunContext) -> anyhow::Result<CaseOutput
         "parameter `p_max` must be > 0, got {}",
         p.p_max
     );
-    let reference = read_reference_csv(REFERENCE)?;
+    let reference = crate::reference::csv(REFERENCE)?;
     let material = ShellMaterial::isotropic(p.young, p.poisson, 1.0)?;
     let (nx, ny) = (p.n_elements, p.n_width);
     let mut mesh = ShellMesh::plate(p.length, p.width, nx, ny, p.thickness, material)?;

@@ -5,8 +5,8 @@
 //! liquid columns on a rigid horizontal plane", Phil. Trans. R. Soc. Lond. A 244 (1952)
 //! 312-324, square column `n^2 = height / width = 1`, `a = 2.25 in = 57.15 mm`. The
 //! surge-front position `Z = x / a` against `T = t sqrt(2 g / a)` is embedded below as
-//! [`MARTIN_MOYCE_N2_1`], the digits of `../shared/reference/data/dambreak_martin_moyce_n2_1.csv`
-//! (from the lethe example `examples/multiphysics/dam-break/dam-break-2d.py`, cited there to
+//! [`martin_moyce_n2_1`](crate::reference::martin_moyce_n2_1), the digits of
+//! `data/reference/dambreak_martin_moyce_n2_1.csv` (from the lethe example `examples/multiphysics/dam-break/dam-break-2d.py`, cited there to
 //! Martin and Moyce; the `Z` values are the experiment's gauge positions). An alternative
 //! manual digitization (`dambreak_martin_moyce_n2_1_trixi_digitization.csv`,
 //! TrixiParticles.jl) has its time axis in `t sqrt(g / a)` and is up to ~10 % later in
@@ -34,7 +34,7 @@
 //! (`front_Z_at_T1`, `front_Z_at_T2`, `front_Z_at_T3`) without an experimental check.
 //! Always checked: no fluid left the tank (`left_tank = 0`). Informational metrics:
 //! `front_error_alt` (the same RMS against the alternative digitization
-//! [`MARTIN_MOYCE_N2_1_ALT`]; the spread of the two is the experimental uncertainty),
+//! [`martin_moyce_n2_1_alt`](crate::reference::martin_moyce_n2_1_alt); the spread of the two is the experimental uncertainty),
 //! `front_error_raw` (the front without the neighbour filter).
 //!
 //! Resolution: `--quick` `dp = a / 20`, default `a / 24`, `--full` `a / 36` plus a sweep
@@ -52,43 +52,7 @@ use serde::{Deserialize, Serialize};
 use super::{SphFrames, slab_layers, sweep_point, sweep_spacings, wall_layers};
 use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series};
 use crate::params::{CaseParams, ParamCase, ParamInfo};
-
-/// Martin and Moyce (1952), `n^2 = 1`: `(T, Z)` with `T = t sqrt(2 g / a)`, `Z = x / a`
-/// (the surge front). Same digits as `shared/reference/data/dambreak_martin_moyce_n2_1.csv`.
-pub const MARTIN_MOYCE_N2_1: [(f64, f64); 14] = [
-    (0.0, 1.0),
-    (0.41, 1.11),
-    (0.84, 1.23),
-    (1.19, 1.44),
-    (1.43, 1.67),
-    (1.63, 1.89),
-    (1.82, 2.11),
-    (1.97, 2.33),
-    (2.2, 2.56),
-    (2.32, 2.78),
-    (2.5, 3.0),
-    (2.64, 3.22),
-    (2.82, 3.44),
-    (2.96, 3.67),
-];
-
-/// The alternative manual digitization of the same experiment (TrixiParticles.jl,
-/// `validation/dam_break_2d/exp_surge_front.csv`; the digits of
-/// `shared/reference/data/dambreak_martin_moyce_n2_1_trixi_digitization.csv`) as `(t sqrt(g / a),
-/// Z)`: its time axis is `T / sqrt(2)`. Used only for the informational metric
-/// `front_error_alt` (the spread of the two digitizations is the experimental uncertainty).
-pub const MARTIN_MOYCE_N2_1_ALT: [(f64, f64); 10] = [
-    (0.43012, 1.10782),
-    (0.61418, 1.218),
-    (0.79556, 1.43732),
-    (0.97016, 1.67128),
-    (1.13698, 1.89286),
-    (1.29153, 2.10882),
-    (1.44156, 2.33378),
-    (1.62065, 2.56436),
-    (1.75728, 2.78708),
-    (1.92861, 3.00078),
-];
+pub use crate::reference::{martin_moyce_n2_1, martin_moyce_n2_1_alt};
 
 /// Fluid neighbours within `2 dp` a near-floor particle needs to count as the front.
 pub const FRONT_MIN_NEIGHBOURS: usize = 3;
@@ -365,17 +329,17 @@ fn rms_against(samples: &[(f64, f64)], data: impl Iterator<Item = (f64, f64)>) -
     (errs.iter().map(|e| e * e).sum::<f64>() / errs.len() as f64).sqrt()
 }
 
-/// `front_error`: RMS against [`MARTIN_MOYCE_N2_1`].
+/// `front_error`: RMS against [`martin_moyce_n2_1`].
 pub(crate) fn front_rms(samples: &[(f64, f64)]) -> f64 {
-    rms_against(samples, MARTIN_MOYCE_N2_1.iter().copied())
+    rms_against(samples, martin_moyce_n2_1().iter().copied())
 }
 
-/// `front_error_alt`: RMS against [`MARTIN_MOYCE_N2_1_ALT`] (time axis converted to `T`).
+/// `front_error_alt`: RMS against [`martin_moyce_n2_1_alt`](crate::reference::martin_moyce_n2_1_alt) (time axis converted to `T`).
 fn front_rms_alt(samples: &[(f64, f64)]) -> f64 {
     let s2 = std::f64::consts::SQRT_2;
     rms_against(
         samples,
-        MARTIN_MOYCE_N2_1_ALT.iter().map(|&(t, z)| (t * s2, z)),
+        martin_moyce_n2_1_alt().iter().map(|&(t, z)| (t * s2, z)),
     )
 }
 
@@ -421,7 +385,7 @@ fn run(p: &DamBreakParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     let a = p.column_width;
     let t_of = (a / (2.0 * G)).sqrt();
     let mut reference = Series::new(["t", "front_exp"]);
-    for &(tt, z) in &MARTIN_MOYCE_N2_1 {
+    for &(tt, z) in martin_moyce_n2_1() {
         reference.push(&[tt * t_of, z * a]);
     }
     out.series = o.series;
@@ -452,27 +416,8 @@ mod tests {
     use super::*;
 
     #[test]
-    fn embedded_data_match_the_shared_file() {
-        for (name, table) in [
-            ("dambreak_martin_moyce_n2_1.csv", &MARTIN_MOYCE_N2_1[..]),
-            (
-                "dambreak_martin_moyce_n2_1_trixi_digitization.csv",
-                &MARTIN_MOYCE_N2_1_ALT[..],
-            ),
-        ] {
-            let Ok(rows) = super::super::read_reference_csv(name) else {
-                return; // no ../shared checkout: nothing to compare
-            };
-            assert_eq!(rows.len(), table.len());
-            for (r, &(t, z)) in rows.iter().zip(table) {
-                assert_eq!((r[0], r[1]), (t, z));
-            }
-        }
-    }
-
-    #[test]
     fn rms_of_the_reference_itself_is_zero() {
-        let s: Vec<(f64, f64)> = MARTIN_MOYCE_N2_1.to_vec();
+        let s: Vec<(f64, f64)> = martin_moyce_n2_1().to_vec();
         assert!(front_rms(&s).abs() < 1e-12);
         assert!((interpolate(&s, 0.205) - 1.055).abs() < 1e-12);
         assert!(interpolate(&s, 3.5).is_nan());

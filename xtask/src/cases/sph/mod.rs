@@ -121,32 +121,6 @@ impl SphFrames {
     }
 }
 
-/// Reads a reference CSV from `shared/reference/data/` (comment lines start with `#`,
-/// one header line): returns the rows. The path is tried relative to the workspace root
-/// (`../shared/reference/data/<name>`) and to the current directory.
-pub fn read_reference_csv(name: &str) -> anyhow::Result<Vec<Vec<f64>>> {
-    let candidates = [
-        std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-            .join("../../shared/reference/data")
-            .join(name),
-        std::path::PathBuf::from("../shared/reference/data").join(name),
-    ];
-    let path = candidates.iter().find(|p| p.exists()).ok_or_else(|| {
-        anyhow::anyhow!("reference data `{name}` not found in ../shared/reference/data")
-    })?;
-    let text = std::fs::read_to_string(path)?;
-    let mut rows = Vec::new();
-    for line in text
-        .lines()
-        .filter(|l| !l.starts_with('#') && !l.trim().is_empty())
-        .skip(1)
-    {
-        let row: Result<Vec<f64>, _> = line.split(',').map(|s| s.trim().parse::<f64>()).collect();
-        rows.push(row.map_err(|e| anyhow::anyhow!("{}: bad line `{line}`: {e}", path.display()))?);
-    }
-    Ok(rows)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -161,11 +135,5 @@ mod tests {
         let o = convergence_order(&[(0.1, 0.04), (0.05, 0.01), (0.025, 0.0025)]);
         assert!((o - 2.0).abs() < 1e-9);
         assert_eq!(sweep_spacings(1.0, 2), vec![2.25, 1.5]);
-        assert!(
-            read_reference_csv("dambreak_martin_moyce_n2_1.csv")
-                .unwrap()
-                .len()
-                > 10
-        );
     }
 }

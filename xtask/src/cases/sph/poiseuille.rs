@@ -5,7 +5,7 @@
 //! extrapolation), periodic along x and y, fluid at rest at `t = 0`, body force `F`
 //! along x. Reference: the transient series solution
 //! ([`chrono_sph::analytic::poiseuille_startup`]); its tabulated form is
-//! `../shared/reference/data/poiseuille_startup_series.csv`. Metric `profile_error`: the
+//! `data/reference/poiseuille_startup_series.csv`. Metric `profile_error`: the
 //! largest relative L2 error of the layer-averaged velocity profile over the times
 //! `tau = nu t / L^2 = 0.0225, 0.045, 0.1125` and the steady state (`tau = 1`).
 
