@@ -5,14 +5,17 @@
 //!   ([`write_points_vtp`]), and the `.pvd` collection ([`write_pvd`]) that lets ParaView
 //!   play a series of frames.
 //! - [`grains`]: frames of grains (positions, radii, velocities), [`write_grains_vtp`].
+//! - [`frames`]: [`FrameSeries`], a series of frames of any kind with its `.pvd`.
 //!
 //! Errors are [`ChronoError::Io`] naming the file.
 
 pub mod csv;
+pub mod frames;
 pub mod grains;
 pub mod vtk;
 
 pub use csv::{CsvWriter, write_csv};
+pub use frames::{Every, FrameSeries};
 pub use grains::write_grains_vtp;
 pub use vtk::{
     ShapeMeshOptions, write_points_vtp, write_pvd, write_shapes_vtp, write_shapes_vtp_with,
