@@ -8,9 +8,11 @@
 //! registered in [`cases`]; the command line is in [`cli`].
 
 pub mod bench;
+pub mod budget;
 pub mod case;
 pub mod cases;
 pub mod cli;
+pub mod eta;
 pub mod fit;
 pub mod output;
 pub mod params;

@@ -202,6 +202,82 @@ fn md_escape(s: &str) -> String {
     s.replace('|', "\\|").replace('\n', " ")
 }
 
+/// How far a check is from failing: its error over its tolerance (`value / limit` for
+/// [`CheckKind::Below`]); 1 is the edge, above 1 fails. Infinite for a zero tolerance
+/// with a nonzero error, NaN for a non-finite value.
+pub fn tolerance_ratio(c: &Check) -> f64 {
+    let e = c.error();
+    if !e.is_finite() || !c.tolerance.is_finite() {
+        return f64::NAN;
+    }
+    if c.tolerance == 0.0 {
+        return if e == 0.0 { 0.0 } else { f64::INFINITY };
+    }
+    e / c.tolerance.abs()
+}
+
+/// The one-screen summary, one row per area (in the order of first appearance) and a
+/// total: cases, passed, the worst check as `error / tolerance` with its case and
+/// metric, and the wall time. Columns: area, cases, passed, worst, worst check, wall.
+pub fn area_rows(results: &[CaseResult]) -> Vec<[String; 6]> {
+    let mut areas: Vec<&str> = Vec::new();
+    for r in results {
+        if !areas.contains(&r.area.as_str()) {
+            areas.push(&r.area);
+        }
+    }
+    let row = |label: &str, rs: &[&CaseResult]| -> [String; 6] {
+        let passed = rs.iter().filter(|r| r.passed()).count();
+        let wall: f64 = rs.iter().map(|r| r.wall_s).sum();
+        // NaN (a non-finite value) ranks worst of all.
+        let worst = rs
+            .iter()
+            .flat_map(|r| r.checks().iter().map(move |c| (r, c, tolerance_ratio(c))))
+            .max_by(|a, b| {
+                let key = |x: f64| if x.is_nan() { f64::INFINITY } else { x };
+                key(a.2).total_cmp(&key(b.2))
+            });
+        let (ratio, which) = match worst {
+            Some((r, c, x)) => (fmt_sig(x, 2), format!("{} `{}`", r.name, c.metric)),
+            None => ("-".into(), "-".into()),
+        };
+        let errors = rs.iter().filter(|r| r.error.is_some()).count();
+        let which = if errors > 0 {
+            format!("{which} ({errors} errored)")
+        } else {
+            which
+        };
+        [
+            label.to_string(),
+            rs.len().to_string(),
+            passed.to_string(),
+            ratio,
+            which,
+            fmt_sig(wall, 3),
+        ]
+    };
+    let mut rows: Vec<[String; 6]> = areas
+        .iter()
+        .map(|a| {
+            let rs: Vec<&CaseResult> = results.iter().filter(|r| r.area == *a).collect();
+            row(a, &rs)
+        })
+        .collect();
+    let all: Vec<&CaseResult> = results.iter().collect();
+    rows.push(row("total", &all));
+    rows
+}
+
+/// The header of [`area_rows`].
+pub const AREA_HEADER: [&str; 6] = [
+    "area",
+    "cases",
+    "passed",
+    "worst error / tolerance",
+    "worst check",
+    "wall s",
+];
+
 /// Writes `DIR/report.md`: the table, metrics without checks, plots, errors, parameters.
 pub fn write_report_md(dir: &Path, title: &str, results: &[CaseResult]) -> anyhow::Result<PathBuf> {
     let mut md = String::new();
@@ -216,6 +292,14 @@ pub fn write_report_md(dir: &Path, title: &str, results: &[CaseResult]) -> anyho
         results.len(),
         fmt_sig(wall, 3)
     )?;
+    writeln!(md, "## Summary\n")?;
+    writeln!(md, "| {} |", AREA_HEADER.join(" | "))?;
+    writeln!(md, "|---|--:|--:|--:|---|--:|")?;
+    for row in area_rows(results) {
+        let cells: Vec<String> = row.iter().map(|c| md_escape(c)).collect();
+        writeln!(md, "| {} |", cells.join(" | "))?;
+    }
+    writeln!(md, "\n## Checks\n")?;
     writeln!(
         md,
         "| case | metric | value | reference | error | tolerance | pass | wall s | steps/s |"

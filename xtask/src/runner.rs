@@ -5,15 +5,18 @@
 use std::io::IsTerminal;
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::{Path, PathBuf};
+use std::sync::Mutex;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 use anyhow::{Context, bail};
-use indicatif::{ProgressBar, ProgressStyle};
+use indicatif::{MultiProgress, ProgressBar, ProgressStyle};
 use serde_json::Value;
 
 use crate::case::{Case, CaseOutput, Check, Mode, PROGRESS_STEPS, RunContext};
+use crate::eta::{self, Eta, Timings};
 use crate::params::{Override, apply_overrides};
-use crate::{plot, report};
+use crate::{budget, plot, report};
 
 /// The outcome of one case.
 #[derive(Clone, Debug)]
@@ -174,6 +177,16 @@ fn progress_bar(prefix: String) -> ProgressBar {
 /// A failing run is recorded in the result; only I/O errors on the output directory
 /// are returned as errors.
 pub fn run_case(case: &dyn Case, label: &str, opts: &RunOptions) -> anyhow::Result<CaseResult> {
+    let bar = opts.progress.then(|| progress_bar(label.to_string()));
+    run_case_with_bar(case, opts, bar)
+}
+
+/// [`run_case`] with the progress bar given (or none).
+fn run_case_with_bar(
+    case: &dyn Case,
+    opts: &RunOptions,
+    bar: Option<ProgressBar>,
+) -> anyhow::Result<CaseResult> {
     let dir = opts.out_dir.join(case.name());
     std::fs::create_dir_all(&dir).with_context(|| format!("creating {}", dir.display()))?;
     for stale in ["series.csv", "plot.png", "speed_vs_error.png"] {
@@ -183,7 +196,6 @@ pub fn run_case(case: &dyn Case, label: &str, opts: &RunOptions) -> anyhow::Resu
     if let Some(vtk) = ctx.vtk_dir() {
         std::fs::create_dir_all(&vtk).with_context(|| format!("creating {}", vtk.display()))?;
     }
-    let bar = opts.progress.then(|| progress_bar(label.to_string()));
     if let Some(bar) = &bar {
         ctx = ctx.with_progress_bar(bar.clone());
     }
@@ -261,15 +273,119 @@ fn finished_line(label: &str, r: &CaseResult) -> String {
     line
 }
 
-/// Runs the cases one after another, printing one line per finished case.
+/// The expected wall time of each case: the last run's in this mode, else its budget.
+fn expectations(cases: &[Box<dyn Case>], mode: Mode, timings: &Timings) -> Vec<Option<f64>> {
+    cases
+        .iter()
+        .map(|c| {
+            timings
+                .get(mode, c.name())
+                .or_else(|| budget::budget_s(c.name(), mode))
+        })
+        .collect()
+}
+
+/// The overall line: cases done, time elapsed and the estimate of the time left.
+fn overall_message(done: usize, total: usize, elapsed: f64, left: f64) -> String {
+    format!(
+        "{done}/{total} cases · {} elapsed · about {} left",
+        eta::fmt_duration(elapsed),
+        eta::fmt_duration(left)
+    )
+}
+
+/// Runs the cases one after another, printing one line per finished case with the time
+/// elapsed and an estimate of the time left ([`Eta`]); in a terminal an overall bar
+/// above the case's own bar keeps that estimate current. The wall times are recorded in
+/// `DIR/timings.json` for the next run's estimate.
 pub fn run_all(cases: &[Box<dyn Case>], opts: &RunOptions) -> anyhow::Result<Vec<CaseResult>> {
     let width = cases.iter().map(|c| c.name().len()).max().unwrap_or(0);
-    let mut results = Vec::with_capacity(cases.len());
-    for (i, case) in cases.iter().enumerate() {
-        let label = format!("[{}/{}] {:<width$}", i + 1, cases.len(), case.name());
-        let r = run_case(case.as_ref(), &label, opts)?;
-        println!("{}", finished_line(&label, &r));
-        results.push(r);
+    let mut timings = Timings::load(&opts.out_dir);
+    let eta = Mutex::new(Eta::new(expectations(cases, opts.mode, &timings)));
+    let total = cases.len();
+    let run_start = Instant::now();
+    let multi = opts.progress.then(MultiProgress::new);
+    let overall = multi.as_ref().map(|m| {
+        let bar = m.add(ProgressBar::new(total as u64));
+        bar.set_style(
+            ProgressStyle::with_template("{prefix:.bold} [{bar:30.green/white}] {msg}")
+                .expect("valid progress template")
+                .progress_chars("=> "),
+        );
+        bar.set_prefix("overall");
+        bar
+    });
+    // What the ticker reads: the running case's index, start and bar.
+    let current: Mutex<Option<(usize, Instant, ProgressBar)>> = Mutex::new(None);
+    let stop = AtomicBool::new(false);
+    let mut results = Vec::with_capacity(total);
+    std::thread::scope(|scope| -> anyhow::Result<()> {
+        if let Some(overall) = &overall {
+            scope.spawn(|| {
+                while !stop.load(Ordering::Relaxed) {
+                    if let Some((i, start, bar)) = current.lock().ok().and_then(|c| c.clone()) {
+                        let fraction = bar.position() as f64 / PROGRESS_STEPS as f64;
+                        let elapsed = start.elapsed().as_secs_f64();
+                        let left = eta
+                            .lock()
+                            .map_or(f64::NAN, |e| e.remaining(i, elapsed, fraction));
+                        overall.set_message(overall_message(
+                            i,
+                            total,
+                            run_start.elapsed().as_secs_f64(),
+                            left,
+                        ));
+                    }
+                    std::thread::sleep(Duration::from_millis(250));
+                }
+            });
+        }
+        let result = (|| {
+            for (i, case) in cases.iter().enumerate() {
+                let label = format!("[{}/{}] {:<width$}", i + 1, total, case.name());
+                let bar = multi.as_ref().map(|m| m.add(progress_bar(label.clone())));
+                if let (Ok(mut c), Some(bar)) = (current.lock(), &bar) {
+                    *c = Some((i, Instant::now(), bar.clone()));
+                }
+                let r = run_case_with_bar(case.as_ref(), opts, bar)?;
+                let left = {
+                    let mut e = eta
+                        .lock()
+                        .map_err(|_| anyhow::anyhow!("estimate poisoned"))?;
+                    e.finish(i, r.wall_s);
+                    if i + 1 < total {
+                        e.remaining(i + 1, 0.0, 0.0)
+                    } else {
+                        0.0
+                    }
+                };
+                timings.set(opts.mode, case.name(), r.wall_s);
+                let elapsed = run_start.elapsed().as_secs_f64();
+                let line = format!(
+                    "{}  · {}",
+                    finished_line(&label, &r),
+                    overall_message(i + 1, total, elapsed, left)
+                );
+                match &overall {
+                    Some(o) => {
+                        o.inc(1);
+                        o.println(line);
+                    }
+                    None => println!("{line}"),
+                }
+                results.push(r);
+            }
+            Ok(())
+        })();
+        stop.store(true, Ordering::Relaxed);
+        result
+    })?;
+    if let Some(o) = overall {
+        o.finish_and_clear();
+    }
+    // The estimate of the next run; a failure to write it does not fail this one.
+    if let Err(e) = timings.save(&opts.out_dir) {
+        eprintln!("warning: could not write {}: {e:#}", Timings::FILE);
     }
     Ok(results)
 }
@@ -300,6 +416,11 @@ pub fn validate(
     println!();
     report::print_table(&results);
     report::print_sweeps(&results);
+    println!();
+    print!(
+        "{}",
+        report::text_table(report::AREA_HEADER, &report::area_rows(&results))
+    );
     let failed: Vec<&str> = results
         .iter()
         .filter(|r| !r.passed())

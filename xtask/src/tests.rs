@@ -55,6 +55,21 @@ fn full_run_writes_report_csv_summary_and_plots() {
     assert_eq!(csv.lines().count(), 2 + 50); // header, t = 0, 50 steps of the quick mode
 
     let md = std::fs::read_to_string(dir.join("report.md")).unwrap();
+    // The one-screen summary opens the report: the test area, 2 cases, 1 passed, the
+    // failing case named, and the timings file for the next run's estimate.
+    let summary = md.find("## Summary").expect("summary");
+    assert!(
+        summary < md.find("## Checks").expect("checks table"),
+        "{md}"
+    );
+    assert!(
+        md.contains("| test | 2 | 1 |") && md.contains("| total | 2 | 1 |"),
+        "{md}"
+    );
+    assert!(md.contains("(1 errored)"), "{md}");
+    let timings = crate::eta::Timings::load(&dir);
+    assert!(timings.get(Mode::Quick, "test-decay").is_some());
+    assert!(timings.get(Mode::Quick, "test-fail").is_some());
     assert!(md.contains(
         "| case | metric | value | reference | error | tolerance | pass | wall s | steps/s |"
     ));
@@ -116,4 +131,16 @@ fn errors_fail_the_case_and_bad_overrides_stop_the_run() {
     assert!(e.unwrap_err().to_string().contains("expects a number"));
     assert!(validate(Vec::new(), &[], &opts(&dir, &[]), None).unwrap());
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn tolerance_ratio_ranks_the_worst_check() {
+    use crate::case::Check;
+    use crate::report::tolerance_ratio;
+    assert!((tolerance_ratio(&Check::relative("a", 1.1, 1.0, 0.2)) - 0.5).abs() < 1e-12);
+    assert!((tolerance_ratio(&Check::absolute("b", 3.0, 1.0, 4.0)) - 0.5).abs() < 1e-12);
+    assert!((tolerance_ratio(&Check::below("c", 3.0, 2.0)) - 1.5).abs() < 1e-12);
+    assert!(tolerance_ratio(&Check::below("d", f64::NAN, 2.0)).is_nan());
+    assert_eq!(tolerance_ratio(&Check::absolute("e", 1.0, 1.0, 0.0)), 0.0);
+    assert!(tolerance_ratio(&Check::absolute("f", 2.0, 1.0, 0.0)).is_infinite());
 }

@@ -1,0 +1,143 @@
+//! The time budget of a validation run.
+//!
+//! `cargo xtask validate` at its defaults must finish in at most [`DEFAULT_RUN_S`] (20
+//! minutes) on the project's 2-core machine, and every later case lives within that rule:
+//! each area has its share, each case its part of the share ([`BUDGETS`]). A case whose
+//! complete set-up takes longer keeps it under `--full`. The budgets also serve the
+//! progress estimate of the time left ([`crate::eta`]) on a machine that has no timings
+//! of an earlier run.
+//!
+//! The figures are planned wall seconds on 2 cores. They are a plan, not yet a
+//! measurement: the defaults of the expensive cases are being brought within them case by
+//! case (docs/performance.md, section "Validation run time", records the measured times
+//! against these budgets).
+
+use crate::case::Mode;
+
+/// The limit of the default run, wall seconds on 2 cores.
+pub const DEFAULT_RUN_S: f64 = 1200.0;
+
+/// The part of [`DEFAULT_RUN_S`] the budgets may plan for: the rest is headroom for a
+/// machine busier than the one measured.
+pub const PLANNED_FRACTION: f64 = 0.9;
+
+/// One case's budget: wall seconds at the defaults and under `--quick`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Budget {
+    /// The case name.
+    pub case: &'static str,
+    /// Wall seconds of the default run.
+    pub default_s: f64,
+    /// Wall seconds of the `--quick` run.
+    pub quick_s: f64,
+}
+
+const fn b(case: &'static str, default_s: f64, quick_s: f64) -> Budget {
+    Budget {
+        case,
+        default_s,
+        quick_s,
+    }
+}
+
+/// Every validation case's budget, in the order of the run.
+pub const BUDGETS: &[Budget] = &[
+    b("rigid-incline", 2.0, 1.0),
+    b("rigid-pendulum", 5.0, 2.0),
+    b("rigid-stack", 5.0, 2.0),
+    b("rigid-stack-heavy", 5.0, 2.0),
+    b("rigid-free-fall", 2.0, 1.0),
+    b("rigid-spin", 2.0, 1.0),
+    b("smc-bounce", 10.0, 5.0),
+    b("granular-settle", 60.0, 20.0),
+    b("granular-hopper", 60.0, 30.0),
+    b("granular-ball-drop", 60.0, 30.0),
+    b("granular-shear", 60.0, 30.0),
+    b("granular-repose", 60.0, 30.0),
+    b("sph-hydrostatic", 20.0, 10.0),
+    b("sph-poiseuille", 20.0, 10.0),
+    b("sph-dam-break", 60.0, 20.0),
+    b("sph-sloshing", 60.0, 20.0),
+    b("cfluid-incompressibility", 40.0, 20.0),
+    b("cfluid-dam-break", 40.0, 20.0),
+    b("cfluid-floating-box", 40.0, 20.0),
+    b("cfluid-timestep", 40.0, 20.0),
+    b("cfluid-sloshing", 40.0, 20.0),
+    b("cfluid-still-water", 30.0, 15.0),
+    b("ccp-solvers", 40.0, 15.0),
+    b("fea-cantilever", 10.0, 3.0),
+    b("fea-cantilever-frequency", 10.0, 3.0),
+    b("fea-pendulum", 10.0, 3.0),
+    b("fea-tet-patch", 5.0, 2.0),
+    b("fea-tet-cantilever", 15.0, 5.0),
+    b("fea-shell-cantilever", 20.0, 5.0),
+    b("fea-shell-pressure", 20.0, 5.0),
+    b("fea-bend-45", 10.0, 3.0),
+    b("fea-tire-drop", 40.0, 15.0),
+    b("hmmwv-static", 10.0, 5.0),
+    b("hmmwv-accel", 30.0, 10.0),
+    b("hmmwv-turn", 20.0, 10.0),
+    b("hmmwv-lane-change", 20.0, 10.0),
+    b("hmmwv-granular", 60.0, 30.0),
+];
+
+/// The budget of `case` in `mode` (s); `None` for an unknown case or `--full` (which
+/// has no limit).
+pub fn budget_s(case: &str, mode: Mode) -> Option<f64> {
+    let b = BUDGETS.iter().find(|b| b.case == case)?;
+    match mode {
+        Mode::Default => Some(b.default_s),
+        Mode::Quick => Some(b.quick_s),
+        Mode::Full => None,
+    }
+}
+
+/// The budgets summed by area (the prefix of the case name up to its first `-`,
+/// `smc-bounce` counted as granular, `hmmwv-*` as vehicle), in seconds at the defaults.
+pub fn area_shares() -> Vec<(&'static str, f64)> {
+    let mut shares: Vec<(&'static str, f64)> = Vec::new();
+    for b in BUDGETS {
+        let area = match b.case.split('-').next().unwrap_or(b.case) {
+            "smc" => "granular",
+            "hmmwv" => "vehicle",
+            a => a,
+        };
+        match shares.iter_mut().find(|(a, _)| *a == area) {
+            Some((_, s)) => *s += b.default_s,
+            None => shares.push((area, b.default_s)),
+        }
+    }
+    shares
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::cases::all_cases;
+
+    #[test]
+    fn every_case_has_a_budget_and_the_plan_fits_the_limit() {
+        let cases = all_cases();
+        for c in &cases {
+            assert!(
+                budget_s(c.name(), Mode::Default).is_some(),
+                "no budget for {}",
+                c.name()
+            );
+        }
+        assert_eq!(
+            cases.len(),
+            BUDGETS.len(),
+            "a budget for a case that is not registered"
+        );
+        let total: f64 = BUDGETS.iter().map(|b| b.default_s).sum();
+        assert!(
+            total <= PLANNED_FRACTION * DEFAULT_RUN_S,
+            "budgets sum to {total} s, over {PLANNED_FRACTION} x {DEFAULT_RUN_S} s"
+        );
+        let areas: f64 = area_shares().iter().map(|(_, s)| s).sum();
+        assert!((areas - total).abs() < 1e-9);
+        assert!(BUDGETS.iter().all(|b| b.quick_s <= b.default_s));
+        assert_eq!(budget_s("rigid-incline", Mode::Full), None);
+    }
+}
