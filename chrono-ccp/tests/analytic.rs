@@ -160,13 +160,13 @@ fn bilateral_only_matches_a_dense_linear_solve() {
     let k = [
         0.3,
         0.0,
-        -3.0 * (-GRAVITY.z) * h,
+        3.0 * GRAVITY.z * h,
         0.1,
         -0.2,
         0.05,
         0.0,
         0.1,
-        -0.7 * (-GRAVITY.z) * h,
+        0.7 * GRAVITY.z * h,
     ];
     let mut problem = CcpProblem::new();
     problem.assemble(&vars, &rows, &k).unwrap();

@@ -23,9 +23,13 @@
 //!
 //! let problem = random_problem(7).unwrap();
 //! let mut gamma = vec![0.0; problem.n_rows()];
-//! let settings = SolverSettings { tolerance: 1e-9, max_iterations: 20_000, record_history: false };
-//! Apgd::new(settings).solve(&problem, &mut gamma);
-//! check_complementarity(&problem, &gamma, 1e-6).unwrap();
+//! let settings = SolverSettings {
+//!     tolerance: 1e-11, // m/s
+//!     max_iterations: 200_000,
+//!     record_history: false,
+//! };
+//! assert!(Apgd::new(settings).solve(&problem, &mut gamma).converged);
+//! check_complementarity(&problem, &gamma, 1e-9).unwrap();
 //! ```
 
 mod check;
