@@ -12,9 +12,6 @@
 //!
 //! Run: `cargo bench -p chrono-ccp --bench solvers`.
 
-#[path = "../tests/common/mod.rs"]
-mod common;
-
 use std::hint::black_box;
 
 use chrono_ccp::{SolverSettings, by_name};
@@ -24,7 +21,7 @@ use criterion::{Criterion, criterion_group, criterion_main};
 fn bench(c: &mut Criterion) {
     let problem = match std::env::var("CCP_BENCH_PROBLEM") {
         Ok(path) => ProblemFile::load_problem(&path).expect("CCP_BENCH_PROBLEM"),
-        Err(_) => common::lattice(22, 22, 21, 1),
+        Err(_) => chrono_ccp::testing::lattice(22, 22, 21, 1).unwrap(),
     };
     let m = problem.n_rows();
     let mut work = CcpWork::for_problem(&problem);

@@ -39,6 +39,7 @@
 //! ```
 //! use chrono_ccp::{Apgd, CcpSolver, SolverSettings};
 //! use chrono_core::descriptor::{CcpProblem, ConstraintRows, MassOperator, RowEntry, Variables};
+//! use chrono_core::math::GRAVITY;
 //!
 //! // A 2 kg particle resting on the ground (normal +z), one step of h = 0.01 s under gravity.
 //! let (m, h) = (2.0, 0.01);
@@ -49,15 +50,21 @@
 //! let u = [RowEntry { block: p, coefs: &[1.0, 0.0, 0.0] }];
 //! let w = [RowEntry { block: p, coefs: &[0.0, 1.0, 0.0] }];
 //! rows.push_friction(0.5, [&n, &u, &w], [0.0; 3], [0.0; 3]);
-//! let k = [0.0, 0.0, -m * 9.81 * h]; // k = M v + h f with v = 0
+//! let k = [0.0, 0.0, m * GRAVITY.z * h]; // k = M v + h f with v = 0
 //! let mut problem = CcpProblem::new();
 //! problem.assemble(&vars, &rows, &k).unwrap();
 //!
 //! let mut gamma = vec![0.0; problem.n_rows()];
 //! let stats = Apgd::new(SolverSettings::default()).solve(&problem, &mut gamma);
 //! assert!(stats.converged);
-//! assert!((gamma[0] - m * 9.81 * h).abs() < 1e-6); // the normal impulse holds the weight
+//! assert!((gamma[0] + m * GRAVITY.z * h).abs() < 1e-6); // the normal impulse holds the weight
 //! ```
+//!
+//! Errors are [`CcpError`] (convertible into [`chrono_core::ChronoError`]). The cargo
+//! feature `testing` (off by default) adds the module `testing`: seeded generators of test
+//! problems (random small CCPs, particle lattices, box stacks, a settled granular pile, a
+//! bilateral net) and an explicit row-by-row complementarity check, the ones this crate's
+//! tests and the `xtask` solver benchmarks use.
 
 /// The `name`, `settings` and `settings_mut` methods of a [`CcpSolver`] whose settings are
 /// its field `settings`.
@@ -106,11 +113,14 @@ pub mod apgd;
 pub mod bb;
 pub mod cg;
 mod dense;
+pub mod error;
 pub mod jacobi;
 pub mod minres;
 pub mod psor;
 pub mod schur;
 mod sparse_bilateral;
+#[cfg(feature = "testing")]
+pub mod testing;
 pub mod two_phase;
 mod util;
 
@@ -118,6 +128,7 @@ pub use apgd::{Apgd, ApgdOptions};
 pub use bb::BarzilaiBorwein;
 pub use cg::{Cg, KrylovOptions, NotBilateral, check_bilateral, relative_residual};
 pub use chrono_core::descriptor::{CcpSolver, IterationRecord, SolveStats, SolverSettings};
+pub use error::CcpError;
 pub use jacobi::{Jacobi, JacobiOptions};
 pub use minres::Minres;
 pub use psor::{Psor, PsorOptions, TripletStep};
@@ -141,7 +152,7 @@ pub const SOLVER_NAMES: [&str; 10] = [
 /// A solver by name (see [`SOLVER_NAMES`]; `psor-sym` is PSOR with symmetric sweeps,
 /// `psor-par` PSOR with parallel coloured sweeps) with
 /// the given settings, or an error naming the unknown value.
-pub fn by_name(name: &str, settings: SolverSettings) -> Result<Box<dyn CcpSolver>, String> {
+pub fn by_name(name: &str, settings: SolverSettings) -> Result<Box<dyn CcpSolver>, CcpError> {
     Ok(match name {
         "jacobi" => Box::new(Jacobi::new(settings)),
         "psor" => Box::new(Psor::new(settings)),
@@ -154,10 +165,9 @@ pub fn by_name(name: &str, settings: SolverSettings) -> Result<Box<dyn CcpSolver
         "cg" => Box::new(Cg::new(settings)),
         "minres" => Box::new(Minres::new(settings)),
         other => {
-            return Err(format!(
-                "solver = `{other}` is not one of {}",
-                SOLVER_NAMES.join(", ")
-            ));
+            return Err(CcpError::UnknownSolver {
+                name: other.to_string(),
+            });
         }
     })
 }

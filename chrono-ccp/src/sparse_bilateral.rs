@@ -14,6 +14,8 @@
 //! row's multiplier stays about zero, as when [`crate::dense`] drops it).
 
 use chrono_core::descriptor::CcpProblem;
+
+use crate::error::CcpError;
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::linalg::cholesky::llt::factor::LltRegularization;
 use faer::sparse::linalg::cholesky::{
@@ -48,7 +50,11 @@ impl SparseBilateral {
     /// Assemble `N_BB` for the bilateral rows `b_rows` of `problem` and factor it.
     /// Returns an error text if the factorization failed (not expected for a PSD matrix
     /// with regularization; the caller falls back).
-    pub(crate) fn factor(&mut self, problem: &CcpProblem, b_rows: &[usize]) -> Result<(), String> {
+    pub(crate) fn factor(
+        &mut self,
+        problem: &CcpProblem,
+        b_rows: &[usize],
+    ) -> Result<(), CcpError> {
         self.key_scratch.clear();
         for &i in b_rows {
             self.key_scratch.extend(problem.row_blocks(i).map(|b| b.0));
@@ -58,7 +64,12 @@ impl SparseBilateral {
             std::mem::swap(&mut self.key, &mut self.key_scratch);
             self.analyze(problem, b_rows)?;
         }
-        let upper = self.upper.as_mut().ok_or("no pattern")?;
+        let missing = |stage| CcpError::Factorization {
+            rows: b_rows.len(),
+            stage,
+            detail: "not analyzed".to_string(),
+        };
+        let upper = self.upper.as_mut().ok_or_else(|| missing("pattern"))?;
         let vals = upper.val_mut();
         let mut max_diag: f64 = 0.0;
         for (v, &(i, j)) in vals.iter_mut().zip(&self.entries) {
@@ -68,8 +79,8 @@ impl SparseBilateral {
             }
         }
         let scale = if max_diag > 0.0 { max_diag } else { 1.0 };
-        let symbolic = self.symbolic.as_ref().ok_or("no symbolic factorization")?;
-        let scratch = self.scratch.as_mut().ok_or("no scratch")?;
+        let symbolic = self.symbolic.as_ref().ok_or_else(|| missing("symbolic"))?;
+        let scratch = self.scratch.as_mut().ok_or_else(|| missing("symbolic"))?;
         symbolic
             .factorize_numeric_llt(
                 &mut self.l_values,
@@ -84,11 +95,15 @@ impl SparseBilateral {
                 Default::default(),
             )
             .map(|_| ())
-            .map_err(|e| format!("{e:?}"))
+            .map_err(|e| CcpError::Factorization {
+                rows: b_rows.len(),
+                stage: "numeric",
+                detail: format!("{e:?}"),
+            })
     }
 
     /// The pattern, ordering and symbolic factorization for the current key.
-    fn analyze(&mut self, problem: &CcpProblem, b_rows: &[usize]) -> Result<(), String> {
+    fn analyze(&mut self, problem: &CcpProblem, b_rows: &[usize]) -> Result<(), CcpError> {
         let nb = b_rows.len();
         let n_blocks = problem.variables().len();
         let mut by_block: Vec<Vec<usize>> = vec![Vec::new(); n_blocks];
@@ -111,8 +126,13 @@ impl SparseBilateral {
             .iter()
             .map(|&(i, j)| Triplet::new(i, j, 0.0))
             .collect();
-        let upper = SparseColMat::try_new_from_triplets(nb, nb, &triplets)
-            .map_err(|e| format!("pattern: {e:?}"))?;
+        let upper = SparseColMat::try_new_from_triplets(nb, nb, &triplets).map_err(|e| {
+            CcpError::Factorization {
+                rows: nb,
+                stage: "pattern",
+                detail: format!("{e:?}"),
+            }
+        })?;
         // Storage order of the values (compressed columns, rows sorted within a column).
         let s = upper.symbolic();
         self.entries.clear();
@@ -127,7 +147,11 @@ impl SparseBilateral {
             SymmetricOrdering::Amd,
             CholeskySymbolicParams::default(),
         )
-        .map_err(|e| format!("symbolic: {e:?}"))?;
+        .map_err(|e| CcpError::Factorization {
+            rows: nb,
+            stage: "symbolic",
+            detail: format!("{e:?}"),
+        })?;
         self.l_values.clear();
         self.l_values.resize(symbolic.len_val(), 0.0);
         self.symbolic = Some(symbolic);

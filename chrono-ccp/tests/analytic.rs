@@ -1,11 +1,10 @@
 //! Problems with a known answer, for both solvers.
 
-mod common;
-
+use chrono_ccp::testing::{check_complementarity, dense_n, particle_on_ground, rigid_coefs};
 use chrono_ccp::{Apgd, CcpSolver, Psor, SolverSettings};
 use chrono_core::descriptor::{CcpProblem, ConstraintRows, MassOperator, RowEntry, Variables};
+use chrono_core::math::GRAVITY;
 use chrono_core::math::{Matrix3, Vector3};
-use common::{G, check_complementarity, dense_n, particle_on_ground, rigid_coefs};
 use nalgebra::DVector;
 
 const TOL: f64 = 1e-12;
@@ -31,11 +30,11 @@ fn solve(solver: &mut dyn CcpSolver, problem: &CcpProblem) -> Vec<f64> {
 #[test]
 fn particle_resting_on_ground() {
     let (m, h) = (2.0, 0.01);
-    let problem = particle_on_ground(m, 0.5, [0.0; 3], h);
+    let problem = particle_on_ground(m, 0.5, [0.0; 3], h).unwrap();
     for mut s in solvers() {
         let g = solve(s.as_mut(), &problem);
         assert!(
-            (g[0] - m * G * h).abs() < 1e-10,
+            (g[0] - m * (-GRAVITY.z) * h).abs() < 1e-10,
             "{}: g_n = {}",
             s.name(),
             g[0]
@@ -55,8 +54,8 @@ fn sliding_particle_friction_saturates_against_the_slip() {
     // convexification) also gives the sliding contact a separating normal velocity
     // c_n = mu |v_t+|, so with v_t+ = v - mu g_n / m:  g_n = m (g h + mu v) / (1 + mu^2).
     let (m, h, mu, v) = (2.0, 0.01, 0.3, 1.0);
-    let problem = particle_on_ground(m, mu, [v, 0.0, 0.0], h);
-    let gn = m * (G * h + mu * v) / (1.0 + mu * mu);
+    let problem = particle_on_ground(m, mu, [v, 0.0, 0.0], h).unwrap();
+    let gn = m * ((-GRAVITY.z) * h + mu * v) / (1.0 + mu * mu);
     for mut s in solvers() {
         let g = solve(s.as_mut(), &problem);
         assert!(
@@ -90,10 +89,14 @@ fn sliding_particle_friction_saturates_against_the_slip() {
 fn particle_pushed_less_than_friction_sticks() {
     // m v = 0.02 N s < mu m g h = 0.0491 N s: friction stops it within the step.
     let (m, h, mu, v) = (2.0, 0.01, 0.5, 0.01);
-    let problem = particle_on_ground(m, mu, [v, -0.5 * v, 0.0], h);
+    let problem = particle_on_ground(m, mu, [v, -0.5 * v, 0.0], h).unwrap();
     for mut s in solvers() {
         let g = solve(s.as_mut(), &problem);
-        assert!((g[0] - m * G * h).abs() < 1e-10, "{}: {g:?}", s.name());
+        assert!(
+            (g[0] - m * (-GRAVITY.z) * h).abs() < 1e-10,
+            "{}: {g:?}",
+            s.name()
+        );
         assert!(
             (g[1] + m * v).abs() < 1e-10 && (g[2] - 0.5 * m * v).abs() < 1e-10,
             "{}: {g:?}",
@@ -157,13 +160,13 @@ fn bilateral_only_matches_a_dense_linear_solve() {
     let k = [
         0.3,
         0.0,
-        -3.0 * G * h,
+        3.0 * GRAVITY.z * h,
         0.1,
         -0.2,
         0.05,
         0.0,
         0.1,
-        -0.7 * G * h,
+        0.7 * GRAVITY.z * h,
     ];
     let mut problem = CcpProblem::new();
     problem.assemble(&vars, &rows, &k).unwrap();
@@ -293,7 +296,7 @@ fn non_finite_data_stops_the_solve() {
 
 #[test]
 fn history_is_recorded_when_asked() {
-    let problem = common::box_stack(2, 0.5, 0.01);
+    let problem = chrono_ccp::testing::box_stack(2, 0.5, 0.01).unwrap();
     let s = SolverSettings {
         tolerance: 1e-8,
         max_iterations: 5,

@@ -1,7 +1,6 @@
 //! Bilateral-only problems: CG and MINRES against a dense solve, and the two-phase strategy.
 
-mod common;
-
+use chrono_ccp::testing::{check_complementarity, dense_n, gradient, random_problem};
 use chrono_ccp::{
     CcpSolver, Cg, KrylovOptions, Minres, SolverSettings, TwoPhase, check_bilateral,
     relative_residual,
@@ -9,7 +8,7 @@ use chrono_ccp::{
 use chrono_core::descriptor::{
     CcpProblem, CcpWork, ConstraintRows, MassOperator, RowEntry, Variables,
 };
-use common::{Rng, check_complementarity, dense_n, gradient, random_problem};
+use chrono_core::rng::Rng;
 use nalgebra::DVector;
 use proptest::prelude::*;
 
@@ -17,10 +16,10 @@ use proptest::prelude::*;
 /// pinned by point rows (independent rows), random stabilization terms, under gravity:
 /// bilateral only, SPD.
 pub fn net(nx: usize, ny: usize, eps: f64, seed: u64) -> CcpProblem {
-    let mut rng = Rng(seed);
+    let mut rng = Rng::splitmix64(seed);
     let mut vars = Variables::new();
     let ids: Vec<_> = (0..nx * ny)
-        .map(|_| vars.add(MassOperator::particle(rng.uniform(0.5, 2.0)).unwrap()))
+        .map(|_| vars.add(MassOperator::particle(rng.range(0.5, 2.0)).unwrap()))
         .collect();
     let mut rows = ConstraintRows::new();
     for y in 0..ny {
@@ -40,7 +39,7 @@ pub fn net(nx: usize, ny: usize, eps: f64, seed: u64) -> CcpProblem {
                             coefs: &nd,
                         },
                     ];
-                    rows.push_bilateral(&e, rng.uniform(-0.01, 0.01), eps);
+                    rows.push_bilateral(&e, rng.range(-0.01, 0.01), eps);
                 }
             }
             // Pins: z at the four corners, x and y at the first one (rows independent).
@@ -59,7 +58,7 @@ pub fn net(nx: usize, ny: usize, eps: f64, seed: u64) -> CcpProblem {
     }
     let mut k = vec![0.0; vars.ndof()];
     for (p, kp) in k.chunks_mut(3).enumerate() {
-        kp[0] = rng.uniform(-0.1, 0.1);
+        kp[0] = rng.range(-0.1, 0.1);
         kp[2] = -(p as f64 % 3.0 + 1.0) * 0.01;
     }
     let mut p = CcpProblem::new();
@@ -134,7 +133,7 @@ fn krylov_reaches_a_relative_residual_of_1e_8_on_a_larger_net() {
 
 #[test]
 fn krylov_refuses_problems_with_cone_rows() {
-    let problem = common::particle_on_ground(1.0, 0.5, [0.0; 3], 0.01);
+    let problem = chrono_ccp::testing::particle_on_ground(1.0, 0.5, [0.0; 3], 0.01).unwrap();
     let e = check_bilateral(&problem).unwrap_err();
     assert!(e.to_string().contains("non-bilateral"), "{e}");
     let mut g = vec![0.0; 3];
@@ -149,7 +148,7 @@ proptest! {
 
     #[test]
     fn two_phase_solves_mixed_problems(seed in any::<u64>()) {
-        let problem = random_problem(seed);
+        let problem = random_problem(seed).unwrap();
         let mut g = vec![0.0; problem.n_rows()];
         let st = TwoPhase::new(SolverSettings { tolerance: 1e-11, max_iterations: 100_000, record_history: true })
             .solve(&problem, &mut g);
@@ -167,7 +166,7 @@ proptest! {
     /// every CCP solver on the objective and satisfy `N g + r = 0`.
     #[test]
     fn krylov_agrees_with_the_ccp_solvers_on_bilateral_problems(seed in any::<u64>()) {
-        let full = random_problem(seed);
+        let full = random_problem(seed).unwrap();
         let nb = full.sections().bilateral.len();
         prop_assume!(nb > 0);
         let mut p = CcpProblem::new();

@@ -3,12 +3,10 @@
 //! derivative-free minimization of the distance over a parametrization of the cone that
 //! knows nothing of the projection's formula).
 
-mod common;
-
 use chrono_core::descriptor::{
     project_friction_cone, project_rolling_cone, project_rolling_per_body_cone,
 };
-use common::Rng;
+use chrono_core::rng::Rng;
 use proptest::prelude::*;
 
 fn dist(a: &[f64], b: &[f64]) -> f64 {
@@ -41,7 +39,7 @@ fn cone_point(mu: [f64; 3], p: &[f64; 6]) -> [f64; 6] {
 /// parametrization, then compass search (Kolda, Lewis and Torczon 2003) on the squared
 /// distance from the best 16 samples (fewer starts were seen to stop in a local minimum).
 fn brute_force_distance(mu: [f64; 3], x: &[f64; 6], seed: u64) -> f64 {
-    let mut rng = Rng(seed);
+    let mut rng = Rng::splitmix64(seed);
     let scale = x.iter().map(|v| v.abs()).fold(1.0, f64::max);
     let eval = |p: &[f64; 6]| {
         let q = cone_point(mu, p);
@@ -50,12 +48,12 @@ fn brute_force_distance(mu: [f64; 3], x: &[f64; 6], seed: u64) -> f64 {
     let mut samples: Vec<(f64, [f64; 6])> = (0..3000)
         .map(|_| {
             let p = [
-                rng.uniform(0.0, 2.0 * scale),
-                rng.uniform(-1.2, 1.2),
-                rng.uniform(-4.0, 4.0),
-                rng.uniform(-1.2, 1.2),
-                rng.uniform(-4.0, 4.0),
-                rng.uniform(-1.2, 1.2),
+                rng.range(0.0, 2.0 * scale),
+                rng.range(-1.2, 1.2),
+                rng.range(-4.0, 4.0),
+                rng.range(-1.2, 1.2),
+                rng.range(-4.0, 4.0),
+                rng.range(-1.2, 1.2),
             ];
             (eval(&p), p)
         })

@@ -8,7 +8,7 @@
 
 use chrono_ccp::{Apgd, Psor, SolverSettings};
 use chrono_core::descriptor::CcpSolver;
-use chrono_core::math::{Isometry3, Vector3};
+use chrono_core::math::{GRAVITY, Isometry3, Vector3};
 use chrono_core::{ContactMaterial, FrictionLaw, RigidBodyBuilder, Shape, System, SystemSettings};
 use proptest::prelude::*;
 
@@ -53,7 +53,7 @@ fn step(
     let m = sys.body(b).unwrap().mass();
     sys.body_mut(b)
         .unwrap()
-        .set_applied_force(push * m * 9.81)
+        .set_applied_force(push * m * -GRAVITY.z)
         .unwrap();
     let report = sys.step(H).unwrap();
     let body = sys.body(b).unwrap();
@@ -86,7 +86,7 @@ proptest! {
         px in -6.0f64..6.0,
         py in -6.0f64..6.0,
     ) {
-        let g = 9.81;
+        let g = -GRAVITY.z;
         let push = Vector3::new(px, py, 0.0);
         for (name, solver) in solvers() {
             let (v, w, m, passes) = step(solver, mu, push);

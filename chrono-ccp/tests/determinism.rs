@@ -2,10 +2,8 @@
 //! counts, gives the same `gamma`. The problem is large enough (> 100k rows) that every
 //! parallel path of the solvers and of the problem's operations is taken.
 
-mod common;
-
+use chrono_ccp::testing::lattice;
 use chrono_ccp::{Apgd, BarzilaiBorwein, CcpSolver, Jacobi, Psor, SolverSettings, TwoPhase};
-use common::lattice;
 
 fn bits(v: &[f64]) -> Vec<u64> {
     v.iter().map(|x| x.to_bits()).collect()
@@ -13,7 +11,7 @@ fn bits(v: &[f64]) -> Vec<u64> {
 
 #[test]
 fn same_gamma_for_any_thread_count() {
-    let problem = lattice(24, 24, 22, 7);
+    let problem = lattice(24, 24, 22, 7).unwrap();
     assert!(problem.n_rows() > 100_000, "{} rows", problem.n_rows());
     let settings = SolverSettings {
         tolerance: 0.0,

@@ -3,14 +3,12 @@
 //! slow on lattices (~8k sweeps to 1e-7, sequential or coloured), so the tolerance is
 //! loose to keep the test cheap; `determinism.rs` checks the parallel path bit for bit.
 
-mod common;
-
+use chrono_ccp::testing::{check_complementarity, lattice};
 use chrono_ccp::{Apgd, CcpSolver, Psor, SolverSettings};
-use common::{check_complementarity, lattice};
 
 #[test]
 fn coloured_sweeps_reach_the_same_solution() {
-    let problem = lattice(10, 10, 8, 3);
+    let problem = lattice(10, 10, 8, 3).unwrap();
     let triplets = problem.sections().friction.len() / 3;
     assert!(triplets > 2000, "{triplets} triplets");
     let s = SolverSettings {

@@ -3,10 +3,8 @@
 //! conditions `g ∈ K`, `N g + r ∈ K*`, `g'(N g + r) = 0`, and all reach the same objective
 //! value (the problem is a convex QP).
 
-mod common;
-
+use chrono_ccp::testing::{check_complementarity, objective, random_problem};
 use chrono_ccp::{CcpSolver, SolverSettings, by_name};
-use common::{check_complementarity, objective, random_problem};
 use proptest::prelude::*;
 
 /// Stopping tolerance of the solvers (RMS residual, m/s).
@@ -35,7 +33,7 @@ fn settings() -> SolverSettings {
 }
 
 fn run(solver: &mut dyn CcpSolver, seed: u64) -> Result<(Vec<f64>, f64), TestCaseError> {
-    let problem = random_problem(seed);
+    let problem = random_problem(seed).unwrap();
     let mut gamma = vec![0.0; problem.n_rows()];
     let stats = solver.solve(&problem, &mut gamma);
     prop_assert!(
@@ -89,7 +87,7 @@ proptest! {
 
     #[test]
     fn warm_start_from_the_solution_needs_no_iteration(seed in any::<u64>()) {
-        let problem = random_problem(seed);
+        let problem = random_problem(seed).unwrap();
         for name in SOLVERS {
             let mut s = by_name(name, settings()).unwrap();
             let mut gamma = vec![0.0; problem.n_rows()];

@@ -4,21 +4,10 @@
 use chrono_core::descriptor::{CcpProblem, ConstraintRows, SolverSettings, Variables};
 use chrono_core::item::{PhysicsItem, StepContext};
 use chrono_core::math::Vector3;
+use chrono_core::rng::Rng;
 use chrono_core::{System, SystemSettings};
 
 use crate::{CfluidSettings, ConstraintFluid, SurfaceMode, lattice_box, tank_markers, wall_layers};
-
-/// A deterministic generator in [-1, 1) (no dependency on `rand`).
-struct Lcg(u64);
-impl Lcg {
-    fn next(&mut self) -> f64 {
-        self.0 = self
-            .0
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        ((self.0 >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
-    }
-}
 
 fn ctx(h: f64, gravity: Vector3<f64>) -> StepContext {
     StepContext {
@@ -88,7 +77,7 @@ fn wall_marker_rows_match_finite_differences() {
 
 fn jacobian_check(wall_marker_rows: bool) {
     let dp = 0.01;
-    let mut rng = Lcg(7);
+    let mut rng = Rng::new(7);
     let settings = CfluidSettings {
         wall_marker_rows,
         spacing: dp,
@@ -101,7 +90,7 @@ fn jacobian_check(wall_marker_rows: bool) {
     let mut fluid = lattice_box([0.0; 3], [0.04, 0.08, 0.04], dp).unwrap();
     for p in &mut fluid {
         for c in p.iter_mut() {
-            *c += 0.2 * dp * rng.next();
+            *c += 0.2 * dp * rng.range(-1.0, 1.0);
         }
     }
     let walls = tank_markers(
@@ -125,7 +114,7 @@ fn jacobian_check(wall_marker_rows: bool) {
         .unwrap();
     let rho_0 = settings.rest_density;
     for trial in 0..3 {
-        let v: Vec<f64> = (0..3 * n).map(|_| rng.next()).collect();
+        let v: Vec<f64> = (0..3 * n).map(|_| rng.range(-1.0, 1.0)).collect();
         let delta = 1e-7;
         let shifted = |s: f64| {
             let pts: Vec<[f64; 3]> = fluid

@@ -34,13 +34,8 @@ fn scene() -> (CollisionWorld, Vec<Isometry3<f64>>, Vec<bool>) {
         .unwrap();
     }
     let mut poses = vec![Isometry3::identity()];
-    let mut seed = 12345u64;
-    let mut jitter = move || {
-        seed = seed
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        ((seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 0.004
-    };
+    let mut rng = chrono_core::rng::Rng::new(12345);
+    let mut jitter = move || rng.range(-0.002, 0.002);
     for i in 0..side {
         for j in 0..side {
             for k in 0..side {

@@ -28,6 +28,7 @@ pub mod joint;
 pub mod material;
 pub mod math;
 pub mod particles;
+pub mod rng;
 pub mod shape;
 pub mod system;
 

@@ -1,5 +1,6 @@
 //! Tetrahedral meshes: patch tests, a cantilever against beam theory, loads, bad input.
 
+use chrono_core::rng::Rng;
 use chrono_fea::analytic::{rectangle_shear_coefficient, timoshenko_tip_deflection};
 use chrono_fea::{
     BoxMesh, HexSplit, NodeId, SolidMaterial, SolidModel, StaticSettings, TetMesh, solve_static,
@@ -10,21 +11,22 @@ fn steel() -> SolidMaterial {
     SolidMaterial::new(2.0e11, 0.3, 7850.0, 0.0).unwrap()
 }
 
-/// A small deterministic generator (xorshift) for the node distortion.
-fn jitter(state: &mut u64) -> f64 {
-    *state ^= *state << 13;
-    *state ^= *state >> 7;
-    *state ^= *state << 17;
-    (*state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+/// A node displacement in `[-1/2, 1/2)^3` (cell units) from the seeded generator.
+fn jitter(rng: &mut Rng) -> Vector3<f64> {
+    Vector3::new(
+        rng.range(-0.5, 0.5),
+        rng.range(-0.5, 0.5),
+        rng.range(-0.5, 0.5),
+    )
 }
 
 /// A unit cube of 3x3x3 cells with the interior nodes moved by up to 30 % of a cell.
 fn distorted_patch(split: HexSplit, model: SolidModel) -> (BoxMesh, TetMesh) {
     let mut b = BoxMesh::new(Vector3::zeros(), Vector3::repeat(1.0), [3, 3, 3], split).unwrap();
-    let mut s = 0x9e37_79b9_7f4a_7c15;
+    let mut s = Rng::xorshift64(0x9e37_79b9_7f4a_7c15);
     for n in 0..b.positions.len() {
         if !b.is_boundary(NodeId(n)) {
-            let d = Vector3::new(jitter(&mut s), jitter(&mut s), jitter(&mut s));
+            let d = jitter(&mut s);
             b.positions[n] += d * (0.6 / 3.0);
         }
     }
@@ -90,10 +92,10 @@ fn traction_patch_test_gives_uniform_stress() {
         HexSplit::Six,
     )
     .unwrap();
-    let mut s = 7u64;
+    let mut s = Rng::xorshift64(7);
     for n in 0..b.positions.len() {
         if !b.is_boundary(NodeId(n)) {
-            let d = Vector3::new(jitter(&mut s), jitter(&mut s), jitter(&mut s));
+            let d = jitter(&mut s);
             b.positions[n] += d * 0.15;
         }
     }

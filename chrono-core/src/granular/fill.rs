@@ -9,8 +9,8 @@
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
-use super::rng::Rng;
 use crate::error::{ChronoError, Result, check_finite3, check_non_negative, check_positive};
+use crate::rng::Rng;
 
 /// The volume to fill (Z up).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]

@@ -9,10 +9,10 @@
 //! world finds sphere pairs on a uniform cell grid.
 
 mod fill;
-mod rng;
 
+/// The seeded generator, re-exported from its old place ([`crate::rng::Rng`]).
+pub use crate::rng::Rng;
 pub use fill::{Grain, LatticeFill, Region};
-pub use rng::Rng;
 
 use nalgebra::{Isometry3, Vector3};
 

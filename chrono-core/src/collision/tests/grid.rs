@@ -10,13 +10,8 @@ fn scene(n: usize) -> (CollisionWorld, Vec<Isometry3<f64>>) {
     let mut poses = vec![Isometry3::identity()];
     w.add_collider(0, &plane(), Isometry3::identity(), mat())
         .unwrap();
-    let mut seed = 12345u64;
-    let mut rnd = || {
-        seed = seed
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (seed >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut rng = crate::rng::Rng::new(12345);
+    let mut rnd = || rng.uniform();
     let side = (n as f64).cbrt().ceil() as usize;
     for k in 0..n {
         let (i, j, l) = (k % side, (k / side) % side, k / (side * side));

@@ -119,14 +119,8 @@ fn unsupported_pair_is_a_collision_error() {
 
 /// 200 random spheres and a few boxes in a 1.5 m cube over a ground plane.
 fn random_scene(seed: u64) -> (CollisionWorld, Vec<Isometry3<f64>>, Vec<bool>) {
-    let mut state = seed;
-    let mut rnd = move || {
-        // xorshift64*
-        state ^= state >> 12;
-        state ^= state << 25;
-        state ^= state >> 27;
-        (state.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut rng = crate::rng::Rng::new(seed);
+    let mut rnd = move || rng.uniform();
     let mut w = CollisionWorld::new(0.01).unwrap();
     let mut poses = vec![Isometry3::identity()];
     w.add_collider(0, &plane(), Isometry3::identity(), mat())

@@ -118,13 +118,8 @@ proptest! {
 #[test]
 fn output_is_independent_of_the_thread_count() {
     let n = 5000;
-    let mut s = 12345u64;
-    let mut rnd = || {
-        s = s
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (s >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut rng = crate::rng::Rng::new(12345);
+    let mut rnd = || rng.uniform();
     let c: [Vec<f64>; 3] = std::array::from_fn(|_| (0..n).map(|_| rnd()).collect());
     let pos: Positions<'_> = [&c[0], &c[1], &c[2]];
     let run = |threads: usize| {

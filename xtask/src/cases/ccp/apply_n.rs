@@ -12,9 +12,9 @@ use chrono_core::descriptor::CcpWork;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use super::problems::granular_pile;
 use crate::case::{Case, CaseOutput, Mode, RunContext};
 use crate::params::{CaseParams, ParamCase, ParamInfo};
+use chrono_ccp::testing::granular_pile;
 
 /// Parameters of `ccp-apply-n`.
 #[derive(Clone, Debug, Serialize, Deserialize)]

@@ -1,8 +1,8 @@
 //! CCP solver benchmarks: every solver of `chrono-ccp` on problems captured from scenes
-//! (`ccp-solvers`), and the throughput of the basic operation `N g` (`ccp-apply-n`).
+//! (`ccp-solvers`), and the throughput of the basic operation `N g` (`ccp-apply-n`). The
+//! problems come from `chrono_ccp::testing`.
 
 pub mod apply_n;
-pub mod problems;
 pub mod solvers;
 
 use chrono_ccp::{CcpSolver, SolveStats};

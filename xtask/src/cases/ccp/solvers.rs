@@ -24,10 +24,10 @@ use chrono_ccp::{CcpSolver, KrylovOptions, SolverSettings, by_name, relative_res
 use chrono_core::descriptor::{CcpProblem, CcpWork, ProblemFile, ProblemFormat};
 use serde::{Deserialize, Serialize};
 
-use super::problems::{bilateral_net, granular_pile, heavy_stack};
 use super::{LEVELS, Run};
 use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series};
 use crate::params::{CaseParams, ParamCase, ParamInfo};
+use chrono_ccp::testing::{bilateral_net, granular_pile, heavy_stack};
 
 /// Parameters of `ccp-solvers`.
 #[derive(Clone, Debug, Serialize, Deserialize)]

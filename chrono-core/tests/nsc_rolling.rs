@@ -4,12 +4,13 @@
 //! for both rolling models (`RollingModel::Relative`, the default, and `PerBody`, ten-row
 //! contacts against each body's own rotation, Zhou et al. 1999).
 
-use chrono_ccp::{Apgd, SolverSettings};
+mod common;
+
 use chrono_core::math::{Isometry3, UnitQuaternion, Vector3};
 use chrono_core::system::RollingModel;
 use chrono_core::{BodyHandle, ContactMaterial, RigidBodyBuilder, Shape, System, SystemSettings};
+use common::{add_ground, g, incline_gravity, sphere, tight_apgd};
 
-const G: f64 = 9.81;
 const R: f64 = 0.05;
 const H: f64 = 1e-3;
 
@@ -21,8 +22,7 @@ fn system(angle: f64) -> System {
 
 /// [`system`] with the rolling model `model`.
 fn system_with(angle: f64, model: RollingModel) -> System {
-    let gravity = Vector3::new(G * angle.sin(), 0.0, -G * angle.cos());
-    system_in(gravity, model)
+    system_in(incline_gravity(angle), model)
 }
 
 /// A system with `gravity`, the rolling model `model` and a tight APGD solve.
@@ -32,12 +32,7 @@ fn system_in(gravity: Vector3<f64>, model: RollingModel) -> System {
         rolling_model: model,
         ..SystemSettings::default()
     };
-    let solver = Apgd::new(SolverSettings {
-        tolerance: 1e-10,
-        max_iterations: 2000,
-        record_history: false,
-    });
-    System::new(settings, Box::new(solver)).unwrap()
+    System::new(settings, tight_apgd(2000)).unwrap()
 }
 
 fn scene(
@@ -58,26 +53,13 @@ fn scene_with(
     w: Vector3<f64>,
 ) -> (System, BodyHandle) {
     let mut sys = system_with(angle, model);
-    sys.add_body(RigidBodyBuilder::fixed().name("ground").collider(
-        Shape::HalfSpace {
-            normal: Vector3::z(),
-        },
-        Isometry3::identity(),
-        mat,
-    ))
-    .unwrap();
-    let s = Shape::Sphere { radius: R };
+    add_ground(&mut sys, "ground", mat);
     let b = sys
         .add_body(
-            RigidBodyBuilder::dynamic()
-                .name("ball")
-                .mass_from_shape(&s, 2500.0)
-                .unwrap()
-                .position(Vector3::new(0.0, 0.0, R))
+            sphere(R, 2500.0, Vector3::new(0.0, 0.0, R), mat)
                 .rotation(UnitQuaternion::from_euler_angles(0.3, 0.2, -0.4))
                 .linear_velocity(v)
-                .angular_velocity(w)
-                .collider(s, Isometry3::identity(), mat),
+                .angular_velocity(w),
         )
         .unwrap();
     (sys, b)
@@ -111,7 +93,7 @@ fn rolling_resistance_decelerates_a_rolling_sphere_at_five_sevenths_mu_r_g_by_bo
         run(&mut sys, 0.5);
         let (t1, v2) = (sys.time(), sys.body(b).unwrap().linear_velocity().x);
         let a = (v1 - v2) / (t1 - t0);
-        let expect = 5.0 / 7.0 * mu_r * G;
+        let expect = 5.0 / 7.0 * mu_r * g();
         assert!(
             (a - expect).abs() < 0.02 * expect,
             "{model:?}: deceleration {a} vs {expect}"
@@ -171,7 +153,7 @@ fn rolling_friction_holds_a_sphere_on_a_slope_below_mu_r_and_not_above() {
     run(&mut sys, 0.5);
     let (t1, v2) = (sys.time(), sys.body(b).unwrap().linear_velocity().x);
     let a = (v2 - v1) / (t1 - t0);
-    let expect = 5.0 / 7.0 * G * (angle.sin() - mu_r * angle.cos());
+    let expect = 5.0 / 7.0 * g() * (angle.sin() - mu_r * angle.cos());
     assert!(
         (a - expect).abs() < 0.02 * expect,
         "acceleration {a} vs {expect}"
@@ -195,7 +177,7 @@ fn spinning_friction_stops_a_spinning_sphere_at_five_halves_mu_s_g_over_r() {
     let (mut sys, b) = scene(0.0, mat, Vector3::zeros(), Vector3::new(0.0, 0.0, w0));
     let alpha = spin_down_rate(&mut sys, b);
     // I dw/dt = -mu_s R m g with I = 2/5 m R^2.
-    let expect = 2.5 * mu_s * G / R;
+    let expect = 2.5 * mu_s * g() / R;
     assert!(
         (alpha - expect).abs() < 0.02 * expect,
         "spin-down {alpha} vs {expect}"
@@ -213,14 +195,7 @@ fn a_box_on_the_ground_keeps_plain_triplets() {
     // Flat contacts have no curvature radius: rolling friction does not apply, no error.
     let mat = ContactMaterial::with_friction(0.5).with_rolling_friction(0.1);
     let mut sys = system(0.0);
-    sys.add_body(RigidBodyBuilder::fixed().collider(
-        Shape::HalfSpace {
-            normal: Vector3::z(),
-        },
-        Isometry3::identity(),
-        mat,
-    ))
-    .unwrap();
+    add_ground(&mut sys, "ground", mat);
     let s = Shape::Box {
         half_extents: Vector3::new(0.1, 0.1, 0.1),
     };
@@ -253,7 +228,7 @@ fn per_body_rolling_stops_a_spin_about_the_normal_at_five_halves_mu_r_g_over_r()
     assert!((w - w0).abs() < 1e-6 * w0, "relative model: spin {w}");
     let (mut sys, b) = scene_with(RollingModel::PerBody, 0.0, mat, Vector3::zeros(), spin);
     let alpha = spin_down_rate(&mut sys, b);
-    let expect = 2.5 * mu_r * G / R;
+    let expect = 2.5 * mu_r * g() / R;
     assert!(
         (alpha - expect).abs() < 0.02 * expect,
         "spin-down {alpha} vs {expect}"
@@ -265,17 +240,12 @@ fn per_body_rolling_stops_a_spin_about_the_normal_at_five_halves_mu_r_g_over_r()
 fn spins_after_a_head_on_impact(model: RollingModel, mu_r: f64, v: f64, w0: f64) -> [f64; 2] {
     let mut sys = system_in(Vector3::zeros(), model);
     let mat = ContactMaterial::with_friction(0.0).with_rolling_friction(mu_r);
-    let s = Shape::Sphere { radius: R };
     let spin = Vector3::new(0.0, 0.0, w0);
     let mut ball = |x: f64, vx: f64| {
         sys.add_body(
-            RigidBodyBuilder::dynamic()
-                .mass_from_shape(&s, 2500.0)
-                .unwrap()
-                .position(Vector3::new(x, 0.0, 0.0))
+            sphere(R, 2500.0, Vector3::new(x, 0.0, 0.0), mat)
                 .linear_velocity(Vector3::new(vx, 0.0, 0.0))
-                .angular_velocity(spin)
-                .collider(s.clone(), Isometry3::identity(), mat),
+                .angular_velocity(spin),
         )
         .unwrap()
     };

@@ -1,21 +1,19 @@
 //! Integration tests of the public System API with a real solver: bad input is rejected with
-//! an error that names the field, and runs are bit-for-bit reproducible.
+//! an error that names the field. (Bit-for-bit reproducibility of whole validation cases is
+//! tested in `xtask/tests/case_determinism.rs`.)
 
-use chrono_ccp::{Apgd, Psor, SolverSettings};
+mod common;
+
+use chrono_ccp::{Psor, SolverSettings};
 use chrono_core::math::{Isometry3, Vector3};
 use chrono_core::{
     BodyHandle, ChronoError, ContactMaterial, JointBuilder, JointKind, RigidBodyBuilder, Shape,
     System, SystemSettings,
 };
-use xtask::case::{Mode, RunContext};
+use common::{add_ground, sphere, tight_apgd};
 
 fn system() -> System {
-    let settings = SolverSettings {
-        tolerance: 1e-10,
-        max_iterations: 1000,
-        record_history: false,
-    };
-    System::new(SystemSettings::default(), Box::new(Apgd::new(settings))).unwrap()
+    System::new(SystemSettings::default(), tight_apgd(1000)).unwrap()
 }
 
 #[test]
@@ -167,23 +165,9 @@ fn a_distance_joint_between_two_anchors_holds_its_length() {
 fn a_ball_settles_on_the_ground() {
     let mut sys = system();
     let mat = ContactMaterial::with_friction(0.4);
-    sys.add_body(RigidBodyBuilder::fixed().collider(
-        Shape::HalfSpace {
-            normal: Vector3::z(),
-        },
-        Isometry3::identity(),
-        mat,
-    ))
-    .unwrap();
-    let s = Shape::Sphere { radius: 0.1 };
+    add_ground(&mut sys, "ground", mat);
     let ball = sys
-        .add_body(
-            RigidBodyBuilder::dynamic()
-                .mass_from_shape(&s, 1000.0)
-                .unwrap()
-                .position(Vector3::new(0.0, 0.0, 0.5))
-                .collider(s, Isometry3::identity(), mat),
-        )
+        .add_body(sphere(0.1, 1000.0, Vector3::new(0.0, 0.0, 0.5), mat))
         .unwrap();
     for _ in 0..1000 {
         sys.step(1e-3).unwrap();
@@ -195,33 +179,4 @@ fn a_ball_settles_on_the_ground() {
         b.position().z
     );
     assert!(b.linear_velocity().norm() < 1e-6);
-}
-
-/// Two runs of the same case with the same thread count give bit-identical series.
-#[test]
-fn runs_are_bit_for_bit_reproducible() {
-    let dir = std::env::temp_dir().join(format!("chrono-rs-determinism-{}", std::process::id()));
-    let run = |name: &str| {
-        let mut case = xtask::cases::all_cases()
-            .into_iter()
-            .find(|c| c.name() == name)
-            .unwrap();
-        case.apply_mode(Mode::Quick);
-        let mut p = case.params_json();
-        p["t_end"] = serde_json::json!(0.3);
-        case.set_params_json(p).unwrap();
-        case.run(&RunContext::new(Mode::Quick, &dir, false))
-            .unwrap()
-            .series
-    };
-    for name in ["rigid-stack-heavy", "rigid-incline"] {
-        let (a, b) = (run(name), run(name));
-        assert_eq!(a.rows.len(), b.rows.len());
-        for (ra, rb) in a.rows.iter().zip(&b.rows) {
-            for (x, y) in ra.iter().zip(rb) {
-                assert_eq!(x.to_bits(), y.to_bits(), "{name}: runs differ");
-            }
-        }
-    }
-    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -1,24 +1,20 @@
 //! Integration tests of the joints (`chrono_core::joint`) with a real solver: each test checks
 //! physics that would fail if the joint's constraint rows were wrong.
 
-use chrono_ccp::{Apgd, SolverSettings};
+mod common;
+
 use chrono_core::math::Vector3;
 use chrono_core::{
     BodyHandle, Drive, JointBuilder, JointHandle, JointKind, RigidBodyBuilder, System,
     SystemSettings,
 };
+use common::{g, tight_apgd};
 use nalgebra::UnitQuaternion;
 
 const H: f64 = 1e-3;
-const G: f64 = 9.81;
 
 fn system_with(settings: SystemSettings) -> System {
-    let s = SolverSettings {
-        tolerance: 1e-10,
-        max_iterations: 1000,
-        record_history: false,
-    };
-    System::new(settings, Box::new(Apgd::new(s))).unwrap()
+    System::new(settings, tight_apgd(1000)).unwrap()
 }
 
 fn system() -> System {
@@ -111,7 +107,7 @@ fn prismatic_on_an_incline_slides_at_g_sin_theta() {
         }
     }
     let a = (v_at[1] - v_at[0]) / (400.0 * H);
-    let expected = -G * th.sin();
+    let expected = -g() * th.sin();
     assert!(
         ((a - expected) / expected).abs() < 1e-3,
         "a = {a}, expected {expected}"
@@ -122,7 +118,7 @@ fn prismatic_on_an_incline_slides_at_g_sin_theta() {
     let s = (pos(&sys, slider) - start).dot(&axis);
     let t = 500.0 * H;
     assert!(
-        (s - 0.5 * expected * t * t).abs() < 0.5 * G * t * H,
+        (s - 0.5 * expected * t * t).abs() < 0.5 * g() * t * H,
         "s = {s}"
     );
 }

@@ -1,5 +1,5 @@
-//! The CCPs the solver benchmarks run on, captured from scenes built with the public API
-//! (`System::last_problem`), plus a synthetic bilateral net.
+//! Problems captured from scenes built with the public API (`System::last_problem`), the
+//! ones of the solver benchmarks, plus a synthetic bilateral net.
 //!
 //! - a settled granular pile: a square pyramid of spheres in body-centred stacking (each
 //!   sphere of a layer rests in the pocket of four below, the layer is touching in-plane),
@@ -9,10 +9,12 @@
 //!   on a half-space, captured after a few steps;
 //! - a particle net with distance rows (bilateral only) for CG/MINRES.
 
-use chrono_ccp::{SolverSettings, by_name};
 use chrono_core::descriptor::{CcpProblem, ConstraintRows, MassOperator, RowEntry, Variables};
-use chrono_core::math::{Isometry3, Vector3};
-use chrono_core::{ContactMaterial, RigidBodyBuilder, Shape, System, SystemSettings};
+use chrono_core::math::{GRAVITY, Isometry3, Vector3};
+use chrono_core::rng::Rng;
+use chrono_core::{ChronoError, ContactMaterial, RigidBodyBuilder, Shape, System, SystemSettings};
+
+use crate::{SolverSettings, by_name};
 
 /// Sphere radius of the pile, m.
 pub const PILE_RADIUS: f64 = 0.05;
@@ -33,21 +35,7 @@ pub fn pyramid_contacts(n: usize) -> usize {
 pub fn pyramid_base_for(target: usize) -> usize {
     (1..400)
         .min_by_key(|&n| pyramid_contacts(n).abs_diff(target))
-        .expect("non-empty")
-}
-
-/// A small deterministic generator (SplitMix64).
-struct Rng(u64);
-
-impl Rng {
-    fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^= z >> 31;
-        lo + (hi - lo) * ((z >> 11) as f64 / (1u64 << 53) as f64)
-    }
+        .unwrap_or(1)
 }
 
 /// Build the pile with about `n_contacts` contacts, settle it `settle_steps` steps of
@@ -57,16 +45,28 @@ pub fn granular_pile(
     n_contacts: usize,
     settle_steps: usize,
     h: f64,
-) -> anyhow::Result<(CcpProblem, Vec<f64>, usize)> {
-    anyhow::ensure!(n_contacts >= 1, "parameter `n_contacts` must be >= 1");
-    anyhow::ensure!(settle_steps >= 1, "parameter `settle_steps` must be >= 1");
+) -> chrono_core::Result<(CcpProblem, Vec<f64>, usize)> {
+    if n_contacts < 1 {
+        return Err(ChronoError::invalid(
+            "n_contacts",
+            n_contacts,
+            "must be >= 1",
+        ));
+    }
+    if settle_steps < 1 {
+        return Err(ChronoError::invalid(
+            "settle_steps",
+            settle_steps,
+            "must be >= 1",
+        ));
+    }
     let n = pyramid_base_for(n_contacts);
     let settings = SolverSettings {
         tolerance: 1e-5,
         max_iterations: 30,
         record_history: false,
     };
-    let solver = by_name("apgd", settings).map_err(anyhow::Error::msg)?;
+    let solver = by_name("apgd", settings)?;
     let mut sys = System::new(SystemSettings::default(), solver)?;
     let mat = ContactMaterial::with_friction(0.5);
     let r = PILE_RADIUS;
@@ -78,7 +78,7 @@ pub fn granular_pile(
         Isometry3::translation(0.0, 0.0, -0.5),
         mat,
     ))?;
-    let mut rng = Rng(12345);
+    let mut rng = Rng::splitmix64(12345);
     let dz = r * 2f64.sqrt();
     let mut count = 0;
     for k in 0..n {
@@ -86,7 +86,7 @@ pub fn granular_pile(
         let offset = k as f64 * r;
         for i in 0..m {
             for j in 0..m {
-                let radius = r * (1.0 - 0.01 * rng.uniform(0.0, 1.0));
+                let radius = r * (1.0 - 0.01 * rng.range(0.0, 1.0));
                 let ball = Shape::Sphere { radius };
                 let p = Vector3::new(
                     offset + 2.0 * r * i as f64,
@@ -111,16 +111,13 @@ pub fn granular_pile(
 
 /// The 5-box heavy stack (mass ratio 3 between levels, mu 0.5, h 10 ms) after `steps`
 /// steps: its problem and the scene solver's answer.
-pub fn heavy_stack(steps: usize) -> anyhow::Result<(CcpProblem, Vec<f64>)> {
+pub fn heavy_stack(steps: usize) -> chrono_core::Result<(CcpProblem, Vec<f64>)> {
     let settings = SolverSettings {
         tolerance: 1e-7,
         max_iterations: 500,
         record_history: false,
     };
-    let mut sys = System::new(
-        SystemSettings::default(),
-        by_name("apgd", settings).map_err(anyhow::Error::msg)?,
-    )?;
+    let mut sys = System::new(SystemSettings::default(), by_name("apgd", settings)?)?;
     let mat = ContactMaterial::with_friction(0.5);
     sys.add_body(RigidBodyBuilder::fixed().collider(
         Shape::HalfSpace {
@@ -153,12 +150,12 @@ pub fn heavy_stack(steps: usize) -> anyhow::Result<(CcpProblem, Vec<f64>)> {
 /// distance rows between neighbours, the corners pinned in z and one corner in x and y,
 /// small stabilization terms, gravity over one step of 10 ms. Symmetric positive definite,
 /// condition number growing like `n^2`.
-pub fn bilateral_net(rows: usize) -> anyhow::Result<CcpProblem> {
+pub fn bilateral_net(rows: usize) -> chrono_core::Result<CcpProblem> {
     let n = ((rows as f64 / 2.0).sqrt().round() as usize).max(2);
-    let mut rng = Rng(99);
+    let mut rng = Rng::splitmix64(99);
     let mut vars = Variables::new();
     let ids: Vec<_> = (0..n * n)
-        .map(|_| MassOperator::particle(rng.uniform(0.5, 2.0)).map(|m| vars.add(m)))
+        .map(|_| MassOperator::particle(rng.range(0.5, 2.0)).map(|m| vars.add(m)))
         .collect::<Result<_, _>>()?;
     let mut cr = ConstraintRows::new();
     let ex = [1.0, 0.0, 0.0];
@@ -181,7 +178,7 @@ pub fn bilateral_net(rows: usize) -> anyhow::Result<CcpProblem> {
                             coefs: &nd,
                         },
                     ];
-                    cr.push_bilateral(&e, rng.uniform(-1e-3, 1e-3), 0.0);
+                    cr.push_bilateral(&e, rng.range(-1e-3, 1e-3), 0.0);
                 }
             }
             if (x == 0 || x == n - 1) && (y == 0 || y == n - 1) {
@@ -220,8 +217,8 @@ pub fn bilateral_net(rows: usize) -> anyhow::Result<CcpProblem> {
             MassOperator::Particle { mass } => *mass,
             _ => 1.0,
         };
-        kp[0] = m * rng.uniform(-0.05, 0.05);
-        kp[2] = -m * 9.81 * 0.01;
+        kp[0] = m * rng.range(-0.05, 0.05);
+        kp[2] = m * GRAVITY.z * 0.01;
     }
     let mut p = CcpProblem::new();
     p.assemble(&vars, &cr, &k)?;

@@ -5,14 +5,13 @@
 //! it rolls, rolling resistance decelerates it at `5/7 mu_r g`. The plate carries
 //! coefficients larger than the ball's, which the minimum combination rule cannot produce.
 
-use chrono_ccp::{Apgd, SolverSettings};
-use chrono_core::math::{Isometry3, Vector3};
-use chrono_core::system::{ContactMethod, SmcModel, SmcSettings};
-use chrono_core::{
-    BodyHandle, ContactFriction, ContactMaterial, RigidBodyBuilder, Shape, System, SystemSettings,
-};
+mod common;
 
-const G: f64 = 9.81;
+use chrono_core::math::Vector3;
+use chrono_core::system::{ContactMethod, SmcModel, SmcSettings};
+use chrono_core::{BodyHandle, ContactFriction, ContactMaterial, System, SystemSettings};
+use common::{add_ground, g, incline_gravity, sphere, tight_apgd};
+
 const R: f64 = 0.01;
 
 /// A fixed plate (half-space z = 0) and a ball of radius `R` resting on it with velocity
@@ -35,7 +34,7 @@ fn tilted_scene(
     a: f64,
 ) -> (System, BodyHandle, BodyHandle) {
     let settings = SystemSettings {
-        gravity: Vector3::new(G * a.sin(), 0.0, -G * a.cos()),
+        gravity: incline_gravity(a),
         envelope: if method == ContactMethod::Smc {
             0.0
         } else {
@@ -48,32 +47,13 @@ fn tilted_scene(
         },
         ..SystemSettings::default()
     };
-    let solver = Apgd::new(SolverSettings {
-        tolerance: 1e-10,
-        max_iterations: 2000,
-        record_history: false,
-    });
-    let mut sys = System::new(settings, Box::new(solver)).unwrap();
-    let plate = sys
-        .add_body(RigidBodyBuilder::fixed().name("plate").collider(
-            Shape::HalfSpace {
-                normal: Vector3::z(),
-            },
-            Isometry3::identity(),
-            mat,
-        ))
-        .unwrap();
-    let s = Shape::Sphere { radius: R };
+    let mut sys = System::new(settings, tight_apgd(2000)).unwrap();
+    let plate = add_ground(&mut sys, "plate", mat);
     let ball = sys
         .add_body(
-            RigidBodyBuilder::dynamic()
-                .name("ball")
-                .mass_from_shape(&s, 2500.0)
-                .unwrap()
-                .position(Vector3::new(0.0, 0.0, R))
+            sphere(R, 2500.0, Vector3::new(0.0, 0.0, R), mat)
                 .linear_velocity(v)
-                .angular_velocity(w)
-                .collider(s, Isometry3::identity(), mat),
+                .angular_velocity(w),
         )
         .unwrap();
     (sys, plate, ball)
@@ -129,12 +109,12 @@ fn plate_friction_override_sets_the_sliding_deceleration() {
         sys.set_contact_friction(ball, ball_mu.map(|m| friction(m, 0.0)))
             .unwrap();
         let h = step_size(&sys, method);
-        let t1 = (0.6 * 2.0 * v0 / (7.0 * expect * G)).min(0.06);
+        let t1 = (0.6 * 2.0 * v0 / (7.0 * expect * g())).min(0.06);
         let a = deceleration(&mut sys, ball, h, 0.01, t1);
         assert!(
-            (a - expect * G).abs() < 0.02 * expect * G,
+            (a - expect * g()).abs() < 0.02 * expect * g(),
             "plate {plate_mu:?}, ball {ball_mu:?}: deceleration {a} vs {}",
-            expect * G
+            expect * g()
         );
     }
 }
@@ -145,7 +125,7 @@ fn plate_friction_override_makes_a_slipping_ball_roll_on_an_incline_by_both_meth
     // g (sin a - 0.1 cos a) = 0.358 g); the plate's override 0.3 makes it roll at
     // 5/7 g sin a = 0.319 g.
     let a = 0.5f64.atan();
-    let (roll, slip) = (5.0 / 7.0 * G * a.sin(), G * (a.sin() - 0.1 * a.cos()));
+    let (roll, slip) = (5.0 / 7.0 * g() * a.sin(), g() * (a.sin() - 0.1 * a.cos()));
     for method in [ContactMethod::Nsc, ContactMethod::Smc] {
         let mat = ContactMaterial::smc(1e7, 0.3, 0.5, 0.1);
         for (plate_mu, expect) in [(None, slip), (Some(0.3), roll)] {
@@ -181,7 +161,7 @@ fn plate_rolling_friction_override_sets_the_rolling_deceleration_by_both_methods
         assert_eq!(sys.contact_friction(ball), None);
         let h = step_size(&sys, method);
         let a = deceleration(&mut sys, ball, h, 0.05, 0.35);
-        let expect = 5.0 / 7.0 * mu_r * G;
+        let expect = 5.0 / 7.0 * mu_r * g();
         assert!(
             (a - expect).abs() < 0.05 * expect,
             "{method:?}: deceleration {a} vs {expect}"

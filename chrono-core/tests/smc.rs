@@ -1,11 +1,14 @@
 //! SMC (penalty) contact through the public `System` API, against analytic results.
 
+mod common;
+
 use chrono_ccp::{Apgd, SolverSettings};
 use chrono_core::contact::smc::{RollingModel, SmcPair, contact_duration};
 use chrono_core::material::effective_young_modulus;
-use chrono_core::math::{Isometry3, Vector3};
+use chrono_core::math::Vector3;
 use chrono_core::system::{ContactMethod, SmcModel, SmcSettings};
-use chrono_core::{BodyHandle, ContactMaterial, RigidBodyBuilder, Shape, System, SystemSettings};
+use chrono_core::{BodyHandle, ContactMaterial, System, SystemSettings};
+use common::{add_ground, sphere};
 
 fn smc_system(model: SmcModel, gravity: f64) -> System {
     let settings = SystemSettings {
@@ -22,28 +25,12 @@ fn smc_system(model: SmcModel, gravity: f64) -> System {
 }
 
 fn plate(sys: &mut System, mat: ContactMaterial) {
-    sys.add_body(RigidBodyBuilder::fixed().name("plate").collider(
-        Shape::HalfSpace {
-            normal: Vector3::z(),
-        },
-        Isometry3::identity(),
-        mat,
-    ))
-    .unwrap();
+    add_ground(sys, "plate", mat);
 }
 
 fn ball(sys: &mut System, r: f64, z: f64, v: Vector3<f64>, mat: ContactMaterial) -> BodyHandle {
-    let s = Shape::Sphere { radius: r };
-    sys.add_body(
-        RigidBodyBuilder::dynamic()
-            .name("ball")
-            .mass_from_shape(&s, 2500.0)
-            .unwrap()
-            .position(Vector3::new(0.0, 0.0, z))
-            .linear_velocity(v)
-            .collider(s, Isometry3::identity(), mat),
-    )
-    .unwrap()
+    sys.add_body(sphere(r, 2500.0, Vector3::new(0.0, 0.0, z), mat).linear_velocity(v))
+        .unwrap()
 }
 
 #[test]
@@ -97,7 +84,7 @@ fn elastic_hertz_impact_has_hertz_contact_time_and_keeps_energy() {
 #[test]
 fn too_large_step_is_an_error_naming_the_body() {
     let mat = ContactMaterial::smc(1e9, 0.3, 0.5, 0.5);
-    let mut sys = smc_system(SmcModel::Hertz, 9.81);
+    let mut sys = smc_system(SmcModel::Hertz, common::g());
     plate(&mut sys, mat);
     ball(&mut sys, 0.001, 0.01, Vector3::zeros(), mat);
     let (hmax, body) = sys.smc_max_step().unwrap();
@@ -112,7 +99,7 @@ fn too_large_step_is_an_error_naming_the_body() {
 #[test]
 fn sliding_sphere_starts_rolling_at_five_sevenths() {
     for model in [SmcModel::Hooke, SmcModel::Hertz] {
-        let (r, v0, mu, g) = (0.01, 1.0, 0.3, 9.81);
+        let (r, v0, mu, g) = (0.01, 1.0, 0.3, common::g());
         let mat = ContactMaterial::smc(1e7, 0.3, 0.5, mu);
         let mut sys = smc_system(model, g);
         plate(&mut sys, mat);
@@ -142,20 +129,15 @@ fn sliding_sphere_starts_rolling_at_five_sevenths() {
 /// it at `a = 5/7 mu_r g` (solid sphere, rolling without slip).
 #[test]
 fn rolling_resistance_decelerates_at_five_sevenths_mu_r_g() {
-    let (r, v0, mu_r, g) = (0.01, 0.5, 0.05, 9.81);
+    let (r, v0, mu_r, g) = (0.01, 0.5, 0.05, common::g());
     let mat = ContactMaterial::smc(1e7, 0.3, 0.5, 0.5).with_rolling_friction(mu_r);
     let mut sys = smc_system(SmcModel::Hertz, g);
     plate(&mut sys, mat);
-    let s = Shape::Sphere { radius: r };
     let b = sys
         .add_body(
-            RigidBodyBuilder::dynamic()
-                .mass_from_shape(&s, 2500.0)
-                .unwrap()
-                .position(Vector3::new(0.0, 0.0, r))
+            sphere(r, 2500.0, Vector3::new(0.0, 0.0, r), mat)
                 .linear_velocity(Vector3::new(v0, 0.0, 0.0))
-                .angular_velocity(Vector3::new(0.0, v0 / r, 0.0))
-                .collider(s, Isometry3::identity(), mat),
+                .angular_velocity(Vector3::new(0.0, v0 / r, 0.0)),
         )
         .unwrap();
     let h = sys.smc_max_step().unwrap().0 / 5.0;
@@ -182,19 +164,17 @@ fn rolling_resistance_decelerates_at_five_sevenths_mu_r_g() {
 fn smc_runs_are_deterministic() {
     let run = || {
         let mat = ContactMaterial::smc(1e7, 0.3, 0.5, 0.5);
-        let mut sys = smc_system(SmcModel::Hertz, 9.81);
+        let mut sys = smc_system(SmcModel::Hertz, common::g());
         plate(&mut sys, mat);
         for k in 0..30 {
             let x = (k % 5) as f64 * 0.021 + 0.001 * (k as f64).sin();
             let z = 0.01 + (k / 5) as f64 * 0.021;
-            let s = Shape::Sphere { radius: 0.01 };
-            sys.add_body(
-                RigidBodyBuilder::dynamic()
-                    .mass_from_shape(&s, 2500.0)
-                    .unwrap()
-                    .position(Vector3::new(x, 0.001 * k as f64, z))
-                    .collider(s, Isometry3::identity(), mat),
-            )
+            sys.add_body(sphere(
+                0.01,
+                2500.0,
+                Vector3::new(x, 0.001 * k as f64, z),
+                mat,
+            ))
             .unwrap();
         }
         let h = sys.smc_max_step().unwrap().0;

@@ -1,14 +1,15 @@
 //! Force elements (`chrono_core::force`) stepped by the system: spring-dampers against the
 //! analytic oscillator, conservation laws, tables, both contact methods, bad input.
 
+mod common;
+
 use chrono_ccp::{Apgd, SolverSettings};
 use chrono_core::math::Vector3;
 use chrono_core::{
     BodyHandle, ContactMethod, Curve, Extrapolation, RigidBodyBuilder, SpringDamper, System,
     SystemSettings,
 };
-
-const G: f64 = 9.81;
+use common::g;
 
 fn system_with(settings: SystemSettings) -> System {
     let s = SolverSettings {
@@ -62,13 +63,13 @@ fn undamped_spring_oscillates_at_the_natural_frequency_and_keeps_its_energy() {
     );
     let hs = sys.add_force_element(Box::new(spring)).unwrap();
     // Released at the rest length: oscillates about l0 + m g / k with amplitude m g / k.
-    let z_eq = -(l0 + m * G / k);
+    let z_eq = -(l0 + m * g() / k);
     let h = 1e-4;
     let (mut ts, mut zs) = (Vec::new(), Vec::new());
     let energy = |sys: &System| {
         let b = sys.body(bob).unwrap();
         let x = -b.position().z - l0;
-        0.5 * m * b.linear_velocity().norm_squared() + 0.5 * k * x * x + m * G * b.position().z
+        0.5 * m * b.linear_velocity().norm_squared() + 0.5 * k * x * x + m * g() * b.position().z
     };
     let e0 = energy(&sys);
     let mut max_drift: f64 = 0.0;
@@ -87,7 +88,7 @@ fn undamped_spring_oscillates_at_the_natural_frequency_and_keeps_its_energy() {
         "period {period} vs {exact}"
     );
     // Symplectic Euler: the energy oscillates by O(h omega) of the oscillation energy.
-    let e_osc = 0.5 * k * (m * G / k).powi(2);
+    let e_osc = 0.5 * k * (m * g() / k).powi(2);
     assert!(
         max_drift < 0.02 * e_osc,
         "energy drift {max_drift} of {e_osc}"
@@ -113,7 +114,7 @@ fn damped_spring_decays_at_the_analytic_rate_and_settles_at_the_static_deflectio
         c,
     )))
     .unwrap();
-    let z_eq = -(l0 + m * G / k);
+    let z_eq = -(l0 + m * g() / k);
     let h = 1e-4;
     let (mut ts, mut zs) = (Vec::new(), Vec::new());
     for _ in 0..10_000 {
@@ -171,7 +172,7 @@ fn a_table_with_free_travel_acts_as_a_bump_stop() {
         sys.step(1e-4).unwrap();
     }
     let z = sys.body(bob).unwrap().position().z;
-    let expected = -(l0 + 0.05 + m * G / 1e5);
+    let expected = -(l0 + 0.05 + m * g() / 1e5);
     assert!((z - expected).abs() < 1e-8, "{z} vs {expected}");
 }
 
@@ -262,7 +263,7 @@ fn force_elements_act_in_smc_mode_too() {
         sys.step(1e-4).unwrap();
     }
     let z = sys.body(bob).unwrap().position().z;
-    assert!((z + l0 + m * G / k).abs() < 1e-9, "{z}");
+    assert!((z + l0 + m * g() / k).abs() < 1e-9, "{z}");
 }
 
 #[test]

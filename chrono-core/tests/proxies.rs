@@ -7,7 +7,7 @@ use chrono_ccp::{Apgd, SolverSettings};
 use chrono_core::collision::{CollisionProxy, ProxyShape};
 use chrono_core::descriptor::{BlockId, CcpProblem, MassOperator, Variables};
 use chrono_core::item::{PhysicsItem, StepContext};
-use chrono_core::math::{Isometry3, Vector3};
+use chrono_core::math::{GRAVITY, Isometry3, Vector3};
 use chrono_core::{ChronoError, ContactMaterial, RigidBodyBuilder, Shape, System, SystemSettings};
 
 fn system(gravity: Vector3<f64>) -> System {
@@ -164,7 +164,7 @@ fn ground(sys: &mut System) {
 
 #[test]
 fn spheres_come_to_rest_on_a_fixed_box() {
-    let mut sys = system(Vector3::new(0.0, 0.0, -9.81));
+    let mut sys = system(GRAVITY);
     ground(&mut sys);
     let r = 0.05;
     let start = vec![
@@ -245,7 +245,7 @@ fn triangle_contact_is_shared_by_its_nodes() {
     // A horizontal triangle lands with its centroid on a fixed sphere: the contact point is
     // the centroid, the barycentric weights are 1/3 each, so the nodes stop together at the
     // sphere's top plus the thickness.
-    let mut sys = system(Vector3::new(0.0, 0.0, -9.81));
+    let mut sys = system(GRAVITY);
     let radius = 0.3;
     sys.add_body(RigidBodyBuilder::fixed().collider(
         Shape::Sphere { radius },
@@ -282,7 +282,7 @@ fn triangle_contact_is_shared_by_its_nodes() {
 
 #[test]
 fn bad_proxy_is_an_error_naming_item_and_proxy() {
-    let mut sys = system(Vector3::new(0.0, 0.0, -9.81));
+    let mut sys = system(GRAVITY);
     ground(&mut sys);
     sys.add_item(Box::new(Particles::new(
         vec![Vector3::new(0.0, 0.0, 0.1)],
