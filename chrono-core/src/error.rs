@@ -67,6 +67,40 @@ pub enum ChronoError {
         /// The underlying error.
         message: String,
     },
+    /// An error of a domain crate (chrono-fea, ...) raised inside a step or an item: the
+    /// cause is kept as the [`source`](std::error::Error::source), and the message
+    /// repeats it, so both name the real field.
+    #[error("{domain}: {source}")]
+    Domain {
+        /// The crate that raised it, e.g. `chrono-fea`.
+        domain: String,
+        /// The cause.
+        #[source]
+        source: DomainError,
+    },
+}
+
+/// The cause of a [`ChronoError::Domain`]: any error, shared (so the error stays
+/// `Clone`); equal when it is the same error or has the same message.
+#[derive(Debug, Clone)]
+pub struct DomainError(pub std::sync::Arc<dyn std::error::Error + Send + Sync>);
+
+impl std::fmt::Display for DomainError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        self.0.fmt(f)
+    }
+}
+
+impl std::error::Error for DomainError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        self.0.source()
+    }
+}
+
+impl PartialEq for DomainError {
+    fn eq(&self, other: &Self) -> bool {
+        std::sync::Arc::ptr_eq(&self.0, &other.0) || self.0.to_string() == other.0.to_string()
+    }
 }
 
 /// Result alias of chrono-core.
@@ -83,6 +117,18 @@ impl ChronoError {
             field: field.into(),
             value: value.to_string(),
             reason: reason.into(),
+        }
+    }
+
+    /// A [`ChronoError::Domain`]: `source`, an error of the crate `domain`, kept as the
+    /// cause.
+    pub fn domain(
+        domain: impl Into<String>,
+        source: impl std::error::Error + Send + Sync + 'static,
+    ) -> Self {
+        ChronoError::Domain {
+            domain: domain.into(),
+            source: DomainError(std::sync::Arc::new(source)),
         }
     }
 }

@@ -124,3 +124,18 @@ pub(crate) fn check_coordinates(q: &[f64], ndof: usize, per_node: usize) -> Resu
     }
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::FeaError;
+
+    /// A chrono-fea error raised inside a step keeps its cause: the chrono-core error's
+    /// message and its source both name the real field.
+    #[test]
+    fn a_fea_error_in_a_step_keeps_its_cause() {
+        let e = crate::implicit::core_error(FeaError::invalid("material.young", -1.0, "must be > 0"));
+        assert!(e.to_string().contains("material.young"), "{e}");
+        let source = std::error::Error::source(&e).expect("a source");
+        assert!(source.to_string().contains("material.young"), "{source}");
+    }
+}

@@ -436,7 +436,8 @@ impl ImplicitBlock {
     }
 }
 
-/// A chrono-fea error as a chrono-core one (inside a step).
+/// A chrono-fea error as a chrono-core one (inside a step): the cause is kept as the
+/// source, so the message still names the real field (`material.young`, `coordinates[3]`).
 pub(crate) fn core_error(e: FeaError) -> ChronoError {
-    ChronoError::invalid("fea", e.to_string(), "rejected by chrono-fea")
+    ChronoError::domain("chrono-fea", e)
 }

@@ -63,6 +63,7 @@
 pub mod analytic;
 mod attach_rows;
 pub mod beam_mesh;
+pub mod cantilever;
 pub mod dynamics;
 pub mod element;
 pub mod error;
@@ -81,6 +82,7 @@ pub mod tet_box;
 pub mod tet_dynamics;
 pub mod tet_mesh;
 pub mod tire_mesh;
+pub mod tire_mount;
 pub mod vtk;
 
 pub use beam_mesh::BeamMesh;
@@ -103,3 +105,5 @@ pub use tet_box::{BoxFaces, BoxMesh, HexSplit};
 pub use tet_dynamics::TetItem;
 pub use tet_mesh::TetMesh;
 pub use tire_mesh::{TireGeometry, TireMesh};
+pub use tire_mount::{BeadMount, InflatedTire, mount_on_rim};
+pub use cantilever::{beam_cantilever, cable_cantilever};

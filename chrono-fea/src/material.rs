@@ -91,11 +91,13 @@ impl BeamMaterial {
 
 /// How a solid element turns its deformation gradient `F` into stress (see
 /// [`Tet4`](crate::element::Tet4) for the equations).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
 pub enum SolidModel {
     /// St. Venant–Kirchhoff: Hooke's law between the Green–Lagrange strain
-    /// `E = (F^T F - I)/2` and the second Piola–Kirchhoff stress.
+    /// `E = (F^T F - I)/2` and the second Piola–Kirchhoff stress (`svk` in serde form).
     #[default]
+    #[serde(rename = "svk")]
     StVenantKirchhoff,
     /// Corotational linear: Hooke's law on the stretch `U - I` of the polar
     /// decomposition `F = R U`, rotated by `R` (the small-strain element carried by the

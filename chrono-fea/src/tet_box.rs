@@ -17,7 +17,8 @@ use crate::node::NodeId;
 use crate::tet_mesh::TetMesh;
 
 /// How a hexahedral cell is split into tetrahedra.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
 pub enum HexSplit {
     /// Six tetrahedra around the main diagonal `(0,0,0)-(1,1,1)` of every cell (Kuhn /
     /// Freudenthal split): all cells alike, conforming.

@@ -10,7 +10,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::aero::AeroDragData;
-use crate::error::{Result, VehicleError};
+use crate::error::Result;
 use crate::powertrain::PowertrainParams;
 use crate::tire::{TMeasyParams, Tire};
 use crate::vehicle::VehicleData;
@@ -76,20 +76,29 @@ pub fn hmmwv_data_variant(tire: TireKind, powertrain: PowertrainKind) -> Result<
         d.wheel.tire = Tire::TMeasy(TMeasyParams::hmmwv());
     }
     if powertrain == PowertrainKind::M998 {
-        const PATH: &str = "chrono-vehicle/data/hmmwv_m998_powertrain.json";
-        let o: PowertrainOverlay =
-            serde_json::from_str(HMMWV_M998_POWERTRAIN_JSON).map_err(|e| VehicleError::Data {
-                path: PATH.to_string(),
-                message: e.to_string(),
-            })?;
-        d.powertrain = o.powertrain;
-        d.driveline.front_conical_ratio = o.conical_ratio;
-        d.driveline.rear_conical_ratio = o.conical_ratio;
-        d.chassis.aero = o.aero;
-        d.source.extend(o.source);
+        d = with_powertrain_overlay(
+            d,
+            HMMWV_M998_POWERTRAIN_JSON,
+            "chrono-vehicle/data/hmmwv_m998_powertrain.json",
+        )?;
     }
     d.validate()?;
     Ok(d)
+}
+
+/// `data` with the powertrain overlay `text` (JSON, read from `path`, named in errors)
+/// applied: its powertrain, its conical (differential plus hub) ratio on both axles and its
+/// chassis drag replace the data's, and its sources are added. The result is validated;
+/// an error names the field (its path in the overlay for a parse error).
+pub fn with_powertrain_overlay(mut data: VehicleData, text: &str, path: &str) -> Result<VehicleData> {
+    let o: PowertrainOverlay = crate::json_path::parse(text, path)?;
+    data.powertrain = o.powertrain;
+    data.driveline.front_conical_ratio = o.conical_ratio;
+    data.driveline.rear_conical_ratio = o.conical_ratio;
+    data.chassis.aero = o.aero;
+    data.source.extend(o.source);
+    data.validate()?;
+    Ok(data)
 }
 
 #[cfg(test)]

@@ -14,6 +14,8 @@
 //! - [`driver`]: open loop, speed controller (PID), path follower;
 //! - [`terrain`]: rigid flat and heightmap terrains;
 //! - [`vehicle`]: the wheeled vehicle assembled from a description; [`hmmwv`] is the HMMWV;
+//! - [`scene`]: a vehicle set down on flat ground, steer angles, wheel slip and sinkage,
+//!   differential locks for loose ground;
 //! - [`output`]: the vehicle's time series as CSV.
 //!
 //! The vehicle frame is X forward, Y left, Z up (ISO 8855); units are SI.
@@ -23,8 +25,10 @@ pub mod driveline;
 pub mod driver;
 pub mod error;
 pub mod hmmwv;
+mod json_path;
 pub mod output;
 pub mod powertrain;
+pub mod scene;
 pub mod state;
 pub mod steering;
 pub mod suspension;

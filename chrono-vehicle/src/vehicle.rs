@@ -105,10 +105,7 @@ impl VehicleData {
     /// Parse a JSON description (the error names the position of a syntax error or the
     /// field that is wrong).
     pub fn from_json(text: &str, path: &str) -> Result<Self> {
-        let data: Self = serde_json::from_str(text).map_err(|e| VehicleError::Data {
-            path: path.to_string(),
-            message: e.to_string(),
-        })?;
+        let data: Self = crate::json_path::parse(text, path)?;
         data.validate()?;
         Ok(data)
     }

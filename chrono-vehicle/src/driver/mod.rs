@@ -5,7 +5,8 @@
 //!   negative to the brake, with anti-windup;
 //! - [`PathFollowerDriver`]: a [`PurePursuit`] steering controller on a [`Path`] plus a
 //!   [`SpeedController`]; [`Path`] has builders for the ISO 3888-1 double lane change and
-//!   for a circle.
+//!   for a circle, and the courses of the lane-change and turn tests;
+//! - [`TractionControl`]: the throttle cut by wheel slip.
 //!
 //! Drivers read the time from [`VehicleState::time`] (the controllers integrate and
 //! differentiate over the time between calls), so `synchronize` is called once per driver
@@ -14,10 +15,12 @@
 mod follower;
 mod path;
 mod speed;
+mod traction;
 
 pub use follower::{PathFollowerDriver, PathFollowerParams, PurePursuit};
 pub use path::{IsoDoubleLaneChange, Path, PathPoint};
 pub use speed::{PidGains, SpeedController};
+pub use traction::TractionControl;
 
 use chrono_core::Curve;
 use serde::{Deserialize, Serialize};

@@ -99,6 +99,15 @@ impl Path {
         Self::new(vec![start, end])
     }
 
+    /// The course of a constant-radius turn test: a left circle of `radius` m (720 points)
+    /// through `(start_x, 0)` heading +X, centred at `(start_x, radius)`. With `start_x`
+    /// the rear axle's `x` in the vehicle frame, a vehicle starting at the origin heading
+    /// +X has its rear axle on the circle, whose kinematic (Ackermann) steer angle is
+    /// `atan(L / radius)` for the wheelbase `L`.
+    pub fn turn_circle(start_x: f64, radius: f64) -> Result<Self> {
+        Self::circle([start_x, radius], radius, 720, true)
+    }
+
     /// A closed circle of `radius` about `center` with `n` points (>= 8), travelled
     /// counter-clockwise (a left turn) if `left`, else clockwise, starting at the point
     /// `center - radius * Y` for a left turn (`+ radius * Y` for a right turn), where the
@@ -268,6 +277,32 @@ impl IsoDoubleLaneChange {
         } else {
             y3 * (1.0 - ramp((x - xb[3]) / (xb[4] - xb[3])))
         }
+    }
+
+    /// The course of a lane-change test for a vehicle starting at `x = 0`: the reference
+    /// line sampled every `spacing` m from the start, section 1 beginning `lead_in` m
+    /// ahead (a straight run-up to the test speed) and `lead_out` m of straight after
+    /// section 5. The course ends at [`course_end`](Self::course_end).
+    pub fn course(&self, lead_in: f64, lead_out: f64, spacing: f64) -> Result<Path> {
+        if !(lead_in.is_finite() && lead_in >= 0.0) {
+            return Err(VehicleError::invalid(
+                "iso_double_lane_change.lead_in",
+                lead_in,
+                "must be finite and >= 0",
+            ));
+        }
+        let path = self.path(0.0, lead_out, spacing)?;
+        Path::new(
+            path.points()
+                .iter()
+                .map(|q| [q.x + lead_in, q.y])
+                .collect(),
+        )
+    }
+
+    /// Where the [`course`](Self::course) with `lead_in` and `lead_out` ends, `x` in m.
+    pub fn course_end(&self, lead_in: f64, lead_out: f64) -> f64 {
+        lead_in + self.boundaries()[5] + lead_out
     }
 
     /// The reference line as a [`Path`] from `x = -lead_in` to `110 + lead_out`, sampled

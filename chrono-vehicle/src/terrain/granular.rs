@@ -101,6 +101,27 @@ impl GranularPatchParams {
     }
 }
 
+impl GranularPatchParams {
+    /// Check that a vehicle whose front tires reach `front_reach` m ahead of its
+    /// reference point ([`front_reach`](crate::scene::front_reach)), set down with its
+    /// reference in the middle of the patch, stays clear of the front wall until the first
+    /// relocation (at `x = slab`): `length / 2 - slab > front_reach`. The error names
+    /// `granular_patch.length`.
+    pub fn check_room_for(&self, front_reach: f64) -> Result<()> {
+        if 0.5 * self.length - self.slab > front_reach {
+            Ok(())
+        } else {
+            Err(VehicleError::invalid(
+                "granular_patch.length",
+                self.length,
+                format!(
+                    "too short: the front tires ({front_reach:.2} m ahead of the vehicle) would hit the front wall before the patch moves (needs length / 2 - slab > {front_reach:.2})"
+                ),
+            ))
+        }
+    }
+}
+
 /// A granular patch in a system (see the [module documentation](self)).
 #[derive(Debug, Clone, PartialEq)]
 pub struct GranularPatch {

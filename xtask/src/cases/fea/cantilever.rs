@@ -23,7 +23,8 @@ use chrono_fea::analytic::{cantilever_tip_deflection, elastica_tip_load};
 use chrono_fea::{NodeId, StaticModel, StaticSettings, solve_static};
 use serde::{Deserialize, Serialize};
 
-use super::{beam_cantilever_mesh, cantilever_mesh, is_beam};
+use super::Element;
+use chrono_fea::{beam_cantilever, cable_cantilever};
 use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series, SweepPoint};
 use crate::params::{CaseParams, ParamCase, ParamInfo};
 
@@ -43,7 +44,7 @@ pub struct CantileverParams {
     /// Load parameters `P L^2 / (E I)`, ascending.
     pub load: Vec<f64>,
     /// Element type: `cable` (gradient-deficient ANCF) or `beam` (fully parameterized).
-    pub element: String,
+    pub element: Element,
     /// Newton load increments from one load of the list to the next.
     pub load_steps: usize,
     /// Relative tolerance against Euler–Bernoulli at small loads.
@@ -61,7 +62,7 @@ impl Default for CantileverParams {
             width: 0.01,
             height: 0.01,
             load: vec![0.01, 1.0, 2.0, 3.0, 4.0, 5.0, 7.5, 10.0],
-            element: "cable".into(),
+            element: Element::Cable,
             load_steps: 4,
             tolerance_small: 0.01,
             tolerance_large: 0.02,
@@ -102,9 +103,8 @@ impl CaseParams for CantileverParams {
 fn solve(p: &CantileverParams, n_elements: usize) -> anyhow::Result<(Vec<(f64, f64)>, usize)> {
     let ei = p.young * p.width * p.height.powi(3) / 12.0;
     let tip = NodeId(n_elements);
-    if is_beam(&p.element)? {
-        let mut mesh =
-            beam_cantilever_mesh(n_elements, p.length, p.young, 1000.0, p.width, p.height)?;
+    if p.element == Element::Beam {
+        let mut mesh = beam_cantilever(n_elements, p.length, p.young, 1000.0, p.width, p.height)?;
         load_path(
             p,
             ei,
@@ -113,7 +113,7 @@ fn solve(p: &CantileverParams, n_elements: usize) -> anyhow::Result<(Vec<(f64, f
             |m| m.node(tip).map(|n| n.displacement()),
         )
     } else {
-        let mut mesh = cantilever_mesh(n_elements, p.length, p.young, 1000.0, p.width, p.height)?;
+        let mut mesh = cable_cantilever(n_elements, p.length, p.young, 1000.0, p.width, p.height)?;
         load_path(
             p,
             ei,
@@ -159,7 +159,6 @@ fn load_path<M: StaticModel>(
 }
 
 fn run(p: &CantileverParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
-    is_beam(&p.element)?;
     anyhow::ensure!(!p.load.is_empty(), "parameter `load` must not be empty");
     for (i, &a) in p.load.iter().enumerate() {
         anyhow::ensure!(

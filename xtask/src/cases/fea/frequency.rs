@@ -8,7 +8,8 @@ use chrono_fea::analytic::cantilever_first_frequency;
 use chrono_fea::natural_frequencies;
 use serde::{Deserialize, Serialize};
 
-use super::{cantilever_mesh, check_element};
+use super::{Element, check_cable_only};
+use chrono_fea::cable_cantilever;
 use crate::case::{Case, CaseOutput, Check, PlotSpec, RunContext, Series, SweepPoint};
 use crate::params::{CaseParams, ParamCase, ParamInfo};
 
@@ -28,7 +29,7 @@ pub struct FrequencyParams {
     /// Section height (the bending direction), m.
     pub height: f64,
     /// Element type: `cable` (`beam`: not yet available).
-    pub element: String,
+    pub element: Element,
     /// Relative tolerance on the first frequency.
     pub tolerance: f64,
 }
@@ -42,7 +43,7 @@ impl Default for FrequencyParams {
             density: 7850.0,
             width: 0.01,
             height: 0.01,
-            element: "cable".into(),
+            element: Element::Cable,
             tolerance: 0.02,
         }
     }
@@ -66,17 +67,17 @@ impl CaseParams for FrequencyParams {
 }
 
 fn first_frequency(p: &FrequencyParams, n: usize) -> anyhow::Result<f64> {
-    let mesh = cantilever_mesh(n, p.length, p.young, p.density, p.width, p.height)?;
+    let mesh = cable_cantilever(n, p.length, p.young, p.density, p.width, p.height)?;
     let f = natural_frequencies(&mesh)?;
     Ok(f[0])
 }
 
 fn run(p: &FrequencyParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
-    check_element(&p.element)?;
+    check_cable_only(p.element)?;
     let mat = chrono_fea::BeamMaterial::rectangle(p.young, p.density, p.width, p.height, 0.0)?;
     let exact =
         cantilever_first_frequency(mat.bending_stiffness(), mat.mass_per_length(), p.length);
-    let mesh = super::cantilever_mesh(
+    let mesh = cable_cantilever(
         p.n_elements,
         p.length,
         p.young,

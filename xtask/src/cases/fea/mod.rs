@@ -28,158 +28,58 @@ pub mod tet_cantilever;
 pub mod tet_patch;
 pub mod tire_drop;
 
-use chrono_core::math::Vector3;
-use chrono_fea::{
-    BeamMaterial, BeamMesh, BeamSection, CableMesh, CableQuadrature, HexSplit, NodeId, SolidModel,
-};
+use serde::{Deserialize, Serialize};
 
-/// The beam element of a case parameter for the cases that only run the cable
-/// (`fea-cantilever-frequency`, `fea-pendulum`): `cable`; `beam` (the fully
-/// parameterized ANCF beam) is rejected here with a clear error — it runs in
-/// `fea-cantilever` and `fea-bend-45`.
-pub fn check_element(element: &str) -> anyhow::Result<()> {
+/// The beam element of a case parameter (`--set element=beam`): the gradient deficient
+/// ANCF cable or the fully parameterized ANCF beam.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Element {
+    /// The ANCF cable (`chrono_fea::cable_cantilever`).
+    #[default]
+    Cable,
+    /// The fully parameterized ANCF beam (`chrono_fea::beam_cantilever`).
+    Beam,
+}
+
+/// For the cases that only run the cable (`fea-cantilever-frequency`, `fea-pendulum`):
+/// `beam` is rejected with a clear error — it runs in `fea-cantilever` and `fea-bend-45`.
+pub fn check_cable_only(element: Element) -> anyhow::Result<()> {
     match element {
-        "cable" => Ok(()),
-        "beam" => anyhow::bail!(
+        Element::Cable => Ok(()),
+        Element::Beam => anyhow::bail!(
             "parameter `element` = `beam`: this case runs the cable only (the fully parameterized ANCF beam runs in fea-cantilever and fea-bend-45); use `cable`"
         ),
-        other => anyhow::bail!("parameter `element` must be `cable` or `beam`, got `{other}`"),
     }
 }
 
-/// Whether a case parameter selects the fully parameterized beam (`beam`) rather than
-/// the cable (`cable`); anything else is an error naming the value.
-pub fn is_beam(element: &str) -> anyhow::Result<bool> {
-    match element {
-        "cable" => Ok(false),
-        "beam" => Ok(true),
-        other => anyhow::bail!("parameter `element` must be `cable` or `beam`, got `{other}`"),
-    }
+/// The shell locking remedies of a case parameter (`--set locking=ans`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Locking {
+    /// Assumed natural strain and enhanced assumed strain (the element's default).
+    #[default]
+    #[serde(rename = "ans+eas")]
+    AnsEas,
+    /// Assumed natural strain only.
+    #[serde(rename = "ans")]
+    Ans,
+    /// Enhanced assumed strain only (locks).
+    #[serde(rename = "eas")]
+    Eas,
+    /// Neither (locks).
+    #[serde(rename = "none")]
+    None,
 }
 
-/// The straight cantilever of [`cantilever_mesh`] with the fully parameterized ANCF
-/// beam: section `width` (along Y) x `height` (along Z), `nu = 0` (the references are
-/// shear-rigid; the beam's shear flexibility adds `~ 3 E I / (k G A L^2) ~ 1e-4`
-/// relative at `L / h = 100`), clamped at node 0 (all 12 coordinates).
-pub fn beam_cantilever_mesh(
-    n_elements: usize,
-    length: f64,
-    young: f64,
-    density: f64,
-    width: f64,
-    height: f64,
-) -> anyhow::Result<BeamMesh> {
-    anyhow::ensure!(
-        n_elements >= 1,
-        "parameter `n_elements` must be >= 1, got {n_elements}"
-    );
-    anyhow::ensure!(
-        length.is_finite() && length > 0.0,
-        "parameter `length` must be > 0, got {length}"
-    );
-    let section = BeamSection::rectangle(young, 0.0, density, width, height)?;
-    let mut mesh = BeamMesh::straight(
-        Vector3::zeros(),
-        Vector3::new(length, 0.0, 0.0),
-        n_elements,
-        Vector3::y(),
-        section,
-    )?;
-    mesh.clamp(NodeId(0))?;
-    Ok(mesh)
-}
-
-/// A straight cantilever along +X from the origin, clamped at node 0 (position and slope direction),
-/// `n_elements` cable elements of a rectangular `width` x `height` section (bending
-/// across the height, which lies along Z).
-pub fn cantilever_mesh(
-    n_elements: usize,
-    length: f64,
-    young: f64,
-    density: f64,
-    width: f64,
-    height: f64,
-) -> anyhow::Result<CableMesh> {
-    anyhow::ensure!(
-        n_elements >= 1,
-        "parameter `n_elements` must be >= 1, got {n_elements}"
-    );
-    anyhow::ensure!(
-        length.is_finite() && length > 0.0,
-        "parameter `length` must be > 0, got {length}"
-    );
-    let material = BeamMaterial::rectangle(young, density, width, height, 0.0)?;
-    let mut mesh = CableMesh::straight(
-        Vector3::zeros(),
-        Vector3::new(length, 0.0, 0.0),
-        n_elements,
-        material,
-        CableQuadrature::default(),
-    )?;
-    mesh.clamp(NodeId(0))?;
-    Ok(mesh)
-}
-
-/// The hexahedron split of a case parameter: `six` or `five` tetrahedra per cell.
-pub fn parse_split(split: &str) -> anyhow::Result<HexSplit> {
-    match split {
-        "six" => Ok(HexSplit::Six),
-        "five" => Ok(HexSplit::Five),
-        other => anyhow::bail!("parameter `split` must be `six` or `five`, got `{other}`"),
-    }
-}
-
-/// The solid model of a case parameter: `svk` (St. Venant–Kirchhoff) or `corotational`.
-pub fn parse_model(model: &str) -> anyhow::Result<SolidModel> {
-    match model {
-        "svk" => Ok(SolidModel::StVenantKirchhoff),
-        "corotational" => Ok(SolidModel::Corotational),
-        other => anyhow::bail!("parameter `model` must be `svk` or `corotational`, got `{other}`"),
-    }
-}
-
-/// Frames of a mesh item written every `every` steps into the case's VTK directory
-/// when the run asked for them (`--vtk`), with their `.pvd` collection at the end.
-pub struct MeshFrames {
-    dir: Option<std::path::PathBuf>,
-    prefix: &'static str,
-    every: u64,
-    frames: Vec<(f64, String)>,
-}
-
-impl MeshFrames {
-    /// Frames `<prefix>_NNNNNN.vtu` every `every` steps, if `--vtk` was given.
-    pub fn new(ctx: &crate::case::RunContext, prefix: &'static str, every: u64) -> Self {
-        Self {
-            dir: ctx.vtk_dir(),
-            prefix,
-            every: every.max(1),
-            frames: Vec::new(),
-        }
-    }
-
-    /// At a multiple of `every` (and VTK output on), write a frame with `write(path)`.
-    pub fn record(
-        &mut self,
-        step: u64,
-        time: f64,
-        write: impl FnOnce(&std::path::Path) -> chrono_core::Result<()>,
-    ) -> anyhow::Result<()> {
-        let Some(dir) = &self.dir else { return Ok(()) };
-        if !step.is_multiple_of(self.every) {
-            return Ok(());
-        }
-        let name = format!("{}_{:06}.vtu", self.prefix, self.frames.len());
-        write(&dir.join(&name))?;
-        self.frames.push((time, name));
-        Ok(())
-    }
-
-    /// Write `<prefix>.pvd` (ParaView opens it as an animation).
-    pub fn finish(&self) -> anyhow::Result<()> {
-        let Some(dir) = &self.dir else { return Ok(()) };
-        let frames: Vec<(f64, &str)> = self.frames.iter().map(|(t, n)| (*t, n.as_str())).collect();
-        chrono_core::io::write_pvd(dir.join(format!("{}.pvd", self.prefix)), &frames)?;
-        Ok(())
+impl Locking {
+    /// The element's switches.
+    pub fn remedies(self) -> chrono_fea::ShellLocking {
+        let (ans, eas) = match self {
+            Locking::AnsEas => (true, true),
+            Locking::Ans => (true, false),
+            Locking::Eas => (false, true),
+            Locking::None => (false, false),
+        };
+        chrono_fea::ShellLocking { ans, eas }
     }
 }

@@ -4,7 +4,7 @@
 //! position tied to the origin by three bilateral rows in the CCP, `pin = rows`, or the
 //! position coordinates removed, `pin = support`; the slope is free, so the pin is a
 //! revolute joint for planar motion), released from rest horizontally under gravity
-//! `-9.81 Z`. The system steps it with chrono-fea's linearized implicit Euler (iteration
+//! `GRAVITY` (`-9.81 Z`). The system steps it with chrono-fea's linearized implicit Euler (iteration
 //! matrix `M + h^2 K` as the coupled mass operator of the CCP, see
 //! `chrono_fea::dynamics`).
 //!
@@ -25,9 +25,19 @@ use chrono_core::{System, SystemSettings};
 use chrono_fea::{AttachTarget, BeamMaterial, CableItem, CableMesh, CableQuadrature, NodeId};
 use serde::{Deserialize, Serialize};
 
-use super::check_element;
+use super::{Element, check_cable_only};
 use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series, SweepPoint};
 use crate::params::{CaseParams, ParamCase, ParamInfo};
+
+/// How the pendulum is pinned (`--set pin=support`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Pin {
+    /// Three bilateral rows in the CCP tie node 0 to the origin.
+    Rows,
+    /// Node 0's position coordinates removed (a support).
+    Support,
+}
 
 /// Parameters of `fea-pendulum`.
 #[derive(Clone, Debug, Serialize, Deserialize)]
@@ -47,9 +57,9 @@ pub struct PendulumParams {
     /// Stiffness-proportional (Rayleigh) damping, s (0: undamped, the benchmark).
     pub damping: f64,
     /// Element type: `cable` (`beam`: not yet available).
-    pub element: String,
+    pub element: Element,
     /// The pin: `rows` (bilateral rows in the CCP) or `support` (removed coordinates).
-    pub pin: String,
+    pub pin: Pin,
     /// Step size of the main run, s.
     pub h: f64,
     /// Simulated time, s.
@@ -72,8 +82,8 @@ impl Default for PendulumParams {
             width: 0.02,
             height: 0.02,
             damping: 0.0,
-            element: "cable".into(),
-            pin: "rows".into(),
+            element: Element::Cable,
+            pin: Pin::Rows,
             h: 1e-4,
             t_end: 10.0,
             h_sweep: vec![1e-3, 5e-4, 2.5e-4, 1e-4],
@@ -162,16 +172,15 @@ fn simulate(
         mat,
         CableQuadrature::default(),
     )?;
-    let rows = match p.pin.as_str() {
-        "rows" => true,
-        "support" => {
+    let rows = match p.pin {
+        Pin::Rows => true,
+        Pin::Support => {
             mesh.fix_position(NodeId(0))?;
             false
         }
-        other => anyhow::bail!("parameter `pin` must be `rows` or `support`, got `{other}`"),
     };
-    let g = Vector3::new(0.0, 0.0, -9.81);
-    let scale = 0.5 * mesh.total_mass() * 9.81 * p.length;
+    let g = chrono_core::math::GRAVITY;
+    let scale = 0.5 * mesh.total_mass() * -g.z * p.length;
     let mut item = CableItem::new("pendulum", mesh)?;
     if rows {
         item.attach(NodeId(0), AttachTarget::Point(Vector3::zeros()))?;
@@ -233,7 +242,7 @@ fn simulate(
 }
 
 fn run(p: &PendulumParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
-    check_element(&p.element)?;
+    check_cable_only(p.element)?;
     let mut out = CaseOutput::new();
     let mut series = Series::new(["t", "kinetic", "strain", "potential", "drift"]);
     let main = simulate(p, p.h, Some(&mut series), Some(ctx))?;

@@ -19,7 +19,7 @@
 //! Acceptance: 5 %, in every mode (the quick mode uses 8 elements, which still pass).
 
 use chrono_core::math::Vector3;
-use chrono_fea::{NodeId, ShellLocking, ShellMaterial, ShellMesh, StaticSettings, solve_static};
+use chrono_fea::{NodeId, ShellMaterial, ShellMesh, StaticSettings, solve_static};
 use serde::{Deserialize, Serialize};
 
 use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series};
@@ -52,7 +52,7 @@ pub struct ShellCantileverParams {
     /// Newton solves (load increments) per reference load interval.
     pub load_steps: usize,
     /// Locking remedies: `ans+eas` (default), `ans`, `eas` or `none`.
-    pub locking: String,
+    pub locking: super::Locking,
     /// Relative tolerance against the reference.
     pub tolerance: f64,
 }
@@ -70,7 +70,7 @@ impl Default for ShellCantileverParams {
             p_max: 4.0,
             load: 1.0,
             load_steps: 1,
-            locking: "ans+eas".into(),
+            locking: super::Locking::AnsEas,
             tolerance: 0.05,
         }
     }
@@ -112,20 +112,6 @@ impl CaseParams for ShellCantileverParams {
     }
 }
 
-/// The locking remedies of a case parameter.
-pub fn parse_locking(locking: &str) -> anyhow::Result<ShellLocking> {
-    let (ans, eas) = match locking {
-        "ans+eas" => (true, true),
-        "ans" => (true, false),
-        "eas" => (false, true),
-        "none" => (false, false),
-        other => anyhow::bail!(
-            "parameter `locking` must be `ans+eas`, `ans`, `eas` or `none`, got `{other}`"
-        ),
-    };
-    Ok(ShellLocking { ans, eas })
-}
-
 fn run(p: &ShellCantileverParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     anyhow::ensure!(
         p.n_elements >= 1 && p.n_width >= 1,
@@ -152,7 +138,7 @@ fn run(p: &ShellCantileverParams, ctx: &RunContext) -> anyhow::Result<CaseOutput
     let material = ShellMaterial::isotropic(p.young, p.poisson, 1.0)?;
     let (nx, ny) = (p.n_elements, p.n_width);
     let mut mesh = ShellMesh::plate(p.length, p.width, nx, ny, p.thickness, material)?;
-    mesh.set_locking(parse_locking(&p.locking)?)?;
+    mesh.set_locking(p.locking.remedies())?;
     let tip: Vec<NodeId> = (0..=ny).map(|j| ShellMesh::grid_node(nx, nx, j)).collect();
     for j in 0..=ny {
         mesh.fix_node(ShellMesh::grid_node(nx, 0, j))?;

@@ -42,7 +42,7 @@ pub struct ShellPressureParams {
     /// Load increments (Newton solves of the follower load).
     pub load_steps: usize,
     /// Locking remedies: `ans+eas` (default), `ans`, `eas` or `none`.
-    pub locking: String,
+    pub locking: super::Locking,
     /// Relative tolerance against the membrane solution.
     pub tolerance: f64,
 }
@@ -57,7 +57,7 @@ impl Default for ShellPressureParams {
             young: 2.0e11,
             poisson: 0.3,
             load_steps: 1,
-            locking: "ans+eas".into(),
+            locking: super::Locking::AnsEas,
             tolerance: 0.02,
         }
     }
@@ -109,7 +109,7 @@ fn run(p: &ShellPressureParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> 
     );
     let material = ShellMaterial::isotropic(p.young, p.poisson, 1000.0)?;
     let mut mesh = ShellMesh::sphere_octant(p.radius, p.n_elements, p.thickness, material)?;
-    mesh.set_locking(super::shell_cantilever::parse_locking(&p.locking)?)?;
+    mesh.set_locking(p.locking.remedies())?;
     let r = p.radius;
     for k in 0..mesh.nodes().len() {
         let x = mesh.nodes()[k].reference_position;

@@ -32,7 +32,6 @@ use chrono_fea::analytic::{
 use chrono_fea::{BoxMesh, SolidMaterial, StaticSettings, solve_static};
 use serde::{Deserialize, Serialize};
 
-use super::{parse_model, parse_split};
 use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series, SweepPoint};
 use crate::params::{CaseParams, ParamCase, ParamInfo};
 
@@ -54,9 +53,9 @@ pub struct TetCantileverParams {
     /// Tip force along -Z, N.
     pub force: f64,
     /// Hexahedron split: `six` or `five`.
-    pub split: String,
+    pub split: chrono_fea::HexSplit,
     /// Material model: `svk` (St. Venant–Kirchhoff) or `corotational`.
-    pub model: String,
+    pub model: chrono_fea::SolidModel,
     /// Accepted distance of the observed order (two finest meshes) from 2.
     pub order_tolerance: f64,
     /// Relative tolerance of the extrapolated tip deflection against Timoshenko.
@@ -73,8 +72,8 @@ impl Default for TetCantileverParams {
             young: 2.0e11,
             poisson: 0.3,
             force: 1.0e3,
-            split: "six".into(),
-            model: "svk".into(),
+            split: chrono_fea::HexSplit::Six,
+            model: chrono_fea::SolidModel::StVenantKirchhoff,
             order_tolerance: 1.0,
             tolerance: 0.02,
         }
@@ -130,7 +129,7 @@ fn solve(
     ctx: &RunContext,
     last: bool,
 ) -> anyhow::Result<Solution> {
-    let split = parse_split(&p.split)?;
+    let split = p.split;
     let along = ((p.length / p.height).round() as usize).max(1) * n;
     let b = BoxMesh::new(
         Vector3::zeros(),
@@ -139,7 +138,7 @@ fn solve(
         split,
     )?;
     let material =
-        SolidMaterial::new(p.young, p.poisson, 7850.0, 0.0)?.with_model(parse_model(&p.model)?);
+        SolidMaterial::new(p.young, p.poisson, 7850.0, 0.0)?.with_model(p.model);
     let mut mesh = b.into_mesh(material)?;
     for &node in &b.faces.x_min {
         mesh.fix_node(node)?;
@@ -199,7 +198,7 @@ fn run(p: &TetCantileverParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> 
         );
     }
     let material =
-        SolidMaterial::new(p.young, p.poisson, 7850.0, 0.0)?.with_model(parse_model(&p.model)?);
+        SolidMaterial::new(p.young, p.poisson, 7850.0, 0.0)?.with_model(p.model);
     let area = p.width * p.height;
     let ei = p.young * p.width * p.height.powi(3) / 12.0;
     let kga = rectangle_shear_coefficient(p.poisson) * material.shear_modulus() * area;

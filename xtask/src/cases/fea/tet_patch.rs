@@ -22,7 +22,6 @@ use chrono_core::rng::Rng;
 use chrono_fea::{BoxMesh, NodeId, SolidMaterial, StaticSettings, solve_static};
 use serde::{Deserialize, Serialize};
 
-use super::{parse_model, parse_split};
 use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series};
 use crate::params::{CaseParams, ParamCase, ParamInfo};
 
@@ -34,9 +33,9 @@ pub struct TetPatchParams {
     /// Side of the cube, m.
     pub size: f64,
     /// Hexahedron split: `six` or `five`.
-    pub split: String,
+    pub split: chrono_fea::HexSplit,
     /// Material model: `svk` (St. Venant–Kirchhoff) or `corotational`.
-    pub model: String,
+    pub model: chrono_fea::SolidModel,
     /// Largest random move of an interior node along each axis, in cells (< 0.5).
     pub distortion: f64,
     /// Seed of the node distortion.
@@ -60,8 +59,8 @@ impl Default for TetPatchParams {
         Self {
             divisions: 3,
             size: 1.0,
-            split: "six".into(),
-            model: "svk".into(),
+            split: chrono_fea::HexSplit::Six,
+            model: chrono_fea::SolidModel::StVenantKirchhoff,
             distortion: 0.3,
             seed: 12345,
             // Stretch, shear and a small rotation, all ~1e-3 .. 1e-2.
@@ -118,7 +117,7 @@ impl CaseParams for TetPatchParams {
 }
 
 fn run(p: &TetPatchParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
-    let split = parse_split(&p.split)?;
+    let split = p.split;
     anyhow::ensure!(
         p.divisions >= 2,
         "parameter `divisions` must be >= 2 (an interior node), got {}",
@@ -148,7 +147,7 @@ fn run(p: &TetPatchParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         f.determinant()
     );
     let material =
-        SolidMaterial::new(p.young, p.poisson, 1000.0, 0.0)?.with_model(parse_model(&p.model)?);
+        SolidMaterial::new(p.young, p.poisson, 1000.0, 0.0)?.with_model(p.model);
     let n = p.divisions;
     let mut b = BoxMesh::new(Vector3::zeros(), Vector3::repeat(p.size), [n, n, n], split)?;
     let cell = p.size / n as f64;

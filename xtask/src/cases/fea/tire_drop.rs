@@ -58,9 +58,10 @@
 use chrono_ccp::{Schur, SolverSettings};
 use chrono_core::math::{Isometry3, Vector3};
 use chrono_core::{ContactMaterial, RigidBodyBuilder, Shape, System, SystemSettings};
+use chrono_core::io::{Every, FrameSeries};
+use chrono_core::math::GRAVITY;
 use chrono_fea::{
-    AttachTarget, DirectorTarget, NodeId, ShellItem, ShellMaterial, StaticSettings, TireGeometry,
-    TireMesh, solve_static,
+    BeadMount, InflatedTire, NodeId, ShellItem, ShellMaterial, TireGeometry, TireMesh, mount_on_rim,
 };
 use serde::{Deserialize, Serialize};
 
@@ -108,7 +109,7 @@ pub struct TireDropParams {
     /// Bound on the rim and node speeds at the end, m/s.
     pub rest_speed: f64,
     /// Bead attachment: `hinged` (positions) or `clamped` (positions and directors).
-    pub beads: String,
+    pub beads: BeadMount,
 }
 
 impl Default for TireDropParams {
@@ -132,7 +133,7 @@ impl Default for TireDropParams {
             t_end: 0.8,
             deflection_factor: 3.0,
             rest_speed: 1e-3,
-            beads: "hinged".into(),
+            beads: BeadMount::Hinged,
         }
     }
 }
@@ -214,11 +215,6 @@ fn check(p: &TireDropParams) -> anyhow::Result<()> {
 
 fn run(p: &TireDropParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     check(p)?;
-    let clamped = match p.beads.as_str() {
-        "hinged" => false,
-        "clamped" => true,
-        other => anyhow::bail!("parameter `beads` must be `hinged` or `clamped`, got `{other}`"),
-    };
     let geometry = TireGeometry {
         centre: Vector3::zeros(),
         ring_radius: p.ring_radius,
@@ -230,51 +226,25 @@ fn run(p: &TireDropParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     };
     let material = ShellMaterial::isotropic(p.young, p.poisson, p.density)?;
     let tire = TireMesh::new(geometry, material)?;
-    let mut mesh = tire.mesh.clone();
-    mesh.set_pressure(p.pressure)?;
     // Inflation: the beads held where the rim will hold them.
-    let mut inflated = mesh.clone();
-    for ring in &tire.beads {
-        for &n in ring {
-            if clamped {
-                inflated.fix_node(n)?;
-            } else {
-                inflated.fix_position(n)?;
-            }
-        }
-    }
-    let report = solve_static(
-        &mut inflated,
-        &StaticSettings {
-            load_steps: 4,
-            ..StaticSettings::default()
-        },
-    )?;
+    let inflated = InflatedTire::new(&tire, p.pressure, p.beads, 4)?;
+    let report = &inflated.report;
     ctx.progress(0.05);
     let r_contact = 0.5 * p.thickness;
-    let q_inflated = inflated.coordinates();
-    let z_min = inflated
-        .nodes()
-        .iter()
-        .map(|n| n.position.z)
-        .fold(f64::INFINITY, f64::min);
+    let z_min = inflated.lowest_z();
     // Rim centre (origin) above the ground when the tire just touches it, unloaded.
     let h_free = -z_min + r_contact;
     let outer_radius = h_free;
-    let tire_mass = mesh.total_mass();
-    let weight = (p.rim_mass + tire_mass) * 9.81;
+    let tire_mass = inflated.mesh.total_mass();
+    let weight = (p.rim_mass + tire_mass) * -GRAVITY.z;
     let estimate =
         weight / (std::f64::consts::TAU * p.pressure * (outer_radius * p.section_radius).sqrt());
     // Place the wheel: rim centre at h_free + drop_height, the ground the plane z = 0.
     let lift = h_free + p.drop_height;
-    let mut q = q_inflated.clone();
-    for k in 0..mesh.nodes().len() {
-        q[6 * k + 2] += lift;
-    }
-    mesh.set_coordinates(&q)?;
+    let mesh = inflated.lifted(lift)?;
 
     let settings = SystemSettings {
-        gravity: Vector3::new(0.0, 0.0, -9.81),
+        gravity: GRAVITY,
         ..SystemSettings::default()
     };
     let solver = Schur::new(SolverSettings {
@@ -291,7 +261,7 @@ fn run(p: &TireDropParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         ContactMaterial::with_friction(p.friction),
     ))?;
     // A rim as a thin hoop of the bead radius about the axle (Y).
-    let r_rim = p.ring_radius - p.section_radius * geometry.bead_angle.cos().abs();
+    let r_rim = geometry.bead_radius();
     let rim_at = Vector3::new(0.0, 0.0, lift);
     let rim = sys.add_body(
         RigidBodyBuilder::dynamic()
@@ -303,28 +273,8 @@ fn run(p: &TireDropParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     let mut item = ShellItem::new("tire", mesh)?;
     item.set_damping(p.damping)?;
     item.set_contact_spheres(r_contact, ContactMaterial::with_friction(p.friction))?;
-    for ring in &tire.beads {
-        for &n in ring {
-            let node = *item.mesh().node(n)?;
-            item.attach(
-                n,
-                AttachTarget::Body {
-                    body: rim,
-                    local: node.position - rim_at,
-                },
-            )?;
-            if clamped {
-                // The rim starts unrotated: body frame = world axes.
-                item.attach_director(
-                    n,
-                    DirectorTarget::Body {
-                        body: rim,
-                        local: node.slope,
-                    },
-                )?;
-            }
-        }
-    }
+    // The rim starts unrotated: body frame = world axes.
+    mount_on_rim(&mut item, &tire.beads, rim, rim_at, p.beads)?;
     let idx = sys.add_item(Box::new(item));
 
     let steps = (p.t_end / p.h).round().max(1.0) as u64;
@@ -341,7 +291,7 @@ fn run(p: &TireDropParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     let (mut pen_max, mut force_ratio) = (0.0f64, 0.0);
     let start = std::time::Instant::now();
     // With --vtk: the tire (strain and stress fields) and the rim and ground every 5 ms.
-    let mut tire_frames = super::MeshFrames::new(ctx, "tire", every);
+    let mut tire_frames = FrameSeries::new(ctx.vtk_dir(), "tire", "vtu", Every::Steps(every))?;
     let mut body_frames = crate::cases::rigid::VtkFrames::new(ctx, every);
     for s in 1..=steps {
         sys.step(p.h)?;

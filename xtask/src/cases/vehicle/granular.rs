@@ -34,8 +34,11 @@ use std::time::Instant;
 use chrono_ccp::{Schur, SolverSettings};
 use chrono_core::math::Isometry3;
 use chrono_core::{System, SystemSettings};
-use chrono_vehicle::driver::{PidGains, SpeedController};
+use chrono_vehicle::driver::{PidGains, SpeedController, TractionControl};
 use chrono_vehicle::hmmwv::{TireKind, hmmwv_data_with};
+use chrono_vehicle::scene::{
+    front_reach, lock_differentials, mean_sinkage, mean_wheel_surface_speed, start_height,
+};
 use chrono_vehicle::terrain::{FlatTerrain, GranularPatch, GranularPatchParams};
 use chrono_vehicle::{DriverInputs, WheeledVehicle};
 use serde::{Deserialize, Serialize};
@@ -79,7 +82,7 @@ pub struct GranularParams {
     /// Contact method of the grains and tires: `nsc` or `smc` (penalty; the joints and
     /// shafts stay rows of the CCP). SMC needs `h` below the contact-duration limit the
     /// system checks (about 1.2 ms for the quick grains).
-    pub method: String,
+    pub method: chrono_core::ContactMethod,
     /// Rolling friction coefficient of the grains.
     pub rolling_friction: f64,
     /// Largest wheel slip `s = (w R - v) / (w R)` the driver's traction control allows
@@ -114,7 +117,7 @@ impl Default for GranularParams {
             h: 2.5e-4,
             settle: 0.6,
             vehicle_settle: 0.3,
-            method: "smc".into(),
+            method: chrono_core::ContactMethod::Smc,
             rolling_friction: 0.2,
             diff_lock_torque: 3e4,
             max_slip: 0.4,
@@ -186,11 +189,7 @@ impl CaseParams for GranularParams {
 }
 
 fn run(p: &GranularParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
-    let method = match p.method.as_str() {
-        "nsc" => chrono_core::ContactMethod::Nsc,
-        "smc" => chrono_core::ContactMethod::Smc,
-        other => anyhow::bail!("parameter `method` must be nsc or smc, got `{other}`"),
-    };
+    let method = p.method;
     anyhow::ensure!(
         p.distance > 0.0 && p.speed > 0.0,
         "parameters `distance` and `speed` must be > 0"
@@ -217,10 +216,7 @@ fn run(p: &GranularParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     let mut sys = System::new(sys_settings, Box::new(Schur::new(settings)))?;
     let mut data = hmmwv_data_with(TireKind::Rigid)?;
     if p.diff_lock_torque > 0.0 {
-        data.driveline.locking_torque_limit = p.diff_lock_torque;
-        data.driveline.lock_central = true;
-        data.driveline.lock_front = true;
-        data.driveline.lock_rear = true;
+        lock_differentials(&mut data, p.diff_lock_torque)?;
     }
     let radius = data.wheel.tire.radius();
     let patch_params = GranularPatchParams {
@@ -244,26 +240,16 @@ fn run(p: &GranularParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     }
     patch.capture_settled(&sys)?;
     let surface = patch.surface();
-    let spindle_z = data.axles[0].suspension.points.spindle[2];
-    let z0 = surface + radius - spindle_z + 0.01;
+    let z0 = start_height(&data, surface, 0.01);
     // The handling-tire terrain is not used by rigid tires; a flat one stands in.
     let flat = std::sync::Arc::new(FlatTerrain::new(surface, p.mu)?);
     let mut v =
         WheeledVehicle::build(&mut sys, &data, &Isometry3::translation(0.0, 0.0, z0), flat)?;
     // The front tires must stay clear of the front wall until the first relocation (at
     // `x = slab`, the vehicle reference in the middle of the patch).
-    let front_reach = data
-        .axles
-        .iter()
-        .map(|a| a.location[0])
-        .fold(f64::NEG_INFINITY, f64::max)
-        + radius
-        + p.grain_diameter;
-    anyhow::ensure!(
-        0.5 * p.patch_length - patch_params.slab > front_reach,
-        "parameter `patch_length` = {} is too short: the front tires ({front_reach:.2} m ahead of the vehicle) would hit the front wall before the patch moves (needs patch_length / 2 - slab > {front_reach:.2})",
-        p.patch_length
-    );
+    patch_params
+        .check_room_for(front_reach(&data, p.grain_diameter))
+        .map_err(|e| anyhow::anyhow!("parameter `patch_length`: {e}"))?;
     // Set down on the bed with the brakes on, then start rolling at `initial_speed`: the
     // landing is not part of the test.
     let n_land = if p.vehicle_settle > 0.0 {
@@ -289,6 +275,7 @@ fn run(p: &GranularParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         kd: 0.0,
     };
     let mut speed = SpeedController::new(gains, p.speed)?;
+    let traction = TractionControl::new(p.max_slip)?;
     let t_max = 3.0 * p.distance / p.speed + 5.0;
     let n_max = n_steps(p.h, t_max)?;
     let mut series = Series::new([
@@ -316,14 +303,8 @@ fn run(p: &GranularParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         let u = speed.advance(st.time, st.forward_speed());
         let (mut throttle, brake) = SpeedController::pedals(u);
         if p.max_slip > 0.0 {
-            // Mean wheel surface speed about the (level) axle axis.
-            let mut wr = 0.0;
-            for w in v.wheels() {
-                wr += sys.body(w.spindle)?.angular_velocity().y * radius;
-            }
-            wr /= v.wheels().len() as f64;
-            let slip = (wr - st.forward_speed()) / wr.abs().max(0.5);
-            throttle *= (1.0 - 5.0 * (slip - p.max_slip)).clamp(0.0, 1.0);
+            let wr = mean_wheel_surface_speed(&sys, &v, radius)?;
+            throttle = traction.limit(throttle, wr, st.forward_speed());
         }
         let inputs = DriverInputs {
             throttle,
@@ -337,20 +318,8 @@ fn run(p: &GranularParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         let st = v.state(&sys)?;
         let t = sys.time() - t0;
         distance = st.position.x - x0;
-        let sink = v
-            .wheels()
-            .iter()
-            .map(|w| {
-                sys.body(w.spindle)
-                    .map(|b| surface - (b.position().z - radius))
-            })
-            .collect::<std::result::Result<Vec<f64>, _>>()?;
-        let sink = sink.iter().sum::<f64>() / sink.len() as f64;
-        let mut wheel_speed = 0.0;
-        for w in v.wheels() {
-            wheel_speed += sys.body(w.spindle)?.angular_velocity().y * radius;
-        }
-        wheel_speed /= v.wheels().len() as f64;
+        let sink = mean_sinkage(&sys, &v, surface, radius)?;
+        let wheel_speed = mean_wheel_surface_speed(&sys, &v, radius)?;
         if t > 1.0 {
             sum_v += st.forward_speed();
             n_v += 1;

@@ -13,10 +13,22 @@ use std::time::Instant;
 use chrono_vehicle::driver::{Driver, IsoDoubleLaneChange, PathFollowerDriver, PathFollowerParams};
 use serde::{Deserialize, Serialize};
 
-use super::scene::VehicleScene;
+use chrono_vehicle::hmmwv::{PowertrainKind, TireKind};
+
+use super::scene::{hmmwv_flat, hmmwv_max_front_steer};
 use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series};
 use crate::cases::rigid::{VtkFrames, n_steps};
 use crate::params::{CaseParams, ParamCase, ParamInfo};
+
+/// The point pure pursuit steers onto the path (`--set pursuit_from=rear_axle`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum PursuitFrom {
+    /// The chassis reference point, where the path error is measured.
+    Reference,
+    /// The rear axle (the textbook choice).
+    RearAxle,
+}
 
 /// Parameters of `hmmwv-lane-change`.
 #[derive(Clone, Debug, Serialize, Deserialize)]
@@ -29,11 +41,11 @@ pub struct LaneChangeParams {
     pub lookahead: f64,
     /// The point pure pursuit steers onto the path: `reference` (the chassis reference
     /// point, where the error is measured) or `rear_axle` (the textbook choice).
-    pub pursuit_from: String,
+    pub pursuit_from: PursuitFrom,
     /// Time step, s.
     pub h: f64,
     /// Tire model: `rigid` or `handling`.
-    pub tire: String,
+    pub tire: TireKind,
     /// Tire-ground friction coefficient.
     pub mu: f64,
     /// CCP solver.
@@ -46,9 +58,9 @@ impl Default for LaneChangeParams {
             speed_kmh: 50.0,
             lead_in: 150.0,
             lookahead: 8.0,
-            pursuit_from: "reference".into(),
+            pursuit_from: PursuitFrom::Reference,
             h: 1e-3,
-            tire: "handling".into(),
+            tire: TireKind::Handling,
             mu: 0.9,
             solver: "schur".into(),
         }
@@ -86,29 +98,23 @@ fn run(p: &LaneChangeParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         "parameter `speed_kmh` must be > 0, got {}",
         p.speed_kmh
     );
-    let max_steer = VehicleScene::max_front_steer(&p.tire, p.mu, &p.solver)?;
-    let mut scene = VehicleScene::flat(&p.tire, p.mu, &p.solver, 1e-8, 500)?;
+    let max_steer = hmmwv_max_front_steer(p.tire, p.mu, &p.solver)?;
+    let mut scene = hmmwv_flat(p.tire, PowertrainKind::Chrono, p.mu, &p.solver)?;
     let lane = IsoDoubleLaneChange::new(VEHICLE_WIDTH)?;
     let lead_out = 40.0;
     // The vehicle's reference point starts at x = 0: the path starts there.
-    let path = lane.path(0.0, lead_out, 0.5)?;
+    let path = lane.course(p.lead_in, lead_out, 0.5)?;
     let shift = p.lead_in;
-    let path = chrono_vehicle::driver::Path::new(
-        path.points().iter().map(|q| [q.x + shift, q.y]).collect(),
-    )?;
-    let x_end = shift + lane.boundaries()[5] + lead_out;
+    let x_end = lane.course_end(shift, lead_out);
     let mut params = PathFollowerParams::hmmwv(p.speed_kmh / 3.6);
     params.steering.lookahead = p.lookahead;
     params.steering.max_steer_angle = max_steer;
     params.steering.wheelbase = scene.data.axles[0].location[0] - scene.data.axles[1].location[0];
-    params.steering.rear_axle_offset = match p.pursuit_from.as_str() {
+    params.steering.rear_axle_offset = match p.pursuit_from {
         // The error is measured at the chassis reference point: steer that point onto the
         // path (pure pursuit's arc from there; the kinematic formula is then approximate).
-        "reference" => 0.0,
-        "rear_axle" => scene.data.axles[1].location[0],
-        other => {
-            anyhow::bail!("parameter `pursuit_from` must be reference or rear_axle, got `{other}`")
-        }
+        PursuitFrom::Reference => 0.0,
+        PursuitFrom::RearAxle => scene.data.axles[1].location[0],
     };
     let mut driver = PathFollowerDriver::new(path.clone(), params)?;
     let v_target = p.speed_kmh / 3.6;

@@ -11,7 +11,9 @@ use std::time::Instant;
 
 use serde::{Deserialize, Serialize};
 
-use super::scene::VehicleScene;
+use chrono_vehicle::hmmwv::{PowertrainKind, TireKind};
+
+use super::scene::hmmwv_flat;
 use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series};
 use crate::cases::rigid::{VtkFrames, n_steps};
 use crate::params::{CaseParams, ParamCase, ParamInfo};
@@ -24,7 +26,7 @@ pub struct StaticParams {
     /// Simulated time, s.
     pub t_end: f64,
     /// Tire model: `rigid` or `handling`.
-    pub tire: String,
+    pub tire: TireKind,
     /// Tire–ground friction coefficient.
     pub mu: f64,
     /// CCP solver.
@@ -36,7 +38,7 @@ impl Default for StaticParams {
         Self {
             h: 1e-3,
             t_end: 4.0,
-            tire: "rigid".into(),
+            tire: TireKind::Rigid,
             mu: 0.9,
             solver: "schur".into(),
         }
@@ -67,7 +69,7 @@ const SETTLED_SPEED: f64 = 1e-3;
 
 fn run(p: &StaticParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     let n = n_steps(p.h, p.t_end)?;
-    let mut scene = VehicleScene::flat(&p.tire, p.mu, &p.solver, 1e-8, 500)?;
+    let mut scene = hmmwv_flat(p.tire, PowertrainKind::Chrono, p.mu, &p.solver)?;
     let (sys, v) = (&mut scene.sys, &mut scene.vehicle);
     let mut series = Series::new(["t", "ride_height", "vz", "load_sum", "weight"]);
     let weight = scene.data.total_mass() * sys.settings().gravity.norm();

@@ -12,7 +12,9 @@ use std::time::Instant;
 use chrono_vehicle::driver::{Driver, Path, PathFollowerDriver, PathFollowerParams};
 use serde::{Deserialize, Serialize};
 
-use super::scene::VehicleScene;
+use chrono_vehicle::hmmwv::{PowertrainKind, TireKind};
+
+use super::scene::{hmmwv_flat, hmmwv_max_front_steer};
 use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series};
 use crate::cases::rigid::{VtkFrames, n_steps};
 use crate::params::{CaseParams, ParamCase, ParamInfo};
@@ -31,7 +33,7 @@ pub struct TurnParams {
     /// Averaging window at the end, s.
     pub measure: f64,
     /// Tire model: `rigid` or `handling`.
-    pub tire: String,
+    pub tire: TireKind,
     /// Tire-ground friction coefficient.
     pub mu: f64,
     /// CCP solver.
@@ -46,7 +48,7 @@ impl Default for TurnParams {
             h: 1e-3,
             t_end: 40.0,
             measure: 10.0,
-            tire: "handling".into(),
+            tire: TireKind::Handling,
             mu: 0.9,
             solver: "schur".into(),
         }
@@ -89,12 +91,12 @@ fn run(p: &TurnParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         p.measure
     );
     let n = n_steps(p.h, p.t_end)?;
-    let max_steer = VehicleScene::max_front_steer(&p.tire, p.mu, &p.solver)?;
-    let mut scene = VehicleScene::flat(&p.tire, p.mu, &p.solver, 1e-8, 500)?;
+    let max_steer = hmmwv_max_front_steer(p.tire, p.mu, &p.solver)?;
+    let mut scene = hmmwv_flat(p.tire, PowertrainKind::Chrono, p.mu, &p.solver)?;
     let wheelbase = scene.data.axles[0].location[0] - scene.data.axles[1].location[0];
     let rear_x = scene.data.axles[1].location[0];
     // The rear axle starts on the circle, heading +X, turning left about (rear_x, R).
-    let path = Path::circle([rear_x, p.radius], p.radius, 720, true)?;
+    let path = Path::turn_circle(rear_x, p.radius)?;
     let mut params = PathFollowerParams::hmmwv(p.speed);
     params.steering.wheelbase = wheelbase;
     params.steering.rear_axle_offset = rear_x;
