@@ -301,7 +301,7 @@ impl GrainBed {
                     sys.step(h)?;
                     steps += 1;
                     on_step(sys, steps)?;
-                    if steps % every == 0
+                    if steps.is_multiple_of(every)
                         && sys.time() >= not_before
                         && sys.kinetic_energy() / unit < below
                     {

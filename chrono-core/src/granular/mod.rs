@@ -1,6 +1,6 @@
 //! Granular material: grain packings ([`LatticeFill`] in a [`Region`]), a seeded random
 //! generator ([`Rng`]), helpers that put grains and containers into a
-//! [`System`](crate::system::System), and the scenes built from them:
+//! [`System`], and the scenes built from them:
 //!
 //! - [`bed`]: a bed poured from a loose lattice and settled ([`GrainBed`]);
 //! - [`silo`]: a flat-bottomed silo with an orifice and the recycling of its discharge

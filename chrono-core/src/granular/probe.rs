@@ -62,30 +62,28 @@ pub fn surface_height(
 /// volume. `grains` are `(centre, mass)`. A centre counts as inside when it is strictly
 /// inside horizontally and in `[bottom, top)` vertically. NaN for a region of no volume.
 pub fn bulk_density(grains: impl IntoIterator<Item = (Vector3<f64>, f64)>, region: &Region) -> f64 {
-    let (inside, volume): (Box<dyn Fn(&Vector3<f64>) -> bool>, f64) = match *region {
-        Region::Box { lower, upper } => (
-            Box::new(move |x: &Vector3<f64>| {
-                x.x > lower.x
-                    && x.x < upper.x
-                    && x.y > lower.y
-                    && x.y < upper.y
-                    && x.z >= lower.z
-                    && x.z < upper.z
-            }),
-            (upper.x - lower.x) * (upper.y - lower.y) * (upper.z - lower.z),
-        ),
+    let inside = |x: &Vector3<f64>| match *region {
+        Region::Box { lower, upper } => {
+            x.x > lower.x
+                && x.x < upper.x
+                && x.y > lower.y
+                && x.y < upper.y
+                && x.z >= lower.z
+                && x.z < upper.z
+        }
         Region::Cylinder {
             base,
             radius,
             height,
-        } => (
-            Box::new(move |x: &Vector3<f64>| {
-                x.z >= base.z && x.z < base.z + height && (x.xy() - base.xy()).norm() < radius
-            }),
-            std::f64::consts::PI * radius * radius * height,
-        ),
+        } => x.z >= base.z && x.z < base.z + height && (x.xy() - base.xy()).norm() < radius,
     };
-    if !(volume > 0.0) {
+    let volume = match *region {
+        Region::Box { lower, upper } => {
+            (upper.x - lower.x) * (upper.y - lower.y) * (upper.z - lower.z)
+        }
+        Region::Cylinder { radius, height, .. } => std::f64::consts::PI * radius * radius * height,
+    };
+    if !(volume.is_finite() && volume > 0.0) {
         return f64::NAN;
     }
     let mass: f64 = grains

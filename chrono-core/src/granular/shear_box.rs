@@ -113,7 +113,7 @@ impl ShearBox {
         check_positive("shear_box.half_height", self.half_height)?;
         check_positive("shear_box.wall", self.wall)?;
         check_positive("shear_box.plate_mass", self.plate_mass)?;
-        if !(self.top > self.gap) {
+        if !(self.top.is_finite() && self.top > self.gap) {
             return Err(ChronoError::invalid(
                 "shear_box.top",
                 self.top,
@@ -134,7 +134,7 @@ impl ShearBox {
         let upper_b = RigidBodyBuilder::fixed().name("upper half");
         let upper = sys.add_body(add_walls(upper_b, l, t, self.gap, self.top, self.material))?;
         let side = self.plate_side();
-        if !(side > 0.0) {
+        if !(side.is_finite() && side > 0.0) {
             return Err(ChronoError::invalid(
                 "shear_box.plate_clearance",
                 self.plate_clearance,

@@ -225,7 +225,6 @@ fn shear_test(
     let settle_friction = p
         .fill_mu
         .or((method == ContactMethod::Nsc && p.nsc_fill_mu >= 0.0).then_some(p.nsc_fill_mu));
-    let h0 = p.h;
     let spec = GrainBed {
         count: Some(count),
         seed,
@@ -251,7 +250,7 @@ fn shear_test(
         .map_err(|e| anyhow::anyhow!("granular-shear: {e}"))?;
     let handles = bed.handles.clone();
     let grain_mass = sys.body(handles[0])?.mass();
-    let h = super::step_size(h0, method, &sys);
+    let h = super::step_size(p.h, method, &sys);
     let structure = bodies.structure();
     let n_settle = (p.t_settle / h).round().max(1.0) as u64;
     let n_cons = (p.t_consolidate / h).round().max(1.0) as u64;
