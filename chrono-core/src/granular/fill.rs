@@ -4,7 +4,7 @@
 //! A lattice fill is loose (solid fraction up to `pi/6 ~ 0.52` for touching simple-cubic
 //! sites, less with the gap); a random close packing (solid fraction ~0.60–0.64 for
 //! spheres, G. D. Scott and D. M. Kilgour, J. Phys. D 2, 1969) is obtained by letting the
-//! lattice settle under gravity in the container ([`super::settle`]).
+//! lattice settle under gravity in the container ([`super::GrainBed`]).
 
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};

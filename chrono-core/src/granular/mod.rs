@@ -1,6 +1,13 @@
 //! Granular material: grain packings ([`LatticeFill`] in a [`Region`]), a seeded random
-//! generator ([`Rng`]), and helpers that put grains and containers into a
-//! [`System`](crate::system::System).
+//! generator ([`Rng`]), helpers that put grains and containers into a
+//! [`System`], and the scenes built from them:
+//!
+//! - [`bed`]: a bed poured from a loose lattice and settled ([`GrainBed`]);
+//! - [`silo`]: a flat-bottomed silo with an orifice and the recycling of its discharge
+//!   ([`Silo`], [`Recycler`]);
+//! - [`shear_box`]: the direct shear box and the reduction of its curve ([`ShearBox`]);
+//! - [`probe`]: measurements on a bed (surface height, bulk density, heap flank angles,
+//!   grain forces on a body, penetration).
 //!
 //! Grains are ordinary dynamic rigid bodies with one sphere collider (or several for a
 //! clump), so both contact methods apply: NSC (DEM-C, complementarity) and SMC (DEM-P,
@@ -8,11 +15,18 @@
 //! [`GRID_MIN_SPHERES`](crate::collision::GRID_MIN_SPHERES) spheres on, the collision
 //! world finds sphere pairs on a uniform cell grid.
 
+pub mod bed;
 mod fill;
+pub mod probe;
+pub mod shear_box;
+pub mod silo;
 
 /// The seeded generator, re-exported from its old place ([`crate::rng::Rng`]).
 pub use crate::rng::Rng;
+pub use bed::{Bed, GrainBed, Kick, Settle, Settled};
 pub use fill::{Grain, LatticeFill, Region};
+pub use shear_box::{ShearBox, ShearBoxBodies};
+pub use silo::{Recycler, Silo, SiloBodies};
 
 use nalgebra::{Isometry3, Vector3};
 
@@ -20,7 +34,19 @@ use crate::body::{BodyHandle, RigidBodyBuilder};
 use crate::error::{ChronoError, Result, check_positive};
 use crate::material::ContactMaterial;
 use crate::shape::Shape;
-use crate::system::System;
+use crate::system::{ContactMethod, System};
+
+/// The time step of a granular scene (s): `h` if it is > 0, else 1 ms for NSC and the SMC
+/// stability limit of `sys` ([`System::smc_max_step`], 1e-4 s without grains) for SMC.
+pub fn step_size(h: f64, method: ContactMethod, sys: &System) -> f64 {
+    if h > 0.0 {
+        h
+    } else if method == ContactMethod::Nsc {
+        1e-3
+    } else {
+        sys.smc_max_step().map(|(h, _)| h).unwrap_or(1e-4)
+    }
+}
 
 /// Add each grain as a dynamic sphere of `density` (kg/m^3) and `material`; returns the
 /// handles in grain order.

@@ -54,12 +54,13 @@
 //! checks that the depth grows with the height and is final; the default (`D = 6 d`)
 //! and `--full` (`D = 8 d`) check the exponent and the prefactor.
 
-use chrono_core::SystemSettings;
+use chrono_core::contact::smc::RollingModel;
+use chrono_core::math::GRAVITY;
 use chrono_core::system::ContactMethod;
 use serde::{Deserialize, Serialize};
 
 use super::ball_drop_scene::{Drop, drop_ball, half_width, impact, settle_bed};
-use super::{method_name, parse_methods, parse_rolling_model};
+use super::{ensure_methods, method_name};
 use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series, SweepPoint};
 use crate::fit::{line_fit, mean_std, slope_standard_error};
 use crate::params::{CaseParams, ParamCase, ParamInfo, ensure_at_least, ensure_positive};
@@ -92,7 +93,7 @@ pub struct BallDropParams {
     pub rolling_friction: f64,
     /// Rolling resistance model of both methods: `relative` or `per_body` (Zhou et al.'s;
     /// see `chrono_core::contact::smc` and `chrono_core::contact::nsc`).
-    pub rolling_model: String,
+    pub rolling_model: RollingModel,
     /// Angle of repose of the medium, degrees: the law's `mu = tan(theta_r)`. Default 23°:
     /// frictional spheres with `mu = 0.5` and no rolling resistance flow steadily down a
     /// rough incline between ~20° and ~24° (L. E. Silbert et al., "Granular flow down an
@@ -107,7 +108,7 @@ pub struct BallDropParams {
     /// Grain density, kg/m^3.
     pub grain_density: f64,
     /// Contact methods, each in turn (`--set method=smc` runs one).
-    pub method: Vec<String>,
+    pub method: Vec<ContactMethod>,
     /// Bed width (square box) in ball diameters.
     pub bed_width: f64,
     /// Settled bed depth in ball diameters.
@@ -165,11 +166,11 @@ impl Default for BallDropParams {
             drop_height: vec![ball, 2.0 * ball, 4.0 * ball, 8.0 * ball],
             mu: 0.5,
             rolling_friction: 0.0,
-            rolling_model: "relative".into(),
+            rolling_model: RollingModel::Relative,
             repose_angle_deg: 23.0,
             grain_diameter: 0.005,
             grain_density: 2500.0,
-            method: vec!["nsc".into(), "smc".into()],
+            method: vec![ContactMethod::Nsc, ContactMethod::Smc],
             bed_width: 3.5,
             bed_depth: 1.75,
             young: 1e7,
@@ -277,7 +278,7 @@ impl CaseParams for BallDropParams {
             // depth must grow with the height. NSC only (SMC's ~40 us steps cost ~2x more
             // here): a smoke run of the scene; the default mode is the validation.
             Mode::Quick => {
-                self.method = vec!["nsc".into()];
+                self.method = vec![ContactMethod::Nsc];
                 let ball = 4.0 * self.grain_diameter;
                 self.ball_diameter = ball;
                 self.bed_width = 3.5;
@@ -360,14 +361,14 @@ fn validate(p: &BallDropParams) -> anyhow::Result<Vec<ContactMethod>> {
             0.5 * d
         );
     }
-    parse_rolling_model(&p.rolling_model)?;
-    parse_methods(&p.method)
+    ensure_methods(&p.method)?;
+    Ok(p.method.clone())
 }
 
 fn run(p: &BallDropParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     let methods = validate(p)?;
     let mu = p.repose_angle_deg.to_radians().tan();
-    let g = SystemSettings::default().gravity.norm();
+    let g = GRAVITY.norm();
     let v_max = p
         .drop_height
         .iter()
@@ -553,7 +554,7 @@ mod tests {
     #[test]
     fn bad_input_names_the_field() {
         let p = BallDropParams {
-            method: vec!["nsc".into(), "foo".into()],
+            method: vec![],
             ..BallDropParams::default()
         };
         assert!(validate(&p).unwrap_err().to_string().contains("method"));

@@ -1,13 +1,14 @@
 //! `granular-ball-drop`'s scene: the bed settled once per method, and one drop of the ball
 //! on a rebuilt copy of it (see [`super::ball_drop`] for the case, its checks and references).
 
-use chrono_core::granular::{Grain, LatticeFill, Region, Rng, add_box_container, add_grains};
+use chrono_core::granular::probe::{bulk_density, surface_height};
+use chrono_core::granular::{Grain, GrainBed, Region, Settle, add_box_container, add_grains};
 use chrono_core::math::{Isometry3, Vector3};
 use chrono_core::system::{ContactMethod, SmcSettings};
 use chrono_core::{BodyHandle, ContactMaterial, RigidBodyBuilder, Shape, System, SystemSettings};
 
 use super::ball_drop::BallDropParams;
-use super::{make_system, parse_rolling_model};
+use super::make_system;
 
 /// The settled bed of one method: grain positions at rest and what was measured on it.
 pub(super) struct Bed {
@@ -49,7 +50,7 @@ pub(super) fn settings(p: &BallDropParams, v_impact: f64) -> anyhow::Result<Syst
             characteristic_velocity: v_impact.max(1.0),
             ..SmcSettings::default()
         },
-        rolling_model: parse_rolling_model(&p.rolling_model)?,
+        rolling_model: p.rolling_model,
         ..SystemSettings::default()
     })
 }
@@ -82,113 +83,44 @@ pub(super) fn settle_bed(
     );
     add_box_container(&mut sys, "bed box", lower, upper, mat)?;
     // A loose lattice (sites 1.25 d apart, solid fraction ~0.23) settles to ~0.6: fill
-    // 2.6x deeper (as `granular-hopper`; jitter and random horizontal velocities break
-    // the lattice's columns).
+    // 2.6x deeper (as `granular-hopper`).
     let r = 0.5 * d;
-    let lattice = LatticeFill {
-        region: Region::Box {
-            lower: Vector3::new(-hw, -hw, 0.5 * r),
-            upper: Vector3::new(hw, hw, 2.6 * depth),
-        },
-        r_min: 0.9 * r,
-        r_max: r,
-        gap: 0.5 * r,
-        jitter: 1.0,
-        max_count: usize::MAX,
-        seed: p.seed,
-    };
-    let grains = lattice.generate()?;
-    let handles = add_grains(&mut sys, &grains, p.grain_density, mat)?;
-    let mut rng = Rng::new(p.seed ^ 0x9e37_79b9_7f4a_7c15);
-    for &b in &handles {
-        let v = Vector3::new(rng.range(-0.1, 0.1), rng.range(-0.1, 0.1), 0.0);
-        sys.body_mut(b)?.set_linear_velocity(v)?;
-    }
     let g = sys.settings().gravity.norm();
-    let m_grain = p.grain_density * std::f64::consts::PI / 6.0 * (0.95 * d).powi(3);
-    let unit = m_grain * g * d * handles.len() as f64;
+    let spec = GrainBed {
+        seed: p.seed,
+        // The bed falls ~1.6 depths: do not test before it has landed.
+        settle: Settle::KineticEnergy {
+            below: p.settle_ke,
+            check_every: 0.01,
+            not_before: 2.0 * (2.0 * 1.6 * depth / g).sqrt(),
+            timeout: p.t_settle,
+        },
+        ..GrainBed::new(
+            Region::Box {
+                lower: Vector3::new(-hw, -hw, 0.5 * r),
+                upper: Vector3::new(hw, hw, 2.6 * depth),
+            },
+            0.9 * r,
+            r,
+            p.grain_density,
+            mat,
+        )
+    };
+    let bed = spec.pour(&mut sys)?;
     let h = step_size(p, &sys, method);
-    let n_max = (p.t_settle / h).ceil() as u64;
-    // The bed falls ~1.6 depths: do not test before it has landed.
-    let t_min = 2.0 * (2.0 * 1.6 * depth / g).sqrt();
-    let check_every = ((0.01 / h).round() as u64).max(1);
-    let mut steps = 0;
-    loop {
-        sys.step(h)?;
-        steps += 1;
-        if steps % check_every == 0 && sys.time() >= t_min {
-            let ke = sys.kinetic_energy() / unit;
-            if ke < p.settle_ke {
-                break;
-            }
-        }
-        anyhow::ensure!(
-            steps < n_max,
-            "granular-ball-drop: the bed did not settle within t_settle = {} s (kinetic energy per grain {:.2e} m g d, settle_ke = {:.2e})",
-            p.t_settle,
-            sys.kinetic_energy() / unit,
-            p.settle_ke
-        );
-    }
-    let grains = handles
-        .iter()
-        .zip(&grains)
-        .map(|(&b, g)| {
-            Ok(Grain {
-                center: sys.body(b)?.position(),
-                radius: g.radius,
-            })
-        })
-        .collect::<anyhow::Result<Vec<_>>>()?;
+    let settled = spec
+        .settle(&mut sys, &bed, h, |_, _| Ok::<(), anyhow::Error>(()))
+        .map_err(|e| {
+            anyhow::anyhow!("granular-ball-drop: parameter `t_settle` or `settle_ke`: {e}")
+        })?;
+    let grains = bed.grains(&sys)?;
+    let steps = settled.steps;
     Ok(Bed {
         grains,
         steps,
         settle_time: sys.time(),
         wall_s: start.elapsed().as_secs_f64(),
     })
-}
-
-/// The surface height (m) and its roughness: the mean and the standard deviation, over
-/// `d x d` columns `2 d` from the walls, of the top of the highest grain in the column.
-pub(super) fn surface_height(grains: &[(Vector3<f64>, f64)], hw: f64, d: f64) -> (f64, f64) {
-    let inner = hw - 2.0 * d;
-    let n = ((2.0 * inner / d).floor() as usize).max(1);
-    let mut top = vec![f64::NEG_INFINITY; n * n];
-    for (x, r) in grains {
-        if x.x.abs() >= inner || x.y.abs() >= inner {
-            continue;
-        }
-        let i = (((x.x + inner) / d) as usize).min(n - 1);
-        let j = (((x.y + inner) / d) as usize).min(n - 1);
-        top[i * n + j] = top[i * n + j].max(x.z + r);
-    }
-    let filled: Vec<f64> = top.into_iter().filter(|t| t.is_finite()).collect();
-    let k = filled.len().max(1) as f64;
-    let mean = filled.iter().sum::<f64>() / k;
-    let var = filled.iter().map(|t| (t - mean).powi(2)).sum::<f64>() / k;
-    (mean, var.sqrt())
-}
-
-/// Bulk density (kg/m^3): grain mass with centers in the band `[2 d, z_s - 2 d]`, `2 d`
-/// from the walls, over the band's volume.
-pub(super) fn bulk_density(
-    grains: &[(Vector3<f64>, f64)],
-    density: f64,
-    hw: f64,
-    d: f64,
-    zs: f64,
-) -> f64 {
-    let inner = hw - 2.0 * d;
-    let (lo, hi) = (2.0 * d, zs - 2.0 * d);
-    if hi <= lo {
-        return f64::NAN;
-    }
-    let mass: f64 = grains
-        .iter()
-        .filter(|(x, _)| x.x.abs() < inner && x.y.abs() < inner && x.z >= lo && x.z < hi)
-        .map(|(_, r)| density * 4.0 / 3.0 * std::f64::consts::PI * r.powi(3))
-        .sum();
-    mass / (4.0 * inner * inner * (hi - lo))
 }
 
 /// The rest window: a drop ends once the ball has stayed below 1 % of its impact speed for
@@ -256,8 +188,22 @@ pub(super) fn drop_ball(
             .collect()
     };
     let now = state(&sys, &handles)?;
-    let (zs, roughness) = surface_height(&now, hw, d);
-    let rho_g = bulk_density(&now, p.grain_density, hw, d, zs);
+    let (zs, roughness) = surface_height(&now, hw, d, 2.0 * d);
+    // Bulk density in the band of centres `[2 d, z_s - 2 d]`, `2 d` from the walls.
+    let inner = hw - 2.0 * d;
+    let band = Region::Box {
+        lower: Vector3::new(-inner, -inner, 2.0 * d),
+        upper: Vector3::new(inner, inner, zs - 2.0 * d),
+    };
+    let rho_g = bulk_density(
+        now.iter().map(|&(x, r)| {
+            (
+                x,
+                p.grain_density * 4.0 / 3.0 * std::f64::consts::PI * r.powi(3),
+            )
+        }),
+        &band,
+    );
     let radius = 0.5 * p.ball_diameter;
     let gap = 0.5 * d;
     let v0 = (2.0 * g * (impact.height - gap)).sqrt();
@@ -333,24 +279,4 @@ pub(super) fn drop_ball(
         wall_s: start.elapsed().as_secs_f64(),
         series,
     })
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn surface_of_a_flat_layer() {
-        let d = 0.01;
-        let mut grains = Vec::new();
-        for i in -5..5 {
-            for j in -5..5 {
-                let c = Vector3::new((i as f64 + 0.5) * d, (j as f64 + 0.5) * d, 0.03);
-                grains.push((c, 0.5 * d));
-                grains.push((c - Vector3::new(0.0, 0.0, d), 0.5 * d));
-            }
-        }
-        let (zs, rough) = surface_height(&grains, 0.05, d);
-        assert!((zs - 0.035).abs() < 1e-12 && rough < 1e-12, "{zs} {rough}");
-    }
 }

@@ -21,15 +21,15 @@
 //!
 //! Both methods: `method = nsc` (DEM-C: friction cones, APGD) or `smc` (DEM-P: Hertz–Mindlin).
 
-use chrono_core::granular::{Grain, LatticeFill, Region, Rng, add_cylinder_wall, add_grains};
-use chrono_core::math::{Isometry3, UnitQuaternion, Vector3};
-use chrono_core::system::SmcSettings;
-use chrono_core::{BodyHandle, ContactMaterial, RigidBodyBuilder, Shape, SystemSettings};
+use chrono_core::granular::probe::{bulk_density, line_fit};
+use chrono_core::granular::{GrainBed, Recycler, Region, Silo};
+use chrono_core::math::Vector3;
+use chrono_core::system::{ContactMethod, SmcSettings};
+use chrono_core::{ContactMaterial, SystemSettings};
 use serde::{Deserialize, Serialize};
 
-use super::{make_system, parse_method};
+use super::{make_system, method_name};
 use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series, SweepPoint};
-use crate::fit::line_fit;
 use crate::params::{CaseParams, ParamCase, ParamInfo, ensure_positive};
 
 /// Beverloo's constant `C` for spheres.
@@ -62,7 +62,7 @@ pub struct HopperParams {
     /// Silo diameter over orifice diameter (at least `D + 10 d`).
     pub silo_ratio: f64,
     /// Contact method: `nsc` or `smc`.
-    pub method: String,
+    pub method: ContactMethod,
     /// Grain density, kg/m^3.
     pub density: f64,
     /// Young's modulus (SMC), Pa.
@@ -95,7 +95,7 @@ impl Default for HopperParams {
             rolling_friction: 0.0,
             fill_height: 0.0,
             silo_ratio: 2.5,
-            method: "nsc".into(),
+            method: ContactMethod::Nsc,
             density: 2500.0,
             young: 1e7,
             restitution: 0.5,
@@ -168,34 +168,6 @@ impl CaseParams for HopperParams {
     }
 }
 
-/// The floor: a triangle-mesh annulus in the plane z = 0 between the hole radius `r_in`
-/// (the polygon's area equals the circle's) and `r_out`, normals up.
-fn annulus(r_in: f64, r_out: f64, sides: usize) -> Shape {
-    let n = sides as f64;
-    let a = std::f64::consts::TAU / n;
-    // Equal area: n/2 R^2 sin(a) = pi r^2.
-    let scale = (std::f64::consts::PI / (0.5 * n * a.sin())).sqrt();
-    let (ri, ro) = (r_in * scale, r_out / (0.5 * a).cos());
-    let mut vertices = Vec::with_capacity(2 * sides);
-    for k in 0..sides {
-        let (s, c) = (a * k as f64).sin_cos();
-        vertices.push(Vector3::new(ri * c, ri * s, 0.0));
-        vertices.push(Vector3::new(ro * c, ro * s, 0.0));
-    }
-    let mut indices = Vec::with_capacity(2 * sides);
-    for k in 0..sides as u32 {
-        let (i0, o0) = (2 * k, 2 * k + 1);
-        let (i1, o1) = (
-            (2 * k + 2) % (2 * sides as u32),
-            (2 * k + 3) % (2 * sides as u32),
-        );
-        // Counter-clockwise seen from above (+z).
-        indices.push([i0, o0, o1]);
-        indices.push([i0, o1, i1]);
-    }
-    Shape::TriMesh { vertices, indices }
-}
-
 /// One discharge run: the measured flow rate and bulk density, and the series of the
 /// discharged mass.
 struct Discharge {
@@ -220,7 +192,7 @@ fn discharge(
         orifice > 2.0 * d && orifice.is_finite(),
         "parameter `orifice_diameter` must exceed 2 grain diameters, got {orifice}"
     );
-    let method = parse_method(&p.method)?;
+    let method = p.method;
     let silo = (p.silo_ratio * orifice).max(orifice + 10.0 * d);
     let fill = if p.fill_height > 0.0 {
         p.fill_height
@@ -236,100 +208,52 @@ fn discharge(
     let mat = ContactMaterial::smc(p.young, 0.3, p.restitution, p.mu)
         .with_rolling_friction(p.rolling_friction);
     mat.validate()?;
-    add_cylinder_wall(&mut sys, "silo wall", Vector3::zeros(), 0.5 * silo, 32, mat)?;
-    sys.add_body(RigidBodyBuilder::fixed().name("floor").collider(
-        annulus(0.5 * orifice, 0.5 * silo + 2.0 * d, 48),
-        Isometry3::identity(),
-        mat,
-    ))?;
-    // A loose lattice (sites 1.25 d apart, solid fraction ~0.23) settles to ~0.6: fill
-    // 2.6x higher. The jitter (up to d/8 per axis) and random horizontal velocities break
-    // the lattice's vertical columns, which frictional SMC contacts would otherwise keep
-    // standing (a settled solid fraction of ~0.45 instead of a random packing's ~0.6).
+    let vessel = Silo::new(silo, orifice, 2.0 * d, mat);
+    vessel.add(&mut sys)?;
+    // A loose lattice settles to ~0.6: fill 2.6x higher. No settling before the
+    // discharge: the grains fall onto the floor and start flowing at once.
     let r = 0.5 * d;
-    let lattice = LatticeFill {
-        region: Region::Cylinder {
-            base: Vector3::new(0.0, 0.0, 0.5 * r),
-            radius: 0.5 * silo,
-            height: 2.6 * fill,
-        },
-        r_min: 0.9 * r,
-        r_max: r,
-        gap: 0.5 * r,
-        jitter: 1.0,
-        max_count: usize::MAX,
+    let bed = GrainBed {
         seed: p.seed,
-    };
-    let grains: Vec<Grain> = lattice.generate()?;
-    let handles: Vec<BodyHandle> = add_grains(&mut sys, &grains, p.density, mat)?;
-    let mut rng = Rng::new(p.seed ^ 0x9e37_79b9_7f4a_7c15);
-    for &b in &handles {
-        let v = Vector3::new(rng.range(-0.1, 0.1), rng.range(-0.1, 0.1), 0.0);
-        sys.body_mut(b)?.set_linear_velocity(v)?;
+        ..GrainBed::new(
+            vessel.region(0.5 * r, 2.6 * fill),
+            0.9 * r,
+            r,
+            p.density,
+            mat,
+        )
     }
-    let masses: Vec<f64> = handles
-        .iter()
-        .map(|&b| sys.body(b).map(|b| b.mass()))
-        .collect::<Result<_, _>>()?;
+    .pour(&mut sys)?;
     let h = super::step_size(p.h, method, &sys);
     let n = (p.t_end / h).round().max(1.0) as u64;
-    let (mut discharged, mut series) = (0.0, Vec::new());
+    let mut series = Vec::new();
     let (mut rho_sum, mut rho_n) = (0.0, 0usize);
-    let z_insert = fill + 2.0 * d;
+    let mut recycler = Recycler::new(&sys, &bed, &vessel, d, fill + 2.0 * d)?;
     // The measuring band of the bulk density: above the orifice's influence, below the
     // surface (at 0.8 of the fill height), away from the wall.
     let (band_lo, band_r) = (orifice.max(4.0 * d), 0.5 * silo - 2.0 * d);
     let record_every = ((0.01 / h).round() as u64).max(1);
-    let mut highest: Vec<Vector3<f64>> = Vec::new();
     for i in 1..=n {
         sys.step(h)?;
-        // Recycle the grains that left: back on top of the pile (a fixed height `2 d`
-        // above the settled fill: a height measured from the grains would follow the rain
-        // of recycled grains upwards), at rest, where they touch no other grain (an
-        // overlap would launch them under SMC's penalty forces).
-        highest.clear();
-        for &b in &handles {
-            let x = sys.body(b)?.position();
-            if x.z > z_insert - 1.5 * d {
-                highest.push(x);
-            }
-        }
-        for (k, &b) in handles.iter().enumerate() {
-            if sys.body(b)?.position().z > -5.0 * d {
-                continue;
-            }
-            discharged += masses[k];
-            let mut at = Vector3::zeros();
-            for attempt in 0.. {
-                let rad = (0.5 * silo - r) * rng.uniform().sqrt();
-                let phi = std::f64::consts::TAU * rng.uniform();
-                let z = z_insert + d * (attempt / 8) as f64;
-                at = Vector3::new(rad * phi.cos(), rad * phi.sin(), z);
-                if highest.iter().all(|x| (x - at).norm() > 1.05 * d) {
-                    break;
-                }
-            }
-            highest.push(at);
-            let body = sys.body_mut(b)?;
-            body.set_pose(at, UnitQuaternion::identity())?;
-            body.set_linear_velocity(Vector3::zeros())?;
-            body.set_angular_velocity(Vector3::zeros())?;
-        }
+        recycler.recycle(&mut sys)?;
         let t = sys.time();
         if i % record_every == 0 || i == n {
-            series.push((t, discharged));
+            series.push((t, recycler.discharged()));
             if t >= p.t_transient {
                 let band_hi = 0.8 * fill;
                 if band_hi > band_lo + 2.0 * d {
-                    let mut mass = 0.0;
-                    for (k, &b) in handles.iter().enumerate() {
-                        let x = sys.body(b)?.position();
-                        if x.z >= band_lo && x.z < band_hi && x.xy().norm() < band_r {
-                            mass += masses[k];
-                        }
-                    }
-                    let volume = std::f64::consts::PI * band_r * band_r * (band_hi - band_lo);
-                    rho_sum += mass / volume;
+                    let band = Region::Cylinder {
+                        base: Vector3::new(0.0, 0.0, band_lo),
+                        radius: band_r,
+                        height: band_hi - band_lo,
+                    };
+                    let grains = bed
+                        .handles
+                        .iter()
+                        .zip(recycler.masses())
+                        .map(|(&b, &m)| Ok((sys.body(b)?.position(), m)))
+                        .collect::<anyhow::Result<Vec<_>>>()?;
+                    rho_sum += bulk_density(grains, &band);
                     rho_n += 1;
                 }
             }
@@ -351,7 +275,7 @@ fn discharge(
     Ok(Discharge {
         flow_rate: line_fit(&steady).map_or(f64::NAN, |(a, _)| a),
         bulk_density: rho_sum / rho_n as f64,
-        grains: handles.len(),
+        grains: bed.len(),
         steps: n,
         wall_s: start.elapsed().as_secs_f64(),
         series,
@@ -364,7 +288,7 @@ fn run(p: &HopperParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         "parameter `orifice_diameter` must list at least one diameter"
     );
     let mut out = CaseOutput::new();
-    let g = SystemSettings::default().gravity.norm();
+    let g = chrono_core::math::GRAVITY.norm();
     let mut columns = vec!["t".to_string()];
     let mut runs = Vec::new();
     for (j, &orifice) in p.orifice_diameter.iter().enumerate() {
@@ -384,7 +308,7 @@ fn run(p: &HopperParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
             .metric(format!("grains_{tag}"), r.grains as f64)
             .metric(format!("wall_s_{tag}"), r.wall_s);
         out.sweep.push(SweepPoint {
-            label: format!("{}_{tag}", p.method),
+            label: format!("{}_{tag}", method_name(p.method)),
             error: ((r.flow_rate - reference) / reference).abs(),
             wall_s: r.wall_s,
         });
@@ -429,34 +353,12 @@ mod tests {
     use super::*;
 
     #[test]
-    fn annulus_hole_has_the_circle_area_and_faces_up() {
-        let Shape::TriMesh { vertices, indices } = annulus(0.01, 0.05, 48) else {
-            unreachable!()
-        };
-        // Area of the inner polygon from its vertices (every other one).
-        let inner: Vec<_> = vertices.iter().step_by(2).collect();
-        let mut area = 0.0;
-        for k in 0..inner.len() {
-            let (a, b) = (inner[k], inner[(k + 1) % inner.len()]);
-            area += 0.5 * (a.x * b.y - b.x * a.y);
-        }
-        let circle = std::f64::consts::PI * 0.01 * 0.01;
-        assert!(
-            (area - circle).abs() < 1e-12 * circle.max(1.0),
-            "{area} vs {circle}"
-        );
-        for t in &indices {
-            let [a, b, c] = t.map(|i| vertices[i as usize]);
-            assert!((b - a).cross(&(c - a)).z > 0.0);
-        }
-    }
-
-    #[test]
     fn beverloo_formula() {
-        // 0.58 * 1500 * sqrt(9.81) * (0.05 - 0.0075)^2.5
-        let w = beverloo(1500.0, 9.81, 0.05, 0.005);
-        let expect = 0.58 * 1500.0 * 9.81f64.sqrt() * 0.0425f64.powf(2.5);
+        // 0.58 * 1500 * sqrt(g) * (0.05 - 0.0075)^2.5
+        let g = chrono_core::math::GRAVITY.norm();
+        let w = beverloo(1500.0, g, 0.05, 0.005);
+        let expect = 0.58 * 1500.0 * g.sqrt() * 0.0425f64.powf(2.5);
         assert!((w - expect).abs() < 1e-12);
-        assert_eq!(beverloo(1500.0, 9.81, 0.005, 0.005), 0.0);
+        assert_eq!(beverloo(1500.0, g, 0.005, 0.005), 0.0);
     }
 }

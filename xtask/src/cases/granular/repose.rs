@@ -49,11 +49,12 @@
 //! Both methods: `method = ["nsc", "smc"]` (DEM-C: friction and rolling cones, APGD; DEM-P:
 //! Hertz–Mindlin with constant rolling torque).
 
+use chrono_core::contact::smc::RollingModel;
 use chrono_core::system::ContactMethod;
 use serde::{Deserialize, Serialize};
 
 use super::repose_scene::{Heap, heap, solver};
-use super::{method_name, parse_methods, parse_rolling_model};
+use super::{ensure_methods, method_name};
 use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series, SweepPoint};
 use crate::fit::mean_std;
 use crate::params::{CaseParams, ParamCase, ParamInfo, ensure_at_least, ensure_positive};
@@ -85,7 +86,7 @@ pub fn zhou_glass_beads_angle(d: f64, w: f64) -> f64 {
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct ReposeParams {
     /// Contact methods, each run in turn (`--set method=smc` runs one).
-    pub method: Vec<String>,
+    pub method: Vec<ContactMethod>,
     /// Sliding friction coefficient between grains (`mu_pp`).
     pub mu: f64,
     /// Sliding friction coefficient of the grains on the walls, the plate and the gates
@@ -101,7 +102,7 @@ pub struct ReposeParams {
     /// Rolling resistance model of both methods: `per_body` (default, Zhou et al.'s:
     /// against each grain's own rotation) or `relative` (against the relative rotation of
     /// the two grains).
-    pub rolling_model: String,
+    pub rolling_model: RollingModel,
     /// Glue a layer of fixed spheres (diameter `d`, square lattice, touching, the grains'
     /// material) on the plate: a rough base instead of the smooth plate. Default `false`:
     /// Zhou et al.'s fit gives the particle–wall pair its own friction, which only matters
@@ -146,12 +147,12 @@ pub struct ReposeParams {
 impl Default for ReposeParams {
     fn default() -> Self {
         Self {
-            method: vec!["nsc".into(), "smc".into()],
+            method: vec![ContactMethod::Nsc, ContactMethod::Smc],
             mu: 0.4,
             wall_mu: Some(0.6),
             rolling_friction: vec![0.01, 0.02, 0.05, 0.1],
             wall_rolling_friction: None,
-            rolling_model: "per_body".into(),
+            rolling_model: RollingModel::PerBody,
             rough_base: false,
             grain_diameter: 0.01,
             plate_width: 30.0,
@@ -250,7 +251,7 @@ impl CaseParams for ReposeParams {
             // than the 30 d one (19 against 25.6, docs/validation-granular.md). Checked: the
             // heap at rest.
             Mode::Quick => {
-                self.method = vec!["smc".into()];
+                self.method = vec![ContactMethod::Smc];
                 self.rolling_friction = vec![0.02];
                 self.plate_width = 12.0;
                 self.bed_height = 7.0;
@@ -321,11 +322,9 @@ fn heap_metrics(out: &mut CaseOutput, tag: &str, hp: &Heap, d: f64, ke_bound: f6
 
 fn run(p: &ReposeParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     validate(p)?;
-    parse_rolling_model(&p.rolling_model)?;
-    let methods: Vec<(&str, ContactMethod)> = parse_methods(&p.method)?
-        .into_iter()
-        .map(|c| (method_name(c), c))
-        .collect();
+    ensure_methods(&p.method)?;
+    let methods: Vec<(&str, ContactMethod)> =
+        p.method.iter().map(|&c| (method_name(c), c)).collect();
     let d = p.grain_diameter;
     let (w, r) = (p.thickness * d, 0.4875 * d);
     let mut out = CaseOutput::new();
@@ -463,10 +462,10 @@ mod tests {
         let e = run(&p, &ctx).unwrap_err().to_string();
         assert!(e.contains("rolling_friction") && e.contains("-0.1"), "{e}");
         p.rolling_friction = vec![0.02];
-        p.method = vec!["dem".into()];
+        p.method = vec![];
         let e = run(&p, &ctx).unwrap_err().to_string();
-        assert!(e.contains("method") && e.contains("dem"), "{e}");
-        p.method = vec!["nsc".into()];
+        assert!(e.contains("method"), "{e}");
+        p.method = vec![ContactMethod::Nsc];
         p.plate_width = 3.0;
         let e = run(&p, &ctx).unwrap_err().to_string();
         assert!(e.contains("plate_width"), "{e}");

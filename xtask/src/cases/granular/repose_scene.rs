@@ -2,7 +2,8 @@
 //! bed settled between two gates on a plate in a slot, discharged over both edges, and the
 //! angle of the heap that stays, fitted to the highest grain centre of each column.
 
-use chrono_core::granular::{LatticeFill, Region, Rng, add_grains};
+use chrono_core::granular::probe::{flank_angles, heap_profile};
+use chrono_core::granular::{GrainBed, Kick, Region, Settle};
 use chrono_core::math::{Isometry3, UnitQuaternion, Vector3};
 use chrono_core::system::ContactMethod;
 use chrono_core::{
@@ -10,9 +11,8 @@ use chrono_core::{
 };
 
 use super::repose::ReposeParams;
-use super::{make_system, parse_rolling_model};
+use super::{grain_frames, make_system, record_grains};
 use crate::case::RunContext;
-use crate::fit::line_fit;
 
 /// The heap left on the plate by one run.
 pub(super) struct Heap {
@@ -30,54 +30,6 @@ pub(super) struct Heap {
     pub wall_s: f64,
     /// Surface: column centre x (m) and its highest grain centre z (m), NaN if empty.
     pub profile: Vec<(f64, f64)>,
-}
-
-/// Least-squares slope of `z` against `x`; `None` with fewer than 3 points or no spread.
-fn fit_slope(pts: &[(f64, f64)]) -> Option<f64> {
-    if pts.len() < 3 {
-        return None;
-    }
-    line_fit(pts).map(|(a, _)| a)
-}
-
-/// The surface of a heap: the highest `z` among `points` (x, z) in each of `bins` columns
-/// of width `width` starting at `x0`; NaN where a column is empty.
-fn surface(points: &[(f64, f64)], x0: f64, width: f64, bins: usize) -> Vec<(f64, f64)> {
-    let mut top = vec![f64::NAN; bins];
-    for &(x, z) in points {
-        let b = ((x - x0) / width).floor();
-        if b >= 0.0 && (b as usize) < bins {
-            let t = &mut top[b as usize];
-            if t.is_nan() || z > *t {
-                *t = z;
-            }
-        }
-    }
-    top.into_iter()
-        .enumerate()
-        .map(|(i, z)| (x0 + (i as f64 + 0.5) * width, z))
-        .collect()
-}
-
-/// Angles (degrees) of a symmetric heap's surface centred on x = 0 with half-width `half`:
-/// both flanks together (slope of `z` against `|x|`, sign flipped) and each flank, over
-/// `|x|` in [0.15, 0.85] `half`.
-fn flank_angles(profile: &[(f64, f64)], half: f64) -> Option<(f64, [f64; 2])> {
-    let band = |x: f64| (0.15 * half..=0.85 * half).contains(&x.abs());
-    let pick = |side: f64| -> Vec<(f64, f64)> {
-        profile
-            .iter()
-            .filter(|(x, z)| z.is_finite() && band(*x) && x * side > 0.0)
-            .map(|&(x, z)| (x.abs(), z))
-            .collect()
-    };
-    let (left, right) = (pick(-1.0), pick(1.0));
-    let both: Vec<_> = left.iter().chain(&right).copied().collect();
-    let deg = |s: f64| (-s).atan().to_degrees();
-    Some((
-        deg(fit_slope(&both)?),
-        [deg(fit_slope(&left)?), deg(fit_slope(&right)?)],
-    ))
 }
 
 /// A fixed body with one half-space collider through `at` with outward `normal`.
@@ -130,7 +82,7 @@ pub(super) fn heap(
     let (half, w) = (0.5 * p.plate_width * d, p.thickness * d);
     let settings = SystemSettings {
         envelope: 0.05 * d,
-        rolling_model: parse_rolling_model(&p.rolling_model)?,
+        rolling_model: p.rolling_model,
         ..SystemSettings::default()
     };
     let mut sys = make_system(method, settings, p.tolerance, p.max_iterations)?;
@@ -208,52 +160,40 @@ pub(super) fn heap(
     // grain count of the target bed at 0.58, the lattice region tall enough to hold them.
     let v_grain = std::f64::consts::PI / 6.0 * (0.975 * d).powi(3);
     let count = (0.58 * 2.0 * half * w * p.bed_height * d / v_grain).round() as usize;
-    let fill = LatticeFill {
-        region: Region::Box {
-            lower: Vector3::new(-half, 0.0, base_top),
-            upper: Vector3::new(half, w, base_top + 4.0 * p.bed_height * d),
-        },
-        r_min: 0.95 * r,
-        r_max: r,
-        gap: 0.5 * r,
-        jitter: 1.0,
-        max_count: count,
+    let spec = GrainBed {
+        count: Some(count),
         seed,
+        // Random horizontal velocities break the lattice's columns (see granular-hopper).
+        kick: Some(Kick {
+            speed: 0.1,
+            salt: 0x5851_f42d_4c95_7f2d,
+        }),
+        ..GrainBed::new(
+            Region::Box {
+                lower: Vector3::new(-half, 0.0, base_top),
+                upper: Vector3::new(half, w, base_top + 4.0 * p.bed_height * d),
+            },
+            0.95 * r,
+            r,
+            p.density,
+            mat,
+        )
     };
-    let grains = fill.generate()?;
-    anyhow::ensure!(
-        grains.len() == count,
-        "granular-repose: the lattice holds {} of {count} grains (bed_height too large for the region)",
-        grains.len()
-    );
-    let handles = add_grains(&mut sys, &grains, p.density, mat)?;
-    // Random horizontal velocities break the lattice's columns (see granular-hopper).
-    let mut rng = Rng::new(seed ^ 0x5851_f42d_4c95_7f2d);
-    for &b in &handles {
-        let v = Vector3::new(rng.range(-0.1, 0.1), rng.range(-0.1, 0.1), 0.0);
-        sys.body_mut(b)?.set_linear_velocity(v)?;
-    }
+    let bed = spec.pour(&mut sys).map_err(|e| {
+        anyhow::anyhow!("granular-repose: {e} (bed_height too large for the region)")
+    })?;
+    let handles = bed.handles.clone();
     let h = super::step_size(p.h, method, &sys);
     let n_settle = (p.t_settle / h).round() as u64;
     let n = n_settle + (p.t_discharge / h).round().max(1.0) as u64;
-    let mut vtk = super::GrainFrames::new(ctx, (0.02 / h).round() as u64);
+    let mut vtk = grain_frames(ctx, (0.02 / h).round() as u64)?;
     let mut parked = vec![false; handles.len()];
     let mut n_parked = 0usize;
     let rows = ((w / (1.5 * d)).floor() as usize).max(1);
-    for i in 1..=n {
-        if i == n_settle + 1 {
-            // Open the gates: move them 100 m outwards, out of the scene.
-            for (g, s) in gates.iter().zip([-1.0, 1.0]) {
-                sys.body_mut(*g)?.set_pose(
-                    Vector3::new(100.0 * s, 0.0, 0.0),
-                    UnitQuaternion::identity(),
-                )?;
-            }
-        }
-        sys.step(h)?;
-        vtk.record(i, &sys)?;
-        // Park the grains that left the plate: at rest on the floor, 1.5 d apart in rows
-        // beyond the plate's end, touching nothing but the floor.
+    // Park the grains that left the plate: at rest on the floor, 1.5 d apart in rows
+    // beyond the plate's end, touching nothing but the floor.
+    let mut park = |sys: &mut System, i: u64| -> anyhow::Result<()> {
+        record_grains(&mut vtk, i, sys)?;
         for (k, &b) in handles.iter().enumerate() {
             if parked[k] || sys.body(b)?.position().z > -2.0 * d {
                 continue;
@@ -273,6 +213,23 @@ pub(super) fn heap(
         }
         let (j, m) = progress;
         ctx.progress((j as f64 + i as f64 / n as f64) / m as f64);
+        Ok(())
+    };
+    GrainBed {
+        settle: Settle::Steps(n_settle),
+        ..spec
+    }
+    .settle(&mut sys, &bed, h, &mut park)?;
+    // Open the gates: move them 100 m outwards, out of the scene.
+    for (g, s) in gates.iter().zip([-1.0, 1.0]) {
+        sys.body_mut(*g)?.set_pose(
+            Vector3::new(100.0 * s, 0.0, 0.0),
+            UnitQuaternion::identity(),
+        )?;
+    }
+    for i in n_settle + 1..=n {
+        sys.step(h)?;
+        park(&mut sys, i)?;
     }
     vtk.finish()?;
     let g = sys.settings().gravity.norm();
@@ -295,7 +252,7 @@ pub(super) fn heap(
     );
     let mean_mass = mass / on_plate as f64;
     let bins = p.plate_width.round() as usize;
-    let profile = surface(&points, -half, 2.0 * half / bins as f64, bins);
+    let profile = heap_profile(&points, -half, 2.0 * half / bins as f64, bins);
     let (angle, flanks) = flank_angles(&profile, half).ok_or_else(|| {
         anyhow::anyhow!("granular-repose: too few surface columns on a flank to fit a slope")
     })?;
@@ -310,28 +267,4 @@ pub(super) fn heap(
         wall_s: start.elapsed().as_secs_f64(),
         profile,
     })
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn flank_fit_recovers_the_angle_of_a_cone_profile() {
-        let half = 0.1;
-        let slope = 30f64.to_radians().tan();
-        let pts: Vec<(f64, f64)> = (0..400)
-            .map(|i| -half + i as f64 * 0.0005)
-            .map(|x| {
-                (
-                    x,
-                    (half - x.abs()) * slope - if x > 0.0 { 0.002 } else { 0.0 },
-                )
-            })
-            .collect();
-        let prof = surface(&pts, -half, 0.01, 20);
-        let (a, [l, r]) = flank_angles(&prof, half).unwrap();
-        assert!((l - 30.0).abs() < 0.5 && (r - 30.0).abs() < 0.5, "{l} {r}");
-        assert!((a - 30.0).abs() < 1.0, "{a}");
-    }
 }

@@ -16,13 +16,14 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
 
 use chrono_core::descriptor::{CcpProblem, CcpSolver, SolveStats, SolverSettings};
-use chrono_core::granular::{LatticeFill, Region, add_box_container, add_grains};
+use chrono_core::granular::probe::max_penetration;
+use chrono_core::granular::{GrainBed, Region, add_box_container};
 use chrono_core::math::Vector3;
-use chrono_core::system::SmcSettings;
+use chrono_core::system::{ContactMethod, SmcModel, SmcSettings};
 use chrono_core::{BodyHandle, ContactMaterial, System, SystemSettings};
 use serde::{Deserialize, Serialize};
 
-use super::{make_system, parse_method, parse_model};
+use super::{grain_frames, make_system, record_grains};
 use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series};
 use crate::params::{CaseParams, ParamCase, ParamInfo};
 
@@ -32,9 +33,9 @@ pub struct SettleParams {
     /// Number of grains.
     pub n: usize,
     /// Contact method: `nsc` or `smc`.
-    pub method: String,
+    pub method: ContactMethod,
     /// SMC force law: `hooke` or `hertz`.
-    pub model: String,
+    pub model: SmcModel,
     /// Largest grain radius, m (radii uniform in [0.8 r, r]).
     pub radius: f64,
     /// Grain density, kg/m^3.
@@ -65,8 +66,8 @@ impl Default for SettleParams {
     fn default() -> Self {
         Self {
             n: 1000,
-            method: "nsc".into(),
-            model: "hertz".into(),
+            method: ContactMethod::Nsc,
+            model: SmcModel::Hertz,
             radius: 0.005,
             density: 2500.0,
             mu: 0.5,
@@ -179,11 +180,11 @@ struct Scene {
 
 fn scene(p: &SettleParams) -> anyhow::Result<Scene> {
     anyhow::ensure!(p.n > 0, "parameter `n` must be > 0");
-    let method = parse_method(&p.method)?;
+    let method = p.method;
     let settings = SystemSettings {
         envelope: 0.1 * p.radius,
         smc: SmcSettings {
-            model: parse_model(&p.model)?,
+            model: p.model,
             ..SmcSettings::default()
         },
         ..SystemSettings::default()
@@ -201,19 +202,22 @@ fn scene(p: &SettleParams) -> anyhow::Result<Scene> {
     let layers = (p.n as f64 / (side * side)).ceil() + 1.0;
     let lower = Vector3::zeros();
     let upper = Vector3::new(side * pitch, side * pitch, (layers + 1.0) * pitch);
-    let fill = LatticeFill {
-        region: Region::Box { lower, upper },
-        r_min: 0.8 * p.radius,
-        r_max: p.radius,
+    // No kick, no settling here: the case is the settling.
+    let bed = GrainBed {
         gap: 0.2 * p.radius,
-        jitter: 1.0,
-        max_count: p.n,
+        count: Some(p.n),
+        kick: None,
         seed: p.seed,
+        ..GrainBed::new(
+            Region::Box { lower, upper },
+            0.8 * p.radius,
+            p.radius,
+            p.density,
+            mat,
+        )
     };
-    let g = fill.generate()?;
-    anyhow::ensure!(g.len() == p.n, "placed {} of {} grains", g.len(), p.n);
     add_box_container(&mut sys, "box", lower, upper, mat)?;
-    let grains = add_grains(&mut sys, &g, p.density, mat)?;
+    let grains = bed.pour(&mut sys)?.handles;
     let h = super::step_size(p.h, method, &sys);
     Ok(Scene {
         sys,
@@ -232,13 +236,13 @@ fn run(p: &SettleParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     let unit = m_grain * g * 2.0 * p.radius;
     let n = (p.t_end / s.h).round().max(1.0) as u64;
     let mut series = Series::new(["t", "ke_per_grain_over_mgd", "max_penetration_over_r"]);
-    let mut vtk = super::GrainFrames::new(ctx, (0.05 / s.h).round() as u64);
+    let mut vtk = grain_frames(ctx, (0.05 / s.h).round() as u64)?;
     let (mut ke_late_max, mut pen_late_max) = (0.0f64, 0.0f64);
     for i in 1..=n {
         s.sys.step(s.h)?;
-        vtk.record(i, &s.sys)?;
+        record_grains(&mut vtk, i, &s.sys)?;
         let ke = s.sys.kinetic_energy() / p.n as f64 / unit;
-        let pen = super::max_penetration(&s.sys) / (0.8 * p.radius);
+        let pen = max_penetration(&s.sys) / (0.8 * p.radius);
         if i * 4 >= 3 * n {
             ke_late_max = ke_late_max.max(ke);
             pen_late_max = pen_late_max.max(pen);
@@ -264,7 +268,7 @@ fn run(p: &SettleParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         p.ke_bound,
     ))
     .check(Check::below("escaped_grains", escaped as f64, 0.0));
-    if p.method == "nsc" {
+    if p.method == ContactMethod::Nsc {
         out.check(Check::below("max_penetration_over_r", pen_late_max, 0.01));
     } else {
         out.metric("max_penetration_over_r", pen_late_max);

@@ -73,22 +73,18 @@
 //! peak scatters by ~1.8 degrees about the balance, the band is 2). Per-seed values are
 //! reported with a `_seed{N}` suffix, with the spread over the seeds (`*_std_deg_*`).
 
-use chrono_core::granular::{Grain, LatticeFill, Region, Rng, add_grains};
-use chrono_core::joint::{JointBuilder, JointKind};
-use chrono_core::math::{Isometry3, UnitQuaternion, Vector3};
-use chrono_core::system::{ContactMethod, SmcSettings};
-use chrono_core::{
-    BodyHandle, ContactFriction, ContactMaterial, FrictionLaw, RigidBodyBuilder, Shape,
-    SystemSettings,
-};
-
-use super::forces::{grain_forces_on, uniaxial_overlap_strain};
-pub use super::shear_curve::{
+use chrono_core::granular::probe::{max_penetration, uniaxial_overlap_strain};
+use chrono_core::granular::shear_box::{
     dilatancy_corrected_ratio, dilation_rate, peak_and_residual, peak_bin, residual_dilation_rate,
 };
+use chrono_core::granular::{GrainBed, Kick, Region, Settle, ShearBox};
+use chrono_core::math::Vector3;
+use chrono_core::system::{ContactMethod, SmcSettings};
+use chrono_core::{ContactMaterial, FrictionLaw, SystemSettings};
+
 pub use super::shear_params::ShearParams;
 use super::shear_params::check_params;
-use super::{make_system, method_name, parse_methods};
+use super::{ensure_methods, grain_frames, make_system, method_name, record_grains};
 use crate::case::{Case, CaseOutput, Check, PlotSpec, RunContext, Series, SweepPoint};
 use crate::fit::mean_std;
 use crate::params::{ParamCase, ensure_positive};
@@ -171,38 +167,6 @@ impl ShearRun {
     }
 }
 
-/// Four walls of thickness `t` around the square `[-l/2, l/2]^2`, between heights `z0` and
-/// `z1`, as box colliders on `b`.
-fn add_walls(
-    mut b: RigidBodyBuilder,
-    l: f64,
-    t: f64,
-    z0: f64,
-    z1: f64,
-    mat: ContactMaterial,
-) -> RigidBodyBuilder {
-    let (hz, zc) = (0.5 * (z1 - z0), 0.5 * (z0 + z1));
-    let off = 0.5 * (l + t);
-    for s in [-1.0, 1.0] {
-        b = b
-            .collider(
-                Shape::Box {
-                    half_extents: Vector3::new(0.5 * t, 0.5 * l + t, hz),
-                },
-                Isometry3::translation(s * off, 0.0, zc),
-                mat,
-            )
-            .collider(
-                Shape::Box {
-                    half_extents: Vector3::new(0.5 * l, 0.5 * t, hz),
-                },
-                Isometry3::translation(0.0, s * off, zc),
-                mat,
-            );
-    }
-    b
-}
-
 fn shear_test(
     p: &ShearParams,
     method: ContactMethod,
@@ -239,76 +203,55 @@ fn shear_test(
     let layers = count.div_ceil(per_layer) as f64;
     let fill_top = -hl + (layers + 1.0) * pitch;
     let z_top = fill_top + d;
-    let lattice = LatticeFill {
-        region: Region::Box {
-            lower: Vector3::new(-0.5 * l, -0.5 * l, -hl),
-            upper: Vector3::new(0.5 * l, 0.5 * l, fill_top),
-        },
-        r_min: r,
-        r_max: r,
-        gap: 0.5 * r,
-        jitter: 1.0,
-        max_count: count,
-        seed,
-    };
-    let grains: Vec<Grain> = lattice.generate()?;
-    anyhow::ensure!(
-        grains.len() == count,
-        "granular-shear: the lattice holds {} of {count} grains",
-        grains.len()
-    );
 
     // The lower half (kinematic: floor and walls), the upper half (fixed walls), the
-    // plate (free, joined to the upper half by a vertical prismatic joint).
-    let floor = Shape::Box {
-        half_extents: Vector3::new(0.5 * l + t, 0.5 * l + t, 0.5 * t),
-    };
-    let lower_b = RigidBodyBuilder::kinematic().name("lower half").collider(
-        floor,
-        Isometry3::translation(0.0, 0.0, -hl - 0.5 * t),
-        wall_mat,
-    );
-    let lower = sys.add_body(add_walls(lower_b, l, t, -hl, 0.0, wall_mat))?;
-    let upper_b = RigidBodyBuilder::fixed().name("upper half");
-    let upper = sys.add_body(add_walls(upper_b, l, t, gap, z_top, wall_mat))?;
+    // plate (free, joined to the upper half by a vertical prismatic joint). The plate
+    // weighs about one layer of grains: heavy enough to stay flat under the grains'
+    // impacts, light enough not to strain the NSC solve (the load is a force).
     let side = l - 0.2 * d;
-    let plate_shape = Shape::Box {
-        half_extents: Vector3::new(0.5 * side, 0.5 * side, 0.5 * t),
+    let shear_box = ShearBox {
+        length: l,
+        half_height: hl,
+        gap,
+        wall: t,
+        top: z_top,
+        plate_clearance: 0.2 * d,
+        plate_mass: SETTLED_FRACTION * p.density * side * side * t,
+        material: wall_mat,
     };
-    // The plate weighs about one layer of grains: heavy enough to stay flat under the
-    // grains' impacts, light enough not to strain the NSC solve (the load is a force).
-    let plate_mass = SETTLED_FRACTION * p.density * side * side * t;
-    let park = z_top + t;
-    let plate = sys.add_body(
-        RigidBodyBuilder::dynamic()
-            .name("load plate")
-            .mass_from_shape(&plate_shape, plate_mass / (side * side * t))?
-            .position(Vector3::new(0.0, 0.0, park))
-            .collider(plate_shape, Isometry3::identity(), wall_mat),
-    )?;
-    sys.add_joint(
-        JointBuilder::at_axis(
-            JointKind::Prismatic,
-            upper,
-            plate,
-            Vector3::new(0.0, 0.0, park),
-            Vector3::z(),
-        )
-        .name("plate slider"),
-    )?;
-    // Parked above the fill while the grains settle: its weight is carried by a force.
-    sys.body_mut(plate)?
-        .set_applied_force(Vector3::new(0.0, 0.0, plate_mass * g))?;
-    let handles: Vec<BodyHandle> = add_grains(&mut sys, &grains, p.density, grain_mat)?;
-    let mut rng = Rng::new(seed ^ 0x5bd1_e995);
-    for &b in &handles {
+    let bodies = shear_box.add(&mut sys)?;
+    // The pour only has to make a packing: NSC settles with a cheaper solve (at most
+    // `SETTLE_ITERATIONS`), the loaded sample is solved with `max_iterations`.
+    let settle_friction = p
+        .fill_mu
+        .or((method == ContactMethod::Nsc && p.nsc_fill_mu >= 0.0).then_some(p.nsc_fill_mu));
+    let spec = GrainBed {
+        count: Some(count),
+        seed,
         // Random horizontal velocities break the lattice's columns (see granular-hopper).
-        let v = Vector3::new(rng.range(-0.1, 0.1), rng.range(-0.1, 0.1), 0.0);
-        sys.body_mut(b)?.set_linear_velocity(v)?;
-    }
+        kick: Some(Kick {
+            speed: 0.1,
+            salt: 0x5bd1_e995,
+        }),
+        settle_friction,
+        ..GrainBed::new(
+            Region::Box {
+                lower: Vector3::new(-0.5 * l, -0.5 * l, -hl),
+                upper: Vector3::new(0.5 * l, 0.5 * l, fill_top),
+            },
+            r,
+            r,
+            p.density,
+            grain_mat,
+        )
+    };
+    let bed = spec
+        .pour(&mut sys)
+        .map_err(|e| anyhow::anyhow!("granular-shear: {e}"))?;
+    let handles = bed.handles.clone();
     let grain_mass = sys.body(handles[0])?.mass();
     let h = super::step_size(p.h, method, &sys);
-    let structure = [lower.0, upper.0, plate.0];
+    let structure = bodies.structure();
     let n_settle = (p.t_settle / h).round().max(1.0) as u64;
     let n_cons = (p.t_consolidate / h).round().max(1.0) as u64;
     let steps_per_bin = ((p.bin * d / (p.shear_speed * h)).round() as u64).max(1);
@@ -318,35 +261,18 @@ fn shear_test(
         let (j, m) = progress;
         ctx.progress((j as f64 + i as f64 / n_total as f64) / m as f64);
     };
-    let mut vtk = super::GrainFrames::new(ctx, ((0.02 / h).round() as u64).max(1));
-    let mut step = 0u64;
-    // The pour only has to make a packing: NSC settles with a cheaper solve (at most
-    // `SETTLE_ITERATIONS`), the loaded sample is solved with `max_iterations`.
+    let mut vtk = grain_frames(ctx, ((0.02 / h).round() as u64).max(1))?;
     sys.solver_mut().settings_mut().max_iterations = p.max_iterations.min(SETTLE_ITERATIONS);
-    let fill_mu = p
-        .fill_mu
-        .or((method == ContactMethod::Nsc && p.nsc_fill_mu >= 0.0).then_some(p.nsc_fill_mu));
-    if let Some(friction) = fill_mu {
-        let fill = ContactFriction {
-            friction,
-            rolling_friction: 0.0,
-            spinning_friction: 0.0,
-        };
-        for &b in &handles {
-            sys.set_contact_friction(b, Some(fill))?;
-        }
+    let settled = GrainBed {
+        settle: Settle::Steps(n_settle),
+        ..spec
     }
-    for _ in 0..n_settle {
-        sys.step(h)?;
-        step += 1;
-        vtk.record(step, &sys)?;
-        report(step);
-    }
-    if fill_mu.is_some() {
-        for &b in &handles {
-            sys.set_contact_friction(b, None)?;
-        }
-    }
+    .settle(&mut sys, &bed, h, |sys, i| {
+        record_grains(&mut vtk, i, sys)?;
+        report(i);
+        Ok::<(), anyhow::Error>(())
+    })?;
+    let mut step = settled.steps;
     sys.solver_mut().settings_mut().max_iterations = p.max_iterations;
     if p.coulomb_passes > 0 {
         sys.set_settings(SystemSettings {
@@ -367,31 +293,22 @@ fn shear_test(
         "granular-shear: grains above the box after settling (top {top} m, walls end at {z_top} m)"
     );
     let load = sigma * l * l;
-    {
-        let body = sys.body_mut(plate)?;
-        body.set_pose(
-            Vector3::new(0.0, 0.0, top + 0.5 * t + 0.02 * d),
-            UnitQuaternion::identity(),
-        )?;
-        body.set_linear_velocity(Vector3::zeros())?;
-        body.set_applied_force(Vector3::new(0.0, 0.0, -(load - plate_mass * g)))?;
-    }
+    shear_box.load(&mut sys, &bodies, top, 0.02 * d, load)?;
     for _ in 0..n_cons {
         sys.step(h)?;
         step += 1;
-        vtk.record(step, &sys)?;
+        record_grains(&mut vtk, step, &sys)?;
         report(step);
     }
-    let z_plate0 = sys.body(plate)?.position().z;
+    let z_plate0 = sys.body(bodies.plate)?.position().z;
     // Grain volume over the box's volume between the floor (top at -hl) and the plate's
     // underside: the consolidated sample's solid fraction (walls included, so below the
     // bulk value; it compares preparations).
-    let solid_fraction = handles.len() as f64 * v_grain / (l * l * (z_plate0 - 0.5 * t + hl));
+    let solid_fraction = handles.len() as f64 * v_grain / shear_box.sample_volume(&sys, &bodies)?;
     let overlap_strain = uniaxial_overlap_strain(&sys, &structure)?;
-    sys.body_mut(lower)?
-        .set_linear_velocity(Vector3::new(p.shear_speed, 0.0, 0.0))?;
+    shear_box.drive(&mut sys, &bodies, p.shear_speed)?;
     let z_plane = 0.5 * gap;
-    let x0 = sys.body(lower)?.position().x;
+    let x0 = sys.body(bodies.lower)?.position().x;
     let (mut bins, mut weight_sum) = (Vec::with_capacity(n_bins as usize), 0.0);
     let mut solve = SolveMeans::default();
     for _ in 0..n_bins {
@@ -403,9 +320,10 @@ fn shear_test(
             solve.residual += rep.solve.residual;
             solve.passes += rep.friction_passes as f64;
             step += 1;
-            f += grain_forces_on(&sys, h, &[upper.0, plate.0], &structure);
-            f_lower += grain_forces_on(&sys, h, &[lower.0], &structure);
-            vtk.record(step, &sys)?;
+            let (on_upper, on_lower) = shear_box.grain_forces(&sys, &bodies, h);
+            f += on_upper;
+            f_lower += on_lower;
+            record_grains(&mut vtk, step, &sys)?;
             report(step);
         }
         f /= steps_per_bin as f64;
@@ -422,8 +340,8 @@ fn shear_test(
             normal > 0.0,
             "granular-shear: no normal force on the shear plane ({normal} N) at step {step}"
         );
-        let s = (sys.body(lower)?.position().x - x0) / d;
-        let rise = (sys.body(plate)?.position().z - z_plate0) / d;
+        let s = (sys.body(bodies.lower)?.position().x - x0) / d;
+        let rise = (sys.body(bodies.plate)?.position().z - z_plate0) / d;
         // Quasi-static: the lower half feels the opposite shear force.
         let balance = -f_lower.x / steps_per_bin as f64 / f.x;
         bins.push([s, f.x / normal, f.x / load, rise, balance]);
@@ -441,7 +359,7 @@ fn shear_test(
         method,
         solid_fraction,
         overlap_strain,
-        penetration: super::max_penetration(&sys) / d,
+        penetration: max_penetration(&sys) / d,
         escaped: {
             // Below the floor's top: fallen out of the box (through the opening the lower
             // half leaves under the upper one's trailing side as it moves).
@@ -541,7 +459,8 @@ fn run_metrics(out: &mut CaseOutput, p: &ShearParams, sigma: f64, tag: &str, r: 
 
 fn run(p: &ShearParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     check_params(p)?;
-    let methods = parse_methods(&p.method)?;
+    ensure_methods(&p.method)?;
+    let methods = p.method.clone();
     anyhow::ensure!(
         !p.normal_stress.is_empty(),
         "parameter `normal_stress` must list at least one stress"

@@ -2,6 +2,7 @@
 //! NSC solve and the references, with their `--set` descriptions, the `--quick` and default
 //! modes, and their checks.
 
+use chrono_core::system::ContactMethod;
 use serde::{Deserialize, Serialize};
 
 use crate::case::Mode;
@@ -14,7 +15,7 @@ pub struct ShearParams {
     /// Normal stresses of the sweep, Pa (a single number runs one).
     pub normal_stress: Vec<f64>,
     /// Contact methods to run, each in turn (`--set method=smc` runs one).
-    pub method: Vec<String>,
+    pub method: Vec<ContactMethod>,
     /// Grain–grain sliding friction coefficient.
     pub mu: f64,
     /// Grain–wall (box, floor, plate) sliding friction coefficient.
@@ -61,7 +62,8 @@ pub struct ShearParams {
     /// and 12.5 kPa) for 2-3x the cost (docs/validation-granular.md).
     pub max_iterations: usize,
     /// Scatter (half width) of the peak reference `atan(tan(ref_residual_deg) + dy/dx)`
-    /// (Taylor's energy balance, see [`dilation_rate`](super::shear_curve::dilation_rate)), degrees.
+    /// (Taylor's energy balance, see
+    /// [`dilation_rate`](chrono_core::granular::shear_box::dilation_rate)), degrees.
     pub ref_peak_scatter_deg: f64,
     /// Half width of the displacement window (over grain diameter) around the peak over
     /// which the dilation rate `dy/dx` is fitted.
@@ -100,7 +102,7 @@ impl Default for ShearParams {
     fn default() -> Self {
         Self {
             normal_stress: vec![3.1e3, 6.4e3, 12.5e3, 24.2e3],
-            method: vec!["nsc".into(), "smc".into()],
+            method: vec![ContactMethod::Nsc, ContactMethod::Smc],
             mu: 0.18,
             wall_mu: 0.13,
             rolling_friction: 0.0,
@@ -238,7 +240,7 @@ impl CaseParams for ShearParams {
             // balance, a small-box effect (docs/validation-granular.md).
             Mode::Quick => {
                 self.check_peak = false;
-                self.method = vec!["smc".into()];
+                self.method = vec![ContactMethod::Smc];
                 self.normal_stress = vec![6.4e3];
                 self.box_length = 8.0;
                 self.half_height = 4.0;

@@ -17,7 +17,7 @@ use chrono_core::system::{ContactMethod, SmcModel, SmcSettings};
 use chrono_core::{ContactMaterial, RigidBodyBuilder, Shape, SystemSettings};
 use serde::{Deserialize, Serialize};
 
-use super::{make_system, parse_model};
+use super::make_system;
 use crate::case::{Case, CaseOutput, Check, PlotSpec, RunContext, Series, SweepPoint};
 use crate::params::{CaseParams, ParamCase, ParamInfo};
 
@@ -33,7 +33,7 @@ pub struct BounceParams {
     /// Impact speed, m/s.
     pub impact_velocity: f64,
     /// Normal force law: `hooke` or `hertz`.
-    pub model: String,
+    pub model: SmcModel,
     /// Sphere radius, m.
     pub radius: f64,
     /// Sphere density, kg/m^3.
@@ -53,7 +53,7 @@ impl Default for BounceParams {
             young: 1e7,
             poisson: 0.3,
             impact_velocity: 1.0,
-            model: "hertz".into(),
+            model: SmcModel::Hertz,
             radius: 0.01,
             density: 2500.0,
             steps_per_contact: 200.0,
@@ -196,7 +196,7 @@ fn bounce(p: &BounceParams, model: SmcModel, e: f64) -> anyhow::Result<Bounce> {
 }
 
 fn run(p: &BounceParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
-    let model = parse_model(&p.model)?;
+    let model = p.model;
     anyhow::ensure!(
         (0.0..=1.0).contains(&p.restitution),
         "parameter `restitution` must be in [0, 1], got {}",

@@ -8,13 +8,13 @@
 //! The Coulomb law of [`FrictionLaw::Coulomb`] (de Saxcé passes) removes the lift: the same
 //! push leaves the sphere on the plate with the analytic velocities of Coulomb sliding.
 
+use chrono_ccp::{Apgd, SolverSettings};
 use chrono_core::granular::{Grain, add_grains};
-use chrono_core::math::{Isometry3, Vector3};
+use chrono_core::math::{GRAVITY, Isometry3, Vector3};
 use chrono_core::system::ContactMethod;
 use chrono_core::{
     BodyHandle, ContactMaterial, FrictionLaw, RigidBodyBuilder, Shape, System, SystemSettings,
 };
-use xtask::cases::granular::make_system;
 
 const MU: f64 = 0.5;
 const R: f64 = 0.003;
@@ -29,7 +29,16 @@ fn pushed_sphere(friction_law: FrictionLaw) -> (System, BodyHandle) {
         ..SystemSettings::default()
     };
     let mu = MU;
-    let mut sys = make_system(ContactMethod::Nsc, settings, 1e-10, 2000).unwrap();
+    let solver = Apgd::new(SolverSettings {
+        tolerance: 1e-10,
+        max_iterations: 2000,
+        record_history: false,
+    });
+    let settings = SystemSettings {
+        contact_method: ContactMethod::Nsc,
+        ..settings
+    };
+    let mut sys = System::new(settings, Box::new(solver)).unwrap();
     let mat = ContactMaterial::smc(1e7, 0.3, 0.5, mu);
     sys.add_body(RigidBodyBuilder::fixed().collider(
         Shape::Box {
@@ -47,7 +56,7 @@ fn pushed_sphere(friction_law: FrictionLaw) -> (System, BodyHandle) {
     let m = sys.body(b).unwrap().mass();
     sys.body_mut(b)
         .unwrap()
-        .set_applied_force(Vector3::new(5.0 * m * 9.81, 0.0, 0.0))
+        .set_applied_force(Vector3::new(5.0 * m * GRAVITY.norm(), 0.0, 0.0))
         .unwrap();
     (sys, b)
 }
@@ -75,7 +84,7 @@ fn a_sliding_sphere_lifts_by_mu_times_its_slip() {
 #[test]
 fn coulomb_passes_slide_the_sphere_without_lift() {
     let h = 1e-3;
-    let g = 9.81;
+    let g = GRAVITY.norm();
     let (mut sys, b) = pushed_sphere(FrictionLaw::Coulomb { passes: 50 });
     let report = sys.step(h).unwrap();
     assert!(
@@ -116,7 +125,7 @@ fn coulomb_passes_are_rejected_when_zero() {
 /// implicit velocity update reaches rolling in the step that contains `t*`.
 #[test]
 fn coulomb_passes_roll_up_a_launched_sphere_on_the_plate() {
-    let (h, g, v0) = (1e-3, 9.81, 0.5);
+    let (h, g, v0) = (1e-3, GRAVITY.norm(), 0.5);
     let (mut sys, b) = pushed_sphere(FrictionLaw::Coulomb { passes: 50 });
     {
         let body = sys.body_mut(b).unwrap();

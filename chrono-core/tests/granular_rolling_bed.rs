@@ -6,7 +6,7 @@
 
 use chrono_ccp::{Apgd, SolverSettings};
 use chrono_core::granular::{LatticeFill, Region, add_box_container, add_grains};
-use chrono_core::math::Vector3;
+use chrono_core::math::{GRAVITY, Vector3};
 use chrono_core::{ContactMaterial, System, SystemSettings};
 
 /// Grains of radius in [0.95 r, r], r = 5 mm, fall from a jittered lattice into a 4 x 4 cm
@@ -34,7 +34,7 @@ fn settle(mu_r: f64, n: usize) -> (f64, f64) {
     };
     let grains = add_grains(&mut sys, &fill.generate().unwrap(), 2500.0, mat).unwrap();
     assert_eq!(grains.len(), n);
-    let mgd = 2500.0 * 4.0 / 3.0 * std::f64::consts::PI * r.powi(3) * 9.81 * 2.0 * r;
+    let mgd = 2500.0 * 4.0 / 3.0 * std::f64::consts::PI * r.powi(3) * GRAVITY.norm() * 2.0 * r;
     let mut ke_late: f64 = 0.0;
     for i in 0..600 {
         sys.step(1e-3).unwrap();

@@ -1,15 +1,16 @@
-//! `granular-shear` helpers through the public API: the contact forces read from the
-//! last step (both methods) against statics, and the peak / residual reduction.
+//! The direct shear box's measurements through the public API (`granular::probe`,
+//! `granular::shear_box`): the contact forces read from the last step (both methods)
+//! against statics, and the peak / residual reduction.
 
-use chrono_core::granular::{Grain, add_grains};
-use chrono_core::math::{Isometry3, Vector3};
-use chrono_core::system::ContactMethod;
-use chrono_core::{ContactMaterial, RigidBodyBuilder, Shape, SystemSettings};
-use xtask::cases::granular::forces::{grain_forces_on, uniaxial_overlap_strain};
-use xtask::cases::granular::make_system;
-use xtask::cases::granular::shear::{
+use chrono_ccp::{Apgd, SolverSettings};
+use chrono_core::granular::probe::{grain_forces_on, uniaxial_overlap_strain};
+use chrono_core::granular::shear_box::{
     dilatancy_corrected_ratio, dilation_rate, peak_and_residual, peak_bin, residual_dilation_rate,
 };
+use chrono_core::granular::{Grain, add_grains};
+use chrono_core::math::{GRAVITY, Isometry3, Vector3};
+use chrono_core::system::ContactMethod;
+use chrono_core::{ContactMaterial, RigidBodyBuilder, Shape, System, SystemSettings};
 
 #[test]
 fn peak_and_residual_of_a_curve() {
@@ -104,12 +105,18 @@ fn material() -> ContactMaterial {
 }
 
 /// A system of `method` with a 0.1 mm envelope and a tight solve (NSC).
-fn small_system(method: ContactMethod, max_iterations: usize) -> chrono_core::System {
+fn small_system(method: ContactMethod, max_iterations: usize) -> System {
     let settings = SystemSettings {
         envelope: 1e-4,
+        contact_method: method,
         ..SystemSettings::default()
     };
-    make_system(method, settings, 1e-8, max_iterations).unwrap()
+    let solver = Apgd::new(SolverSettings {
+        tolerance: 1e-8,
+        max_iterations,
+        record_history: false,
+    });
+    System::new(settings, Box::new(solver)).unwrap()
 }
 
 /// A fixed square plate 1 cm thick, half side `half` (m), its top at height `top` (m).
@@ -141,7 +148,7 @@ fn grain_forces_on_a_plate_balance_weight_and_push() {
         }];
         let b = add_grains(&mut sys, &g, 2500.0, material()).unwrap()[0];
         let m = sys.body(b).unwrap().mass();
-        let push = 0.2 * m * 9.81;
+        let push = 0.2 * m * GRAVITY.norm();
         sys.body_mut(b)
             .unwrap()
             .set_applied_force(Vector3::new(push, 0.0, 0.0))
@@ -157,11 +164,11 @@ fn grain_forces_on_a_plate_balance_weight_and_push() {
             sys.step(h).unwrap();
             // Rolling is free: the sphere accelerates; average the late steps.
             if i >= n / 2 {
-                f += grain_forces_on(&sys, h, &[plate.0], &[plate.0]);
+                f += grain_forces_on(&sys, h, &[plate], &[plate]);
             }
         }
         f /= (n - n / 2) as f64;
-        let w = m * 9.81;
+        let w = m * GRAVITY.norm();
         assert!(
             (f.z + w).abs() < 0.02 * w,
             "{method:?}: {f:?} vs weight {w}"
@@ -209,7 +216,7 @@ fn uniaxial_overlap_strain_of_an_affine_compression() {
         add_grains(&mut sys, &grains, 2500.0, material()).unwrap();
         // A step short enough that the contacts are those of the placed configuration.
         sys.step(1e-7).unwrap();
-        let e = uniaxial_overlap_strain(&sys, &[floor.0]).unwrap();
+        let e = uniaxial_overlap_strain(&sys, &[floor]).unwrap();
         // Exact for the columns; the inclined pair's normal turns by O(eps), which moves the
         // fit by O(eps^2).
         assert!(
