@@ -234,7 +234,7 @@ fn rigid_tank(contacts: bool) -> (f64, bool) {
     };
     let fluid = lattice_box([0.0; 3], [0.1, ly, depth], dp).unwrap();
     let item = ConstraintFluid::new("water", settings, &fluid, &[]).unwrap();
-    let mut sys = system(Vector3::new(0.0, 0.0, -9.81));
+    let mut sys = system(chrono_core::math::GRAVITY);
     let t = 0.05;
     let wall = |c: [f64; 3], half: [f64; 3]| {
         RigidBodyBuilder::fixed()
@@ -320,7 +320,7 @@ fn box_in_tank(markers: bool, rho: f64, drop: f64, steps: usize) -> BoxRun {
     )
     .unwrap();
     let mut item = ConstraintFluid::new("water", settings, &fluid, &walls).unwrap();
-    let g = 9.81;
+    let g = -chrono_core::math::GRAVITY.z;
     let mut sys = system(Vector3::new(0.0, 0.0, -g));
     sys.add_body(
         RigidBodyBuilder::fixed()
@@ -444,7 +444,7 @@ fn submerged_box_rise(rho: f64, rows: bool, steps: usize) -> f64 {
     )
     .unwrap();
     let mut item = ConstraintFluid::new("water", settings, &fluid, &walls).unwrap();
-    let mut sys = system(Vector3::new(0.0, 0.0, -9.81));
+    let mut sys = system(chrono_core::math::GRAVITY);
     sys.add_body(
         RigidBodyBuilder::fixed()
             .position(Vector3::new(0.5 * len, 0.5 * ly, -t))

@@ -3,51 +3,21 @@
 
 use chrono_core::error::{ChronoError, Result, check_positive};
 use chrono_core::particles::Kernel;
-
-/// Cell counts of a box at spacing `dp` (rounded to the nearest whole count).
-fn counts(lower: [f64; 3], upper: [f64; 3], dp: f64) -> [usize; 3] {
-    std::array::from_fn(|a| ((upper[a] - lower[a]) / dp).round().max(0.0) as usize)
-}
-
-fn check_box(field: &str, lower: [f64; 3], upper: [f64; 3], dp: f64) -> Result<()> {
-    check_positive(&format!("{field}.spacing"), dp)?;
-    for a in 0..3 {
-        if !(lower[a].is_finite() && upper[a].is_finite() && upper[a] > lower[a]) {
-            return Err(ChronoError::invalid(
-                format!("{field}.upper[{a}]"),
-                upper[a],
-                format!("must be finite and > lower[{a}] = {}", lower[a]),
-            ));
-        }
-    }
-    Ok(())
-}
+use chrono_core::particles::lattice::{Fit, Lattice, Tank};
 
 /// The cell centres `lower + (i + 1/2) dp` of the lattice filling the box
-/// `[lower, upper]` (x fastest, then y, then z), m.
+/// `[lower, upper]` (x fastest, then y, then z), m: the nearest whole count of cells along
+/// each axis ([`Lattice::fill`] with [`Fit::Nearest`]).
 pub fn lattice_box(lower: [f64; 3], upper: [f64; 3], dp: f64) -> Result<Vec<[f64; 3]>> {
-    check_box("fluid_box", lower, upper, dp)?;
-    let n = counts(lower, upper, dp);
-    let mut out = Vec::with_capacity(n[0] * n[1] * n[2]);
-    for k in 0..n[2] {
-        for j in 0..n[1] {
-            for i in 0..n[0] {
-                out.push([
-                    lower[0] + (i as f64 + 0.5) * dp,
-                    lower[1] + (j as f64 + 0.5) * dp,
-                    lower[2] + (k as f64 + 0.5) * dp,
-                ]);
-            }
-        }
-    }
-    Ok(out)
+    Lattice::new(lower, dp)?.fill(lower, upper, Fit::Nearest)
 }
 
 /// Wall markers of a tank whose inner (fluid) box is `[inner_lower, inner_upper]`:
 /// `layers` lattice layers beyond each face marked in `sides`
 /// (`[x-, x+, y-, y+, z-, z+]`), on the same lattice as [`lattice_box`] of the inner box,
 /// so the first marker layer sits `dp` from the last fluid layer. Faces not marked are open
-/// (a periodic axis or the free top).
+/// (a periodic axis or the free top). The positions of [`Lattice::tank`] anchored at
+/// `inner_lower`, counted by [`Fit::Nearest`].
 pub fn tank_markers(
     inner_lower: [f64; 3],
     inner_upper: [f64; 3],
@@ -55,39 +25,9 @@ pub fn tank_markers(
     layers: usize,
     sides: [bool; 6],
 ) -> Result<Vec<[f64; 3]>> {
-    check_box("tank", inner_lower, inner_upper, dp)?;
-    if layers == 0 {
-        return Err(ChronoError::invalid("tank.layers", layers, "must be >= 1"));
-    }
-    let n = counts(inner_lower, inner_upper, dp);
-    let l = layers as i64;
-    let range = |a: usize| {
-        let lo = if sides[2 * a] { -l } else { 0 };
-        let hi = n[a] as i64 + if sides[2 * a + 1] { l } else { 0 };
-        lo..hi
-    };
-    let inside = |i: i64, a: usize| i >= 0 && i < n[a] as i64;
-    let mut out = Vec::new();
-    for k in range(2) {
-        for j in range(1) {
-            for i in range(0) {
-                if inside(i, 0) && inside(j, 1) && inside(k, 2) {
-                    continue;
-                }
-                out.push([
-                    inner_lower[0] + (i as f64 + 0.5) * dp,
-                    inner_lower[1] + (j as f64 + 0.5) * dp,
-                    inner_lower[2] + (k as f64 + 0.5) * dp,
-                ]);
-            }
-        }
-    }
-    Ok(out)
-}
-
-/// Wall layers covering the kernel support `2 h_k` at spacing `dp`.
-pub fn wall_layers(h_over_dp: f64) -> usize {
-    ((2.0 * h_over_dp) - 1e-9).ceil().max(1.0) as usize
+    let tank = Tank::new(inner_lower, inner_upper, layers, sides);
+    let walls = Lattice::new(inner_lower, dp)?.tank(&tank, Fit::Nearest)?;
+    Ok(walls.into_iter().map(|w| w.position).collect())
 }
 
 /// The kernel mass `m_k = rho_0 / sum_j W(|x_j|)` over the infinite cubic lattice of

@@ -13,7 +13,12 @@
 //! - [`lattice_box`], [`tank_markers`], [`lattice_mass`], [`wall_layers`]: initial
 //!   particle sets; [`box_markers`]: the markers of a rigid box, attached with
 //!   [`ConstraintFluid::attach_body`] (fluid–solid coupling; particles are also contact
-//!   spheres of the body colliders).
+//!   spheres of the body colliders); the lattice and the tanks themselves are
+//!   [`chrono_core::particles::lattice`];
+//! - [`scene`]: ready-made scenes ([`scene::TankScene`]: the quasi-2D tank of a dam
+//!   break, still water or sloshing);
+//! - [`floating_box`]: a rigid box floating in a tank ([`floating_box::FloatingBox`]) and
+//!   the probes of its draft against Archimedes.
 //!
 //! ```
 //! use chrono_cfluid::{CfluidSettings, ConstraintFluid, lattice_box, tank_markers, wall_layers};
@@ -45,12 +50,15 @@
 #[cfg(test)]
 mod body_tests;
 mod density;
+pub mod floating_box;
 mod fluid;
 mod geometry;
+pub mod scene;
 mod settings;
 #[cfg(test)]
 mod tests;
 
+pub use chrono_core::particles::lattice::wall_layers;
 pub use fluid::{ConstraintFluid, KIND_BODY_MARKER, KIND_FLUID, KIND_WALL};
-pub use geometry::{box_markers, lattice_box, lattice_mass, tank_markers, wall_layers};
+pub use geometry::{box_markers, lattice_box, lattice_mass, tank_markers};
 pub use settings::{CfluidSettings, SurfaceMode};

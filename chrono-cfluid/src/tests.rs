@@ -235,7 +235,7 @@ fn column_at_rest_keeps_density_and_pressure_is_hydrostatic() {
     let syy: f64 = ps.iter().map(|p| (p - mp) * (p - mp)).sum();
     let slope = sxy / sxx;
     let r2 = sxy * sxy / (sxx * syy);
-    let expected = -1000.0 * 9.81;
+    let expected = 1000.0 * chrono_core::math::GRAVITY.z;
     eprintln!(
         "column: max compression {worst:.3e} (run), {end:.3e} (end); KE {ke:.3e} J \
          (peak {ke_peak:.3e}); dp/dz = {slope:.1} Pa/m (expected {expected}), R^2 = {r2:.4}"

@@ -12,7 +12,7 @@ fn dam_break(n: usize) -> SphSystem {
     let dp = (cw * ch * tw / n as f64).cbrt();
     let settings = SphSettings {
         spacing: dp,
-        sound_speed: 10.0 * (2.0 * 9.81 * ch).sqrt(),
+        sound_speed: 10.0 * (2.0 * -chrono_core::math::GRAVITY.z * ch).sqrt(),
         domain_lower: [0.0; 3],
         domain_upper: [4.0, tw, 2.5],
         ..SphSettings::default()

@@ -1,6 +1,7 @@
 //! [`SphBuilder`]: particles on a lattice (fluid blocks, wall marker layers, tanks).
 
 use chrono_core::particles::Kernel;
+use chrono_core::particles::lattice::{Fit, Lattice, ParticleSet, Tank, WallMarker};
 
 use crate::data::{Kind, ParticleData};
 use crate::eos::Tait;
@@ -9,8 +10,9 @@ use crate::motion::WallMotion;
 use crate::settings::SphSettings;
 use crate::system::SphSystem;
 
-/// Which faces of a tank carry wall layers: `[-x, +x, -y, +y, -z, +z]`.
-pub type TankSides = [bool; 6];
+/// Which faces of a tank carry wall layers: `[-x, +x, -y, +y, -z, +z]`
+/// ([`chrono_core::particles::lattice::Sides`]).
+pub type TankSides = chrono_core::particles::lattice::Sides;
 
 /// Builds an [`SphSystem`]: particles are placed on the cubic lattice of spacing `dp`
 /// aligned with the boxes given (centres at `lower + (i + 1/2) dp`), fluid mass
@@ -21,11 +23,6 @@ pub struct SphBuilder {
     eos: Tait,
     motion: WallMotion,
     data: ParticleData,
-}
-
-/// Lattice counts along each axis for a box, with a tolerance for round-off.
-fn counts(lower: [f64; 3], upper: [f64; 3], dp: f64) -> [usize; 3] {
-    std::array::from_fn(|a| (((upper[a] - lower[a]) / dp) + 1e-6).floor().max(0.0) as usize)
 }
 
 fn check_box(field: &str, lower: [f64; 3], upper: [f64; 3]) -> Result<()> {
@@ -80,29 +77,28 @@ impl SphBuilder {
     ) -> Result<usize> {
         check_box("fluid_box", lower, upper)?;
         let dp = self.settings.spacing;
-        let n = counts(lower, upper, dp);
+        let points = Lattice::new(lower, dp)?.fill(lower, upper, Fit::Floor)?;
+        Ok(self.add_fluid_points(&points, free_surface))
+    }
+
+    /// Adds fluid particles at `points` (m, on the lattice of spacing `dp`, e.g. from
+    /// [`chrono_core::particles::lattice`]); returns the number added. Density as in
+    /// [`add_fluid_box`](Self::add_fluid_box).
+    pub fn add_fluid_points(&mut self, points: &[[f64; 3]], free_surface: Option<f64>) -> usize {
+        let dp = self.settings.spacing;
         let g = {
             let g = self.settings.gravity;
             (g[0] * g[0] + g[1] * g[1] + g[2] * g[2]).sqrt()
         };
         let before = self.data.len();
-        for k in 0..n[2] {
-            for j in 0..n[1] {
-                for i in 0..n[0] {
-                    let p = [
-                        lower[0] + (i as f64 + 0.5) * dp,
-                        lower[1] + (j as f64 + 0.5) * dp,
-                        lower[2] + (k as f64 + 0.5) * dp,
-                    ];
-                    let rho = match free_surface {
-                        Some(zs) => self.eos.hydrostatic_density(g, zs - p[2]),
-                        None => self.settings.rho0,
-                    };
-                    self.data.push(Kind::Fluid, p, rho, rho * dp * dp * dp, 0);
-                }
-            }
+        for &p in points {
+            let rho = match free_surface {
+                Some(zs) => self.eos.hydrostatic_density(g, zs - p[2]),
+                None => self.settings.rho0,
+            };
+            self.data.push(Kind::Fluid, p, rho, rho * dp * dp * dp, 0);
         }
-        Ok(self.data.len() - before)
+        self.data.len() - before
     }
 
     /// Fills the box `[lower, upper]` with wall markers of `group`; returns the number
@@ -110,43 +106,14 @@ impl SphBuilder {
     /// mirrored average ([`NoSlip::Adami`](crate::NoSlip::Adami)).
     pub fn add_wall_box(&mut self, lower: [f64; 3], upper: [f64; 3], group: u16) -> Result<usize> {
         check_box("wall_box", lower, upper)?;
-        self.add_walls_where(lower, upper, group, |_| Some(([0.0; 3], 0.0)))
-    }
-
-    fn add_walls_where(
-        &mut self,
-        lower: [f64; 3],
-        upper: [f64; 3],
-        group: u16,
-        keep: impl Fn([f64; 3]) -> Option<([f64; 3], f64)>,
-    ) -> Result<usize> {
         let dp = self.settings.spacing;
-        let n = counts(lower, upper, dp);
+        let points = Lattice::new(lower, dp)?.fill(lower, upper, Fit::Floor)?;
         let m = self.settings.rho0 * dp * dp * dp;
-        let before = self.data.len();
-        for k in 0..n[2] {
-            for j in 0..n[1] {
-                for i in 0..n[0] {
-                    let p = [
-                        lower[0] + (i as f64 + 0.5) * dp,
-                        lower[1] + (j as f64 + 0.5) * dp,
-                        lower[2] + (k as f64 + 0.5) * dp,
-                    ];
-                    if let Some((normal, depth)) = keep(p) {
-                        self.data.push_with_normal(
-                            Kind::Wall,
-                            p,
-                            self.settings.rho0,
-                            m,
-                            group,
-                            normal,
-                            depth,
-                        );
-                    }
-                }
-            }
+        for &p in &points {
+            self.data
+                .push_with_normal(Kind::Wall, p, self.settings.rho0, m, group, [0.0; 3], 0.0);
         }
-        Ok(self.data.len() - before)
+        Ok(points.len())
     }
 
     /// Wall layers around the inner box `[inner_lower, inner_upper]` on the chosen
@@ -177,50 +144,41 @@ impl SphBuilder {
                 ),
             ));
         }
-        let t = layers as f64 * dp;
-        let mut lo = inner_lower;
-        let mut hi = inner_upper;
-        for a in 0..3 {
-            if sides[2 * a] {
-                lo[a] -= t;
-            }
-            if sides[2 * a + 1] {
-                hi[a] += t;
-            }
-        }
-        let mut added = 0;
+        let tank = Tank::new(inner_lower, inner_upper, layers, sides);
+        // every box on its own lattice: the walls' from the outer corner
+        let walls = Lattice::new(tank.outer(dp).0, dp)?.tank(&tank, Fit::Floor)?;
+        Ok(self.add_wall_markers(&walls, group_base))
+    }
+
+    /// Adds the wall markers `walls` (e.g. of a [`Tank`] or a
+    /// [`SlabTank`](chrono_core::particles::lattice::SlabTank)) grouped by face (face by
+    /// face, `group_base + face`), each with its face's inward normal and its depth;
+    /// returns the number added.
+    pub fn add_wall_markers(&mut self, walls: &[WallMarker], group_base: u16) -> usize {
+        let dp = self.settings.spacing;
+        let m = self.settings.rho0 * dp * dp * dp;
         for face in 0..6 {
-            if !sides[face] {
-                continue;
+            for w in walls.iter().filter(|w| w.face == face) {
+                self.data.push_with_normal(
+                    Kind::Wall,
+                    w.position,
+                    self.settings.rho0,
+                    m,
+                    group_base + face as u16,
+                    w.normal,
+                    w.depth,
+                );
             }
-            let (a, upper_side) = (face / 2, face % 2 == 1);
-            added += self.add_walls_where(lo, hi, group_base + face as u16, |p| {
-                // outside the inner box, and this face is the one of largest overshoot
-                let over: [f64; 6] = std::array::from_fn(|f| {
-                    let ax = f / 2;
-                    if f % 2 == 0 {
-                        inner_lower[ax] - p[ax]
-                    } else {
-                        p[ax] - inner_upper[ax]
-                    }
-                });
-                let mine = if upper_side {
-                    over[2 * a + 1]
-                } else {
-                    over[2 * a]
-                };
-                if mine <= 0.0 {
-                    return None;
-                }
-                let nearest =
-                    (0..6).all(|f| f == face || over[f] < mine || (over[f] == mine && f > face));
-                // inward normal of this face, depth behind it
-                let mut normal = [0.0; 3];
-                normal[a] = if upper_side { -1.0 } else { 1.0 };
-                nearest.then_some((normal, mine))
-            })?;
         }
-        Ok(added)
+        walls.len()
+    }
+
+    /// Adds a particle set: its fluid ([`add_fluid_points`](Self::add_fluid_points), with
+    /// the hydrostatic density below `free_surface` if given), then its walls
+    /// ([`add_wall_markers`](Self::add_wall_markers) from group 0). Returns the number
+    /// added.
+    pub fn add_particles(&mut self, set: &ParticleSet, free_surface: Option<f64>) -> usize {
+        self.add_fluid_points(&set.fluid, free_surface) + self.add_wall_markers(&set.walls, 0)
     }
 
     /// Number of particles so far.

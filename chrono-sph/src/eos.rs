@@ -132,7 +132,7 @@ mod tests {
     #[test]
     fn hydrostatic_density_satisfies_dp_dz_equals_rho_g() {
         let eos = Tait::new(1000.0, 7.0, 28.0).unwrap();
-        let g = 9.81;
+        let g = -chrono_core::math::GRAVITY.z;
         assert_eq!(eos.hydrostatic_density(g, 0.0), 1000.0);
         for depth in [0.05, 0.4, 3.0] {
             let e = 1e-5;

@@ -14,8 +14,11 @@
 //!   (CFL, force and viscous criteria), Mach number check, divergence errors naming the
 //!   particle and step;
 //! - [`builder`]: [`SphBuilder`], fluid blocks (optionally hydrostatic), wall boxes and
-//!   tanks with marker layers, periodic directions (quasi-2D slabs, channels);
+//!   tanks with marker layers, periodic directions (quasi-2D slabs, channels) (the
+//!   lattice itself is [`chrono_core::particles::lattice`]);
 //! - [`motion`]: [`WallMotion`], prescribed tank motion (sloshing);
+//! - [`scene`]: ready-made scenes on the quasi-2D slab tank: the dam break or still
+//!   water ([`scene::slab_tank`]) and the sloshing tank ([`scene::sloshing`]);
 //! - probes ([`SphSystem::pressure_at`], [`SphSystem::free_surface_height`],
 //!   [`SphSystem::wall_force`], [`SphSystem::fluid_force`]) and VTK frames
 //!   ([`SphSystem::write_vtk`]);
@@ -56,6 +59,7 @@ mod interact;
 pub mod motion;
 mod output;
 mod probes;
+pub mod scene;
 pub mod settings;
 pub mod system;
 #[cfg(test)]

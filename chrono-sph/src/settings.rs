@@ -1,5 +1,6 @@
 //! Solver settings: resolution, fluid properties, boundary handling, time step criteria.
 
+use chrono_core::math::GRAVITY;
 use chrono_core::particles::KernelKind;
 use serde::{Deserialize, Serialize};
 
@@ -197,7 +198,7 @@ impl Default for SphSettings {
             force_coef: 0.25,
             visc_coef: 0.125,
             max_dt: 1e-2,
-            gravity: [0.0, 0.0, -9.81],
+            gravity: [GRAVITY.x, GRAVITY.y, GRAVITY.z],
             body_force: [0.0; 3],
             domain_lower: [0.0; 3],
             domain_upper: [1.0; 3],

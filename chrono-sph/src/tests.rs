@@ -12,7 +12,7 @@ fn tank(settings: SphSettings, n: usize, side_walls: bool) -> SphSystem {
     let ly = 7.0 * dp;
     let top = h + 3.0 * dp;
     let settings = SphSettings {
-        sound_speed: 10.0 * (2.0 * 9.81 * h).sqrt(),
+        sound_speed: 10.0 * (2.0 * -chrono_core::math::GRAVITY.z * h).sqrt(),
         domain_lower: [0.0; 3],
         domain_upper: [h, ly, top],
         periodic: [!side_walls, true, false],

@@ -35,10 +35,12 @@ use crate::error::{ChronoError, Result};
 #[serde(rename_all = "snake_case")]
 pub enum KernelKind {
     /// The cubic B-spline of Monaghan and Lattanzio (1985), support `2 h`.
+    #[serde(alias = "cubic")]
     CubicSpline,
     /// The Wendland C2 function (Wendland 1995), support `2 h`; free of the pairing
     /// instability (Dehnen and Aly 2012).
     #[default]
+    #[serde(alias = "wendland")]
     WendlandC2,
 }
 

@@ -17,17 +17,19 @@
 //! and their `.pvd` collection.
 
 use chrono_cfluid::{CfluidSettings, ConstraintFluid};
+use chrono_core::math::GRAVITY;
 use serde::{Deserialize, Serialize};
 
-use super::{TankScene, left_tank};
+use super::{left_tank, tank_scene};
 use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series};
-use crate::cases::sph::SphFrames;
 use crate::cases::sph::dam_break::{
     FRONT_MIN_NEIGHBOURS, FRONT_TOLERANCE, front_rms, interpolate, martin_moyce_n2_1,
 };
+use crate::cases::sph::particle_frames;
 use crate::params::{CaseParams, ParamCase, ParamInfo};
 
-const G: f64 = 9.81;
+/// `|g|` of [`GRAVITY`] (its z component, read in a const context), m/s^2.
+const G: f64 = -GRAVITY.data.0[0][2];
 
 /// Parameters of `cfluid-dam-break`.
 #[derive(Clone, Debug, Serialize, Deserialize)]
@@ -156,7 +158,7 @@ fn run(p: &CfluidDamBreakParams, ctx: &RunContext) -> anyhow::Result<CaseOutput>
         xsph: p.xsph,
         ..CfluidSettings::default()
     };
-    let mut scene = TankScene::new(
+    let mut scene = tank_scene(
         settings,
         p.tank_length,
         top,
@@ -171,7 +173,7 @@ fn run(p: &CfluidDamBreakParams, ctx: &RunContext) -> anyhow::Result<CaseOutput>
     let every = ((0.002 / p.h).round() as u64).max(1);
     let mut series = Series::new(["t", "front", "max_compression_pct", "iterations"]);
     let mut samples = vec![(0.0, 1.0)];
-    let mut frames = SphFrames::new(ctx, p.t_end / 50.0);
+    let mut frames = particle_frames(Some(ctx), p.t_end / 50.0)?;
     let (mut iterations, mut max_c) = (0usize, 0.0f64);
     for step in 1..=n {
         let report = scene.sys.step(p.h)?;
@@ -179,7 +181,7 @@ fn run(p: &CfluidDamBreakParams, ctx: &RunContext) -> anyhow::Result<CaseOutput>
         let f = scene.fluid()?;
         let c = f.max_compression().max(0.0);
         max_c = max_c.max(c);
-        frames.record_with(step as f64 * p.h, |path| Ok(f.write_vtk(path, true)?))?;
+        frames.record(step, step as f64 * p.h, |path| f.write_vtk(path, true))?;
         if step % every == 0 || step == n {
             let time = step as f64 * p.h;
             let x = front(f, dp, ly);

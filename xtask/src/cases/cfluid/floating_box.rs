@@ -44,30 +44,30 @@
 //!
 //! Also written: `final_particles.csv` (positions and densities at the end).
 
-use chrono_cfluid::{
-    CfluidSettings, ConstraintFluid, SurfaceMode, box_markers, lattice_box, tank_markers,
-    wall_layers,
+#[cfg(doc)]
+use chrono_cfluid::floating_box::PLANAR_INERTIA_FACTOR;
+use chrono_cfluid::floating_box::{
+    Coupling, FloatingBox, FloatingScene, far_surface, hydrostatic_depth, particles_inside,
+    surface_layer_density, volume_level,
 };
-use chrono_core::descriptor::SolverSettings;
-use chrono_core::math::{Isometry3, Vector3};
-use chrono_core::{BodyHandle, ContactMaterial, RigidBodyBuilder, Shape, System, SystemSettings};
+use chrono_cfluid::{CfluidSettings, SurfaceMode};
+use chrono_core::math::GRAVITY;
+#[cfg(doc)]
+use chrono_core::particles::lattice::slab_layers;
 use serde::{Deserialize, Serialize};
 
+use super::solver_by_name;
 use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series};
-use crate::cases::sph::slab_layers;
 use crate::params::{CaseParams, ParamCase, ParamInfo};
 
-const G: f64 = 9.81;
+/// `|g|` of [`GRAVITY`] (its z component, read in a const context), m/s^2.
+const G: f64 = -GRAVITY.data.0[0][2];
 /// Draft acceptance: relative error against Archimedes.
 pub const DRAFT_TOLERANCE: f64 = 0.03;
 /// Drift acceptance, as a fraction of the box width.
 pub const DRIFT_FRACTION: f64 = 0.02;
 /// Jitter acceptance, as a fraction of `sqrt(g box_height)` (the speed scale of heave).
 pub const JITTER_FRACTION: f64 = 0.01;
-/// Factor on the box's moments of inertia about x and z (roll and yaw of a body that
-/// spans the periodic slab, see [`scene`]): large enough that those rotations stay
-/// negligible, small enough to keep `M^-1` well scaled.
-pub const PLANAR_INERTIA_FACTOR: f64 = 1e6;
 
 /// Parameters of `cfluid-floating-box`.
 #[derive(Clone, Debug, Serialize, Deserialize)]
@@ -96,7 +96,7 @@ pub struct FloatingBoxParams {
     pub xsph: f64,
     /// `markers` (markers in the fluid's density rows + contacts), `marker-rows` (the
     /// same, and a density row per marker) or `contact` (contacts only).
-    pub coupling: String,
+    pub coupling: Coupling,
     /// Radius of the particles' contact spheres over the spacing.
     pub contact_radius: f64,
     /// Solver tolerance (chrono-ccp residual).
@@ -112,7 +112,7 @@ pub struct FloatingBoxParams {
     /// Compression at which the projection stops.
     pub position_tolerance: f64,
     /// Free-surface treatment of the density rows: `one_sided`, `unilateral`, `clamped`.
-    pub surface: String,
+    pub surface: SurfaceMode,
     /// Density rows for the tank's wall markers (`CfluidSettings::wall_marker_rows`).
     /// Default off: at the default resolution they keep the floor layer at the lattice's
     /// 1.00 particles per `dp^2` but do not move the draft at `box_density` 300 (+4.1 %
@@ -135,7 +135,7 @@ impl Default for FloatingBoxParams {
             t_end: 3.0,
             window: 0.25,
             xsph: 0.1,
-            coupling: "marker-rows".into(),
+            coupling: Coupling::MarkerRows,
             contact_radius: 0.5,
             tolerance: 1e-4,
             solver: "apgd".into(),
@@ -143,7 +143,7 @@ impl Default for FloatingBoxParams {
             h_over_dp: CfluidSettings::default().h_over_dp,
             position_iterations: 0,
             position_tolerance: 1e-4,
-            surface: "one_sided".into(),
+            surface: SurfaceMode::OneSided,
             wall_rows: false,
         }
     }
@@ -215,47 +215,33 @@ impl CaseParams for FloatingBoxParams {
     }
 }
 
-/// Whether `x` is a whole positive number of spacings `dp`.
-fn whole(x: f64, dp: f64) -> bool {
-    let c = x / dp;
-    c.round() >= 1.0 && (c - c.round()).abs() < 1e-6 * c.max(1.0)
+impl FloatingBoxParams {
+    /// The scene's set-up (the parameters other than the run's and the solver's).
+    pub fn floating_box(&self) -> FloatingBox {
+        FloatingBox {
+            box_density: self.box_density,
+            box_width: self.box_width,
+            box_height: self.box_height,
+            initial_draft: self.initial_draft,
+            tank_length: self.tank_length,
+            depth: self.depth,
+            spacing: self.spacing,
+            h_over_dp: self.h_over_dp,
+            xsph: self.xsph,
+            coupling: self.coupling,
+            contact_radius: self.contact_radius,
+            position_iterations: self.position_iterations,
+            position_tolerance: self.position_tolerance,
+            surface: self.surface,
+            wall_rows: self.wall_rows,
+        }
+    }
 }
 
 fn check(p: &FloatingBoxParams) -> anyhow::Result<()> {
-    let dp = p.spacing;
-    anyhow::ensure!(
-        dp.is_finite() && dp > 0.0,
-        "parameter `spacing` must be > 0, got {dp}"
-    );
-    for (name, v) in [
-        ("box_width", p.box_width),
-        ("box_height", p.box_height),
-        ("depth", p.depth),
-        ("tank_length", p.tank_length),
-    ] {
-        anyhow::ensure!(
-            v.is_finite() && whole(v, dp),
-            "parameter `{name}` must be a positive multiple of `spacing` = {dp}, got {v}"
-        );
-    }
-    anyhow::ensure!(
-        p.box_density.is_finite() && p.box_density > 0.0,
-        "parameter `box_density` must be > 0, got {}",
-        p.box_density
-    );
-    anyhow::ensure!(
-        p.tank_length >= p.box_width + 8.0 * dp,
-        "parameter `tank_length` must leave 4 spacings each side of the box, got {}",
-        p.tank_length
-    );
-    anyhow::ensure!(
-        p.initial_draft.is_finite()
-            && p.initial_draft >= 0.0
-            && whole(p.initial_draft + dp, dp)
-            && p.initial_draft < p.depth.min(p.box_height),
-        "parameter `initial_draft` must be a multiple of `spacing` in [0, min(depth, box_height)), got {}",
-        p.initial_draft
-    );
+    p.floating_box()
+        .check()
+        .map_err(|e| anyhow::anyhow!("parameters: {e}"))?;
     anyhow::ensure!(
         p.h.is_finite() && p.h > 0.0 && p.t_end.is_finite() && p.t_end >= p.h,
         "parameters `h` and `t_end` must be > 0 with t_end >= h, got {} and {}",
@@ -267,268 +253,14 @@ fn check(p: &FloatingBoxParams) -> anyhow::Result<()> {
         "parameter `window` must be in (0, 1], got {}",
         p.window
     );
-    anyhow::ensure!(
-        (0.0..=1.0).contains(&p.contact_radius),
-        "parameter `contact_radius` must be in [0, 1], got {}",
-        p.contact_radius
-    );
-    anyhow::ensure!(
-        ["markers", "marker-rows", "contact"].contains(&p.coupling.as_str()),
-        "parameter `coupling` must be `markers`, `marker-rows` or `contact`, got `{}`",
-        p.coupling
-    );
     Ok(())
 }
 
-/// The scene: the system, the fluid's item index, the box handle, the slab thickness.
-pub struct FloatingScene {
-    /// The system (tank colliders, the box, the fluid item).
-    pub sys: System,
-    /// The fluid item's index.
-    pub id: usize,
-    /// The box.
-    pub body: BodyHandle,
-    /// Slab thickness, m.
-    pub ly: f64,
-}
-
-/// Build the scene of `p` (checked first).
+/// The scene of `p` (checked first): [`FloatingBox`] with the solver named in `p`.
 pub fn scene(p: &FloatingBoxParams) -> anyhow::Result<FloatingScene> {
     check(p)?;
-    let dp = p.spacing;
-    let h_over_dp = p.h_over_dp;
-    let layers = wall_layers(h_over_dp);
-    let ly = slab_layers(h_over_dp) as f64 * dp;
-    let t = layers as f64 * dp;
-    let (len, hb, wb) = (p.tank_length, p.box_height, p.box_width);
-    let top = p.depth + 2.0 * hb;
-    let settings = CfluidSettings {
-        spacing: dp,
-        xsph: p.xsph,
-        contact_radius_over_dp: p.contact_radius,
-        body_marker_rows: p.coupling == "marker-rows",
-        wall_marker_rows: p.wall_rows,
-        h_over_dp,
-        position_iterations: p.position_iterations,
-        position_tolerance: p.position_tolerance,
-        surface: SurfaceMode::parse(&p.surface)
-            .map_err(|e| anyhow::anyhow!("parameter `surface`: {e}"))?,
-        domain_lower: [-t, 0.0, -t],
-        domain_upper: [len + t, ly, top],
-        periodic: [false, true, false],
-        ..CfluidSettings::default()
-    };
-    // the box: centred in x, bottom `initial_draft` below the surface
-    let (xc, zb) = (0.5 * len, p.depth - p.initial_draft);
-    let x_lo = xc - 0.5 * wb;
-    // snap the box faces to the fluid lattice (cell faces)
-    let x_lo = (x_lo / dp).round() * dp;
-    let xc = x_lo + 0.5 * wb;
-    let inside = |q: &[f64; 3]| q[0] > x_lo && q[0] < x_lo + wb && q[2] > zb;
-    let fluid: Vec<[f64; 3]> = lattice_box([0.0; 3], [len, ly, p.depth], dp)?
-        .into_iter()
-        .filter(|q| !inside(q))
-        .collect();
-    let walls = tank_markers(
-        [0.0; 3],
-        [len, ly, top],
-        dp,
-        layers,
-        [true, true, false, false, true, false],
-    )?;
-    let mut item = ConstraintFluid::new("water", settings, &fluid, &walls)?;
-    let solver = chrono_ccp::by_name(
-        &p.solver,
-        SolverSettings {
-            tolerance: p.tolerance,
-            max_iterations: p.max_iterations,
-            record_history: false,
-        },
-    )
-    .map_err(|e| anyhow::anyhow!("parameter `solver`: {e}"))?;
-    let mut sys = System::new(
-        SystemSettings {
-            envelope: 0.25 * dp,
-            ..SystemSettings::default()
-        },
-        solver,
-    )?;
-    // fixed tank colliders behind the marker walls (floor and the two side walls)
-    let material = ContactMaterial::with_friction(0.3);
-    let yc = 0.5 * ly;
-    let wall = |c: [f64; 3], half: [f64; 3]| {
-        RigidBodyBuilder::fixed().collider(
-            Shape::Box {
-                half_extents: Vector3::from(half),
-            },
-            Isometry3::translation(c[0], c[1], c[2]),
-            material,
-        )
-    };
-    let big = 4.0 * ly;
-    sys.add_body(wall([0.5 * len, yc, -t], [0.5 * len + 2.0 * t, big, t]))?;
-    sys.add_body(wall([-t, yc, 0.5 * top], [t, big, 0.5 * top + t]))?;
-    sys.add_body(wall([len + t, yc, 0.5 * top], [t, big, 0.5 * top + t]))?;
-    // the box spans the slab; its collider is longer in y (no y faces near the fluid)
-    // The box is a slice of a body infinitely long in y (the slab is periodic): it may
-    // heave, sway and pitch (rotate about y), but a roll or yaw (about x or z) would tilt
-    // it through its own periodic images. Those two rotations are suppressed by giving
-    // them [`PLANAR_INERTIA_FACTOR`] times the slice's moment of inertia.
-    let mass = p.box_density * wb * ly * hb;
-    let inertia = Vector3::new(
-        PLANAR_INERTIA_FACTOR * mass * (ly * ly + hb * hb) / 12.0,
-        mass * (wb * wb + hb * hb) / 12.0,
-        PLANAR_INERTIA_FACTOR * mass * (wb * wb + ly * ly) / 12.0,
-    );
-    let body = sys.add_body(
-        RigidBodyBuilder::dynamic()
-            .name("box")
-            .mass(mass)
-            .inertia_diagonal(inertia)
-            .position(Vector3::new(xc, yc, zb + 0.5 * hb))
-            .collider(
-                Shape::Box {
-                    half_extents: Vector3::new(0.5 * wb, big, 0.5 * hb),
-                },
-                Isometry3::identity(),
-                material,
-            ),
-    )?;
-    if p.coupling != "contact" {
-        let markers = box_markers(
-            [0.5 * wb, 0.5 * ly, 0.5 * hb],
-            dp,
-            layers,
-            [false, true, false],
-        )?;
-        item.attach_body(body, sys.body(body)?, &markers)?;
-    }
-    let id = sys.add_item(Box::new(item));
-    Ok(FloatingScene { sys, id, body, ly })
-}
-
-impl FloatingScene {
-    /// The fluid item.
-    pub fn fluid(&self) -> anyhow::Result<&ConstraintFluid> {
-        self.sys
-            .item::<ConstraintFluid>(self.id)
-            .ok_or_else(|| anyhow::anyhow!("the fluid item is missing"))
-    }
-}
-
-/// The free surface far from the box: over the columns of fluid more than `2 dp` from
-/// the box faces and from the walls, the mean of the highest particle's `z + dp / 2`, m.
-pub fn far_surface(f: &ConstraintFluid, dp: f64, len: f64, box_x: [f64; 2]) -> f64 {
-    let n_cols = (len / dp).round() as usize;
-    let mut tops = vec![f64::NEG_INFINITY; n_cols];
-    for i in 0..f.n_fluid() {
-        let q = f.position(i);
-        let c = (q[0] / dp).floor();
-        if c >= 0.0 && (c as usize) < n_cols {
-            let t = &mut tops[c as usize];
-            *t = t.max(q[2]);
-        }
-    }
-    let (mut sum, mut count) = (0.0, 0usize);
-    for (c, t) in tops.iter().enumerate() {
-        let x = (c as f64 + 0.5) * dp;
-        let far = x > 2.0 * dp
-            && x < len - 2.0 * dp
-            && (x < box_x[0] - 2.0 * dp || x > box_x[1] + 2.0 * dp);
-        if far && t.is_finite() {
-            sum += t + 0.5 * dp;
-            count += 1;
-        }
-    }
-    if count == 0 {
-        f64::NAN
-    } else {
-        sum / count as f64
-    }
-}
-
-/// The hydrostatic depth of level `z` in the far field, m: the fluid mass per unit area
-/// above `z` over `rho_0`, in the columns [`far_surface`] uses (a particle stands for the
-/// slab `[z_p - dp/2, z_p + dp/2]`, counted by the fraction above `z`). In a fluid at
-/// rest the pressure at `z` is `rho_0 g` times this, so `z` plus this depth is the level
-/// where the hydrostatic pressure vanishes: the surface Archimedes' principle refers to,
-/// independent of how the top particle layers pack.
-pub fn hydrostatic_depth(f: &ConstraintFluid, dp: f64, len: f64, box_x: [f64; 2], z: f64) -> f64 {
-    let ly = f.settings().domain_upper[1] - f.settings().domain_lower[1];
-    let (mut frac, mut cols) = (0.0, 0usize);
-    let n_cols = (len / dp).round() as usize;
-    let far = |x: f64| {
-        x > 2.0 * dp && x < len - 2.0 * dp && (x < box_x[0] - 2.0 * dp || x > box_x[1] + 2.0 * dp)
-    };
-    for c in 0..n_cols {
-        if far((c as f64 + 0.5) * dp) {
-            cols += 1;
-        }
-    }
-    for i in 0..f.n_fluid() {
-        let q = f.position(i);
-        let c = (q[0] / dp).floor();
-        if c >= 0.0 && (c as usize) < n_cols && far((c + 0.5) * dp) {
-            frac += ((q[2] + 0.5 * dp - z) / dp).clamp(0.0, 1.0);
-        }
-    }
-    let volume = f.particle_mass() / f.settings().rest_density;
-    frac * volume / (cols as f64 * dp * ly)
-}
-
-/// The still-water level of the tank with the box bottom at `z_b`, m: the level of an
-/// incompressible fluid of volume `volume` (the fluid's mass over `rho_0`, m^3) in the
-/// tank of length `len` and slab `ly` beside a box of width `width`:
-/// `len level - width (level - z_b) = volume / ly`.
-pub fn volume_level(volume: f64, ly: f64, len: f64, width: f64, z_b: f64) -> f64 {
-    (volume / ly - width * z_b) / (len - width)
-}
-
-/// Particles per lattice cell area `dp^2` in the top layer of the far columns of
-/// [`far_surface`] (the particles within `dp / 2` below their column's highest one): 1 on
-/// the lattice; more where the one-sided free surface lets the top layer pack.
-pub fn surface_layer_density(f: &ConstraintFluid, dp: f64, len: f64, box_x: [f64; 2]) -> f64 {
-    let ly = f.settings().domain_upper[1] - f.settings().domain_lower[1];
-    let n_cols = (len / dp).round() as usize;
-    let col = |q: [f64; 3]| {
-        let c = (q[0] / dp).floor();
-        let x = (c + 0.5) * dp;
-        let far = x > 2.0 * dp
-            && x < len - 2.0 * dp
-            && (x < box_x[0] - 2.0 * dp || x > box_x[1] + 2.0 * dp);
-        (c >= 0.0 && (c as usize) < n_cols && far).then_some(c as usize)
-    };
-    let mut tops = vec![f64::NEG_INFINITY; n_cols];
-    for i in 0..f.n_fluid() {
-        let q = f.position(i);
-        if let Some(c) = col(q) {
-            tops[c] = tops[c].max(q[2]);
-        }
-    }
-    let cols = tops.iter().filter(|t| t.is_finite()).count();
-    let top_layer = (0..f.n_fluid())
-        .filter(|&i| {
-            let q = f.position(i);
-            col(q).is_some_and(|c| q[2] >= tops[c] - 0.5 * dp)
-        })
-        .count();
-    if cols == 0 {
-        f64::NAN
-    } else {
-        top_layer as f64 * dp / (cols as f64 * ly)
-    }
-}
-
-/// Fluid particles whose centre is inside the box (its frame, half extents `half` in x, z).
-pub fn particles_inside(f: &ConstraintFluid, pose: &Isometry3<f64>, half: [f64; 2]) -> usize {
-    let inv = pose.inverse();
-    (0..f.n_fluid())
-        .filter(|&i| {
-            let q = f.position(i);
-            let l = inv * chrono_core::math::Point3::new(q[0], q[1], q[2]);
-            l.x.abs() < half[0] && l.z.abs() < half[1]
-        })
-        .count()
+    let solver = solver_by_name(&p.solver, p.tolerance, p.max_iterations)?;
+    Ok(p.floating_box().build(solver)?)
 }
 
 fn run(p: &FloatingBoxParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
@@ -617,7 +349,7 @@ fn run(p: &FloatingBoxParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         [end.x - 0.5 * wb, end.x + 0.5 * wb],
     );
     let rho_w = CfluidSettings::default().rest_density;
-    let expected = p.box_density / rho_w * hb;
+    let expected = p.floating_box().archimedes_draft();
     let mut out = CaseOutput::new();
     if p.box_density < rho_w {
         out.check(Check::relative(

@@ -38,7 +38,7 @@ use std::time::Instant;
 use chrono_cfluid::{CfluidSettings, SurfaceMode};
 use serde::{Deserialize, Serialize};
 
-use super::{TankScene, left_tank};
+use super::{left_tank, tank_scene};
 use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series, SweepPoint};
 use crate::params::{CaseParams, ParamCase, ParamInfo};
 
@@ -50,6 +50,26 @@ pub const SEED_TABLE: [(f64, f64, f64, f64, f64); 4] = [
     (1e-6, 531.0, 1000.15, 0.015, 0.59),
     (1e-8, 639.0, 1000.13, 0.013, 0.44),
 ];
+
+/// How the case reads its `tolerance` (the parameter `tolerance_norm`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ToleranceNorm {
+    /// Chrono's: the Euclidean norm of the residual over all rows (the solver gets
+    /// `tolerance / sqrt(n_rows)`).
+    L2,
+    /// chrono-ccp's RMS residual.
+    Rms,
+}
+
+impl std::fmt::Display for ToleranceNorm {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Self::L2 => "l2",
+            Self::Rms => "rms",
+        })
+    }
+}
 
 /// Parameters of `cfluid-incompressibility`.
 #[derive(Clone, Debug, Serialize, Deserialize)]
@@ -75,14 +95,14 @@ pub struct IncompressibilityParams {
     /// XSPH viscosity epsilon.
     pub xsph: f64,
     /// Free-surface treatment: `one_sided`, `unilateral` or `clamped`.
-    pub surface: String,
+    pub surface: SurfaceMode,
     /// CCP solver (chrono-ccp name: apgd, bb, psor, ...).
     pub solver: String,
     /// Iteration cap per step.
     pub max_iterations: usize,
     /// How `tolerance` is read: `l2` (Chrono's: Euclidean norm of the residual over all
     /// rows; the solver gets `tolerance / sqrt(n_rows)`) or `rms` (chrono-ccp's RMS).
-    pub tolerance_norm: String,
+    pub tolerance_norm: ToleranceNorm,
     /// Final fraction of the run over which the density error is averaged.
     pub window: f64,
 }
@@ -100,10 +120,10 @@ impl Default for IncompressibilityParams {
             h_over_dp: 1.2,
             compressibility: 1e-9,
             xsph: 0.1,
-            surface: "one_sided".into(),
+            surface: SurfaceMode::OneSided,
             solver: "apgd".into(),
             max_iterations: 1000,
-            tolerance_norm: "l2".into(),
+            tolerance_norm: ToleranceNorm::L2,
             window: 0.25,
         }
     }
@@ -211,11 +231,11 @@ fn simulate(
         h_over_dp: p.h_over_dp,
         compressibility: p.compressibility,
         xsph: p.xsph,
-        surface: SurfaceMode::parse(&p.surface)?,
+        surface: p.surface,
         ..CfluidSettings::default()
     };
     let rho_0 = settings.rest_density;
-    let mut scene = TankScene::new(
+    let mut scene = tank_scene(
         settings,
         p.tank_length,
         1.5 * p.depth,
@@ -227,11 +247,7 @@ fn simulate(
     // RMS * sqrt(n) is the Euclidean norm over the n rows of the step; the count of a
     // step is known after it, so each step uses the previous step's (the first: the
     // fluid's rows; with wall-marker rows the count changes by a few rows a step)
-    let l2 = match p.tolerance_norm.as_str() {
-        "l2" => true,
-        "rms" => false,
-        other => anyhow::bail!("parameter `tolerance_norm` must be `l2` or `rms`, got `{other}`"),
-    };
+    let l2 = p.tolerance_norm == ToleranceNorm::L2;
     let mut solver_tolerance = tolerance;
     let mut n_rows = scene.fluid()?.n_fluid();
     let n = (p.t_end / p.h).round().max(1.0) as u64;

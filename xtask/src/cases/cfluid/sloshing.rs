@@ -22,6 +22,7 @@
 //! at each frequency (default 0.6 and 1.5 `omega_1`, away from resonance), no particle
 //! left the tank. Reported: the phase, the free mode, wall time, iterations.
 
+use chrono_core::math::GRAVITY;
 use std::time::Instant;
 
 use chrono_cfluid::CfluidSettings;
@@ -30,12 +31,13 @@ use chrono_sph::WallMotion;
 use chrono_sph::analytic::{sloshing_force_ratio, sloshing_mode};
 use serde::{Deserialize, Serialize};
 
-use super::{TankScene, left_tank};
+use super::{left_tank, tank_scene};
 use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series};
 use crate::cases::sph::sloshing::{MODES, fit};
 use crate::params::{CaseParams, ParamCase, ParamInfo};
 
-const G: f64 = 9.81;
+/// `|g|` of [`GRAVITY`] (its z component, read in a const context), m/s^2.
+const G: f64 = -GRAVITY.data.0[0][2];
 
 /// Parameters of `cfluid-sloshing` (the names of `sph-sloshing`).
 #[derive(Clone, Debug, Serialize, Deserialize)]
@@ -220,7 +222,7 @@ fn simulate(
         ..CfluidSettings::default()
     };
     let top = hf + 0.5 * a.min(hf).max(4.0 * dp);
-    let mut scene = TankScene::new(
+    let mut scene = tank_scene(
         settings,
         a,
         top,

@@ -57,16 +57,17 @@
 use std::time::Instant;
 
 use chrono_cfluid::{CfluidSettings, ConstraintFluid};
-use chrono_core::math::{Isometry3, Vector3};
+use chrono_core::math::{GRAVITY, Isometry3, Vector3};
 use chrono_core::{ContactMaterial, RigidBodyBuilder, Shape, System};
 use serde::{Deserialize, Serialize};
 
-use super::{TankScene, left_tank};
+use super::{left_tank, tank_scene};
 use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series};
-use crate::cases::sph::SphFrames;
+use crate::cases::sph::particle_frames;
 use crate::params::{CaseParams, ParamCase, ParamInfo};
 
-const G: f64 = 9.81;
+/// `|g|` of [`GRAVITY`] (its z component, read in a const context), m/s^2.
+const G: f64 = -GRAVITY.data.0[0][2];
 
 /// Speed acceptance as a fraction of `sqrt(g H)` (as `sph-hydrostatic`).
 pub const SPEED_FRACTION: f64 = 0.01;
@@ -275,7 +276,7 @@ fn run(p: &StillWaterParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         position_tolerance: p.position_tolerance,
         ..CfluidSettings::default()
     };
-    let mut scene = TankScene::new(
+    let mut scene = tank_scene(
         settings,
         p.tank_length,
         1.5 * p.depth,
@@ -316,7 +317,7 @@ fn run(p: &StillWaterParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     let probe = [0.5 * p.tank_length, 0.5 * scene.ly, 0.5 * p.depth];
     let p_exact = scene.fluid()?.settings().rest_density * G * (p.depth - probe[2]);
     let (mut probe_sum, mut probe_n) = (0.0, 0usize);
-    let mut frames = SphFrames::new(ctx, p.t_end / 50.0);
+    let mut frames = particle_frames(Some(ctx), p.t_end / 50.0)?;
     let mut late_rms = 0.0f64;
     let mut burst_written = false;
     let (mut z_half, mut z_settled) = (f64::NAN, f64::NAN);
@@ -332,7 +333,7 @@ fn run(p: &StillWaterParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         max_c = max_c.max(c);
         let speed = max_speed(f);
         let probe_p = f.pressure_at(probe)?.unwrap_or(f64::NAN);
-        frames.record_with(step as f64 * p.h, |path| Ok(f.write_vtk(path, true)?))?;
+        frames.record(step, step as f64 * p.h, |path| f.write_vtk(path, true))?;
         if step > half {
             probe_sum += probe_p;
             probe_n += 1;

@@ -53,6 +53,7 @@
 //! `sound_speed_wcsph`, the compressions of the accepted runs (checked at or below the
 //! target), `avg_iterations_cfluid`, the steps of each.
 
+use chrono_core::math::GRAVITY;
 use std::time::Instant;
 
 use chrono_cfluid::CfluidSettings;
@@ -60,14 +61,15 @@ use chrono_sph::data::FLUID;
 use serde::{Deserialize, Serialize};
 
 use super::dam_break::front as cfluid_front;
-use super::{TankScene, left_tank};
+use super::{left_tank, tank_scene};
 use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series};
 use crate::cases::sph::dam_break::{
     DamBreakParams, FRONT_TOLERANCE, build_with, front_position, interpolate, martin_moyce_n2_1,
 };
 use crate::params::{CaseParams, ParamCase, ParamInfo};
 
-const G: f64 = 9.81;
+/// `|g|` of [`GRAVITY`] (its z component, read in a const context), m/s^2.
+const G: f64 = -GRAVITY.data.0[0][2];
 
 /// Parameters of `cfluid-timestep`.
 #[derive(Clone, Debug, Serialize, Deserialize)]
@@ -290,7 +292,7 @@ fn run_cfluid(p: &TimestepParams, h: f64) -> anyhow::Result<Run> {
         position_tolerance: p.position_tolerance,
         ..CfluidSettings::default()
     };
-    let mut scene = TankScene::new(
+    let mut scene = tank_scene(
         settings,
         p.tank_length,
         2.0 * p.column_height,

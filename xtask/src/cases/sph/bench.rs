@@ -17,16 +17,18 @@
 //! each wall marker), and the shares of the step in neighbour search, density work
 //! (continuity, equation of state, wall extrapolation), forces and integration.
 
+use chrono_core::math::GRAVITY;
 use std::time::Instant;
 
 use chrono_sph::{SphBuilder, SphSettings, SphSystem};
 use serde::{Deserialize, Serialize};
 
-use super::wall_layers;
 use crate::case::{Case, CaseOutput, Mode, RunContext};
 use crate::params::{CaseParams, ParamCase, ParamInfo};
+use chrono_core::particles::lattice::wall_layers;
 
-const G: f64 = 9.81;
+/// `|g|` of [`GRAVITY`] (its z component, read in a const context), m/s^2.
+const G: f64 = -GRAVITY.data.0[0][2];
 
 /// Parameters of the `sph-dam-break` bench.
 #[derive(Clone, Debug, Serialize, Deserialize)]

@@ -46,10 +46,12 @@
 
 use std::time::Instant;
 
-use chrono_sph::{NoSlip, SphBuilder, SphSettings, SphSystem};
+use chrono_core::math::GRAVITY;
+use chrono_core::particles::lattice::SlabTank;
+use chrono_sph::{NoSlip, SphSettings, SphSystem};
 use serde::{Deserialize, Serialize};
 
-use super::{SphFrames, slab_layers, sweep_point, sweep_spacings, wall_layers};
+use super::{particle_frames, sweep_point, sweep_spacings};
 use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series};
 use crate::params::{CaseParams, ParamCase, ParamInfo};
 pub use crate::reference::{martin_moyce_n2_1, martin_moyce_n2_1_alt};
@@ -60,7 +62,8 @@ pub const FRONT_MIN_NEIGHBOURS: usize = 3;
 /// The tolerance of `front_error` (RMS of `Z = x / a`).
 pub const FRONT_TOLERANCE: f64 = 0.15;
 
-const G: f64 = 9.81;
+/// `|g|` of [`GRAVITY`] (its z component, read in a const context), m/s^2.
+const G: f64 = -GRAVITY.data.0[0][2];
 
 /// Parameters of `sph-dam-break` (defaults: Martin and Moyce's square column).
 #[derive(Clone, Debug, Serialize, Deserialize)]
@@ -80,7 +83,7 @@ pub struct DamBreakParams {
     /// XSPH coefficient `zeta`.
     pub xsph: f64,
     /// Wall no-slip extrapolation: `linear` or `adami`.
-    pub no_slip: String,
+    pub no_slip: NoSlip,
     /// Extra coarser runs for the speed-against-error sweep (spacing x 1.5^k).
     pub sweep: u32,
 }
@@ -96,7 +99,7 @@ impl Default for DamBreakParams {
             t_end: 0.165,
             alpha: 0.03,
             xsph: 0.5,
-            no_slip: "linear".into(),
+            no_slip: NoSlip::Linear,
             sweep: 0,
         }
     }
@@ -173,36 +176,18 @@ pub(crate) fn build_with(
         p.tank_length
     );
     anyhow::ensure!(p.t_end > 0.0, "parameter `t_end` must be > 0");
-    let no_slip = match p.no_slip.as_str() {
-        "linear" => NoSlip::Linear,
-        "adami" => NoSlip::Adami,
-        other => anyhow::bail!("parameter `no_slip` must be `linear` or `adami`, got `{other}`"),
-    };
     let h_over_dp = SphSettings::default().h_over_dp;
-    let ly = slab_layers(h_over_dp) as f64 * dp;
-    let top = 1.25 * hc;
+    let tank = SlabTank::dam_break(dp, h_over_dp, [a, hc], p.tank_length, 1.25 * hc);
     let settings = SphSettings {
-        spacing: dp,
         sound_speed,
         artificial_viscosity: p.alpha,
         diffusion_delta: 0.1,
         xsph: p.xsph,
-        no_slip,
-        domain_lower: [0.0, 0.0, 0.0],
-        domain_upper: [p.tank_length, ly, top],
-        periodic: [false, true, false],
+        no_slip: p.no_slip,
         ..SphSettings::default()
     };
-    let mut b = SphBuilder::new(settings)?;
-    b.add_fluid_box([0.0; 3], [a, ly, hc], Some(hc))?;
-    b.add_tank(
-        [0.0; 3],
-        [p.tank_length, ly, top],
-        wall_layers(h_over_dp),
-        [true, true, false, false, true, false],
-        0,
-    )?;
-    Ok((b.build()?, [p.tank_length, ly, top]))
+    let sys = chrono_sph::scene::slab_tank(settings, &tank)?;
+    Ok((sys, [p.tank_length, tank.thickness(), tank.top]))
 }
 
 /// The surge front (m from the left wall): the largest `x` among fluid particles within
@@ -253,7 +238,7 @@ fn simulate(p: &DamBreakParams, dp: f64, ctx: Option<&RunContext>) -> anyhow::Re
     let mut series = Series::new(["t", "front", "height", "T", "Z"]);
     let mut front = Vec::new();
     let mut front_raw = Vec::new();
-    let mut frames = ctx.map(|c| SphFrames::new(c, p.t_end / 50.0));
+    let mut frames = particle_frames(ctx, p.t_end / 50.0)?;
     let sample = |sys: &SphSystem,
                   series: &mut Series,
                   front: &mut Vec<(f64, f64)>,
@@ -276,17 +261,13 @@ fn simulate(p: &DamBreakParams, dp: f64, ctx: Option<&RunContext>) -> anyhow::Re
         if t >= next_row {
             next_row += every;
             sample(&sys, &mut series, &mut front, &mut front_raw)?;
-            if let Some(f) = frames.as_mut() {
-                f.record(&sys)?;
-            }
+            frames.record(0, t, |path| sys.write_vtk(path, true))?;
             if let Some(c) = ctx {
                 c.progress(t / p.t_end);
             }
         }
     }
-    if let Some(f) = frames {
-        f.finish()?;
-    }
+    frames.finish()?;
     let tol = 0.5 * dp;
     let left_tank = sys.fluid_outside(
         [-tol, -1.0, -tol],

@@ -13,14 +13,18 @@
 
 use std::time::Instant;
 
-use chrono_sph::{SphBuilder, SphSettings, SphSystem};
+use chrono_core::math::GRAVITY;
+use chrono_core::particles::KernelKind;
+use chrono_core::particles::lattice::SlabTank;
+use chrono_sph::{SphSettings, SphSystem};
 use serde::{Deserialize, Serialize};
 
-use super::{
-    SphFrames, convergence_order, rel_l2, slab_layers, sweep_point, sweep_spacings, wall_layers,
-};
+use super::{convergence_order, particle_frames, rel_l2, sweep_point, sweep_spacings};
 use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series};
 use crate::params::{CaseParams, ParamCase, ParamInfo};
+
+/// `|g|` of [`GRAVITY`] (its z component, read in a const context), m/s^2.
+const G: f64 = -GRAVITY.data.0[0][2];
 
 /// Parameters of `sph-hydrostatic`.
 #[derive(Clone, Debug, Serialize, Deserialize)]
@@ -36,7 +40,7 @@ pub struct HydrostaticParams {
     /// `h / dp`.
     pub h_over_dp: f64,
     /// Kernel: `wendland_c2` or `cubic_spline`.
-    pub kernel: String,
+    pub kernel: KernelKind,
     /// Monaghan artificial viscosity alpha.
     pub alpha: f64,
     /// Density diffusion coefficient delta (Fourtakas et al. 2019 form; 0 = off).
@@ -53,7 +57,7 @@ impl Default for HydrostaticParams {
             spacing: 0.02,
             t_end: 2.0,
             h_over_dp: 1.5,
-            kernel: "wendland_c2".into(),
+            kernel: KernelKind::WendlandC2,
             alpha: 0.02,
             delta: 0.1,
             sweep: 0,
@@ -119,41 +123,26 @@ fn build(p: &HydrostaticParams, dp: f64) -> anyhow::Result<(SphSystem, [f64; 3])
         dp > 0.0 && dp < p.depth / 4.0,
         "parameter `spacing` must be in (0, depth/4), got {dp}"
     );
-    let g = 9.81;
-    let ly = slab_layers(p.h_over_dp) as f64 * dp;
     let top = 1.25 * p.depth;
+    let tank = SlabTank::sloshing(dp, p.h_over_dp, p.tank_length, p.depth, top);
     let settings = SphSettings {
-        spacing: dp,
-        h_over_dp: p.h_over_dp,
-        kernel: chrono_core::particles::KernelKind::parse(&p.kernel)?,
-        sound_speed: 10.0 * (2.0 * g * p.depth).sqrt(),
+        kernel: p.kernel,
+        sound_speed: 10.0 * (2.0 * G * p.depth).sqrt(),
         artificial_viscosity: p.alpha,
         diffusion_delta: p.delta,
-        domain_lower: [0.0, 0.0, 0.0],
-        domain_upper: [p.tank_length, ly, top],
-        periodic: [false, true, false],
         ..SphSettings::default()
     };
-    let mut b = SphBuilder::new(settings)?;
-    b.add_fluid_box([0.0; 3], [p.tank_length, ly, p.depth], Some(p.depth))?;
-    b.add_tank(
-        [0.0; 3],
-        [p.tank_length, ly, top],
-        wall_layers(p.h_over_dp),
-        [true, true, false, false, true, false],
-        0,
-    )?;
-    Ok((b.build()?, [p.tank_length, ly, top]))
+    let sys = chrono_sph::scene::slab_tank(settings, &tank)?;
+    Ok((sys, [p.tank_length, tank.thickness(), top]))
 }
 
 fn simulate(p: &HydrostaticParams, dp: f64, ctx: Option<&RunContext>) -> anyhow::Result<Outcome> {
     let (mut sys, upper) = build(p, dp)?;
-    let g = 9.81;
-    let v_ref = (g * p.depth).sqrt();
+    let v_ref = (G * p.depth).sqrt();
     let mut series = Series::new(["t", "max_speed_over_sqrt_gH", "p_bottom", "p_bottom_exact"]);
     let probe = [0.5 * p.tank_length, 0.5 * upper[1], 2.0 * dp];
-    let p_exact = 1000.0 * g * (p.depth - probe[2]);
-    let mut frames = ctx.map(|c| SphFrames::new(c, p.t_end / 50.0));
+    let p_exact = 1000.0 * G * (p.depth - probe[2]);
+    let mut frames = particle_frames(ctx, p.t_end / 50.0)?;
     let mut next_row = 0.0;
     let mut max_speed_late = 0.0f64;
     while sys.time() < p.t_end - 1e-12 {
@@ -166,17 +155,13 @@ fn simulate(p: &HydrostaticParams, dp: f64, ctx: Option<&RunContext>) -> anyhow:
             next_row += p.t_end / 400.0;
             let pb = sys.pressure_at(probe)?.unwrap_or(f64::NAN);
             series.push(&[t, sys.stats().max_speed / v_ref, pb, p_exact]);
-            if let Some(f) = frames.as_mut() {
-                f.record(&sys)?;
-            }
+            frames.record(0, t, |path| sys.write_vtk(path, true))?;
             if let Some(c) = ctx {
                 c.progress(t / p.t_end);
             }
         }
     }
-    if let Some(f) = frames {
-        f.finish()?;
-    }
+    frames.finish()?;
     let d = sys.data();
     let support = sys.kernel().support();
     let (mut num, mut refs) = (Vec::new(), Vec::new());
@@ -189,7 +174,7 @@ fn simulate(p: &HydrostaticParams, dp: f64, ctx: Option<&RunContext>) -> anyhow:
         let (x, z) = (d.x[i], d.z[i]);
         if x > support && x < p.tank_length - support && z > support && z < p.depth - support {
             num.push(d.p[i]);
-            refs.push(1000.0 * g * (p.depth - z));
+            refs.push(1000.0 * G * (p.depth - z));
         }
     }
     anyhow::ensure!(
@@ -235,7 +220,7 @@ fn run(p: &HydrostaticParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         conv.push((p.spacing, o.pressure_error));
         out.metric("convergence_order", convergence_order(&conv));
     }
-    let v_ref = (9.81 * p.depth).sqrt();
+    let v_ref = (G * p.depth).sqrt();
     out.check(Check::below("pressure_error", o.pressure_error, 0.02))
         .check(Check::below("max_speed", o.max_speed, 0.01 * v_ref))
         .check(Check::below("density_variation", o.density_variation, 0.01))

@@ -15,9 +15,10 @@ use chrono_sph::analytic::poiseuille_startup;
 use chrono_sph::{SphBuilder, SphSettings, sound_speed_for};
 use serde::{Deserialize, Serialize};
 
-use super::{convergence_order, rel_l2, slab_layers, sweep_point, sweep_spacings, wall_layers};
+use super::{convergence_order, rel_l2, sweep_point, sweep_spacings};
 use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series};
 use crate::params::{CaseParams, ParamCase, ParamInfo};
+use chrono_core::particles::lattice::{slab_layers, wall_layers};
 
 /// Parameters of `sph-poiseuille` (defaults: Morris et al. 1997).
 #[derive(Clone, Debug, Serialize, Deserialize)]

@@ -41,16 +41,19 @@
 
 use std::time::Instant;
 
+use chrono_core::math::GRAVITY;
+use chrono_core::particles::lattice::SlabTank;
 use chrono_sph::analytic::{sloshing_force_ratio, sloshing_mode};
-use chrono_sph::{SphBuilder, SphSettings, SphSystem, WallMotion};
+use chrono_sph::{SphSettings, SphSystem};
 use nalgebra::{DMatrix, DVector};
 use serde::{Deserialize, Serialize};
 
-use super::{SphFrames, convergence_order, slab_layers, sweep_point, sweep_spacings, wall_layers};
+use super::{convergence_order, particle_frames, sweep_point, sweep_spacings};
 use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series};
 use crate::params::{CaseParams, ParamCase, ParamInfo};
 
-const G: f64 = 9.81;
+/// `|g|` of [`GRAVITY`] (its z component, read in a const context), m/s^2.
+const G: f64 = -GRAVITY.data.0[0][2];
 
 /// Terms of the modal sum of the reference formula (converged to < 1e-6 at 200).
 pub(crate) const MODES: usize = 200;
@@ -210,32 +213,14 @@ fn validate(p: &SloshingParams) -> anyhow::Result<()> {
 fn build(p: &SloshingParams, dp: f64, omega: f64, ramp: f64) -> anyhow::Result<SphSystem> {
     let (a, h) = (p.tank_length, p.fill_height);
     let h_over_dp = SphSettings::default().h_over_dp;
-    let ly = slab_layers(h_over_dp) as f64 * dp;
     let top = h + 0.5 * a.min(h).max(4.0 * dp);
-    let margin = p.amplitude + (wall_layers(h_over_dp) as f64 + 2.0) * dp;
+    let tank = SlabTank::sloshing(dp, h_over_dp, a, h, top);
     let settings = SphSettings {
-        spacing: dp,
         sound_speed: 10.0 * (G * h).sqrt(),
         artificial_viscosity: p.alpha,
-        domain_lower: [-margin, 0.0, -margin],
-        domain_upper: [a + margin, ly, top],
-        periodic: [false, true, false],
         ..SphSettings::default()
     };
-    let mut b = SphBuilder::new(settings)?.motion(WallMotion::Sinusoid {
-        amplitude: [p.amplitude, 0.0, 0.0],
-        omega,
-        ramp,
-    })?;
-    b.add_fluid_box([0.0; 3], [a, ly, h], Some(h))?;
-    b.add_tank(
-        [0.0; 3],
-        [a, ly, top],
-        wall_layers(h_over_dp),
-        [true, true, false, false, true, false],
-        0,
-    )?;
-    let mut sys = b.build()?;
+    let mut sys = chrono_sph::scene::sloshing(settings, &tank, p.amplitude, omega, ramp)?;
     sys.initialize()?;
     Ok(sys)
 }
@@ -307,7 +292,7 @@ fn simulate(
     let t_end = ramp + p.fit_periods * period;
     let mut sys = build(p, dp, omega, ramp)?;
     let m_l = sys.fluid_mass();
-    let mut frames = ctx.map(|c| SphFrames::new(c, period / 20.0));
+    let mut frames = particle_frames(ctx, period / 20.0)?;
     let mut series = Series::new(["t", "tank_x", "momentum_x", "rigid_momentum_x"]);
     let mut samples = Vec::new();
     let every = period / 100.0;
@@ -323,17 +308,13 @@ fn simulate(
             if t >= ramp {
                 samples.push((t, px));
             }
-            if let Some(f) = frames.as_mut() {
-                f.record(&sys)?;
-            }
+            frames.record(0, t, |path| sys.write_vtk(path, true))?;
             if let Some(c) = ctx {
                 c.progress(t / t_end);
             }
         }
     }
-    if let Some(f) = frames {
-        f.finish()?;
-    }
+    frames.finish()?;
     let (om1, om2) = (omega1(p), sloshing_mode(2, p.tank_length, p.fill_height, G));
     let (w1, a, b) = fit(&samples, omega, om1, om2)?;
     let scale = m_l * p.amplitude * omega;
