@@ -157,7 +157,12 @@ fn grain_forces_on_a_plate_balance_weight_and_push() {
             sys.step(h).unwrap();
             // Rolling is free: the sphere accelerates; average the late steps.
             if i >= n / 2 {
-                f += grain_forces_on(&sys, h, &[plate.0], &[plate.0]);
+                f += grain_forces_on(
+                    &sys,
+                    h,
+                    &[sys.body_set().dense_index(plate).unwrap() as u32],
+                    &[sys.body_set().dense_index(plate).unwrap() as u32],
+                );
             }
         }
         f /= (n - n / 2) as f64;
@@ -209,7 +214,8 @@ fn uniaxial_overlap_strain_of_an_affine_compression() {
         add_grains(&mut sys, &grains, 2500.0, material()).unwrap();
         // A step short enough that the contacts are those of the placed configuration.
         sys.step(1e-7).unwrap();
-        let e = uniaxial_overlap_strain(&sys, &[floor.0]).unwrap();
+        let e = uniaxial_overlap_strain(&sys, &[sys.body_set().dense_index(floor).unwrap() as u32])
+            .unwrap();
         // Exact for the columns; the inclined pair's normal turns by O(eps), which moves the
         // fit by O(eps^2).
         assert!(

@@ -285,7 +285,7 @@ pub struct FloatingScene {
     /// The system (tank colliders, the box, the fluid item).
     pub sys: System,
     /// The fluid item's index.
-    pub id: usize,
+    pub id: chrono_core::item::ItemHandle,
     /// The box.
     pub body: BodyHandle,
     /// Slab thickness, m.

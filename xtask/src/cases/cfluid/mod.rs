@@ -24,7 +24,7 @@ pub struct TankScene {
     /// The system with the fluid as its only item.
     pub sys: System,
     /// The fluid's item index.
-    pub id: usize,
+    pub id: chrono_core::item::ItemHandle,
     /// Slab thickness, m.
     pub ly: f64,
 }

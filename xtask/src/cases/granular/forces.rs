@@ -1,8 +1,8 @@
 //! Forces that the grains of a granular scene exert on chosen bodies (walls, a shear box's
 //! frame, an intruder), from the last step's contacts of either method.
 
+use chrono_core::System;
 use chrono_core::system::ContactMethod;
-use chrono_core::{BodyHandle, System};
 use nalgebra::Vector3;
 
 /// Sum of the contact forces (N, world) that bodies outside `structure` (the grains) exert
@@ -61,8 +61,8 @@ pub fn uniaxial_overlap_strain(sys: &System, structure: &[u32]) -> anyhow::Resul
         if delta <= 0.0 || structure.contains(&a) || structure.contains(&b) || a == b {
             return Ok(());
         }
-        let xa = sys.body(BodyHandle(a))?.position();
-        let xb = sys.body(BodyHandle(b))?.position();
+        let xa = sys.bodies()[a as usize].position();
+        let xb = sys.bodies()[b as usize].position();
         let l = (xb - xa).norm() + delta;
         let nz2 = n.z * n.z;
         num += delta * l * nz2;

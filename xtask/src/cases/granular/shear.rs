@@ -308,7 +308,14 @@ fn shear_test(
     }
     let grain_mass = sys.body(handles[0])?.mass();
     let h = super::step_size(p.h, method, &sys);
-    let structure = [lower.0, upper.0, plate.0];
+    // Contact owners are dense body indices.
+    let dense = |b| sys.body_set().dense_index(b).map(|i| i as u32);
+    let (lower_i, upper_i, plate_i) = (
+        dense(lower).unwrap(),
+        dense(upper).unwrap(),
+        dense(plate).unwrap(),
+    );
+    let structure = [lower_i, upper_i, plate_i];
     let n_settle = (p.t_settle / h).round().max(1.0) as u64;
     let n_cons = (p.t_consolidate / h).round().max(1.0) as u64;
     let steps_per_bin = ((p.bin * d / (p.shear_speed * h)).round() as u64).max(1);
@@ -403,8 +410,8 @@ fn shear_test(
             solve.residual += rep.solve.residual;
             solve.passes += rep.friction_passes as f64;
             step += 1;
-            f += grain_forces_on(&sys, h, &[upper.0, plate.0], &structure);
-            f_lower += grain_forces_on(&sys, h, &[lower.0], &structure);
+            f += grain_forces_on(&sys, h, &[upper_i, plate_i], &structure);
+            f_lower += grain_forces_on(&sys, h, &[lower_i], &structure);
             vtk.record(step, &sys)?;
             report(step);
         }
