@@ -6,7 +6,9 @@
 use chrono_core::descriptor::{CcpProblem, ConstraintRows, SolverSettings, Variables};
 use chrono_core::item::{PhysicsItem, StepContext};
 use chrono_core::math::{Isometry3, UnitQuaternion, Vector3};
-use chrono_core::{BodyHandle, ContactMaterial, RigidBody, RigidBodyBuilder, Shape, System};
+use chrono_core::{
+    Bodies, BodyHandle, ContactMaterial, RigidBody, RigidBodyBuilder, Shape, System,
+};
 use chrono_core::{SystemSettings, body::BodyMotion};
 
 use crate::{CfluidSettings, ConstraintFluid, box_markers, lattice_box, tank_markers, wall_layers};
@@ -97,7 +99,7 @@ fn body_block_matches_finite_differences() {
     };
     let rows_b = |b: &RigidBody| -> (Vec<f64>, Vec<(u32, f64)>) {
         let mut item = ConstraintFluid::new("fd", settings.clone(), &fluid, &[]).unwrap();
-        item.attach_body(BodyHandle(0), b, &markers).unwrap();
+        item.attach_body(body0(), b, &markers).unwrap();
         let mut vars = Variables::new();
         item.add_variables(&mut vars);
         let mut rows = ConstraintRows::new();
@@ -113,7 +115,7 @@ fn body_block_matches_finite_differences() {
             0,
             "with a body attached the rows wait for the bodies"
         );
-        item.add_body_constraints(&c, std::slice::from_ref(b), &vars, &mut rows)
+        item.add_body_constraints(&c, &Bodies::from_bodies(vec![b.clone()]), &vars, &mut rows)
             .unwrap();
         let mut problem = CcpProblem::new();
         problem
@@ -139,12 +141,8 @@ fn body_block_matches_finite_differences() {
     let dens = |s: f64| {
         let r = UnitQuaternion::from_scaled_axis(w * (s * delta)) * rot;
         let mut item = ConstraintFluid::new("fd", settings.clone(), &fluid, &[]).unwrap();
-        item.attach_body(
-            BodyHandle(0),
-            &body(pos + v * (s * delta), r, false),
-            &markers,
-        )
-        .unwrap();
+        item.attach_body(body0(), &body(pos + v * (s * delta), r, false), &markers)
+            .unwrap();
         item.compute_densities().unwrap();
         (item.densities().to_vec(), item.marker_densities().to_vec())
     };
@@ -171,7 +169,7 @@ fn body_block_matches_finite_differences() {
     // the marker rows' fluid entries: D_k' v = -dC_k/dt when the fluid moves with v
     let still = body(pos, rot, false);
     let mut item = ConstraintFluid::new("fd", settings.clone(), &fluid, &[]).unwrap();
-    item.attach_body(BodyHandle(0), &still, &markers).unwrap();
+    item.attach_body(body0(), &still, &markers).unwrap();
     let mut vars = Variables::new();
     item.add_variables(&mut vars);
     let mut rows = ConstraintRows::new();
@@ -181,8 +179,13 @@ fn body_block_matches_finite_differences() {
         step: 0,
         gravity: Vector3::zeros(),
     };
-    item.add_body_constraints(&c, std::slice::from_ref(&still), &vars, &mut rows)
-        .unwrap();
+    item.add_body_constraints(
+        &c,
+        &Bodies::from_bodies(vec![still.clone()]),
+        &vars,
+        &mut rows,
+    )
+    .unwrap();
     let mut problem = CcpProblem::new();
     problem
         .assemble(&vars, &rows, &vec![0.0; vars.ndof()])
@@ -197,7 +200,7 @@ fn body_block_matches_finite_differences() {
             .map(|(i, p)| std::array::from_fn(|a| p[a] + s * delta * v[3 * i + a]))
             .collect();
         let mut it = ConstraintFluid::new("fd", settings.clone(), &pts, &[]).unwrap();
-        it.attach_body(BodyHandle(0), &still, &markers).unwrap();
+        it.attach_body(body0(), &still, &markers).unwrap();
         it.compute_densities().unwrap();
         it.marker_densities().to_vec()
     };
@@ -657,13 +660,13 @@ fn bad_coupling_input_names_the_field() {
         .build()
         .unwrap();
     let e = f
-        .attach_body(BodyHandle(0), &b, &[[0.0, f64::NAN, 0.0]])
+        .attach_body(body0(), &b, &[[0.0, f64::NAN, 0.0]])
         .unwrap_err()
         .to_string();
     assert!(e.contains("attach_body.local[0][1]"), "{e}");
-    f.attach_body(BodyHandle(0), &b, &[[0.0; 3]]).unwrap();
+    f.attach_body(body0(), &b, &[[0.0; 3]]).unwrap();
     let e = f
-        .attach_body(BodyHandle(0), &b, &[[0.0; 3]])
+        .attach_body(body0(), &b, &[[0.0; 3]])
         .unwrap_err()
         .to_string();
     assert!(e.contains("attach_body.body"), "{e}");
@@ -675,4 +678,9 @@ fn bad_coupling_input_names_the_field() {
         e.contains("attach_body.body") && e.contains("no such body"),
         "{e}"
     );
+}
+
+/// The handle of the first body of a system (or of a [`Bodies`] built in order).
+fn body0() -> BodyHandle {
+    Bodies::from_bodies(vec![RigidBodyBuilder::fixed().build().unwrap()]).handle(0)
 }

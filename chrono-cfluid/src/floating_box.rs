@@ -16,6 +16,7 @@
 //! `draft = (rho_box / rho_water) box_height`.
 
 use chrono_core::descriptor::CcpSolver;
+use chrono_core::item::ItemHandle;
 use chrono_core::error::{ChronoError, Result};
 use chrono_core::math::{Isometry3, Vector3};
 use chrono_core::particles::lattice::Fit;
@@ -286,7 +287,7 @@ pub struct FloatingScene {
     /// The system (tank colliders, the box, the fluid item).
     pub sys: System,
     /// The fluid item's index.
-    pub id: usize,
+    pub id: ItemHandle,
     /// The box.
     pub body: BodyHandle,
     /// Slab thickness, m.

@@ -1,5 +1,6 @@
 //! The [`ConstraintFluid`] physics item.
 
+use chrono_core::Bodies;
 use chrono_core::body::{BodyHandle, RigidBody};
 use chrono_core::collision::{CollisionProxy, ProxyShape};
 use chrono_core::descriptor::{
@@ -281,7 +282,7 @@ impl ConstraintFluid {
         if self.bodies.iter().any(|b| b.0 == body) {
             return Err(ChronoError::invalid(
                 "attach_body.body",
-                body.0,
+                body,
                 "this body is already attached",
             ));
         }
@@ -502,13 +503,13 @@ impl ConstraintFluid {
     }
 
     /// Place every body's markers at its pose in `bodies` (the system's bodies).
-    fn place_markers(&mut self, bodies: &[RigidBody]) -> Result<()> {
+    fn place_markers(&mut self, bodies: &Bodies) -> Result<()> {
         for slot in 0..self.bodies.len() {
             let handle = self.bodies[slot].0;
-            let body = bodies.get(handle.0 as usize).ok_or_else(|| {
+            let body = bodies.get(handle).ok_or_else(|| {
                 ChronoError::invalid(
                     "attach_body.body",
-                    handle.0,
+                    handle,
                     format!(
                         "constraint fluid \"{}\": no such body in the system",
                         self.name
@@ -524,7 +525,7 @@ impl ConstraintFluid {
     fn build_rows(
         &mut self,
         ctx: &StepContext,
-        bodies: &[RigidBody],
+        bodies: &Bodies,
         rows: &mut ConstraintRows,
     ) -> Result<()> {
         let Some(first) = self.first_block else {
@@ -685,7 +686,7 @@ impl PhysicsItem for ConstraintFluid {
         rows: &mut ConstraintRows,
     ) -> Result<()> {
         if self.bodies.is_empty() {
-            self.build_rows(ctx, &[], rows)?;
+            self.build_rows(ctx, &Bodies::new(), rows)?;
         }
         Ok(())
     }
@@ -693,7 +694,7 @@ impl PhysicsItem for ConstraintFluid {
     fn add_body_constraints(
         &mut self,
         ctx: &StepContext,
-        bodies: &[RigidBody],
+        bodies: &Bodies,
         _vars: &Variables,
         rows: &mut ConstraintRows,
     ) -> Result<()> {

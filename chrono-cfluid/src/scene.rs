@@ -9,6 +9,7 @@
 use chrono_core::descriptor::CcpSolver;
 use chrono_core::error::{ChronoError, Result};
 use chrono_core::particles::lattice::{Anchor, Fit, SlabTank};
+use chrono_core::item::ItemHandle;
 use chrono_core::{System, SystemSettings};
 
 use crate::fluid::ConstraintFluid;
@@ -22,7 +23,7 @@ pub struct TankScene {
     /// The system.
     pub sys: System,
     /// The fluid's item index.
-    pub id: usize,
+    pub id: ItemHandle,
     /// Slab thickness, m.
     pub ly: f64,
 }

@@ -13,9 +13,38 @@ use crate::error::{ChronoError, Result, check_finite3, check_positive};
 use crate::material::ContactMaterial;
 use crate::shape::Shape;
 
-/// Handle of a body in a [`System`](crate::system::System).
+/// Handle of a body in a [`System`](crate::system::System): a slot index and the slot's
+/// generation. Removing the body bumps the generation, so the handle goes stale (an error on
+/// use) instead of naming whatever body later takes the slot. Get handles from
+/// [`System::add_body`](crate::System::add_body) or [`System::body_handles`](crate::System::body_handles).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
-pub struct BodyHandle(pub u32);
+pub struct BodyHandle {
+    index: u32,
+    generation: u32,
+}
+
+impl BodyHandle {
+    pub(crate) fn new(index: u32, generation: u32) -> Self {
+        Self { index, generation }
+    }
+
+    /// The slot index (not the position in [`System::bodies`](crate::System::bodies) once
+    /// bodies were removed).
+    pub fn index(self) -> u32 {
+        self.index
+    }
+
+    /// The generation of the slot when the handle was issued.
+    pub fn generation(self) -> u32 {
+        self.generation
+    }
+}
+
+impl std::fmt::Display for BodyHandle {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "body {}v{}", self.index, self.generation)
+    }
+}
 
 /// How a body moves.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]

@@ -25,6 +25,30 @@ pub enum ChronoError {
         /// The field that named it.
         field: String,
     },
+    /// A body handle that names no body of this system: the body was removed (or the
+    /// handle comes from another system).
+    #[error("stale or unknown handle {handle}")]
+    StaleBody {
+        /// The handle.
+        handle: crate::body::BodyHandle,
+    },
+    /// An item handle that names no item of this system (removed, or from another system).
+    #[error("stale or unknown handle {handle}")]
+    StaleItem {
+        /// The handle.
+        handle: crate::item::ItemHandle,
+    },
+    /// A body cannot be removed while joints or force elements refer to it (remove those
+    /// first).
+    #[error("{handle} (\"{name}\") is still used by {users:?}")]
+    BodyInUse {
+        /// The body.
+        handle: crate::body::BodyHandle,
+        /// Its name.
+        name: String,
+        /// The joints and force elements that refer to it, e.g. `joint 0`.
+        users: Vec<String>,
+    },
     /// The state became non-finite (NaN or infinity) during a step.
     #[error("non-finite state in {item} at step {step} (t = {time} s): {what}")]
     NonFinite {

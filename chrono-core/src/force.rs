@@ -11,27 +11,38 @@
 
 use nalgebra::Vector3;
 
-use crate::body::{BodyHandle, RigidBody};
+use crate::bodies::Bodies;
+use crate::body::BodyHandle;
 use crate::curve::Curve;
 use crate::error::{ChronoError, Result, check_finite3, check_non_negative};
 use crate::item::StepContext;
 
 /// Handle of a force element in a [`System`](crate::system::System).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub struct ForceHandle(pub u32);
+pub struct ForceHandle(pub(crate) u32);
+
+impl std::fmt::Display for ForceHandle {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "force element {}", self.0)
+    }
+}
 
 /// The loads of one step on every body: a force (world, N) through the center of mass and a
 /// torque (world, N m). Force elements add into it; the time stepper puts `h` times it into
 /// the momentum of the dynamic bodies (loads on fixed and kinematic bodies are dropped).
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct BodyLoads {
+    /// Dense index of each body handle's slot (see [`Bodies`]).
+    dense: Vec<usize>,
     centers: Vec<Vector3<f64>>,
     loads: Vec<[Vector3<f64>; 2]>,
 }
 
 impl BodyLoads {
     /// Zero loads for `bodies` (keeps their centers of mass for lever arms).
-    pub fn reset(&mut self, bodies: &[RigidBody]) {
+    pub fn reset(&mut self, bodies: &Bodies) {
+        self.dense.clear();
+        self.dense.extend(bodies.dense_by_slot());
         self.centers.clear();
         self.centers.extend(bodies.iter().map(|b| b.position()));
         self.loads.clear();
@@ -42,7 +53,7 @@ impl BodyLoads {
     /// torque `(p - x) x f` about its center of mass.
     #[inline]
     pub fn add_force_at(&mut self, body: BodyHandle, f: &Vector3<f64>, p: &Vector3<f64>) {
-        let i = body.0 as usize;
+        let i = self.dense[body.index() as usize];
         let arm = p - self.centers[i];
         self.loads[i][0] += f;
         self.loads[i][1] += arm.cross(f);
@@ -51,15 +62,15 @@ impl BodyLoads {
     /// Add a pure torque `t` (world, N m) on `body`.
     #[inline]
     pub fn add_torque(&mut self, body: BodyHandle, t: &Vector3<f64>) {
-        self.loads[body.0 as usize][1] += t;
+        self.loads[self.dense[body.index() as usize]][1] += t;
     }
 
     /// The force (world, N) and torque about the center of mass (world, N m) on `body`.
     pub fn get(&self, body: BodyHandle) -> [Vector3<f64>; 2] {
-        self.loads[body.0 as usize]
+        self.loads[self.dense[body.index() as usize]]
     }
 
-    /// All loads, indexed like the system's bodies.
+    /// All loads, in the dense order of the system's bodies.
     pub fn as_slice(&self) -> &[[Vector3<f64>; 2]] {
         &self.loads
     }
@@ -73,27 +84,27 @@ pub trait ForceElement: std::any::Any + Send + Sync {
     /// Called once when the element is added to a system: check the body handles (an
     /// [`UnknownHandle`](ChronoError::UnknownHandle) error otherwise) and turn world data
     /// given at creation into body-frame data.
-    fn attach(&mut self, bodies: &[RigidBody]) -> Result<()>;
+    fn attach(&mut self, bodies: &Bodies) -> Result<()>;
+
+    /// The bodies this element acts on: [`System::remove_body`](crate::System::remove_body)
+    /// refuses to remove them while the element is in the system.
+    fn body_handles(&self) -> Vec<BodyHandle>;
 
     /// Add this step's loads from the state at the start of the step. May keep what it
     /// computed for output (a spring's length and force).
-    fn evaluate(
-        &mut self,
-        ctx: &StepContext,
-        bodies: &[RigidBody],
-        loads: &mut BodyLoads,
-    ) -> Result<()>;
+    fn evaluate(&mut self, ctx: &StepContext, bodies: &Bodies, loads: &mut BodyLoads)
+    -> Result<()>;
 }
 
 /// Check a handle against the bodies (the error names `field`).
-pub fn check_body(field: &str, h: BodyHandle, bodies: &[RigidBody]) -> Result<()> {
-    if (h.0 as usize) < bodies.len() {
+pub fn check_body(field: &str, h: BodyHandle, bodies: &Bodies) -> Result<()> {
+    if bodies.contains(h) {
         Ok(())
     } else {
         Err(ChronoError::UnknownHandle {
             kind: "body",
-            index: h.0 as usize,
-            field: field.to_string(),
+            index: h.index() as usize,
+            field: format!("{field} ({h})"),
         })
     }
 }
@@ -234,7 +245,11 @@ impl ForceElement for SpringDamper {
         &self.name
     }
 
-    fn attach(&mut self, bodies: &[RigidBody]) -> Result<()> {
+    fn body_handles(&self) -> Vec<BodyHandle> {
+        vec![self.body_a, self.body_b]
+    }
+
+    fn attach(&mut self, bodies: &Bodies) -> Result<()> {
         let f = |s: &str| format!("spring-damper \"{}\".{s}", self.name);
         check_body(&f("body_a"), self.body_a, bodies)?;
         check_body(&f("body_b"), self.body_b, bodies)?;
@@ -261,10 +276,7 @@ impl ForceElement for SpringDamper {
             }
             bump.validate(&f("bump_damper.curve"))?;
         }
-        let (a, b) = (
-            &bodies[self.body_a.0 as usize],
-            &bodies[self.body_b.0 as usize],
-        );
+        let (a, b) = (&bodies[self.body_a], &bodies[self.body_b]);
         self.local_a = a
             .pose()
             .inverse_transform_point(&self.world_a.into())
@@ -286,13 +298,10 @@ impl ForceElement for SpringDamper {
     fn evaluate(
         &mut self,
         ctx: &StepContext,
-        bodies: &[RigidBody],
+        bodies: &Bodies,
         loads: &mut BodyLoads,
     ) -> Result<()> {
-        let (a, b) = (
-            &bodies[self.body_a.0 as usize],
-            &bodies[self.body_b.0 as usize],
-        );
+        let (a, b) = (&bodies[self.body_a], &bodies[self.body_b]);
         let pa = a.pose().transform_point(&self.local_a.into()).coords;
         let pb = b.pose().transform_point(&self.local_b.into()).coords;
         let d = pb - pa;

@@ -7,7 +7,7 @@
 
 use nalgebra::Vector3;
 
-use crate::body::RigidBody;
+use crate::bodies::Bodies;
 use crate::collision::CollisionProxy;
 use crate::descriptor::{BlockId, CcpProblem, ConstraintRows, Variables};
 use crate::error::Result;
@@ -27,6 +27,37 @@ pub struct StepContext {
     pub step: u64,
     /// Gravity, m/s^2.
     pub gravity: Vector3<f64>,
+}
+
+/// Handle of a physics item in a [`System`](crate::system::System) (slot index and
+/// generation, like [`BodyHandle`](crate::BodyHandle)): stale once the item is removed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct ItemHandle {
+    index: u32,
+    generation: u32,
+}
+
+impl ItemHandle {
+    pub(crate) fn new(index: u32, generation: u32) -> Self {
+        Self { index, generation }
+    }
+
+    /// The slot index (not the position in [`System::items`](crate::System::items) once
+    /// items were removed).
+    pub fn index(self) -> u32 {
+        self.index
+    }
+
+    /// The generation of the slot when the handle was issued.
+    pub fn generation(self) -> u32 {
+        self.generation
+    }
+}
+
+impl std::fmt::Display for ItemHandle {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "item {}v{}", self.index, self.generation)
+    }
 }
 
 /// A physics item of a domain crate, stepped inside the system's NSC step.
@@ -101,7 +132,7 @@ pub trait PhysicsItem: std::any::Any + Send + Sync {
     fn add_body_constraints(
         &mut self,
         _ctx: &StepContext,
-        _bodies: &[RigidBody],
+        _bodies: &Bodies,
         _vars: &Variables,
         _rows: &mut ConstraintRows,
     ) -> Result<()> {

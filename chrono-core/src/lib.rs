@@ -14,6 +14,7 @@
 //!
 //! then `v+ = M^-1 (k + D g)` and `q+ = q + h L(q) v+`.
 
+pub mod bodies;
 pub mod body;
 pub mod collision;
 pub mod contact;
@@ -30,10 +31,12 @@ pub mod math;
 pub mod particles;
 pub mod rng;
 pub mod shape;
+mod slots;
 pub mod system;
 
 pub use error::{ChronoError, Result};
 
+pub use bodies::Bodies;
 pub use body::{BodyHandle, BodyMotion, RigidBody, RigidBodyBuilder};
 pub use curve::{Curve, Extrapolation};
 pub use force::{ForceElement, ForceHandle, SpringDamper};

@@ -182,7 +182,16 @@ fn bad_friction_override_is_an_error_naming_the_field() {
         "{e}"
     );
     let e = sys
-        .set_contact_friction(BodyHandle(7), Some(friction(0.3, 0.0)))
+        .set_contact_friction(
+            chrono_core::Bodies::from_bodies(vec![
+                chrono_core::RigidBodyBuilder::fixed()
+                    .build()
+                    .unwrap();
+                8
+            ])
+            .handle(7),
+            Some(friction(0.3, 0.0)),
+        )
         .unwrap_err()
         .to_string();
     assert!(e.contains("body") && e.contains('7'), "{e}");

@@ -274,7 +274,13 @@ fn bad_spring_dampers_are_rejected_with_the_field() {
             "s",
             anchor,
             Vector3::zeros(),
-            BodyHandle(7),
+            chrono_core::Bodies::from_bodies(vec![
+                chrono_core::RigidBodyBuilder::fixed()
+                    .build()
+                    .unwrap();
+                8
+            ])
+            .handle(7),
             Vector3::zeros(),
             0.3,
             1.0,

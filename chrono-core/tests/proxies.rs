@@ -145,7 +145,8 @@ impl PhysicsItem for Particles {
 }
 
 fn particles(sys: &System) -> &Particles {
-    sys.item::<Particles>(0).expect("item 0 is the particles")
+    sys.item::<Particles>(sys.item_handles().next().unwrap())
+        .expect("item 0 is the particles")
 }
 
 fn ground(sys: &mut System) {

@@ -7,8 +7,8 @@ mod common;
 use chrono_ccp::{Psor, SolverSettings};
 use chrono_core::math::{Isometry3, Vector3};
 use chrono_core::{
-    BodyHandle, ChronoError, ContactMaterial, JointBuilder, JointKind, RigidBodyBuilder, Shape,
-    System, SystemSettings,
+    ChronoError, ContactMaterial, JointBuilder, JointKind, RigidBodyBuilder, Shape, System,
+    SystemSettings,
 };
 use common::{add_ground, sphere, tight_apgd};
 
@@ -25,7 +25,13 @@ fn joint_naming_a_missing_body_is_rejected() {
             JointBuilder::at_axis(
                 JointKind::Revolute,
                 a,
-                BodyHandle(7),
+                chrono_core::Bodies::from_bodies(vec![
+                    chrono_core::RigidBodyBuilder::fixed()
+                        .build()
+                        .unwrap();
+                    8
+                ])
+                .handle(7),
                 Vector3::zeros(),
                 Vector3::z(),
             )

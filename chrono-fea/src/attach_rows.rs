@@ -7,6 +7,7 @@
 //! a body target, the body's point Jacobian: `C_d = x_d - p_d` (node minus target point),
 //! `D' v + C_d / h = 0` with the target's known velocity (a kinematic body's) on the right.
 
+use chrono_core::Bodies;
 use chrono_core::body::{BodyHandle, RigidBody};
 use chrono_core::descriptor::{BlockId, ConstraintRows, RowEntry, RowId};
 use chrono_core::item::Contactable;
@@ -21,7 +22,7 @@ pub(crate) struct AttachContext<'a> {
     /// The mesh's variable block.
     pub block: BlockId,
     /// The system's bodies at the start of the step.
-    pub bodies: &'a [RigidBody],
+    pub bodies: &'a Bodies,
     /// Step size, s.
     pub h: f64,
     /// The item's name for messages.
@@ -36,13 +37,11 @@ impl AttachContext<'_> {
         handle: BodyHandle,
         what: std::fmt::Arguments<'_>,
     ) -> CoreResult<&RigidBody> {
-        self.bodies
-            .get(handle.0 as usize)
-            .ok_or(ChronoError::UnknownHandle {
-                kind: "body",
-                index: handle.0 as usize,
-                field: format!("{}: {what}", self.label),
-            })
+        self.bodies.get(handle).ok_or(ChronoError::UnknownHandle {
+            kind: "body",
+            index: handle.index() as usize,
+            field: format!("{}: {what} ({handle})", self.label),
+        })
     }
 }
 

@@ -54,7 +54,7 @@
 //! the coupled block (a supported coordinate does not move and contributes nothing).
 //! The proxies are at the positions of the start of the step, as the body colliders.
 
-use chrono_core::body::{BodyHandle, RigidBody};
+use chrono_core::body::BodyHandle;
 use chrono_core::collision::{CollisionProxy, ProxyShape};
 use chrono_core::descriptor::{BlockId, CcpProblem, ConstraintRows, Variables};
 use chrono_core::item::{PhysicsItem, StepContext};
@@ -417,7 +417,7 @@ impl PhysicsItem for CableItem {
     fn add_body_constraints(
         &mut self,
         ctx: &StepContext,
-        bodies: &[RigidBody],
+        bodies: &chrono_core::Bodies,
         _vars: &Variables,
         rows: &mut ConstraintRows,
     ) -> CoreResult<()> {

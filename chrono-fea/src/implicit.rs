@@ -21,7 +21,6 @@
 
 use std::sync::{Arc, Mutex};
 
-use chrono_core::body::RigidBody;
 use chrono_core::descriptor::{
     BlockId, CcpProblem, ConstraintRows, MassOperator, RowId, Variables,
 };
@@ -324,7 +323,7 @@ impl ImplicitBlock {
     pub fn attachment_rows(
         &mut self,
         ctx: &StepContext,
-        bodies: &[RigidBody],
+        bodies: &chrono_core::Bodies,
         rows: &mut ConstraintRows,
         stride: usize,
         position: impl Fn(usize) -> CoreResult<Vector3<f64>>,

@@ -56,7 +56,7 @@
 //! node touches, and between nodes the bilinear mid surface is straight, so a flat
 //! collider cannot pass between the nodes of an element lying on it.
 
-use chrono_core::body::{BodyHandle, RigidBody};
+use chrono_core::body::BodyHandle;
 use chrono_core::collision::{CollisionProxy, ProxyShape};
 use chrono_core::descriptor::{BlockId, CcpProblem, ConstraintRows, RowId, Variables};
 use chrono_core::item::{PhysicsItem, StepContext};
@@ -374,7 +374,7 @@ impl PhysicsItem for ShellItem {
     fn add_body_constraints(
         &mut self,
         ctx: &StepContext,
-        bodies: &[RigidBody],
+        bodies: &chrono_core::Bodies,
         _vars: &Variables,
         rows: &mut ConstraintRows,
     ) -> CoreResult<()> {

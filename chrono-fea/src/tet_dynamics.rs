@@ -32,7 +32,6 @@
 //!
 //! [`SolidMaterial::damping`]: crate::material::SolidMaterial::damping
 
-use chrono_core::body::RigidBody;
 use chrono_core::collision::{CollisionProxy, ProxyShape};
 use chrono_core::descriptor::{BlockId, CcpProblem, ConstraintRows, Variables};
 use chrono_core::item::{PhysicsItem, StepContext};
@@ -273,7 +272,7 @@ impl PhysicsItem for TetItem {
     fn add_body_constraints(
         &mut self,
         ctx: &StepContext,
-        bodies: &[RigidBody],
+        bodies: &chrono_core::Bodies,
         _vars: &Variables,
         rows: &mut ConstraintRows,
     ) -> CoreResult<()> {

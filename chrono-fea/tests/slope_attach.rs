@@ -65,7 +65,12 @@ fn clamped(sys: &System, body: BodyHandle, mesh: CableMesh) -> CableItem {
 
 /// Angle between the slope of node 0 and the body's direction `R x_B` (the clamp's
 /// world x at creation), rad.
-fn tangent_error(sys: &System, body: BodyHandle, item: usize, r0: &UnitQuaternion<f64>) -> f64 {
+fn tangent_error(
+    sys: &System,
+    body: BodyHandle,
+    item: chrono_core::item::ItemHandle,
+    r0: &UnitQuaternion<f64>,
+) -> f64 {
     let b = sys.body(body).unwrap();
     let want = b.rotation() * (r0.inverse() * Vector3::x());
     let s = sys.item::<CableItem>(item).unwrap().mesh().nodes()[0].slope;
@@ -129,7 +134,13 @@ fn clamp_to_a_fixed_body_matches_the_static_cantilever() {
 
 /// Spin `body` for a quarter turn at `omega` about z and return the largest tangent
 /// error over the steps.
-fn spin(sys: &mut System, body: BodyHandle, idx: usize, omega: f64, h: f64) -> f64 {
+fn spin(
+    sys: &mut System,
+    body: BodyHandle,
+    idx: chrono_core::item::ItemHandle,
+    omega: f64,
+    h: f64,
+) -> f64 {
     let r0 = sys.body(body).unwrap().rotation();
     let steps = (0.5 * std::f64::consts::PI / omega / h).round() as usize;
     let mut worst: f64 = 0.0;

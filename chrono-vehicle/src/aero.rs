@@ -15,10 +15,10 @@
 //! Reference: the standard quadratic drag law (e.g. T. D. Gillespie, *Fundamentals of
 //! Vehicle Dynamics*, SAE 1992, ch. 4).
 
+use chrono_core::BodyHandle;
 use chrono_core::force::{BodyLoads, ForceElement, check_body};
 use chrono_core::item::StepContext;
 use chrono_core::math::Vector3;
-use chrono_core::{BodyHandle, RigidBody};
 use serde::{Deserialize, Serialize};
 
 use crate::error::{Result, VehicleError};
@@ -98,7 +98,11 @@ impl ForceElement for AeroDrag {
         &self.name
     }
 
-    fn attach(&mut self, bodies: &[RigidBody]) -> chrono_core::Result<()> {
+    fn body_handles(&self) -> Vec<BodyHandle> {
+        vec![self.body]
+    }
+
+    fn attach(&mut self, bodies: &chrono_core::Bodies) -> chrono_core::Result<()> {
         check_body(
             &format!("aero drag \"{}\".body", self.name),
             self.body,
@@ -109,10 +113,10 @@ impl ForceElement for AeroDrag {
     fn evaluate(
         &mut self,
         _ctx: &StepContext,
-        bodies: &[RigidBody],
+        bodies: &chrono_core::Bodies,
         loads: &mut BodyLoads,
     ) -> chrono_core::Result<()> {
-        let b = &bodies[self.body.0 as usize];
+        let b = &bodies[self.body];
         let v = b.linear_velocity();
         self.force = -self.k * v.norm() * v;
         loads.add_force_at(self.body, &self.force, &b.position());

@@ -192,7 +192,7 @@ pub struct WheeledVehicle {
     powertrain: Powertrain,
     driveline: FourWd,
     /// Index of the [`ShaftSystem`] item in the system.
-    shafts: usize,
+    shafts: chrono_core::item::ItemHandle,
     /// The bodies `build` added (handles `first_body..end_body`).
     bodies: std::ops::Range<u32>,
     inputs: DriverInputs,
@@ -375,7 +375,10 @@ impl WheeledVehicle {
 
     fn rigid_tire_forces(&self, sys: &System, h: f64) -> Vec<Vector3<f64>> {
         let mut out = vec![Vector3::zeros(); self.wheels.len()];
-        let index = |owner: u32| self.wheels.iter().position(|w| w.spindle.0 == owner);
+        let index = |owner: u32| {
+            let set = sys.body_set();
+            (self.wheels.iter()).position(|w| set.dense_index(w.spindle) == Some(owner as usize))
+        };
         match sys.settings().contact_method {
             chrono_core::ContactMethod::Nsc => {
                 let (problem, gamma) = (sys.last_problem(), sys.last_gamma());
@@ -438,7 +441,8 @@ impl WheeledVehicle {
         let radius = self.data.wheel.tire.radius();
         let w = speed / radius;
         for i in self.bodies.clone() {
-            let b = sys.body_mut(BodyHandle(i))?;
+            let h = sys.body_set().handle(i as usize);
+            let b = sys.body_mut(h)?;
             b.set_linear_velocity(fwd * speed)?;
             b.set_angular_velocity(Vector3::zeros())?;
         }

@@ -13,7 +13,7 @@ const JIN: f64 = 0.5;
 
 struct Rig {
     sys: System,
-    item: usize,
+    item: chrono_core::item::ItemHandle,
     dl: FourWd,
     input: ShaftId,
     spindles: [BodyHandle; 4],
@@ -245,13 +245,14 @@ fn bad_four_wd_input_names_the_field() {
     );
     let mut shafts = ShaftSystem::new("x");
     let input = shafts.add_shaft("input", 1.0).unwrap();
-    let b = BodyHandle(0);
+    let set = chrono_core::Bodies::from_bodies(vec![RigidBodyBuilder::fixed().build().unwrap(); 2]);
+    let b = set.handle(0);
     let mut dl = FourWd::new(
         &FourWdParams::default(),
         &mut shafts,
         input,
         [b; 4],
-        BodyHandle(1),
+        set.handle(1),
     )
     .unwrap();
     let e = dl

@@ -40,7 +40,7 @@ fn interp(table: &[[f64; 2]], x: f64) -> f64 {
 /// the powertrain and the shafts after every step.
 fn run(
     sys: &mut System,
-    item: usize,
+    item: chrono_core::item::ItemHandle,
     pt: &mut Powertrain,
     n: usize,
     throttle: f64,

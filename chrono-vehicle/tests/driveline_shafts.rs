@@ -21,7 +21,7 @@ fn system() -> System {
     System::new(settings, Box::new(Apgd::new(s))).unwrap()
 }
 
-fn shafts(sys: &mut System, idx: usize) -> &mut ShaftSystem {
+fn shafts(sys: &mut System, idx: chrono_core::item::ItemHandle) -> &mut ShaftSystem {
     sys.item_mut::<ShaftSystem>(idx).unwrap()
 }
 
@@ -107,7 +107,7 @@ fn diff_with_load(
     load: f64,
 ) -> (
     System,
-    usize,
+    chrono_core::item::ItemHandle,
     [ShaftId; 3],
     chrono_vehicle::driveline::LinkId,
 ) {
@@ -324,7 +324,9 @@ fn bad_input_names_the_field_and_value() {
     assert!(e.contains("planetary"), "{e}");
     let e = s.set_torque(b, f64::NAN).unwrap_err().to_string();
     assert!(e.contains("shaft \"b\".torque") && e.contains("NaN"), "{e}");
-    let body = chrono_core::BodyHandle(0);
+    // Handles of bodies outside any system (slot 5 exists in no system of this test).
+    let set = chrono_core::Bodies::from_bodies(vec![RigidBodyBuilder::fixed().build().unwrap(); 6]);
+    let body = set.handle(0);
     let e = s
         .couple_to_body(a, body, Vector3::zeros(), None)
         .unwrap_err()
@@ -334,7 +336,7 @@ fn bad_input_names_the_field_and_value() {
     let e = s.set_clutch_torque(g, 10.0).unwrap_err().to_string();
     assert!(e.contains("not a clutch"), "{e}");
     // A coupling to a body that is not in the system fails at the step, naming the link.
-    s.couple_to_body(b, chrono_core::BodyHandle(5), Vector3::z(), None)
+    s.couple_to_body(b, set.handle(5), Vector3::z(), None)
         .unwrap();
     let mut sys = system();
     sys.add_item(Box::new(s));

@@ -2,6 +2,7 @@
 //! rows: the surface mode, the body blocks in body coordinates, the known velocity of
 //! fixed and kinematic bodies.
 
+use chrono_core::Bodies;
 use chrono_core::body::{BodyHandle, RigidBody};
 use chrono_core::descriptor::{BlockId, ConstraintRows, RowEntry, RowId};
 use chrono_core::math::Vector3;
@@ -13,7 +14,7 @@ use crate::settings::{CfluidSettings, SurfaceMode};
 /// the attached slots, the settings, the step and the compliance.
 pub(super) struct PushRow<'a> {
     pub(super) first: BlockId,
-    pub(super) bodies: &'a [RigidBody],
+    pub(super) bodies: &'a Bodies,
     pub(super) slots: &'a [(BodyHandle, usize)],
     pub(super) settings: &'a CfluidSettings,
     pub(super) h: f64,
@@ -37,7 +38,7 @@ impl PushRow<'_> {
     ) -> RowId {
         let mut known = 0.0;
         buf.bodies.retain_mut(|(slot, c)| {
-            let body = &self.bodies[self.slots[*slot as usize].0.0 as usize];
+            let body = &self.bodies[self.slots[*slot as usize].0];
             *c = body_coefs(body, c);
             match body.block() {
                 Some(_) => true,
@@ -55,7 +56,7 @@ impl PushRow<'_> {
             });
         }
         for (slot, c) in &buf.bodies {
-            let body = &self.bodies[self.slots[*slot as usize].0.0 as usize];
+            let body = &self.bodies[self.slots[*slot as usize].0];
             if let Some(block) = body.block() {
                 entries.push(RowEntry { block, coefs: c });
             }

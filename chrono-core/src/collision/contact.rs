@@ -39,6 +39,22 @@ pub struct ContactKey {
     pub feature_b: u32,
 }
 
+impl ContactKey {
+    /// The key after the colliders were renumbered by `map` (old id -> new id, `None` for
+    /// a removed collider, from [`CollisionWorld::remove_owner`](super::CollisionWorld::remove_owner)).
+    /// `None` if a collider is gone or the two swap order (the key of such a contact is the
+    /// other way round, with the impulses' sign convention, so it is dropped, not reused).
+    pub fn remap(&self, map: &[Option<u32>]) -> Option<Self> {
+        let a = (*map.get(self.collider_a as usize)?)?;
+        let b = (*map.get(self.collider_b as usize)?)?;
+        (a < b).then_some(Self {
+            collider_a: a,
+            collider_b: b,
+            ..*self
+        })
+    }
+}
+
 /// A contact point between two colliders.
 ///
 /// Convention: `normal` is the world unit normal pointing **from A towards B** (outward

@@ -243,6 +243,56 @@ impl CollisionWorld {
         self.colliders.is_empty()
     }
 
+    /// Drop the colliders of `owner` and renumber the owner `moved_from` (if any) to
+    /// `owner`: what a swap-remove of owner `owner` from the owner arrays does. Colliders stay
+    /// sorted by owner (as if the world had been built without the removed owner, in the new
+    /// order) and the broad-phase and pair states start afresh, so the next `detect` sees
+    /// exactly what a new world would. Returns the new id of each old collider (`None` for
+    /// the dropped ones), for caches keyed by collider. Cost O(colliders + excluded pairs).
+    pub fn remove_owner(&mut self, owner: u32, moved_from: Option<u32>) -> Vec<Option<u32>> {
+        let renumber = |o: u32| {
+            if o == owner {
+                None
+            } else if Some(o) == moved_from {
+                Some(owner)
+            } else {
+                Some(o)
+            }
+        };
+        let mut order: Vec<(u32, usize)> = (self.colliders.iter().enumerate())
+            .filter_map(|(i, c)| renumber(c.owner).map(|o| (o, i)))
+            .collect();
+        // Stable: within an owner, colliders keep the order they were added in.
+        order.sort_by_key(|&(o, _)| o);
+        let mut map = vec![None; self.colliders.len()];
+        let mut old: Vec<Option<Collider>> = self.colliders.drain(..).map(Some).collect();
+        for (new, &(o, i)) in order.iter().enumerate() {
+            let mut c = old[i].take().expect("each collider is moved once");
+            c.owner = o;
+            self.colliders.push(c);
+            map[i] = Some(new as u32);
+        }
+        self.spheres = (self.colliders.iter())
+            .filter(|c| matches!(c.kind, ColliderKind::Sphere { .. }))
+            .count();
+        self.excluded = (self.excluded.iter())
+            .filter_map(|&(a, b)| {
+                let (a, b) = (renumber(a)?, renumber(b)?);
+                Some((a.min(b), a.max(b)))
+            })
+            .collect();
+        self.excluded.sort_unstable();
+        self.excluded.dedup();
+        self.poses.clear();
+        self.bounds.clear();
+        self.sap = SweepAndPrune::default();
+        self.candidates.clear();
+        self.pairs.clear();
+        self.next_pairs.clear();
+        self.grid = SphereGrid::default();
+        map
+    }
+
     /// Never report contacts between the colliders of `owner_a` and those of `owner_b`
     /// (e.g. two bodies connected by a joint). Symmetric; idempotent.
     pub fn exclude_pair(&mut self, owner_a: u32, owner_b: u32) {

@@ -133,6 +133,34 @@ impl WarmStartCache {
         self.map.clear();
         self.proxies.clear();
     }
+
+    /// Follow a renumbering of the colliders (`map`: old id -> new id, `None` if removed,
+    /// see [`ContactKey::remap`]) and of the items (`item`: old index -> new index, `None`
+    /// if removed): entries of removed colliders or items are dropped.
+    pub(crate) fn remap(&mut self, map: Option<&[Option<u32>]>, item: &dyn Fn(u32) -> Option<u32>) {
+        if let Some(map) = map {
+            self.map = (self.map.drain())
+                .filter_map(|(k, v)| Some((k.remap(map)?, v)))
+                .collect();
+        }
+        self.proxies = (self.proxies.drain())
+            .filter_map(|(k, v)| {
+                let collider = match map {
+                    Some(map) => (*map.get(k.collider as usize)?)?,
+                    None => k.collider,
+                };
+                let item = item(k.item)?;
+                Some((
+                    ProxyKey {
+                        collider,
+                        item,
+                        ..k
+                    },
+                    v,
+                ))
+            })
+            .collect();
+    }
 }
 
 /// Settings of NSC contact rows.

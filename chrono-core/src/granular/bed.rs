@@ -15,7 +15,7 @@
 use nalgebra::Vector3;
 
 use super::fill::{Grain, LatticeFill, Region};
-use super::rng::Rng;
+use crate::rng::Rng;
 use super::{add_grains, step_size};
 use crate::body::BodyHandle;
 use crate::error::{ChronoError, Result, check_non_negative, check_positive};

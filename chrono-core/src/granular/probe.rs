@@ -6,7 +6,7 @@ use nalgebra::Vector3;
 
 use super::fill::Region;
 use crate::body::BodyHandle;
-use crate::error::Result;
+use crate::error::{ChronoError, Result};
 use crate::system::{ContactMethod, System};
 
 /// Least-squares line `y = a x + b` through the points `(x, y)`: `(a, b)`; `None` below two
@@ -153,15 +153,17 @@ pub fn grain_forces_on(
     targets: &[BodyHandle],
     structure: &[BodyHandle],
 ) -> Vector3<f64> {
-    let has = |set: &[BodyHandle], o: u32| set.iter().any(|b| b.0 == o);
-    let is_grain = |o: u32| !has(structure, o);
+    // Contact owners are dense body indices: translate the handles once.
+    let (targets, structure) = (dense_indices(sys, targets), dense_indices(sys, structure));
+    let has = |set: &[u32], o: u32| set.contains(&o);
+    let is_grain = |o: u32| !has(&structure, o);
     let mut f = Vector3::zeros();
     // Force on B (A gets the opposite): adds the share of `targets` from grains.
     let mut add = |a: u32, b: u32, on_b: Vector3<f64>| {
-        if has(targets, b) && is_grain(a) {
+        if has(&targets, b) && is_grain(a) {
             f += on_b;
         }
-        if has(targets, a) && is_grain(b) {
+        if has(&targets, a) && is_grain(b) {
             f -= on_b;
         }
     };
@@ -202,13 +204,20 @@ pub fn grain_forces_on(
 /// compression is close to uniaxial. 0 without grain–grain contacts.
 pub fn uniaxial_overlap_strain(sys: &System, structure: &[BodyHandle]) -> Result<f64> {
     let (mut num, mut den) = (0.0, 0.0);
+    let structure = dense_indices(sys, structure);
+    let bodies = sys.bodies();
     let mut add = |a: u32, b: u32, n: Vector3<f64>, delta: f64| -> Result<()> {
-        let in_structure = |o: u32| structure.iter().any(|s| s.0 == o);
+        let in_structure = |o: u32| structure.contains(&o);
         if delta <= 0.0 || in_structure(a) || in_structure(b) || a == b {
             return Ok(());
         }
-        let xa = sys.body(BodyHandle(a))?.position();
-        let xb = sys.body(BodyHandle(b))?.position();
+        let position = |o: u32| {
+            bodies
+                .get(o as usize)
+                .map(|b| b.position())
+                .ok_or_else(|| ChronoError::invalid("contact owner", o, "is not a body of the system"))
+        };
+        let (xa, xb) = (position(a)?, position(b)?);
         let l = (xb - xa).norm() + delta;
         let nz2 = n.z * n.z;
         num += delta * l * nz2;
@@ -245,6 +254,15 @@ pub fn max_penetration(sys: &System) -> f64 {
         .map(|c| c.overlap)
         .fold(0.0, f64::max);
     nsc.max(smc)
+}
+
+/// The dense indices (the contact owners' numbering) of the live bodies among `handles`;
+/// stale handles are skipped (they own no contact).
+fn dense_indices(sys: &System, handles: &[BodyHandle]) -> Vec<u32> {
+    handles
+        .iter()
+        .filter_map(|h| sys.body_set().dense_index(*h).map(|i| i as u32))
+        .collect()
 }
 
 #[cfg(test)]
@@ -318,3 +336,4 @@ mod tests {
         assert!(line_fit(&pts[..1]).is_none());
     }
 }
+

@@ -24,13 +24,20 @@
 use nalgebra::{Isometry3, Point3, UnitQuaternion, Vector3};
 use serde::{Deserialize, Serialize};
 
+use crate::bodies::Bodies;
 use crate::body::{BodyHandle, PairRowKind, RigidBody, push_pair_row};
 use crate::descriptor::{ConstraintRows, RowId};
 use crate::error::{ChronoError, Result, check_finite, check_finite3};
 
 /// Handle of a joint in a [`System`](crate::system::System).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
-pub struct JointHandle(pub u32);
+pub struct JointHandle(pub(crate) u32);
+
+impl std::fmt::Display for JointHandle {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "joint {}", self.0)
+    }
+}
 
 /// What a rotational motor or linear actuator drives.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -171,7 +178,7 @@ impl JointBuilder {
     }
 
     /// Check the parameters against the bodies and make the joint (the System calls this).
-    pub(crate) fn build(self, bodies: &[RigidBody]) -> Result<Joint> {
+    pub(crate) fn build(self, bodies: &Bodies) -> Result<Joint> {
         let field = |f: &str| {
             if self.name.is_empty() {
                 format!("joint.{f}")
@@ -180,18 +187,18 @@ impl JointBuilder {
             }
         };
         for (h, f) in [(self.body_a, "body_a"), (self.body_b, "body_b")] {
-            if h.0 as usize >= bodies.len() {
+            if !bodies.contains(h) {
                 return Err(ChronoError::UnknownHandle {
                     kind: "body",
-                    index: h.0 as usize,
-                    field: field(f),
+                    index: h.index() as usize,
+                    field: format!("{} ({h})", field(f)),
                 });
             }
         }
         if self.body_a == self.body_b {
             return Err(ChronoError::invalid(
                 field("body_b"),
-                self.body_b.0,
+                self.body_b,
                 "must differ from body_a",
             ));
         }
@@ -255,10 +262,7 @@ impl JointBuilder {
             }
             _ => {}
         }
-        let (a, b) = (
-            &bodies[self.body_a.0 as usize],
-            &bodies[self.body_b.0 as usize],
-        );
+        let (a, b) = (&bodies[self.body_a], &bodies[self.body_b]);
         let frame_a = a.pose().inverse() * self.frame_world;
         if let Some(fb) = &self.frame_b_world {
             check_finite3(&field("frame_b.origin"), &fb.translation.vector)?;
@@ -360,11 +364,8 @@ impl Joint {
 
     /// The largest violation of the position-level constraints (m for points, rad-ish for
     /// axes), at the bodies' current poses.
-    pub fn violation(&self, bodies: &[RigidBody]) -> f64 {
-        let (a, b) = (
-            &bodies[self.body_a.0 as usize],
-            &bodies[self.body_b.0 as usize],
-        );
+    pub fn violation(&self, bodies: &Bodies) -> f64 {
+        let (a, b) = (&bodies[self.body_a], &bodies[self.body_b]);
         let f = self.frames(a, b);
         let dp = f.pb - f.pa;
         let rb_z = (b.pose() * self.frame_b).rotation * Vector3::z();
@@ -407,14 +408,11 @@ impl Joint {
     }
 
     /// Add this joint's rows for a step of size `h`; applies effort drives as forces.
-    pub(crate) fn add_rows(&mut self, bodies: &[RigidBody], h: f64, rows: &mut ConstraintRows) {
+    pub(crate) fn add_rows(&mut self, bodies: &Bodies, h: f64, rows: &mut ConstraintRows) {
         self.row_ids.clear();
         self.row_kinds.clear();
         self.h = h;
-        let (a, b) = (
-            &bodies[self.body_a.0 as usize],
-            &bodies[self.body_b.0 as usize],
-        );
+        let (a, b) = (&bodies[self.body_a], &bodies[self.body_b]);
         let f = self.frames(a, b);
         let dp = f.pb - f.pa;
         let inv_h = 1.0 / h;
@@ -607,11 +605,8 @@ impl Joint {
 
     /// Effort drives: the torque/force pair to apply this step, as (world force on B at its
     /// frame origin, world torque on B); A gets the opposite.
-    pub(crate) fn effort(&self, bodies: &[RigidBody]) -> Option<EffortLoad> {
-        let (a, b) = (
-            &bodies[self.body_a.0 as usize],
-            &bodies[self.body_b.0 as usize],
-        );
+    pub(crate) fn effort(&self, bodies: &Bodies) -> Option<EffortLoad> {
+        let (a, b) = (&bodies[self.body_a], &bodies[self.body_b]);
         let f = self.frames(a, b);
         match self.kind {
             JointKind::RotationalMotor {

@@ -16,6 +16,7 @@
 //! ```
 
 mod coulomb;
+mod remove;
 mod smc_step;
 mod step;
 
@@ -26,6 +27,7 @@ pub use smc_step::SmcTiming;
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
+use crate::bodies::Bodies;
 use crate::body::{BodyHandle, RigidBody, RigidBodyBuilder};
 use crate::collision::{CollisionProxy, CollisionWorld, ContactPoint, ProxyContact};
 use crate::contact::nsc::{NscContact, NscProxyContact, TripletScratch, WarmStartCache};
@@ -33,9 +35,10 @@ pub use crate::contact::smc::{RollingModel, SmcModel, SmcSettings};
 use crate::descriptor::{CcpProblem, CcpSolver, ConstraintRows, SolveStats, Variables};
 use crate::error::{ChronoError, Result, check_finite3, check_non_negative, check_positive};
 use crate::force::{BodyLoads, ForceElement, ForceHandle};
-use crate::item::{PhysicsItem, StepContext};
+use crate::item::{ItemHandle, PhysicsItem, StepContext};
 use crate::joint::{Joint, JointBuilder, JointHandle};
 use crate::material::ContactFriction;
+use crate::slots::SlotTable;
 
 /// How contacts act: by complementarity (impulses from the CCP) or by penalty forces.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -126,11 +129,33 @@ pub struct StepReport {
 }
 
 /// A multibody system stepped by the NSC (complementarity) method.
+///
+/// # Handles and removal
+///
+/// Bodies and physics items are named by generational handles ([`BodyHandle`],
+/// [`ItemHandle`]): a slot index and the slot's generation. The bodies stay dense in memory
+/// ([`bodies`](Self::bodies) is a slice; the solver and collision loops run over it), a slot
+/// table maps a handle to its position. [`remove_body`](Self::remove_body) and
+/// [`remove_item`](Self::remove_item) swap-remove (the last body or item takes the freed
+/// position, its handle stays valid) and bump the slot's generation: the removed handle is
+/// stale, and using it is an error naming it ([`ChronoError::StaleBody`],
+/// [`ChronoError::StaleItem`]), never another body, even after a new body reuses the slot.
+///
+/// Removal costs O(1) plus the caches keyed by body or collider: the collision world is
+/// renumbered (O(colliders); its broad phase restarts), the warm-start impulses and SMC
+/// tangential histories follow the new collider ids and drop the removed body's contacts
+/// (so contacts in flight with it simply end; the others keep their warm start). Joints and
+/// force elements cannot outlive their bodies: removing a body they refer to is
+/// [`ChronoError::BodyInUse`] naming them; joints and force elements themselves are not
+/// removable (their handles are plain indices). A system from which bodies were removed
+/// steps bit-identically to one built without them in the same order.
 pub struct System {
     pub(crate) settings: SystemSettings,
-    pub(crate) bodies: Vec<RigidBody>,
+    pub(crate) bodies: Bodies,
     pub(crate) joints: Vec<Joint>,
     pub(crate) items: Vec<Box<dyn PhysicsItem>>,
+    /// Item handle -> index into `items`.
+    pub(crate) item_slots: SlotTable,
     pub(crate) force_elements: Vec<Box<dyn ForceElement>>,
     pub(crate) collision: CollisionWorld,
     pub(crate) solver: Box<dyn CcpSolver>,
@@ -169,9 +194,10 @@ impl System {
         let collision = CollisionWorld::new(settings.envelope)?;
         Ok(Self {
             settings,
-            bodies: Vec::new(),
+            bodies: Bodies::new(),
             joints: Vec::new(),
             items: Vec::new(),
+            item_slots: SlotTable::default(),
             force_elements: Vec::new(),
             collision,
             solver,
@@ -231,13 +257,13 @@ impl System {
     /// Add a body (checked by its builder) and its colliders.
     pub fn add_body(&mut self, builder: RigidBodyBuilder) -> Result<BodyHandle> {
         let body = builder.build()?;
-        let handle = BodyHandle(self.bodies.len() as u32);
+        // Colliders are owned by the body's dense index (its position in `bodies()`).
+        let owner = self.bodies.len() as u32;
         for c in body.colliders() {
             self.collision
-                .add_collider(handle.0, &c.shape, c.local_pose, c.material)?;
+                .add_collider(owner, &c.shape, c.local_pose, c.material)?;
         }
-        self.bodies.push(body);
-        Ok(handle)
+        Ok(self.bodies.insert(body))
     }
 
     /// Make every contact of `body` with another body use the friction coefficients
@@ -252,11 +278,10 @@ impl System {
         body: BodyHandle,
         friction: Option<ContactFriction>,
     ) -> Result<()> {
-        self.body(body)?;
+        let i = self.bodies.try_index(body)?;
         if let Some(f) = &friction {
             f.validate()?;
         }
-        let i = body.0 as usize;
         if self.contact_friction.len() <= i {
             self.contact_friction.resize(i + 1, None);
         }
@@ -266,10 +291,8 @@ impl System {
 
     /// The friction override of `body`, if any ([`System::set_contact_friction`]).
     pub fn contact_friction(&self, body: BodyHandle) -> Option<ContactFriction> {
-        self.contact_friction
-            .get(body.0 as usize)
-            .copied()
-            .flatten()
+        let i = self.bodies.dense_index(body)?;
+        self.contact_friction.get(i).copied().flatten()
     }
 
     /// Write the per-body friction overrides into this step's contact points.
@@ -293,16 +316,18 @@ impl System {
     pub fn add_joint(&mut self, builder: JointBuilder) -> Result<JointHandle> {
         let joint = builder.build(&self.bodies)?;
         let (a, b) = joint.bodies();
-        self.collision.exclude_pair(a.0, b.0);
+        let (a, b) = (self.bodies.try_index(a)?, self.bodies.try_index(b)?);
+        self.collision.exclude_pair(a as u32, b as u32);
         let handle = JointHandle(self.joints.len() as u32);
         self.joints.push(joint);
         Ok(handle)
     }
 
-    /// Add a physics item of a domain crate.
-    pub fn add_item(&mut self, item: Box<dyn PhysicsItem>) -> usize {
+    /// Add a physics item of a domain crate; its handle.
+    pub fn add_item(&mut self, item: Box<dyn PhysicsItem>) -> ItemHandle {
+        let (index, generation) = self.item_slots.insert();
         self.items.push(item);
-        self.items.len() - 1
+        ItemHandle::new(index, generation)
     }
 
     /// Add a force element (spring-damper, tire, drag ...): it is checked against the bodies
@@ -361,31 +386,35 @@ impl System {
         Ok(())
     }
 
-    /// A body.
+    /// A body; [`ChronoError::StaleBody`] if `h` was removed or is not from this system.
     pub fn body(&self, h: BodyHandle) -> Result<&RigidBody> {
         self.bodies
-            .get(h.0 as usize)
-            .ok_or(ChronoError::UnknownHandle {
-                kind: "body",
-                index: h.0 as usize,
-                field: "body".into(),
-            })
+            .get(h)
+            .ok_or(ChronoError::StaleBody { handle: h })
     }
 
     /// A body, mutable (to set forces or prescribed velocities between steps).
     pub fn body_mut(&mut self, h: BodyHandle) -> Result<&mut RigidBody> {
         self.bodies
-            .get_mut(h.0 as usize)
-            .ok_or(ChronoError::UnknownHandle {
-                kind: "body",
-                index: h.0 as usize,
-                field: "body".into(),
-            })
+            .get_mut(h)
+            .ok_or(ChronoError::StaleBody { handle: h })
     }
 
-    /// All bodies, in handle order.
+    /// All bodies, in dense order: the order they were added in, except that removing a
+    /// body moves the last one into its place ([`remove_body`](Self::remove_body)).
     pub fn bodies(&self) -> &[RigidBody] {
         &self.bodies
+    }
+
+    /// The bodies with their handles ([`Bodies`]: `handles()`, `iter_with_handles()`,
+    /// `dense_index(h)`).
+    pub fn body_set(&self) -> &Bodies {
+        &self.bodies
+    }
+
+    /// The handles of all bodies, in the order of [`bodies`](Self::bodies).
+    pub fn body_handles(&self) -> impl ExactSizeIterator<Item = BodyHandle> + '_ {
+        self.bodies.handles()
     }
 
     /// A joint.
@@ -420,18 +449,27 @@ impl System {
         &self.items
     }
 
-    /// The item at `index` (as returned by [`add_item`](Self::add_item)) as its concrete
-    /// type `T`; `None` if there is no such item or it is not a `T`.
-    pub fn item<T: PhysicsItem>(&self, index: usize) -> Option<&T> {
-        let item: &dyn std::any::Any = self.items.get(index)?.as_ref();
+    /// The item `h` (as returned by [`add_item`](Self::add_item)) as its concrete type `T`;
+    /// `None` if the handle is stale or the item is not a `T`.
+    pub fn item<T: PhysicsItem>(&self, h: ItemHandle) -> Option<&T> {
+        let i = self.item_slots.resolve(h.index(), h.generation())?;
+        let item: &dyn std::any::Any = self.items[i].as_ref();
         item.downcast_ref::<T>()
     }
 
-    /// The item at `index` as its concrete type `T`, mutable (to change its state between
-    /// steps).
-    pub fn item_mut<T: PhysicsItem>(&mut self, index: usize) -> Option<&mut T> {
-        let item: &mut dyn std::any::Any = self.items.get_mut(index)?.as_mut();
+    /// The item `h` as its concrete type `T`, mutable (to change its state between steps).
+    pub fn item_mut<T: PhysicsItem>(&mut self, h: ItemHandle) -> Option<&mut T> {
+        let i = self.item_slots.resolve(h.index(), h.generation())?;
+        let item: &mut dyn std::any::Any = self.items[i].as_mut();
         item.downcast_mut::<T>()
+    }
+
+    /// The handles of all items, in the order of [`items`](Self::items).
+    pub fn item_handles(&self) -> impl ExactSizeIterator<Item = ItemHandle> + '_ {
+        (0..self.items.len()).map(|i| {
+            let (index, generation) = self.item_slots.handle_at(i);
+            ItemHandle::new(index, generation)
+        })
     }
 
     /// The collision world.

@@ -51,6 +51,28 @@ pub(crate) struct SmcState {
     pub(crate) timing: SmcTiming,
 }
 
+impl SmcState {
+    /// After a body removal: follow the collider renumbering `map` in the tangential
+    /// history (entries of removed colliders dropped, see [`ContactKey::remap`]) and forget
+    /// the per-body and per-collider caches (rebuilt on the next step).
+    pub(crate) fn remap_colliders(&mut self, map: &[Option<u32>]) {
+        let mut history: Vec<HistoryEntry> = (self.history.iter())
+            .filter_map(|e| {
+                Some(HistoryEntry {
+                    key: e.key.remap(map)?,
+                    ..*e
+                })
+            })
+            .collect();
+        history.sort_by(|a, b| (a.key, a.index).cmp(&(b.key, b.index)));
+        *self = Self {
+            history,
+            timing: self.timing,
+            ..Self::default()
+        };
+    }
+}
+
 /// Wall time of the parts of the last SMC step (s).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct SmcTiming {
@@ -130,7 +152,7 @@ impl System {
     /// [`SmcSettings::min_steps_per_contact`]. `None` without dynamic colliders.
     pub fn smc_max_step(&self) -> Option<(f64, BodyHandle)> {
         step_limit(&self.bodies, &self.collision, &self.settings.smc)
-            .map(|(h, i, _)| (h, BodyHandle(i as u32)))
+            .map(|(h, i, _)| (h, self.bodies.handle(i)))
     }
 
     /// Wall time of the parts of the last SMC step.

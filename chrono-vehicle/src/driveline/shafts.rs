@@ -39,7 +39,7 @@
 //! `ChShaftsPlanetary`, `ChShaftsClutch`, `ChShaftBodyRotation`), as summarized in our
 //! notes; the formulation here (rows in the CCP) is our own.
 
-use chrono_core::body::{BodyHandle, RigidBody};
+use chrono_core::body::BodyHandle;
 use chrono_core::descriptor::{
     BlockId, CcpProblem, ConstraintRows, MassOperator, RowEntry, RowId, Variables,
 };
@@ -255,7 +255,7 @@ impl ShaftSystem {
         if reference == Some(body) {
             return Err(VehicleError::invalid(
                 "body coupling.reference",
-                body.0,
+                body,
                 "must differ from the coupled body",
             ));
         }
@@ -545,7 +545,7 @@ impl PhysicsItem for ShaftSystem {
     fn add_body_constraints(
         &mut self,
         _ctx: &StepContext,
-        bodies: &[RigidBody],
+        bodies: &chrono_core::Bodies,
         _vars: &Variables,
         rows: &mut ConstraintRows,
     ) -> CoreResult<()> {
@@ -564,13 +564,11 @@ impl PhysicsItem for ShaftSystem {
                 continue;
             }
             let get = |h: BodyHandle, what: &str| {
-                bodies
-                    .get(h.0 as usize)
-                    .ok_or_else(|| ChronoError::UnknownHandle {
-                        kind: "body",
-                        index: h.0 as usize,
-                        field: format!("{}: link {li} {what}", self.label()),
-                    })
+                bodies.get(h).ok_or_else(|| ChronoError::UnknownHandle {
+                    kind: "body",
+                    index: h.index() as usize,
+                    field: format!("{}: link {li} {what} ({h})", self.label()),
+                })
             };
             let b = get(body, "body")?;
             let a_world = b.rotation() * axis;

@@ -2,11 +2,11 @@
 
 use std::sync::Arc;
 
+use chrono_core::BodyHandle;
 use chrono_core::error::ChronoError;
 use chrono_core::force::{BodyLoads, ForceElement, check_body};
 use chrono_core::item::StepContext;
 use chrono_core::math::Vector3;
-use chrono_core::{BodyHandle, RigidBody};
 
 use super::tmeasy_params::{TMeasyParams, combined_force};
 use crate::error::{Result, VehicleError};
@@ -211,7 +211,11 @@ impl ForceElement for TMeasyTire {
         &self.name
     }
 
-    fn attach(&mut self, bodies: &[RigidBody]) -> chrono_core::Result<()> {
+    fn body_handles(&self) -> Vec<BodyHandle> {
+        vec![self.body]
+    }
+
+    fn attach(&mut self, bodies: &chrono_core::Bodies) -> chrono_core::Result<()> {
         check_body(
             &format!("tmeasy tire \"{}\".body", self.name),
             self.body,
@@ -222,11 +226,11 @@ impl ForceElement for TMeasyTire {
     fn evaluate(
         &mut self,
         ctx: &StepContext,
-        bodies: &[RigidBody],
+        bodies: &chrono_core::Bodies,
         loads: &mut BodyLoads,
     ) -> chrono_core::Result<()> {
         let p = &self.params;
-        let b = &bodies[self.body.0 as usize];
+        let b = &bodies[self.body];
         let c = b.pose().transform_point(&self.center_local.into()).coords;
         let a = b.rotation() * self.axis_local;
         let v = b.point_velocity(&c);
