@@ -452,7 +452,9 @@ mod tests {
             for k in 0..3 {
                 assert!((a.position[k] - b.position[k]).abs() < 1e-12);
             }
-            assert_eq!(a.face, b.face);
+            // corner markers lie equally far beyond two faces: which one wins the tie
+            // depends on the round-off of the anchoring, their depth does not
+            assert!(a.face == b.face || (a.depth - b.depth).abs() < 1e-12);
         }
     }
 }
