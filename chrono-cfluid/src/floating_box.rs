@@ -16,8 +16,8 @@
 //! `draft = (rho_box / rho_water) box_height`.
 
 use chrono_core::descriptor::CcpSolver;
-use chrono_core::item::ItemHandle;
 use chrono_core::error::{ChronoError, Result};
+use chrono_core::item::ItemHandle;
 use chrono_core::math::{Isometry3, Vector3};
 use chrono_core::particles::lattice::Fit;
 use chrono_core::particles::lattice::{Lattice, SLAB_SIDES, Tank, slab_layers, wall_layers};

@@ -8,8 +8,8 @@
 
 use chrono_core::descriptor::CcpSolver;
 use chrono_core::error::{ChronoError, Result};
-use chrono_core::particles::lattice::{Anchor, Fit, SlabTank};
 use chrono_core::item::ItemHandle;
+use chrono_core::particles::lattice::{Anchor, Fit, SlabTank};
 use chrono_core::{System, SystemSettings};
 
 use crate::fluid::ConstraintFluid;

@@ -9,8 +9,12 @@ pub use nalgebra::{Isometry3, Matrix3, Point3, Translation3, Unit, UnitQuaternio
 /// The floating-point type of the engine.
 pub type Real = f64;
 
-/// Standard gravity vector, m/s^2 (Z up).
-pub const GRAVITY: Vector3<f64> = Vector3::new(0.0, 0.0, -9.81);
+/// The magnitude of gravity used throughout, `g = 9.81` m/s^2 (the value of the
+/// validation references; standard gravity is 9.80665).
+pub const GRAVITY_MAGNITUDE: f64 = 9.81;
+
+/// Gravity vector `(0, 0, -g)`, m/s^2 (Z up), `g` = [`GRAVITY_MAGNITUDE`].
+pub const GRAVITY: Vector3<f64> = Vector3::new(0.0, 0.0, -GRAVITY_MAGNITUDE);
 
 /// The skew-symmetric (cross-product) matrix `[a]x`, so that `[a]x b = a x b`.
 #[inline]

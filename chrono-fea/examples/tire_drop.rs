@@ -49,9 +49,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         if step % 25 == 0 {
             let b = sys.body(rim)?;
             let (z, vz) = (b.position().z, b.linear_velocity().z);
-            println!("t = {:.2} s  rim height = {z:.4} m  vz = {vz:+.4} m/s", sys.time());
+            println!(
+                "t = {:.2} s  rim height = {z:.4} m  vz = {vz:+.4} m/s",
+                sys.time()
+            );
         }
     }
-    println!("static deflection = {:.4} m", lift - 0.005 - sys.body(rim)?.position().z);
+    println!(
+        "static deflection = {:.4} m",
+        lift - 0.005 - sys.body(rim)?.position().z
+    );
     Ok(())
 }

@@ -133,7 +133,8 @@ mod tests {
     /// message and its source both name the real field.
     #[test]
     fn a_fea_error_in_a_step_keeps_its_cause() {
-        let e = crate::implicit::core_error(FeaError::invalid("material.young", -1.0, "must be > 0"));
+        let e =
+            crate::implicit::core_error(FeaError::invalid("material.young", -1.0, "must be > 0"));
         assert!(e.to_string().contains("material.young"), "{e}");
         let source = std::error::Error::source(&e).expect("a source");
         assert!(source.to_string().contains("material.young"), "{source}");

@@ -86,6 +86,7 @@ pub mod tire_mount;
 pub mod vtk;
 
 pub use beam_mesh::BeamMesh;
+pub use cantilever::{beam_cantilever, cable_cantilever};
 pub use dynamics::{AttachTarget, Attachment, CableItem};
 pub use element::{
     AncfBeam, AncfCable, AncfShell, BeamQuadrature, CableQuadrature, ShellLocking, ShellMaterial,
@@ -106,4 +107,3 @@ pub use tet_dynamics::TetItem;
 pub use tet_mesh::TetMesh;
 pub use tire_mesh::{TireGeometry, TireMesh};
 pub use tire_mount::{BeadMount, InflatedTire, mount_on_rim};
-pub use cantilever::{beam_cantilever, cable_cantilever};

@@ -9,13 +9,13 @@
 use chrono_core::BodyHandle;
 use nalgebra::Vector3;
 
+use crate::AttachTarget;
 use crate::error::{Result, positive};
 use crate::node::NodeId;
 use crate::shell_dynamics::{DirectorTarget, ShellItem};
 use crate::shell_mesh::ShellMesh;
 use crate::statics::{StaticReport, StaticSettings, solve_static};
 use crate::tire_mesh::{TireGeometry, TireMesh};
-use crate::AttachTarget;
 
 /// How the bead rings hold to the rim.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
@@ -44,7 +44,12 @@ pub struct InflatedTire {
 impl InflatedTire {
     /// Inflate `tire` to the gauge pressure `pressure` (Pa, `> 0`) with its beads held as
     /// `mount` holds them, in `load_steps` load steps. Errors name the field.
-    pub fn new(tire: &TireMesh, pressure: f64, mount: BeadMount, load_steps: usize) -> Result<Self> {
+    pub fn new(
+        tire: &TireMesh,
+        pressure: f64,
+        mount: BeadMount,
+        load_steps: usize,
+    ) -> Result<Self> {
         positive("pressure", pressure)?;
         let mut mesh = tire.mesh.clone();
         mesh.set_pressure(pressure)?;

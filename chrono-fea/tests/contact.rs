@@ -3,12 +3,13 @@
 //! Coulomb's law says, and a bad contact radius is an error naming the field.
 
 use chrono_ccp::{Apgd, SolverSettings};
+use chrono_core::math::GRAVITY_MAGNITUDE;
 use chrono_core::math::Isometry3;
 use chrono_core::{ContactMaterial, RigidBodyBuilder, Shape, System, SystemSettings};
 use chrono_fea::{BeamMaterial, CableItem, CableMesh, CableQuadrature, FeaError};
 use nalgebra::Vector3;
 
-const G: f64 = 9.81;
+const G: f64 = GRAVITY_MAGNITUDE;
 
 fn system() -> System {
     let settings = SystemSettings {

@@ -3,6 +3,7 @@
 //! with a rigid body through an attachment.
 
 use chrono_ccp::{Cg, SolverSettings};
+use chrono_core::math::GRAVITY_MAGNITUDE;
 use chrono_core::{RigidBodyBuilder, System, SystemSettings};
 use chrono_fea::{
     AttachTarget, BeamMaterial, CableItem, CableMesh, CableQuadrature, NodeId, StaticSettings,
@@ -85,7 +86,7 @@ fn cantilever_free_vibration_matches_the_modal_frequency() {
 /// its static solution under gravity and stays there; the attachment carries its weight.
 #[test]
 fn hanging_cable_stays_at_the_static_solution() {
-    let g = Vector3::new(0.0, 0.0, -9.81);
+    let g = Vector3::new(0.0, 0.0, -GRAVITY_MAGNITUDE);
     let build = || {
         CableMesh::straight(
             Vector3::zeros(),
@@ -109,7 +110,7 @@ fn hanging_cable_stays_at_the_static_solution() {
     let mut item = CableItem::new("hanging", mesh).unwrap();
     item.attach(NodeId(0), AttachTarget::Point(Vector3::zeros()))
         .unwrap();
-    let weight = item.mesh().total_mass() * 9.81;
+    let weight = item.mesh().total_mass() * GRAVITY_MAGNITUDE;
     let mut sys = system(g);
     let idx = sys.add_item(Box::new(item));
     for _ in 0..200 {

@@ -1,6 +1,7 @@
 //! Tests of the ANCF cable element, the mesh assembly, the static solver and the modal
 //! analysis against exact and analytic solutions.
 
+use chrono_core::math::GRAVITY_MAGNITUDE;
 use chrono_fea::analytic::{
     cantilever_first_frequency, cantilever_tip_deflection, elastica_tip_load,
 };
@@ -186,7 +187,7 @@ fn consistent_mass_and_gravity_integrate_to_the_total() {
         assert!((mass - total).abs() < 1e-14 * total, "{mass} vs {total}");
     }
     assert!((m - m.transpose()).amax() < 1e-15 * m.amax());
-    let g = Vector3::new(0.0, 0.0, -9.81);
+    let g = Vector3::new(0.0, 0.0, -GRAVITY_MAGNITUDE);
     let qg = el.gravity_force(&g);
     assert!((qg[2] + qg[8] - total * g.z).abs() < 1e-12 * total);
     // the gravity force is M applied to the rigid "acceleration" [g, 0, g, 0]

@@ -4,6 +4,7 @@
 //! rigid body, a plate resting on the ground through its node spheres.
 
 use chrono_ccp::{Apgd, Cg, SolverSettings};
+use chrono_core::math::GRAVITY_MAGNITUDE;
 use chrono_core::math::{Isometry3, UnitQuaternion};
 use chrono_core::{ContactMaterial, RigidBodyBuilder, Shape, System, SystemSettings};
 use chrono_fea::{
@@ -38,7 +39,7 @@ fn steel() -> ShellMaterial {
 fn free_plate_falls_at_the_free_fall_acceleration() {
     let mesh = ShellMesh::plate(0.4, 0.2, 4, 2, 0.01, steel()).unwrap();
     let mass = mesh.total_mass();
-    let g = Vector3::new(0.0, 0.0, -9.81);
+    let g = Vector3::new(0.0, 0.0, -GRAVITY_MAGNITUDE);
     let mut sys = system(g);
     let idx = sys.add_item(Box::new(ShellItem::new("plate", mesh).unwrap()));
     let (h, n) = (1e-3, 200);
@@ -47,7 +48,7 @@ fn free_plate_falls_at_the_free_fall_acceleration() {
     }
     let item = sys.item::<ShellItem>(idx).unwrap();
     let t = h * n as f64;
-    let drop = 9.81 * h * h * (n * (n + 1)) as f64 / 2.0;
+    let drop = GRAVITY_MAGNITUDE * h * h * (n * (n + 1)) as f64 / 2.0;
     for (k, node) in item.mesh().nodes().iter().enumerate() {
         let (v, dd) = item.node_velocity(NodeId(k)).unwrap();
         assert!((v - g * t).norm() < 1e-10, "node {k}: {v:?}");
@@ -56,7 +57,10 @@ fn free_plate_falls_at_the_free_fall_acceleration() {
         assert!((dz + drop).abs() < 1e-10, "node {k}: {dz} vs {}", -drop);
     }
     let p = item.linear_momentum();
-    assert!((p - mass * g * t).norm() < 1e-9 * mass * 9.81 * t, "{p:?}");
+    assert!(
+        (p - mass * g * t).norm() < 1e-9 * mass * GRAVITY_MAGNITUDE * t,
+        "{p:?}"
+    );
 }
 
 /// The octant of a closed sphere (symmetry planes) under internal follower pressure:
@@ -169,9 +173,9 @@ fn plate_hangs_from_a_rigid_body_by_attachment_rows() {
         m,
     )
     .unwrap();
-    let weight = mesh.total_mass() * 9.81;
+    let weight = mesh.total_mass() * GRAVITY_MAGNITUDE;
     let top: Vec<NodeId> = (0..=nx).map(|i| ShellMesh::grid_node(nx, i, 0)).collect();
-    let g = Vector3::new(0.0, 0.0, -9.81);
+    let g = Vector3::new(0.0, 0.0, -GRAVITY_MAGNITUDE);
     let mut reference = mesh.clone();
     for &n in &top {
         reference.fix_position(n).unwrap();
@@ -229,7 +233,7 @@ fn plate_hangs_from_a_rigid_body_by_attachment_rows() {
 #[test]
 fn dropped_plate_rests_on_the_ground() {
     let settings = SystemSettings {
-        gravity: Vector3::new(0.0, 0.0, -9.81),
+        gravity: Vector3::new(0.0, 0.0, -GRAVITY_MAGNITUDE),
         ..SystemSettings::default()
     };
     let solver = Apgd::new(SolverSettings {
@@ -254,7 +258,7 @@ fn dropped_plate_rests_on_the_ground() {
         q[6 * k + 2] += 0.5 * t + 0.01;
     }
     mesh.set_coordinates(&q).unwrap();
-    let weight = mesh.total_mass() * 9.81;
+    let weight = mesh.total_mass() * GRAVITY_MAGNITUDE;
     let mut item = ShellItem::new("plate", mesh).unwrap();
     item.set_damping(1e-3).unwrap();
     let e = item
@@ -299,7 +303,7 @@ fn strip_clamped_by_director_rows_matches_the_supported_static_solution() {
     let (l, w, t, n) = (1.0, 0.1, 0.01, 8);
     let mesh = ShellMesh::plate(l, w, n, 1, t, steel()).unwrap();
     let root: Vec<NodeId> = (0..2).map(|j| ShellMesh::grid_node(n, 0, j)).collect();
-    let g = Vector3::new(0.0, 0.0, -9.81);
+    let g = Vector3::new(0.0, 0.0, -GRAVITY_MAGNITUDE);
     let mut reference = mesh.clone();
     for &r in &root {
         reference.fix_node(r).unwrap();

@@ -4,6 +4,7 @@
 //! resting on the ground through its surface-node contact spheres.
 
 use chrono_ccp::{Apgd, Cg, SolverSettings};
+use chrono_core::math::GRAVITY_MAGNITUDE;
 use chrono_core::math::Isometry3;
 use chrono_core::{ContactMaterial, RigidBodyBuilder, Shape, System, SystemSettings};
 use chrono_fea::{
@@ -158,7 +159,7 @@ fn damped_block_settles_at_the_static_solution() {
     for &n in &b.faces.z_max {
         mesh.fix_node(n).unwrap();
     }
-    let g = Vector3::new(0.0, 0.0, -9.81);
+    let g = Vector3::new(0.0, 0.0, -GRAVITY_MAGNITUDE);
     let mut reference = mesh.clone();
     reference.set_gravity(g).unwrap();
     solve_static(&mut reference, &StaticSettings::default()).unwrap();
@@ -194,8 +195,8 @@ fn block_hangs_from_attachment_rows() {
     )
     .unwrap();
     let mesh = b.into_mesh(m).unwrap();
-    let g = Vector3::new(0.0, 0.0, -9.81);
-    let weight = mesh.total_mass() * 9.81;
+    let g = Vector3::new(0.0, 0.0, -GRAVITY_MAGNITUDE);
+    let weight = mesh.total_mass() * GRAVITY_MAGNITUDE;
     let mut reference = mesh.clone();
     for &n in &b.faces.z_max {
         reference.fix_node(n).unwrap();
@@ -246,7 +247,7 @@ fn block_hangs_from_attachment_rows() {
 #[test]
 fn dropped_block_rests_on_the_ground() {
     let settings = SystemSettings {
-        gravity: Vector3::new(0.0, 0.0, -9.81),
+        gravity: Vector3::new(0.0, 0.0, -GRAVITY_MAGNITUDE),
         ..SystemSettings::default()
     };
     let solver = Apgd::new(SolverSettings {
@@ -273,7 +274,7 @@ fn dropped_block_rests_on_the_ground() {
     )
     .unwrap();
     let mesh = b.into_mesh(m).unwrap();
-    let weight = mesh.total_mass() * 9.81;
+    let weight = mesh.total_mass() * GRAVITY_MAGNITUDE;
     let mut item = TetItem::new("block", mesh).unwrap();
     assert_eq!(item.surface_nodes().len(), item.mesh().nodes().len());
     let e = item

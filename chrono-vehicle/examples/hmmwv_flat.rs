@@ -32,7 +32,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             let s = scene.vehicle.state(&scene.sys)?;
             let (x, y) = (s.position.x, s.position.y);
             let v = s.forward_speed();
-            println!("t = {:.1} s  speed = {v:.2} m/s  x = {x:.2} m  y = {y:.3} m", s.time);
+            println!(
+                "t = {:.1} s  speed = {v:.2} m/s  x = {x:.2} m  y = {y:.3} m",
+                s.time
+            );
         }
     }
     Ok(())

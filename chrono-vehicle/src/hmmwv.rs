@@ -90,7 +90,11 @@ pub fn hmmwv_data_variant(tire: TireKind, powertrain: PowertrainKind) -> Result<
 /// applied: its powertrain, its conical (differential plus hub) ratio on both axles and its
 /// chassis drag replace the data's, and its sources are added. The result is validated;
 /// an error names the field (its path in the overlay for a parse error).
-pub fn with_powertrain_overlay(mut data: VehicleData, text: &str, path: &str) -> Result<VehicleData> {
+pub fn with_powertrain_overlay(
+    mut data: VehicleData,
+    text: &str,
+    path: &str,
+) -> Result<VehicleData> {
     let o: PowertrainOverlay = crate::json_path::parse(text, path)?;
     data.powertrain = o.powertrain;
     data.driveline.front_conical_ratio = o.conical_ratio;

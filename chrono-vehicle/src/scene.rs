@@ -55,8 +55,12 @@ impl FlatScene {
         let terrain = Arc::new(FlatTerrain::new(0.0, mu)?);
         terrain.add_to_system(&mut sys, ContactMaterial::with_friction(mu))?;
         let z0 = start_height(&data, 0.0, START_CLEARANCE);
-        let vehicle =
-            WheeledVehicle::build(&mut sys, &data, &Isometry3::translation(0.0, 0.0, z0), terrain)?;
+        let vehicle = WheeledVehicle::build(
+            &mut sys,
+            &data,
+            &Isometry3::translation(0.0, 0.0, z0),
+            terrain,
+        )?;
         Ok(Self { sys, vehicle, data })
     }
 
@@ -124,7 +128,11 @@ pub fn max_front_steer(data: VehicleData, mu: f64, solver: Box<dyn CcpSolver>) -
 
 /// The mean surface speed of the wheels `omega_y R` (m/s) about the (level) axle axis,
 /// tire radius `radius` (m): the speed a wheel would roll at without slip.
-pub fn mean_wheel_surface_speed(sys: &System, vehicle: &WheeledVehicle, radius: f64) -> Result<f64> {
+pub fn mean_wheel_surface_speed(
+    sys: &System,
+    vehicle: &WheeledVehicle,
+    radius: f64,
+) -> Result<f64> {
     let mut wr = 0.0;
     for w in vehicle.wheels() {
         wr += sys.body(w.spindle)?.angular_velocity().y * radius;

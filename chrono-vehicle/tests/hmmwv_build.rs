@@ -2,6 +2,7 @@
 //! tires, and steers with the Pitman arm.
 
 use chrono_ccp::{Schur, SolverSettings};
+use chrono_core::math::GRAVITY_MAGNITUDE;
 use chrono_core::math::{Isometry3, Vector3};
 use std::sync::Arc;
 
@@ -68,7 +69,7 @@ fn settles_with_solver(kind: TireKind, max_dense_rows: usize) {
     assert!(sys.max_joint_violation() < 1e-6);
     let forces = v.tire_forces(&sys, H);
     let total: f64 = forces.iter().map(|f| f.z).sum();
-    let weight = data.total_mass() * 9.81;
+    let weight = data.total_mass() * GRAVITY_MAGNITUDE;
     assert!(
         (total - weight).abs() < 5e-3 * weight,
         "{kind:?}: tire loads {total} N vs weight {weight} N"

@@ -142,7 +142,12 @@ fn build(data: &VehicleData) -> Result<(), VehicleError> {
     let mut sys = System::new(SystemSettings::default(), Box::new(solver))?;
     let terrain = Arc::new(FlatTerrain::new(0.0, 0.9)?);
     terrain.add_to_system(&mut sys, ContactMaterial::with_friction(0.9))?;
-    WheeledVehicle::build(&mut sys, data, &Isometry3::translation(0.0, 0.0, 0.5), terrain)?;
+    WheeledVehicle::build(
+        &mut sys,
+        data,
+        &Isometry3::translation(0.0, 0.0, 0.5),
+        terrain,
+    )?;
     Ok(())
 }
 

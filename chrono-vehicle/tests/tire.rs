@@ -1,5 +1,6 @@
 //! Tests of the TMeasy tire and the rigid tire in real systems (APGD solver).
 
+use chrono_core::math::GRAVITY_MAGNITUDE;
 use std::sync::Arc;
 
 use chrono_ccp::{Apgd, SolverSettings};
@@ -11,7 +12,7 @@ use chrono_vehicle::terrain::{FlatTerrain, HeightmapTerrain, Terrain};
 use chrono_vehicle::tire::{RigidTire, TMeasyParams, TMeasyTire, Tire, TireOutput};
 
 const H: f64 = 1e-3;
-const G: f64 = 9.81;
+const G: f64 = GRAVITY_MAGNITUDE;
 
 fn system() -> System {
     let s = SolverSettings {

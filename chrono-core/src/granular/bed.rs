@@ -15,11 +15,11 @@
 use nalgebra::Vector3;
 
 use super::fill::{Grain, LatticeFill, Region};
-use crate::rng::Rng;
 use super::{add_grains, step_size};
 use crate::body::BodyHandle;
 use crate::error::{ChronoError, Result, check_non_negative, check_positive};
 use crate::material::{ContactFriction, ContactMaterial};
+use crate::rng::Rng;
 use crate::system::System;
 
 /// The default salt of the kick's random stream (the 64-bit golden ratio).

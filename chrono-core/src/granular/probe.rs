@@ -212,10 +212,9 @@ pub fn uniaxial_overlap_strain(sys: &System, structure: &[BodyHandle]) -> Result
             return Ok(());
         }
         let position = |o: u32| {
-            bodies
-                .get(o as usize)
-                .map(|b| b.position())
-                .ok_or_else(|| ChronoError::invalid("contact owner", o, "is not a body of the system"))
+            bodies.get(o as usize).map(|b| b.position()).ok_or_else(|| {
+                ChronoError::invalid("contact owner", o, "is not a body of the system")
+            })
         };
         let (xa, xb) = (position(a)?, position(b)?);
         let l = (xb - xa).norm() + delta;
@@ -336,4 +335,3 @@ mod tests {
         assert!(line_fit(&pts[..1]).is_none());
     }
 }
-

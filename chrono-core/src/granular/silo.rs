@@ -13,10 +13,10 @@ use nalgebra::{Isometry3, UnitQuaternion, Vector3};
 use super::add_cylinder_wall;
 use super::bed::Bed;
 use super::fill::Region;
-use crate::rng::Rng;
 use crate::body::{BodyHandle, RigidBodyBuilder};
 use crate::error::{ChronoError, Result, check_positive};
 use crate::material::ContactMaterial;
+use crate::rng::Rng;
 use crate::shape::Shape;
 use crate::system::System;
 

@@ -2,6 +2,7 @@
 //! checks of force and tangent, rigid motions, rank, mass, bad input.
 
 use super::*;
+use chrono_core::math::GRAVITY_MAGNITUDE;
 use nalgebra::{Rotation3, Unit};
 
 fn section() -> BeamSection {
@@ -175,13 +176,13 @@ fn mass_of_a_rigid_translation_and_gravity() {
     let mass = s.density * s.area * el.length();
     let ke = 0.5 * vt.dot(&(m * vt));
     assert!((ke / (0.5 * mass * v.norm_squared()) - 1.0).abs() < 1e-5);
-    let g = Vector3::new(0.0, 0.0, -9.81);
+    let g = Vector3::new(0.0, 0.0, -GRAVITY_MAGNITUDE);
     let qg = el.gravity_force(&g);
     let total: Vector3<f64> = (0..8)
         .step_by(4)
         .map(|i| Vector3::new(qg[3 * i], qg[3 * i + 1], qg[3 * i + 2]))
         .sum();
-    assert!((total - mass * g).norm() < 1e-5 * mass * 9.81);
+    assert!((total - mass * g).norm() < 1e-5 * mass * GRAVITY_MAGNITUDE);
     assert!((el.mass() / mass - 1.0).abs() < 1e-5);
 }
 

@@ -292,12 +292,7 @@ impl IsoDoubleLaneChange {
             ));
         }
         let path = self.path(0.0, lead_out, spacing)?;
-        Path::new(
-            path.points()
-                .iter()
-                .map(|q| [q.x + lead_in, q.y])
-                .collect(),
-        )
+        Path::new(path.points().iter().map(|q| [q.x + lead_in, q.y]).collect())
     }
 
     /// Where the [`course`](Self::course) with `lead_in` and `lead_out` ends, `x` in m.

@@ -5,6 +5,7 @@
 //! the load interpolation below are the published formulas of that paper and of G. Rill,
 //! "Road Vehicle Dynamics", CRC Press 2011, ch. 3).
 
+use chrono_core::math::GRAVITY_MAGNITUDE;
 use serde::{Deserialize, Serialize};
 
 use crate::error::{Result, VehicleError, check_non_negative, check_positive};
@@ -296,7 +297,7 @@ impl TMeasyParams {
         let section_height = 0.5 * (size.outer_diameter_in - size.rim_diameter_in) * IN;
         let fzn = 0.5 * rated_load;
         let cz = rated_load / (0.12 * section_height);
-        let dz = 0.2 * (cz * rated_load / 9.81).sqrt();
+        let dz = 0.2 * (cz * rated_load / GRAVITY_MAGNITUDE).sqrt();
         let two = |a: f64, b: f64| [a * fzn, b * 2.0 * fzn];
         let longitudinal = SlipCurve {
             df0: two(30.0, 28.0),

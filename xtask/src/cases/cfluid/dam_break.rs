@@ -17,7 +17,7 @@
 //! and their `.pvd` collection.
 
 use chrono_cfluid::{CfluidSettings, ConstraintFluid};
-use chrono_core::math::GRAVITY;
+use chrono_core::math::GRAVITY_MAGNITUDE;
 use serde::{Deserialize, Serialize};
 
 use super::{left_tank, tank_scene};
@@ -28,8 +28,8 @@ use crate::cases::sph::dam_break::{
 use crate::cases::sph::particle_frames;
 use crate::params::{CaseParams, ParamCase, ParamInfo};
 
-/// `|g|` of [`GRAVITY`] (its z component, read in a const context), m/s^2.
-const G: f64 = -GRAVITY.data.0[0][2];
+/// `g` = [`GRAVITY_MAGNITUDE`], m/s^2.
+const G: f64 = GRAVITY_MAGNITUDE;
 
 /// Parameters of `cfluid-dam-break`.
 #[derive(Clone, Debug, Serialize, Deserialize)]

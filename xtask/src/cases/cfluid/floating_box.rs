@@ -51,7 +51,7 @@ use chrono_cfluid::floating_box::{
     surface_layer_density, volume_level,
 };
 use chrono_cfluid::{CfluidSettings, SurfaceMode};
-use chrono_core::math::GRAVITY;
+use chrono_core::math::GRAVITY_MAGNITUDE;
 #[cfg(doc)]
 use chrono_core::particles::lattice::slab_layers;
 use serde::{Deserialize, Serialize};
@@ -60,8 +60,8 @@ use super::solver_by_name;
 use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series};
 use crate::params::{CaseParams, ParamCase, ParamInfo};
 
-/// `|g|` of [`GRAVITY`] (its z component, read in a const context), m/s^2.
-const G: f64 = -GRAVITY.data.0[0][2];
+/// `g` = [`GRAVITY_MAGNITUDE`], m/s^2.
+const G: f64 = GRAVITY_MAGNITUDE;
 /// Draft acceptance: relative error against Archimedes.
 pub const DRAFT_TOLERANCE: f64 = 0.03;
 /// Drift acceptance, as a fraction of the box width.

@@ -22,7 +22,7 @@
 //! at each frequency (default 0.6 and 1.5 `omega_1`, away from resonance), no particle
 //! left the tank. Reported: the phase, the free mode, wall time, iterations.
 
-use chrono_core::math::GRAVITY;
+use chrono_core::math::GRAVITY_MAGNITUDE;
 use std::time::Instant;
 
 use chrono_cfluid::CfluidSettings;
@@ -36,8 +36,8 @@ use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series};
 use crate::cases::sph::sloshing::{MODES, fit};
 use crate::params::{CaseParams, ParamCase, ParamInfo};
 
-/// `|g|` of [`GRAVITY`] (its z component, read in a const context), m/s^2.
-const G: f64 = -GRAVITY.data.0[0][2];
+/// `g` = [`GRAVITY_MAGNITUDE`], m/s^2.
+const G: f64 = GRAVITY_MAGNITUDE;
 
 /// Parameters of `cfluid-sloshing` (the names of `sph-sloshing`).
 #[derive(Clone, Debug, Serialize, Deserialize)]

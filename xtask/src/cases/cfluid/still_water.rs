@@ -57,7 +57,7 @@
 use std::time::Instant;
 
 use chrono_cfluid::{CfluidSettings, ConstraintFluid};
-use chrono_core::math::{GRAVITY, Isometry3, Vector3};
+use chrono_core::math::{GRAVITY_MAGNITUDE, Isometry3, Vector3};
 use chrono_core::{ContactMaterial, RigidBodyBuilder, Shape, System};
 use serde::{Deserialize, Serialize};
 
@@ -66,8 +66,8 @@ use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series};
 use crate::cases::sph::particle_frames;
 use crate::params::{CaseParams, ParamCase, ParamInfo};
 
-/// `|g|` of [`GRAVITY`] (its z component, read in a const context), m/s^2.
-const G: f64 = -GRAVITY.data.0[0][2];
+/// `g` = [`GRAVITY_MAGNITUDE`], m/s^2.
+const G: f64 = GRAVITY_MAGNITUDE;
 
 /// Speed acceptance as a fraction of `sqrt(g H)` (as `sph-hydrostatic`).
 pub const SPEED_FRACTION: f64 = 0.01;

@@ -53,7 +53,7 @@
 //! `sound_speed_wcsph`, the compressions of the accepted runs (checked at or below the
 //! target), `avg_iterations_cfluid`, the steps of each.
 
-use chrono_core::math::GRAVITY;
+use chrono_core::math::GRAVITY_MAGNITUDE;
 use std::time::Instant;
 
 use chrono_cfluid::CfluidSettings;
@@ -68,8 +68,8 @@ use crate::cases::sph::dam_break::{
 };
 use crate::params::{CaseParams, ParamCase, ParamInfo};
 
-/// `|g|` of [`GRAVITY`] (its z component, read in a const context), m/s^2.
-const G: f64 = -GRAVITY.data.0[0][2];
+/// `g` = [`GRAVITY_MAGNITUDE`], m/s^2.
+const G: f64 = GRAVITY_MAGNITUDE;
 
 /// Parameters of `cfluid-timestep`.
 #[derive(Clone, Debug, Serialize, Deserialize)]

@@ -24,9 +24,9 @@ use chrono_fea::{NodeId, StaticModel, StaticSettings, solve_static};
 use serde::{Deserialize, Serialize};
 
 use super::Element;
-use chrono_fea::{beam_cantilever, cable_cantilever};
 use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series, SweepPoint};
 use crate::params::{CaseParams, ParamCase, ParamInfo};
+use chrono_fea::{beam_cantilever, cable_cantilever};
 
 /// Parameters of `fea-cantilever`.
 #[derive(Clone, Debug, Serialize, Deserialize)]

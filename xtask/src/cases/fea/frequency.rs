@@ -9,9 +9,9 @@ use chrono_fea::natural_frequencies;
 use serde::{Deserialize, Serialize};
 
 use super::{Element, check_cable_only};
-use chrono_fea::cable_cantilever;
 use crate::case::{Case, CaseOutput, Check, PlotSpec, RunContext, Series, SweepPoint};
 use crate::params::{CaseParams, ParamCase, ParamInfo};
+use chrono_fea::cable_cantilever;
 
 /// Parameters of `fea-cantilever-frequency`.
 #[derive(Clone, Debug, Serialize, Deserialize)]

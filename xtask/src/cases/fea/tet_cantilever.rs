@@ -137,8 +137,7 @@ fn solve(
         [along, n, n],
         split,
     )?;
-    let material =
-        SolidMaterial::new(p.young, p.poisson, 7850.0, 0.0)?.with_model(p.model);
+    let material = SolidMaterial::new(p.young, p.poisson, 7850.0, 0.0)?.with_model(p.model);
     let mut mesh = b.into_mesh(material)?;
     for &node in &b.faces.x_min {
         mesh.fix_node(node)?;
@@ -197,8 +196,7 @@ fn run(p: &TetCantileverParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> 
             "parameter `{name}` must be > 0, got {v}"
         );
     }
-    let material =
-        SolidMaterial::new(p.young, p.poisson, 7850.0, 0.0)?.with_model(p.model);
+    let material = SolidMaterial::new(p.young, p.poisson, 7850.0, 0.0)?.with_model(p.model);
     let area = p.width * p.height;
     let ei = p.young * p.width * p.height.powi(3) / 12.0;
     let kga = rectangle_shear_coefficient(p.poisson) * material.shear_modulus() * area;

@@ -146,8 +146,7 @@ fn run(p: &TetPatchParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         "parameter `gradient`: det(I + H) = {} must be > 0",
         f.determinant()
     );
-    let material =
-        SolidMaterial::new(p.young, p.poisson, 1000.0, 0.0)?.with_model(p.model);
+    let material = SolidMaterial::new(p.young, p.poisson, 1000.0, 0.0)?.with_model(p.model);
     let n = p.divisions;
     let mut b = BoxMesh::new(Vector3::zeros(), Vector3::repeat(p.size), [n, n, n], split)?;
     let cell = p.size / n as f64;

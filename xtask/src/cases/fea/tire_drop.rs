@@ -56,10 +56,10 @@
 //!   run with an error naming the item, the step and the quantity.
 
 use chrono_ccp::{Schur, SolverSettings};
-use chrono_core::math::{Isometry3, Vector3};
-use chrono_core::{ContactMaterial, RigidBodyBuilder, Shape, System, SystemSettings};
 use chrono_core::io::{Every, FrameSeries};
 use chrono_core::math::GRAVITY;
+use chrono_core::math::{Isometry3, Vector3};
+use chrono_core::{ContactMaterial, RigidBodyBuilder, Shape, System, SystemSettings};
 use chrono_fea::{
     BeadMount, InflatedTire, NodeId, ShellItem, ShellMaterial, TireGeometry, TireMesh, mount_on_rim,
 };

@@ -17,7 +17,7 @@
 //! each wall marker), and the shares of the step in neighbour search, density work
 //! (continuity, equation of state, wall extrapolation), forces and integration.
 
-use chrono_core::math::GRAVITY;
+use chrono_core::math::GRAVITY_MAGNITUDE;
 use std::time::Instant;
 
 use chrono_sph::{SphBuilder, SphSettings, SphSystem};
@@ -27,8 +27,8 @@ use crate::case::{Case, CaseOutput, Mode, RunContext};
 use crate::params::{CaseParams, ParamCase, ParamInfo};
 use chrono_core::particles::lattice::wall_layers;
 
-/// `|g|` of [`GRAVITY`] (its z component, read in a const context), m/s^2.
-const G: f64 = -GRAVITY.data.0[0][2];
+/// `g` = [`GRAVITY_MAGNITUDE`], m/s^2.
+const G: f64 = GRAVITY_MAGNITUDE;
 
 /// Parameters of the `sph-dam-break` bench.
 #[derive(Clone, Debug, Serialize, Deserialize)]

@@ -46,7 +46,7 @@
 
 use std::time::Instant;
 
-use chrono_core::math::GRAVITY;
+use chrono_core::math::GRAVITY_MAGNITUDE;
 use chrono_core::particles::lattice::SlabTank;
 use chrono_sph::{NoSlip, SphSettings, SphSystem};
 use serde::{Deserialize, Serialize};
@@ -62,8 +62,8 @@ pub const FRONT_MIN_NEIGHBOURS: usize = 3;
 /// The tolerance of `front_error` (RMS of `Z = x / a`).
 pub const FRONT_TOLERANCE: f64 = 0.15;
 
-/// `|g|` of [`GRAVITY`] (its z component, read in a const context), m/s^2.
-const G: f64 = -GRAVITY.data.0[0][2];
+/// `g` = [`GRAVITY_MAGNITUDE`], m/s^2.
+const G: f64 = GRAVITY_MAGNITUDE;
 
 /// Parameters of `sph-dam-break` (defaults: Martin and Moyce's square column).
 #[derive(Clone, Debug, Serialize, Deserialize)]

@@ -13,7 +13,7 @@
 
 use std::time::Instant;
 
-use chrono_core::math::GRAVITY;
+use chrono_core::math::GRAVITY_MAGNITUDE;
 use chrono_core::particles::KernelKind;
 use chrono_core::particles::lattice::SlabTank;
 use chrono_sph::{SphSettings, SphSystem};
@@ -23,8 +23,8 @@ use super::{convergence_order, particle_frames, rel_l2, sweep_point, sweep_spaci
 use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series};
 use crate::params::{CaseParams, ParamCase, ParamInfo};
 
-/// `|g|` of [`GRAVITY`] (its z component, read in a const context), m/s^2.
-const G: f64 = -GRAVITY.data.0[0][2];
+/// `g` = [`GRAVITY_MAGNITUDE`], m/s^2.
+const G: f64 = GRAVITY_MAGNITUDE;
 
 /// Parameters of `sph-hydrostatic`.
 #[derive(Clone, Debug, Serialize, Deserialize)]

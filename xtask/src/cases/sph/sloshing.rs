@@ -41,7 +41,7 @@
 
 use std::time::Instant;
 
-use chrono_core::math::GRAVITY;
+use chrono_core::math::GRAVITY_MAGNITUDE;
 use chrono_core::particles::lattice::SlabTank;
 use chrono_sph::analytic::{sloshing_force_ratio, sloshing_mode};
 use chrono_sph::{SphSettings, SphSystem};
@@ -52,8 +52,8 @@ use super::{convergence_order, particle_frames, sweep_point, sweep_spacings};
 use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series};
 use crate::params::{CaseParams, ParamCase, ParamInfo};
 
-/// `|g|` of [`GRAVITY`] (its z component, read in a const context), m/s^2.
-const G: f64 = -GRAVITY.data.0[0][2];
+/// `g` = [`GRAVITY_MAGNITUDE`], m/s^2.
+const G: f64 = GRAVITY_MAGNITUDE;
 
 /// Terms of the modal sum of the reference formula (converged to < 1e-6 at 200).
 pub(crate) const MODES: usize = 200;

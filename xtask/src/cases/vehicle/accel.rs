@@ -27,12 +27,12 @@ use std::time::Instant;
 
 use serde::{Deserialize, Serialize};
 
-use chrono_vehicle::hmmwv::{PowertrainKind, TireKind};
-use chrono_vehicle::scene::FlatScene;
 use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series};
 use crate::cases::rigid::{VtkFrames, n_steps};
 use crate::params::{CaseParams, ParamCase, ParamInfo};
 use chrono_vehicle::DriverInputs;
+use chrono_vehicle::hmmwv::{PowertrainKind, TireKind};
+use chrono_vehicle::scene::FlatScene;
 
 /// Parameters of `hmmwv-accel`.
 #[derive(Clone, Debug, Serialize, Deserialize)]
