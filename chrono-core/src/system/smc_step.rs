@@ -64,7 +64,7 @@ impl SmcState {
                 })
             })
             .collect();
-        history.sort_by(|a, b| (a.key, a.index).cmp(&(b.key, b.index)));
+        history.sort_by_key(|e| (e.key, e.index));
         *self = Self {
             history,
             timing: self.timing,
