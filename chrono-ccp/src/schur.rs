@@ -18,7 +18,7 @@
 //!
 //! `N_BB` is sparse (a joint row couples the rows of the bodies it touches) and is
 //! factored by faer's sparse Cholesky with the symbolic analysis kept across steps
-//! ([`crate::sparse_bilateral`]).
+//! (the crate-internal `sparse_bilateral` module).
 //!
 //! `S` is the inverse effective mass seen by the contacts *through* the joints (a wheel
 //! feels the chassis behind its suspension), so the iterative part converges as fast as for
@@ -104,7 +104,7 @@ impl Schur {
 
     /// The largest number of non-bilateral rows whose Schur complement is formed densely
     /// (default 1500). Beyond it (a vehicle on granular terrain: thousands of contacts) the
-    /// complement is applied matrix-free ([`implicit`](Self::implicit)).
+    /// complement is applied matrix-free (the private `implicit` path).
     pub fn with_max_dense_rows(mut self, n: usize) -> Self {
         self.max_dense_rows = n;
         self

@@ -2,7 +2,7 @@
 //!
 //! The foundation of chrono-rs: math, the *descriptor* (variables with mass operators and
 //! constraint rows, assembled into one cone complementarity problem), rigid bodies, joints,
-//! collision through parry, contact, the [`System`](system::System) with its NSC time
+//! collision through parry, contact, the [`System`] with its NSC time
 //! stepper, and io (CSV, VTK).
 //!
 //! The method is the one of Anitescu and Tasora (M. Anitescu, "Optimization-based simulation

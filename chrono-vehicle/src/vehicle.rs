@@ -202,7 +202,7 @@ impl WheeledVehicle {
     /// Build the vehicle into `sys` with its chassis reference frame at `pose` (world). A
     /// handling tire reads the ground from `terrain`; a rigid tire contacts whatever
     /// colliders the system holds (add the terrain's with
-    /// [`Terrain::add_to_system`](crate::terrain::Terrain::add_to_system)).
+    /// [`Terrain::add_to_system`]).
     pub fn build(
         sys: &mut System,
         data: &VehicleData,

@@ -1,7 +1,7 @@
 //! NSC contact rows and their warm-start cache.
 //!
 //! For a contact between A and B with unit normal `n` (from A to B), gap `Phi` and tangents
-//! `u, w` ([`tangent_frame`](crate::math::tangent_frame)), the three rows are the relative
+//! `u, w` ([`tangent_frame`]), the three rows are the relative
 //! velocity of B's contact point with respect to A's along `n, u, w`, so `g_n >= 0` pushes
 //! the bodies apart. The normal row's right-hand side is the stabilization term of the
 //! seed, `b_n = max(Phi / h, -v_rec)`: a gap inside the collision envelope lets the bodies

@@ -29,7 +29,7 @@
 //! A spring with history (Mindlin's no-slip stiffness for Hertz, R. D. Mindlin, J. Appl.
 //! Mech. 16, 1949; S. Luding, Granular Matter 10, 2008 for the projection and reset):
 //! the tangential displacement `xi` is stored per persistent contact
-//! ([`ContactKey`](crate::collision::ContactKey)), rotated into the current tangent plane
+//! ([`ContactKey`]), rotated into the current tangent plane
 //! (magnitude kept), and advanced by `v_t h`. `F_t = -k_t xi - c_t v_t`, capped by Coulomb
 //! `|F_t| <= mu F_n`; when capped, `xi = -F_t / k_t` (no spring wind-up).
 //! `k_t = 8 G* sqrt(R delta)` (Hertz–Mindlin) or `k_t = 2/7 k` (Hooke; equal normal and

@@ -109,7 +109,7 @@ pub struct GroupData {
 /// [`to_problem`](Self::to_problem); [`save`](Self::save) / [`load`](Self::load) do the IO.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ProblemFile {
-    /// [`FORMAT_TAG`].
+    /// The format tag, `chrono-rs ccp problem v1` (checked on load).
     pub format: String,
     /// Free text: where the problem came from.
     pub description: String,

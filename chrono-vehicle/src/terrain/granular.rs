@@ -122,7 +122,7 @@ impl GranularPatchParams {
     }
 }
 
-/// A granular patch in a system (see the [module documentation](self)).
+/// A granular patch in a system (see the module documentation of `terrain::granular`).
 #[derive(Debug, Clone, PartialEq)]
 pub struct GranularPatch {
     params: GranularPatchParams,

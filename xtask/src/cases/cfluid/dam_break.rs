@@ -7,7 +7,7 @@
 //! the solver `tolerance`, `solver` and `max_iterations`. The front is found as in
 //! `sph-dam-break` (largest `x + dp/2` of the fluid particles within `2 dp` of the floor
 //! with at least [`FRONT_MIN_NEIGHBOURS`] fluid neighbours within `2 dp`), and
-//! `front_error` is the same RMS of `Z = x / a` against [`martin_moyce_n2_1`](crate::reference::martin_moyce_n2_1) for
+//! `front_error` is the same RMS of `Z = x / a` against [`martin_moyce_n2_1`] for
 //! `0 < T <= 3` (checked below [`FRONT_TOLERANCE`], square column only). Also:
 //! `max_compression_pct` (the worst `100 (rho_i / rho_0 - 1)` over the run, from the
 //! densities of the start of each step), `avg_iterations`, `left_tank` (checked 0).

@@ -5,7 +5,7 @@
 //! liquid columns on a rigid horizontal plane", Phil. Trans. R. Soc. Lond. A 244 (1952)
 //! 312-324, square column `n^2 = height / width = 1`, `a = 2.25 in = 57.15 mm`. The
 //! surge-front position `Z = x / a` against `T = t sqrt(2 g / a)` is embedded below as
-//! [`martin_moyce_n2_1`](crate::reference::martin_moyce_n2_1), the digits of
+//! [`martin_moyce_n2_1`], the digits of
 //! `data/reference/dambreak_martin_moyce_n2_1.csv` (from the lethe example `examples/multiphysics/dam-break/dam-break-2d.py`, cited there to
 //! Martin and Moyce; the `Z` values are the experiment's gauge positions). An alternative
 //! manual digitization (`dambreak_martin_moyce_n2_1_trixi_digitization.csv`,
@@ -34,7 +34,7 @@
 //! (`front_Z_at_T1`, `front_Z_at_T2`, `front_Z_at_T3`) without an experimental check.
 //! Always checked: no fluid left the tank (`left_tank = 0`). Informational metrics:
 //! `front_error_alt` (the same RMS against the alternative digitization
-//! [`martin_moyce_n2_1_alt`](crate::reference::martin_moyce_n2_1_alt); the spread of the two is the experimental uncertainty),
+//! [`martin_moyce_n2_1_alt`]; the spread of the two is the experimental uncertainty),
 //! `front_error_raw` (the front without the neighbour filter).
 //!
 //! Resolution: `--quick` `dp = a / 20`, default `a / 24`, `--full` `a / 36` plus a sweep
@@ -315,7 +315,7 @@ pub(crate) fn front_rms(samples: &[(f64, f64)]) -> f64 {
     rms_against(samples, martin_moyce_n2_1().iter().copied())
 }
 
-/// `front_error_alt`: RMS against [`martin_moyce_n2_1_alt`](crate::reference::martin_moyce_n2_1_alt) (time axis converted to `T`).
+/// `front_error_alt`: RMS against [`martin_moyce_n2_1_alt`] (time axis converted to `T`).
 fn front_rms_alt(samples: &[(f64, f64)]) -> f64 {
     let s2 = std::f64::consts::SQRT_2;
     rms_against(
