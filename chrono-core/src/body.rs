@@ -23,28 +23,7 @@ pub struct BodyHandle {
     generation: u32,
 }
 
-impl BodyHandle {
-    pub(crate) fn new(index: u32, generation: u32) -> Self {
-        Self { index, generation }
-    }
-
-    /// The slot index (not the position in [`System::bodies`](crate::System::bodies) once
-    /// bodies were removed).
-    pub fn index(self) -> u32 {
-        self.index
-    }
-
-    /// The generation of the slot when the handle was issued.
-    pub fn generation(self) -> u32 {
-        self.generation
-    }
-}
-
-impl std::fmt::Display for BodyHandle {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "body {}v{}", self.index, self.generation)
-    }
-}
+crate::slots::generational_handle!(BodyHandle, "body");
 
 /// How a body moves.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]

@@ -37,28 +37,7 @@ pub struct ItemHandle {
     generation: u32,
 }
 
-impl ItemHandle {
-    pub(crate) fn new(index: u32, generation: u32) -> Self {
-        Self { index, generation }
-    }
-
-    /// The slot index (not the position in [`System::items`](crate::System::items) once
-    /// items were removed).
-    pub fn index(self) -> u32 {
-        self.index
-    }
-
-    /// The generation of the slot when the handle was issued.
-    pub fn generation(self) -> u32 {
-        self.generation
-    }
-}
-
-impl std::fmt::Display for ItemHandle {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "item {}v{}", self.index, self.generation)
-    }
-}
+crate::slots::generational_handle!(ItemHandle, "item");
 
 /// A physics item of a domain crate, stepped inside the system's NSC step.
 ///

@@ -2,6 +2,36 @@
 //! the slot names a position in a dense array. Removal swap-removes from the dense array
 //! (O(1)) and bumps the slot's generation, so every older handle of that slot is stale.
 
+/// The accessors and `Display` (`"<label> <index>v<generation>"`) of a generational handle
+/// type with private `index` and `generation` fields (bodies, items).
+macro_rules! generational_handle {
+    ($ty:ident, $label:literal) => {
+        impl $ty {
+            pub(crate) fn new(index: u32, generation: u32) -> Self {
+                Self { index, generation }
+            }
+
+            /// The slot index (not the position in the system's dense array once
+            /// entries were removed).
+            pub fn index(self) -> u32 {
+                self.index
+            }
+
+            /// The generation of the slot when the handle was issued.
+            pub fn generation(self) -> u32 {
+                self.generation
+            }
+        }
+
+        impl std::fmt::Display for $ty {
+            fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+                write!(f, concat!($label, " {}v{}"), self.index, self.generation)
+            }
+        }
+    };
+}
+pub(crate) use generational_handle;
+
 /// One slot: its current generation and where its value sits in the dense array
 /// (`None` while the slot is free).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -24,7 +24,7 @@ use crate::tire::{TMeasyTire, Tire};
 
 /// The chassis: mass, inertia and center of mass in the chassis reference frame.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(deny_unknown_fields, from = "ChassisFields")]
 pub struct ChassisData {
     /// Mass and principal inertia.
     #[serde(flatten)]
@@ -34,6 +34,32 @@ pub struct ChassisData {
     /// Aerodynamic drag on the chassis ([`AeroDragData`]); none when absent.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub aero: Option<AeroDragData>,
+}
+
+/// The JSON layout of [`ChassisData`]: mass and inertia beside the center of mass, read as
+/// plain fields (serde's `flatten` buffers the content and loses the path of a failing
+/// field; this way an error names `chassis.inertia`).
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ChassisFields {
+    mass: f64,
+    inertia: [f64; 3],
+    com: [f64; 3],
+    #[serde(default)]
+    aero: Option<AeroDragData>,
+}
+
+impl From<ChassisFields> for ChassisData {
+    fn from(f: ChassisFields) -> Self {
+        Self {
+            mass: MassData {
+                mass: f.mass,
+                inertia: f.inertia,
+            },
+            com: f.com,
+            aero: f.aero,
+        }
+    }
 }
 
 /// A wheel: the rim and its tire (rigid or handling).

@@ -1,26 +1,8 @@
 //! Least-squares fits shared by the cases (flow rates, slopes of heaps, exponents,
 //! convergence orders), and the mean and spread of repeated runs.
 
-/// Least-squares line `y = a x + b` through `pts`: `Some((a, b))`, or `None` with fewer
-/// than two points or no spread in `x`.
-pub fn line_fit(pts: &[(f64, f64)]) -> Option<(f64, f64)> {
-    if pts.len() < 2 {
-        return None;
-    }
-    let n = pts.len() as f64;
-    let (mx, my) = pts
-        .iter()
-        .fold((0.0, 0.0), |(a, b), (x, y)| (a + x / n, b + y / n));
-    let (mut sxy, mut sxx) = (0.0, 0.0);
-    for (x, y) in pts {
-        sxy += (x - mx) * (y - my);
-        sxx += (x - mx) * (x - mx);
-    }
-    (sxx > 0.0).then(|| {
-        let a = sxy / sxx;
-        (a, my - a * mx)
-    })
-}
+/// Least-squares line `y = a x + b` (the library's, re-exported for the cases).
+pub use chrono_core::granular::probe::line_fit;
 
 /// Standard error of the least-squares slope of the points `(x, y)`:
 /// `sqrt(sum r^2 / (n - 2) / sum (x - x_mean)^2)` with `r` the residuals (None below 3

@@ -21,8 +21,8 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::{Result, check_non_negative, check_positive};
 
-/// A tire description (serde: internally tagged by `"type"`).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+/// A tire description (serde: internally tagged by `"type"`, `"Rigid"` or `"TMeasy"`).
+#[derive(Debug, Clone, PartialEq, Serialize)]
 #[serde(tag = "type")]
 // A description read once per vehicle; boxing the larger variant would only complicate it.
 #[allow(clippy::large_enum_variant)]
@@ -31,6 +31,38 @@ pub enum Tire {
     Rigid(RigidTire),
     /// The TMeasy handling tire (forces from slips).
     TMeasy(TMeasyParams),
+}
+
+// By hand rather than derived: serde's internally tagged enums buffer the content and lose
+// the path of a failing field inside it; this reads the tag, then the variant with its
+// own path tracking, so an error names the field (`at `compliance`: ...`).
+impl<'de> Deserialize<'de> for Tire {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
+        use serde::de::Error;
+        let mut map = serde_json::Map::<String, serde_json::Value>::deserialize(d)?;
+        let tag = match map.remove("type") {
+            Some(serde_json::Value::String(t)) => t,
+            Some(other) => {
+                return Err(D::Error::custom(format!(
+                    "at `type`: expected \"Rigid\" or \"TMeasy\", found {other}"
+                )));
+            }
+            None => return Err(D::Error::missing_field("type")),
+        };
+        fn variant<T: serde::de::DeserializeOwned, E: Error>(
+            map: serde_json::Map<String, serde_json::Value>,
+        ) -> std::result::Result<T, E> {
+            serde_path_to_error::deserialize(serde_json::Value::Object(map))
+                .map_err(|e| E::custom(format!("at `{}`: {}", e.path(), e.inner())))
+        }
+        match tag.as_str() {
+            "Rigid" => variant(map).map(Tire::Rigid),
+            "TMeasy" => variant(map).map(Tire::TMeasy),
+            _ => Err(D::Error::custom(format!(
+                "at `type`: unknown tire type `{tag}`, expected `Rigid` or `TMeasy`"
+            ))),
+        }
+    }
 }
 
 impl Tire {
