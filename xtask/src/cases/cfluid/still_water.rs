@@ -177,31 +177,10 @@ impl CaseParams for StillWaterParams {
 }
 
 /// Mean height of the free surface over the columns more than `2 dp` from the walls:
-/// the top particle of each column plus `dp / 2`, m.
+/// the top particle of each column plus `dp / 2`, m (the library's
+/// [`far_surface`](chrono_cfluid::floating_box::far_surface) with no body to keep clear of).
 pub fn surface_height(f: &ConstraintFluid, dp: f64, len: f64) -> f64 {
-    let n_cols = (len / dp).round() as usize;
-    let mut tops = vec![f64::NEG_INFINITY; n_cols];
-    for i in 0..f.n_fluid() {
-        let q = f.position(i);
-        let c = (q[0] / dp).floor();
-        if c >= 0.0 && (c as usize) < n_cols {
-            let t = &mut tops[c as usize];
-            *t = t.max(q[2]);
-        }
-    }
-    let (mut sum, mut count) = (0.0, 0usize);
-    for (c, t) in tops.iter().enumerate() {
-        let x = (c as f64 + 0.5) * dp;
-        if x > 2.0 * dp && x < len - 2.0 * dp && t.is_finite() {
-            sum += t + 0.5 * dp;
-            count += 1;
-        }
-    }
-    if count == 0 {
-        f64::NAN
-    } else {
-        sum / count as f64
-    }
+    chrono_cfluid::floating_box::far_surface(f, dp, len, [f64::INFINITY; 2])
 }
 
 fn max_speed(f: &ConstraintFluid) -> f64 {
