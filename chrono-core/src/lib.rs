@@ -33,6 +33,8 @@ pub mod rng;
 pub mod shape;
 mod slots;
 pub mod system;
+#[cfg(any(test, feature = "testing"))]
+pub mod testing;
 
 pub use error::{ChronoError, Result};
 

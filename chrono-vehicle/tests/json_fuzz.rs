@@ -7,130 +7,15 @@ use std::sync::Arc;
 
 use chrono_ccp::{Schur, SolverSettings};
 use chrono_core::math::Isometry3;
+use chrono_core::testing::json_mutation::{
+    MUTATIONS, Mutation, Seg, error_names_path, key_names, mutate, paths,
+};
 use chrono_core::{ContactMaterial, System, SystemSettings};
 use chrono_vehicle::hmmwv::{HMMWV_JSON, HMMWV_M998_POWERTRAIN_JSON, hmmwv_data};
 use chrono_vehicle::terrain::{FlatTerrain, Terrain};
 use chrono_vehicle::{VehicleData, VehicleError, WheeledVehicle};
 use proptest::prelude::*;
 use serde_json::Value;
-
-/// One step of a path into a JSON value.
-#[derive(Debug, Clone)]
-enum Seg {
-    Key(String),
-    Index(usize),
-}
-
-/// A change to the value at a path.
-#[derive(Debug, Clone, Copy)]
-enum Mutation {
-    /// Remove the member (or array element).
-    Delete,
-    /// A number made negative (`-|x| - 1`).
-    Negative,
-    /// A number set to zero.
-    Zero,
-    /// A number set to `1e308` (JSON has no NaN: the largest finite values stand in).
-    Huge,
-    /// A number set to `-1e308`.
-    NegHuge,
-    /// The value replaced by a string.
-    Text,
-    /// An array cut to half its length.
-    Truncate,
-    /// A string replaced by a name no enum has.
-    UnknownName,
-    /// The value wrapped in an object.
-    NestObject,
-    /// The value wrapped in an array.
-    NestArray,
-}
-
-const MUTATIONS: [Mutation; 10] = [
-    Mutation::Delete,
-    Mutation::Negative,
-    Mutation::Zero,
-    Mutation::Huge,
-    Mutation::NegHuge,
-    Mutation::Text,
-    Mutation::Truncate,
-    Mutation::UnknownName,
-    Mutation::NestObject,
-    Mutation::NestArray,
-];
-
-/// Every path of `v` (the root excluded).
-fn paths(v: &Value, prefix: &mut Vec<Seg>, out: &mut Vec<Vec<Seg>>) {
-    match v {
-        Value::Object(m) => {
-            for (k, x) in m {
-                prefix.push(Seg::Key(k.clone()));
-                out.push(prefix.clone());
-                paths(x, prefix, out);
-                prefix.pop();
-            }
-        }
-        Value::Array(a) => {
-            for (i, x) in a.iter().enumerate() {
-                prefix.push(Seg::Index(i));
-                out.push(prefix.clone());
-                paths(x, prefix, out);
-                prefix.pop();
-            }
-        }
-        _ => {}
-    }
-}
-
-fn get_mut<'a>(v: &'a mut Value, path: &[Seg]) -> &'a mut Value {
-    path.iter().fold(v, |v, s| match s {
-        Seg::Key(k) => &mut v[k.as_str()],
-        Seg::Index(i) => &mut v[*i],
-    })
-}
-
-/// Apply `m` at `path`; false if it does not apply to the value there.
-fn mutate(root: &mut Value, path: &[Seg], m: Mutation) -> bool {
-    let (last, parent) = path.split_last().expect("a non-root path");
-    if let Mutation::Delete = m {
-        match (get_mut(root, parent), last) {
-            (Value::Object(o), Seg::Key(k)) => {
-                o.remove(k);
-            }
-            (Value::Array(a), Seg::Index(i)) => {
-                a.remove(*i);
-            }
-            _ => return false,
-        }
-        return true;
-    }
-    let v = get_mut(root, path);
-    let new = match (m, &*v) {
-        (Mutation::Negative, Value::Number(n)) => (-n.as_f64().unwrap().abs() - 1.0).into(),
-        (Mutation::Zero, Value::Number(_)) => 0.0.into(),
-        (Mutation::Huge, Value::Number(_)) => 1e308.into(),
-        (Mutation::NegHuge, Value::Number(_)) => (-1e308).into(),
-        (Mutation::Text, _) => Value::String("fuzz".into()),
-        (Mutation::Truncate, Value::Array(a)) => Value::Array(a[..a.len() / 2].to_vec()),
-        (Mutation::UnknownName, Value::String(_)) => Value::String("no_such_kind".into()),
-        (Mutation::NestObject, x) => serde_json::json!({ "value": x }),
-        (Mutation::NestArray, x) => Value::Array(vec![x.clone()]),
-        _ => return false,
-    };
-    *v = new;
-    true
-}
-
-/// The names an error about the mutation may use: the object keys along the path (the
-/// member itself, or for an array element or a removed member, an enclosing key).
-fn key_names(path: &[Seg]) -> Vec<String> {
-    path.iter()
-        .filter_map(|s| match s {
-            Seg::Key(k) => Some(k.clone()),
-            Seg::Index(_) => None,
-        })
-        .collect()
-}
 
 /// Build the vehicle on flat ground; an error must name a field.
 fn build(data: &VehicleData) -> Result<(), VehicleError> {
@@ -154,15 +39,9 @@ fn build(data: &VehicleData) -> Result<(), VehicleError> {
 /// Loading's error names the mutated member: its key or the key of an enclosing object.
 fn check_load_error(e: &VehicleError, path: &[Seg], m: Mutation) -> Result<(), TestCaseError> {
     let msg = e.to_string();
-    let keys = key_names(path);
-    // The innermost key is the field; a deleted or wrapped member is reported by its
-    // enclosing object, a bad array element by its array.
-    let innermost = keys.last().cloned().unwrap_or_default();
-    let named = msg.contains(&innermost)
-        || matches!(m, Mutation::Delete | Mutation::Truncate)
-            && keys.iter().any(|k| msg.contains(k.as_str()));
+    let innermost = key_names(path).pop().unwrap_or_default();
     prop_assert!(
-        named,
+        error_names_path(&msg, path, m),
         "{m:?} at {path:?}: the error does not name `{innermost}`: {msg}"
     );
     Ok(())
@@ -188,8 +67,7 @@ fn fuzz_case(
     load: impl Fn(&str) -> Result<VehicleData, VehicleError>,
 ) -> Result<(), TestCaseError> {
     let mut root: Value = serde_json::from_str(text).unwrap();
-    let mut all = Vec::new();
-    paths(&root, &mut Vec::new(), &mut all);
+    let all = paths(&root);
     let path = &all[index % all.len()];
     let m = MUTATIONS[mutation % MUTATIONS.len()];
     if !mutate(&mut root, path, m) {

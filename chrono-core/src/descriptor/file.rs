@@ -225,6 +225,17 @@ impl ProblemFile {
                 ));
             }
             check_group(name, data)?;
+            if let Some(&blk) = data
+                .ent_block
+                .iter()
+                .find(|&&b| b as usize >= self.masses.len())
+            {
+                return Err(ChronoError::invalid(
+                    format!("groups.{name}.ent_block"),
+                    blk,
+                    format!("must name one of the {} mass blocks", self.masses.len()),
+                ));
+            }
             let dst = &mut rows.groups[g as usize];
             dst.row_ptr.clone_from(&data.row_ptr);
             dst.ent_block.clone_from(&data.ent_block);
@@ -260,10 +271,27 @@ impl ProblemFile {
     pub fn load(path: impl AsRef<Path>) -> Result<Self> {
         let path = path.as_ref();
         let bytes = std::fs::read(path).map_err(|e| io_error(path, e))?;
+        Self::parse(&bytes).map_err(|e| io_error(path, e))
+    }
+
+    /// Read from the bytes of a file (format detected as in [`load`](Self::load)). A
+    /// malformed file is an error whose message names the field being read (its path in
+    /// the JSON document, e.g. `groups[2].b[7]`, or in the binary layout, e.g.
+    /// `masses[3].inertia`); the problem itself is validated by
+    /// [`to_problem`](Self::to_problem).
+    pub fn from_bytes(bytes: &[u8]) -> Result<Self> {
+        Self::parse(bytes).map_err(|e| ChronoError::invalid("problem file", "bytes", e.to_string()))
+    }
+
+    fn parse(bytes: &[u8]) -> std::io::Result<Self> {
         if bytes.starts_with(MAGIC) {
-            Self::read_binary(&mut &bytes[..]).map_err(|e| io_error(path, e))
+            Self::read_binary(&mut &bytes[..])
         } else {
-            serde_json::from_slice(&bytes).map_err(|e| io_error(path, std::io::Error::other(e)))
+            let de = &mut serde_json::Deserializer::from_slice(bytes);
+            serde_path_to_error::deserialize(de).map_err(|e| {
+                let path = e.path().to_string();
+                std::io::Error::other(format!("`{path}`: {}", e.into_inner()))
+            })
         }
     }
 
@@ -320,55 +348,67 @@ impl ProblemFile {
 
     fn read_binary(r: &mut &[u8]) -> std::io::Result<Self> {
         let mut magic = [0u8; 8];
-        r.read_exact(&mut magic)?;
-        let format = read_string(r)?;
-        let description = read_string(r)?;
+        r.read_exact(&mut magic).map_err(at("magic"))?;
+        let format = read_string(r).map_err(at("format"))?;
+        let description = read_string(r).map_err(at("description"))?;
         // The smallest entry is a 1x1 dense block: kind, length, one value.
-        let n = read_len_of(r, 1 + 8 + 8)?;
+        let n = read_len_of(r, 1 + 8 + 8).map_err(at("masses.len()"))?;
         let mut masses = Vec::with_capacity(n);
-        for _ in 0..n {
+        for i in 0..n {
+            let field = |name: &str| at(format!("masses[{i}].{name}"));
             let mut kind = [0u8; 1];
-            r.read_exact(&mut kind)?;
+            r.read_exact(&mut kind).map_err(field("kind"))?;
             if kind[0] == 2 {
-                let matrix = read_f64s(r)?;
+                let matrix = read_f64s(r).map_err(field("matrix"))?;
                 let ndof = matrix.len().isqrt();
                 masses.push(MassData::Dense { ndof, matrix });
                 continue;
             }
-            let mass = read_f64(r)?;
+            let mass = read_f64(r).map_err(field("mass"))?;
             let mut j = [0.0; 9];
             for x in &mut j {
-                *x = read_f64(r)?;
+                *x = read_f64(r).map_err(field("inertia"))?;
             }
             masses.push(match kind[0] {
                 0 => MassData::Particle { mass },
                 1 => MassData::RigidBody { mass, inertia: j },
                 3 => MassData::Scalar { mass },
-                k => return Err(std::io::Error::other(format!("unknown mass kind {k}"))),
+                k => {
+                    return Err(field("kind")(std::io::Error::other(format!(
+                        "unknown mass kind {k} (0 particle, 1 rigid body, 2 dense, 3 scalar)"
+                    ))));
+                }
             });
         }
-        let ng = read_len(r)?;
+        let ng = read_len(r).map_err(at("groups.len()"))?;
         let mut groups = Vec::with_capacity(ng.min(N_GROUPS));
-        for _ in 0..ng {
-            let group = read_string(r)?;
-            let row_ptr = read_u32s(r)?;
-            let ent_block = read_u32s(r)?;
-            let ent_coef = read_u32s(r)?;
-            let mut f = || read_f64s(r);
+        for gi in 0..ng {
+            let field = |name: &str| at(format!("groups[{gi}].{name}"));
+            let group = read_string(r).map_err(field("group"))?;
+            let row_ptr = read_u32s(r).map_err(field("row_ptr"))?;
+            let ent_block = read_u32s(r).map_err(field("ent_block"))?;
+            let ent_coef = read_u32s(r).map_err(field("ent_coef"))?;
+            let mut f = |name: &str| read_f64s(r).map_err(field(name));
             groups.push(GroupData {
                 group,
                 row_ptr,
                 ent_block,
                 ent_coef,
-                coefs: f()?,
-                b: f()?,
-                eps: f()?,
-                lo: f()?,
-                hi: f()?,
-                mu: f()?,
+                coefs: f("coefs")?,
+                b: f("b")?,
+                eps: f("eps")?,
+                lo: f("lo")?,
+                hi: f("hi")?,
+                mu: f("mu")?,
             });
         }
-        let k = read_f64s(r)?;
+        let k = read_f64s(r).map_err(at("k"))?;
+        if !r.is_empty() {
+            return Err(std::io::Error::other(format!(
+                "{} bytes after the last field `k`",
+                r.len()
+            )));
+        }
         Ok(Self {
             format,
             description,
@@ -377,6 +417,12 @@ impl ProblemFile {
             k,
         })
     }
+}
+
+/// Names the field an IO error happened in (`field: error`).
+fn at(field: impl Into<String>) -> impl Fn(std::io::Error) -> std::io::Error {
+    let field = field.into();
+    move |e| std::io::Error::new(e.kind(), format!("`{field}`: {e}"))
 }
 
 /// A stored dense block: `matrix` must hold `ndof^2` values (row-major).

@@ -19,6 +19,8 @@
 mod cone;
 mod coupled;
 mod file;
+#[cfg(test)]
+mod file_fuzz;
 mod ops;
 mod problem;
 pub mod reduce;

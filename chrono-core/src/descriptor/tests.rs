@@ -7,7 +7,7 @@ use super::*;
 
 /// Two rigid bodies and a particle; one row of every group, a friction triplet and a
 /// rolling contact, with compliance on some rows.
-fn sample() -> (CcpProblem, DMatrix<f64>, DMatrix<f64>, Vec<f64>) {
+pub(super) fn sample() -> (CcpProblem, DMatrix<f64>, DMatrix<f64>, Vec<f64>) {
     let mut vars = Variables::new();
     let j = Matrix3::new(0.4, 0.02, 0.0, 0.02, 0.3, 0.01, 0.0, 0.01, 0.5);
     let a = vars.add(MassOperator::rigid_body(2.0, j).unwrap());

@@ -170,7 +170,13 @@ impl CaseParams for StillWaterParams {
                 self.spacing = 0.04;
                 self.t_end = 2.0;
             }
-            Mode::Default => {}
+            // dp = 0.04 m over 4 s, for the 20-minute budget of the default run; the
+            // earlier default, dp = 0.02 m over 20 s, is `--set spacing=0.02
+            // --set t_end=20`.
+            Mode::Default => {
+                self.spacing = 0.04;
+                self.t_end = 4.0;
+            }
             Mode::Full => self.spacing = 0.01,
         }
     }
