@@ -4,16 +4,19 @@
 //! - [`vtk`]: `.vtp` PolyData of rigid shapes ([`write_shapes_vtp`]) and of particles
 //!   ([`write_points_vtp`]), and the `.pvd` collection ([`write_pvd`]) that lets ParaView
 //!   play a series of frames.
+//! - [`bodies`]: frames of every body's colliders, [`write_bodies_vtp`].
 //! - [`grains`]: frames of grains (positions, radii, velocities), [`write_grains_vtp`].
 //! - [`frames`]: [`FrameSeries`], a series of frames of any kind with its `.pvd`.
 //!
 //! Errors are [`ChronoError::Io`] naming the file.
 
+pub mod bodies;
 pub mod csv;
 pub mod frames;
 pub mod grains;
 pub mod vtk;
 
+pub use bodies::write_bodies_vtp;
 pub use csv::{CsvWriter, write_csv};
 pub use frames::{Every, FrameSeries};
 pub use grains::write_grains_vtp;

@@ -50,51 +50,33 @@ pub fn n_steps(h: f64, t_end: f64) -> anyhow::Result<u64> {
     Ok((t_end / h).round().max(1.0) as u64)
 }
 
-/// Writes VTK frames of a system's bodies every `every` steps when the run asked for them
-/// (`--vtk`), and the `.pvd` collection at the end.
-pub struct VtkFrames {
-    dir: Option<std::path::PathBuf>,
-    every: u64,
-    frames: Vec<(f64, String)>,
-}
+/// VTK frames of a system's bodies every `every` steps when the run asked for them
+/// (`--vtk`), and the `.pvd` collection at the end: the library's
+/// [`FrameSeries`](chrono_core::io::FrameSeries) writing
+/// [`write_bodies_vtp`](chrono_core::io::write_bodies_vtp) frames into the case's VTK
+/// directory.
+pub struct VtkFrames(chrono_core::io::FrameSeries);
 
 impl VtkFrames {
     /// Frames every `every` steps into the case's VTK directory, if any.
     pub fn new(ctx: &crate::case::RunContext, every: u64) -> Self {
-        Self {
-            dir: ctx.vtk_dir(),
-            every: every.max(1),
-            frames: Vec::new(),
-        }
+        let every = chrono_core::io::Every::Steps(every.max(1));
+        Self(
+            chrono_core::io::FrameSeries::new(ctx.vtk_dir(), "frame", "vtp", every)
+                .expect("a step interval is always valid"),
+        )
     }
 
     /// Write a frame if VTK output is on and `step` is a multiple of `every`.
     pub fn record(&mut self, step: u64, sys: &System) -> anyhow::Result<()> {
-        let Some(dir) = &self.dir else { return Ok(()) };
-        if !step.is_multiple_of(self.every) {
-            return Ok(());
-        }
-        let shapes: Vec<_> = sys
-            .bodies()
-            .iter()
-            .enumerate()
-            .flat_map(|(i, b)| {
-                b.colliders()
-                    .iter()
-                    .map(move |c| (b.pose() * c.local_pose, &c.shape, i as u32))
-            })
-            .collect();
-        let name = format!("frame_{:06}.vtp", self.frames.len());
-        chrono_core::io::vtk::write_shapes_vtp(dir.join(&name), &shapes)?;
-        self.frames.push((sys.time(), name));
+        (self.0).record(step, sys.time(), |p| {
+            chrono_core::io::write_bodies_vtp(p, sys).map(drop)
+        })?;
         Ok(())
     }
 
     /// Write the `.pvd` collection (ParaView opens it as an animation).
     pub fn finish(&self) -> anyhow::Result<()> {
-        let Some(dir) = &self.dir else { return Ok(()) };
-        let frames: Vec<(f64, &str)> = self.frames.iter().map(|(t, n)| (*t, n.as_str())).collect();
-        chrono_core::io::vtk::write_pvd(dir.join("frames.pvd"), &frames)?;
-        Ok(())
+        Ok(self.0.finish()?)
     }
 }
