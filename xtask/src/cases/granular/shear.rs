@@ -29,7 +29,8 @@
 //! colliders, `half_height` deep) that moves at `shear_speed` once loaded, a fixed upper
 //! half (four walls from `gap` above the shear plane), a free load plate carrying
 //! `sigma L^2` (its weight plus an applied force), and grains settled under gravity from a
-//! jittered lattice to about twice `half_height`. The shear is quasi-static when the
+//! jittered lattice to about twice `half_height`. The scene and its read-out are the library's
+//! [`ShearTest`] (`chrono_core::granular::shear_test`). The shear is quasi-static when the
 //! inertial number `I = gamma_dot d sqrt(rho / sigma)` (GDR MiDi, Eur. Phys. J. E 14, 2004)
 //! is well below 1e-2; it is estimated with a shear zone `5 d` thick (thinner than the
 //! ~10 d usually seen, so an upper bound) and reported.
