@@ -546,7 +546,7 @@ mod tests {
     fn heap_of_a_synthetic_cone() {
         // Grains on a 30-degree heap of half-width 0.15 m, one per 2.5 mm, heavier on the
         // right: the fit recovers the angle, the crest and the energy in m g d.
-        let (half, d, g) = (0.15, 0.01, 9.81);
+        let (half, d, g) = (0.15, 0.01, crate::math::GRAVITY.norm());
         let slope = 30f64.to_radians().tan();
         let grains: Vec<HeapGrain> = (0..120)
             .map(|i| -half + (i as f64 + 0.5) * 0.0025)
@@ -574,7 +574,7 @@ mod tests {
 
     #[test]
     fn empty_plate_and_bad_fields_are_named() {
-        let e = Heap::measure(&[], 10, 0.15, 30, 0.01, 9.81)
+        let e = Heap::measure(&[], 10, 0.15, 30, 0.01, 1.0)
             .unwrap_err()
             .to_string();
         assert!(e.contains("heap.on_plate"), "{e}");
@@ -584,7 +584,7 @@ mod tests {
             mass: 1.0,
             kinetic_energy: 0.0,
         }];
-        let e = Heap::measure(&one, 1, 0.15, 30, 0.01, 9.81)
+        let e = Heap::measure(&one, 1, 0.15, 30, 0.01, 1.0)
             .unwrap_err()
             .to_string();
         assert!(e.contains("heap.plate_width"), "{e}");

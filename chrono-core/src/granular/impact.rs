@@ -243,6 +243,11 @@ impl BallDrop {
     /// bottom `d / 2` above `z_s` falling at `sqrt(2 g (h - d / 2))` and steps until it
     /// has stayed below 1 % of its impact speed for [`REST_TIME`], at most `t_drop`.
     /// `progress(f)` gets the fraction of `t_drop` done after each step of the drop.
+    ///
+    /// The step is the bed's ([`ImpactBed::h`]; by default SMC's stability limit, taken
+    /// again once the ball is in): under SMC, give `sys` a
+    /// [`SmcSettings::characteristic_velocity`](crate::system::SmcSettings::characteristic_velocity) of at least the
+    /// impact speed, so the limit covers the ball's impact.
     pub fn run(
         &self,
         sys: &mut System,
