@@ -6,6 +6,12 @@
 //! - [`silo`]: a flat-bottomed silo with an orifice and the recycling of its discharge
 //!   ([`Silo`], [`Recycler`]);
 //! - [`shear_box`]: the direct shear box and the reduction of its curve ([`ShearBox`]);
+//! - [`shear_test`]: the direct shear test in that box (pour, consolidation, shear at
+//!   constant speed, the read-out by bins of displacement: [`ShearTest`], [`ShearRun`]);
+//! - [`heap`]: a heap left on a plate in a slot after discharge over both edges, and its
+//!   angle of repose ([`HeapSlot`], [`Heap`]);
+//! - [`impact`]: a ball dropped into a settled bed, and its penetration ([`ImpactBed`],
+//!   [`BallDrop`]);
 //! - [`probe`]: measurements on a bed (surface height, bulk density, heap flank angles,
 //!   grain forces on a body, penetration).
 //!
@@ -17,15 +23,21 @@
 
 pub mod bed;
 mod fill;
+pub mod heap;
+pub mod impact;
 pub mod probe;
 pub mod shear_box;
+pub mod shear_test;
 pub mod silo;
 
 /// The seeded generator, re-exported from its old place ([`crate::rng::Rng`]).
 pub use crate::rng::Rng;
 pub use bed::{Bed, GrainBed, Kick, Settle, Settled};
 pub use fill::{Grain, LatticeFill, Region};
+pub use heap::{Heap, HeapScene, HeapSlot};
+pub use impact::{BallDrop, ImpactBed, Penetration};
 pub use shear_box::{ShearBox, ShearBoxBodies};
+pub use shear_test::{ShearRun, ShearTest};
 pub use silo::{Recycler, Silo, SiloBodies};
 
 use nalgebra::{Isometry3, Vector3};

@@ -9,6 +9,9 @@
 //! of Soil Mechanics*, Wiley 1948, ch. 14; M. D. Bolton, "The strength and dilatancy of
 //! sands", Géotechnique 36 (1986) 65–78) relates the ratio to the load plate's rise:
 //! `S dx = mu_cv N dx + N dy`, so `S / N = mu_cv + dy/dx` ([`dilation_rate`]).
+//!
+//! The test itself (pour, consolidation, shear at constant speed, the read-out by bins) is
+//! [`ShearTest`](super::shear_test::ShearTest).
 
 use nalgebra::{Isometry3, UnitQuaternion, Vector3};
 

@@ -387,7 +387,7 @@ fn run(p: &BallDropParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         let mut wall = bed.wall_s;
         out.steps += bed.steps;
         out.metric(format!("{name}_grains"), bed.grains.len() as f64)
-            .metric(format!("{name}_settle_time"), bed.settle_time);
+            .metric(format!("{name}_settle_time"), bed.time);
         let (mut ln_h, mut ln_d, mut ratios) = (Vec::new(), Vec::new(), Vec::new());
         // Every drop's (ln H, ln d), for the standard error of the exponent.
         let mut each = Vec::new();

@@ -10,6 +10,10 @@
 //! - `granular-shear`: a direct shear box of glass beads, peak and residual friction angles.
 //! - `granular-repose`: the angle of repose of a heap left on a plate after discharge,
 //!   against Zhou et al.'s (2002) DEM correlation and glass-bead experiments.
+//!
+//! The scenes are the library's (`chrono_core::granular`: `GrainBed`, `Silo`, `ShearTest`,
+//! `HeapSlot`, `ImpactBed`, `BallDrop`); the cases hold their parameters, references,
+//! checks and reports.
 
 pub mod ball_drop;
 mod ball_drop_scene;

@@ -53,7 +53,7 @@ use chrono_core::contact::smc::RollingModel;
 use chrono_core::system::ContactMethod;
 use serde::{Deserialize, Serialize};
 
-use super::repose_scene::{Heap, heap, solver};
+use super::repose_scene::{HeapRun, heap, solver};
 use super::{ensure_methods, method_name};
 use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series, SweepPoint};
 use crate::fit::mean_std;
@@ -316,7 +316,7 @@ fn validate(p: &ReposeParams) -> anyhow::Result<()> {
 }
 
 /// The per-heap metrics of one run, named with `tag` (`{method}_mur{mu_r}[_seed{N}]`).
-fn heap_metrics(out: &mut CaseOutput, tag: &str, hp: &Heap, d: f64, ke_bound: f64) {
+fn heap_metrics(out: &mut CaseOutput, tag: &str, hp: &HeapRun, d: f64, ke_bound: f64) {
     out.check(Check::below(
         format!("ke_per_grain_end_{tag}"),
         hp.ke,

@@ -29,7 +29,8 @@
 //! colliders, `half_height` deep) that moves at `shear_speed` once loaded, a fixed upper
 //! half (four walls from `gap` above the shear plane), a free load plate carrying
 //! `sigma L^2` (its weight plus an applied force), and grains settled under gravity from a
-//! jittered lattice to about twice `half_height`. The shear is quasi-static when the
+//! jittered lattice to about twice `half_height`. The scene and its read-out are the library's
+//! [`ShearTest`] (`chrono_core::granular::shear_test`). The shear is quasi-static when the
 //! inertial number `I = gamma_dot d sqrt(rho / sigma)` (GDR MiDi, Eur. Phys. J. E 14, 2004)
 //! is well below 1e-2; it is estimated with a shear zone `5 d` thick (thinner than the
 //! ~10 d usually seen, so an upper bound) and reported.
@@ -49,7 +50,7 @@
 //! critical-state friction plus its dilatancy. Taylor's energy balance for the shear box
 //! (D. W. Taylor, *Fundamentals of Soil Mechanics*, 1948; the stress–dilatancy relation of
 //! M. D. Bolton, Géotechnique 36, 1986) gives `S / N = mu_cv + dy/dx` at the peak, with
-//! `dy/dx` the load plate's rise per shear displacement there ([`dilation_rate`], fitted over
+//! `dy/dx` the load plate's rise per shear displacement there ([`dilation_rate`](chrono_core::granular::shear_box::dilation_rate), fitted over
 //! `dilation_window`). The reference is `atan(tan(ref_residual_deg) + dy/dx)`: the cited
 //! critical-state friction of glass beads and the dilation rate measured in the run, within
 //! `ref_peak_scatter_deg` (2 degrees, the residual's band). The correction is applied where
@@ -64,7 +65,7 @@
 //! halves' shear forces within 5 %) and, with several stresses, that the residual angle
 //! does not depend on the stress, and, when both methods run, that they sheared packings
 //! of the same solid fraction (within 2 %, with rigid grains: SMC's is taken less its
-//! elastic compression, [`uniaxial_overlap_strain`]; NSC settles with `nsc_fill_mu` for
+//! elastic compression, [`uniaxial_overlap_strain`](chrono_core::granular::probe::uniaxial_overlap_strain); NSC settles with `nsc_fill_mu` for
 //! that).
 //!
 //! `method` lists the contact methods to run (`["nsc", "smc"]` runs both, `--set method=smc` one).
@@ -73,13 +74,10 @@
 //! peak scatters by ~1.8 degrees about the balance, the band is 2). Per-seed values are
 //! reported with a `_seed{N}` suffix, with the spread over the seeds (`*_std_deg_*`).
 
-use chrono_core::granular::probe::{max_penetration, uniaxial_overlap_strain};
-use chrono_core::granular::shear_box::{
-    dilatancy_corrected_ratio, dilation_rate, peak_and_residual, peak_bin, residual_dilation_rate,
-};
-use chrono_core::granular::{GrainBed, Kick, Region, Settle, ShearBox};
-use chrono_core::math::Vector3;
-use chrono_core::system::{ContactMethod, SmcSettings};
+use std::ops::Deref;
+
+use chrono_core::granular::ShearTest;
+use chrono_core::system::ContactMethod;
 use chrono_core::{ContactMaterial, FrictionLaw, SystemSettings};
 
 pub use super::shear_params::ShearParams;
@@ -89,84 +87,23 @@ use crate::case::{Case, CaseOutput, Check, PlotSpec, RunContext, Series, SweepPo
 use crate::fit::mean_std;
 use crate::params::{ParamCase, ensure_positive};
 
-/// Solid fraction assumed for the settled sample when sizing the grain count.
-const SETTLED_FRACTION: f64 = 0.6;
-
-/// Start (in grain diameters of displacement) of the bins over which Taylor's balance is
-/// averaged along the curve: past the initial elastic rise of the ratio.
-const BALANCE_FROM: f64 = 0.3;
-
 /// APGD iteration cap (NSC) while the grains settle, before the load.
 const SETTLE_ITERATIONS: usize = 60;
 
-/// Means over the shear steps of the NSC step's CCP solves.
-#[derive(Debug, Clone, Copy, Default)]
-struct SolveMeans {
-    /// Solver iterations per step (summed over the Coulomb passes).
-    iterations: f64,
-    /// Fraction of steps whose (last) solve reached the tolerance.
-    converged: f64,
-    /// Residual of the (last) solve, m/s.
-    residual: f64,
-    /// De Saxcé re-solves per step (0 for the relaxed cone).
-    passes: f64,
-}
-
-/// One shear test: the force ratio by displacement bin and its summary.
+/// One shear test (the library's [`chrono_core::granular::ShearRun`]) and its wall time.
 struct ShearRun {
-    method: ContactMethod,
-    /// `(s / d, S / N, S / (sigma L^2), plate rise / d, -S_lower / S)` per bin.
-    bins: Vec<[f64; 5]>,
-    peak: f64,
-    residual: f64,
-    /// Dilation rate `dy/dx` of the load plate at the peak.
-    peak_dilation: f64,
-    /// Dilation rate `dy/dx` of the load plate over the residual window.
-    residual_dilation: f64,
-    /// `S/N - dy/dx` averaged over the bins from [`BALANCE_FROM`] d on
-    /// ([`dilatancy_corrected_ratio`]): `mu_cv` where Taylor's balance holds.
-    balance: f64,
-    /// The CCP solves over the shear steps (NSC; zeros for SMC).
-    solve: SolveMeans,
-    grains: usize,
-    steps: u64,
-    h: f64,
+    run: chrono_core::granular::ShearRun,
     wall_s: f64,
-    /// Weight of the grains above the plane over the applied load, mean over the shear.
-    self_weight: f64,
-    /// Kinetic energy per grain when the load is applied, over `m g d`.
-    ke_settled: f64,
-    /// Solid fraction of the consolidated sample, before the shear.
-    solid_fraction: f64,
-    /// Elastic vertical strain of the consolidated sample from its contact overlaps
-    /// ([`uniaxial_overlap_strain`]): `solid_fraction (1 - overlap_strain)` is the packing
-    /// with rigid grains, what the two methods' preparations are compared by.
-    overlap_strain: f64,
-    /// Grains below the floor at the end (fallen out of the box).
-    escaped: usize,
-    /// Deepest penetration (NSC) or overlap (SMC) of the last step, over `d`.
-    penetration: f64,
 }
 
-impl ShearRun {
-    /// The consolidated sample's solid fraction with its elastic compression removed,
-    /// `solid_fraction (1 - overlap_strain)`.
-    fn rigid_solid_fraction(&self) -> f64 {
-        self.solid_fraction * (1.0 - self.overlap_strain)
-    }
-
-    /// The residual angle, degrees: the late ratio with Taylor's correction for the work of
-    /// lifting the load, `atan(S/N - dy/dx)`, where the sample still dilates over the
-    /// residual window (the box is too short for a dense sample to reach its critical
-    /// state); a contracting sample's ratio is taken as it is (Bolton's `I_R <= 0`: no
-    /// correction; see the module doc).
-    fn residual_deg(&self) -> f64 {
-        (self.residual - self.residual_dilation.max(0.0))
-            .atan()
-            .to_degrees()
+impl Deref for ShearRun {
+    type Target = chrono_core::granular::ShearRun;
+    fn deref(&self) -> &Self::Target {
+        &self.run
     }
 }
 
+/// The library's [`ShearTest`] with the case's parameters, at normal stress `sigma` (Pa).
 fn shear_test(
     p: &ShearParams,
     method: ContactMethod,
@@ -178,217 +115,60 @@ fn shear_test(
     let start = std::time::Instant::now();
     ensure_positive("normal_stress", sigma)?;
     let d = p.grain_diameter;
-    let r = 0.5 * d;
-    let (l, hl, gap, t) = (p.box_length * d, p.half_height * d, p.gap * d, d);
     let settings = SystemSettings {
         envelope: 0.05 * d,
-        smc: SmcSettings::default(),
         ..SystemSettings::default()
     };
-    let g = settings.gravity.norm();
     let mut sys = make_system(method, settings, p.tolerance, p.max_iterations)?;
-    let grain_mat = ContactMaterial::smc(p.young, p.poisson, p.restitution, p.mu)
+    let grain_material = ContactMaterial::smc(p.young, p.poisson, p.restitution, p.mu)
         .with_rolling_friction(p.rolling_friction);
-    let wall_mat = ContactMaterial::smc(p.young, p.poisson, p.restitution, p.wall_mu)
+    let wall_material = ContactMaterial::smc(p.young, p.poisson, p.restitution, p.wall_mu)
         .with_rolling_friction(p.rolling_friction);
-    grain_mat.validate()?;
-    wall_mat.validate()?;
-
-    // The grains: a jittered lattice (sites 1.25 d apart) holding the number that fills
-    // 2 `half_height` at the settled solid fraction.
-    let v_grain = std::f64::consts::PI / 6.0 * d.powi(3);
-    let count = (SETTLED_FRACTION * l * l * 2.0 * hl / v_grain).round() as usize;
-    let pitch = d + 0.5 * r;
-    let per_layer = ((l / pitch).floor() as usize).pow(2).max(1);
-    let layers = count.div_ceil(per_layer) as f64;
-    let fill_top = -hl + (layers + 1.0) * pitch;
-    let z_top = fill_top + d;
-
-    // The lower half (kinematic: floor and walls), the upper half (fixed walls), the
-    // plate (free, joined to the upper half by a vertical prismatic joint). The plate
-    // weighs about one layer of grains: heavy enough to stay flat under the grains'
-    // impacts, light enough not to strain the NSC solve (the load is a force).
-    let side = l - 0.2 * d;
-    let shear_box = ShearBox {
-        length: l,
-        half_height: hl,
-        gap,
-        wall: t,
-        top: z_top,
-        plate_clearance: 0.2 * d,
-        plate_mass: SETTLED_FRACTION * p.density * side * side * t,
-        material: wall_mat,
-    };
-    let bodies = shear_box.add(&mut sys)?;
-    // The pour only has to make a packing: NSC settles with a cheaper solve (at most
-    // `SETTLE_ITERATIONS`), the loaded sample is solved with `max_iterations`.
-    let settle_friction = p
-        .fill_mu
-        .or((method == ContactMethod::Nsc && p.nsc_fill_mu >= 0.0).then_some(p.nsc_fill_mu));
-    let spec = GrainBed {
-        count: Some(count),
+    let test = ShearTest {
+        grain_diameter: d,
+        length: p.box_length * d,
+        half_height: p.half_height * d,
+        gap: p.gap * d,
+        density: p.density,
+        grain_material,
+        wall_material,
         seed,
-        // Random horizontal velocities break the lattice's columns (see granular-hopper).
-        kick: Some(Kick {
-            speed: 0.1,
-            salt: 0x5bd1_e995,
+        settle_friction: p
+            .fill_mu
+            .or((method == ContactMethod::Nsc && p.nsc_fill_mu >= 0.0).then_some(p.nsc_fill_mu)),
+        // The pour only has to make a packing: NSC settles with a cheaper solve, the loaded
+        // sample is solved with `max_iterations`.
+        settle_iterations: Some(SETTLE_ITERATIONS),
+        loaded_friction_law: (p.coulomb_passes > 0).then_some(FrictionLaw::Coulomb {
+            passes: p.coulomb_passes,
         }),
-        settle_friction,
-        ..GrainBed::new(
-            Region::Box {
-                lower: Vector3::new(-0.5 * l, -0.5 * l, -hl),
-                upper: Vector3::new(0.5 * l, 0.5 * l, fill_top),
-            },
-            r,
-            r,
-            p.density,
-            grain_mat,
-        )
+        normal_stress: sigma,
+        shear_speed: p.shear_speed,
+        displacement: p.displacement,
+        bin: p.bin,
+        t_settle: p.t_settle,
+        t_consolidate: p.t_consolidate,
+        h: p.h,
+        peak_window: p.peak_window,
+        residual_window: p.residual_window,
+        dilation_window: p.dilation_window,
     };
-    let bed = spec
-        .pour(&mut sys)
+    let mut scene = test
+        .build(&mut sys)
         .map_err(|e| anyhow::anyhow!("granular-shear: {e}"))?;
-    let handles = bed.handles.clone();
-    let grain_mass = sys.body(handles[0])?.mass();
-    let h = super::step_size(p.h, method, &sys);
-    let structure = bodies.structure();
-    let n_settle = (p.t_settle / h).round().max(1.0) as u64;
-    let n_cons = (p.t_consolidate / h).round().max(1.0) as u64;
-    let steps_per_bin = ((p.bin * d / (p.shear_speed * h)).round() as u64).max(1);
-    let n_bins = (p.displacement / p.bin).round().max(1.0) as u64;
-    let n_total = n_settle + n_cons + n_bins * steps_per_bin;
-    let report = |i: u64| {
-        let (j, m) = progress;
-        ctx.progress((j as f64 + i as f64 / n_total as f64) / m as f64);
-    };
+    let (h, n_total) = (scene.h(), scene.total_steps());
     let mut vtk = grain_frames(ctx, ((0.02 / h).round() as u64).max(1))?;
-    sys.solver_mut().settings_mut().max_iterations = p.max_iterations.min(SETTLE_ITERATIONS);
-    let settled = GrainBed {
-        settle: Settle::Steps(n_settle),
-        ..spec
-    }
-    .settle(&mut sys, &bed, h, |sys, i| {
-        record_grains(&mut vtk, i, sys)?;
-        report(i);
-        Ok::<(), anyhow::Error>(())
-    })?;
-    let mut step = settled.steps;
-    sys.solver_mut().settings_mut().max_iterations = p.max_iterations;
-    if p.coulomb_passes > 0 {
-        sys.set_settings(SystemSettings {
-            friction_law: FrictionLaw::Coulomb {
-                passes: p.coulomb_passes,
-            },
-            ..sys.settings().clone()
-        })?;
-    }
-    let ke_settled = sys.kinetic_energy() / handles.len() as f64 / (grain_mass * g * d);
-    // Load: the plate just above the highest grain, pushing with sigma L^2 in all.
-    let mut top = f64::NEG_INFINITY;
-    for &b in &handles {
-        top = top.max(sys.body(b)?.position().z + r);
-    }
-    anyhow::ensure!(
-        top < z_top,
-        "granular-shear: grains above the box after settling (top {top} m, walls end at {z_top} m)"
-    );
-    let load = sigma * l * l;
-    shear_box.load(&mut sys, &bodies, top, 0.02 * d, load)?;
-    for _ in 0..n_cons {
-        sys.step(h)?;
-        step += 1;
-        record_grains(&mut vtk, step, &sys)?;
-        report(step);
-    }
-    let z_plate0 = sys.body(bodies.plate)?.position().z;
-    // Grain volume over the box's volume between the floor (top at -hl) and the plate's
-    // underside: the consolidated sample's solid fraction (walls included, so below the
-    // bulk value; it compares preparations).
-    let solid_fraction = handles.len() as f64 * v_grain / shear_box.sample_volume(&sys, &bodies)?;
-    let overlap_strain = uniaxial_overlap_strain(&sys, &structure)?;
-    shear_box.drive(&mut sys, &bodies, p.shear_speed)?;
-    let z_plane = 0.5 * gap;
-    let x0 = sys.body(bodies.lower)?.position().x;
-    let (mut bins, mut weight_sum) = (Vec::with_capacity(n_bins as usize), 0.0);
-    let mut solve = SolveMeans::default();
-    for _ in 0..n_bins {
-        let (mut f, mut f_lower) = (Vector3::zeros(), Vector3::zeros());
-        for _ in 0..steps_per_bin {
-            let rep = sys.step(h)?;
-            solve.iterations += rep.solve.iterations as f64;
-            solve.converged += f64::from(u8::from(rep.solve.converged));
-            solve.residual += rep.solve.residual;
-            solve.passes += rep.friction_passes as f64;
-            step += 1;
-            let (on_upper, on_lower) = shear_box.grain_forces(&sys, &bodies, h);
-            f += on_upper;
-            f_lower += on_lower;
-            record_grains(&mut vtk, step, &sys)?;
-            report(step);
-        }
-        f /= steps_per_bin as f64;
-        let mut above = 0usize;
-        for &b in &handles {
-            if sys.body(b)?.position().z > z_plane {
-                above += 1;
-            }
-        }
-        let weight = above as f64 * grain_mass * g;
-        weight_sum += weight / load;
-        let normal = f.z + weight;
-        anyhow::ensure!(
-            normal > 0.0,
-            "granular-shear: no normal force on the shear plane ({normal} N) at step {step}"
-        );
-        let s = (sys.body(bodies.lower)?.position().x - x0) / d;
-        let rise = (sys.body(bodies.plate)?.position().z - z_plate0) / d;
-        // Quasi-static: the lower half feels the opposite shear force.
-        let balance = -f_lower.x / steps_per_bin as f64 / f.x;
-        bins.push([s, f.x / normal, f.x / load, rise, balance]);
-    }
+    let run = scene
+        .run(&mut sys, |sys, i| {
+            record_grains(&mut vtk, i, sys)?;
+            let (j, m) = progress;
+            ctx.progress((j as f64 + i as f64 / n_total as f64) / m as f64);
+            Ok::<(), anyhow::Error>(())
+        })
+        .map_err(|e| anyhow::anyhow!("granular-shear: {e}"))?;
     vtk.finish()?;
-    let pairs: Vec<(f64, f64)> = bins.iter().map(|b| (b[0], b[1])).collect();
-    let (peak, residual) = peak_and_residual(&pairs, p.peak_window, p.residual_window)?;
-    let rise: Vec<(f64, f64)> = bins.iter().map(|b| (b[0], b[3])).collect();
-    let balance = dilatancy_corrected_ratio(&pairs, &rise, BALANCE_FROM, p.dilation_window);
-    let peak_dilation = peak_bin(&pairs, p.peak_window)
-        .map_or(f64::NAN, |i| dilation_rate(&rise, i, p.dilation_window));
     Ok(ShearRun {
-        self_weight: weight_sum / n_bins as f64,
-        ke_settled,
-        method,
-        solid_fraction,
-        overlap_strain,
-        penetration: max_penetration(&sys) / d,
-        escaped: {
-            // Below the floor's top: fallen out of the box (through the opening the lower
-            // half leaves under the upper one's trailing side as it moves).
-            let mut n = 0usize;
-            for &b in &handles {
-                if sys.body(b)?.position().z < -hl - r {
-                    n += 1;
-                }
-            }
-            n
-        },
-        bins,
-        peak,
-        residual,
-        peak_dilation,
-        residual_dilation: residual_dilation_rate(&rise, p.residual_window),
-        balance,
-        solve: {
-            let n = (n_bins * steps_per_bin) as f64;
-            SolveMeans {
-                iterations: solve.iterations / n,
-                converged: solve.converged / n,
-                residual: solve.residual / n,
-                passes: solve.passes / n,
-            }
-        },
-        grains: handles.len(),
-        steps: n_total,
-        h,
+        run,
         wall_s: start.elapsed().as_secs_f64(),
     })
 }
@@ -404,9 +184,9 @@ fn taylor_peak_deg(p: &ShearParams, r: &ShearRun) -> f64 {
 /// One run's metrics and its quasi-static checks (inertial number, the two halves' shear
 /// forces), under `tag`.
 fn run_metrics(out: &mut CaseOutput, p: &ShearParams, sigma: f64, tag: &str, r: &ShearRun) {
-    let last = r.bins.last().copied().unwrap_or([0.0; 5]);
+    let last = r.bins.last().copied().unwrap_or_default();
     let late = &r.bins[r.bins.len() * 7 / 10..];
-    let halves = late.iter().map(|b| b[4]).sum::<f64>() / late.len().max(1) as f64;
+    let halves = late.iter().map(|b| b.halves).sum::<f64>() / late.len().max(1) as f64;
     // I with a shear zone 5 d thick: gamma_dot = v / (5 d).
     let inertial = p.shear_speed / 5.0 * (p.density / sigma).sqrt();
     out.check(Check::below(
@@ -420,7 +200,7 @@ fn run_metrics(out: &mut CaseOutput, p: &ShearParams, sigma: f64, tag: &str, r: 
         1.0,
         0.05,
     ));
-    let applied = late.iter().map(|b| b[2]).sum::<f64>() / late.len().max(1) as f64;
+    let applied = late.iter().map(|b| b.applied_ratio).sum::<f64>() / late.len().max(1) as f64;
     out.metric(
         format!("peak_minus_taylor_deg_{tag}"),
         r.peak.atan().to_degrees() - taylor_peak_deg(p, r),
@@ -445,7 +225,7 @@ fn run_metrics(out: &mut CaseOutput, p: &ShearParams, sigma: f64, tag: &str, r: 
     )
     .metric(format!("escaped_grains_{tag}"), r.escaped as f64)
     .metric(format!("max_penetration_over_d_{tag}"), r.penetration)
-    .metric(format!("plate_rise_over_d_{tag}"), last[3])
+    .metric(format!("plate_rise_over_d_{tag}"), last.rise)
     .metric(format!("grains_{tag}"), r.grains as f64)
     .metric(format!("h_{tag}"), r.h)
     .metric(format!("wall_s_{tag}"), r.wall_s);
@@ -589,9 +369,9 @@ fn run(p: &ShearParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     let mut series = Series::new(cols.iter().copied());
     let len = runs.iter().map(|r| r.bins.len()).min().unwrap_or(0);
     for k in 0..len {
-        let mut row = vec![runs[0].bins[k][0]];
-        row.extend(runs.iter().map(|r| r.bins[k][1]));
-        row.extend(runs.iter().map(|r| r.bins[k][3]));
+        let mut row = vec![runs[0].bins[k].displacement];
+        row.extend(runs.iter().map(|r| r.bins[k].ratio));
+        row.extend(runs.iter().map(|r| r.bins[k].rise));
         series.push(&row);
     }
     out.series = series;
