@@ -148,21 +148,20 @@ impl CaseParams for HopperParams {
     ];
     fn apply_mode(&mut self, mode: Mode) {
         match mode {
-            Mode::Quick => {
-                // A fill of 10 d (2 orifice diameters, 2/3 of the silo's) instead of the
-                // silo diameter: 2/3 of the grains for a flow rate 2 % lower (-8.5 % against
-                // Beverloo instead of -6.8 %, docs/validation-granular.md), for the CI budget.
+            // A fill of 10 d (2 orifice diameters, 2/3 of the silo's) instead of the silo
+            // diameter: 2/3 of the grains for a flow rate 2 % lower (-8.5 % against Beverloo
+            // instead of -6.8 %, docs/validation-granular.md), the smallest silo (D = 5 d),
+            // 0.7 s: ~80 s, for the 20-minute budget of the default run
+            // (`xtask/src/budget.rs`), which runs the same discharge as `--quick`. `--full`
+            // runs D = 5, 7.5 and 10 d (3k, 6k, 15k grains) with the full fill; the earlier
+            // default, D = 5 and 7.5 d with the full fill, is
+            // `--set 'orifice_diameter=[0.02,0.03]' --set fill_height=0 --set t_transient=0.4
+            // --set t_end=1.2`.
+            Mode::Quick | Mode::Default => {
                 self.orifice_diameter = vec![5.0 * self.grain_diameter];
                 self.fill_height = 10.0 * self.grain_diameter;
                 self.t_transient = 0.3;
                 self.t_end = 0.7;
-            }
-            // The smallest silo (D = 5 d, ~3k grains, ~100 s) for the 20-minute budget of the
-            // default run (`xtask/src/budget.rs`); `--full` runs D = 5, 7.5 and 10 d (3k, 6k,
-            // 15k grains). The earlier default, D = 5 and 7.5 d, is
-            // `--set 'orifice_diameter=[0.02,0.03]'`.
-            Mode::Default => {
-                self.orifice_diameter = vec![5.0 * self.grain_diameter];
             }
             Mode::Full => {}
         }

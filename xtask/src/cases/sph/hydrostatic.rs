@@ -141,10 +141,20 @@ fn build(p: &HydrostaticParams, dp: f64) -> anyhow::Result<(SphSystem, [f64; 3])
 
 fn simulate(p: &HydrostaticParams, dp: f64, ctx: Option<&RunContext>) -> anyhow::Result<Outcome> {
     let (mut sys, upper) = build(p, dp)?;
+    // The reference is the water actually in the tank: the lattice holds a whole number of
+    // layers, `depth` rounded to a multiple of `dp` (13 layers of 0.03 m for 0.4 m). The
+    // top layer's centres sit `dp / 2` below the free surface.
+    let d = sys.data();
+    let depth = (0..d.len())
+        .filter(|&i| d.kind[i] == chrono_sph::data::FLUID)
+        .map(|i| d.z[i])
+        .fold(f64::NEG_INFINITY, f64::max)
+        + 0.5 * dp;
+    anyhow::ensure!(depth.is_finite(), "no fluid particle: `depth` {} is below one layer of `spacing` {dp}", p.depth);
     let v_ref = (G * p.depth).sqrt();
     let mut series = Series::new(["t", "max_speed_over_sqrt_gH", "p_bottom", "p_bottom_exact"]);
     let probe = [0.5 * p.tank_length, 0.5 * upper[1], 2.0 * dp];
-    let p_exact = 1000.0 * G * (p.depth - probe[2]);
+    let p_exact = 1000.0 * G * (depth - probe[2]);
     let mut frames = particle_frames(ctx, p.t_end / 50.0)?;
     let mut next_row = 0.0;
     let mut max_speed_late = 0.0f64;
@@ -175,9 +185,9 @@ fn simulate(p: &HydrostaticParams, dp: f64, ctx: Option<&RunContext>) -> anyhow:
         }
         dvar = dvar.max((d.rho[i] / 1000.0 - 1.0).abs());
         let (x, z) = (d.x[i], d.z[i]);
-        if x > support && x < p.tank_length - support && z > support && z < p.depth - support {
+        if x > support && x < p.tank_length - support && z > support && z < depth - support {
             num.push(d.p[i]);
-            refs.push(1000.0 * G * (p.depth - z));
+            refs.push(1000.0 * G * (depth - z));
         }
     }
     anyhow::ensure!(
