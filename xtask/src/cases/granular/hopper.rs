@@ -247,9 +247,7 @@ fn discharge(
                         radius: band_r,
                         height: band_hi - band_lo,
                     };
-                    let grains = bed
-                        .handles
-                        .iter()
+                    let grains = (recycler.handles().iter())
                         .zip(recycler.masses())
                         .map(|(&b, &m)| Ok((sys.body(b)?.position(), m)))
                         .collect::<anyhow::Result<Vec<_>>>()?;
