@@ -58,6 +58,9 @@ impl System {
             }
         }
         self.check_not_in_use(handles, &seen)?;
+        if handles.is_empty() {
+            return Ok(Vec::new());
+        }
         let mut bodies = Vec::with_capacity(handles.len());
         let mut removals = Vec::with_capacity(handles.len());
         for &h in handles {
