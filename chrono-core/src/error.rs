@@ -38,6 +38,19 @@ pub enum ChronoError {
         /// The handle.
         handle: crate::item::ItemHandle,
     },
+    /// A joint handle that names no joint of this system (removed, or from another system).
+    #[error("stale or unknown handle {handle}")]
+    StaleJoint {
+        /// The handle.
+        handle: crate::joint::JointHandle,
+    },
+    /// A force element handle that names no force element of this system (removed, or
+    /// from another system).
+    #[error("stale or unknown handle {handle}")]
+    StaleForce {
+        /// The handle.
+        handle: crate::force::ForceHandle,
+    },
     /// A body cannot be removed while joints or force elements refer to it (remove those
     /// first).
     #[error("{handle} (\"{name}\") is still used by {users:?}")]
@@ -46,7 +59,7 @@ pub enum ChronoError {
         handle: crate::body::BodyHandle,
         /// Its name.
         name: String,
-        /// The joints and force elements that refer to it, e.g. `joint 0`.
+        /// The joints and force elements that refer to it, e.g. `joint 0v0 ("link")`.
         users: Vec<String>,
     },
     /// The state became non-finite (NaN or infinity) during a step.

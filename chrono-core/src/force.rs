@@ -17,15 +17,16 @@ use crate::curve::Curve;
 use crate::error::{ChronoError, Result, check_finite3, check_non_negative};
 use crate::item::StepContext;
 
-/// Handle of a force element in a [`System`](crate::system::System).
+/// Handle of a force element in a [`System`](crate::system::System) (slot index and
+/// generation, like [`BodyHandle`]): stale once the element is removed
+/// ([`System::remove_force_element`](crate::system::System::remove_force_element)).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub struct ForceHandle(pub(crate) u32);
-
-impl std::fmt::Display for ForceHandle {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "force element {}", self.0)
-    }
+pub struct ForceHandle {
+    index: u32,
+    generation: u32,
 }
+
+crate::slots::generational_handle!(ForceHandle, "force element");
 
 /// The loads of one step on every body: a force (world, N) through the center of mass and a
 /// torque (world, N m). Force elements add into it; the time stepper puts `h` times it into

@@ -3,7 +3,8 @@
 //! (O(1)) and bumps the slot's generation, so every older handle of that slot is stale.
 
 /// The accessors and `Display` (`"<label> <index>v<generation>"`) of a generational handle
-/// type with private `index` and `generation` fields (bodies, items).
+/// type with private `index` and `generation` fields (bodies, items, joints, force
+/// elements).
 macro_rules! generational_handle {
     ($ty:ident, $label:literal) => {
         impl $ty {

@@ -25,6 +25,7 @@
 //!   pairs found and computed on the grid, spheres against other shapes by grid queries.
 //! - `narrow_phase`: per-pair persistent state, analytic sphere fast paths, parry manifolds.
 //! - `world`: [`CollisionWorld`] and [`Collider`].
+//! - `removal`: removing owners in place (swap-remove of bodies).
 //! - `proxy`: spheres and thick triangles of physics items against the body colliders.
 //! - `mesh`: triangulation of shapes for visualization.
 
@@ -34,6 +35,7 @@ pub(crate) mod convert;
 pub(crate) mod mesh;
 mod narrow_phase;
 mod proxy;
+mod removal;
 mod sphere_grid;
 mod world;
 

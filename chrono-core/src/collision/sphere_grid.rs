@@ -61,6 +61,12 @@ pub(crate) struct SphereGrid {
 }
 
 impl SphereGrid {
+    /// Forget the sphere index (colliders were removed or renumbered): the next
+    /// [`candidates`](Self::candidates) rebuilds it, one pass over the colliders.
+    pub(crate) fn forget_index(&mut self) {
+        self.built_for = usize::MAX;
+    }
+
     /// Number of sphere colliders among `colliders` (recounted when colliders are added).
     fn index(&mut self, colliders: &[Collider]) {
         if self.built_for == colliders.len() {

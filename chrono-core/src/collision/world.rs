@@ -42,7 +42,7 @@ pub(crate) enum ColliderKind {
 /// A shape attached to an owner (a rigid body) at a local pose, with a material.
 #[derive(Clone)]
 pub struct Collider {
-    owner: u32,
+    pub(super) owner: u32,
     local_pose: Isometry3<f64>,
     material: ContactMaterial,
     shape: Shape,
@@ -97,7 +97,7 @@ pub struct CollisionWorld {
     pub(super) envelope: f64,
     pub(super) colliders: Vec<Collider>,
     /// Excluded owner pairs `(min, max)`, sorted.
-    excluded: Vec<(u32, u32)>,
+    pub(super) excluded: Vec<(u32, u32)>,
     /// World poses of the parry shapes (last `detect`).
     pub(super) poses: Vec<Pose>,
     /// Broad-phase bounds (last `detect`).
@@ -105,23 +105,26 @@ pub struct CollisionWorld {
     sap: SweepAndPrune,
     candidates: Vec<(u32, u32)>,
     /// Live pair states, sorted by `(a, b)`.
-    pairs: Vec<PairState>,
+    pub(super) pairs: Vec<PairState>,
     /// The other buffer for `pairs` (double buffering).
-    next_pairs: Vec<PairState>,
+    pub(super) next_pairs: Vec<PairState>,
     /// Dropped pair states kept for their buffers.
-    spare: Vec<PairState>,
+    pub(super) spare: Vec<PairState>,
     /// Buffers of `detect_proxies`.
     pub(super) proxy_scratch: ProxyScratch,
     /// Number of sphere colliders.
-    spheres: usize,
+    pub(super) spheres: usize,
     /// Use the sphere grid from this many sphere colliders on.
     grid_min_spheres: usize,
     /// The sphere grid (broad and narrow phase of sphere pairs).
-    grid: SphereGrid,
+    pub(super) grid: SphereGrid,
     /// Whether the last `detect` used the grid.
     used_grid: bool,
     /// Wall time of the last `detect`: broad phase, narrow phase (s).
     timing: (f64, f64),
+    /// Whether the colliders are sorted by owner (true while they are added in owner
+    /// order, as [`System`](crate::system::System) does); removal relies on it.
+    pub(super) owner_sorted: bool,
 }
 
 impl std::fmt::Debug for CollisionWorld {
@@ -157,6 +160,7 @@ impl CollisionWorld {
             grid: SphereGrid::default(),
             used_grid: false,
             timing: (0.0, 0.0),
+            owner_sorted: true,
         })
     }
 
@@ -200,6 +204,9 @@ impl CollisionWorld {
             ChronoError::invalid("collider", self.colliders.len(), "too many colliders")
         })?;
         let parry = to_parry(shape, "collider.shape")?;
+        if self.colliders.last().is_some_and(|c| c.owner > owner) {
+            self.owner_sorted = false;
+        }
         let kind = match shape {
             Shape::Sphere { radius } => {
                 self.spheres += 1;
@@ -243,62 +250,21 @@ impl CollisionWorld {
         self.colliders.is_empty()
     }
 
-    /// Drop the colliders of `owner` and renumber the owner `moved_from` (if any) to
-    /// `owner`: what a swap-remove of owner `owner` from the owner arrays does. Colliders stay
-    /// sorted by owner (as if the world had been built without the removed owner, in the new
-    /// order) and the broad-phase and pair states start afresh, so the next `detect` sees
-    /// exactly what a new world would. Returns the new id of each old collider (`None` for
-    /// the dropped ones), for caches keyed by collider. Cost O(colliders + excluded pairs).
-    pub fn remove_owner(&mut self, owner: u32, moved_from: Option<u32>) -> Vec<Option<u32>> {
-        let renumber = |o: u32| {
-            if o == owner {
-                None
-            } else if Some(o) == moved_from {
-                Some(owner)
-            } else {
-                Some(o)
-            }
-        };
-        let mut order: Vec<(u32, usize)> = (self.colliders.iter().enumerate())
-            .filter_map(|(i, c)| renumber(c.owner).map(|o| (o, i)))
-            .collect();
-        // Stable: within an owner, colliders keep the order they were added in.
-        order.sort_by_key(|&(o, _)| o);
-        let mut map = vec![None; self.colliders.len()];
-        let mut old: Vec<Option<Collider>> = self.colliders.drain(..).map(Some).collect();
-        for (new, &(o, i)) in order.iter().enumerate() {
-            let mut c = old[i].take().expect("each collider is moved once");
-            c.owner = o;
-            self.colliders.push(c);
-            map[i] = Some(new as u32);
-        }
-        self.spheres = (self.colliders.iter())
-            .filter(|c| matches!(c.kind, ColliderKind::Sphere { .. }))
-            .count();
-        self.excluded = (self.excluded.iter())
-            .filter_map(|&(a, b)| {
-                let (a, b) = (renumber(a)?, renumber(b)?);
-                Some((a.min(b), a.max(b)))
-            })
-            .collect();
-        self.excluded.sort_unstable();
-        self.excluded.dedup();
-        self.poses.clear();
-        self.bounds.clear();
-        self.sap = SweepAndPrune::default();
-        self.candidates.clear();
-        self.pairs.clear();
-        self.next_pairs.clear();
-        self.grid = SphereGrid::default();
-        map
-    }
-
     /// Never report contacts between the colliders of `owner_a` and those of `owner_b`
     /// (e.g. two bodies connected by a joint). Symmetric; idempotent.
     pub fn exclude_pair(&mut self, owner_a: u32, owner_b: u32) {
         let key = (owner_a.min(owner_b), owner_a.max(owner_b));
         if let Err(at) = self.excluded.binary_search(&key) {
             self.excluded.insert(at, key);
+        }
+    }
+
+    /// Undo [`exclude_pair`](Self::exclude_pair): contacts between the two owners are
+    /// reported again. Symmetric; a pair that is not excluded is left alone.
+    pub fn include_pair(&mut self, owner_a: u32, owner_b: u32) {
+        let key = (owner_a.min(owner_b), owner_a.max(owner_b));
+        if let Ok(at) = self.excluded.binary_search(&key) {
+            self.excluded.remove(at);
         }
     }
 

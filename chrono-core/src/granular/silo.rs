@@ -3,17 +3,18 @@
 //!
 //! The wall is a regular polygon of half-spaces ([`super::add_cylinder_wall`]); the floor
 //! is a triangle-mesh annulus ([`annulus`]) whose hole has the orifice's area. A grain that
-//! has fallen below the floor is counted as discharged and put back on top of the pile at
-//! rest ([`Recycler::recycle`]), so the flow is steady after the initial collapse. The mass
+//! has fallen below the floor is counted as discharged, removed, and replaced by a new one
+//! at rest on top of the pile ([`Recycler::recycle`]), so the flow is steady after the
+//! initial collapse. The mass
 //! flow rate of such a silo follows Beverloo's law (W. A. Beverloo, H. A. Leniger and
 //! J. van de Velde, Chem. Eng. Sci. 15, 1961): `W = C rho_b sqrt(g) (D - k d)^(5/2)`.
 
-use nalgebra::{Isometry3, UnitQuaternion, Vector3};
+use nalgebra::{Isometry3, Vector3};
 
 use super::add_cylinder_wall;
 use super::bed::Bed;
 use super::fill::Region;
-use crate::body::{BodyHandle, RigidBodyBuilder};
+use crate::body::{BodyHandle, BodyMotion, RigidBody, RigidBodyBuilder};
 use crate::error::{ChronoError, Result, check_positive};
 use crate::material::ContactMaterial;
 use crate::rng::Rng;
@@ -138,11 +139,15 @@ impl Silo {
     }
 }
 
-/// Puts the grains that left a silo back on top of the pile, and counts the mass that
-/// left.
+/// Replaces the grains that left a silo by new ones on top of the pile, and counts the mass
+/// that left.
 ///
-/// Today a recycled grain is moved (its pose set, its velocities zeroed); the counting and
-/// the placement are behind [`Recycler::recycle`], so a scene does not depend on how.
+/// A discharged grain is removed from the system ([`System::remove_bodies`], all of a step
+/// at once) and a new grain like it (same name, mass, inertia, colliders) is added at rest
+/// at a free spot above the pile: its handle takes the old one's place in
+/// [`handles`](Recycler::handles), the old handle is stale. The bed's own handle list
+/// ([`Bed::handles`]) goes stale as grains are recycled: read the grains through
+/// [`handles`](Recycler::handles).
 #[derive(Debug, Clone)]
 pub struct Recycler {
     handles: Vec<BodyHandle>,
@@ -191,8 +196,15 @@ impl Recycler {
         &self.masses
     }
 
+    /// The grains' current handles, in the bed's order (a recycled grain's new handle in
+    /// its predecessor's place).
+    pub fn handles(&self) -> &[BodyHandle] {
+        &self.handles
+    }
+
     /// Counts and recycles the grains that have left the silo since the last call (call it
-    /// after every step); returns how many.
+    /// after every step): removes them (one batch) and adds their replacements at rest;
+    /// returns how many.
     pub fn recycle(&mut self, sys: &mut System) -> Result<usize> {
         let d = self.diameter;
         // A fixed insertion height, not one measured from the grains (it would follow the
@@ -205,7 +217,7 @@ impl Recycler {
                 self.near_top.push(x);
             }
         }
-        let mut count = 0;
+        let mut gone: Vec<(usize, Vector3<f64>)> = Vec::new();
         for (k, &b) in self.handles.iter().enumerate() {
             if sys.body(b)?.position().z > self.below {
                 continue;
@@ -222,14 +234,34 @@ impl Recycler {
                 }
             }
             self.near_top.push(at);
-            let body = sys.body_mut(b)?;
-            body.set_pose(at, UnitQuaternion::identity())?;
-            body.set_linear_velocity(Vector3::zeros())?;
-            body.set_angular_velocity(Vector3::zeros())?;
-            count += 1;
+            gone.push((k, at));
         }
-        Ok(count)
+        if gone.is_empty() {
+            return Ok(0);
+        }
+        let old: Vec<BodyHandle> = gone.iter().map(|&(k, _)| self.handles[k]).collect();
+        let removed = sys.remove_bodies(&old)?;
+        for (&(k, at), body) in gone.iter().zip(&removed) {
+            self.handles[k] = sys.add_body(like(body).position(at))?;
+        }
+        Ok(gone.len())
     }
+}
+
+/// A builder of a body like `body` (name, motion, mass, inertia, colliders), at rest at
+/// the origin, unrotated.
+fn like(body: &RigidBody) -> RigidBodyBuilder {
+    let builder = match body.motion() {
+        BodyMotion::Dynamic => RigidBodyBuilder::dynamic(),
+        BodyMotion::Fixed => RigidBodyBuilder::fixed(),
+        BodyMotion::Kinematic => RigidBodyBuilder::kinematic(),
+    };
+    let builder = (builder.name(body.name()))
+        .mass(body.mass())
+        .inertia(*body.inertia());
+    (body.colliders().iter()).fold(builder, |b, c| {
+        b.collider(c.shape.clone(), c.local_pose, c.material)
+    })
 }
 
 #[cfg(test)]

@@ -29,15 +29,16 @@ use crate::body::{BodyHandle, PairRowKind, RigidBody, push_pair_row};
 use crate::descriptor::{ConstraintRows, RowId};
 use crate::error::{ChronoError, Result, check_finite, check_finite3};
 
-/// Handle of a joint in a [`System`](crate::system::System).
+/// Handle of a joint in a [`System`](crate::system::System) (slot index and generation,
+/// like [`BodyHandle`]): stale once the joint is removed
+/// ([`System::remove_joint`](crate::system::System::remove_joint)).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
-pub struct JointHandle(pub(crate) u32);
-
-impl std::fmt::Display for JointHandle {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "joint {}", self.0)
-    }
+pub struct JointHandle {
+    index: u32,
+    generation: u32,
 }
+
+crate::slots::generational_handle!(JointHandle, "joint");
 
 /// What a rotational motor or linear actuator drives.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]

@@ -132,31 +132,41 @@ pub struct StepReport {
 ///
 /// # Handles and removal
 ///
-/// Bodies and physics items are named by generational handles ([`BodyHandle`],
-/// [`ItemHandle`]): a slot index and the slot's generation. The bodies stay dense in memory
-/// ([`bodies`](Self::bodies) is a slice; the solver and collision loops run over it), a slot
-/// table maps a handle to its position. [`remove_body`](Self::remove_body) and
-/// [`remove_item`](Self::remove_item) swap-remove (the last body or item takes the freed
+/// Bodies, joints, force elements and physics items are named by generational handles
+/// ([`BodyHandle`], [`JointHandle`], [`ForceHandle`], [`ItemHandle`]): a slot index and the
+/// slot's generation. The values stay dense in memory ([`bodies`](Self::bodies) is a slice;
+/// the solver and collision loops run over it), a slot table maps a handle to its position.
+/// [`remove_body`](Self::remove_body), [`remove_bodies`](Self::remove_bodies),
+/// [`remove_joint`](Self::remove_joint), [`remove_force_element`](Self::remove_force_element)
+/// and [`remove_item`](Self::remove_item) swap-remove (the last value takes the freed
 /// position, its handle stays valid) and bump the slot's generation: the removed handle is
 /// stale, and using it is an error naming it ([`ChronoError::StaleBody`],
-/// [`ChronoError::StaleItem`]), never another body, even after a new body reuses the slot.
+/// [`ChronoError::StaleJoint`], [`ChronoError::StaleForce`], [`ChronoError::StaleItem`]),
+/// never another value, even after a new one reuses the slot.
 ///
-/// Removal costs O(1) plus the caches keyed by body or collider: the collision world is
-/// renumbered (O(colliders); its broad phase restarts), the warm-start impulses and SMC
-/// tangential histories follow the new collider ids and drop the removed body's contacts
-/// (so contacts in flight with it simply end; the others keep their warm start). Joints and
-/// force elements cannot outlive their bodies: removing a body they refer to is
-/// [`ChronoError::BodyInUse`] naming them; joints and force elements themselves are not
-/// removable (their handles are plain indices). A system from which bodies were removed
-/// steps bit-identically to one built without them in the same order.
+/// Body removal costs O(1) for the bodies plus the caches keyed by body or collider: the
+/// collision world is updated in place (the removed body's colliders leave, the last body's
+/// take their place; see [`CollisionWorld::remove_owners`]), the warm-start impulses and
+/// SMC tangential histories follow the new collider ids and drop the removed body's
+/// contacts (so contacts in flight with it simply end; the others keep their warm start).
+/// Joints and force elements cannot outlive their bodies: removing a body they refer to is
+/// [`ChronoError::BodyInUse`] naming them (remove them first). A system from which bodies
+/// were removed before any step steps bit-identically to one built without them in the
+/// same order; removing, between steps, a body that touches nothing keeps the others'
+/// steps bit-identical too when the dense order of the others does not change (the
+/// removed body was the last one, or the last body took its place and was next to it).
 pub struct System {
     pub(crate) settings: SystemSettings,
     pub(crate) bodies: Bodies,
     pub(crate) joints: Vec<Joint>,
+    /// Joint handle -> index into `joints`.
+    pub(crate) joint_slots: SlotTable,
     pub(crate) items: Vec<Box<dyn PhysicsItem>>,
     /// Item handle -> index into `items`.
     pub(crate) item_slots: SlotTable,
     pub(crate) force_elements: Vec<Box<dyn ForceElement>>,
+    /// Force element handle -> index into `force_elements`.
+    pub(crate) force_slots: SlotTable,
     pub(crate) collision: CollisionWorld,
     pub(crate) solver: Box<dyn CcpSolver>,
     pub(crate) time: f64,
@@ -196,9 +206,11 @@ impl System {
             settings,
             bodies: Bodies::new(),
             joints: Vec::new(),
+            joint_slots: SlotTable::default(),
             items: Vec::new(),
             item_slots: SlotTable::default(),
             force_elements: Vec::new(),
+            force_slots: SlotTable::default(),
             collision,
             solver,
             time: 0.0,
@@ -318,9 +330,9 @@ impl System {
         let (a, b) = joint.bodies();
         let (a, b) = (self.bodies.try_index(a)?, self.bodies.try_index(b)?);
         self.collision.exclude_pair(a as u32, b as u32);
-        let handle = JointHandle(self.joints.len() as u32);
+        let (index, generation) = self.joint_slots.insert();
         self.joints.push(joint);
-        Ok(handle)
+        Ok(JointHandle::new(index, generation))
     }
 
     /// Add a physics item of a domain crate; its handle.
@@ -334,20 +346,32 @@ impl System {
     /// ([`ForceElement::attach`]) and evaluated at the start of every step.
     pub fn add_force_element(&mut self, mut element: Box<dyn ForceElement>) -> Result<ForceHandle> {
         element.attach(&self.bodies)?;
+        let (index, generation) = self.force_slots.insert();
         self.force_elements.push(element);
-        Ok(ForceHandle(self.force_elements.len() as u32 - 1))
+        Ok(ForceHandle::new(index, generation))
     }
 
-    /// The force element `h` with its type, or `None` if the handle or the type is wrong.
+    /// The force element `h` with its type, or `None` if the handle is stale or the type
+    /// is wrong.
     pub fn force_element<T: ForceElement>(&self, h: ForceHandle) -> Option<&T> {
-        let e: &dyn std::any::Any = self.force_elements.get(h.0 as usize)?.as_ref();
+        let i = self.force_slots.resolve(h.index(), h.generation())?;
+        let e: &dyn std::any::Any = self.force_elements[i].as_ref();
         e.downcast_ref::<T>()
     }
 
     /// The force element `h` with its type, mutably (to change a setting between steps).
     pub fn force_element_mut<T: ForceElement>(&mut self, h: ForceHandle) -> Option<&mut T> {
-        let e: &mut dyn std::any::Any = self.force_elements.get_mut(h.0 as usize)?.as_mut();
+        let i = self.force_slots.resolve(h.index(), h.generation())?;
+        let e: &mut dyn std::any::Any = self.force_elements[i].as_mut();
         e.downcast_mut::<T>()
+    }
+
+    /// The handles of all force elements, in the order they are evaluated in.
+    pub fn force_handles(&self) -> impl ExactSizeIterator<Item = ForceHandle> + '_ {
+        (0..self.force_elements.len()).map(|i| {
+            let (index, generation) = self.force_slots.handle_at(i);
+            ForceHandle::new(index, generation)
+        })
     }
 
     /// The loads of the force elements and joint efforts of the last step, per body.
@@ -417,29 +441,31 @@ impl System {
         self.bodies.handles()
     }
 
-    /// A joint.
+    /// A joint; [`ChronoError::StaleJoint`] if `h` was removed or is not from this system.
     pub fn joint(&self, h: JointHandle) -> Result<&Joint> {
-        self.joints
-            .get(h.0 as usize)
-            .ok_or(ChronoError::UnknownHandle {
-                kind: "joint",
-                index: h.0 as usize,
-                field: "joint".into(),
-            })
+        let i = (self.joint_slots)
+            .resolve(h.index(), h.generation())
+            .ok_or(ChronoError::StaleJoint { handle: h })?;
+        Ok(&self.joints[i])
     }
 
     /// A joint, mutable (to change a drive).
     pub fn joint_mut(&mut self, h: JointHandle) -> Result<&mut Joint> {
-        self.joints
-            .get_mut(h.0 as usize)
-            .ok_or(ChronoError::UnknownHandle {
-                kind: "joint",
-                index: h.0 as usize,
-                field: "joint".into(),
-            })
+        let i = (self.joint_slots)
+            .resolve(h.index(), h.generation())
+            .ok_or(ChronoError::StaleJoint { handle: h })?;
+        Ok(&mut self.joints[i])
     }
 
-    /// All joints.
+    /// The handles of all joints, in the order of [`joints`](Self::joints).
+    pub fn joint_handles(&self) -> impl ExactSizeIterator<Item = JointHandle> + '_ {
+        (0..self.joints.len()).map(|i| {
+            let (index, generation) = self.joint_slots.handle_at(i);
+            JointHandle::new(index, generation)
+        })
+    }
+
+    /// All joints, in dense order (removing one moves the last into its place).
     pub fn joints(&self) -> &[Joint] {
         &self.joints
     }

@@ -10,6 +10,7 @@ use crate::shape::Shape;
 
 mod grid;
 mod pairs;
+mod removal;
 mod scenes;
 
 pub(super) fn at(x: f64, y: f64, z: f64) -> Isometry3<f64> {

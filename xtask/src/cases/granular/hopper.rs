@@ -15,7 +15,8 @@
 //! a triangle-mesh annulus (48 sides, the hole's area equal to the circle's), grains of
 //! diameters uniform in `[0.9 d, d]` filled from a jittered lattice to `fill_height` after
 //! settling (Beverloo's `d` is their mean diameter, `0.95 d`). The discharge starts at once; a grain that has fallen `5 d` below the floor
-//! counts as discharged and is put back on top of the pile at rest (recycling keeps the
+//! counts as discharged, is removed, and a grain like it is added on top of the pile at rest
+//! (`chrono_core::granular::Recycler`; recycling keeps the
 //! head constant, so the flow is steady after the initial collapse). The flow rate is the
 //! least-squares slope of the discharged mass against time after `t_transient`.
 //!
@@ -247,9 +248,7 @@ fn discharge(
                         radius: band_r,
                         height: band_hi - band_lo,
                     };
-                    let grains = bed
-                        .handles
-                        .iter()
+                    let grains = (recycler.handles().iter())
                         .zip(recycler.masses())
                         .map(|(&b, &m)| Ok((sys.body(b)?.position(), m)))
                         .collect::<anyhow::Result<Vec<_>>>()?;
