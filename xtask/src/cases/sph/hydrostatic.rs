@@ -150,7 +150,11 @@ fn simulate(p: &HydrostaticParams, dp: f64, ctx: Option<&RunContext>) -> anyhow:
         .map(|i| d.z[i])
         .fold(f64::NEG_INFINITY, f64::max)
         + 0.5 * dp;
-    anyhow::ensure!(depth.is_finite(), "no fluid particle: `depth` {} is below one layer of `spacing` {dp}", p.depth);
+    anyhow::ensure!(
+        depth.is_finite(),
+        "no fluid particle: `depth` {} is below one layer of `spacing` {dp}",
+        p.depth
+    );
     let v_ref = (G * p.depth).sqrt();
     let mut series = Series::new(["t", "max_speed_over_sqrt_gH", "p_bottom", "p_bottom_exact"]);
     let probe = [0.5 * p.tank_length, 0.5 * upper[1], 2.0 * dp];
