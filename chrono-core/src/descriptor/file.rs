@@ -233,7 +233,10 @@ impl ProblemFile {
                 return Err(ChronoError::invalid(
                     format!("groups.{name}.ent_block"),
                     blk,
-                    format!("must name one of the {} mass blocks", self.masses.len()),
+                    format!(
+                        "must name one of the {} variable blocks (masses)",
+                        self.masses.len()
+                    ),
                 ));
             }
             let dst = &mut rows.groups[g as usize];
