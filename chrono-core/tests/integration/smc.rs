@@ -1,14 +1,12 @@
 //! SMC (penalty) contact through the public `System` API, against analytic results.
 
-mod common;
-
+use crate::common::{add_ground, sphere};
 use chrono_ccp::{Apgd, SolverSettings};
 use chrono_core::contact::smc::{RollingModel, SmcPair, contact_duration};
 use chrono_core::material::effective_young_modulus;
 use chrono_core::math::Vector3;
 use chrono_core::system::{ContactMethod, SmcModel, SmcSettings};
 use chrono_core::{BodyHandle, ContactMaterial, System, SystemSettings};
-use common::{add_ground, sphere};
 
 fn smc_system(model: SmcModel, gravity: f64) -> System {
     let settings = SystemSettings {
@@ -84,7 +82,7 @@ fn elastic_hertz_impact_has_hertz_contact_time_and_keeps_energy() {
 #[test]
 fn too_large_step_is_an_error_naming_the_body() {
     let mat = ContactMaterial::smc(1e9, 0.3, 0.5, 0.5);
-    let mut sys = smc_system(SmcModel::Hertz, common::g());
+    let mut sys = smc_system(SmcModel::Hertz, crate::common::g());
     plate(&mut sys, mat);
     ball(&mut sys, 0.001, 0.01, Vector3::zeros(), mat);
     let (hmax, body) = sys.smc_max_step().unwrap();
@@ -99,7 +97,7 @@ fn too_large_step_is_an_error_naming_the_body() {
 #[test]
 fn sliding_sphere_starts_rolling_at_five_sevenths() {
     for model in [SmcModel::Hooke, SmcModel::Hertz] {
-        let (r, v0, mu, g) = (0.01, 1.0, 0.3, common::g());
+        let (r, v0, mu, g) = (0.01, 1.0, 0.3, crate::common::g());
         let mat = ContactMaterial::smc(1e7, 0.3, 0.5, mu);
         let mut sys = smc_system(model, g);
         plate(&mut sys, mat);
@@ -129,7 +127,7 @@ fn sliding_sphere_starts_rolling_at_five_sevenths() {
 /// it at `a = 5/7 mu_r g` (solid sphere, rolling without slip).
 #[test]
 fn rolling_resistance_decelerates_at_five_sevenths_mu_r_g() {
-    let (r, v0, mu_r, g) = (0.01, 0.5, 0.05, common::g());
+    let (r, v0, mu_r, g) = (0.01, 0.5, 0.05, crate::common::g());
     let mat = ContactMaterial::smc(1e7, 0.3, 0.5, 0.5).with_rolling_friction(mu_r);
     let mut sys = smc_system(SmcModel::Hertz, g);
     plate(&mut sys, mat);
@@ -164,7 +162,7 @@ fn rolling_resistance_decelerates_at_five_sevenths_mu_r_g() {
 fn smc_runs_are_deterministic() {
     let run = || {
         let mat = ContactMaterial::smc(1e7, 0.3, 0.5, 0.5);
-        let mut sys = smc_system(SmcModel::Hertz, common::g());
+        let mut sys = smc_system(SmcModel::Hertz, crate::common::g());
         plate(&mut sys, mat);
         for k in 0..30 {
             let x = (k % 5) as f64 * 0.021 + 0.001 * (k as f64).sin();

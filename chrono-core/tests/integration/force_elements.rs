@@ -1,15 +1,13 @@
 //! Force elements (`chrono_core::force`) stepped by the system: spring-dampers against the
 //! analytic oscillator, conservation laws, tables, both contact methods, bad input.
 
-mod common;
-
+use crate::common::g;
 use chrono_ccp::{Apgd, SolverSettings};
 use chrono_core::math::Vector3;
 use chrono_core::{
     BodyHandle, ContactMethod, Curve, Extrapolation, RigidBodyBuilder, SpringDamper, System,
     SystemSettings,
 };
-use common::g;
 
 fn system_with(settings: SystemSettings) -> System {
     let s = SolverSettings {

@@ -4,12 +4,10 @@
 //! for both rolling models (`RollingModel::Relative`, the default, and `PerBody`, ten-row
 //! contacts against each body's own rotation, Zhou et al. 1999).
 
-mod common;
-
+use crate::common::{add_ground, g, incline_gravity, sphere, tight_apgd};
 use chrono_core::math::{Isometry3, UnitQuaternion, Vector3};
 use chrono_core::system::RollingModel;
 use chrono_core::{BodyHandle, ContactMaterial, RigidBodyBuilder, Shape, System, SystemSettings};
-use common::{add_ground, g, incline_gravity, sphere, tight_apgd};
 
 const R: f64 = 0.05;
 const H: f64 = 1e-3;

@@ -2,15 +2,13 @@
 //! an error that names the field. (Bit-for-bit reproducibility of whole validation cases is
 //! tested in `xtask/tests/case_determinism.rs`.)
 
-mod common;
-
+use crate::common::{add_ground, sphere, tight_apgd};
 use chrono_ccp::{Psor, SolverSettings};
 use chrono_core::math::{Isometry3, Vector3};
 use chrono_core::{
     ChronoError, ContactMaterial, JointBuilder, JointKind, RigidBodyBuilder, Shape, System,
     SystemSettings,
 };
-use common::{add_ground, sphere, tight_apgd};
 
 fn system() -> System {
     System::new(SystemSettings::default(), tight_apgd(1000)).unwrap()

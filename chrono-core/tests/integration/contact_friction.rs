@@ -5,12 +5,10 @@
 //! it rolls, rolling resistance decelerates it at `5/7 mu_r g`. The plate carries
 //! coefficients larger than the ball's, which the minimum combination rule cannot produce.
 
-mod common;
-
+use crate::common::{add_ground, g, incline_gravity, sphere, tight_apgd};
 use chrono_core::math::Vector3;
 use chrono_core::system::{ContactMethod, SmcModel, SmcSettings};
 use chrono_core::{BodyHandle, ContactFriction, ContactMaterial, System, SystemSettings};
-use common::{add_ground, g, incline_gravity, sphere, tight_apgd};
 
 const R: f64 = 0.01;
 

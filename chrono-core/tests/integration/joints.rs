@@ -1,14 +1,12 @@
 //! Integration tests of the joints (`chrono_core::joint`) with a real solver: each test checks
 //! physics that would fail if the joint's constraint rows were wrong.
 
-mod common;
-
+use crate::common::{g, tight_apgd};
 use chrono_core::math::Vector3;
 use chrono_core::{
     BodyHandle, Drive, JointBuilder, JointHandle, JointKind, RigidBodyBuilder, System,
     SystemSettings,
 };
-use common::{g, tight_apgd};
 use nalgebra::UnitQuaternion;
 
 const H: f64 = 1e-3;

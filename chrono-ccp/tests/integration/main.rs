@@ -1,0 +1,15 @@
+//! The integration tests of `chrono-ccp`, one module per topic, built as one test binary
+//! (one link instead of one per file: the cold CI build links each test binary).
+//! Run one topic with `cargo test -p chrono-ccp --test integration <module>::`.
+
+mod analytic;
+mod bilateral;
+mod cone;
+mod coulomb;
+mod determinism;
+mod parallel_psor;
+mod pendulum;
+mod problem_file;
+mod random;
+mod rolling;
+mod stack;
