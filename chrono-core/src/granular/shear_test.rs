@@ -195,6 +195,40 @@ impl ShearRun {
 }
 
 impl ShearTest {
+    /// A direct shear test of glass beads of diameter `d` after Härtl and Ooi (Granular
+    /// Matter 10, 2008; the set-up of xtask's `granular-shear`), one `material` for grains
+    /// and walls: box side `20 d`, lower half `5.5 d` deep, gap `0.5 d`, 3.1 kPa, 5 mm/s, density
+    /// 2550 kg/m^3, seed 7, settled 0.4 s and consolidated 0.1 s with the materials,
+    /// sheared over `1.5 d` read in bins of `0.05 d`, the step size from [`step_size`];
+    /// the peak searched over the whole curve, the residual over its last 30 %, the
+    /// dilation rate over `+-0.15 d`. Change any field with struct update syntax.
+    pub fn new(grain_diameter: f64, material: ContactMaterial) -> Self {
+        let d = grain_diameter;
+        Self {
+            grain_diameter: d,
+            length: 20.0 * d,
+            half_height: 5.5 * d,
+            gap: 0.5 * d,
+            density: 2550.0,
+            grain_material: material,
+            wall_material: material,
+            seed: 7,
+            settle_friction: None,
+            settle_iterations: None,
+            loaded_friction_law: None,
+            normal_stress: 3.1e3,
+            shear_speed: 0.005,
+            displacement: 1.5,
+            bin: 0.05,
+            t_settle: 0.4,
+            t_consolidate: 0.1,
+            h: 0.0,
+            peak_window: 1.0,
+            residual_window: 0.3,
+            dilation_window: 0.15,
+        }
+    }
+
     /// Errors naming the field (`shear_test.*`) unless the test can run.
     pub fn validate(&self) -> Result<()> {
         for (field, v) in [
@@ -496,31 +530,7 @@ mod tests {
     use super::*;
 
     fn test_spec() -> ShearTest {
-        let d = 0.006;
-        let mat = ContactMaterial::smc(4e7, 0.22, 0.87, 0.18);
-        ShearTest {
-            grain_diameter: d,
-            length: 20.0 * d,
-            half_height: 5.5 * d,
-            gap: 0.5 * d,
-            density: 2550.0,
-            grain_material: mat,
-            wall_material: mat,
-            seed: 7,
-            settle_friction: None,
-            settle_iterations: None,
-            loaded_friction_law: None,
-            normal_stress: 3.1e3,
-            shear_speed: 0.005,
-            displacement: 1.5,
-            bin: 0.05,
-            t_settle: 0.4,
-            t_consolidate: 0.1,
-            h: 0.0,
-            peak_window: 1.0,
-            residual_window: 0.3,
-            dilation_window: 0.15,
-        }
+        ShearTest::new(0.006, ContactMaterial::smc(4e7, 0.22, 0.87, 0.18))
     }
 
     #[test]

@@ -62,27 +62,10 @@ fn a_shear_test_sizes_its_sample_to_twice_the_lower_half() {
     let d = 0.006;
     let mat = ContactMaterial::smc(4e7, 0.22, 0.87, 0.18);
     let test = ShearTest {
-        grain_diameter: d,
         length: 8.0 * d,
         half_height: 2.0 * d,
-        gap: 0.5 * d,
-        density: 2550.0,
-        grain_material: mat,
-        wall_material: mat,
-        seed: 7,
-        settle_friction: None,
-        settle_iterations: None,
-        loaded_friction_law: None,
-        normal_stress: 3.1e3,
-        shear_speed: 0.005,
-        displacement: 1.5,
-        bin: 0.05,
-        t_settle: 0.4,
-        t_consolidate: 0.1,
         h: 1e-3,
-        peak_window: 1.0,
-        residual_window: 0.3,
-        dilation_window: 0.15,
+        ..ShearTest::new(d, mat)
     };
     let mut sys = nsc_system(d);
     let scene = test.build(&mut sys).unwrap();
