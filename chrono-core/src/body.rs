@@ -64,6 +64,34 @@ pub struct RigidBody {
     pub(crate) colliders: Vec<ColliderDesc>,
     /// The variable block of a dynamic body during a step.
     pub(crate) block: Option<BlockId>,
+    /// Constants derived from the mass and inertia (which never change after `build`),
+    /// cached so the step does not rebuild them.
+    pub(crate) cached: BodyConstants,
+}
+
+/// Per-body constants derived once from the mass and the inertia tensor.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct BodyConstants {
+    /// `J^-1` (zero if `J` is singular, as the step always treated it).
+    pub(crate) inv_inertia: Matrix3<f64>,
+    /// `J = j I` exactly (a sphere, a cube): the gyroscopic term vanishes.
+    pub(crate) isotropic: bool,
+    /// The mass operator of a dynamic body's variable block (`None` for the others).
+    pub(crate) mass_operator: Option<MassOperator>,
+}
+
+impl BodyConstants {
+    fn new(motion: BodyMotion, mass: f64, inertia: &Matrix3<f64>) -> Self {
+        let j = inertia[(0, 0)];
+        Self {
+            inv_inertia: inertia.try_inverse().unwrap_or_else(Matrix3::zeros),
+            isotropic: *inertia == Matrix3::from_diagonal_element(j),
+            mass_operator: match motion {
+                BodyMotion::Dynamic => MassOperator::rigid_body(mass, *inertia).ok(),
+                _ => None,
+            },
+        }
+    }
 }
 
 impl RigidBody {
@@ -195,7 +223,10 @@ impl RigidBody {
 
     /// The mass operator of this body's 6-dof variable block.
     pub fn mass_operator(&self) -> Result<MassOperator> {
-        MassOperator::rigid_body(self.mass, self.inertia)
+        match &self.cached.mass_operator {
+            Some(op) => Ok(op.clone()),
+            None => MassOperator::rigid_body(self.mass, self.inertia),
+        }
     }
 
     /// The 6 Jacobian coefficients of `d . (velocity of the world point p)` with respect to the
@@ -231,7 +262,9 @@ impl RigidBody {
     /// body-frame momentum must rotate back, `J w+ = exp(-h [w+]) (J w + h tau_b)`. This
     /// implicit equation is solved by fixed-point iteration (a contraction for `h |w|`
     /// well below 1; a few iterations to round-off), started from the explicit value.
-    /// `k_ang = J w+`. Explicit gyroscopic terms gain energy; the one-Newton-step implicit
+    /// `k_ang = J w+`. For an isotropic inertia `J = j I` (spheres) the fixed point is
+    /// `w+ = J^-1 l0` exactly (the rotation is about `l0` itself), so `k_ang = l0` without
+    /// iterating. Explicit gyroscopic terms gain energy; the one-Newton-step implicit
     /// form loses momentum; this form keeps `R J w` to round-off and the energy bounded.
     ///
     /// `extra` is a load of this step (world force through the center of mass, world torque)
@@ -247,9 +280,21 @@ impl RigidBody {
         let f = self.force + extra[0];
         let tau = self.torque + extra[1];
         let lin = self.mass * self.linear_velocity + h * (f + self.mass * gravity);
-        let j = &self.inertia;
-        let jinv = j.try_inverse().unwrap_or_else(Matrix3::zeros);
-        let l0 = j * self.angular_velocity + h * (self.rotation.inverse() * tau);
+        let l0 = self.inertia * self.angular_velocity + h * (self.rotation.inverse() * tau);
+        // With `J = j I` the fixed point is `w+ = l0 / j` exactly (the rotation
+        // `exp(-h [w+])` is about `l0` itself), so `k_ang = J w+ = l0`.
+        let ang = if self.cached.isotropic {
+            l0
+        } else {
+            self.gyroscopic_momentum(h, &l0)
+        };
+        out[..3].copy_from_slice(lin.as_slice());
+        out[3..6].copy_from_slice(ang.as_slice());
+    }
+
+    /// `J w+` with `J w+ = exp(-h [w+]) l0`, by fixed-point iteration from `J^-1 l0`.
+    fn gyroscopic_momentum(&self, h: f64, l0: &Vector3<f64>) -> Vector3<f64> {
+        let jinv = &self.cached.inv_inertia;
         let mut w = jinv * l0;
         for _ in 0..50 {
             let next = jinv * (UnitQuaternion::from_scaled_axis(-h * w) * l0);
@@ -259,9 +304,13 @@ impl RigidBody {
                 break;
             }
         }
-        let ang = j * w;
-        out[..3].copy_from_slice(lin.as_slice());
-        out[3..6].copy_from_slice(ang.as_slice());
+        self.inertia * w
+    }
+
+    /// `J^-1`, cached (zero for a singular `J`).
+    #[inline]
+    pub(crate) fn inv_inertia(&self) -> &Matrix3<f64> {
+        &self.cached.inv_inertia
     }
 
     /// Advance the pose with the new velocities: `x += h v`, `q = q exp(h w / 2)`.
@@ -455,6 +504,7 @@ impl RigidBodyBuilder {
         } else {
             angular_velocity
         };
+        let cached = BodyConstants::new(self.motion, mass, &inertia);
         Ok(RigidBody {
             name: self.name,
             motion: self.motion,
@@ -468,6 +518,7 @@ impl RigidBodyBuilder {
             torque: Vector3::zeros(),
             colliders: self.colliders,
             block: None,
+            cached,
         })
     }
 }

@@ -48,7 +48,21 @@ pub(crate) struct SphereGrid {
     ids: Vec<u32>,
     radius: Vec<f64>,
     r_max: f64,
+    /// Sphere centers of this step.
     pos: [Vec<f64>; 3],
+    /// Sphere centers when the grid and the pair list were last built.
+    built_pos: [Vec<f64>; 3],
+    /// Lower corner of the grid at its last build (the minimum of the binned centers).
+    lower: [f64; 3],
+    /// Largest displacement of a center since the last build, m.
+    moved: f64,
+    /// Verlet skin as a fraction of `r_max`: the pair list holds the pairs within
+    /// `cutoff + skin` and is rebuilt once a center has moved more than `skin / 2`.
+    skin: f64,
+    /// Whether the pair list must be rebuilt on the next step.
+    stale: bool,
+    /// Number of rebuilds (grid binning and pair search), for tests and benches.
+    rebuilds: u64,
     /// Non-sphere collider ids, ascending, and their bounds.
     other_ids: Vec<u32>,
     other_bounds: Vec<Bound>,
@@ -65,6 +79,26 @@ impl SphereGrid {
     /// [`candidates`](Self::candidates) rebuilds it, one pass over the colliders.
     pub(crate) fn forget_index(&mut self) {
         self.built_for = usize::MAX;
+        self.stale = true;
+    }
+
+    /// Set the Verlet skin as a fraction of the largest sphere radius (>= 0; 0 rebuilds
+    /// every step). The contacts found do not depend on it.
+    pub(crate) fn set_skin(&mut self, skin: f64) {
+        if skin != self.skin {
+            self.skin = skin;
+            self.stale = true;
+        }
+    }
+
+    /// The Verlet skin, as a fraction of the largest sphere radius.
+    pub(crate) fn skin(&self) -> f64 {
+        self.skin
+    }
+
+    /// Number of pair-list rebuilds so far.
+    pub(crate) fn rebuilds(&self) -> u64 {
+        self.rebuilds
     }
 
     /// Number of sphere colliders among `colliders` (recounted when colliders are added).
@@ -87,6 +121,7 @@ impl SphereGrid {
             }
         }
         self.built_for = colliders.len();
+        self.stale = true;
     }
 
     /// Candidate pairs that involve a non-sphere collider (with each other, by
@@ -102,12 +137,6 @@ impl SphereGrid {
     ) -> Result<()> {
         self.index(colliders);
         out.clear();
-        // Bin the spheres.
-        let cutoff = 2.0 * self.r_max + envelope;
-        if self.grid.is_none() || self.cutoff != cutoff {
-            self.grid = Some(CellGrid::new(GridConfig::auto(cutoff))?);
-            self.cutoff = cutoff;
-        }
         for p in &mut self.pos {
             p.clear();
         }
@@ -117,8 +146,44 @@ impl SphereGrid {
             self.pos[1].push(t.y);
             self.pos[2].push(t.z);
         }
-        let grid = self.grid.as_mut().expect("grid built above");
-        grid.build([&self.pos[0], &self.pos[1], &self.pos[2]])?;
+        // Rebind the spheres only when the pair list is stale: a center moved more than
+        // half the skin since the last build (two centers then approached by more than
+        // the skin), or the spheres, their largest radius or the envelope changed.
+        let cutoff = 2.0 * self.r_max + envelope;
+        let skin = self.skin * self.r_max;
+        self.moved =
+            if self.stale || self.cutoff != cutoff || self.built_pos[0].len() != self.ids.len() {
+                f64::INFINITY
+            } else {
+                max_displacement(&self.pos, &self.built_pos)
+            };
+        if !(self.moved <= 0.5 * skin) {
+            let binned = cutoff + skin;
+            if self
+                .grid
+                .as_ref()
+                .is_none_or(|g| g.config().cutoff != binned)
+            {
+                self.grid = Some(CellGrid::new(GridConfig::auto(binned))?);
+            }
+            self.cutoff = cutoff;
+            let grid = self.grid.as_mut().expect("grid built above");
+            grid.build([&self.pos[0], &self.pos[1], &self.pos[2]])?;
+            for a in 0..3 {
+                // The grid's automatic lower corner is the minimum center (exact).
+                self.lower[a] = self.pos[a].iter().copied().fold(f64::INFINITY, f64::min);
+                self.built_pos[a].clone_from(&self.pos[a]);
+            }
+            let pos = [&self.pos[0][..], &self.pos[1][..], &self.pos[2][..]];
+            grid.unique_pairs(pos, binned, &mut self.pair_scratch, &mut self.pairs)?;
+            // The grid lists each sphere's pairs in stencil order; sorted by `(i, j)` the
+            // list (and so the contact order) depends neither on the skin nor on when it
+            // was built.
+            (self.pairs.par_chunk_by_mut(|x, y| x[0] == y[0])).for_each(|run| run.sort_unstable());
+            self.moved = 0.0;
+            self.stale = false;
+            self.rebuilds += 1;
+        }
 
         // Others among themselves.
         self.other_bounds.clear();
@@ -138,7 +203,14 @@ impl SphereGrid {
             self.hits.resize_with(nothers, Vec::new);
         }
         let grid = self.grid.as_ref().expect("grid built above");
-        let (ids, other_ids, pad) = (&self.ids, &self.other_ids, self.r_max + envelope);
+        // Spheres sit within `moved` of the cell they were binned in.
+        let pad = self.r_max + envelope + self.moved;
+        let cells = Cells {
+            grid,
+            lower: self.lower,
+            cell: grid.config().cutoff,
+        };
+        let (ids, other_ids) = (&self.ids, &self.other_ids);
         self.hits[..nothers]
             .par_iter_mut()
             .enumerate()
@@ -146,17 +218,22 @@ impl SphereGrid {
                 hits.clear();
                 let o = other_ids[k] as usize;
                 let ob = &bounds[o];
-                match ob {
-                    Bound::Box(b) if b.mins.is_finite() && b.maxs.is_finite() => {
-                        if !query_box(grid, b, pad, ids.len(), |s| {
-                            if bounds_overlap(ob, &bounds[ids[s] as usize]) {
-                                hits.push(ids[s]);
-                            }
-                        }) {
-                            brute(ids, bounds, ob, hits);
-                        }
+                let mut hit = |s: usize| {
+                    if bounds_overlap(ob, &bounds[ids[s] as usize]) {
+                        hits.push(ids[s]);
                     }
-                    _ => brute(ids, bounds, ob, hits),
+                };
+                let found = match ob {
+                    Bound::Box(b) if b.mins.is_finite() && b.maxs.is_finite() => {
+                        query_box(grid, b, pad, ids.len(), &mut hit)
+                    }
+                    Bound::HalfSpace { origin, normal } => {
+                        cells.query_halfspace(*origin, *normal, pad, ids.len(), &mut hit)
+                    }
+                    _ => false,
+                };
+                if !found {
+                    brute(ids, bounds, ob, hits);
                 }
                 hits.sort_unstable();
             });
@@ -168,19 +245,8 @@ impl SphereGrid {
         Ok(())
     }
 
-    /// The sphere pairs whose centers are within the grid's cutoff (the grid's broad
-    /// phase). Call after [`candidates`](Self::candidates) in the same step.
-    pub(crate) fn sphere_pairs(&mut self) -> Result<()> {
-        let grid = self
-            .grid
-            .as_ref()
-            .expect("candidates() bins the spheres first");
-        let pos = [&self.pos[0][..], &self.pos[1][..], &self.pos[2][..]];
-        grid.unique_pairs(pos, self.cutoff, &mut self.pair_scratch, &mut self.pairs)
-    }
-
-    /// Contacts of the pairs of [`sphere_pairs`](Self::sphere_pairs) closer than the
-    /// envelope, appended to `out`. Skips two
+    /// Contacts of the pairs of the Verlet list closer than the envelope, appended to
+    /// `out` (call after [`candidates`](Self::candidates) in the same step). Skips two
     /// spheres of the same owner, two inactive owners, and excluded owner pairs (`excluded`
     /// sorted).
     pub(crate) fn sphere_contacts(
@@ -249,6 +315,117 @@ impl SphereGrid {
             out.extend_from_slice(b);
         }
         Ok(())
+    }
+}
+
+/// Largest distance between `pos` and `old` over the points (exact max: deterministic).
+fn max_displacement(pos: &[Vec<f64>; 3], old: &[Vec<f64>; 3]) -> f64 {
+    let d2 = (0..pos[0].len())
+        .into_par_iter()
+        .with_min_len(4096)
+        .map(|i| {
+            let d = [
+                pos[0][i] - old[0][i],
+                pos[1][i] - old[1][i],
+                pos[2][i] - old[2][i],
+            ];
+            d[0] * d[0] + d[1] * d[1] + d[2] * d[2]
+        })
+        .reduce(|| 0.0, f64::max);
+    // A NaN center rebinds (and `build` reports it).
+    if d2.is_nan() {
+        f64::INFINITY
+    } else {
+        d2.sqrt()
+    }
+}
+
+/// The grid's cells in world coordinates (axis-aligned, `cell` wide from `lower`).
+struct Cells<'a> {
+    grid: &'a CellGrid,
+    lower: [f64; 3],
+    cell: f64,
+}
+
+impl Cells<'_> {
+    /// Cell index along `axis` of the coordinate `x`, clamped to the grid.
+    fn index(&self, axis: usize, x: f64) -> usize {
+        let n = self.grid.dims()[axis];
+        let t = ((x - self.lower[axis]) / self.cell).floor();
+        t.clamp(0.0, (n - 1) as f64) as usize
+    }
+
+    /// Calls `f(sphere)` for every sphere binned in a cell that may hold a center within
+    /// `pad` (times the normal's 1-norm, the box bound's reach) of the half-space
+    /// `{x : (x - origin) . normal <= 0}`: per column of cells along the normal's dominant
+    /// axis, the cells up to where the plane leaves the column (the grid's boundary layer
+    /// facing the wall). Returns false (without calling `f`) when that covers more cells
+    /// than `limit`.
+    fn query_halfspace(
+        &self,
+        origin: Vector,
+        normal: Vector,
+        pad: f64,
+        limit: usize,
+        mut f: impl FnMut(usize),
+    ) -> bool {
+        let n = normal.to_array();
+        let k = if n[0].abs() >= n[1].abs() && n[0].abs() >= n[2].abs() {
+            0
+        } else if n[1].abs() >= n[2].abs() {
+            1
+        } else {
+            2
+        };
+        let (a, b) = ((k + 1) % 3, (k + 2) % 3);
+        if n[k] == 0.0 || !n.iter().all(|x| x.is_finite()) {
+            return false;
+        }
+        let dims = self.grid.dims();
+        // Reach of a center: the bound's corner offset, plus a rounding margin.
+        let reach = pad * (n[0].abs() + n[1].abs() + n[2].abs()) + 1e-9 * self.cell;
+        let on = origin.dot(normal) + reach;
+        // Cells [lo, hi] along k of the column (ia, ib) that may hold a center.
+        let span = |ia: usize, ib: usize| -> (usize, usize) {
+            let side = |axis: usize, i: usize| {
+                let lo = self.lower[axis] + i as f64 * self.cell - 1e-9 * self.cell;
+                let hi = self.lower[axis] + (i + 1) as f64 * self.cell + 1e-9 * self.cell;
+                (n[axis] * lo).min(n[axis] * hi)
+            };
+            let rest = on - side(a, ia) - side(b, ib);
+            // One cell more: the grid bins with `* (1 / cell)`, rounding differently.
+            let i = self.index(k, rest / n[k]);
+            if n[k] > 0.0 {
+                (0, (i + 1).min(dims[k] - 1))
+            } else {
+                (i.saturating_sub(1), dims[k] - 1)
+            }
+        };
+        let mut count = 0usize;
+        for ib in 0..dims[b] {
+            for ia in 0..dims[a] {
+                let (lo, hi) = span(ia, ib);
+                count += hi + 1 - lo;
+            }
+        }
+        if count > limit.max(1) {
+            return false;
+        }
+        let order = self.grid.order();
+        for ib in 0..dims[b] {
+            for ia in 0..dims[a] {
+                let (lo, hi) = span(ia, ib);
+                for ik in lo..=hi {
+                    let mut c = [0usize; 3];
+                    (c[k], c[a], c[b]) = (ik, ia, ib);
+                    let cell = c[0] + dims[0] * (c[1] + dims[1] * c[2]);
+                    for slot in self.grid.cell_range(cell) {
+                        f(order[slot] as usize);
+                    }
+                }
+            }
+        }
+        true
     }
 }
 

@@ -21,6 +21,10 @@ use crate::shape::Shape;
 pub(crate) const PARALLEL_MIN_PAIRS: usize = 128;
 /// Pairs per rayon task.
 const PARALLEL_CHUNK: usize = 32;
+/// From this many colliders on, poses and bounds are computed in parallel.
+const PARALLEL_MIN_COLLIDERS: usize = 1024;
+/// Colliders per rayon task.
+const COLLIDER_CHUNK: usize = 512;
 
 /// Which fast path a collider can take.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -51,6 +55,9 @@ pub struct Collider {
     /// Pose of the parry shape in the owner frame (local pose times the shape offset).
     pub(crate) parry_local: Pose,
     pub(crate) kind: ColliderKind,
+    /// A sphere whose parry pose in the owner frame is the identity (its world pose is
+    /// the owner's).
+    pub(crate) local_identity: bool,
     /// Triangle mesh or height field (features carry a triangle index).
     pub(crate) composite: bool,
 }
@@ -217,13 +224,16 @@ impl CollisionWorld {
             },
             _ => ColliderKind::Other,
         };
+        let parry_local = pose_to_glam(&(local_pose * parry.offset));
         self.colliders.push(Collider {
             owner,
             local_pose,
             material,
             shape: shape.clone(),
             parry: parry.shape,
-            parry_local: pose_to_glam(&(local_pose * parry.offset)),
+            parry_local,
+            local_identity: matches!(kind, ColliderKind::Sphere { .. })
+                && parry_local == Pose::IDENTITY,
             kind,
             composite: matches!(shape, Shape::TriMesh { .. } | Shape::HeightField { .. }),
         });
@@ -274,6 +284,29 @@ impl CollisionWorld {
     /// order differs.
     pub fn set_grid_min_spheres(&mut self, n: usize) {
         self.grid_min_spheres = n;
+    }
+
+    /// Set the Verlet skin of the sphere grid as a fraction `skin` of the largest sphere
+    /// radius `r_max` (finite and >= 0; default 0): the grid keeps the sphere pairs within
+    /// `2 r_max + envelope + skin r_max` and rebuilds the list only once a sphere has moved
+    /// more than `skin r_max / 2` since the last build. The contacts found (and their
+    /// order) do not depend on it; a skin pays where spheres move little per step (SMC).
+    pub fn set_sphere_skin(&mut self, skin: f64) -> Result<()> {
+        check_non_negative("collision.sphere_skin", skin)?;
+        self.grid.set_skin(skin);
+        Ok(())
+    }
+
+    /// The Verlet skin of the sphere grid, a fraction of the largest sphere radius
+    /// ([`set_sphere_skin`](Self::set_sphere_skin)).
+    pub fn sphere_skin(&self) -> f64 {
+        self.grid.skin()
+    }
+
+    /// Number of times the sphere grid has binned the spheres and searched their pairs
+    /// (once per [`detect`](Self::detect) without a skin, less with one).
+    pub fn sphere_grid_rebuilds(&self) -> u64 {
+        self.grid.rebuilds()
     }
 
     /// Wall time (s) of the last [`detect`](Self::detect): `(broad phase, narrow phase)`
@@ -332,9 +365,6 @@ impl CollisionWorld {
             self.sap.find_pairs(&self.bounds, &mut self.candidates);
         }
         self.update_pairs(owner_active);
-        if self.used_grid {
-            self.grid.sphere_pairs()?;
-        }
         let t1 = std::time::Instant::now();
         self.timing = ((t1 - t0).as_secs_f64(), 0.0);
 
@@ -374,31 +404,51 @@ impl CollisionWorld {
         owner_poses: &[Isometry3<f64>],
         owner_active: &[bool],
     ) -> Result<()> {
-        self.poses.clear();
-        self.bounds.clear();
         let half = 0.5 * self.envelope;
-        for (i, c) in self.colliders.iter().enumerate() {
+        let check = |(i, c): (usize, &Collider)| -> Option<ChronoError> {
             let o = c.owner as usize;
             let unknown = |field: &str| ChronoError::UnknownHandle {
                 kind: "body",
                 index: o,
                 field: format!("{field} (owner of collider {i})"),
             };
-            let owner_pose = owner_poses.get(o).ok_or_else(|| unknown("owner_poses"))?;
+            let Some(owner_pose) = owner_poses.get(o) else {
+                return Some(unknown("owner_poses"));
+            };
             if o >= owner_active.len() {
-                return Err(unknown("owner_active"));
+                return Some(unknown("owner_active"));
             }
-            let g = pose_to_glam(owner_pose);
-            if !g.is_finite() {
-                return Err(ChronoError::invalid(
+            if !pose_to_glam(owner_pose).is_finite() {
+                return Some(ChronoError::invalid(
                     format!("owner_poses[{o}]"),
                     owner_pose,
                     "must be finite",
                 ));
             }
-            let pose = g * c.parry_local;
-            self.poses.push(pose);
-            self.bounds.push(match c.kind {
+            None
+        };
+        let parallel = self.colliders.len() >= PARALLEL_MIN_COLLIDERS;
+        // The first bad collider in order (deterministic), then the poses and bounds of
+        // the checked colliders.
+        let error = if parallel {
+            (self.colliders.par_iter().enumerate())
+                .with_min_len(COLLIDER_CHUNK)
+                .find_map_first(check)
+        } else {
+            self.colliders.iter().enumerate().find_map(check)
+        };
+        if let Some(e) = error {
+            return Err(e);
+        }
+        let one = |c: &Collider| -> (Pose, Bound) {
+            let g = pose_to_glam(&owner_poses[c.owner as usize]);
+            // A sphere at its owner's origin has the owner's pose (skip the composition).
+            let pose = if c.local_identity {
+                g
+            } else {
+                g * c.parry_local
+            };
+            let bound = match c.kind {
                 ColliderKind::Sphere { radius } => {
                     let r = Vector::splat(radius + half);
                     Bound::Box(parry3d_f64::bounding_volume::Aabb::new(
@@ -414,7 +464,24 @@ impl CollisionWorld {
                     }
                 }
                 _ => Bound::Box(c.parry.compute_aabb(&pose).loosened(half)),
-            });
+            };
+            (pose, bound)
+        };
+        self.poses.clear();
+        self.bounds.clear();
+        if parallel {
+            let it = self
+                .colliders
+                .par_iter()
+                .with_min_len(COLLIDER_CHUNK)
+                .map(one);
+            it.unzip_into_vecs(&mut self.poses, &mut self.bounds);
+        } else {
+            for c in &self.colliders {
+                let (p, b) = one(c);
+                self.poses.push(p);
+                self.bounds.push(b);
+            }
         }
         Ok(())
     }

@@ -121,6 +121,11 @@ pub struct SmcSettings {
     /// Effective radius (m) of a contact between two shapes without a curvature radius
     /// (boxes against half-spaces, meshes ...).
     pub flat_contact_radius: f64,
+    /// Verlet skin of the sphere grid in SMC steps, as a fraction of the largest sphere
+    /// radius ([`CollisionWorld::set_sphere_skin`](crate::collision::CollisionWorld::set_sphere_skin)):
+    /// the sphere pairs are searched again only after a sphere moved more than half of
+    /// it. The contacts do not depend on it (only the cost does); 0 searches every step.
+    pub grid_skin: f64,
 }
 
 impl Default for SmcSettings {
@@ -130,6 +135,7 @@ impl Default for SmcSettings {
             characteristic_velocity: 1.0,
             min_steps_per_contact: 10.0,
             flat_contact_radius: 1.0,
+            grid_skin: 0.25,
         }
     }
 }
@@ -140,6 +146,7 @@ impl SmcSettings {
         check_positive("smc.characteristic_velocity", self.characteristic_velocity)?;
         check_positive("smc.min_steps_per_contact", self.min_steps_per_contact)?;
         check_positive("smc.flat_contact_radius", self.flat_contact_radius)?;
+        crate::error::check_non_negative("smc.grid_skin", self.grid_skin)?;
         Ok(())
     }
 }

@@ -25,6 +25,7 @@ pub use coulomb::FrictionLaw;
 pub use smc_step::SmcTiming;
 
 use nalgebra::Vector3;
+use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::bodies::Bodies;
@@ -39,6 +40,12 @@ use crate::item::{ItemHandle, PhysicsItem, StepContext};
 use crate::joint::{Joint, JointBuilder, JointHandle};
 use crate::material::ContactFriction;
 use crate::slots::SlotTable;
+
+/// Below this many bodies the per-body loops of a step run serially (a vehicle's dozen
+/// bodies would pay more for the rayon dispatch than for the work).
+pub(crate) const PARALLEL_MIN_BODIES: usize = 1024;
+/// Bodies per rayon task in the per-body loops.
+pub(crate) const BODY_CHUNK: usize = 256;
 
 /// How contacts act: by complementarity (impulses from the CCP) or by penalty forces.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -186,6 +193,8 @@ pub struct System {
     pub(crate) triplet: TripletScratch,
     pub(crate) cache: WarmStartCache,
     pub(crate) poses: Vec<nalgebra::Isometry3<f64>>,
+    /// Per body: `k = M v + h f` of the step (zeros for bodies without variables).
+    pub(crate) momentum: Vec<[f64; 6]>,
     pub(crate) active: Vec<bool>,
     pub(crate) smc: smc_step::SmcState,
     /// Loads of force elements and joint efforts of the current step.
@@ -229,6 +238,7 @@ impl System {
             triplet: TripletScratch::default(),
             cache: WarmStartCache::default(),
             poses: Vec::new(),
+            momentum: Vec::new(),
             active: Vec::new(),
             smc: smc_step::SmcState::default(),
             loads: BodyLoads::default(),
@@ -539,6 +549,22 @@ impl System {
             .iter()
             .map(|j| j.violation(&self.bodies))
             .fold(0.0, f64::max)
+    }
+
+    /// The bodies' poses and activity (dynamic or not) for this step's collision
+    /// detection, into `self.poses` and `self.active` (in parallel for many bodies).
+    pub(crate) fn collision_state(&mut self) {
+        self.poses.clear();
+        self.active.clear();
+        if self.bodies.len() >= PARALLEL_MIN_BODIES {
+            self.poses
+                .par_extend(self.bodies.par_iter().map(RigidBody::pose));
+            (self.active).par_extend(self.bodies.par_iter().map(RigidBody::is_dynamic));
+        } else {
+            self.poses.extend(self.bodies.iter().map(RigidBody::pose));
+            self.active
+                .extend(self.bodies.iter().map(RigidBody::is_dynamic));
+        }
     }
 
     /// Total kinetic energy of the dynamic bodies, J.

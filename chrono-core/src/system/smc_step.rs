@@ -1,10 +1,10 @@
 //! The SMC (penalty) time step: contact forces from overlaps ([`crate::contact::smc`]),
 //! semi-implicit Euler, joints still by constraint rows.
 
-use nalgebra::{Matrix3, Vector3};
+use nalgebra::Vector3;
 use rayon::prelude::*;
 
-use super::{StepReport, System};
+use super::{BODY_CHUNK, PARALLEL_MIN_BODIES, StepReport, System};
 use crate::body::{BodyHandle, BodyMotion, RigidBody};
 use crate::collision::{CollisionWorld, ContactKey, ContactPoint};
 use crate::contact::smc::{
@@ -192,12 +192,9 @@ impl System {
         self.prepare_smc_caches()?;
 
         // Collision at q(l).
-        self.poses.clear();
-        self.active.clear();
-        for b in &self.bodies {
-            self.poses.push(b.pose());
-            self.active.push(b.motion == BodyMotion::Dynamic);
-        }
+        self.collision
+            .set_sphere_skin(self.settings.smc.grid_skin)?;
+        self.collision_state();
         self.collision
             .detect(&self.poses, &self.active, &mut self.points)?;
         self.apply_contact_friction();
@@ -280,15 +277,19 @@ impl System {
             }
             st.alpha_model = Some(model);
         }
-        st.inv_mass.clear();
-        st.inv_inertia.clear();
-        for b in &self.bodies {
-            if b.is_dynamic() {
-                st.inv_mass.push(1.0 / b.mass);
-                st.inv_inertia.push(3.0 / b.inertia.trace());
-            } else {
-                st.inv_mass.push(0.0);
-                st.inv_inertia.push(0.0);
+        // Mass and inertia never change after a body is built; a removal resets the
+        // caches (`remap_colliders`), an addition changes the count.
+        if st.inv_mass.len() != self.bodies.len() {
+            st.inv_mass.clear();
+            st.inv_inertia.clear();
+            for b in &self.bodies {
+                if b.is_dynamic() {
+                    st.inv_mass.push(1.0 / b.mass);
+                    st.inv_inertia.push(3.0 / b.inertia.trace());
+                } else {
+                    st.inv_mass.push(0.0);
+                    st.inv_inertia.push(0.0);
+                }
             }
         }
         Ok(())
@@ -390,22 +391,25 @@ impl System {
     /// New velocities and poses without rows.
     fn smc_free_update(&mut self, h: f64) {
         let g = self.settings.gravity;
-        self.bodies
-            .par_iter_mut()
-            .zip(self.smc.loads.par_iter())
-            .with_min_len(CHUNK)
-            .for_each(|(b, load)| {
-                if b.motion == BodyMotion::Dynamic {
-                    let mut k = [0.0; 6];
-                    b.free_momentum(h, &g, load, &mut k);
-                    b.linear_velocity = Vector3::new(k[0], k[1], k[2]) / b.mass;
-                    let jinv = b.inertia.try_inverse().unwrap_or_else(Matrix3::zeros);
-                    b.angular_velocity = jinv * Vector3::new(k[3], k[4], k[5]);
-                }
-                if b.motion != BodyMotion::Fixed {
-                    b.integrate_pose(h);
-                }
-            });
+        let one = |(b, load): (&mut RigidBody, &[Vector3<f64>; 2])| {
+            if b.motion == BodyMotion::Dynamic {
+                let mut k = [0.0; 6];
+                b.free_momentum(h, &g, load, &mut k);
+                b.linear_velocity = Vector3::new(k[0], k[1], k[2]) / b.mass;
+                b.angular_velocity = b.inv_inertia() * Vector3::new(k[3], k[4], k[5]);
+            }
+            if b.motion != BodyMotion::Fixed {
+                b.integrate_pose(h);
+            }
+        };
+        if self.bodies.len() >= PARALLEL_MIN_BODIES {
+            (self.bodies.par_iter_mut())
+                .zip(self.smc.loads.par_iter())
+                .with_min_len(BODY_CHUNK)
+                .for_each(one);
+        } else {
+            self.bodies.iter_mut().zip(&self.smc.loads).for_each(one);
+        }
     }
 
     /// New velocities and poses with joints' and items' rows solved by the CCP solver.
@@ -415,10 +419,16 @@ impl System {
         let ndof = self.vars.ndof();
         self.k.clear();
         self.k.resize(ndof, 0.0);
-        for (b, load) in self.bodies.iter_mut().zip(&self.smc.loads) {
+        super::step::free_momenta(
+            &self.bodies,
+            &self.smc.loads,
+            &self.settings.gravity,
+            h,
+            &mut self.momentum,
+        );
+        for (b, k) in self.bodies.iter().zip(&self.momentum) {
             if let Some(blk) = b.block {
-                let r = self.vars.range(blk);
-                b.free_momentum(h, &self.settings.gravity, load, &mut self.k[r]);
+                self.k[self.vars.range(blk)].copy_from_slice(k);
             }
         }
         for item in &self.items {
@@ -460,16 +470,7 @@ impl System {
         self.v.clear();
         self.v.resize(ndof, 0.0);
         self.problem.velocities(&self.gamma, &mut self.v);
-        for b in &mut self.bodies {
-            if let Some(blk) = b.block {
-                let v = &self.v[self.vars.range(blk)];
-                b.linear_velocity = Vector3::new(v[0], v[1], v[2]);
-                b.angular_velocity = Vector3::new(v[3], v[4], v[5]);
-            }
-            if b.motion != BodyMotion::Fixed {
-                b.integrate_pose(h);
-            }
-        }
+        self.update_bodies(h);
         for item in &mut self.items {
             item.update(&ctx, &self.vars, &self.v, &self.problem, &self.gamma)?;
         }
@@ -489,29 +490,39 @@ impl System {
 
     /// Non-finite or diverging bodies are errors naming the body and the step.
     pub(crate) fn check_state(&self) -> Result<()> {
-        for (i, b) in self.bodies.iter().enumerate() {
-            if !b.state_is_finite() {
-                return Err(ChronoError::NonFinite {
-                    item: format!("body {i} (\"{}\")", b.name),
-                    step: self.step_count,
-                    time: self.time,
-                    what: "position or velocity".into(),
-                });
-            }
-            let (v, w) = (b.linear_velocity.norm(), b.angular_velocity.norm());
-            if v > self.settings.max_speed || w > self.settings.max_angular_speed {
-                return Err(ChronoError::Diverged {
-                    item: format!("body {i} (\"{}\")", b.name),
-                    step: self.step_count,
-                    time: self.time,
-                    what: format!(
-                        "speed {v:.3e} m/s (limit {:.1e}), angular speed {w:.3e} rad/s (limit {:.1e})",
-                        self.settings.max_speed, self.settings.max_angular_speed
-                    ),
-                });
-            }
+        let (vmax, wmax) = (self.settings.max_speed, self.settings.max_angular_speed);
+        let bad = |b: &RigidBody| {
+            !b.state_is_finite()
+                || b.linear_velocity.norm() > vmax
+                || b.angular_velocity.norm() > wmax
+        };
+        // The first bad body in dense order, found in parallel for many bodies.
+        let first = if self.bodies.len() >= PARALLEL_MIN_BODIES {
+            (self.bodies.par_iter())
+                .with_min_len(BODY_CHUNK)
+                .position_first(bad)
+        } else {
+            self.bodies.iter().position(bad)
+        };
+        let Some(i) = first else { return Ok(()) };
+        let b = &self.bodies[i];
+        if !b.state_is_finite() {
+            return Err(ChronoError::NonFinite {
+                item: format!("body {i} (\"{}\")", b.name),
+                step: self.step_count,
+                time: self.time,
+                what: "position or velocity".into(),
+            });
         }
-        Ok(())
+        let (v, w) = (b.linear_velocity.norm(), b.angular_velocity.norm());
+        Err(ChronoError::Diverged {
+            item: format!("body {i} (\"{}\")", b.name),
+            step: self.step_count,
+            time: self.time,
+            what: format!(
+                "speed {v:.3e} m/s (limit {vmax:.1e}), angular speed {w:.3e} rad/s (limit {wmax:.1e})"
+            ),
+        })
     }
 }
 

@@ -1,9 +1,10 @@
 //! The NSC time step (Anitescu–Tasora, seed "Complementarity Approach: The Math").
 
 use nalgebra::Vector3;
+use rayon::prelude::*;
 
-use super::{StepReport, System};
-use crate::body::BodyMotion;
+use super::{BODY_CHUNK, PARALLEL_MIN_BODIES, StepReport, System};
+use crate::body::{BodyMotion, RigidBody};
 use crate::contact::nsc::{self, NscRowSettings};
 use crate::error::{ChronoError, Result};
 use crate::item::StepContext;
@@ -38,6 +39,29 @@ impl System {
         Ok(())
     }
 
+    /// Copy the solved velocities `self.v` into the dynamic bodies and advance every
+    /// non-fixed body's pose by `h` (in parallel for many bodies).
+    pub(crate) fn update_bodies(&mut self, h: f64) {
+        let (vars, v) = (&self.vars, &self.v);
+        let one = |b: &mut RigidBody| {
+            if let Some(blk) = b.block {
+                let v = &v[vars.range(blk)];
+                b.linear_velocity = Vector3::new(v[0], v[1], v[2]);
+                b.angular_velocity = Vector3::new(v[3], v[4], v[5]);
+            }
+            if b.motion != BodyMotion::Fixed {
+                b.integrate_pose(h);
+            }
+        };
+        if self.bodies.len() >= PARALLEL_MIN_BODIES {
+            (self.bodies.par_iter_mut())
+                .with_min_len(BODY_CHUNK)
+                .for_each(one);
+        } else {
+            self.bodies.iter_mut().for_each(one);
+        }
+    }
+
     /// Advance by one step of size `h` (s):
     ///
     /// 1. collide at `q(l)` (contacts within the envelope), bodies with bodies and the
@@ -70,11 +94,18 @@ impl System {
         self.k.clear();
         self.k.resize(ndof, 0.0);
         self.gather_loads(&ctx)?;
-        for (i, (b, load)) in self.bodies.iter().zip(self.loads.as_slice()).enumerate() {
+        free_momenta(
+            &self.bodies,
+            self.loads.as_slice(),
+            &self.settings.gravity,
+            h,
+            &mut self.momentum,
+        );
+        for (i, (b, k)) in self.bodies.iter().zip(&self.momentum).enumerate() {
             if let Some(blk) = b.block {
                 let r = self.vars.range(blk);
-                b.free_momentum(h, &self.settings.gravity, load, &mut self.k[r.clone()]);
-                if self.k[r].iter().any(|x| !x.is_finite()) {
+                self.k[r].copy_from_slice(k);
+                if k.iter().any(|x| !x.is_finite()) {
                     return Err(ChronoError::NonFinite {
                         item: format!("body {i} (\"{}\")", b.name),
                         step: self.step_count,
@@ -88,13 +119,9 @@ impl System {
             item.load_momentum(&ctx, &self.vars, &mut self.k);
         }
 
-        // Collision at q(l).
-        self.poses.clear();
-        self.active.clear();
-        for b in &self.bodies {
-            self.poses.push(b.pose());
-            self.active.push(b.motion == BodyMotion::Dynamic);
-        }
+        // Collision at q(l). NSC steps move grains too far for a skin to pay.
+        self.collision.set_sphere_skin(0.0)?;
+        self.collision_state();
         self.points.clear();
         self.collision
             .detect(&self.poses, &self.active, &mut self.points)?;
@@ -183,17 +210,7 @@ impl System {
         self.v.clear();
         self.v.resize(ndof, 0.0);
         self.problem.velocities(&self.gamma, &mut self.v);
-        for b in &mut self.bodies {
-            if let Some(blk) = b.block {
-                let r = self.vars.range(blk);
-                let v = &self.v[r];
-                b.linear_velocity = Vector3::new(v[0], v[1], v[2]);
-                b.angular_velocity = Vector3::new(v[3], v[4], v[5]);
-            }
-            if b.motion != BodyMotion::Fixed {
-                b.integrate_pose(h);
-            }
-        }
+        self.update_bodies(h);
         for item in &mut self.items {
             item.update(&ctx, &self.vars, &self.v, &self.problem, &self.gamma)?;
         }
@@ -222,5 +239,36 @@ impl System {
             solve,
             friction_passes,
         })
+    }
+}
+
+/// `k = M v + h f` of every body with a variable block ([`RigidBody::free_momentum`](crate::RigidBody))
+/// with the loads `loads` (per body), into `out` (zeros for the others); in parallel for
+/// many bodies (each body on its own: deterministic).
+pub(crate) fn free_momenta(
+    bodies: &[RigidBody],
+    loads: &[[Vector3<f64>; 2]],
+    gravity: &Vector3<f64>,
+    h: f64,
+    out: &mut Vec<[f64; 6]>,
+) {
+    let n = bodies.len();
+    out.clear();
+    out.resize(n, [0.0; 6]);
+    let one = |(b, (load, k)): (&RigidBody, (&[Vector3<f64>; 2], &mut [f64; 6]))| {
+        if b.block.is_some() {
+            b.free_momentum(h, gravity, load, k);
+        }
+    };
+    let loads = &loads[..n];
+    if n >= PARALLEL_MIN_BODIES {
+        (bodies.par_iter())
+            .zip(loads.par_iter().zip(out.par_iter_mut()))
+            .with_min_len(BODY_CHUNK)
+            .for_each(one);
+    } else {
+        (bodies.iter())
+            .zip(loads.iter().zip(out.iter_mut()))
+            .for_each(one);
     }
 }
