@@ -582,6 +582,54 @@ mod tests {
         b.free_momentum(0.01, &Vector3::zeros(), &[Vector3::zeros(); 2], &mut k);
         assert!((k[5] - 6.0).abs() < 1e-12 && k[3].abs() < 1e-12 && k[4].abs() < 1e-12);
     }
+
+    proptest::proptest! {
+        /// The isotropic fast path (`k_ang = l0`) equals the fixed-point iteration it
+        /// replaces to round-off (the iteration stops at a relative change of 1e-15).
+        #[test]
+        fn isotropic_fast_path_matches_the_fixed_point(
+            j in 1e-4..10.0f64,
+            w in proptest::array::uniform3(-50.0..50.0f64),
+            tau in proptest::array::uniform3(-5.0..5.0f64),
+            euler in proptest::array::uniform3(-3.0..3.0f64),
+            h in 1e-5..2e-3f64,
+        ) {
+            let mut b = RigidBodyBuilder::dynamic()
+                .inertia_diagonal(Vector3::repeat(j))
+                .rotation(UnitQuaternion::from_euler_angles(euler[0], euler[1], euler[2]))
+                .angular_velocity(Vector3::from(w))
+                .build()
+                .unwrap();
+            proptest::prop_assert!(b.cached.isotropic);
+            b.torque = Vector3::from(tau);
+            let mut fast = [0.0; 6];
+            b.free_momentum(h, &Vector3::zeros(), &[Vector3::zeros(); 2], &mut fast);
+            let l0 = b.inertia * b.angular_velocity + h * (b.rotation.inverse() * b.torque);
+            let slow = b.gyroscopic_momentum(h, &l0);
+            let fast = Vector3::new(fast[3], fast[4], fast[5]);
+            proptest::prop_assert!(
+                (fast - slow).norm() <= 1e-13 * (1.0 + l0.norm()),
+                "{fast} vs {slow}"
+            );
+        }
+    }
+
+    #[test]
+    fn constants_are_cached_at_build() {
+        let b = RigidBodyBuilder::dynamic()
+            .mass(2.0)
+            .inertia_diagonal(Vector3::new(1.0, 2.0, 4.0))
+            .build()
+            .unwrap();
+        assert!(!b.cached.isotropic);
+        assert_eq!(*b.inv_inertia(), b.inertia.try_inverse().unwrap());
+        assert_eq!(
+            b.mass_operator().unwrap(),
+            MassOperator::rigid_body(2.0, b.inertia).unwrap()
+        );
+        let f = RigidBodyBuilder::fixed().build().unwrap();
+        assert!(f.cached.mass_operator.is_none());
+    }
 }
 
 /// Push one row coupling two bodies: `ja . u_a + jb . u_b + rhs`, where a non-dynamic body's
