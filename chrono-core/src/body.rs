@@ -76,20 +76,15 @@ pub(crate) struct BodyConstants {
     pub(crate) inv_inertia: Matrix3<f64>,
     /// `J = j I` exactly (a sphere, a cube): the gyroscopic term vanishes.
     pub(crate) isotropic: bool,
-    /// The mass operator of a dynamic body's variable block (`None` for the others).
-    pub(crate) mass_operator: Option<MassOperator>,
 }
 
 impl BodyConstants {
-    fn new(motion: BodyMotion, mass: f64, inertia: &Matrix3<f64>) -> Self {
+    fn new(inertia: &Matrix3<f64>) -> Self {
         let j = inertia[(0, 0)];
         Self {
+            // The inverse `MassOperator::rigid_body` takes (same bits).
             inv_inertia: inertia.try_inverse().unwrap_or_else(Matrix3::zeros),
             isotropic: *inertia == Matrix3::from_diagonal_element(j),
-            mass_operator: match motion {
-                BodyMotion::Dynamic => MassOperator::rigid_body(mass, *inertia).ok(),
-                _ => None,
-            },
         }
     }
 }
@@ -223,9 +218,14 @@ impl RigidBody {
 
     /// The mass operator of this body's 6-dof variable block.
     pub fn mass_operator(&self) -> Result<MassOperator> {
-        match &self.cached.mass_operator {
-            Some(op) => Ok(op.clone()),
-            None => MassOperator::rigid_body(self.mass, self.inertia),
+        match self.motion {
+            // Checked by `build`; mass and inertia never change after it.
+            BodyMotion::Dynamic => Ok(MassOperator::RigidBody {
+                mass: self.mass,
+                inertia: self.inertia,
+                inv_inertia: self.cached.inv_inertia,
+            }),
+            _ => MassOperator::rigid_body(self.mass, self.inertia),
         }
     }
 
@@ -504,7 +504,7 @@ impl RigidBodyBuilder {
         } else {
             angular_velocity
         };
-        let cached = BodyConstants::new(self.motion, mass, &inertia);
+        let cached = BodyConstants::new(&inertia);
         Ok(RigidBody {
             name: self.name,
             motion: self.motion,
@@ -627,8 +627,6 @@ mod tests {
             b.mass_operator().unwrap(),
             MassOperator::rigid_body(2.0, b.inertia).unwrap()
         );
-        let f = RigidBodyBuilder::fixed().build().unwrap();
-        assert!(f.cached.mass_operator.is_none());
     }
 }
 

@@ -271,6 +271,17 @@ impl SphereGrid {
                 let end = ((k + 1) * PAIR_BLOCK).min(pairs.len());
                 for &[i, j] in &pairs[k * PAIR_BLOCK..end] {
                     let (i, j) = (i as usize, j as usize);
+                    // Most pairs of the Verlet list are apart: reject them on the squared
+                    // distance (with a margin, so the exact test below decides the rest).
+                    let reach = radius[i] + radius[j] + envelope;
+                    let d = [
+                        pos[0][j] - pos[0][i],
+                        pos[1][j] - pos[1][i],
+                        pos[2][j] - pos[2][i],
+                    ];
+                    if d[0] * d[0] + d[1] * d[1] + d[2] * d[2] > reach * reach * (1.0 + 1e-9) {
+                        continue;
+                    }
                     let (a, b) = (ids[i], ids[j]);
                     let (ca, cb) = (&colliders[a as usize], &colliders[b as usize]);
                     let (oa, ob) = (ca.owner(), cb.owner());

@@ -405,43 +405,35 @@ impl CollisionWorld {
         owner_active: &[bool],
     ) -> Result<()> {
         let half = 0.5 * self.envelope;
-        let check = |(i, c): (usize, &Collider)| -> Option<ChronoError> {
+        // The first bad collider in order (deterministic): an owner out of range.
+        let n_owners = owner_poses.len().min(owner_active.len());
+        if let Some((i, c)) =
+            (self.colliders.iter().enumerate()).find(|(_, c)| c.owner as usize >= n_owners)
+        {
             let o = c.owner as usize;
-            let unknown = |field: &str| ChronoError::UnknownHandle {
+            let field = if o >= owner_poses.len() {
+                "owner_poses"
+            } else {
+                "owner_active"
+            };
+            return Err(ChronoError::UnknownHandle {
                 kind: "body",
                 index: o,
                 field: format!("{field} (owner of collider {i})"),
-            };
-            let Some(owner_pose) = owner_poses.get(o) else {
-                return Some(unknown("owner_poses"));
-            };
-            if o >= owner_active.len() {
-                return Some(unknown("owner_active"));
-            }
-            if !pose_to_glam(owner_pose).is_finite() {
-                return Some(ChronoError::invalid(
-                    format!("owner_poses[{o}]"),
-                    owner_pose,
-                    "must be finite",
-                ));
-            }
-            None
-        };
-        let parallel = self.colliders.len() >= PARALLEL_MIN_COLLIDERS;
-        // The first bad collider in order (deterministic), then the poses and bounds of
-        // the checked colliders.
-        let error = if parallel {
-            (self.colliders.par_iter().enumerate())
-                .with_min_len(COLLIDER_CHUNK)
-                .find_map_first(check)
-        } else {
-            self.colliders.iter().enumerate().find_map(check)
-        };
-        if let Some(e) = error {
-            return Err(e);
+            });
         }
         let one = |c: &Collider| -> (Pose, Bound) {
             let g = pose_to_glam(&owner_poses[c.owner as usize]);
+            if !g.is_finite() {
+                // Reported below; no bound from a non-finite pose.
+                return (
+                    g,
+                    Bound::Box(parry3d_f64::bounding_volume::Aabb::new(
+                        Vector::ZERO,
+                        Vector::ZERO,
+                    )),
+                );
+            }
             // A sphere at its owner's origin has the owner's pose (skip the composition).
             let pose = if c.local_identity {
                 g
@@ -469,7 +461,7 @@ impl CollisionWorld {
         };
         self.poses.clear();
         self.bounds.clear();
-        if parallel {
+        if self.colliders.len() >= PARALLEL_MIN_COLLIDERS {
             let it = self
                 .colliders
                 .par_iter()
@@ -482,6 +474,15 @@ impl CollisionWorld {
                 self.poses.push(p);
                 self.bounds.push(b);
             }
+        }
+        // The first collider (in order) whose owner's pose is not finite.
+        if let Some(i) = self.poses.iter().position(|p| !p.is_finite()) {
+            let o = self.colliders[i].owner as usize;
+            return Err(ChronoError::invalid(
+                format!("owner_poses[{o}]"),
+                owner_poses[o],
+                "must be finite",
+            ));
         }
         Ok(())
     }
