@@ -157,7 +157,7 @@ impl SphereGrid {
             } else {
                 max_displacement(&self.pos, &self.built_pos)
             };
-        if !(self.moved <= 0.5 * skin) {
+        if self.moved > 0.5 * skin {
             let binned = cutoff + skin;
             if self
                 .grid
