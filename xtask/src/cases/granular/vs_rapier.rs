@@ -128,6 +128,12 @@ impl Meter<'_> {
     /// between them and the box's floor and four side planes. A cell grid of pitch
     /// `2 r_max` finds the sphere pairs.
     fn deepest_penetration(&self, centers: &[Vector3<f64>]) -> f64 {
+        let [walls, spheres] = self.deepest_penetrations(centers);
+        walls.max(spheres)
+    }
+
+    /// The deepest overlap (m, 0 if none) against the walls and between spheres, apart.
+    fn deepest_penetrations(&self, centers: &[Vector3<f64>]) -> [f64; 2] {
         let (lo, hi) = (self.lower, self.upper);
         let mut deepest = 0.0f64;
         for (c, &r) in centers.iter().zip(self.radii) {
@@ -136,9 +142,11 @@ impl Meter<'_> {
                 deepest = deepest.max(r - g);
             }
         }
+        let walls = deepest;
+        deepest = 0.0;
         let pitch = 2.0 * self.radii.iter().copied().fold(0.0, f64::max);
         if pitch <= 0.0 {
-            return deepest;
+            return [walls, 0.0];
         }
         let cell = |c: &Vector3<f64>| -> [i64; 3] {
             [0, 1, 2].map(|a| ((c[a] - lo[a]) / pitch).floor() as i64)
@@ -163,7 +171,7 @@ impl Meter<'_> {
                 }
             }
         }
-        deepest
+        [walls, deepest]
     }
 
     /// Grains out of the box by `granular-settle`'s definition (below the floor, or out
@@ -188,6 +196,8 @@ struct EngineRun {
     pen_late_max: f64,
     /// Deepest penetration over `0.8 r` at the end.
     pen_end: f64,
+    /// The same against the walls only, and between spheres only.
+    pen_end_split: [f64; 2],
     /// Grains out of the box at the end.
     escaped: usize,
 }
@@ -289,10 +299,14 @@ fn drive(
             let (centers, ke) = engine.state();
             run.ke_late_max = run.ke_late_max.max(ke / n / meter.ke_unit);
             if i % 10 == 0 || i == steps {
-                let pen = meter.deepest_penetration(&centers) / meter.pen_unit;
+                let split = meter
+                    .deepest_penetrations(&centers)
+                    .map(|d| d / meter.pen_unit);
+                let pen = split[0].max(split[1]);
                 run.pen_late_max = run.pen_late_max.max(pen);
                 if i == steps {
                     run.pen_end = pen;
+                    run.pen_end_split = split;
                     run.escaped = meter.escaped(&centers);
                 }
             }
@@ -460,6 +474,14 @@ fn run_in_pool(p: &VsRapierParams, ctx: &RunContext) -> anyhow::Result<CaseOutpu
             .metric(format!("{name}_steps_per_s_median"), r.steps_per_s_median())
             .metric(format!("{name}_max_penetration_over_r_end"), r.pen_end)
             .metric(
+                format!("{name}_max_penetration_over_r_end_walls"),
+                r.pen_end_split[0],
+            )
+            .metric(
+                format!("{name}_max_penetration_over_r_end_spheres"),
+                r.pen_end_split[1],
+            )
+            .metric(
                 format!("{name}_max_penetration_over_r_late"),
                 r.pen_late_max,
             )
@@ -494,7 +516,7 @@ fn markdown(
 ) -> String {
     let mut t = format!(
         "granular-settle pour: {} grains, r = {} m, h = {h} s, {steps} steps, {} threads\n\n\
-         | engine | steps/s (total) | steps/s (median) | deepest penetration / 0.8 r, end | \
+         | engine | steps/s (total) | steps/s (median) | deepest penetration / 0.8 r, end (walls / spheres) | \
          same, last quarter max | KE per grain / (m g d), last quarter max | at rest | escaped |\n\
          |---|---|---|---|---|---|---|---|\n",
         p.n,
@@ -504,10 +526,12 @@ fn markdown(
     for (name, r) in [("chrono-rs NSC", ours), ("rapier3d-f64 0.36.1", rapier)] {
         let _ = writeln!(
             t,
-            "| {name} | {:.3} | {:.3} | {:.4} | {:.4} | {:.3e} | {} | {} |",
+            "| {name} | {:.3} | {:.3} | {:.4} ({:.4} / {:.4}) | {:.4} | {:.3e} | {} | {} |",
             r.steps_per_s(),
             r.steps_per_s_median(),
             r.pen_end,
+            r.pen_end_split[0],
+            r.pen_end_split[1],
             r.pen_late_max,
             r.ke_late_max,
             if r.ke_late_max < p.ke_bound {
@@ -565,6 +589,8 @@ mod tests {
         ];
         let d = geo.deepest_penetration(&on_floor);
         assert!((d - 0.0025).abs() < 1e-12, "{d}");
+        let [w, sp] = geo.deepest_penetrations(&centers);
+        assert!(w == 0.0 && (sp - 0.001).abs() < 1e-12, "{w} {sp}");
         let out = [
             Vector3::new(0.5, 0.5, -0.1),
             Vector3::new(1.1, 0.5, 0.5),
