@@ -124,15 +124,9 @@ struct Meter<'a> {
 }
 
 impl Meter<'_> {
-    /// Deepest overlap (m, 0 if none) among the spheres `centers` (radii `self.radii`) and
-    /// between them and the box's floor and four side planes. A cell grid of pitch
+    /// Deepest overlaps (m, 0 if none), `[walls, spheres]`: of the spheres `centers` (radii
+    /// `self.radii`) with the box's floor and four side planes, and among them. A cell grid of pitch
     /// `2 r_max` finds the sphere pairs.
-    fn deepest_penetration(&self, centers: &[Vector3<f64>]) -> f64 {
-        let [walls, spheres] = self.deepest_penetrations(centers);
-        walls.max(spheres)
-    }
-
-    /// The deepest overlap (m, 0 if none) against the walls and between spheres, apart.
     fn deepest_penetrations(&self, centers: &[Vector3<f64>]) -> [f64; 2] {
         let (lo, hi) = (self.lower, self.upper);
         let mut deepest = 0.0f64;
@@ -211,7 +205,7 @@ impl EngineRun {
         let mut t = self.step_s.clone();
         t.sort_by(f64::total_cmp);
         let m = t.len() / 2;
-        let median = if t.len() % 2 == 0 {
+        let median = if t.len().is_multiple_of(2) {
             0.5 * (t[m - 1] + t[m])
         } else {
             t[m]
@@ -580,17 +574,15 @@ mod tests {
             Vector3::new(0.517, 0.5, 0.5),
             Vector3::new(0.2, 0.2, 0.2),
         ];
-        let d = geo.deepest_penetration(&centers);
-        assert!((d - 0.001).abs() < 1e-12, "{d}");
+        let d = geo.deepest_penetrations(&centers);
+        assert!(d[0] == 0.0 && (d[1] - 0.001).abs() < 1e-12, "{d:?}");
         let on_floor = [
             Vector3::new(0.5, 0.5, 0.5),
             Vector3::new(0.8, 0.5, 0.5),
             Vector3::new(0.2, 0.2, 0.0075),
         ];
-        let d = geo.deepest_penetration(&on_floor);
-        assert!((d - 0.0025).abs() < 1e-12, "{d}");
-        let [w, sp] = geo.deepest_penetrations(&centers);
-        assert!(w == 0.0 && (sp - 0.001).abs() < 1e-12, "{w} {sp}");
+        let d = geo.deepest_penetrations(&on_floor);
+        assert!((d[0] - 0.0025).abs() < 1e-12 && d[1] == 0.0, "{d:?}");
         let out = [
             Vector3::new(0.5, 0.5, -0.1),
             Vector3::new(1.1, 0.5, 0.5),
