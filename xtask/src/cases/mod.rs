@@ -117,6 +117,10 @@ pub fn all_benches() -> Vec<Box<dyn Case>> {
         granular::settle::bench(),
         ccp::apply_n::case(),
         sph::bench::bench(),
+        // Only with `--features rapier` (`cargo xtask-rapier`): the default build does not
+        // compile rapier.
+        #[cfg(feature = "rapier")]
+        granular::vs_rapier::bench(),
     ]
 }
 

@@ -10,6 +10,8 @@
 //! - `granular-shear`: a direct shear box of glass beads, peak and residual friction angles.
 //! - `granular-repose`: the angle of repose of a heap left on a plate after discharge,
 //!   against Zhou et al.'s (2002) DEM correlation and glass-bead experiments.
+//! - `granular-vs-rapier` (bench, cargo feature `rapier`): `granular-settle`'s pour by our
+//!   NSC step and by rapier3d-f64 side by side.
 //!
 //! The scenes are the library's (`chrono_core::granular`: `GrainBed`, `Silo`, `ShearTest`,
 //! `HeapSlot`, `ImpactBed`, `BallDrop`); the cases hold their parameters, references,
@@ -24,6 +26,8 @@ pub mod settle;
 pub mod shear;
 mod shear_params;
 pub mod smc_bounce;
+#[cfg(feature = "rapier")]
+pub mod vs_rapier;
 
 use chrono_ccp::{Apgd, CcpSolver, SolverSettings};
 use chrono_core::io::{Every, FrameSeries, write_grains_vtp};

@@ -169,17 +169,18 @@ impl CcpSolver for TimedSolver {
     }
 }
 
-/// The scene: grains on a jittered lattice in an open box.
-struct Scene {
-    sys: System,
-    grains: Vec<BodyHandle>,
-    lower: Vector3<f64>,
-    upper: Vector3<f64>,
-    h: f64,
+/// The scene: grains on a jittered lattice in an open box (also the scene of
+/// `granular-vs-rapier`).
+pub(super) struct Scene {
+    pub(super) sys: System,
+    pub(super) grains: Vec<BodyHandle>,
+    pub(super) lower: Vector3<f64>,
+    pub(super) upper: Vector3<f64>,
+    pub(super) h: f64,
     solve_nanos: Arc<AtomicU64>,
 }
 
-fn scene(p: &SettleParams) -> anyhow::Result<Scene> {
+pub(super) fn scene(p: &SettleParams) -> anyhow::Result<Scene> {
     anyhow::ensure!(p.n > 0, "parameter `n` must be > 0");
     let method = p.method;
     let settings = SystemSettings {
