@@ -116,6 +116,11 @@ pub fn select(
             .filter(|&i| all[i].name() == n || all[i].area() == n)
             .collect();
         if matches.is_empty() {
+            if n == "granular-vs-rapier" {
+                bail!(
+                    "`granular-vs-rapier` needs the `rapier` feature: `cargo xtask-rapier bench granular-vs-rapier`"
+                );
+            }
             if all.is_empty() {
                 bail!("unknown {what} `{n}`: none is registered");
             }
