@@ -38,6 +38,7 @@ use crate::eos::Tait;
 use crate::error::{Result, SphError};
 use crate::interact::{self, PackVelocity, PassCtx};
 use crate::motion::WallMotion;
+use crate::pairs;
 use crate::settings::{DensityDiffusion, MachPolicy, SphSettings};
 
 /// Running statistics of the last step.
@@ -336,7 +337,7 @@ impl SphSystem {
         );
         let mut deriv = std::mem::take(&mut self.data.deriv);
         interact::pack(&self.data, PackVelocity::Prescribed, &mut self.packed);
-        interact::continuity_pass(&self.packed, &ctx, &mut deriv);
+        pairs::continuity_pass(&self.packed, &ctx, &mut deriv, true);
         self.data.deriv = deriv;
         if dt > 0.0 {
             let d = &mut self.data;
@@ -375,7 +376,7 @@ impl SphSystem {
         );
         let mut deriv = std::mem::take(&mut self.data.deriv);
         interact::pack(&self.data, PackVelocity::NoSlip, &mut self.packed);
-        interact::force_pass(&self.packed, &ctx, &mut deriv);
+        pairs::force_pass(&self.packed, &ctx, &mut deriv, true);
         self.data.deriv = deriv;
         self.timings.forces += t0.elapsed().as_secs_f64();
     }
