@@ -192,10 +192,7 @@ fn kernel_wf<S: Simd, const KER: u8>(
         } else {
             zero
         };
-        let f = s.mul_f64s(
-            s.mul_f64s(s.mul_f64s(s.splat_f64s(-5.0 * k.c), t), t),
-            t,
-        );
+        let f = s.mul_f64s(s.mul_f64s(s.mul_f64s(s.splat_f64s(-5.0 * k.c), t), t), t);
         (w, s.select_f64s(in2, f, zero))
     } else {
         let in1 = s.less_than_f64s(q, s.splat_f64s(1.0));
@@ -215,18 +212,12 @@ fn kernel_wf<S: Simd, const KER: u8>(
         // outer piece, 1 <= q < 2 (q clamped to >= 1 so the inner lanes stay finite)
         let t = s.sub_f64s(s.splat_f64s(2.0), q);
         let w2 = if want_w {
-            s.mul_f64s(
-                s.mul_f64s(s.mul_f64s(s.splat_f64s(k.norm * 0.25), t), t),
-                t,
-            )
+            s.mul_f64s(s.mul_f64s(s.mul_f64s(s.splat_f64s(k.norm * 0.25), t), t), t)
         } else {
             zero
         };
         let q1 = s.max_f64s(q, s.splat_f64s(1.0));
-        let f2 = s.div_f64s(
-            s.mul_f64s(s.mul_f64s(s.splat_f64s(-0.75 * k.c), t), t),
-            q1,
-        );
+        let f2 = s.div_f64s(s.mul_f64s(s.mul_f64s(s.splat_f64s(-0.75 * k.c), t), t), q1);
         let w = s.select_f64s(in1, w1, s.select_f64s(in2, w2, zero));
         let f = s.select_f64s(in1, f1, s.select_f64s(in2, f2, zero));
         (w, f)
@@ -268,7 +259,9 @@ impl<const KER: u8, const DIFF: u8, const AV: bool> WithSimd for TaskOp<'_, '_, 
             let a = first + i;
             let pa = &nb[a];
             match pass {
-                Pass::Continuity => continuity_one::<S, KER, DIFF>(s, c, nb, pa, a, kc, support2, &mut tile, o),
+                Pass::Continuity => {
+                    continuity_one::<S, KER, DIFF>(s, c, nb, pa, a, kc, support2, &mut tile, o)
+                }
                 Pass::Force => force_one::<S, KER, AV>(s, c, nb, pa, a, kc, support2, &mut tile, o),
             }
         }
@@ -363,10 +356,7 @@ fn continuity_one<S: Simd, const KER: u8, const DIFF: u8>(
                         x[2],
                         s.mul_add_e_f64s(g[1], x[1], s.mul_f64s(g[0], x[0])),
                     );
-                    s.mul_f64s(
-                        s.mul_add_e_f64s(rho_ab, gx, s.sub_f64s(pv[j], p_a)),
-                        inv_c2,
-                    )
+                    s.mul_f64s(s.mul_add_e_f64s(rho_ab, gx, s.sub_f64s(pv[j], p_a)), inv_c2)
                 };
                 let vf = s.mul_f64s(vb, flv[j]);
                 diff = s.negate_mul_add_e_f64s(s.mul_f64s(vf, psi), fk, diff);
@@ -446,10 +436,7 @@ fn force_one<S: Simd, const KER: u8, const AV: bool>(
             ];
             let rho_ab = s.mul_f64s(half, s.add_f64s(rho_a, rhov[j]));
             // pressure: -m_b (p_a/rho_a^2 + p_b/rho_b^2) F
-            let mut coef = s.mul_f64s(
-                s.mul_f64s(s.neg_f64s(mb), s.add_f64s(pr2_a, pr2v[j])),
-                fk,
-            );
+            let mut coef = s.mul_f64s(s.mul_f64s(s.neg_f64s(mb), s.add_f64s(pr2_a, pr2v[j])), fk);
             if AV {
                 let vx = s.mul_add_e_f64s(
                     vv[2],
@@ -517,12 +504,24 @@ fn select(arch: Option<Arch>, nb: &[Packed], c: &PassCtx<'_>, deriv: &mut [Deriv
     macro_rules! go {
         ($ker:expr) => {
             match (c.diffusion, av) {
-                (DensityDiffusion::None, false) => run::<$ker, DIFF_NONE, false>(arch, nb, c, deriv, pass),
-                (DensityDiffusion::None, true) => run::<$ker, DIFF_NONE, true>(arch, nb, c, deriv, pass),
-                (DensityDiffusion::MolteniColagrossi, false) => run::<$ker, DIFF_MC, false>(arch, nb, c, deriv, pass),
-                (DensityDiffusion::MolteniColagrossi, true) => run::<$ker, DIFF_MC, true>(arch, nb, c, deriv, pass),
-                (DensityDiffusion::Fourtakas, false) => run::<$ker, DIFF_FOURTAKAS, false>(arch, nb, c, deriv, pass),
-                (DensityDiffusion::Fourtakas, true) => run::<$ker, DIFF_FOURTAKAS, true>(arch, nb, c, deriv, pass),
+                (DensityDiffusion::None, false) => {
+                    run::<$ker, DIFF_NONE, false>(arch, nb, c, deriv, pass)
+                }
+                (DensityDiffusion::None, true) => {
+                    run::<$ker, DIFF_NONE, true>(arch, nb, c, deriv, pass)
+                }
+                (DensityDiffusion::MolteniColagrossi, false) => {
+                    run::<$ker, DIFF_MC, false>(arch, nb, c, deriv, pass)
+                }
+                (DensityDiffusion::MolteniColagrossi, true) => {
+                    run::<$ker, DIFF_MC, true>(arch, nb, c, deriv, pass)
+                }
+                (DensityDiffusion::Fourtakas, false) => {
+                    run::<$ker, DIFF_FOURTAKAS, false>(arch, nb, c, deriv, pass)
+                }
+                (DensityDiffusion::Fourtakas, true) => {
+                    run::<$ker, DIFF_FOURTAKAS, true>(arch, nb, c, deriv, pass)
+                }
             }
         };
     }
@@ -564,7 +563,9 @@ mod tests {
 
     fn cloud(seed: u64, n: usize, periodic: bool) -> Cloud {
         // a small LCG: the proptest picks the seed
-        let mut state = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        let mut state = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
         let mut next = move || {
             state = state
                 .wrapping_mul(6364136223846793005)
@@ -600,7 +601,8 @@ mod tests {
         let mut grid = CellGrid::new(config).unwrap();
         grid.build([&xs, &ys, &zs]).unwrap();
         let mut list = NeighborList::new();
-        grid.neighbor_list([&xs, &ys, &zs], radius, &mut list).unwrap();
+        grid.neighbor_list([&xs, &ys, &zs], radius, &mut list)
+            .unwrap();
         Cloud { nb, grid, list }
     }
 
@@ -635,7 +637,11 @@ mod tests {
     /// The fields a pass writes, flattened: `[acc x3, drho, xsph x3]` per particle.
     fn flat(d: &[Deriv]) -> Vec<f64> {
         d.iter()
-            .flat_map(|v| [v.acc[0], v.acc[1], v.acc[2], v.drho, v.xsph[0], v.xsph[1], v.xsph[2]])
+            .flat_map(|v| {
+                [
+                    v.acc[0], v.acc[1], v.acc[2], v.drho, v.xsph[0], v.xsph[1], v.xsph[2],
+                ]
+            })
             .collect()
     }
 

@@ -309,11 +309,20 @@ impl SphSystem {
         }
         {
             let d = &self.data;
-            self.grid
-                .neighbor_list([&d.x, &d.y, &d.z], self.list_radius, &mut self.list)?;
-            self.x_ref.clear();
+            let kind = &d.kind;
+            // wall markers keep only their fluid neighbours: no pass reads wall-wall
+            // entries (the wall extrapolation sums over fluid neighbours only)
+            self.grid.neighbor_list_filtered(
+                [&d.x, &d.y, &d.z],
+                self.list_radius,
+                &mut self.list,
+                |i, j| kind[i] == FLUID || kind[j] == FLUID,
+            )?;
+            self.x_ref.resize(d.len(), [0.0; 3]);
             self.x_ref
-                .extend((0..d.len()).map(|i| [d.x[i], d.y[i], d.z[i]]));
+                .par_iter_mut()
+                .enumerate()
+                .for_each(|(i, r)| *r = [d.x[i], d.y[i], d.z[i]]);
         }
         self.stats.neighbor_entries = self.list.total();
         self.stats.list_builds += 1;
