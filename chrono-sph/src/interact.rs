@@ -97,8 +97,19 @@ pub(crate) struct Packed {
     pub pr2: f64,
     /// Mass, kg.
     pub mass: f64,
+    /// Volume `m / rho`, m^3 (the same division the pair term would do).
+    pub vol: f64,
+    /// 1 for a fluid particle, 0 for a wall marker (a multiplier: the specialized passes
+    /// mask fluid-only terms with it instead of branching).
+    pub fl: f64,
+}
+
+impl Packed {
     /// Whether it is a fluid particle.
-    pub fluid: bool,
+    #[inline(always)]
+    pub fn fluid(&self) -> bool {
+        self.fl != 0.0
+    }
 }
 
 /// Which velocity of a wall marker a [`Packed`] record holds.
@@ -128,7 +139,8 @@ pub(crate) fn pack(d: &ParticleData, which: PackVelocity, out: &mut Vec<Packed>)
             p: d.p[i],
             pr2: d.p[i] / (rho * rho),
             mass: d.mass[i],
-            fluid,
+            vol: d.mass[i] / rho,
+            fl: if fluid { 1.0 } else { 0.0 },
         };
     });
 }
@@ -283,12 +295,14 @@ pub(crate) fn pair_accel(c: &PassCtx<'_>, pa: &Packed, pb: &Packed, support2: f6
     ]
 }
 
-/// Continuity (with density diffusion) and XSPH of every fluid particle into
+/// The reference (scalar, one neighbour at a time) continuity pass, which the
+/// specialized SIMD pass of [`pairs`](crate::pairs) must match: continuity (with density diffusion) and XSPH of every fluid particle into
 /// `deriv[a].drho` and `deriv[a].xsph` (walls get zero). Wall markers enter the continuity
 /// sum with their prescribed velocity and do not enter XSPH nor the diffusion (no
 /// diffusive flux through walls). The diffusion reads the fluid pressures `p`, which must
 /// be those of the current densities. `nb`: the records packed with
 /// [`PackVelocity::Prescribed`].
+#[cfg_attr(not(test), allow(dead_code))]
 pub(crate) fn continuity_pass(nb: &[Packed], c: &PassCtx<'_>, deriv: &mut [Deriv]) {
     let support2 = c.kernel.support() * c.kernel.support();
     deriv
@@ -296,7 +310,7 @@ pub(crate) fn continuity_pass(nb: &[Packed], c: &PassCtx<'_>, deriv: &mut [Deriv
         .zip(nb.par_iter())
         .enumerate()
         .for_each(|(a, (out, pa))| {
-            if !pa.fluid {
+            if !pa.fluid() {
                 out.drho = 0.0;
                 out.xsph = [0.0; 3];
                 return;
@@ -316,7 +330,7 @@ pub(crate) fn continuity_pass(nb: &[Packed], c: &PassCtx<'_>, deriv: &mut [Deriv
                 let vab = [va[0] - pb.vel[0], va[1] - pb.vel[1], va[2] - pb.vel[2]];
                 let mb = pb.mass;
                 sum += mb / pb.rho * fk * (vab[0] * x[0] + vab[1] * x[1] + vab[2] * x[2]);
-                if pb.fluid {
+                if pb.fluid() {
                     let k = c.xsph * mb * wk / (0.5 * (rho_a + pb.rho));
                     xs[0] -= k * vab[0];
                     xs[1] -= k * vab[1];
@@ -341,8 +355,10 @@ pub(crate) fn continuity_pass(nb: &[Packed], c: &PassCtx<'_>, deriv: &mut [Deriv
         });
 }
 
-/// Accelerations of every fluid particle into `deriv[a].acc` (walls get zero). `nb`: the
+/// The reference force pass (see [`continuity_pass`]): accelerations of every fluid
+/// particle into `deriv[a].acc` (walls get zero). `nb`: the
 /// records packed with [`PackVelocity::NoSlip`].
+#[cfg_attr(not(test), allow(dead_code))]
 pub(crate) fn force_pass(nb: &[Packed], c: &PassCtx<'_>, deriv: &mut [Deriv]) {
     let support2 = c.kernel.support() * c.kernel.support();
     deriv
@@ -350,7 +366,7 @@ pub(crate) fn force_pass(nb: &[Packed], c: &PassCtx<'_>, deriv: &mut [Deriv]) {
         .zip(nb.par_iter())
         .enumerate()
         .for_each(|(a, (out, pa))| {
-            if !pa.fluid {
+            if !pa.fluid() {
                 out.acc = [0.0; 3];
                 return;
             }

@@ -58,6 +58,7 @@ pub mod error;
 mod interact;
 pub mod motion;
 mod output;
+mod pairs;
 mod probes;
 pub mod scene;
 pub mod settings;

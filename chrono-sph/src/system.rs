@@ -38,6 +38,7 @@ use crate::eos::Tait;
 use crate::error::{Result, SphError};
 use crate::interact::{self, PackVelocity, PassCtx};
 use crate::motion::WallMotion;
+use crate::pairs;
 use crate::settings::{DensityDiffusion, MachPolicy, SphSettings};
 
 /// Running statistics of the last step.
@@ -308,11 +309,20 @@ impl SphSystem {
         }
         {
             let d = &self.data;
-            self.grid
-                .neighbor_list([&d.x, &d.y, &d.z], self.list_radius, &mut self.list)?;
-            self.x_ref.clear();
+            let kind = &d.kind;
+            // wall markers keep only their fluid neighbours: no pass reads wall-wall
+            // entries (the wall extrapolation sums over fluid neighbours only)
+            self.grid.neighbor_list_filtered(
+                [&d.x, &d.y, &d.z],
+                self.list_radius,
+                &mut self.list,
+                |i, j| kind[i] == FLUID || kind[j] == FLUID,
+            )?;
+            self.x_ref.resize(d.len(), [0.0; 3]);
             self.x_ref
-                .extend((0..d.len()).map(|i| [d.x[i], d.y[i], d.z[i]]));
+                .par_iter_mut()
+                .enumerate()
+                .for_each(|(i, r)| *r = [d.x[i], d.y[i], d.z[i]]);
         }
         self.stats.neighbor_entries = self.list.total();
         self.stats.list_builds += 1;
@@ -336,7 +346,7 @@ impl SphSystem {
         );
         let mut deriv = std::mem::take(&mut self.data.deriv);
         interact::pack(&self.data, PackVelocity::Prescribed, &mut self.packed);
-        interact::continuity_pass(&self.packed, &ctx, &mut deriv);
+        pairs::continuity_pass(&self.packed, &ctx, &mut deriv, true);
         self.data.deriv = deriv;
         if dt > 0.0 {
             let d = &mut self.data;
@@ -375,7 +385,7 @@ impl SphSystem {
         );
         let mut deriv = std::mem::take(&mut self.data.deriv);
         interact::pack(&self.data, PackVelocity::NoSlip, &mut self.packed);
-        interact::force_pass(&self.packed, &ctx, &mut deriv);
+        pairs::force_pass(&self.packed, &ctx, &mut deriv, true);
         self.data.deriv = deriv;
         self.timings.forces += t0.elapsed().as_secs_f64();
     }

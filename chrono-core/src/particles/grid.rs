@@ -567,6 +567,20 @@ impl CellGrid {
         radius: f64,
         list: &mut NeighborList,
     ) -> Result<()> {
+        self.neighbor_list_filtered(pos, radius, list, |_, _| true)
+    }
+
+    /// [`neighbor_list`](Self::neighbor_list) keeping only the entries `j` of row `i`
+    /// with `keep(i, j)` (e.g. SPH wall markers, which need only their fluid
+    /// neighbours); the order of the kept entries is unchanged. `keep` is called from
+    /// several threads.
+    pub fn neighbor_list_filtered<K: Fn(usize, usize) -> bool + Sync>(
+        &self,
+        pos: Positions<'_>,
+        radius: f64,
+        list: &mut NeighborList,
+        keep: K,
+    ) -> Result<()> {
         self.check_radius(radius)?;
         let n = self.len();
         if pos[0].len() != n {
@@ -593,7 +607,11 @@ impl CellGrid {
                     let before = buf.len();
                     let p = [pos[0][i], pos[1][i], pos[2][i]];
                     let cell = self.unlinear(self.cell_of[i] as usize);
-                    self.visit(pos, p, cell, radius, i, |j, _, _| buf.push(j as u32));
+                    self.visit(pos, p, cell, radius, i, |j, _, _| {
+                        if keep(i, j) {
+                            buf.push(j as u32)
+                        }
+                    });
                     *count = buf.len() - before;
                 }
             });
