@@ -50,6 +50,8 @@ impl Sections {
 pub struct CcpWork {
     /// A velocity-sized vector (`ndof`).
     pub v: Vec<f64>,
+    /// World-frame velocity changes of the matrix-free spheres (6 per sphere).
+    pub w: Vec<f64>,
     /// Partial sums of deterministic reductions.
     pub partials: Vec<f64>,
 }
@@ -65,6 +67,7 @@ impl CcpWork {
     /// Resize for `problem` (no allocation if already large enough).
     pub fn resize(&mut self, problem: &CcpProblem) {
         self.v.resize(problem.ndof(), 0.0);
+        self.w.resize(6 * problem.mf.n_bodies(), 0.0);
     }
 }
 
@@ -130,6 +133,8 @@ pub struct CcpProblem {
     pub(super) v_free: Vec<f64>,
     pub(super) sections: Sections,
     pub(super) group_start: [usize; N_GROUPS],
+    /// The triplets applied matrix-free ([`super::ContactFrame`]).
+    pub(super) mf: super::frames::MatrixFree,
 }
 
 pub(super) const GROUP_ORDER: [RowGroup; N_GROUPS] = [
@@ -331,6 +336,7 @@ impl CcpProblem {
         };
         self.build_transpose(nblocks);
         self.build_diagonal();
+        self.build_matrix_free(rows);
 
         self.v_free.clear();
         self.v_free.resize(vars.ndof(), 0.0);
@@ -692,12 +698,17 @@ impl CcpProblem {
                 i += 1;
             } else if s.friction.contains(&i) {
                 let (e0, e1, e2) = (entries(i), entries(i + 1), entries(i + 2));
-                rows.push_friction(
-                    self.mu[(i - s.friction.start) / 3],
+                let k = (i - s.friction.start) / 3;
+                let id = rows.push_friction(
+                    self.mu[k],
                     [&e0, &e1, &e2],
                     [self.b[i], self.b[i + 1], self.b[i + 2]],
                     [self.eps[i], self.eps[i + 1], self.eps[i + 2]],
                 );
+                let frames = &self.mf.frames;
+                if let Ok(f) = frames.binary_search_by_key(&(k as u32), |&(t, _)| t) {
+                    rows.set_contact_frame(id, frames[f].1);
+                }
                 i += 3;
             } else if s.rolling_per_body.contains(&i) {
                 let n = PER_BODY_ROWS;
