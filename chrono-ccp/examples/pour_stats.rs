@@ -35,6 +35,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let sys_settings = SystemSettings {
         envelope: 0.1 * radius,
         contact_method: ContactMethod::Nsc,
+        // `WARM=0`: cold starts (to measure what the warm start buys).
+        warm_start: std::env::var("WARM").map_or(true, |v| v != "0"),
         ..SystemSettings::default()
     };
     let mut sys = System::new(sys_settings, solver)?;
@@ -60,9 +62,21 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     add_box_container(&mut sys, "box", lower, upper, mat)?;
     bed.pour(&mut sys)?;
     let (mut it_sum, mut an_sum, mut capped) = (0usize, 0usize, 0usize);
+    // `HIST_STEP=k`: print the residual history of step k's solve.
+    let hist: usize = std::env::var("HIST_STEP")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(0);
     let t0 = std::time::Instant::now();
     for i in 1..=steps {
+        sys.solver_mut().settings_mut().record_history = i == hist;
         let r = sys.step(h)?;
+        for rec in &r.solve.history {
+            println!(
+                "  it {:4} apply_n {:4} res {:.3e}",
+                rec.iteration, rec.apply_n, rec.residual
+            );
+        }
         it_sum += r.solve.iterations;
         an_sum += r.solve.apply_n;
         capped += usize::from(!r.solve.converged);

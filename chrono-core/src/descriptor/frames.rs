@@ -15,7 +15,7 @@ use rayon::prelude::*;
 use super::problem::CcpProblem;
 use super::rows::{ConstraintRows, ContactFrame, RowGroup};
 use super::variables::{BlockId, MassOperator};
-use crate::math::{Vector3, tangent_frame};
+use crate::math::Vector3;
 
 /// No index.
 pub(super) const NONE: u32 = u32::MAX;
@@ -42,10 +42,13 @@ pub(super) struct MatrixFree {
     pub c_geo: Vec<[f64; 9]>,
     /// Per sphere: `[1/m, 1/J]`.
     pub b_inv: Vec<[f64; 2]>,
-    /// Per sphere: its contact sides `b_ent[b_ptr[s]..b_ptr[s+1]]`, `2 c + side`, in
-    /// contact order.
+    /// Per sphere: its contact sides `b_ptr[s]..b_ptr[s+1]` (in contact order) in the
+    /// sphere-ordered copies below, so that the sphere pass streams them.
     pub b_ptr: Vec<u32>,
-    pub b_ent: Vec<u32>,
+    /// Per contact side: `2 i + side` with `i` the normal row (side 0 = A, 1 = B).
+    pub s_row: Vec<u32>,
+    /// Per contact side: the normal and this side's arm.
+    pub s_geo: Vec<[f64; 6]>,
     /// Per variable block: its sphere, or [`NONE`].
     pub block_sphere: Vec<u32>,
     /// Per variable block: true if only matrix-free triplets touch it (its explicit
@@ -76,7 +79,8 @@ impl MatrixFree {
         self.c_geo.clear();
         self.b_inv.clear();
         self.b_ptr.clear();
-        self.b_ent.clear();
+        self.s_row.clear();
+        self.s_geo.clear();
         self.block_sphere.clear();
         self.skip_block.clear();
         self.n_mf = 0;
@@ -86,29 +90,33 @@ impl MatrixFree {
     /// sphere).
     pub fn gather(&self, gamma: &[f64], w: &mut [f64]) {
         let one = |s: usize, out: &mut [f64]| {
-            let (mut f, mut t) = (Vector3::zeros(), Vector3::zeros());
-            for &e in &self.b_ent[self.b_ptr[s] as usize..self.b_ptr[s + 1] as usize] {
-                let (c, side) = ((e >> 1) as usize, (e & 1) as usize);
-                let geo = &self.c_geo[c];
-                let i = self.c_row[c] as usize;
-                let n = Vector3::new(geo[0], geo[1], geo[2]);
-                let (u, v) = tangent_frame(&n);
-                let mut fc = n * gamma[i] + u * gamma[i + 1] + v * gamma[i + 2];
-                if side == 0 {
-                    fc = -fc;
+            let (mut f, mut t) = ([0.0; 3], [0.0; 3]);
+            let range = self.b_ptr[s] as usize..self.b_ptr[s + 1] as usize;
+            for (&rs, geo) in self.s_row[range.clone()].iter().zip(&self.s_geo[range]) {
+                let (i, side) = ((rs >> 1) as usize, rs & 1);
+                let g = &gamma[i..i + 3];
+                let n = [geo[0], geo[1], geo[2]];
+                let (u, v) = frame(&n);
+                // The impulse on this side: +F on B, -F on A.
+                let sg = if side == 0 {
+                    [-g[0], -g[1], -g[2]]
+                } else {
+                    [g[0], g[1], g[2]]
+                };
+                let fc: [f64; 3] =
+                    std::array::from_fn(|k| n[k] * sg[0] + u[k] * sg[1] + v[k] * sg[2]);
+                let tc = cross(&[geo[3], geo[4], geo[5]], &fc);
+                for k in 0..3 {
+                    f[k] += fc[k];
+                    t[k] += tc[k];
                 }
-                let o = 3 + 3 * side;
-                let r = Vector3::new(geo[o], geo[o + 1], geo[o + 2]);
-                f += fc;
-                t += r.cross(&fc);
             }
             let [im, ij] = self.b_inv[s];
-            out[0] = im * f.x;
-            out[1] = im * f.y;
-            out[2] = im * f.z;
-            out[3] = ij * t.x;
-            out[4] = ij * t.y;
-            out[5] = ij * t.z;
+            let out: &mut [f64; 6] = out.try_into().expect("6 per sphere");
+            for k in 0..3 {
+                out[k] = im * f[k];
+                out[3 + k] = ij * t[k];
+            }
         };
         let w = &mut w[..6 * self.n_bodies()];
         if self.n_bodies() >= PAR_MIN_BODIES {
@@ -123,23 +131,63 @@ impl MatrixFree {
     #[inline]
     pub fn triplet(&self, c: usize, w: &[f64]) -> [f64; 3] {
         let geo = &self.c_geo[c];
-        let mut rel = Vector3::zeros();
-        for (side, &s) in self.c_body[c].iter().enumerate() {
-            if s == NONE {
-                continue;
+        let mut rel = [0.0; 3];
+        let [sa, sb] = self.c_body[c];
+        if sa != NONE {
+            let x: &[f64; 6] = w[6 * sa as usize..6 * sa as usize + 6]
+                .try_into()
+                .expect("6");
+            let vp = point_velocity(x, &[geo[3], geo[4], geo[5]]);
+            for k in 0..3 {
+                rel[k] -= vp[k];
             }
-            let s = 6 * s as usize;
-            let o = 3 + 3 * side;
-            let r = Vector3::new(geo[o], geo[o + 1], geo[o + 2]);
-            let dv = Vector3::new(w[s], w[s + 1], w[s + 2]);
-            let dw = Vector3::new(w[s + 3], w[s + 4], w[s + 5]);
-            let vp = dv + dw.cross(&r);
-            if side == 0 { rel -= vp } else { rel += vp }
         }
-        let n = Vector3::new(geo[0], geo[1], geo[2]);
-        let (u, v) = tangent_frame(&n);
-        [n.dot(&rel), u.dot(&rel), v.dot(&rel)]
+        if sb != NONE {
+            let x: &[f64; 6] = w[6 * sb as usize..6 * sb as usize + 6]
+                .try_into()
+                .expect("6");
+            let vp = point_velocity(x, &[geo[6], geo[7], geo[8]]);
+            for k in 0..3 {
+                rel[k] += vp[k];
+            }
+        }
+        let n = [geo[0], geo[1], geo[2]];
+        let (u, v) = frame(&n);
+        [dot(&n, &rel), dot(&u, &rel), dot(&v, &rel)]
     }
+}
+
+#[inline(always)]
+fn cross(a: &[f64; 3], b: &[f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+#[inline(always)]
+fn dot(a: &[f64; 3], b: &[f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+/// `dv + dw x r` for `x = [dv; dw]`.
+#[inline(always)]
+fn point_velocity(x: &[f64; 6], r: &[f64; 3]) -> [f64; 3] {
+    let c = cross(&[x[3], x[4], x[5]], r);
+    [x[0] + c[0], x[1] + c[1], x[2] + c[2]]
+}
+
+/// The tangents of [`tangent_frame`](crate::math::tangent_frame), inlined here (the same operations, so the same bits:
+/// the assembly checks the rows' coefficients against this function).
+#[inline(always)]
+fn frame(n: &[f64; 3]) -> ([f64; 3], [f64; 3]) {
+    let sign = 1.0f64.copysign(n[2]);
+    let a = -1.0 / (sign + n[2]);
+    let b = n[0] * n[1] * a;
+    let u = [1.0 + sign * n[0] * n[0] * a, sign * b, -sign * n[0]];
+    let w = [b, sign + n[1] * n[1] * a, -n[1]];
+    (u, w)
 }
 
 /// `[1/m, 1/J]` of a rigid body whose inverse inertia is `(1/J) I` exactly.
@@ -166,7 +214,10 @@ impl CcpProblem {
         let frames = &rows.groups[RowGroup::Friction as usize].frames;
         if !frames.is_empty() {
             mf.frames.extend_from_slice(frames);
-            self.fill_matrix_free(&mut mf);
+            // `s_row` packs `2 row + side` in 32 bits.
+            if self.n_rows < 1 << 31 {
+                self.fill_matrix_free(&mut mf);
+            }
         }
         self.mf = mf;
     }
@@ -210,16 +261,16 @@ impl CcpProblem {
         let fs = self.sections.friction.start;
         // Candidates: frames whose rows match and whose blocks are spheres.
         let mut cand: Vec<(u32, ContactFrame)> = Vec::with_capacity(mf.frames.len());
-        for &(k, frame) in &mf.frames {
-            let n = Vector3::from(frame.normal);
-            if !(n.iter().all(|x| x.is_finite())
-                && frame.arms.iter().flatten().all(|x| x.is_finite()))
+        for &(k, fr) in &mf.frames {
+            let n = Vector3::from(fr.normal);
+            if !(n.iter().all(|x| x.is_finite()) && fr.arms.iter().flatten().all(|x| x.is_finite()))
             {
                 continue;
             }
-            let (u, w) = tangent_frame(&n);
+            let (u, w) = frame(&fr.normal);
+            let (u, w) = (Vector3::from(u), Vector3::from(w));
             let t = fs + 3 * k as usize;
-            let spheres = frame
+            let spheres = fr
                 .blocks
                 .iter()
                 .flatten()
@@ -228,9 +279,9 @@ impl CcpProblem {
                 && [n, u, w]
                     .iter()
                     .enumerate()
-                    .all(|(r, d)| self.row_matches(t + r, &frame, d))
+                    .all(|(r, d)| self.row_matches(t + r, &fr, d))
             {
-                cand.push((k, frame));
+                cand.push((k, fr));
             }
         }
         // A sphere is pure if all its entries belong to checked frames: then its world-frame
@@ -292,13 +343,19 @@ impl CcpProblem {
             count[s + 1] += count[s];
         }
         mf.b_ptr.extend_from_slice(&count);
-        mf.b_ent.resize(count[mf.b_inv.len()] as usize, 0);
+        let n_sides = count[mf.b_inv.len()] as usize;
+        mf.s_row.resize(n_sides, 0);
+        mf.s_geo.resize(n_sides, [0.0; 6]);
         let mut cursor = count;
         for (c, body) in mf.c_body.iter().enumerate() {
             for (side, &s) in body.iter().enumerate() {
                 if s != NONE {
                     let slot = &mut cursor[s as usize];
-                    mf.b_ent[*slot as usize] = (2 * c + side) as u32;
+                    let geo = &mf.c_geo[c];
+                    let o = 3 + 3 * side;
+                    mf.s_row[*slot as usize] = 2 * mf.c_row[c] + side as u32;
+                    mf.s_geo[*slot as usize] =
+                        [geo[0], geo[1], geo[2], geo[o], geo[o + 1], geo[o + 2]];
                     *slot += 1;
                 }
             }

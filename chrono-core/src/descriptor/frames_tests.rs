@@ -192,3 +192,28 @@ fn frames_qualify_only_where_they_match_and_survive_a_rebuild() {
     let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
     assert_eq!(bits(&a), bits(&b));
 }
+
+#[test]
+fn frames_survive_a_problem_file_bit_for_bit() {
+    let (p, _, _) = scene(11, 30, 40);
+    assert!(p.n_matrix_free() > 0);
+    let g: Vec<f64> = (0..p.n_rows()).map(|i| (i as f64 * 0.7).sin()).collect();
+    let mut a = vec![0.0; g.len()];
+    p.apply_n(&g, &mut a, &mut CcpWork::for_problem(&p));
+    let file = ProblemFile::from_problem(&p, "frames");
+    let dir = std::env::temp_dir();
+    for (name, format) in [
+        ("chrono_frames_test.ccp", ProblemFormat::Binary),
+        ("chrono_frames_test.json", ProblemFormat::Json),
+    ] {
+        let path = dir.join(format!("{}_{name}", std::process::id()));
+        file.save(&path, format).unwrap();
+        let q = ProblemFile::load_problem(&path).unwrap();
+        std::fs::remove_file(&path).ok();
+        assert_eq!(q.n_matrix_free(), p.n_matrix_free());
+        let mut b = vec![0.0; g.len()];
+        q.apply_n(&g, &mut b, &mut CcpWork::for_problem(&q));
+        let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        assert_eq!(bits(&a), bits(&b), "{name}");
+    }
+}

@@ -143,9 +143,10 @@ impl CcpProblem {
     /// written (8 B per dof); row pass `row_ptr` (4 B per row), entry offsets (8 B per
     /// entry), `D` (8 B per coefficient), `v` read (8 B per dof), `eps`, `g` read and `N g`
     /// written (24 B per row). Matrix-free triplets: per sphere its pointer and inverse mass
-    /// (20 B) and its 6 velocity changes written and read (96 B); per triplet the frame
-    /// (72 B) and the side index (4 B) once per side in the sphere pass, `g` (24 B), and in
-    /// the row pass its row, spheres and frame (84 B), `eps`, `g` and `N g` (72 B). Divided
+    /// (20 B) and its 6 velocity changes written and read (96 B); per triplet side the
+    /// sphere-ordered normal and arm (48 B) and row (4 B), per triplet `g` (24 B) in the
+    /// sphere pass, and in the row pass its row, spheres and frame (84 B), `eps`, `g` and
+    /// `N g` (72 B). Divided
     /// by the measured time it gives the achieved bandwidth.
     pub fn apply_n_bytes(&self) -> usize {
         let mf = &self.mf;
@@ -171,9 +172,9 @@ impl CcpProblem {
         let nb = self.vars.len();
         let explicit = (8 * nb + 4 * ne + 8 * nc + 8 * m + 8 * nd)
             + (4 * m + 8 * ne + 8 * nc + 8 * nd + 24 * m);
-        let sides = mf.b_ent.len();
+        let sides = mf.s_row.len();
         let spheres = mf.n_bodies() * (20 + 96);
-        let contacts = mf.c_row.len() * 24 + mf.n_mf * (84 + 72) + sides * (72 + 4);
+        let contacts = mf.c_row.len() * 24 + mf.n_mf * (84 + 72) + sides * (48 + 4);
         explicit + spheres + contacts
     }
 
