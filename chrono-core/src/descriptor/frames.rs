@@ -245,7 +245,7 @@ impl CcpProblem {
             let want = r.cross(&ds).norm_squared();
             let have = c[3] * c[3] + c[4] * c[4] + c[5] * c[5];
             let scale = r.norm_squared();
-            if !((have - want).abs() <= ARM_CHECK_TOL * scale) {
+            if (have - want).abs() > ARM_CHECK_TOL * scale {
                 return false;
             }
             e += 1;

@@ -95,6 +95,14 @@ impl CcpWork {
 /// - by row (CSR): for each row its entries, each with the block's dof offset and the
 ///   coefficients of `D_i'` (and of `M^-1 D_i`, for Gauss–Seidel's row updates).
 ///
+/// Friction triplets pushed with a [`ContactFrame`](super::ContactFrame) (contacts between
+/// spheres: rigid bodies with isotropic inertia) are in addition stored matrix-free — the
+/// normal and the two lever arms, 9 numbers instead of 36 coefficients — and
+/// [`apply_n`](Self::apply_n) / [`gradient`](Self::gradient) use that form for them (about
+/// 100 bytes per row and product instead of ~256); the explicit copies above stay the
+/// reference for every row-level access (`row_dot`, `row_add_minv`, `n_entry`,
+/// `constraint_rows`, `velocities`), and the two agree to rounding.
+///
 /// Row-wise and block-wise loops are rayon-parallel for large problems and every reduction
 /// is done in a fixed order ([`reduce`](super::reduce)), so results are bit-identical for
 /// any thread count.
