@@ -115,8 +115,16 @@ mod tests {
             let f = |i: usize| ((i as f64 * 0.37).sin() * 1e3, (i as f64 * 0.11).cos());
             let mut p = Vec::new();
             let (a, b) = sum2_by(n, &mut p, f);
-            assert_eq!(a.to_bits(), sum_by(n, &mut p, |i| f(i).0).to_bits(), "n = {n}");
-            assert_eq!(b.to_bits(), sum_by(n, &mut p, |i| f(i).1).to_bits(), "n = {n}");
+            assert_eq!(
+                a.to_bits(),
+                sum_by(n, &mut p, |i| f(i).0).to_bits(),
+                "n = {n}"
+            );
+            assert_eq!(
+                b.to_bits(),
+                sum_by(n, &mut p, |i| f(i).1).to_bits(),
+                "n = {n}"
+            );
         }
     }
 

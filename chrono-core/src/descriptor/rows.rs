@@ -232,7 +232,7 @@ impl ConstraintRows {
         let k = row.index / 3;
         let in_order = g.frames.last().is_none_or(|&(last, _)| last < k);
         if row.group == RowGroup::Friction
-            && row.index % 3 == 0
+            && row.index.is_multiple_of(3)
             && (k as usize) < g.mu.len()
             && in_order
         {
