@@ -6,7 +6,8 @@
 //! (gradient `N g + r`), with an optional diagonal (Jacobi) metric.
 
 use chrono_core::descriptor::{
-    CcpProblem, CcpSolver, CcpWork, SolveStats, SolverSettings, reduce::sum_by,
+    CcpProblem, CcpSolver, CcpWork, SolveStats, SolverSettings,
+    reduce::{sum_by, sum2_by},
 };
 use serde::{Deserialize, Serialize};
 
@@ -186,14 +187,12 @@ impl Apgd {
         problem.project(&mut self.g_new);
         problem.gradient(&self.g_new, &mut self.grad_new, &mut self.work);
         let (gn, grn) = (&self.g_new, &self.grad_new);
-        let dnd = sum_by(gn.len(), &mut self.work.partials, |i| {
-            (gn[i] - y[i]) * (grn[i] - gy[i])
-        });
-        let dpd = sum_by(gn.len(), &mut self.work.partials, |i| {
+        // One pass for both (each sum in sum_by's order: the same bits as two passes).
+        sum2_by(gn.len(), &mut self.work.partials, |i| {
             let d = gn[i] - y[i];
-            if s[i] > 0.0 { d * d / s[i] } else { 0.0 }
-        });
-        (dnd, dpd)
+            let dpd = if s[i] > 0.0 { d * d / s[i] } else { 0.0 };
+            (d * (grn[i] - gy[i]), dpd)
+        })
     }
 }
 

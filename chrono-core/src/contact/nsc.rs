@@ -41,7 +41,7 @@ use crate::body::RigidBody;
 use crate::collision::{ContactKey, ContactPoint, ProxyContact, ProxyKey};
 use crate::contact::smc::RollingModel;
 use crate::descriptor::{
-    BlockId, CcpProblem, ConstraintRows, PER_BODY_ROWS, RowEntry, RowGroup, RowId,
+    BlockId, CcpProblem, ConstraintRows, ContactFrame, PER_BODY_ROWS, RowEntry, RowGroup, RowId,
 };
 use crate::error::{ChronoError, Result};
 use crate::item::{Contactable, JacobianSink, PhysicsItem};
@@ -444,7 +444,20 @@ pub fn add_contact_rows(
         } else {
             let what = || format!("contact {:?}", cp.key);
             let k3 = [known[0], known[1], known[2]];
-            scratch.push_triplet(rows, settings, cp.distance, m, k3, &what)?
+            let row = scratch.push_triplet(rows, settings, cp.distance, m, k3, &what)?;
+            if let Some(row) = row {
+                // Lets the problem apply N matrix-free for sphere pairs (checked there).
+                let arm = |p: &Vector3<f64>, body: &RigidBody| (p - body.position).into();
+                rows.set_contact_frame(
+                    row,
+                    ContactFrame {
+                        normal: n.into(),
+                        blocks: [a.block, b.block],
+                        arms: [arm(&cp.point_a, a), arm(&cp.point_b, b)],
+                    },
+                );
+            }
+            row
         };
         if let Some(row) = row {
             out.push(NscContact {

@@ -18,7 +18,7 @@ use nalgebra::Matrix3;
 use serde::{Deserialize, Serialize};
 
 use super::problem::{CcpProblem, GROUP_ORDER, group_name};
-use super::rows::{ConstraintRows, N_GROUPS, PER_BODY_ROWS};
+use super::rows::{ConstraintRows, ContactFrame, N_GROUPS, PER_BODY_ROWS, RowGroup, RowId};
 use super::variables::{BlockId, MassOperator, Variables};
 use crate::error::{ChronoError, Result};
 
@@ -121,6 +121,25 @@ pub struct ProblemFile {
     pub groups: Vec<GroupData>,
     /// Momentum `k = M v + h f` (N s).
     pub k: Vec<f64>,
+    /// The contact frames of friction triplets ([`ContactFrame`]), so that a reloaded
+    /// problem applies `N` the same way (matrix-free where the frames qualify) and stays
+    /// bit-for-bit the saved one; empty in files written before frames existed.
+    #[serde(default)]
+    pub frames: Vec<FrameData>,
+}
+
+/// A stored [`ContactFrame`] of the friction triplet `triplet` (its index in the friction
+/// group).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct FrameData {
+    /// Index of the triplet in the friction group.
+    pub triplet: u32,
+    /// Unit normal (world).
+    pub normal: [f64; 3],
+    /// Blocks of sides A and B (`None`: no variables).
+    pub blocks: [Option<u32>; 2],
+    /// Lever arms of A and B (world, m).
+    pub arms: [[f64; 3]; 2],
 }
 
 impl ProblemFile {
@@ -172,12 +191,21 @@ impl ProblemFile {
                 }
             })
             .collect();
+        let frames = (rows.groups[RowGroup::Friction as usize].frames.iter())
+            .map(|&(triplet, f)| FrameData {
+                triplet,
+                normal: f.normal,
+                blocks: f.blocks.map(|b| b.map(|b| b.0)),
+                arms: f.arms,
+            })
+            .collect();
         Self {
             format: FORMAT_TAG.to_string(),
             description: description.into(),
             masses,
             groups,
             k: problem.momentum().to_vec(),
+            frames,
         }
     }
 
@@ -249,6 +277,40 @@ impl ProblemFile {
             dst.lo.clone_from(&data.lo);
             dst.hi.clone_from(&data.hi);
             dst.mu.clone_from(&data.mu);
+        }
+        let n_triplets = rows.n_rows(RowGroup::Friction) / 3;
+        for (i, f) in self.frames.iter().enumerate() {
+            let bad_block = f
+                .blocks
+                .iter()
+                .flatten()
+                .find(|&&b| b as usize >= self.masses.len());
+            if let Some(&b) = bad_block {
+                return Err(ChronoError::invalid(
+                    format!("frames[{i}].blocks"),
+                    b,
+                    format!("must name one of the {} variable blocks", self.masses.len()),
+                ));
+            }
+            if f.triplet as usize >= n_triplets {
+                return Err(ChronoError::invalid(
+                    format!("frames[{i}].triplet"),
+                    f.triplet,
+                    format!("must be below the {n_triplets} friction triplets"),
+                ));
+            }
+            let id = RowId {
+                group: RowGroup::Friction,
+                index: 3 * f.triplet,
+            };
+            rows.set_contact_frame(
+                id,
+                ContactFrame {
+                    normal: f.normal,
+                    blocks: f.blocks.map(|b| b.map(BlockId)),
+                    arms: f.arms,
+                },
+            );
         }
         let mut p = CcpProblem::new();
         p.assemble(&vars, &rows, &self.k)?;
@@ -346,7 +408,21 @@ impl ProblemFile {
                 write_f64s(w, v)?;
             }
         }
-        write_f64s(w, &self.k)
+        write_f64s(w, &self.k)?;
+        // Frames: an optional trailing section (absent in older files).
+        if !self.frames.is_empty() {
+            w.write_all(&(self.frames.len() as u64).to_le_bytes())?;
+            for f in &self.frames {
+                w.write_all(&f.triplet.to_le_bytes())?;
+                for b in f.blocks {
+                    w.write_all(&b.unwrap_or(u32::MAX).to_le_bytes())?;
+                }
+                for x in f.normal.iter().chain(f.arms.iter().flatten()) {
+                    w.write_all(&x.to_le_bytes())?;
+                }
+            }
+        }
+        Ok(())
     }
 
     fn read_binary(r: &mut &[u8]) -> std::io::Result<Self> {
@@ -406,9 +482,39 @@ impl ProblemFile {
             });
         }
         let k = read_f64s(r).map_err(at("k"))?;
-        if !r.is_empty() {
+        let mut frames = Vec::new();
+        if !r.is_empty() && r.len() < 8 {
             return Err(std::io::Error::other(format!(
                 "{} bytes after the last field `k`",
+                r.len()
+            )));
+        }
+        if !r.is_empty() {
+            let n = read_len_of(r, 4 + 8 + 72).map_err(at("frames.len()"))?;
+            for i in 0..n {
+                let field = || at(format!("frames[{i}]"));
+                let mut u = [0u32; 3];
+                for x in &mut u {
+                    let mut b = [0u8; 4];
+                    r.read_exact(&mut b).map_err(field())?;
+                    *x = u32::from_le_bytes(b);
+                }
+                let mut v = [0.0; 9];
+                for x in &mut v {
+                    *x = read_f64(r).map_err(field())?;
+                }
+                let side = |b: u32| (b != u32::MAX).then_some(b);
+                frames.push(FrameData {
+                    triplet: u[0],
+                    blocks: [side(u[1]), side(u[2])],
+                    normal: [v[0], v[1], v[2]],
+                    arms: [[v[3], v[4], v[5]], [v[6], v[7], v[8]]],
+                });
+            }
+        }
+        if !r.is_empty() {
+            return Err(std::io::Error::other(format!(
+                "{} bytes after the last field `frames`",
                 r.len()
             )));
         }
@@ -418,6 +524,7 @@ impl ProblemFile {
             masses,
             groups,
             k,
+            frames,
         })
     }
 }

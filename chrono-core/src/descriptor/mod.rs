@@ -21,6 +21,9 @@ mod coupled;
 mod file;
 #[cfg(test)]
 mod file_fuzz;
+mod frames;
+#[cfg(test)]
+mod frames_tests;
 mod ops;
 mod problem;
 pub mod reduce;
@@ -35,8 +38,8 @@ pub use cone::{
     project_unilateral,
 };
 pub use coupled::{CoupledMass, DenseMass, dense_matrix};
-pub use file::{ProblemFile, ProblemFormat};
+pub use file::{FrameData, ProblemFile, ProblemFormat};
 pub use problem::{CcpProblem, CcpWork, Sections, upper_index};
-pub use rows::{ConstraintRows, N_GROUPS, PER_BODY_ROWS, RowEntry, RowGroup, RowId};
+pub use rows::{ConstraintRows, ContactFrame, N_GROUPS, PER_BODY_ROWS, RowEntry, RowGroup, RowId};
 pub use solver::{CcpSolver, IterationRecord, SolveStats, SolverSettings};
 pub use variables::{BlockId, MassOperator, Run, Variables};

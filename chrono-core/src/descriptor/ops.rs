@@ -24,7 +24,17 @@ impl CcpProblem {
     pub fn minv_d(&self, gamma: &[f64], v: &mut [f64]) {
         assert_eq!(gamma.len(), self.n_rows, "gamma has the wrong length");
         assert_eq!(v.len(), self.ndof(), "v has the wrong length");
+        self.minv_d_blocks(gamma, v, false);
+    }
+
+    /// [`minv_d`](Self::minv_d); with `skip_spheres` the blocks of the matrix-free spheres
+    /// are left untouched (only matrix-free triplets touch them, and those read `work.w`).
+    fn minv_d_blocks(&self, gamma: &[f64], v: &mut [f64], skip_spheres: bool) {
+        let skip = &self.mf.skip_block;
         let gather = |block: usize, out: &mut [f64]| {
+            if skip_spheres && skip[block] {
+                return;
+            }
             out.fill(0.0);
             let nd = out.len();
             let (t0, t1) = (self.tr_ptr[block] as usize, self.tr_ptr[block + 1] as usize);
@@ -52,54 +62,125 @@ impl CcpProblem {
         }
     }
 
+    /// `out = N g + shift` (`shift` = `r` or none): the explicit rows by `D'(M^-1 D g)`, the
+    /// matrix-free triplets ([`super::ContactFrame`]) from their frames. Every output is a
+    /// fixed-order sum, whatever the thread count.
+    fn product(&self, gamma: &[f64], out: &mut [f64], work: &mut CcpWork, shift: Option<&[f64]>) {
+        assert_eq!(gamma.len(), self.n_rows, "gamma has the wrong length");
+        assert_eq!(out.len(), self.n_rows, "out has the wrong length");
+        work.resize(self);
+        let mf = self.mf.active();
+        self.minv_d_blocks(gamma, &mut work.v, mf);
+        if mf {
+            self.mf.gather(gamma, &mut work.w);
+        }
+        let (v, w) = (&work.v, &work.w);
+        let eps = &self.eps;
+        // `x + r_i`, or `x` itself (not `x + 0`, which would turn -0 into +0).
+        let sh = |x: f64, i: usize| match shift {
+            Some(r) => x + r[i],
+            None => x,
+        };
+        let row = |i: usize| sh(self.row_dot(i, v) + eps[i] * gamma[i], i);
+        let par = self.n_rows >= PAR_MIN_ROWS;
+        let fr = self.sections.friction.clone();
+        let (head, rest) = out.split_at_mut(fr.start);
+        let (mid, tail) = rest.split_at_mut(fr.len());
+        let rows = |o: &mut [f64], start: usize| {
+            let f = |(i, o): (usize, &mut f64)| *o = row(start + i);
+            if par {
+                o.par_iter_mut().enumerate().for_each(f);
+            } else {
+                o.iter_mut().enumerate().for_each(f);
+            }
+        };
+        rows(head, 0);
+        rows(tail, fr.end);
+        let of = &self.mf.of_triplet;
+        let triplet = |(k, o): (usize, &mut [f64])| {
+            let i = fr.start + 3 * k;
+            match of.get(k) {
+                Some(&c) if c != super::frames::NONE => {
+                    let d = self.mf.triplet(c as usize, w);
+                    for j in 0..3 {
+                        o[j] = sh(d[j] + eps[i + j] * gamma[i + j], i + j);
+                    }
+                }
+                _ => {
+                    for j in 0..3 {
+                        o[j] = row(i + j);
+                    }
+                }
+            }
+        };
+        if par {
+            mid.par_chunks_mut(3).enumerate().for_each(triplet);
+        } else {
+            mid.chunks_mut(3).enumerate().for_each(triplet);
+        }
+    }
+
     /// `out = N g = D'(M^-1 D g) + E g`. `work` must come from [`CcpWork::for_problem`].
     ///
     /// Cost: one pass over each copy of the Jacobian (`2 nnz(D)` multiply-adds) plus the
-    /// indices; this is the unit of cost of every iterative solver ("`apply_n`-equivalents").
+    /// indices, and for the matrix-free triplets ([`super::ContactFrame`]) two passes over
+    /// their frames; this is the unit of cost of every iterative solver
+    /// ("`apply_n`-equivalents").
     pub fn apply_n(&self, gamma: &[f64], out: &mut [f64], work: &mut CcpWork) {
-        assert_eq!(out.len(), self.n_rows, "out has the wrong length");
-        work.resize(self);
-        self.minv_d(gamma, &mut work.v);
-        let v = &work.v;
-        let f = |(i, o): (usize, &mut f64)| *o = self.row_dot(i, v) + self.eps[i] * gamma[i];
-        if self.n_rows >= PAR_MIN_ROWS {
-            out.par_iter_mut().enumerate().for_each(f);
-        } else {
-            out.iter_mut().enumerate().for_each(f);
-        }
+        self.product(gamma, out, work, None);
+    }
+
+    /// Number of friction triplets whose share of `N g` is computed matrix-free from their
+    /// [`super::ContactFrame`] (0 if none were given or none qualified).
+    pub fn n_matrix_free(&self) -> usize {
+        self.mf.n_mf
     }
 
     /// The bytes one [`apply_n`](Self::apply_n) must move at least: every stored array it
     /// reads once and every vector read or written once (gathers of `g` and `v` counted
-    /// once, as if cached). Block pass: `tr_ptr`, `tr_cptr` (8 B per block), `tr_row`
-    /// (4 B per entry), `M^-1 D` (8 B per coefficient), `g` (8 B per row), `v` written
-    /// (8 B per dof); row pass: `row_ptr` (4 B per row), entry offsets (8 B per entry),
-    /// `D` (8 B per coefficient), `v` read (8 B per dof), `eps`, `g` read and `N g` written
-    /// (24 B per row). Divided by the measured time it gives the achieved bandwidth.
+    /// once, as if cached). Explicit rows: block pass `tr_ptr`, `tr_cptr` (8 B per block),
+    /// `tr_row` (4 B per entry), `M^-1 D` (8 B per coefficient), `g` (8 B per row), `v`
+    /// written (8 B per dof); row pass `row_ptr` (4 B per row), entry offsets (8 B per
+    /// entry), `D` (8 B per coefficient), `v` read (8 B per dof), `eps`, `g` read and `N g`
+    /// written (24 B per row). Matrix-free triplets: per sphere its pointer and inverse mass
+    /// (20 B) and its 6 velocity changes written and read (96 B); per triplet side the
+    /// sphere-ordered normal and arm (48 B) and row (4 B), per triplet `g` (24 B) in the
+    /// sphere pass, and in the row pass its row, spheres and frame (84 B), `eps`, `g` and
+    /// `N g` (72 B). Divided
+    /// by the measured time it gives the achieved bandwidth.
     pub fn apply_n_bytes(&self) -> usize {
-        let (nb, m, ne, nc, nd) = (
-            self.vars.len(),
-            self.n_rows,
-            self.n_entries(),
-            self.n_coefs(),
-            self.ndof(),
-        );
-        (8 * nb + 4 * ne + 8 * nc + 8 * m + 8 * nd) + (4 * m + 8 * ne + 8 * nc + 8 * nd + 24 * m)
+        let mf = &self.mf;
+        // Explicit rows and entries only (the matrix-free triplets' entries are not read).
+        let (mut m, mut ne, mut nc) = (self.n_rows, self.n_entries(), self.n_coefs());
+        let mut nd = self.ndof();
+        let mf_rows = (mf.of_triplet.iter())
+            .filter(|&&c| c != super::frames::NONE)
+            .map(|&c| mf.c_row[c as usize]);
+        for i in mf_rows {
+            for r in i as usize..i as usize + 3 {
+                m -= 1;
+                let (e0, e1) = (self.row_ptr[r] as usize, self.row_ptr[r + 1] as usize);
+                ne -= e1 - e0;
+                nc -= self.ent_coef[e1] as usize - self.ent_coef[e0] as usize;
+            }
+        }
+        for (b, &skip) in mf.skip_block.iter().enumerate() {
+            if skip {
+                nd -= self.vars.block_ndof(super::BlockId(b as u32));
+            }
+        }
+        let nb = self.vars.len();
+        let explicit = (8 * nb + 4 * ne + 8 * nc + 8 * m + 8 * nd)
+            + (4 * m + 8 * ne + 8 * nc + 8 * nd + 24 * m);
+        let sides = mf.s_row.len();
+        let spheres = mf.n_bodies() * (20 + 96);
+        let contacts = mf.c_row.len() * 24 + mf.n_mf * (84 + 72) + sides * (48 + 4);
+        explicit + spheres + contacts
     }
 
     /// `out = N g + r`, the gradient of the objective (= the constraint velocities).
     pub fn gradient(&self, gamma: &[f64], out: &mut [f64], work: &mut CcpWork) {
-        work.resize(self);
-        self.minv_d(gamma, &mut work.v);
-        let v = &work.v;
-        let f = |(i, o): (usize, &mut f64)| {
-            *o = self.row_dot(i, v) + self.eps[i] * gamma[i] + self.r[i];
-        };
-        if self.n_rows >= PAR_MIN_ROWS {
-            out.par_iter_mut().enumerate().for_each(f);
-        } else {
-            out.iter_mut().enumerate().for_each(f);
-        }
+        self.product(gamma, out, work, Some(&self.r));
     }
 
     /// The objective `f(g) = 1/2 g'N g + r'g`, given the gradient `grad = N g + r`.

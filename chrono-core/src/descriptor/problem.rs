@@ -50,6 +50,8 @@ impl Sections {
 pub struct CcpWork {
     /// A velocity-sized vector (`ndof`).
     pub v: Vec<f64>,
+    /// World-frame velocity changes of the matrix-free spheres (6 per sphere).
+    pub w: Vec<f64>,
     /// Partial sums of deterministic reductions.
     pub partials: Vec<f64>,
 }
@@ -65,6 +67,7 @@ impl CcpWork {
     /// Resize for `problem` (no allocation if already large enough).
     pub fn resize(&mut self, problem: &CcpProblem) {
         self.v.resize(problem.ndof(), 0.0);
+        self.w.resize(6 * problem.mf.n_bodies(), 0.0);
     }
 }
 
@@ -91,6 +94,14 @@ impl CcpWork {
 ///   block at a time (parallel over blocks, no write conflicts);
 /// - by row (CSR): for each row its entries, each with the block's dof offset and the
 ///   coefficients of `D_i'` (and of `M^-1 D_i`, for Gauss–Seidel's row updates).
+///
+/// Friction triplets pushed with a [`ContactFrame`](super::ContactFrame) (contacts between
+/// spheres: rigid bodies with isotropic inertia) are in addition stored matrix-free — the
+/// normal and the two lever arms, 9 numbers instead of 36 coefficients — and
+/// [`apply_n`](Self::apply_n) / [`gradient`](Self::gradient) use that form for them (about
+/// 100 bytes per row and product instead of ~256); the explicit copies above stay the
+/// reference for every row-level access (`row_dot`, `row_add_minv`, `n_entry`,
+/// `constraint_rows`, `velocities`), and the two agree to rounding.
 ///
 /// Row-wise and block-wise loops are rayon-parallel for large problems and every reduction
 /// is done in a fixed order ([`reduce`](super::reduce)), so results are bit-identical for
@@ -130,6 +141,8 @@ pub struct CcpProblem {
     pub(super) v_free: Vec<f64>,
     pub(super) sections: Sections,
     pub(super) group_start: [usize; N_GROUPS],
+    /// The triplets applied matrix-free ([`super::ContactFrame`]).
+    pub(super) mf: super::frames::MatrixFree,
 }
 
 pub(super) const GROUP_ORDER: [RowGroup; N_GROUPS] = [
@@ -331,6 +344,7 @@ impl CcpProblem {
         };
         self.build_transpose(nblocks);
         self.build_diagonal();
+        self.build_matrix_free(rows);
 
         self.v_free.clear();
         self.v_free.resize(vars.ndof(), 0.0);
@@ -692,12 +706,17 @@ impl CcpProblem {
                 i += 1;
             } else if s.friction.contains(&i) {
                 let (e0, e1, e2) = (entries(i), entries(i + 1), entries(i + 2));
-                rows.push_friction(
-                    self.mu[(i - s.friction.start) / 3],
+                let k = (i - s.friction.start) / 3;
+                let id = rows.push_friction(
+                    self.mu[k],
                     [&e0, &e1, &e2],
                     [self.b[i], self.b[i + 1], self.b[i + 2]],
                     [self.eps[i], self.eps[i + 1], self.eps[i + 2]],
                 );
+                let frames = &self.mf.frames;
+                if let Ok(f) = frames.binary_search_by_key(&(k as u32), |&(t, _)| t) {
+                    rows.set_contact_frame(id, frames[f].1);
+                }
                 i += 3;
             } else if s.rolling_per_body.contains(&i) {
                 let n = PER_BODY_ROWS;

@@ -42,6 +42,46 @@ pub fn sum_by(n: usize, partials: &mut Vec<f64>, f: impl Fn(usize) -> f64 + Sync
     partials.iter().sum()
 }
 
+/// Two sums `(sum f(i).0, sum f(i).1)` in one pass, each in exactly the order of
+/// [`sum_by`] (so each equals `sum_by` of its half bit for bit). `partials` is scratch
+/// (`2 (n / CHUNK + 1)` once grown).
+pub fn sum2_by(
+    n: usize,
+    partials: &mut Vec<f64>,
+    f: impl Fn(usize) -> (f64, f64) + Sync,
+) -> (f64, f64) {
+    let chunks = n.div_ceil(CHUNK);
+    let chunk_sum = |c: usize| {
+        let end = ((c + 1) * CHUNK).min(n);
+        let (mut a, mut b) = (0.0, 0.0);
+        for i in c * CHUNK..end {
+            let (x, y) = f(i);
+            a += x;
+            b += y;
+        }
+        (a, b)
+    };
+    if n < PAR_MIN {
+        let (mut a, mut b) = (0.0, 0.0);
+        for c in 0..chunks {
+            let (x, y) = chunk_sum(c);
+            a += x;
+            b += y;
+        }
+        return (a, b);
+    }
+    partials.clear();
+    partials.resize(2 * chunks, 0.0);
+    partials
+        .par_chunks_mut(2)
+        .enumerate()
+        .for_each(|(c, p)| (p[0], p[1]) = chunk_sum(c));
+    (
+        partials.iter().step_by(2).sum(),
+        partials.iter().skip(1).step_by(2).sum(),
+    )
+}
+
 /// Dot product `a'b` in a fixed order (see [`sum_by`]).
 pub fn dot(a: &[f64], b: &[f64], partials: &mut Vec<f64>) -> f64 {
     assert_eq!(a.len(), b.len());
@@ -67,6 +107,25 @@ mod tests {
         assert_eq!(d_default.to_bits(), d_one.to_bits());
         let naive: f64 = a.iter().zip(&b).map(|(x, y)| x * y).sum();
         assert!((d_default - naive).abs() < 1e-9 * naive.abs().max(1.0));
+    }
+
+    #[test]
+    fn sum2_by_equals_two_sum_by_bit_for_bit() {
+        for n in [0, 5, CHUNK + 3, PAR_MIN + 777] {
+            let f = |i: usize| ((i as f64 * 0.37).sin() * 1e3, (i as f64 * 0.11).cos());
+            let mut p = Vec::new();
+            let (a, b) = sum2_by(n, &mut p, f);
+            assert_eq!(
+                a.to_bits(),
+                sum_by(n, &mut p, |i| f(i).0).to_bits(),
+                "n = {n}"
+            );
+            assert_eq!(
+                b.to_bits(),
+                sum_by(n, &mut p, |i| f(i).1).to_bits(),
+                "n = {n}"
+            );
+        }
     }
 
     #[test]

@@ -68,6 +68,9 @@ pub(crate) struct GroupRows {
     /// One friction coefficient per triplet (Friction group), three per contact
     /// (`mu, mu_spin, mu_roll`, Rolling and RollingPerBody groups).
     pub mu: Vec<f64>,
+    /// Friction group: the contact frames given with
+    /// [`ConstraintRows::set_contact_frame`], by triplet index (increasing).
+    pub frames: Vec<(u32, ContactFrame)>,
 }
 
 impl GroupRows {
@@ -82,6 +85,7 @@ impl GroupRows {
         self.lo.clear();
         self.hi.clear();
         self.mu.clear();
+        self.frames.clear();
     }
 
     pub fn n_rows(&self) -> usize {
@@ -102,6 +106,32 @@ impl GroupRows {
         self.eps.push(eps);
         (self.b.len() - 1) as u32
     }
+}
+
+/// The geometry of a friction triplet between two rigid bodies with isotropic inertia
+/// (spheres): with it [`CcpProblem::apply_n`](super::CcpProblem::apply_n) computes the
+/// triplet's share of `N g` from the contact frame and the two lever arms (matrix-free, 9
+/// numbers instead of 36 Jacobian coefficients), while the explicit rows stay the
+/// reference for every row-level access.
+///
+/// It describes rows pushed by [`ConstraintRows::push_friction`] as: row `d` (`d` = `n`,
+/// `u`, `w` with `(u, w) = `[`tangent_frame`](crate::math::tangent_frame)`(n)`) has on
+/// block A (if any) the entry `[-d; (R_A' r_A) x (R_A' (-d))]` and then on block B (if
+/// any) `[d; (R_B' r_B) x (R_B' d)]` (the relative velocity of B's contact point with
+/// respect to A's along `d`, angular velocities in the body frames; the layout of
+/// `RigidBody::point_jacobian`). The problem checks this at assembly (the blocks, the
+/// linear coefficients exactly, the angular ones' norms to 1e-9) and uses the
+/// matrix-free path only for triplets that pass and whose blocks are rigid bodies with
+/// isotropic inertia touched by no other kind of row; the others use the explicit rows.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ContactFrame {
+    /// Unit contact normal `n` (world, from A to B).
+    pub normal: [f64; 3],
+    /// The variable blocks of side A and side B (`None`: no variables, e.g. a fixed body).
+    pub blocks: [Option<BlockId>; 2],
+    /// The lever arms `p - x` from each body's center of mass to its contact point (world,
+    /// m).
+    pub arms: [[f64; 3]; 2],
 }
 
 /// The rows of one step, in six groups ([`RowGroup`]). Reused across steps: [`clear`](Self::clear) keeps
@@ -190,6 +220,23 @@ impl ConstraintRows {
         RowId {
             group: RowGroup::Friction,
             index,
+        }
+    }
+
+    /// Attach the geometry of the friction triplet `row` (returned by
+    /// [`push_friction`](Self::push_friction)), so that `N g` can be applied matrix-free
+    /// for it (see [`ContactFrame`]). Triplets must be given in the order they were pushed;
+    /// a frame for another group's row, or out of order, is ignored.
+    pub fn set_contact_frame(&mut self, row: RowId, frame: ContactFrame) {
+        let g = &mut self.groups[RowGroup::Friction as usize];
+        let k = row.index / 3;
+        let in_order = g.frames.last().is_none_or(|&(last, _)| last < k);
+        if row.group == RowGroup::Friction
+            && row.index.is_multiple_of(3)
+            && (k as usize) < g.mu.len()
+            && in_order
+        {
+            g.frames.push((k, frame));
         }
     }
 

@@ -5,8 +5,9 @@
 //!
 //! Metrics: `contacts`, `rows`, `nnz` (stored Jacobian coefficients), `apply_n_median_s`,
 //! `contacts_per_s`, `bytes_per_apply_n` (the compulsory traffic,
-//! `CcpProblem::apply_n_bytes`), `apply_n_gb_s`, `triad_gb_s` (3 arrays counted, no
-//! write-allocate), `fraction_of_triad`, `threads`.
+//! `CcpProblem::apply_n_bytes`), `bytes_per_row`, `matrix_free_contacts` (triplets applied
+//! from their contact frames, `CcpProblem::n_matrix_free`), `apply_n_gb_s`, `triad_gb_s`
+//! (3 arrays counted, no write-allocate), `fraction_of_triad`, `threads`.
 
 use chrono_core::descriptor::CcpWork;
 use rayon::prelude::*;
@@ -114,6 +115,8 @@ fn run(p: &ApplyNParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         .metric("apply_n_median_s", t)
         .metric("contacts_per_s", contacts as f64 / t)
         .metric("bytes_per_apply_n", bytes)
+        .metric("bytes_per_row", bytes / m.max(1) as f64)
+        .metric("matrix_free_contacts", problem.n_matrix_free() as f64)
         .metric("apply_n_gb_s", gb_s)
         .metric("triad_gb_s", triad_gb_s)
         .metric("fraction_of_triad", gb_s / triad_gb_s)

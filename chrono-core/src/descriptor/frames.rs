@@ -1,0 +1,364 @@
+//! The matrix-free share of `N g` for friction triplets between spheres
+//! ([`ContactFrame`]): instead of 36 Jacobian coefficients (twice: `D` and `M^-1 D`) a
+//! triplet stores its normal and two lever arms (9 numbers), and a sphere's `M^-1` is a
+//! scalar mass and a scalar inertia.
+//!
+//! With `F = n g_n + u g_u + w g_w` the triplet's impulse on B (and `-F` on A), the
+//! velocity change of a sphere is `dv = F_sum / m` and `dw = (sum r x F) / J` (world frame:
+//! for an isotropic inertia `R J^-1 R' = J^-1`, so the body rotation drops out of `N`), and
+//! the triplet's rows of `N g` are `d . ((dv_B + dw_B x r_B) - (dv_A + dw_A x r_A))`.
+//! Both passes are gathers in a fixed order (per body over its contacts in row order, per
+//! triplet), so the result is bit-identical for any thread count.
+
+use rayon::prelude::*;
+
+use super::problem::CcpProblem;
+use super::rows::{ConstraintRows, ContactFrame, RowGroup};
+use super::variables::{BlockId, MassOperator};
+use crate::math::Vector3;
+
+/// No index.
+pub(super) const NONE: u32 = u32::MAX;
+
+/// Below this many spheres the gather runs on the calling thread.
+const PAR_MIN_BODIES: usize = 1024;
+
+/// Relative tolerance of the check of the angular coefficients against the arms.
+const ARM_CHECK_TOL: f64 = 1e-9;
+
+/// The matrix-free triplets of a problem and their spheres.
+#[derive(Debug, Clone, Default)]
+pub(super) struct MatrixFree {
+    /// The frames as given with the rows (triplet index, frame), to rebuild the rows.
+    pub frames: Vec<(u32, ContactFrame)>,
+    /// Per friction triplet: its contact if applied matrix-free, or [`NONE`].
+    pub of_triplet: Vec<u32>,
+    /// Contacts: the triplets with a checked frame (matrix-free or not: a pure sphere
+    /// gathers from all of them). Per contact: the global index of its normal row.
+    pub c_row: Vec<u32>,
+    /// Per contact: the pure sphere of side A and of side B, or [`NONE`].
+    pub c_body: Vec<[u32; 2]>,
+    /// Per contact: `n`, `r_A`, `r_B` (world).
+    pub c_geo: Vec<[f64; 9]>,
+    /// Per sphere: `[1/m, 1/J]`.
+    pub b_inv: Vec<[f64; 2]>,
+    /// Per sphere: its contact sides `b_ptr[s]..b_ptr[s+1]` (in contact order) in the
+    /// sphere-ordered copies below, so that the sphere pass streams them.
+    pub b_ptr: Vec<u32>,
+    /// Per contact side: `2 i + side` with `i` the normal row (side 0 = A, 1 = B).
+    pub s_row: Vec<u32>,
+    /// Per contact side: the normal and this side's arm.
+    pub s_geo: Vec<[f64; 6]>,
+    /// Per variable block: its sphere, or [`NONE`].
+    pub block_sphere: Vec<u32>,
+    /// Per variable block: true if only matrix-free triplets touch it (its explicit
+    /// velocity is not needed by `apply_n`).
+    pub skip_block: Vec<bool>,
+    /// Number of triplets applied matrix-free.
+    pub n_mf: usize,
+}
+
+impl MatrixFree {
+    /// True if some triplet is applied matrix-free.
+    #[inline]
+    pub fn active(&self) -> bool {
+        self.n_mf > 0
+    }
+
+    /// Number of spheres.
+    #[inline]
+    pub fn n_bodies(&self) -> usize {
+        self.b_inv.len()
+    }
+
+    fn clear(&mut self) {
+        self.frames.clear();
+        self.of_triplet.clear();
+        self.c_row.clear();
+        self.c_body.clear();
+        self.c_geo.clear();
+        self.b_inv.clear();
+        self.b_ptr.clear();
+        self.s_row.clear();
+        self.s_geo.clear();
+        self.block_sphere.clear();
+        self.skip_block.clear();
+        self.n_mf = 0;
+    }
+
+    /// `w = M^-1 D g` restricted to the spheres, in the world frame: `[dv; dw]` (6 per
+    /// sphere).
+    pub fn gather(&self, gamma: &[f64], w: &mut [f64]) {
+        let one = |s: usize, out: &mut [f64]| {
+            let (mut f, mut t) = ([0.0; 3], [0.0; 3]);
+            let range = self.b_ptr[s] as usize..self.b_ptr[s + 1] as usize;
+            for (&rs, geo) in self.s_row[range.clone()].iter().zip(&self.s_geo[range]) {
+                let (i, side) = ((rs >> 1) as usize, rs & 1);
+                let g = &gamma[i..i + 3];
+                let n = [geo[0], geo[1], geo[2]];
+                let (u, v) = frame(&n);
+                // The impulse on this side: +F on B, -F on A.
+                let sg = if side == 0 {
+                    [-g[0], -g[1], -g[2]]
+                } else {
+                    [g[0], g[1], g[2]]
+                };
+                let fc: [f64; 3] =
+                    std::array::from_fn(|k| n[k] * sg[0] + u[k] * sg[1] + v[k] * sg[2]);
+                let tc = cross(&[geo[3], geo[4], geo[5]], &fc);
+                for k in 0..3 {
+                    f[k] += fc[k];
+                    t[k] += tc[k];
+                }
+            }
+            let [im, ij] = self.b_inv[s];
+            let out: &mut [f64; 6] = out.try_into().expect("6 per sphere");
+            for k in 0..3 {
+                out[k] = im * f[k];
+                out[3 + k] = ij * t[k];
+            }
+        };
+        let w = &mut w[..6 * self.n_bodies()];
+        if self.n_bodies() >= PAR_MIN_BODIES {
+            w.par_chunks_mut(6).enumerate().for_each(|(s, o)| one(s, o));
+        } else {
+            w.chunks_mut(6).enumerate().for_each(|(s, o)| one(s, o));
+        }
+    }
+
+    /// The triplet `c`'s rows of `D' w`: the relative velocity of the contact points along
+    /// `n, u, w`.
+    #[inline]
+    pub fn triplet(&self, c: usize, w: &[f64]) -> [f64; 3] {
+        let geo = &self.c_geo[c];
+        let mut rel = [0.0; 3];
+        let [sa, sb] = self.c_body[c];
+        if sa != NONE {
+            let x: &[f64; 6] = w[6 * sa as usize..6 * sa as usize + 6]
+                .try_into()
+                .expect("6");
+            let vp = point_velocity(x, &[geo[3], geo[4], geo[5]]);
+            for k in 0..3 {
+                rel[k] -= vp[k];
+            }
+        }
+        if sb != NONE {
+            let x: &[f64; 6] = w[6 * sb as usize..6 * sb as usize + 6]
+                .try_into()
+                .expect("6");
+            let vp = point_velocity(x, &[geo[6], geo[7], geo[8]]);
+            for k in 0..3 {
+                rel[k] += vp[k];
+            }
+        }
+        let n = [geo[0], geo[1], geo[2]];
+        let (u, v) = frame(&n);
+        [dot(&n, &rel), dot(&u, &rel), dot(&v, &rel)]
+    }
+}
+
+#[inline(always)]
+fn cross(a: &[f64; 3], b: &[f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+#[inline(always)]
+fn dot(a: &[f64; 3], b: &[f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+/// `dv + dw x r` for `x = [dv; dw]`.
+#[inline(always)]
+fn point_velocity(x: &[f64; 6], r: &[f64; 3]) -> [f64; 3] {
+    let c = cross(&[x[3], x[4], x[5]], r);
+    [x[0] + c[0], x[1] + c[1], x[2] + c[2]]
+}
+
+/// The tangents of [`tangent_frame`](crate::math::tangent_frame), inlined here (the same operations, so the same bits:
+/// the assembly checks the rows' coefficients against this function).
+#[inline(always)]
+fn frame(n: &[f64; 3]) -> ([f64; 3], [f64; 3]) {
+    let sign = 1.0f64.copysign(n[2]);
+    let a = -1.0 / (sign + n[2]);
+    let b = n[0] * n[1] * a;
+    let u = [1.0 + sign * n[0] * n[0] * a, sign * b, -sign * n[0]];
+    let w = [b, sign + n[1] * n[1] * a, -n[1]];
+    (u, w)
+}
+
+/// `[1/m, 1/J]` of a rigid body whose inverse inertia is `(1/J) I` exactly.
+fn isotropic(m: &MassOperator) -> Option<[f64; 2]> {
+    match m {
+        MassOperator::RigidBody {
+            mass, inv_inertia, ..
+        } => {
+            let j = inv_inertia[(0, 0)];
+            let iso =
+                (0..3).all(|a| (0..3).all(|b| inv_inertia[(a, b)] == if a == b { j } else { 0.0 }));
+            iso.then_some([1.0 / mass, j])
+        }
+        _ => None,
+    }
+}
+
+impl CcpProblem {
+    /// Build the matrix-free triplets from the frames of `rows` (after the explicit
+    /// storage, whose entries it checks the frames against).
+    pub(super) fn build_matrix_free(&mut self, rows: &ConstraintRows) {
+        let mut mf = std::mem::take(&mut self.mf);
+        mf.clear();
+        let frames = &rows.groups[RowGroup::Friction as usize].frames;
+        if !frames.is_empty() {
+            mf.frames.extend_from_slice(frames);
+            // `s_row` packs `2 row + side` in 32 bits.
+            if self.n_rows < 1 << 31 {
+                self.fill_matrix_free(&mut mf);
+            }
+        }
+        self.mf = mf;
+    }
+
+    /// Does row `i`'s explicit storage match `frame` with direction `d` (row `k` of the
+    /// triplet)?
+    fn row_matches(&self, i: usize, frame: &ContactFrame, d: &Vector3<f64>) -> bool {
+        let mut e = self.row_ptr[i] as usize;
+        let e1 = self.row_ptr[i + 1] as usize;
+        for (side, blk) in frame.blocks.iter().enumerate() {
+            let Some(blk) = blk else { continue };
+            if e >= e1 || self.ent_block[e] != blk.0 {
+                return false;
+            }
+            let (c0, c1) = (self.ent_coef[e] as usize, self.ent_coef[e + 1] as usize);
+            if c1 - c0 != 6 {
+                return false;
+            }
+            let c = &self.coefs[c0..c1];
+            let ds = if side == 0 { -d } else { *d };
+            if c[0] != ds.x || c[1] != ds.y || c[2] != ds.z {
+                return false;
+            }
+            let r = Vector3::from(frame.arms[side]);
+            let want = r.cross(&ds).norm_squared();
+            let have = c[3] * c[3] + c[4] * c[4] + c[5] * c[5];
+            let scale = r.norm_squared();
+            if (have - want).abs() > ARM_CHECK_TOL * scale {
+                return false;
+            }
+            e += 1;
+        }
+        e == e1
+    }
+
+    fn fill_matrix_free(&self, mf: &mut MatrixFree) {
+        let nblocks = self.vars.len();
+        let inv: Vec<Option<[f64; 2]>> = (0..nblocks)
+            .map(|b| isotropic(self.vars.mass(BlockId(b as u32))))
+            .collect();
+        let fs = self.sections.friction.start;
+        // Candidates: frames whose rows match and whose blocks are spheres.
+        let mut cand: Vec<(u32, ContactFrame)> = Vec::with_capacity(mf.frames.len());
+        for &(k, fr) in &mf.frames {
+            let n = Vector3::from(fr.normal);
+            if !(n.iter().all(|x| x.is_finite()) && fr.arms.iter().flatten().all(|x| x.is_finite()))
+            {
+                continue;
+            }
+            let (u, w) = frame(&fr.normal);
+            let (u, w) = (Vector3::from(u), Vector3::from(w));
+            let t = fs + 3 * k as usize;
+            let spheres = fr
+                .blocks
+                .iter()
+                .flatten()
+                .all(|b| (b.0 as usize) < nblocks && inv[b.0 as usize].is_some());
+            if spheres
+                && [n, u, w]
+                    .iter()
+                    .enumerate()
+                    .all(|(r, d)| self.row_matches(t + r, &fr, d))
+            {
+                cand.push((k, fr));
+            }
+        }
+        // A sphere is pure if all its entries belong to checked frames: then its world-frame
+        // velocity change is complete. A triplet is matrix-free if all its spheres are pure;
+        // the others (touching a body with other rows) use the explicit rows, so no
+        // fallback spreads beyond the bodies it touches.
+        let total: Vec<u32> = (0..nblocks)
+            .map(|b| self.tr_ptr[b + 1] - self.tr_ptr[b])
+            .collect();
+        let mut hinted = vec![0u32; nblocks];
+        for (_, f) in &cand {
+            for b in f.blocks.iter().flatten() {
+                hinted[b.0 as usize] += 3;
+            }
+        }
+        mf.block_sphere.resize(nblocks, NONE);
+        for b in 0..nblocks {
+            if hinted[b] > 0 && hinted[b] == total[b] {
+                mf.block_sphere[b] = mf.b_inv.len() as u32;
+                mf.b_inv.push(inv[b].expect("checked isotropic"));
+            }
+        }
+        mf.of_triplet.resize(self.sections.friction.len() / 3, NONE);
+        // Entries of each block in matrix-free triplets: a block all of whose entries are
+        // needs no explicit velocity.
+        let mut in_mf = vec![0u32; nblocks];
+        let mut count = vec![0u32; mf.b_inv.len() + 1];
+        for (k, f) in &cand {
+            let c = mf.c_row.len();
+            let body = f
+                .blocks
+                .map(|b| b.map_or(NONE, |b| mf.block_sphere[b.0 as usize]));
+            let pure = f
+                .blocks
+                .iter()
+                .flatten()
+                .all(|b| mf.block_sphere[b.0 as usize] != NONE);
+            if pure {
+                mf.of_triplet[*k as usize] = c as u32;
+                for b in f.blocks.iter().flatten() {
+                    in_mf[b.0 as usize] += 3;
+                }
+            }
+            mf.c_row.push((fs + 3 * *k as usize) as u32);
+            for &s in body.iter().filter(|&&s| s != NONE) {
+                count[s as usize + 1] += 1;
+            }
+            mf.c_body.push(body);
+            let [a, b] = f.arms;
+            let n = f.normal;
+            mf.c_geo
+                .push([n[0], n[1], n[2], a[0], a[1], a[2], b[0], b[1], b[2]]);
+        }
+        mf.n_mf = mf.of_triplet.iter().filter(|&&c| c != NONE).count();
+        mf.skip_block = (0..nblocks)
+            .map(|b| total[b] > 0 && in_mf[b] == total[b])
+            .collect();
+        for s in 0..mf.b_inv.len() {
+            count[s + 1] += count[s];
+        }
+        mf.b_ptr.extend_from_slice(&count);
+        let n_sides = count[mf.b_inv.len()] as usize;
+        mf.s_row.resize(n_sides, 0);
+        mf.s_geo.resize(n_sides, [0.0; 6]);
+        let mut cursor = count;
+        for (c, body) in mf.c_body.iter().enumerate() {
+            for (side, &s) in body.iter().enumerate() {
+                if s != NONE {
+                    let slot = &mut cursor[s as usize];
+                    let geo = &mf.c_geo[c];
+                    let o = 3 + 3 * side;
+                    mf.s_row[*slot as usize] = 2 * mf.c_row[c] + side as u32;
+                    mf.s_geo[*slot as usize] =
+                        [geo[0], geo[1], geo[2], geo[o], geo[o + 1], geo[o + 2]];
+                    *slot += 1;
+                }
+            }
+        }
+    }
+}

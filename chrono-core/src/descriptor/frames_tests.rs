@@ -1,0 +1,219 @@
+//! The matrix-free product of sphere contacts against the dense reference
+//! `N = D M^-1 D' + E` on random problems.
+
+use nalgebra::{DMatrix, DVector, Matrix3, UnitQuaternion, Vector3};
+use proptest::prelude::*;
+
+use super::*;
+use crate::math::tangent_frame;
+
+/// A random scene: `n_s` spheres (isotropic rigid bodies, random rotations), one
+/// anisotropic body and a particle; contacts between random pairs (or a sphere and a fixed
+/// side), most with their frames, plus a few rows without frames and a frame with wrong
+/// arms (both must fall back to the explicit rows).
+fn scene(seed: u64, n_s: usize, n_c: usize) -> (CcpProblem, DMatrix<f64>, usize) {
+    let mut rng = crate::rng::Rng::splitmix64(seed);
+    let mut vars = Variables::new();
+    let mut rot = Vec::new();
+    for _ in 0..n_s {
+        let m = rng.range(0.5, 2.0);
+        let j = rng.range(0.01, 0.1);
+        vars.add(MassOperator::rigid_body(m, Matrix3::identity() * j).unwrap());
+        rot.push(UnitQuaternion::from_euler_angles(
+            rng.range(-3.0, 3.0),
+            rng.range(-1.5, 1.5),
+            rng.range(-3.0, 3.0),
+        ));
+    }
+    let aniso = vars.add(
+        MassOperator::rigid_body(1.0, Matrix3::from_diagonal(&Vector3::new(0.1, 0.2, 0.3)))
+            .unwrap(),
+    );
+    let particle = vars.add(MassOperator::particle(0.3).unwrap());
+    let mut rows = ConstraintRows::new();
+    let mut dense_rows: Vec<Vec<(BlockId, Vec<f64>)>> = Vec::new();
+    let mut eps_list = Vec::new();
+    let mut framed = 0;
+    for c in 0..n_c {
+        let n = Vector3::new(
+            rng.range(-1.0, 1.0),
+            rng.range(-1.0, 1.0),
+            rng.range(-1.0, 1.0),
+        )
+        .normalize();
+        let (u, w) = tangent_frame(&n);
+        let a = rng.int(0, n_s); // n_s: fixed side
+        let mut b = rng.int(0, n_s - 1);
+        if b == a {
+            b = (b + 1) % n_s;
+        }
+        let side_a = (a < n_s).then_some(BlockId(a as u32));
+        let side_b = Some(BlockId(b as u32));
+        let arm = |rng: &mut crate::rng::Rng| {
+            Vector3::new(
+                rng.range(-0.1, 0.1),
+                rng.range(-0.1, 0.1),
+                rng.range(-0.1, 0.1),
+            )
+        };
+        let (ra, rb) = (arm(&mut rng), arm(&mut rng));
+        let mut spec = Vec::new();
+        for d in [n, u, w] {
+            let mut row = Vec::new();
+            for (side, blk, r) in [(0, side_a, ra), (1, side_b, rb)] {
+                let Some(blk) = blk else { continue };
+                let ds = if side == 0 { -d } else { d };
+                let q = rot[blk.0 as usize].inverse();
+                let ang = (q * r).cross(&(q * ds));
+                row.push((blk, vec![ds.x, ds.y, ds.z, ang.x, ang.y, ang.z]));
+            }
+            spec.push(row);
+        }
+        let ent = |k: usize| -> Vec<RowEntry<'_>> {
+            spec[k]
+                .iter()
+                .map(|(b, c)| RowEntry {
+                    block: *b,
+                    coefs: c,
+                })
+                .collect()
+        };
+        let eps = [rng.range(0.0, 0.01), 0.0, 0.0];
+        let id = rows.push_friction(0.5, [&ent(0), &ent(1), &ent(2)], [0.0; 3], eps);
+        if c % 7 != 3 {
+            // Every 11th frame lies about its arm: rejected at assembly.
+            let ra_given = if c % 11 == 5 {
+                ra * 1.5 + Vector3::x()
+            } else {
+                ra
+            };
+            rows.set_contact_frame(
+                id,
+                ContactFrame {
+                    normal: n.into(),
+                    blocks: [side_a, side_b],
+                    arms: [ra_given.into(), rb.into()],
+                },
+            );
+            framed += 1;
+        }
+        dense_rows.extend(spec);
+        eps_list.extend(eps);
+    }
+    // A bilateral row on sphere 0, the anisotropic body and the particle: sphere 0 and its
+    // contacts must use the explicit rows.
+    let bil = vec![
+        (BlockId(0), vec![0.3, -0.2, 0.1, 0.05, 0.0, -0.04]),
+        (aniso, vec![1.0, 0.0, 0.5, 0.1, 0.2, 0.3]),
+        (particle, vec![0.0, 1.0, -1.0]),
+    ];
+    let be: Vec<RowEntry<'_>> = bil
+        .iter()
+        .map(|(b, c)| RowEntry {
+            block: *b,
+            coefs: c,
+        })
+        .collect();
+    rows.push_bilateral(&be, 0.0, 1e-3);
+    let k: Vec<f64> = (0..vars.ndof()).map(|i| (i as f64 * 0.7).sin()).collect();
+    let mut p = CcpProblem::new();
+    p.assemble(&vars, &rows, &k).unwrap();
+    // Dense D in assembled order: the bilateral row first.
+    let m = p.n_rows();
+    let mut d = DMatrix::<f64>::zeros(m, vars.ndof());
+    let mut eps = vec![1e-3];
+    eps.extend(eps_list);
+    for (i, row) in std::iter::once(&bil).chain(&dense_rows).enumerate() {
+        for (blk, c) in row {
+            let off = vars.offset(*blk);
+            for (j, v) in c.iter().enumerate() {
+                d[(i, off + j)] += v;
+            }
+        }
+    }
+    let mut minv = DMatrix::<f64>::zeros(vars.ndof(), vars.ndof());
+    for col in 0..vars.ndof() {
+        let mut x = vec![0.0; vars.ndof()];
+        x[col] = 1.0;
+        let mut y = vec![0.0; vars.ndof()];
+        vars.apply_inverse(&x, &mut y);
+        minv.set_column(col, &DVector::from_column_slice(&y));
+    }
+    let nn = &d * minv * d.transpose() + DMatrix::from_diagonal(&DVector::from_vec(eps));
+    (p, nn, framed)
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(64))]
+
+    /// `apply_n` and `gradient` (matrix-free where frames qualify, explicit elsewhere)
+    /// equal the dense `N g` (+ `r`) to a rounding bound: 1e-13 times the sum of the
+    /// magnitudes of the terms.
+    #[test]
+    fn matrix_free_apply_n_equals_the_dense_product(
+        seed in any::<u64>(),
+        n_s in 2usize..40,
+        n_c in 1usize..60,
+    ) {
+        let (p, nn, _) = scene(seed, n_s, n_c);
+        let m = p.n_rows();
+        let mut rng = crate::rng::Rng::splitmix64(seed ^ 0x5eed);
+        let g: Vec<f64> = (0..m).map(|_| rng.range(-1.0, 1.0)).collect();
+        let mut work = CcpWork::for_problem(&p);
+        let mut out = vec![0.0; m];
+        p.apply_n(&g, &mut out, &mut work);
+        let mut grad = vec![0.0; m];
+        p.gradient(&g, &mut grad, &mut work);
+        let gd = DVector::from_column_slice(&g);
+        let dense = &nn * &gd;
+        let mag = nn.abs() * gd.abs();
+        for i in 0..m {
+            let bound = 1e-13 * (mag[i] + 1.0);
+            prop_assert!((out[i] - dense[i]).abs() <= bound, "row {i}: {} vs {}", out[i], dense[i]);
+            prop_assert!((grad[i] - dense[i] - p.r()[i]).abs() <= bound + 1e-13 * p.r()[i].abs());
+        }
+    }
+}
+
+#[test]
+fn frames_qualify_only_where_they_match_and_survive_a_rebuild() {
+    let (p, _, framed) = scene(7, 30, 30);
+    // Wrong arms and the contacts of sphere 0 are left out; most framed contacts qualify.
+    let used = p.n_matrix_free();
+    assert!(used > 0 && used < framed, "{used} of {framed}");
+    let mut q = CcpProblem::new();
+    q.assemble(p.variables(), &p.constraint_rows(), p.momentum())
+        .unwrap();
+    assert_eq!(q.n_matrix_free(), used);
+    let g: Vec<f64> = (0..p.n_rows()).map(|i| (i as f64 * 0.3).cos()).collect();
+    let (mut a, mut b) = (vec![0.0; g.len()], vec![0.0; g.len()]);
+    p.apply_n(&g, &mut a, &mut CcpWork::for_problem(&p));
+    q.apply_n(&g, &mut b, &mut CcpWork::for_problem(&q));
+    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    assert_eq!(bits(&a), bits(&b));
+}
+
+#[test]
+fn frames_survive_a_problem_file_bit_for_bit() {
+    let (p, _, _) = scene(11, 30, 40);
+    assert!(p.n_matrix_free() > 0);
+    let g: Vec<f64> = (0..p.n_rows()).map(|i| (i as f64 * 0.7).sin()).collect();
+    let mut a = vec![0.0; g.len()];
+    p.apply_n(&g, &mut a, &mut CcpWork::for_problem(&p));
+    let file = ProblemFile::from_problem(&p, "frames");
+    let dir = std::env::temp_dir();
+    for (name, format) in [
+        ("chrono_frames_test.ccp", ProblemFormat::Binary),
+        ("chrono_frames_test.json", ProblemFormat::Json),
+    ] {
+        let path = dir.join(format!("{}_{name}", std::process::id()));
+        file.save(&path, format).unwrap();
+        let q = ProblemFile::load_problem(&path).unwrap();
+        std::fs::remove_file(&path).ok();
+        assert_eq!(q.n_matrix_free(), p.n_matrix_free());
+        let mut b = vec![0.0; g.len()];
+        q.apply_n(&g, &mut b, &mut CcpWork::for_problem(&q));
+        let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        assert_eq!(bits(&a), bits(&b), "{name}");
+    }
+}
