@@ -62,19 +62,21 @@ pub struct VsRapierParams {
 
 impl Default for VsRapierParams {
     fn default() -> Self {
-        // Issue 23's scene: 10 000 grains, r = 1 cm, h = 1/240 s, 1 s, 2 threads.
+        // Issue 23's scene: 10 000 grains, r = 1 cm, h = 1/240 s, 1 s, 2 threads; the
+        // material, the rest bound and our solver settings are granular-settle's own.
+        let settle = SettleParams::default();
         Self {
             n: 10_000,
             radius: 0.01,
-            density: 2500.0,
-            mu: 0.5,
+            density: settle.density,
+            mu: settle.mu,
             h: 1.0 / 240.0,
             t_end: 1.0,
             threads: 2,
-            ke_bound: 1e-3,
-            tolerance: 1e-5,
-            max_iterations: 100,
-            seed: 1,
+            ke_bound: settle.ke_bound,
+            tolerance: settle.tolerance,
+            max_iterations: settle.max_iterations,
+            seed: settle.seed,
         }
     }
 }
