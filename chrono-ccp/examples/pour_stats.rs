@@ -5,9 +5,9 @@
 //!
 //! Run: `cargo run --release -p chrono-ccp --example pour_stats -- [n] [steps] [radius] [h]
 //! [solver] [cap]` (defaults: 2000 grains, 40 steps, r = 0.01 m, h = 1/240 s, `apgd`, 100;
-//! `solver` is `apgd` or `bb`).
+//! `solver` is `apgd`, `bb`, `psor`, `psor-par` (coloured sweeps) or `psor-sym`).
 
-use chrono_ccp::{Apgd, BarzilaiBorwein, CcpSolver, SolverSettings};
+use chrono_ccp::{Apgd, BarzilaiBorwein, CcpSolver, Psor, SolverSettings};
 use chrono_core::granular::probe::max_penetration;
 use chrono_core::granular::{GrainBed, Region, add_box_container};
 use chrono_core::math::Vector3;
@@ -30,6 +30,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     };
     let solver: Box<dyn CcpSolver> = match which.as_str() {
         "bb" => Box::new(BarzilaiBorwein::new(settings)),
+        "psor" => Box::new(Psor::new(settings)),
+        "psor-par" => Box::new(Psor::new(settings).with_parallel(true)),
+        "psor-sym" => Box::new(Psor::new(settings).with_symmetric(true)),
         _ => Box::new(Apgd::new(settings)),
     };
     let sys_settings = SystemSettings {
