@@ -94,6 +94,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             max_penetration(&sys) / (0.8 * radius)
         );
     }
+    // A fingerprint of the final state (to compare code paths bit for bit).
+    let fp = sys.bodies().iter().fold(0u64, |h, b| {
+        let p = b.position();
+        [p.x, p.y, p.z]
+            .iter()
+            .fold(h, |h, x| h.rotate_left(5) ^ x.to_bits())
+    });
+    println!("state fingerprint {fp:016x}");
     println!(
         "total: {steps} steps, {:.1} it/step, {:.1} apply_n/step, {capped} not converged, {:.2} s",
         it_sum as f64 / steps as f64,

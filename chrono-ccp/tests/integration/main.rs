@@ -3,6 +3,7 @@
 //! Run one topic with `cargo test -p chrono-ccp --test integration <module>::`.
 
 mod analytic;
+mod apgd_fused;
 mod bilateral;
 mod cone;
 mod coulomb;

@@ -39,6 +39,7 @@ pub use cone::{
 };
 pub use coupled::{CoupledMass, DenseMass, dense_matrix};
 pub use file::{FrameData, ProblemFile, ProblemFormat};
+pub use ops::UNIT_ROWS;
 pub use problem::{CcpProblem, CcpWork, Sections, upper_index};
 pub use rows::{ConstraintRows, ContactFrame, N_GROUPS, PER_BODY_ROWS, RowEntry, RowGroup, RowId};
 pub use solver::{CcpSolver, IterationRecord, SolveStats, SolverSettings};

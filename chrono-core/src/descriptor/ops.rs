@@ -18,6 +18,10 @@ const PAR_MIN_ROWS: usize = 4096;
 /// Below this many dof, block-wise loops run on the calling thread.
 const PAR_MIN_DOF: usize = 8192;
 
+/// Rows per unit of [`CcpProblem::gradient_by_units`]: [`reduce::CHUNK`] friction triplets,
+/// i.e. three reduction chunks of rows.
+pub const UNIT_ROWS: usize = 3 * reduce::CHUNK;
+
 impl CcpProblem {
     /// `v = M^-1 D g` (length `ndof`), gathered block by block from the block-ordered copy of
     /// the Jacobian (one streaming pass over it; parallel over blocks for large systems).
@@ -96,27 +100,103 @@ impl CcpProblem {
         };
         rows(head, 0);
         rows(tail, fr.end);
-        let of = &self.mf.of_triplet;
         let triplet = |(k, o): (usize, &mut [f64])| {
-            let i = fr.start + 3 * k;
-            match of.get(k) {
-                Some(&c) if c != super::frames::NONE => {
-                    let d = self.mf.triplet(c as usize, w);
-                    for j in 0..3 {
-                        o[j] = sh(d[j] + eps[i + j] * gamma[i + j], i + j);
-                    }
-                }
-                _ => {
-                    for j in 0..3 {
-                        o[j] = row(i + j);
-                    }
-                }
-            }
+            self.triplet_rows(fr.start + 3 * k, gamma, v, w, shift, o);
         };
         if par {
             mid.par_chunks_mut(3).enumerate().for_each(triplet);
         } else {
             mid.chunks_mut(3).enumerate().for_each(triplet);
+        }
+    }
+
+    /// The three rows of `N g + shift` of the friction triplet whose normal row is `i`, into
+    /// `o`, from the explicit rows' `v = M^-1 D g` and the spheres' `w` (matrix-free).
+    #[inline]
+    fn triplet_rows(
+        &self,
+        i: usize,
+        gamma: &[f64],
+        v: &[f64],
+        w: &[f64],
+        shift: Option<&[f64]>,
+        o: &mut [f64],
+    ) {
+        let eps = &self.eps;
+        // `x + r_i`, or `x` itself (not `x + 0`, which would turn -0 into +0).
+        let sh = |x: f64, i: usize| match shift {
+            Some(r) => x + r[i],
+            None => x,
+        };
+        let k = (i - self.sections.friction.start) / 3;
+        match self.mf.of_triplet.get(k) {
+            Some(&c) if c != super::frames::NONE => {
+                let d = self.mf.triplet(c as usize, w);
+                for j in 0..3 {
+                    o[j] = sh(d[j] + eps[i + j] * gamma[i + j], i + j);
+                }
+            }
+            _ => {
+                for j in 0..3 {
+                    o[j] = sh(self.row_dot(i + j, v) + eps[i + j] * gamma[i + j], i + j);
+                }
+            }
+        }
+    }
+
+    /// Is every row part of a friction triplet (no other section)? Such problems (granular
+    /// material, spheres in a box) can use [`gradient_by_units`](Self::gradient_by_units).
+    pub fn is_friction_only(&self) -> bool {
+        self.sections.friction == (0..self.n_rows)
+    }
+
+    /// `out = N g + r` ([`gradient`](Self::gradient), the same bits) for a problem with
+    /// [`is_friction_only`](Self::is_friction_only), computed in units of [`UNIT_ROWS`]
+    /// rows; right after a unit is computed (while its rows are in cache) `then(rows, out)`
+    /// is called with its row range and its part of `out`, and the values it returns are
+    /// stored in `results` in unit order. Solvers fuse their reductions over the new
+    /// gradient into this pass; since a unit is exactly three chunks of
+    /// [`reduce::CHUNK`] rows and one chunk of `CHUNK` triplets, they can keep the order
+    /// of [`sum_by`] and so its bits. `results` keeps its allocation.
+    ///
+    /// # Panics
+    /// If the problem is not friction-only, or a length is wrong.
+    pub fn gradient_by_units<T: Send>(
+        &self,
+        gamma: &[f64],
+        out: &mut [f64],
+        work: &mut CcpWork,
+        results: &mut Vec<T>,
+        then: impl Fn(std::ops::Range<usize>, &[f64]) -> T + Sync + Send,
+    ) {
+        assert!(
+            self.is_friction_only(),
+            "gradient_by_units needs a friction-only problem"
+        );
+        assert_eq!(gamma.len(), self.n_rows, "gamma has the wrong length");
+        assert_eq!(out.len(), self.n_rows, "out has the wrong length");
+        work.resize(self);
+        let mf = self.mf.active();
+        self.minv_d_blocks(gamma, &mut work.v, mf);
+        if mf {
+            self.mf.gather(gamma, &mut work.w);
+        }
+        let (v, w) = (&work.v, &work.w);
+        let r = Some(&self.r[..]);
+        let unit = |(u, o): (usize, &mut [f64])| {
+            let start = u * UNIT_ROWS;
+            for (k, oc) in o.chunks_mut(3).enumerate() {
+                self.triplet_rows(start + 3 * k, gamma, v, w, r, oc);
+            }
+            then(start..start + o.len(), o)
+        };
+        results.clear();
+        if self.n_rows >= PAR_MIN_ROWS {
+            (out.par_chunks_mut(UNIT_ROWS).enumerate())
+                .map(unit)
+                .collect_into_vec(results);
+        } else {
+            results.extend(out.chunks_mut(UNIT_ROWS).enumerate().map(unit));
         }
     }
 

@@ -1,0 +1,143 @@
+//! APGD's iteration for friction-only problems (granular material) in three passes over
+//! the rows instead of about nine: the extrapolation `y = g + beta (g - g_prev)` (and its
+//! gradient) and the projected step in one pass, the product `N g+ + r` in the problem's
+//! passes, and every reduction the iteration needs (the line-search products, the
+//! restart slope, the residual) in the same pass as the product, unit by unit while the
+//! rows are in cache ([`CcpProblem::gradient_by_units`]).
+//!
+//! Each sum keeps the chunk order of [`sum_by`](chrono_core::descriptor::reduce::sum_by)
+//! (a unit is three chunks of rows and one chunk of triplets), so the iterates are the same
+//! bits as the general path's, for any thread count.
+
+use chrono_core::descriptor::{CcpProblem, UNIT_ROWS, project_friction_cone, reduce::CHUNK};
+use rayon::prelude::*;
+
+use super::Apgd;
+
+/// A triplet's `y`, `N y + r` and `g+` in the step pass.
+type StepChunks<'a> = ((&'a mut [f64], &'a mut [f64]), &'a mut [f64]);
+
+/// Below this many rows the step pass runs on the calling thread.
+const PAR_MIN_ROWS: usize = 4096;
+
+/// The sums of one unit of rows: per chunk of [`CHUNK`] rows `d'(N d)`, `d'P^-1 d` and the
+/// restart slope; over the unit's triplets the residual's sum of squares.
+#[derive(Debug, Clone, Copy, Default)]
+pub(super) struct UnitSums {
+    dnd: [f64; 3],
+    dpd: [f64; 3],
+    slope: [f64; 3],
+    chunks: usize,
+    res2: f64,
+}
+
+/// The totals of a trial: `(d'N d, d'P^-1 d)`, the slope `(N y + r)'(g+ - g)` and the
+/// residual of `g+` ([`CcpProblem::residual`], m/s).
+#[derive(Debug, Clone, Copy, Default)]
+pub(super) struct TrialSums {
+    pub dnd: f64,
+    pub dpd: f64,
+    pub slope: f64,
+    pub residual: f64,
+}
+
+impl Apgd {
+    /// One trial of the line search on a friction-only problem: with `beta` given, first
+    /// `y = g + beta (g - g_prev)` and `N y + r` likewise (`g_prev` and its gradient are in
+    /// `g_new`, `grad_new`: the buffers of the last iteration); then
+    /// `g_new = P_Y(y - P (N y + r) / l)`, `grad_new = N g_new + r` and the sums.
+    pub(super) fn trial_units(
+        &mut self,
+        problem: &CcpProblem,
+        l: f64,
+        beta: Option<f64>,
+    ) -> TrialSums {
+        let t = 1.0 / l;
+        let mu = problem.friction_mu();
+        let (g, gr, grp, s) = (&self.g, &self.grad, &self.grad_new, &self.s);
+        let step = |(k, ((y, gy), gn)): (usize, StepChunks)| {
+            let i = 3 * k;
+            if let Some(beta) = beta {
+                for j in 0..3 {
+                    // The general path's `gn + beta (gn - g)`: here `g` is the new iterate
+                    // and `gn` still holds the previous one.
+                    y[j] = g[i + j] + beta * (g[i + j] - gn[j]);
+                    gy[j] = gr[i + j] + beta * (gr[i + j] - grp[i + j]);
+                }
+            }
+            for j in 0..3 {
+                gn[j] = y[j] - t * s[i + j] * gy[j];
+            }
+            project_friction_cone(mu[k], gn);
+        };
+        let m = self.g.len();
+        if m >= PAR_MIN_ROWS {
+            (self.y.par_chunks_mut(3))
+                .zip(self.grad_y.par_chunks_mut(3))
+                .zip(self.g_new.par_chunks_mut(3))
+                .enumerate()
+                .for_each(step);
+        } else {
+            (self.y.chunks_mut(3))
+                .zip(self.grad_y.chunks_mut(3))
+                .zip(self.g_new.chunks_mut(3))
+                .enumerate()
+                .for_each(step);
+        }
+
+        let (y, gy, gn, g, s) = (&self.y, &self.grad_y, &self.g_new, &self.g, &self.s);
+        let scale = problem.scales();
+        let sums = |rows: std::ops::Range<usize>, grn: &[f64]| {
+            let mut u = UnitSums::default();
+            let base = rows.start;
+            for (c, c0) in rows.clone().step_by(CHUNK).enumerate() {
+                let c1 = (c0 + CHUNK).min(rows.end);
+                let (mut a, mut b, mut sl) = (0.0, 0.0, 0.0);
+                for i in c0..c1 {
+                    let d = gn[i] - y[i];
+                    a += d * (grn[i - base] - gy[i]);
+                    b += if s[i] > 0.0 { d * d / s[i] } else { 0.0 };
+                    sl += gy[i] * (gn[i] - g[i]);
+                }
+                (u.dnd[c], u.dpd[c], u.slope[c]) = (a, b, sl);
+                u.chunks = c + 1;
+            }
+            let mut res2 = 0.0;
+            for i in rows.step_by(3) {
+                let h = scale[i];
+                let q = i - base;
+                res2 += if h <= 0.0 {
+                    0.0
+                } else {
+                    let mut z = [
+                        gn[i] - h * grn[q],
+                        gn[i + 1] - h * grn[q + 1],
+                        gn[i + 2] - h * grn[q + 2],
+                    ];
+                    project_friction_cone(mu[(i) / 3], &mut z);
+                    (0..3).map(|j| ((gn[i + j] - z[j]) / h).powi(2)).sum()
+                };
+            }
+            u.res2 = res2;
+            u
+        };
+        let mut units = std::mem::take(&mut self.units);
+        problem.gradient_by_units(gn, &mut self.grad_new, &mut self.work, &mut units, sums);
+        let mut tot = TrialSums::default();
+        let mut res2 = 0.0;
+        for u in &units {
+            for c in 0..u.chunks {
+                tot.dnd += u.dnd[c];
+                tot.dpd += u.dpd[c];
+                tot.slope += u.slope[c];
+            }
+            res2 += u.res2;
+        }
+        self.units = units;
+        tot.residual = (res2 / m as f64).sqrt();
+        tot
+    }
+}
+
+/// A unit is three chunks of rows and one chunk of triplets (what the sums above assume).
+const _: () = assert!(UNIT_ROWS == 3 * CHUNK);
