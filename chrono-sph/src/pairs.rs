@@ -15,6 +15,14 @@
 //!    padded to a whole number of vectors with a neutral neighbour (zero mass and volume,
 //!    zero displacement, `a`'s own velocity) whose terms are exact zeros.
 //!
+//! The continuity pass (first in a step) records, per fluid particle, the sequence of list
+//! entries its tiles kept, each tile padded to whole vectors with the particle's own
+//! index ([`Support`]); the force pass (same positions) walks that sequence instead of
+//! the whole list: no skin entries, no compaction, and the very same vectors, so its sums
+//! are bit-identical to a pass that filters the list itself. A padding entry is the
+//! particle itself with its mass zeroed: zero displacement, its own velocity and density,
+//! the neutral neighbour above.
+//!
 //! The per-lane sums are reduced once per particle in a fixed order, so a result depends
 //! on the SIMD level (lane count, FMA) but never on the thread count. With one lane and no
 //! FMA (the baseline x86-64 path) the arithmetic is the reference pass's, term by term in
@@ -29,7 +37,6 @@
 
 use chrono_core::particles::KernelKind;
 use pulp::{Arch, Simd, WithSimd};
-use rayon::prelude::*;
 
 use crate::data::Deriv;
 use crate::interact::{Packed, PassCtx};
@@ -39,8 +46,8 @@ use crate::settings::DensityDiffusion;
 pub(crate) const TILE: usize = 64;
 /// Room for the padding after a full tile (the largest lane count, AVX-512).
 const PAD: usize = 8;
-/// Particles per rayon task (one SIMD dispatch each).
-const CHUNK: usize = 64;
+/// Particles per rayon task (one SIMD dispatch and one stack tile each).
+const CHUNK: usize = 256;
 
 /// Kernel codes of the monomorphized passes.
 const WENDLAND: u8 = 0;
@@ -65,6 +72,8 @@ struct Tile {
     mass: [f64; TILE + PAD],
     vol: [f64; TILE + PAD],
     fl: [f64; TILE + PAD],
+    /// The list entry of each column (padding: the particle itself).
+    idx: [u32; TILE + PAD],
 }
 
 impl Tile {
@@ -83,18 +92,21 @@ impl Tile {
             mass: z,
             vol: z,
             fl: z,
+            idx: [0; TILE + PAD],
         }
     }
 
-    /// Compacts the in-support entries of `list` (at most [`TILE`]) around `pa`;
-    /// `pressure`: `aux` holds `p` (else `p / rho^2`). Pads to a multiple of `lanes` with
-    /// the neutral neighbour; returns the padded count.
+    /// Compacts the in-support entries of `list` (at most [`TILE`]) around `pa` (slot
+    /// `a`); `pressure`: `aux` holds `p` (else `p / rho^2`). Pads to a multiple of
+    /// `lanes` with the neutral neighbour (`idx`: `a`); returns the padded count.
+    #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     fn gather(
         &mut self,
         c: &PassCtx<'_>,
         nb: &[Packed],
         pa: &Packed,
+        a: u32,
         list: &[u32],
         support2: f64,
         pressure: bool,
@@ -120,6 +132,7 @@ impl Tile {
             self.mass[i] = pb.mass;
             self.vol[i] = pb.vol;
             self.fl[i] = pb.fl;
+            self.idx[i] = b;
             k += (r2 < support2) as usize;
         }
         let kp = k.next_multiple_of(lanes);
@@ -136,8 +149,43 @@ impl Tile {
             self.mass[i] = 0.0;
             self.vol[i] = 0.0;
             self.fl[i] = 0.0;
+            self.idx[i] = a;
         }
         kp
+    }
+
+    /// Force pass: the columns of `seq` (at most [`TILE`] entries of the sequence the
+    /// continuity pass kept for particle `a`, already padded) around `pa`, with `aux =
+    /// p / rho^2`; an entry `a` is the neutral neighbour (its mass zeroed, the rest is
+    /// `a`'s own: zero displacement, `a`'s velocity, density and `p / rho^2`). Only the
+    /// columns the force terms read are written.
+    #[inline(always)]
+    fn gather_kept(
+        &mut self,
+        c: &PassCtx<'_>,
+        nb: &[Packed],
+        pa: &Packed,
+        a: u32,
+        seq: &[u32],
+    ) -> usize {
+        debug_assert!(seq.len() <= TILE);
+        for (i, &b) in seq.iter().enumerate() {
+            let pb = &nb[b as usize];
+            let d = c.grid.displacement(pa.pos, pb.pos);
+            let r2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+            let i = i & (TILE - 1);
+            self.x[i] = d[0];
+            self.y[i] = d[1];
+            self.z[i] = d[2];
+            self.r2[i] = r2;
+            self.vx[i] = pb.vel[0];
+            self.vy[i] = pb.vel[1];
+            self.vz[i] = pb.vel[2];
+            self.rho[i] = pb.rho;
+            self.aux[i] = pb.pr2;
+            self.mass[i] = if b != a { pb.mass } else { 0.0 };
+        }
+        seq.len()
     }
 }
 
@@ -231,12 +279,16 @@ enum Pass {
     Force,
 }
 
-/// One rayon task: the pass over the particles `first..first + out.len()`.
+/// One rayon task: the pass over the particles `first..first + out.len()`; `seq` and
+/// `len` are their part of the [`Support`] (written by the continuity pass, read by the
+/// force pass), `seq` starting at `base(first)`.
 struct TaskOp<'a, 'b, const KER: u8, const DIFF: u8, const AV: bool> {
     c: &'a PassCtx<'b>,
     nb: &'a [Packed],
     first: usize,
     out: &'a mut [Deriv],
+    seq: &'a mut [u32],
+    len: &'a mut [u32],
     pass: Pass,
 }
 
@@ -250,21 +302,63 @@ impl<const KER: u8, const DIFF: u8, const AV: bool> WithSimd for TaskOp<'_, '_, 
             nb,
             first,
             out,
+            seq,
+            len,
             pass,
         } = self;
         let support2 = c.kernel.support() * c.kernel.support();
         let kc = KConst::new(c);
         let mut tile = Tile::new();
-        for (i, o) in out.iter_mut().enumerate() {
+        let b0 = base(c, first);
+        for (i, (o, l)) in out.iter_mut().zip(len.iter_mut()).enumerate() {
             let a = first + i;
             let pa = &nb[a];
+            let sq = &mut seq[base(c, a) - b0..base(c, a + 1) - b0];
             match pass {
-                Pass::Continuity => {
-                    continuity_one::<S, KER, DIFF>(s, c, nb, pa, a, kc, support2, &mut tile, o)
+                Pass::Continuity => continuity_one::<S, KER, DIFF>(
+                    s, c, nb, pa, a, kc, support2, &mut tile, o, sq, l,
+                ),
+                Pass::Force => {
+                    force_one::<S, KER, AV>(s, c, pa, a, kc, &mut tile, o, nb, &sq[..*l as usize])
                 }
-                Pass::Force => force_one::<S, KER, AV>(s, c, nb, pa, a, kc, support2, &mut tile, o),
             }
         }
+    }
+}
+
+/// Start of particle `a`'s kept sequence in [`Support::seq`]: its list offset plus
+/// [`PAD`] per earlier particle (the padding of a particle's last, partial tile can
+/// exceed its list by up to `lanes - 1` entries; full tiles never do).
+#[inline(always)]
+fn base(c: &PassCtx<'_>, a: usize) -> usize {
+    c.list.offsets[a] + PAD * a
+}
+
+/// The in-support neighbour sequence of each fluid particle, as the continuity pass's
+/// tiles kept it (padded to whole vectors with the particle's own index), for the force
+/// pass of the same step (same positions). Scratch owned by the system: its buffers are
+/// reused.
+#[derive(Debug, Default)]
+pub(crate) struct Support {
+    /// Particle `a`'s sequence starts at `offsets[a] + PAD a`.
+    seq: Vec<u32>,
+    /// Its length (0 for wall markers).
+    len: Vec<u32>,
+}
+
+impl Support {
+    /// The buffers (capacity, address), for the no-allocation fingerprint.
+    pub(crate) fn fingerprint(&self) -> [(usize, usize); 2] {
+        [
+            (self.seq.capacity(), self.seq.as_ptr() as usize),
+            (self.len.capacity(), self.len.as_ptr() as usize),
+        ]
+    }
+
+    /// Entries kept in total (padding included).
+    #[cfg(test)]
+    fn total(&self) -> usize {
+        self.len.iter().map(|&l| l as usize).sum()
     }
 }
 
@@ -282,10 +376,13 @@ fn continuity_one<S: Simd, const KER: u8, const DIFF: u8>(
     support2: f64,
     t: &mut Tile,
     out: &mut Deriv,
+    seq: &mut [u32],
+    len: &mut u32,
 ) {
     if pa.fl == 0.0 {
         out.drho = 0.0;
         out.xsph = [0.0; 3];
+        *len = 0;
         return;
     }
     let lanes = S::F64_LANES;
@@ -307,8 +404,11 @@ fn continuity_one<S: Simd, const KER: u8, const DIFF: u8>(
         s.splat_f64s(c.gravity[2]),
     ];
     let inv_c2 = s.splat_f64s(c.inv_c2);
+    let mut w = 0usize;
     for chunk in c.list.neighbors(a).chunks(TILE) {
-        let kp = t.gather(c, nb, pa, chunk, support2, true, lanes);
+        let kp = t.gather(c, nb, pa, a as u32, chunk, support2, true, lanes);
+        seq[w..w + kp].copy_from_slice(&t.idx[..kp]);
+        w += kp;
         let (xv, _) = S::as_simd_f64s(&t.x[..kp]);
         let (yv, _) = S::as_simd_f64s(&t.y[..kp]);
         let (zv, _) = S::as_simd_f64s(&t.z[..kp]);
@@ -363,6 +463,7 @@ fn continuity_one<S: Simd, const KER: u8, const DIFF: u8>(
             }
         }
     }
+    *len = w as u32;
     let sum = s.reduce_sum_f64s(sum);
     let diff = s.reduce_sum_f64s(diff);
     out.drho = pa.rho * sum + c.diffusion_coef * diff;
@@ -373,25 +474,25 @@ fn continuity_one<S: Simd, const KER: u8, const DIFF: u8>(
     ];
 }
 
-/// Acceleration of particle `a` (see [`interact::force_pass`](crate::interact)).
+/// Acceleration of particle `a` (see [`interact::force_pass`](crate::interact)) over
+/// `seq`, the sequence the continuity pass kept for it (see [`Support`]).
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
 fn force_one<S: Simd, const KER: u8, const AV: bool>(
     s: S,
     c: &PassCtx<'_>,
-    nb: &[Packed],
     pa: &Packed,
     a: usize,
     kc: KConst,
-    support2: f64,
     t: &mut Tile,
     out: &mut Deriv,
+    nb: &[Packed],
+    seq: &[u32],
 ) {
     if pa.fl == 0.0 {
         out.acc = [0.0; 3];
         return;
     }
-    let lanes = S::F64_LANES;
     // the body force enters lane 0 first, as the reference starts its sum with it
     let mut acc = [
         s.partial_load_f64s(&[c.accel[0]]),
@@ -411,8 +512,10 @@ fn force_one<S: Simd, const KER: u8, const AV: bool>(
     let ach = s.splat_f64s(-c.alpha * c.eos.sound_speed * h);
     let two_mu = s.splat_f64s(2.0 * c.mu);
     let zero = s.splat_f64s(0.0);
-    for chunk in c.list.neighbors(a).chunks(TILE) {
-        let kp = t.gather(c, nb, pa, chunk, support2, false, lanes);
+    // each chunk is a whole number of vectors: the sequence is, and TILE is a multiple
+    // of every lane count
+    for chunk in seq.chunks(TILE) {
+        let kp = t.gather_kept(c, nb, pa, a as u32, chunk);
         let (xv, _) = S::as_simd_f64s(&t.x[..kp]);
         let (yv, _) = S::as_simd_f64s(&t.y[..kp]);
         let (zv, _) = S::as_simd_f64s(&t.z[..kp]);
@@ -477,50 +580,91 @@ fn run<const KER: u8, const DIFF: u8, const AV: bool>(
     nb: &[Packed],
     c: &PassCtx<'_>,
     deriv: &mut [Deriv],
+    sup: &mut Support,
     pass: Pass,
 ) {
-    deriv
-        .par_chunks_mut(CHUNK)
-        .enumerate()
-        .for_each(|(ci, out)| {
-            let op = TaskOp::<KER, DIFF, AV> {
-                c,
-                nb,
-                first: ci * CHUNK,
-                out,
-                pass,
-            };
-            match arch {
-                Some(arch) => arch.dispatch(op),
-                None => op.with_simd(pulp::Scalar::new()),
-            }
-        });
+    let n = deriv.len();
+    debug_assert_eq!(c.list.len(), n);
+    if pass == Pass::Continuity {
+        sup.seq.resize(base(c, n), 0);
+        sup.len.resize(n, 0);
+    }
+    debug_assert!(sup.seq.len() == base(c, n) && sup.len.len() == n);
+    split::<KER, DIFF, AV>(arch, nb, c, 0, deriv, &mut sup.seq, &mut sup.len, pass);
+}
+
+/// The particles `first..first + out.len()` in [`CHUNK`]-particle tasks, split in
+/// halves with `rayon::join` (each half takes its own part of the [`Support`] buffers:
+/// disjoint, no allocation).
+#[allow(clippy::too_many_arguments)]
+fn split<const KER: u8, const DIFF: u8, const AV: bool>(
+    arch: Option<Arch>,
+    nb: &[Packed],
+    c: &PassCtx<'_>,
+    first: usize,
+    out: &mut [Deriv],
+    seq: &mut [u32],
+    len: &mut [u32],
+    pass: Pass,
+) {
+    let n = out.len();
+    if n <= CHUNK {
+        let op = TaskOp::<KER, DIFF, AV> {
+            c,
+            nb,
+            first,
+            out,
+            seq,
+            len,
+            pass,
+        };
+        match arch {
+            Some(arch) => arch.dispatch(op),
+            None => op.with_simd(pulp::Scalar::new()),
+        }
+        return;
+    }
+    let mid = (n / CHUNK / 2).max(1) * CHUNK;
+    let (o0, o1) = out.split_at_mut(mid);
+    let (s0, s1) = seq.split_at_mut(base(c, first + mid) - base(c, first));
+    let (l0, l1) = len.split_at_mut(mid);
+    rayon::join(
+        || split::<KER, DIFF, AV>(arch, nb, c, first, o0, s0, l0, pass),
+        || split::<KER, DIFF, AV>(arch, nb, c, first + mid, o1, s1, l1, pass),
+    );
 }
 
 /// Picks the monomorphized pass for the context's kernel, diffusion and artificial
 /// viscosity.
-fn select(arch: Option<Arch>, nb: &[Packed], c: &PassCtx<'_>, deriv: &mut [Deriv], pass: Pass) {
+fn select(
+    arch: Option<Arch>,
+    nb: &[Packed],
+    c: &PassCtx<'_>,
+    deriv: &mut [Deriv],
+    sup: &mut Support,
+    pass: Pass,
+) {
     let av = c.alpha > 0.0;
     macro_rules! go {
         ($ker:expr) => {
             match (c.diffusion, av) {
                 (DensityDiffusion::None, false) => {
-                    run::<$ker, DIFF_NONE, false>(arch, nb, c, deriv, pass)
+                    run::<$ker, DIFF_NONE, false>(arch, nb, c, deriv, sup, pass)
                 }
                 (DensityDiffusion::None, true) => {
-                    run::<$ker, DIFF_NONE, true>(arch, nb, c, deriv, pass)
+                    run::<$ker, DIFF_NONE, true>(arch, nb, c, deriv, sup, pass)
                 }
                 (DensityDiffusion::MolteniColagrossi, false) => {
-                    run::<$ker, DIFF_MC, false>(arch, nb, c, deriv, pass)
+                    run::<$ker, DIFF_MC, false>(arch, nb, c, deriv, sup, pass)
                 }
                 (DensityDiffusion::MolteniColagrossi, true) => {
-                    run::<$ker, DIFF_MC, true>(arch, nb, c, deriv, pass)
+                    run::<$ker, DIFF_MC, true>(arch, nb, c, deriv, sup, pass)
                 }
                 (DensityDiffusion::Fourtakas, false) => {
-                    run::<$ker, DIFF_FOURTAKAS, false>(arch, nb, c, deriv, pass)
+                    run::<$ker, DIFF_FOURTAKAS, false>(arch, nb, c, deriv, sup, pass)
                 }
                 (DensityDiffusion::Fourtakas, true) => {
-                    run::<$ker, DIFF_FOURTAKAS, true>(arch, nb, c, deriv, pass)
+                    run::<$ker, DIFF_FOURTAKAS, true>(arch, nb, c, deriv, sup, pass)
                 }
             }
         };
@@ -532,15 +676,30 @@ fn select(arch: Option<Arch>, nb: &[Packed], c: &PassCtx<'_>, deriv: &mut [Deriv
 }
 
 /// The continuity pass (see [`interact::continuity_pass`](crate::interact)), specialized
-/// and SIMD; `simd = false` runs the one-lane path (the reference arithmetic).
-pub(crate) fn continuity_pass(nb: &[Packed], c: &PassCtx<'_>, deriv: &mut [Deriv], simd: bool) {
-    select(simd.then(Arch::new), nb, c, deriv, Pass::Continuity);
+/// and SIMD; `simd = false` runs the one-lane path (the reference arithmetic). Records
+/// each fluid particle's in-support neighbours in `sup` for [`force_pass`].
+pub(crate) fn continuity_pass(
+    nb: &[Packed],
+    c: &PassCtx<'_>,
+    deriv: &mut [Deriv],
+    sup: &mut Support,
+    simd: bool,
+) {
+    select(simd.then(Arch::new), nb, c, deriv, sup, Pass::Continuity);
 }
 
 /// The force pass (see [`interact::force_pass`](crate::interact)), specialized and SIMD;
-/// `simd = false` runs the one-lane path.
-pub(crate) fn force_pass(nb: &[Packed], c: &PassCtx<'_>, deriv: &mut [Deriv], simd: bool) {
-    select(simd.then(Arch::new), nb, c, deriv, Pass::Force);
+/// `simd = false` runs the one-lane path. `sup`: recorded by [`continuity_pass`] at the
+/// same positions and list, with the same `simd` (the padding depends on the lane
+/// count); the records `nb` may differ in everything but the positions.
+pub(crate) fn force_pass(
+    nb: &[Packed],
+    c: &PassCtx<'_>,
+    deriv: &mut [Deriv],
+    sup: &mut Support,
+    simd: bool,
+) {
+    select(simd.then(Arch::new), nb, c, deriv, sup, Pass::Force);
 }
 
 #[cfg(test)]
@@ -651,9 +810,30 @@ mod tests {
         interact::continuity_pass(nb, c, &mut r);
         interact::force_pass(nb, c, &mut r);
         let mut f = vec![Deriv::default(); nb.len()];
-        continuity_pass(nb, c, &mut f, simd);
-        force_pass(nb, c, &mut f, simd);
+        let mut sup = Support::default();
+        continuity_pass(nb, c, &mut f, &mut sup, simd);
+        // the kept sequences hold every in-support entry (and padding only)
+        assert!(sup.total() >= in_support(c, nb));
+        force_pass(nb, c, &mut f, &mut sup, simd);
         (flat(&r), flat(&f))
+    }
+
+    /// Directed list entries within the support of fluid particles.
+    fn in_support(c: &PassCtx<'_>, nb: &[Packed]) -> usize {
+        let s2 = c.kernel.support() * c.kernel.support();
+        (0..nb.len())
+            .filter(|&a| nb[a].fluid())
+            .map(|a| {
+                c.list
+                    .neighbors(a)
+                    .iter()
+                    .filter(|&&b| {
+                        let d = c.grid.displacement(nb[a].pos, nb[b as usize].pos);
+                        d[0] * d[0] + d[1] * d[1] + d[2] * d[2] < s2
+                    })
+                    .count()
+            })
+            .sum()
     }
 
     fn diffusion(k: u8) -> DensityDiffusion {

@@ -86,6 +86,9 @@ pub struct SphSystem {
     /// The neighbour records of the last pass (see [`interact::Packed`]); after a step,
     /// those of the force pass.
     pub(crate) packed: Vec<interact::Packed>,
+    /// Each fluid particle's in-support neighbours, recorded by the continuity pass for
+    /// the force pass of the same step.
+    support: pairs::Support,
     time: f64,
     steps: u64,
     dt: f64,
@@ -129,6 +132,7 @@ impl SphSystem {
             list: NeighborList::new(),
             bc: Vec::new(),
             packed: Vec::new(),
+            support: pairs::Support::default(),
             time: 0.0,
             steps: 0,
             dt: 0.0,
@@ -226,6 +230,7 @@ impl SphSystem {
         v.push((self.bc.capacity(), self.bc.as_ptr() as usize));
         v.push((self.packed.capacity(), self.packed.as_ptr() as usize));
         v.push((self.x_ref.capacity(), self.x_ref.as_ptr() as usize));
+        v.extend(self.support.fingerprint());
         v.push((
             self.list.indices.capacity(),
             self.list.indices.as_ptr() as usize,
@@ -346,7 +351,7 @@ impl SphSystem {
         );
         let mut deriv = std::mem::take(&mut self.data.deriv);
         interact::pack(&self.data, PackVelocity::Prescribed, &mut self.packed);
-        pairs::continuity_pass(&self.packed, &ctx, &mut deriv, true);
+        pairs::continuity_pass(&self.packed, &ctx, &mut deriv, &mut self.support, true);
         self.data.deriv = deriv;
         if dt > 0.0 {
             let d = &mut self.data;
@@ -385,7 +390,8 @@ impl SphSystem {
         );
         let mut deriv = std::mem::take(&mut self.data.deriv);
         interact::pack(&self.data, PackVelocity::NoSlip, &mut self.packed);
-        pairs::force_pass(&self.packed, &ctx, &mut deriv, true);
+        // the positions are those of the continuity pass: its kept neighbours hold
+        pairs::force_pass(&self.packed, &ctx, &mut deriv, &mut self.support, true);
         self.data.deriv = deriv;
         self.timings.forces += t0.elapsed().as_secs_f64();
     }
