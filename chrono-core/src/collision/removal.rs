@@ -91,6 +91,7 @@ impl CollisionWorld {
         }
         self.remap_pairs(&map);
         self.grid.forget_index();
+        self.owner_bound = None;
         map
     }
 

@@ -5,6 +5,7 @@ use parry3d_f64::bounding_volume::BoundingVolume;
 use parry3d_f64::math::{Pose, Vector};
 use parry3d_f64::shape::SharedShape;
 use rayon::prelude::*;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 use super::broad_phase::{Bound, SweepAndPrune};
 use super::contact::{ColliderId, ContactPoint};
@@ -132,6 +133,10 @@ pub struct CollisionWorld {
     /// Whether the colliders are sorted by owner (true while they are added in owner
     /// order, as [`System`](crate::system::System) does); removal relies on it.
     pub(super) owner_sorted: bool,
+    /// One past the largest owner index of the colliders, `None` when unknown (colliders
+    /// were added or removed since it was computed): with it, `detect` checks the owners
+    /// against the pose slice without a pass over the colliders.
+    pub(super) owner_bound: Option<usize>,
 }
 
 impl std::fmt::Debug for CollisionWorld {
@@ -168,6 +173,7 @@ impl CollisionWorld {
             used_grid: false,
             timing: (0.0, 0.0),
             owner_sorted: true,
+            owner_bound: Some(0),
         })
     }
 
@@ -225,6 +231,7 @@ impl CollisionWorld {
             _ => ColliderKind::Other,
         };
         let parry_local = pose_to_glam(&(local_pose * parry.offset));
+        self.owner_bound = self.owner_bound.map(|b| b.max(owner as usize + 1));
         self.colliders.push(Collider {
             owner,
             local_pose,
@@ -407,8 +414,15 @@ impl CollisionWorld {
         let half = 0.5 * self.envelope;
         // The first bad collider in order (deterministic): an owner out of range.
         let n_owners = owner_poses.len().min(owner_active.len());
-        if let Some((i, c)) =
-            (self.colliders.iter().enumerate()).find(|(_, c)| c.owner as usize >= n_owners)
+        let bound = *self.owner_bound.get_or_insert_with(|| {
+            (self.colliders.iter())
+                .map(|c| c.owner as usize + 1)
+                .max()
+                .unwrap_or(0)
+        });
+        if bound > n_owners
+            && let Some((i, c)) =
+                (self.colliders.iter().enumerate()).find(|(_, c)| c.owner as usize >= n_owners)
         {
             let o = c.owner as usize;
             let field = if o >= owner_poses.len() {
@@ -461,6 +475,16 @@ impl CollisionWorld {
         };
         self.poses.clear();
         self.bounds.clear();
+        // Whether some pose is not finite (a flag: the result does not depend on the
+        // order the threads set it in); the first such collider is then found in order.
+        let any_bad = AtomicBool::new(false);
+        let one = |c: &Collider| {
+            let (p, b) = one(c);
+            if !p.is_finite() {
+                any_bad.store(true, Ordering::Relaxed);
+            }
+            (p, b)
+        };
         if self.colliders.len() >= PARALLEL_MIN_COLLIDERS {
             let it = self
                 .colliders
@@ -474,6 +498,9 @@ impl CollisionWorld {
                 self.poses.push(p);
                 self.bounds.push(b);
             }
+        }
+        if !any_bad.into_inner() {
+            return Ok(());
         }
         // The first collider (in order) whose owner's pose is not finite.
         if let Some(i) = self.poses.iter().position(|p| !p.is_finite()) {
