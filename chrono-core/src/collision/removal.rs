@@ -92,6 +92,7 @@ impl CollisionWorld {
         self.remap_pairs(&map);
         self.grid.forget_index();
         self.owner_bound = None;
+        self.hot_stale = true;
         map
     }
 

@@ -137,6 +137,11 @@ pub struct CollisionWorld {
     /// were added or removed since it was computed): with it, `detect` checks the owners
     /// against the pose slice without a pass over the colliders.
     pub(super) owner_bound: Option<usize>,
+    /// Per collider: owner and, for a sphere at its owner's origin, its radius (NaN for
+    /// the others): what the bounds of grains need, 16 bytes instead of the whole
+    /// collider. Rebuilt when stale (removals) or when colliders were added.
+    pub(super) hot: Vec<(u32, f64)>,
+    pub(super) hot_stale: bool,
 }
 
 impl std::fmt::Debug for CollisionWorld {
@@ -174,6 +179,8 @@ impl CollisionWorld {
             timing: (0.0, 0.0),
             owner_sorted: true,
             owner_bound: Some(0),
+            hot: Vec::new(),
+            hot_stale: false,
         })
     }
 
@@ -436,8 +443,31 @@ impl CollisionWorld {
                 field: format!("{field} (owner of collider {i})"),
             });
         }
-        let one = |c: &Collider| -> (Pose, Bound) {
-            let g = pose_to_glam(&owner_poses[c.owner as usize]);
+        if self.hot_stale || self.hot.len() != self.colliders.len() {
+            self.hot.clear();
+            self.hot.extend(self.colliders.iter().map(|c| {
+                let r = match c.kind {
+                    ColliderKind::Sphere { radius } if c.local_identity => radius,
+                    _ => f64::NAN,
+                };
+                (c.owner, r)
+            }));
+            self.hot_stale = false;
+        }
+        let colliders = &self.colliders;
+        let one = |(i, &(owner, radius)): (usize, &(u32, f64))| -> (Pose, Bound) {
+            let g = pose_to_glam(&owner_poses[owner as usize]);
+            if !radius.is_nan() && g.is_finite() {
+                // A sphere at its owner's origin: the owner's pose, a cube bound (the same
+                // values as the general path below).
+                let r = Vector::splat(radius + half);
+                let bound = Bound::Box(parry3d_f64::bounding_volume::Aabb::new(
+                    g.translation - r,
+                    g.translation + r,
+                ));
+                return (g, bound);
+            }
+            let c = &colliders[i];
             if !g.is_finite() {
                 // Reported below; no bound from a non-finite pose.
                 return (
@@ -478,7 +508,7 @@ impl CollisionWorld {
         // Whether some pose is not finite (a flag: the result does not depend on the
         // order the threads set it in); the first such collider is then found in order.
         let any_bad = AtomicBool::new(false);
-        let one = |c: &Collider| {
+        let one = |c| {
             let (p, b) = one(c);
             if !p.is_finite() {
                 any_bad.store(true, Ordering::Relaxed);
@@ -486,14 +516,12 @@ impl CollisionWorld {
             (p, b)
         };
         if self.colliders.len() >= PARALLEL_MIN_COLLIDERS {
-            let it = self
-                .colliders
-                .par_iter()
+            let it = (self.hot.par_iter().enumerate())
                 .with_min_len(COLLIDER_CHUNK)
                 .map(one);
             it.unzip_into_vecs(&mut self.poses, &mut self.bounds);
         } else {
-            for c in &self.colliders {
+            for c in self.hot.iter().enumerate() {
                 let (p, b) = one(c);
                 self.poses.push(p);
                 self.bounds.push(b);
