@@ -50,6 +50,18 @@ impl BodyLoads {
         self.loads.resize(bodies.len(), [Vector3::zeros(); 2]);
     }
 
+    /// Zero loads for `bodies` without their centers of mass: for a step in which nothing
+    /// adds loads (no force elements, no joints), so no lever arm is needed
+    /// ([`add_force_at`](Self::add_force_at) must not be called until the next
+    /// [`reset`](Self::reset)).
+    pub(crate) fn reset_zero(&mut self, bodies: &Bodies) {
+        self.dense.clear();
+        self.dense.extend(bodies.dense_by_slot());
+        self.centers.clear();
+        self.loads.clear();
+        self.loads.resize(bodies.len(), [Vector3::zeros(); 2]);
+    }
+
     /// Add force `f` (world, N) acting at the world point `p` on `body`: the force, and the
     /// torque `(p - x) x f` about its center of mass.
     #[inline]

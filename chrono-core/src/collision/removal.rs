@@ -91,6 +91,8 @@ impl CollisionWorld {
         }
         self.remap_pairs(&map);
         self.grid.forget_index();
+        self.owner_bound = None;
+        self.hot_stale = true;
         map
     }
 

@@ -137,26 +137,22 @@ impl SphereGrid {
     ) -> Result<()> {
         self.index(colliders);
         out.clear();
-        for p in &mut self.pos {
-            p.clear();
-        }
-        for &i in &self.ids {
-            let t = poses[i as usize].translation;
-            self.pos[0].push(t.x);
-            self.pos[1].push(t.y);
-            self.pos[2].push(t.z);
-        }
         // Rebind the spheres only when the pair list is stale: a center moved more than
         // half the skin since the last build (two centers then approached by more than
         // the skin), or the spheres, their largest radius or the envelope changed.
         let cutoff = 2.0 * self.r_max + envelope;
         let skin = self.skin * self.r_max;
-        self.moved =
-            if self.stale || self.cutoff != cutoff || self.built_pos[0].len() != self.ids.len() {
-                f64::INFINITY
-            } else {
-                max_displacement(&self.pos, &self.built_pos)
-            };
+        let compare =
+            !(self.stale || self.cutoff != cutoff || self.built_pos[0].len() != self.ids.len());
+        // The centers, and their largest displacement since the last build in the same
+        // pass.
+        let moved = gather_centers(
+            &self.ids,
+            poses,
+            &mut self.pos,
+            compare.then_some(&self.built_pos),
+        );
+        self.moved = if compare { moved } else { f64::INFINITY };
         if self.moved > 0.5 * skin {
             let binned = cutoff + skin;
             if self
@@ -329,20 +325,48 @@ impl SphereGrid {
     }
 }
 
-/// Largest distance between `pos` and `old` over the points (exact max: deterministic).
-fn max_displacement(pos: &[Vec<f64>; 3], old: &[Vec<f64>; 3]) -> f64 {
-    let d2 = (0..pos[0].len())
-        .into_par_iter()
-        .with_min_len(4096)
-        .map(|i| {
-            let d = [
-                pos[0][i] - old[0][i],
-                pos[1][i] - old[1][i],
-                pos[2][i] - old[2][i],
-            ];
-            d[0] * d[0] + d[1] * d[1] + d[2] * d[2]
-        })
-        .reduce(|| 0.0, f64::max);
+/// The sphere centers `poses[ids]` into `pos` (SoA), in parallel, and the largest
+/// distance between them and `old` when given (exact max: deterministic; 0 otherwise).
+fn gather_centers(
+    ids: &[u32],
+    poses: &[Pose],
+    pos: &mut [Vec<f64>; 3],
+    old: Option<&[Vec<f64>; 3]>,
+) -> f64 {
+    let n = ids.len();
+    for p in pos.iter_mut() {
+        p.resize(n, 0.0);
+    }
+    let [px, py, pz] = pos;
+    let d2 = (px
+        .par_iter_mut()
+        .zip(py.par_iter_mut())
+        .zip(pz.par_iter_mut()))
+    .zip(ids.par_iter())
+    .enumerate()
+    .with_min_len(4096)
+    .map(|(k, (((x, y), z), &i))| {
+        let t = poses[i as usize].translation;
+        (*x, *y, *z) = (t.x, t.y, t.z);
+        match old {
+            Some(o) => {
+                let d = [t.x - o[0][k], t.y - o[1][k], t.z - o[2][k]];
+                d[0] * d[0] + d[1] * d[1] + d[2] * d[2]
+            }
+            None => 0.0,
+        }
+    })
+    // `max` that keeps a NaN (f64::max drops it): a NaN center must rebind.
+    .reduce(
+        || 0.0,
+        |a, b| {
+            if a.is_nan() || b.is_nan() {
+                f64::NAN
+            } else {
+                a.max(b)
+            }
+        },
+    );
     // A NaN center rebinds (and `build` reports it).
     if d2.is_nan() {
         f64::INFINITY

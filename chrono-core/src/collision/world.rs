@@ -5,6 +5,7 @@ use parry3d_f64::bounding_volume::BoundingVolume;
 use parry3d_f64::math::{Pose, Vector};
 use parry3d_f64::shape::SharedShape;
 use rayon::prelude::*;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 use super::broad_phase::{Bound, SweepAndPrune};
 use super::contact::{ColliderId, ContactPoint};
@@ -132,6 +133,15 @@ pub struct CollisionWorld {
     /// Whether the colliders are sorted by owner (true while they are added in owner
     /// order, as [`System`](crate::system::System) does); removal relies on it.
     pub(super) owner_sorted: bool,
+    /// One past the largest owner index of the colliders, `None` when unknown (colliders
+    /// were added or removed since it was computed): with it, `detect` checks the owners
+    /// against the pose slice without a pass over the colliders.
+    pub(super) owner_bound: Option<usize>,
+    /// Per collider: owner and, for a sphere at its owner's origin, its radius (NaN for
+    /// the others): what the bounds of grains need, 16 bytes instead of the whole
+    /// collider. Rebuilt when stale (removals) or when colliders were added.
+    pub(super) hot: Vec<(u32, f64)>,
+    pub(super) hot_stale: bool,
 }
 
 impl std::fmt::Debug for CollisionWorld {
@@ -168,6 +178,9 @@ impl CollisionWorld {
             used_grid: false,
             timing: (0.0, 0.0),
             owner_sorted: true,
+            owner_bound: Some(0),
+            hot: Vec::new(),
+            hot_stale: false,
         })
     }
 
@@ -225,6 +238,7 @@ impl CollisionWorld {
             _ => ColliderKind::Other,
         };
         let parry_local = pose_to_glam(&(local_pose * parry.offset));
+        self.owner_bound = self.owner_bound.map(|b| b.max(owner as usize + 1));
         self.colliders.push(Collider {
             owner,
             local_pose,
@@ -407,8 +421,15 @@ impl CollisionWorld {
         let half = 0.5 * self.envelope;
         // The first bad collider in order (deterministic): an owner out of range.
         let n_owners = owner_poses.len().min(owner_active.len());
-        if let Some((i, c)) =
-            (self.colliders.iter().enumerate()).find(|(_, c)| c.owner as usize >= n_owners)
+        let bound = *self.owner_bound.get_or_insert_with(|| {
+            (self.colliders.iter())
+                .map(|c| c.owner as usize + 1)
+                .max()
+                .unwrap_or(0)
+        });
+        if bound > n_owners
+            && let Some((i, c)) =
+                (self.colliders.iter().enumerate()).find(|(_, c)| c.owner as usize >= n_owners)
         {
             let o = c.owner as usize;
             let field = if o >= owner_poses.len() {
@@ -422,8 +443,31 @@ impl CollisionWorld {
                 field: format!("{field} (owner of collider {i})"),
             });
         }
-        let one = |c: &Collider| -> (Pose, Bound) {
-            let g = pose_to_glam(&owner_poses[c.owner as usize]);
+        if self.hot_stale || self.hot.len() != self.colliders.len() {
+            self.hot.clear();
+            self.hot.extend(self.colliders.iter().map(|c| {
+                let r = match c.kind {
+                    ColliderKind::Sphere { radius } if c.local_identity => radius,
+                    _ => f64::NAN,
+                };
+                (c.owner, r)
+            }));
+            self.hot_stale = false;
+        }
+        let colliders = &self.colliders;
+        let one = |(i, &(owner, radius)): (usize, &(u32, f64))| -> (Pose, Bound) {
+            let g = pose_to_glam(&owner_poses[owner as usize]);
+            if !radius.is_nan() && g.is_finite() {
+                // A sphere at its owner's origin: the owner's pose, a cube bound (the same
+                // values as the general path below).
+                let r = Vector::splat(radius + half);
+                let bound = Bound::Box(parry3d_f64::bounding_volume::Aabb::new(
+                    g.translation - r,
+                    g.translation + r,
+                ));
+                return (g, bound);
+            }
+            let c = &colliders[i];
             if !g.is_finite() {
                 // Reported below; no bound from a non-finite pose.
                 return (
@@ -461,19 +505,30 @@ impl CollisionWorld {
         };
         self.poses.clear();
         self.bounds.clear();
+        // Whether some pose is not finite (a flag: the result does not depend on the
+        // order the threads set it in); the first such collider is then found in order.
+        let any_bad = AtomicBool::new(false);
+        let one = |c| {
+            let (p, b) = one(c);
+            if !p.is_finite() {
+                any_bad.store(true, Ordering::Relaxed);
+            }
+            (p, b)
+        };
         if self.colliders.len() >= PARALLEL_MIN_COLLIDERS {
-            let it = self
-                .colliders
-                .par_iter()
+            let it = (self.hot.par_iter().enumerate())
                 .with_min_len(COLLIDER_CHUNK)
                 .map(one);
             it.unzip_into_vecs(&mut self.poses, &mut self.bounds);
         } else {
-            for c in &self.colliders {
+            for c in self.hot.iter().enumerate() {
                 let (p, b) = one(c);
                 self.poses.push(p);
                 self.bounds.push(b);
             }
+        }
+        if !any_bad.into_inner() {
+            return Ok(());
         }
         // The first collider (in order) whose owner's pose is not finite.
         if let Some(i) = self.poses.iter().position(|p| !p.is_finite()) {

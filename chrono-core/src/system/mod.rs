@@ -196,6 +196,14 @@ pub struct System {
     /// Per body: `k = M v + h f` of the step (zeros for bodies without variables).
     pub(crate) momentum: Vec<[f64; 6]>,
     pub(crate) active: Vec<bool>,
+    /// `poses` and `active` hold the bodies' current state: written by the fused SMC body
+    /// pass, cleared by every path that can change a body (`body_mut`, additions,
+    /// removals, the NSC update), so [`collision_state`](Self::collision_state) can skip
+    /// its pass over the bodies.
+    pub(crate) poses_fresh: bool,
+    /// `loads` is the all-zero load of the current body set (no force elements, no
+    /// joints): [`gather_loads`](Self::gather_loads) need not rebuild it.
+    pub(crate) loads_zero: bool,
     pub(crate) smc: smc_step::SmcState,
     /// Loads of force elements and joint efforts of the current step.
     pub(crate) loads: BodyLoads,
@@ -240,6 +248,8 @@ impl System {
             poses: Vec::new(),
             momentum: Vec::new(),
             active: Vec::new(),
+            poses_fresh: false,
+            loads_zero: false,
             smc: smc_step::SmcState::default(),
             loads: BodyLoads::default(),
             contact_friction: Vec::new(),
@@ -285,6 +295,8 @@ impl System {
             self.collision
                 .add_collider(owner, &c.shape, c.local_pose, c.material)?;
         }
+        self.poses_fresh = false;
+        self.loads_zero = false;
         Ok(self.bodies.insert(body))
     }
 
@@ -392,6 +404,15 @@ impl System {
     /// Evaluate the force elements and the joint efforts at the current state into
     /// `self.loads`. A non-finite load is an error naming the element and the step.
     pub(crate) fn gather_loads(&mut self, ctx: &StepContext) -> Result<()> {
+        if self.force_elements.is_empty() && self.joints.is_empty() {
+            // Nothing adds loads: zero, kept from the last step while the bodies stay.
+            if !self.loads_zero {
+                self.loads.reset_zero(&self.bodies);
+                self.loads_zero = true;
+            }
+            return Ok(());
+        }
+        self.loads_zero = false;
         self.loads.reset(&self.bodies);
         for e in &mut self.force_elements {
             e.evaluate(ctx, &self.bodies, &mut self.loads)?;
@@ -429,6 +450,8 @@ impl System {
 
     /// A body, mutable (to set forces or prescribed velocities between steps).
     pub fn body_mut(&mut self, h: BodyHandle) -> Result<&mut RigidBody> {
+        // The caller may move the body: the cached poses are stale.
+        self.poses_fresh = false;
         self.bodies
             .get_mut(h)
             .ok_or(ChronoError::StaleBody { handle: h })
@@ -554,6 +577,9 @@ impl System {
     /// The bodies' poses and activity (dynamic or not) for this step's collision
     /// detection, into `self.poses` and `self.active` (in parallel for many bodies).
     pub(crate) fn collision_state(&mut self) {
+        if self.poses_fresh && self.poses.len() == self.bodies.len() {
+            return;
+        }
         self.poses.clear();
         self.active.clear();
         if self.bodies.len() >= PARALLEL_MIN_BODIES {

@@ -82,6 +82,8 @@ impl System {
         self.proxy_contacts.clear();
         self.proxy_points.clear();
         self.loads.reset(&self.bodies);
+        self.loads_zero = false;
+        self.poses_fresh = false;
         Ok(bodies)
     }
 

@@ -48,10 +48,29 @@ pub(crate) struct SmcState {
     /// Cached step limit: `(bodies, colliders, settings)` it was computed for, and value.
     limit_key: Option<(usize, usize, SmcSettings)>,
     limit: Option<(f64, usize, f64)>,
+    /// `loads`/`rolling` may hold non-zero entries beyond the last contacts' owners (an
+    /// error mid-step, or the force elements' loads added): zero them all on the next step.
+    touched_all: bool,
     pub(crate) timing: SmcTiming,
 }
 
 impl SmcState {
+    /// Zero the per-body loads this step added: only the contacts' owners hold any,
+    /// unless `extra` loads (force elements, joint efforts) were added to every body;
+    /// then the next step zeroes them all.
+    fn clear_loads(&mut self, extra: bool) {
+        if extra || self.loads.len() != self.rolling.len() {
+            return;
+        }
+        for c in &self.contacts {
+            for o in [c.owner_a as usize, c.owner_b as usize] {
+                self.loads[o] = [Vector3::zeros(); 2];
+                self.rolling[o] = 0.0;
+            }
+        }
+        self.touched_all = false;
+    }
+
     /// After a body removal: follow the collider renumbering `map` in the tangential
     /// history (entries of removed colliders dropped, see [`ContactKey::remap`]) and forget
     /// the per-body and per-collider caches (rebuilt on the next step).
@@ -203,20 +222,25 @@ impl System {
         self.smc_forces(h);
         let ctx = self.step_context(h);
         self.gather_loads(&ctx)?;
-        for (l, e) in self.smc.loads.iter_mut().zip(self.loads.as_slice()) {
-            l[0] += e[0];
-            l[1] += e[1];
+        let extra = !self.loads_zero;
+        if extra {
+            for (l, e) in self.smc.loads.iter_mut().zip(self.loads.as_slice()) {
+                l[0] += e[0];
+                l[1] += e[1];
+            }
         }
         let t1 = std::time::Instant::now();
-        let report = if self.joints.is_empty() && self.items.is_empty() {
-            self.smc_free_update(h);
-            StepReport {
+        let (report, bad) = if self.joints.is_empty() && self.items.is_empty() {
+            let bad = self.smc_free_update(h);
+            let report = StepReport {
                 contacts: self.smc.contacts.len(),
                 ..StepReport::default()
-            }
+            };
+            (report, bad)
         } else {
-            self.smc_rows_update(h)?
+            (self.smc_rows_update(h)?, self.first_bad_body())
         };
+        self.smc.clear_loads(extra);
         self.smc.timing = SmcTiming {
             broad_phase: broad,
             narrow_phase: narrow,
@@ -224,7 +248,9 @@ impl System {
             solve: 0.0,
             integrate: t1.elapsed().as_secs_f64(),
         };
-        self.check_state()?;
+        if let Some(i) = bad {
+            return Err(self.state_error(i));
+        }
         self.time += h;
         self.step_count += 1;
         Ok(report)
@@ -358,11 +384,18 @@ impl System {
             .par_sort_unstable_by(|a, b| a.key.cmp(&b.key).then(a.index.cmp(&b.index)));
         std::mem::swap(&mut st.history, &mut st.next_history);
 
-        // Loads per body, in contact order (deterministic).
-        st.loads.clear();
-        st.loads.resize(self.bodies.len(), [Vector3::zeros(); 2]);
-        st.rolling.clear();
-        st.rolling.resize(self.bodies.len(), 0.0);
+        // Loads per body, in contact order (deterministic). The buffers are zero between
+        // steps except after an error ([`SmcState::clear_loads`]): zeroing 100k bodies'
+        // loads every step would cost more than the contacts.
+        let nb = self.bodies.len();
+        if st.touched_all || st.loads.len() != nb || st.rolling.len() != nb {
+            st.loads.clear();
+            st.loads.resize(nb, [Vector3::zeros(); 2]);
+            st.rolling.clear();
+            st.rolling.resize(nb, 0.0);
+        }
+        // Until `clear_loads` zeroes what this step adds.
+        st.touched_all = true;
         for c in &st.contacts {
             if c.normal_force == 0.0 && c.force == Vector3::zeros() {
                 continue;
@@ -388,10 +421,18 @@ impl System {
         }
     }
 
-    /// New velocities and poses without rows.
-    fn smc_free_update(&mut self, h: f64) {
+    /// New velocities and poses without rows, in one pass over the bodies that also
+    /// writes the poses and activity the next step's collision detection reads
+    /// ([`collision_state`](Self::collision_state)) and checks the new state: the first
+    /// (in dense order) non-finite or too fast body, as [`check_state`](Self::check_state)
+    /// finds it. Every body is updated even when one is bad (as before the fusion).
+    fn smc_free_update(&mut self, h: f64) -> Option<usize> {
         let g = self.settings.gravity;
-        let one = |(b, load): (&mut RigidBody, &[Vector3<f64>; 2])| {
+        let (vmax, wmax) = (self.settings.max_speed, self.settings.max_angular_speed);
+        let n = self.bodies.len();
+        self.poses.resize(n, nalgebra::Isometry3::identity());
+        self.active.resize(n, false);
+        let one = |(b, load): (&mut RigidBody, &[Vector3<f64>; 2])| -> bool {
             if b.motion == BodyMotion::Dynamic {
                 let mut k = [0.0; 6];
                 b.free_momentum(h, &g, load, &mut k);
@@ -401,15 +442,40 @@ impl System {
             if b.motion != BodyMotion::Fixed {
                 b.integrate_pose(h);
             }
+            is_bad(b, vmax, wmax)
         };
-        if self.bodies.len() >= PARALLEL_MIN_BODIES {
+        let loads = &self.smc.loads[..n];
+        let bad = if n >= PARALLEL_MIN_BODIES {
+            // `min` of the bad indices, not `position_first`: that may stop early and
+            // leave later bodies un-updated.
             (self.bodies.par_iter_mut())
-                .zip(self.smc.loads.par_iter())
+                .zip(loads.par_iter())
+                .zip(self.poses.par_iter_mut().zip(self.active.par_iter_mut()))
+                .enumerate()
                 .with_min_len(BODY_CHUNK)
-                .for_each(one);
+                .filter_map(|(i, ((b, load), (pose, active)))| {
+                    let bad = one((&mut *b, load));
+                    *pose = b.pose();
+                    *active = b.is_dynamic();
+                    bad.then_some(i)
+                })
+                .min()
         } else {
-            self.bodies.iter_mut().zip(&self.smc.loads).for_each(one);
-        }
+            let mut first = None;
+            let it = (self.bodies.iter_mut())
+                .zip(loads)
+                .zip(self.poses.iter_mut().zip(self.active.iter_mut()));
+            for (i, ((b, load), (pose, active))) in it.enumerate() {
+                if one((&mut *b, load)) && first.is_none() {
+                    first = Some(i);
+                }
+                *pose = b.pose();
+                *active = b.is_dynamic();
+            }
+            first
+        };
+        self.poses_fresh = true;
+        bad
     }
 
     /// New velocities and poses with joints' and items' rows solved by the CCP solver.
@@ -490,40 +556,54 @@ impl System {
 
     /// Non-finite or diverging bodies are errors naming the body and the step.
     pub(crate) fn check_state(&self) -> Result<()> {
+        match self.first_bad_body() {
+            Some(i) => Err(self.state_error(i)),
+            None => Ok(()),
+        }
+    }
+
+    /// The first non-finite or too fast body in dense order, found in parallel for many
+    /// bodies.
+    fn first_bad_body(&self) -> Option<usize> {
         let (vmax, wmax) = (self.settings.max_speed, self.settings.max_angular_speed);
-        let bad = |b: &RigidBody| {
-            !b.state_is_finite()
-                || b.linear_velocity.norm() > vmax
-                || b.angular_velocity.norm() > wmax
-        };
-        // The first bad body in dense order, found in parallel for many bodies.
-        let first = if self.bodies.len() >= PARALLEL_MIN_BODIES {
+        let bad = |b: &RigidBody| is_bad(b, vmax, wmax);
+        if self.bodies.len() >= PARALLEL_MIN_BODIES {
             (self.bodies.par_iter())
                 .with_min_len(BODY_CHUNK)
                 .position_first(bad)
         } else {
             self.bodies.iter().position(bad)
-        };
-        let Some(i) = first else { return Ok(()) };
+        }
+    }
+
+    /// The error for the bad body `i` ([`first_bad_body`](Self::first_bad_body)).
+    fn state_error(&self, i: usize) -> ChronoError {
+        let (vmax, wmax) = (self.settings.max_speed, self.settings.max_angular_speed);
         let b = &self.bodies[i];
         if !b.state_is_finite() {
-            return Err(ChronoError::NonFinite {
+            return ChronoError::NonFinite {
                 item: format!("body {i} (\"{}\")", b.name),
                 step: self.step_count,
                 time: self.time,
                 what: "position or velocity".into(),
-            });
+            };
         }
         let (v, w) = (b.linear_velocity.norm(), b.angular_velocity.norm());
-        Err(ChronoError::Diverged {
+        ChronoError::Diverged {
             item: format!("body {i} (\"{}\")", b.name),
             step: self.step_count,
             time: self.time,
             what: format!(
                 "speed {v:.3e} m/s (limit {vmax:.1e}), angular speed {w:.3e} rad/s (limit {wmax:.1e})"
             ),
-        })
+        }
     }
+}
+
+/// A body whose state is not finite or faster than the limits (m/s, rad/s).
+#[inline]
+fn is_bad(b: &RigidBody, vmax: f64, wmax: f64) -> bool {
+    !b.state_is_finite() || b.linear_velocity.norm() > vmax || b.angular_velocity.norm() > wmax
 }
 
 /// Everything the parallel force loop reads.

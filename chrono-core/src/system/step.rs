@@ -42,6 +42,7 @@ impl System {
     /// Copy the solved velocities `self.v` into the dynamic bodies and advance every
     /// non-fixed body's pose by `h` (in parallel for many bodies).
     pub(crate) fn update_bodies(&mut self, h: f64) {
+        self.poses_fresh = false;
         let (vars, v) = (&self.vars, &self.v);
         let one = |b: &mut RigidBody| {
             if let Some(blk) = b.block {

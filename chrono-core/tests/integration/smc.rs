@@ -186,3 +186,37 @@ fn smc_runs_are_deterministic() {
     };
     assert_eq!(run(), run());
 }
+
+/// The SMC step keeps the collision poses of its fused body pass for the next step: a body
+/// moved with `body_mut` between steps must still be seen (many grains: the parallel path).
+#[test]
+fn body_moved_between_smc_steps_is_collided_where_it_was_put() {
+    let mat = ContactMaterial::smc(1e7, 0.3, 0.5, 0.3);
+    let mut sys = smc_system(SmcModel::Hertz, 0.0);
+    let r = 0.01;
+    let grains: Vec<BodyHandle> = (0..1200)
+        .map(|i| {
+            let p = Vector3::new(3.0 * r * (i % 40) as f64, 3.0 * r * (i / 40) as f64, 0.0);
+            sys.add_body(sphere(r, 2500.0, p, mat)).unwrap()
+        })
+        .collect();
+    sys.step(1e-5).unwrap();
+    assert!(sys.smc_contacts().is_empty());
+    // Put grain 1 half a radius into grain 0.
+    let x0 = sys.body(grains[0]).unwrap().position();
+    let rot = sys.body(grains[1]).unwrap().rotation();
+    (sys.body_mut(grains[1]).unwrap())
+        .set_pose(x0 + Vector3::new(1.5 * r, 0.0, 0.0), rot)
+        .unwrap();
+    sys.step(1e-5).unwrap();
+    let c = sys.smc_contacts();
+    assert_eq!(c.len(), 1);
+    assert_eq!(
+        (
+            c[0].owner_a.min(c[0].owner_b),
+            c[0].owner_a.max(c[0].owner_b)
+        ),
+        (0, 1)
+    );
+    assert!((c[0].overlap - 0.5 * r).abs() < 1e-9);
+}
