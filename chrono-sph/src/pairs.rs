@@ -96,6 +96,23 @@ impl Tile {
         }
     }
 
+    /// Store neighbour `pb`'s displacement from `pa`, squared distance, velocity and
+    /// density in slot `i` (both gathers); returns the squared distance.
+    #[inline(always)]
+    fn put_kinematics(&mut self, i: usize, c: &PassCtx<'_>, pa: &Packed, pb: &Packed) -> f64 {
+        let d = c.grid.displacement(pa.pos, pb.pos);
+        let r2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+        self.x[i] = d[0];
+        self.y[i] = d[1];
+        self.z[i] = d[2];
+        self.r2[i] = r2;
+        self.vx[i] = pb.vel[0];
+        self.vy[i] = pb.vel[1];
+        self.vz[i] = pb.vel[2];
+        self.rho[i] = pb.rho;
+        r2
+    }
+
     /// Compacts the in-support entries of `list` (at most [`TILE`]) around `pa` (slot
     /// `a`); `pressure`: `aux` holds `p` (else `p / rho^2`). Pads to a multiple of
     /// `lanes` with the neutral neighbour (`idx`: `a`); returns the padded count.
@@ -116,18 +133,9 @@ impl Tile {
         let mut k = 0usize;
         for &b in list {
             let pb = &nb[b as usize];
-            let d = c.grid.displacement(pa.pos, pb.pos);
-            let r2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
             // k < TILE: the mask only tells the compiler so (no bounds checks)
             let i = k & (TILE - 1);
-            self.x[i] = d[0];
-            self.y[i] = d[1];
-            self.z[i] = d[2];
-            self.r2[i] = r2;
-            self.vx[i] = pb.vel[0];
-            self.vy[i] = pb.vel[1];
-            self.vz[i] = pb.vel[2];
-            self.rho[i] = pb.rho;
+            let r2 = self.put_kinematics(i, c, pa, pb);
             self.aux[i] = if pressure { pb.p } else { pb.pr2 };
             self.mass[i] = pb.mass;
             self.vol[i] = pb.vol;
@@ -171,17 +179,8 @@ impl Tile {
         debug_assert!(seq.len() <= TILE);
         for (i, &b) in seq.iter().enumerate() {
             let pb = &nb[b as usize];
-            let d = c.grid.displacement(pa.pos, pb.pos);
-            let r2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
             let i = i & (TILE - 1);
-            self.x[i] = d[0];
-            self.y[i] = d[1];
-            self.z[i] = d[2];
-            self.r2[i] = r2;
-            self.vx[i] = pb.vel[0];
-            self.vy[i] = pb.vel[1];
-            self.vz[i] = pb.vel[2];
-            self.rho[i] = pb.rho;
+            self.put_kinematics(i, c, pa, pb);
             self.aux[i] = pb.pr2;
             self.mass[i] = if b != a { pb.mass } else { 0.0 };
         }

@@ -66,10 +66,9 @@ impl CcpProblem {
         }
     }
 
-    /// `out = N g + shift` (`shift` = `r` or none): the explicit rows by `D'(M^-1 D g)`, the
-    /// matrix-free triplets ([`super::ContactFrame`]) from their frames. Every output is a
-    /// fixed-order sum, whatever the thread count.
-    fn product(&self, gamma: &[f64], out: &mut [f64], work: &mut CcpWork, shift: Option<&[f64]>) {
+    /// Check the lengths and fill `work.v = M^-1 D g` (the explicit rows' blocks) and
+    /// `work.w` (the matrix-free spheres'): the first half of a product.
+    fn velocity_changes(&self, gamma: &[f64], out: &[f64], work: &mut CcpWork) {
         assert_eq!(gamma.len(), self.n_rows, "gamma has the wrong length");
         assert_eq!(out.len(), self.n_rows, "out has the wrong length");
         work.resize(self);
@@ -78,6 +77,13 @@ impl CcpProblem {
         if mf {
             self.mf.gather(gamma, &mut work.w);
         }
+    }
+
+    /// `out = N g + shift` (`shift` = `r` or none): the explicit rows by `D'(M^-1 D g)`, the
+    /// matrix-free triplets ([`super::ContactFrame`]) from their frames. Every output is a
+    /// fixed-order sum, whatever the thread count.
+    fn product(&self, gamma: &[f64], out: &mut [f64], work: &mut CcpWork, shift: Option<&[f64]>) {
+        self.velocity_changes(gamma, out, work);
         let (v, w) = (&work.v, &work.w);
         let eps = &self.eps;
         // `x + r_i`, or `x` itself (not `x + 0`, which would turn -0 into +0).
@@ -173,14 +179,7 @@ impl CcpProblem {
             self.is_friction_only(),
             "gradient_by_units needs a friction-only problem"
         );
-        assert_eq!(gamma.len(), self.n_rows, "gamma has the wrong length");
-        assert_eq!(out.len(), self.n_rows, "out has the wrong length");
-        work.resize(self);
-        let mf = self.mf.active();
-        self.minv_d_blocks(gamma, &mut work.v, mf);
-        if mf {
-            self.mf.gather(gamma, &mut work.w);
-        }
+        self.velocity_changes(gamma, out, work);
         let (v, w) = (&work.v, &work.w);
         let r = Some(&self.r[..]);
         let unit = |(u, o): (usize, &mut [f64])| {
