@@ -77,3 +77,36 @@ fn fused_passes_match_the_general_path_on_a_sphere_pile() {
         .collect();
     check(&problem, &warm);
 }
+
+/// On a problem with other sections `gradient_by_units` gives the plain gradient and visits
+/// every unit of rows once, in order.
+#[test]
+fn gradient_by_units_falls_back_on_mixed_problems() {
+    use chrono_core::descriptor::{CcpWork, UNIT_ROWS};
+    let problem = chrono_ccp::testing::random_problem(3).unwrap();
+    assert!(!problem.is_friction_only());
+    let m = problem.n_rows();
+    let gamma: Vec<f64> = (0..m).map(|i| 0.1 * (i % 5) as f64).collect();
+    let mut work = CcpWork::for_problem(&problem);
+    let mut plain = vec![0.0; m];
+    problem.gradient(&gamma, &mut plain, &mut work);
+    let mut by_units = vec![0.0; m];
+    let mut ranges = Vec::new();
+    problem.gradient_by_units(
+        &gamma,
+        &mut by_units,
+        &mut work,
+        &mut ranges,
+        |rows, out| {
+            assert_eq!(rows.len(), out.len());
+            rows
+        },
+    );
+    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    assert_eq!(bits(&by_units), bits(&plain));
+    let expect: Vec<_> = (0..m)
+        .step_by(UNIT_ROWS)
+        .map(|s| s..(s + UNIT_ROWS).min(m))
+        .collect();
+    assert_eq!(ranges, expect);
+}

@@ -165,8 +165,11 @@ impl CcpProblem {
     /// [`reduce::CHUNK`] rows and one chunk of `CHUNK` triplets, they can keep the order
     /// of [`sum_by`] and so its bits. `results` keeps its allocation.
     ///
+    /// A problem with other sections gets the plain [`gradient`](Self::gradient) and then
+    /// `then` over the same units of rows (correct, without the fusion).
+    ///
     /// # Panics
-    /// If the problem is not friction-only, or a length is wrong.
+    /// If a length is wrong.
     pub fn gradient_by_units<T: Send>(
         &self,
         gamma: &[f64],
@@ -175,17 +178,21 @@ impl CcpProblem {
         results: &mut Vec<T>,
         then: impl Fn(std::ops::Range<usize>, &[f64]) -> T + Sync + Send,
     ) {
-        assert!(
-            self.is_friction_only(),
-            "gradient_by_units needs a friction-only problem"
-        );
-        self.velocity_changes(gamma, out, work);
+        // Friction-only: each unit's rows are computed here; otherwise all rows first.
+        let fused = self.is_friction_only();
+        if fused {
+            self.velocity_changes(gamma, out, work);
+        } else {
+            self.gradient(gamma, out, work);
+        }
         let (v, w) = (&work.v, &work.w);
         let r = Some(&self.r[..]);
         let unit = |(u, o): (usize, &mut [f64])| {
             let start = u * UNIT_ROWS;
-            for (k, oc) in o.chunks_mut(3).enumerate() {
-                self.triplet_rows(start + 3 * k, gamma, v, w, r, oc);
+            if fused {
+                for (k, oc) in o.chunks_mut(3).enumerate() {
+                    self.triplet_rows(start + 3 * k, gamma, v, w, r, oc);
+                }
             }
             then(start..start + o.len(), o)
         };

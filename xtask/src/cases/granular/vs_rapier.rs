@@ -31,7 +31,7 @@ use serde::{Deserialize, Serialize};
 
 use super::settle::{SettleParams, scene};
 use crate::case::{Case, CaseOutput, Mode, RunContext};
-use crate::params::{CaseParams, ParamCase, ParamInfo};
+use crate::params::{CaseParams, ParamCase, ParamInfo, ensure_positive};
 
 /// Parameters of `granular-vs-rapier`.
 #[derive(Clone, Debug, Serialize, Deserialize)]
@@ -385,21 +385,9 @@ fn rapier_world(
 
 fn run(p: &VsRapierParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     anyhow::ensure!(p.n > 0, "parameter `n` must be > 0, got {}", p.n);
-    anyhow::ensure!(
-        p.radius > 0.0 && p.radius.is_finite(),
-        "parameter `radius` must be > 0, got {}",
-        p.radius
-    );
-    anyhow::ensure!(
-        p.h > 0.0 && p.h.is_finite(),
-        "parameter `h` must be > 0, got {}",
-        p.h
-    );
-    anyhow::ensure!(
-        p.t_end > 0.0 && p.t_end.is_finite(),
-        "parameter `t_end` must be > 0, got {}",
-        p.t_end
-    );
+    ensure_positive("radius", p.radius)?;
+    ensure_positive("h", p.h)?;
+    ensure_positive("t_end", p.t_end)?;
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(p.threads)
         .build()
