@@ -27,6 +27,17 @@ pub const LIPSCHITZ_DECAY: f64 = 0.9;
 /// estimate and the true constant, so hitting it means non-finite or garbage data.
 pub const MAX_BACKTRACKS: usize = 60;
 
+/// The buffer holding the best iterate during a solve.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Best {
+    /// In `g` (the current iterate).
+    G,
+    /// In `g_new` (the trial buffer).
+    GNew,
+    /// Copied into `best`.
+    Kept,
+}
+
 /// Options of [`Apgd`] beyond the common [`SolverSettings`].
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default)]
@@ -243,7 +254,9 @@ impl CcpSolver for Apgd {
 
         sanitize_and_project(problem, gamma);
         self.g.copy_from_slice(gamma);
-        self.best.copy_from_slice(gamma);
+        // Where the best iterate is: copied into `best` only when its buffer is about to be
+        // overwritten (rarely: the residual mostly falls from one iterate to the next).
+        let mut best_at = Best::G;
         problem.gradient(&self.g, &mut self.grad, &mut self.work);
         let mut n_apply = 1;
         let mut best_res = problem.residual(&self.g, &self.grad, &mut self.work);
@@ -278,6 +291,11 @@ impl CcpSolver for Apgd {
             // Projected gradient step from y with backtracking on L.
             let mut ok = false;
             let mut sums = units::TrialSums::default();
+            if best_at == Best::GNew {
+                // The trials overwrite `g_new`.
+                self.best.copy_from_slice(&self.g_new);
+                best_at = Best::Kept;
+            }
             for _ in 0..=MAX_BACKTRACKS {
                 let (dnd, dpd) = if fused {
                     sums = self.trial_units(problem, l, extrapolate.take());
@@ -311,7 +329,7 @@ impl CcpSolver for Apgd {
             let improved = res < best_res;
             if improved {
                 best_res = res;
-                self.best.copy_from_slice(&self.g_new);
+                best_at = Best::GNew;
             }
             if res <= tol {
                 have_grad = improved;
@@ -347,11 +365,20 @@ impl CcpSolver for Apgd {
             }
             std::mem::swap(&mut self.g, &mut self.g_new);
             std::mem::swap(&mut self.grad, &mut self.grad_new);
+            best_at = match best_at {
+                Best::G => Best::GNew,
+                Best::GNew => Best::G,
+                Best::Kept => Best::Kept,
+            };
             theta = theta_next;
             l *= LIPSCHITZ_DECAY;
         }
 
-        gamma.copy_from_slice(&self.best);
+        gamma.copy_from_slice(match best_at {
+            Best::G => &self.g,
+            Best::GNew => &self.g_new,
+            Best::Kept => &self.best,
+        });
         if !have_grad {
             problem.gradient(gamma, &mut self.grad_new, &mut self.work);
             n_apply += 1;

@@ -20,6 +20,10 @@ type StepChunks<'a> = ((&'a mut [f64], &'a mut [f64]), &'a mut [f64]);
 /// Below this many rows the step pass runs on the calling thread.
 const PAR_MIN_ROWS: usize = 4096;
 
+/// Rows per task of the step pass (whole triplets: element-wise work, so the split does not
+/// change any value).
+const STEP_ROWS: usize = 3 * 512;
+
 /// The sums of one unit of rows: per chunk of [`CHUNK`] rows `d'(N d)`, `d'P^-1 d` and the
 /// restart slope; over the unit's triplets the residual's sum of squares.
 #[derive(Debug, Clone, Copy, Default)]
@@ -55,32 +59,57 @@ impl Apgd {
         let t = 1.0 / l;
         let mu = problem.friction_mu();
         let (g, gr, grp, s) = (&self.g, &self.grad, &self.grad_new, &self.s);
-        let step = |(k, ((y, gy), gn)): (usize, StepChunks)| {
-            let i = 3 * k;
-            if let Some(beta) = beta {
-                for j in 0..3 {
-                    // The general path's `gn + beta (gn - g)`: here `g` is the new iterate
-                    // and `gn` still holds the previous one.
-                    y[j] = g[i + j] + beta * (g[i + j] - gn[j]);
-                    gy[j] = gr[i + j] + beta * (gr[i + j] - grp[i + j]);
+        // One task per `STEP_ROWS` rows (whole triplets); inside it fixed-size triplets, so
+        // one bounds check per triplet and array, not per element.
+        let step = |(c, ((y, gy), gn)): (usize, StepChunks)| {
+            let base = c * STEP_ROWS;
+            let n = gn.len();
+            let (g, gr, grp, s) = (
+                &g[base..base + n],
+                &gr[base..base + n],
+                &grp[base..base + n],
+                &s[base..base + n],
+            );
+            let mu = &mu[base / 3..(base + n) / 3];
+            for (k, (((y, gy), gn), &mu)) in (y.chunks_exact_mut(3))
+                .zip(gy.chunks_exact_mut(3))
+                .zip(gn.chunks_exact_mut(3))
+                .zip(mu)
+                .enumerate()
+            {
+                let i = 3 * k;
+                let y: &mut [f64; 3] = y.try_into().expect("a triplet");
+                let gy: &mut [f64; 3] = gy.try_into().expect("a triplet");
+                let gn: &mut [f64; 3] = gn.try_into().expect("a triplet");
+                let s: &[f64; 3] = s[i..i + 3].try_into().expect("a triplet");
+                if let Some(beta) = beta {
+                    let g: &[f64; 3] = g[i..i + 3].try_into().expect("a triplet");
+                    let gr: &[f64; 3] = gr[i..i + 3].try_into().expect("a triplet");
+                    let grp: &[f64; 3] = grp[i..i + 3].try_into().expect("a triplet");
+                    for j in 0..3 {
+                        // The general path's `gn + beta (gn - g)`: here `g` is the new
+                        // iterate and `gn` still holds the previous one.
+                        y[j] = g[j] + beta * (g[j] - gn[j]);
+                        gy[j] = gr[j] + beta * (gr[j] - grp[j]);
+                    }
                 }
+                for j in 0..3 {
+                    gn[j] = y[j] - t * s[j] * gy[j];
+                }
+                project_friction_cone(mu, gn);
             }
-            for j in 0..3 {
-                gn[j] = y[j] - t * s[i + j] * gy[j];
-            }
-            project_friction_cone(mu[k], gn);
         };
         let m = self.g.len();
         if m >= PAR_MIN_ROWS {
-            (self.y.par_chunks_mut(3))
-                .zip(self.grad_y.par_chunks_mut(3))
-                .zip(self.g_new.par_chunks_mut(3))
+            (self.y.par_chunks_mut(STEP_ROWS))
+                .zip(self.grad_y.par_chunks_mut(STEP_ROWS))
+                .zip(self.g_new.par_chunks_mut(STEP_ROWS))
                 .enumerate()
                 .for_each(step);
         } else {
-            (self.y.chunks_mut(3))
-                .zip(self.grad_y.chunks_mut(3))
-                .zip(self.g_new.chunks_mut(3))
+            (self.y.chunks_mut(STEP_ROWS))
+                .zip(self.grad_y.chunks_mut(STEP_ROWS))
+                .zip(self.g_new.chunks_mut(STEP_ROWS))
                 .enumerate()
                 .for_each(step);
         }
@@ -93,29 +122,38 @@ impl Apgd {
             for (c, c0) in rows.clone().step_by(CHUNK).enumerate() {
                 let c1 = (c0 + CHUNK).min(rows.end);
                 let (mut a, mut b, mut sl) = (0.0, 0.0, 0.0);
-                for i in c0..c1 {
-                    let d = gn[i] - y[i];
-                    a += d * (grn[i - base] - gy[i]);
-                    b += if s[i] > 0.0 { d * d / s[i] } else { 0.0 };
-                    sl += gy[i] * (gn[i] - g[i]);
+                // Sliced to the chunk so the loop runs without per-element bounds checks
+                // (the same operations in the same order).
+                let r = c0..c1;
+                let it = (gn[r.clone()].iter())
+                    .zip(&y[r.clone()])
+                    .zip(&grn[c0 - base..c1 - base])
+                    .zip(&gy[r.clone()])
+                    .zip(&s[r.clone()])
+                    .zip(&g[r]);
+                for (((((&gn, &y), &grn), &gy), &s), &g) in it {
+                    let d = gn - y;
+                    a += d * (grn - gy);
+                    b += if s > 0.0 { d * d / s } else { 0.0 };
+                    sl += gy * (gn - g);
                 }
                 (u.dnd[c], u.dpd[c], u.slope[c]) = (a, b, sl);
                 u.chunks = c + 1;
             }
             let mut res2 = 0.0;
-            for i in rows.step_by(3) {
-                let h = scale[i];
-                let q = i - base;
+            let r = rows.clone();
+            let it = (gn[r.clone()].chunks_exact(3))
+                .zip(grn.chunks_exact(3))
+                .zip(scale[r.clone()].chunks_exact(3))
+                .zip(&mu[r.start / 3..r.end / 3]);
+            for (((gn, grn), sc), &mu) in it {
+                let h = sc[0];
                 res2 += if h <= 0.0 {
                     0.0
                 } else {
-                    let mut z = [
-                        gn[i] - h * grn[q],
-                        gn[i + 1] - h * grn[q + 1],
-                        gn[i + 2] - h * grn[q + 2],
-                    ];
-                    project_friction_cone(mu[(i) / 3], &mut z);
-                    (0..3).map(|j| ((gn[i + j] - z[j]) / h).powi(2)).sum()
+                    let mut z = [gn[0] - h * grn[0], gn[1] - h * grn[1], gn[2] - h * grn[2]];
+                    project_friction_cone(mu, &mut z);
+                    (0..3).map(|j| ((gn[j] - z[j]) / h).powi(2)).sum()
                 };
             }
             u.res2 = res2;

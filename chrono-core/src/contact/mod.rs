@@ -9,3 +9,4 @@
 
 pub mod nsc;
 pub mod smc;
+mod sorted_map;

@@ -32,14 +32,12 @@
 //! side without variables (fixed or kinematic body) leaves its three rows empty: the
 //! resistance acts on the moving body only, and not against a kinematic body's own spin.
 
-use std::collections::HashMap;
-use std::hash::Hash;
-
 use nalgebra::Vector3;
 
 use crate::body::RigidBody;
 use crate::collision::{ContactKey, ContactPoint, ProxyContact, ProxyKey};
 use crate::contact::smc::RollingModel;
+use crate::contact::sorted_map::SortedMap;
 use crate::descriptor::{
     BlockId, CcpProblem, ConstraintRows, ContactFrame, PER_BODY_ROWS, RowEntry, RowGroup, RowId,
 };
@@ -115,8 +113,8 @@ struct Impulses {
 /// tangent frame).
 #[derive(Debug, Clone, Default)]
 pub struct WarmStartCache {
-    map: HashMap<ContactKey, Impulses>,
-    proxies: HashMap<ProxyKey, Impulses>,
+    map: SortedMap<ContactKey, Impulses>,
+    proxies: SortedMap<ProxyKey, Impulses>,
 }
 
 impl WarmStartCache {
@@ -126,7 +124,7 @@ impl WarmStartCache {
     }
     /// True if empty.
     pub fn is_empty(&self) -> bool {
-        self.map.is_empty() && self.proxies.is_empty()
+        self.len() == 0
     }
     /// Forget everything.
     pub fn clear(&mut self) {
@@ -139,27 +137,20 @@ impl WarmStartCache {
     /// if removed): entries of removed colliders or items are dropped.
     pub(crate) fn remap(&mut self, map: Option<&[Option<u32>]>, item: &dyn Fn(u32) -> Option<u32>) {
         if let Some(map) = map {
-            self.map = (self.map.drain())
-                .filter_map(|(k, v)| Some((k.remap(map)?, v)))
-                .collect();
+            self.map.remap(|k| k.remap(map));
         }
-        self.proxies = (self.proxies.drain())
-            .filter_map(|(k, v)| {
-                let collider = match map {
-                    Some(map) => (*map.get(k.collider as usize)?)?,
-                    None => k.collider,
-                };
-                let item = item(k.item)?;
-                Some((
-                    ProxyKey {
-                        collider,
-                        item,
-                        ..k
-                    },
-                    v,
-                ))
+        self.proxies.remap(|k| {
+            let collider = match map {
+                Some(map) => (*map.get(k.collider as usize)?)?,
+                None => k.collider,
+            };
+            let item = item(k.item)?;
+            Some(ProxyKey {
+                collider,
+                item,
+                ..k
             })
-            .collect();
+        });
     }
 }
 
@@ -516,16 +507,17 @@ pub fn add_proxy_contact_rows(
 }
 
 /// Fill the contacts' part of `gamma` from `map` (keys not found start at zero).
-fn warm_start_from<P: HasNormal, K: Hash + Eq>(
+fn warm_start_from<P: HasNormal, K: Ord + Copy>(
     contacts: &[NscContact<P>],
     key: impl Fn(&P) -> K,
-    map: &HashMap<K, Impulses>,
+    map: &SortedMap<K, Impulses>,
     problem: &CcpProblem,
     gamma: &mut [f64],
 ) {
+    let mut cursor = 0;
     for c in contacts {
         let i = problem.row_index(c.row);
-        let g = map.get(&key(&c.point)).copied().unwrap_or_default();
+        let g = map.get(&key(&c.point), &mut cursor).unwrap_or_default();
         gamma[i] = g.normal;
         gamma[i + 1] = g.tangential.dot(&c.u);
         gamma[i + 2] = g.tangential.dot(&c.w);
@@ -549,12 +541,12 @@ fn warm_start_from<P: HasNormal, K: Hash + Eq>(
 }
 
 /// Replace `map` by the contacts' impulses.
-fn store_into<P: HasNormal, K: Hash + Eq>(
+fn store_into<P: HasNormal, K: Ord + Copy>(
     contacts: &[NscContact<P>],
     key: impl Fn(&P) -> K,
     problem: &CcpProblem,
     gamma: &[f64],
-    map: &mut HashMap<K, Impulses>,
+    map: &mut SortedMap<K, Impulses>,
 ) {
     map.clear();
     for c in contacts {
@@ -574,8 +566,9 @@ fn store_into<P: HasNormal, K: Hash + Eq>(
             }
             _ => {}
         }
-        map.insert(key(&c.point), g);
+        map.push(key(&c.point), g);
     }
+    map.finish();
 }
 
 /// Fill the body contacts' part of `gamma` from the cache (keys not found start at zero).

@@ -54,6 +54,9 @@ pub(super) struct MatrixFree {
     /// Per variable block: true if only matrix-free triplets touch it (its explicit
     /// velocity is not needed by `apply_n`).
     pub skip_block: Vec<bool>,
+    /// True if no block needs its explicit velocity in `apply_n` (every block with rows
+    /// is touched only by matrix-free triplets): the explicit gather is skipped.
+    pub explicit_free: bool,
     /// Number of triplets applied matrix-free.
     pub n_mf: usize,
 }
@@ -83,6 +86,7 @@ impl MatrixFree {
         self.s_geo.clear();
         self.block_sphere.clear();
         self.skip_block.clear();
+        self.explicit_free = false;
         self.n_mf = 0;
     }
 
@@ -259,13 +263,13 @@ impl CcpProblem {
             .map(|b| isotropic(self.vars.mass(BlockId(b as u32))))
             .collect();
         let fs = self.sections.friction.start;
-        // Candidates: frames whose rows match and whose blocks are spheres.
-        let mut cand: Vec<(u32, ContactFrame)> = Vec::with_capacity(mf.frames.len());
-        for &(k, fr) in &mf.frames {
+        // Candidates: frames whose rows match and whose blocks are spheres (each frame
+        // checked on its own, in parallel for many; `collect` keeps the order).
+        let check = |&(k, fr): &(u32, ContactFrame)| {
             let n = Vector3::from(fr.normal);
             if !(n.iter().all(|x| x.is_finite()) && fr.arms.iter().flatten().all(|x| x.is_finite()))
             {
-                continue;
+                return None;
             }
             let (u, w) = frame(&fr.normal);
             let (u, w) = (Vector3::from(u), Vector3::from(w));
@@ -275,15 +279,18 @@ impl CcpProblem {
                 .iter()
                 .flatten()
                 .all(|b| (b.0 as usize) < nblocks && inv[b.0 as usize].is_some());
-            if spheres
+            let ok = spheres
                 && [n, u, w]
                     .iter()
                     .enumerate()
-                    .all(|(r, d)| self.row_matches(t + r, &fr, d))
-            {
-                cand.push((k, fr));
-            }
-        }
+                    .all(|(r, d)| self.row_matches(t + r, &fr, d));
+            ok.then_some((k, fr))
+        };
+        let cand: Vec<(u32, ContactFrame)> = if mf.frames.len() >= PAR_MIN_BODIES {
+            mf.frames.par_iter().filter_map(check).collect()
+        } else {
+            mf.frames.iter().filter_map(check).collect()
+        };
         // A sphere is pure if all its entries belong to checked frames: then its world-frame
         // velocity change is complete. A triplet is matrix-free if all its spheres are pure;
         // the others (touching a body with other rows) use the explicit rows, so no
@@ -339,6 +346,7 @@ impl CcpProblem {
         mf.skip_block = (0..nblocks)
             .map(|b| total[b] > 0 && in_mf[b] == total[b])
             .collect();
+        mf.explicit_free = (0..nblocks).all(|b| total[b] == 0 || mf.skip_block[b]);
         for s in 0..mf.b_inv.len() {
             count[s + 1] += count[s];
         }

@@ -34,6 +34,9 @@ impl CcpProblem {
     /// [`minv_d`](Self::minv_d); with `skip_spheres` the blocks of the matrix-free spheres
     /// are left untouched (only matrix-free triplets touch them, and those read `work.w`).
     fn minv_d_blocks(&self, gamma: &[f64], v: &mut [f64], skip_spheres: bool) {
+        if skip_spheres && self.mf.explicit_free {
+            return;
+        }
         let skip = &self.mf.skip_block;
         let gather = |block: usize, out: &mut [f64]| {
             if skip_spheres && skip[block] {
@@ -150,6 +153,41 @@ impl CcpProblem {
         }
     }
 
+    /// The rows `start..start + o.len()` (whole friction triplets) of `N g + r` into `o`:
+    /// [`triplet_rows`](Self::triplet_rows) with the unit's slices taken once (the same
+    /// operations, so the same bits).
+    fn unit_rows(&self, start: usize, gamma: &[f64], v: &[f64], w: &[f64], o: &mut [f64]) {
+        let end = start + o.len();
+        let k0 = (start - self.sections.friction.start) / 3;
+        let (eps, g, r) = (
+            &self.eps[start..end],
+            &gamma[start..end],
+            &self.r[start..end],
+        );
+        let Some(of) = self.mf.of_triplet.get(k0..k0 + o.len() / 3) else {
+            // No matrix-free triplets in this problem.
+            for (k, oc) in o.chunks_mut(3).enumerate() {
+                self.triplet_rows(start + 3 * k, gamma, v, w, Some(&self.r), oc);
+            }
+            return;
+        };
+        let it = (o.chunks_exact_mut(3).enumerate())
+            .zip(eps.chunks_exact(3))
+            .zip(g.chunks_exact(3))
+            .zip(r.chunks_exact(3))
+            .zip(of);
+        for (((((k, o), eps), g), r), &c) in it {
+            if c != super::frames::NONE {
+                let d = self.mf.triplet(c as usize, w);
+                for j in 0..3 {
+                    o[j] = d[j] + eps[j] * g[j] + r[j];
+                }
+            } else {
+                self.triplet_rows(start + 3 * k, gamma, v, w, Some(&self.r), o);
+            }
+        }
+    }
+
     /// Is every row part of a friction triplet (no other section)? Such problems (granular
     /// material, spheres in a box) can use [`gradient_by_units`](Self::gradient_by_units).
     pub fn is_friction_only(&self) -> bool {
@@ -186,13 +224,10 @@ impl CcpProblem {
             self.gradient(gamma, out, work);
         }
         let (v, w) = (&work.v, &work.w);
-        let r = Some(&self.r[..]);
         let unit = |(u, o): (usize, &mut [f64])| {
             let start = u * UNIT_ROWS;
             if fused {
-                for (k, oc) in o.chunks_mut(3).enumerate() {
-                    self.triplet_rows(start + 3 * k, gamma, v, w, r, oc);
-                }
+                self.unit_rows(start, gamma, v, w, o);
             }
             then(start..start + o.len(), o)
         };

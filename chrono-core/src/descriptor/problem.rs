@@ -3,6 +3,8 @@
 
 use std::ops::Range;
 
+use rayon::prelude::*;
+
 use super::rows::{ConstraintRows, N_GROUPS, PER_BODY_ROWS, RowGroup, RowId};
 use super::variables::{BlockId, Variables};
 use crate::error::{ChronoError, Result};
@@ -124,6 +126,8 @@ pub struct CcpProblem {
     pub(super) tr_cptr: Vec<u32>,
     pub(super) tr_row: Vec<u32>,
     pub(super) tr_minv: Vec<f64>,
+    /// Scratch of the assembly: the entry of each slot of the block order.
+    pub(super) tr_ent: Vec<u32>,
     pub(super) k: Vec<f64>,
     pub(super) b: Vec<f64>,
     pub(super) eps: Vec<f64>,
@@ -144,6 +148,9 @@ pub struct CcpProblem {
     /// The triplets applied matrix-free ([`super::ContactFrame`]).
     pub(super) mf: super::frames::MatrixFree,
 }
+
+/// Below this many rows the assembly's row-wise loops run on the calling thread.
+const PAR_MIN_ASSEMBLY_ROWS: usize = 4096;
 
 pub(super) const GROUP_ORDER: [RowGroup; N_GROUPS] = [
     RowGroup::Bilateral,
@@ -267,10 +274,6 @@ impl CcpProblem {
                     self.ent_off.push(vars.offset(BlockId(blk as u32)) as u32);
                     self.ent_coef.push(self.coefs.len() as u32);
                     self.coefs.extend_from_slice(c);
-                    let start = self.minv.len();
-                    self.minv.resize(start + nd, 0.0);
-                    vars.mass(BlockId(blk as u32))
-                        .apply_inverse(c, &mut self.minv[start..]);
                 }
                 self.row_ptr.push(self.ent_block.len() as u32);
                 if !g.b[i].is_finite() {
@@ -332,6 +335,7 @@ impl CcpProblem {
             }
         }
         self.ent_coef.push(self.coefs.len() as u32);
+        self.fill_minv();
         self.n_rows = row;
         let gs = self.group_start;
         self.sections = Sections {
@@ -356,12 +360,58 @@ impl CcpProblem {
                 "must be finite (momentum too large for the mass)",
             ));
         }
-        self.r.clear();
-        self.r.resize(self.n_rows, 0.0);
-        for i in 0..self.n_rows {
-            self.r[i] = self.b[i] + self.row_dot(i, &self.v_free);
+        let mut r = std::mem::take(&mut self.r);
+        r.clear();
+        r.resize(self.n_rows, 0.0);
+        let one = |(i, r): (usize, &mut f64)| *r = self.b[i] + self.row_dot(i, &self.v_free);
+        if self.n_rows >= PAR_MIN_ASSEMBLY_ROWS {
+            r.par_iter_mut().enumerate().for_each(one);
+        } else {
+            r.iter_mut().enumerate().for_each(one);
         }
+        self.r = r;
         Ok(())
+    }
+
+    /// `M^-1 D` entry by entry (`minv`, laid out like `coefs`), in parallel over chunks of
+    /// entries for large problems (each entry on its own: the same bits for any thread
+    /// count).
+    fn fill_minv(&mut self) {
+        const ENTRIES: usize = 2048;
+        let mut minv = std::mem::take(&mut self.minv);
+        minv.clear();
+        minv.resize(self.coefs.len(), 0.0);
+        let n_ent = self.ent_block.len();
+        let chunk = |e0: usize, out: &mut [f64]| {
+            let e1 = (e0 + ENTRIES).min(n_ent);
+            let base = self.ent_coef[e0] as usize;
+            for e in e0..e1 {
+                let (c0, c1) = (self.ent_coef[e] as usize, self.ent_coef[e + 1] as usize);
+                (self.vars.mass(BlockId(self.ent_block[e])))
+                    .apply_inverse(&self.coefs[c0..c1], &mut out[c0 - base..c1 - base]);
+            }
+        };
+        if n_ent >= 2 * ENTRIES {
+            // Split `minv` at the chunks' first coefficients (a few dozen slices).
+            let mut parts = Vec::with_capacity(n_ent.div_ceil(ENTRIES));
+            let mut rest = &mut minv[..];
+            let mut at = 0;
+            for e0 in (0..n_ent).step_by(ENTRIES) {
+                let end = self.ent_coef[(e0 + ENTRIES).min(n_ent)] as usize;
+                let (mine, tail) = rest.split_at_mut(end - at);
+                parts.push((e0, mine));
+                rest = tail;
+                at = end;
+            }
+            parts.into_par_iter().for_each(|(e0, out)| chunk(e0, out));
+        } else if n_ent > 0 {
+            chunk(0, &mut minv[..]);
+            for e0 in (ENTRIES..n_ent).step_by(ENTRIES) {
+                let c0 = self.ent_coef[e0] as usize;
+                chunk(e0, &mut minv[c0..]);
+            }
+        }
+        self.minv = minv;
     }
 
     /// The block-ordered copy of the Jacobian (counting sort of entries by block, stable:
@@ -386,8 +436,10 @@ impl CcpProblem {
         let n_ent = self.ent_block.len();
         self.tr_row.clear();
         self.tr_row.resize(n_ent, 0);
-        self.tr_minv.clear();
-        self.tr_minv.resize(self.minv.len(), 0.0);
+        // Per slot of the block order: its entry (the counting sort, u32 work only) ...
+        let mut tr_ent = std::mem::take(&mut self.tr_ent);
+        tr_ent.clear();
+        tr_ent.resize(n_ent, 0);
         let mut cursor: Vec<u32> = self.tr_ptr[..nblocks].to_vec();
         for i in 0..self.n_rows {
             for e in self.row_ptr[i] as usize..self.row_ptr[i + 1] as usize {
@@ -395,28 +447,59 @@ impl CcpProblem {
                 let t = cursor[blk] as usize;
                 cursor[blk] += 1;
                 self.tr_row[t] = i as u32;
-                let (c0, c1) = (self.ent_coef[e] as usize, self.ent_coef[e + 1] as usize);
-                let nd = c1 - c0;
-                let dst = self.tr_cptr[blk] as usize + (t - self.tr_ptr[blk] as usize) * nd;
-                self.tr_minv[dst..dst + nd].copy_from_slice(&self.minv[c0..c1]);
+                tr_ent[t] = e as u32;
             }
         }
+        // ... then the coefficients, slot by slot over each run of equal-size blocks (a
+        // run's slots are contiguous and of one size), in parallel for large problems.
+        self.tr_minv.clear();
+        self.tr_minv.resize(self.minv.len(), 0.0);
+        let par = n_ent >= PAR_MIN_ASSEMBLY_ROWS;
+        for run in self.vars.runs() {
+            let (b0, b1) = (run.first_block, run.first_block + run.n_blocks);
+            let (t0, t1) = (self.tr_ptr[b0] as usize, self.tr_ptr[b1] as usize);
+            let (c0, c1) = (self.tr_cptr[b0] as usize, self.tr_cptr[b1] as usize);
+            if t1 == t0 || run.ndof == 0 {
+                continue;
+            }
+            let (minv, ent_coef, tr_ent) = (&self.minv, &self.ent_coef, &tr_ent);
+            let copy = |(k, out): (usize, &mut [f64])| {
+                let src = ent_coef[tr_ent[t0 + k] as usize] as usize;
+                out.copy_from_slice(&minv[src..src + out.len()]);
+            };
+            let slots = &mut self.tr_minv[c0..c1];
+            if par {
+                slots.par_chunks_mut(run.ndof).enumerate().for_each(copy);
+            } else {
+                slots.chunks_mut(run.ndof).enumerate().for_each(copy);
+            }
+        }
+        self.tr_ent = tr_ent;
     }
 
-    /// `diag(N)`, the residual scales and the diagonal blocks of the cones.
+    /// `diag(N)`, the residual scales and the diagonal blocks of the cones (each value on
+    /// its own, in parallel for large problems: the same bits for any thread count).
     fn build_diagonal(&mut self) {
-        self.diag.clear();
-        self.diag.resize(self.n_rows, 0.0);
-        for i in 0..self.n_rows {
-            let mut d = self.eps[i];
+        let par = self.n_rows >= PAR_MIN_ASSEMBLY_ROWS;
+        let mut diag = std::mem::take(&mut self.diag);
+        diag.clear();
+        diag.resize(self.n_rows, 0.0);
+        let one = |(i, d): (usize, &mut f64)| {
+            let mut x = self.eps[i];
             for e in self.row_ptr[i] as usize..self.row_ptr[i + 1] as usize {
                 let (c0, c1) = (self.ent_coef[e] as usize, self.ent_coef[e + 1] as usize);
-                for j in c0..c1 {
-                    d += self.coefs[j] * self.minv[j];
+                for (c, m) in self.coefs[c0..c1].iter().zip(&self.minv[c0..c1]) {
+                    x += c * m;
                 }
             }
-            self.diag[i] = d;
+            *d = x;
+        };
+        if par {
+            diag.par_iter_mut().enumerate().for_each(one);
+        } else {
+            diag.iter_mut().enumerate().for_each(one);
         }
+        self.diag = diag;
         self.scale.clear();
         self.scale.resize(self.n_rows, 0.0);
         let inv = |d: f64| if d > 0.0 { 1.0 / d } else { 0.0 };
@@ -427,28 +510,41 @@ impl CcpProblem {
             self.scale[start..start + n].fill(inv(mean));
             i = start + n;
         }
-        self.cone_blocks.clear();
-        for (start, n) in self.cone_block_starts() {
-            for j in 0..n {
-                for k in j..n {
-                    let v = self.n_entry(start + j, start + k);
-                    self.cone_blocks.push(v);
+        // Cone blocks: per section, a fixed-size upper triangle per contact.
+        let mut blocks = std::mem::take(&mut self.cone_blocks);
+        blocks.clear();
+        let s = self.sections.clone();
+        let sizes = [
+            (s.friction.clone(), 3),
+            (s.rolling.clone(), 6),
+            (s.rolling_per_body.clone(), PER_BODY_ROWS),
+        ];
+        let total: usize = (sizes.iter())
+            .map(|(r, n)| r.len() / n * (n * (n + 1) / 2))
+            .sum();
+        blocks.resize(total, 0.0);
+        let mut rest = &mut blocks[..];
+        for (rows, n) in sizes {
+            let len = n * (n + 1) / 2;
+            let (mine, tail) = rest.split_at_mut(rows.len() / n * len);
+            rest = tail;
+            let fill = |(c, out): (usize, &mut [f64])| {
+                let start = rows.start + c * n;
+                let mut q = 0;
+                for j in 0..n {
+                    for k in j..n {
+                        out[q] = self.n_entry(start + j, start + k);
+                        q += 1;
+                    }
                 }
+            };
+            if par {
+                mine.par_chunks_mut(len).enumerate().for_each(fill);
+            } else {
+                mine.chunks_mut(len).enumerate().for_each(fill);
             }
         }
-    }
-
-    fn cone_block_starts(&self) -> impl Iterator<Item = (usize, usize)> + use<> {
-        let s = self.sections.clone();
-        s.friction
-            .step_by(3)
-            .map(|t| (t, 3))
-            .chain(s.rolling.step_by(6).map(|t| (t, 6)))
-            .chain(
-                s.rolling_per_body
-                    .step_by(PER_BODY_ROWS)
-                    .map(|t| (t, PER_BODY_ROWS)),
-            )
+        self.cone_blocks = blocks;
     }
 
     /// Number of rows `m` (the length of `g`).
