@@ -39,7 +39,7 @@ pub(super) struct MatrixFree {
     /// Per contact: the pure sphere of side A and of side B, or [`NONE`].
     pub c_body: Vec<[u32; 2]>,
     /// Per contact: `n`, `r_A`, `r_B` (world).
-    pub c_geo: Vec<[f64; 9]>,
+    pub c_geo: Vec<[f64; 10]>,
     /// Per sphere: `[1/m, 1/J]`.
     pub b_inv: Vec<[f64; 2]>,
     /// Per sphere: its contact sides `b_ptr[s]..b_ptr[s+1]` (in contact order) in the
@@ -48,7 +48,7 @@ pub(super) struct MatrixFree {
     /// Per contact side: `2 i + side` with `i` the normal row (side 0 = A, 1 = B).
     pub s_row: Vec<u32>,
     /// Per contact side: the normal and this side's arm.
-    pub s_geo: Vec<[f64; 6]>,
+    pub s_geo: Vec<[f64; 7]>,
     /// Per variable block: its sphere, or [`NONE`].
     pub block_sphere: Vec<u32>,
     /// Per variable block: true if only matrix-free triplets touch it (its explicit
@@ -100,7 +100,7 @@ impl MatrixFree {
                 let (i, side) = ((rs >> 1) as usize, rs & 1);
                 let g = &gamma[i..i + 3];
                 let n = [geo[0], geo[1], geo[2]];
-                let (u, v) = frame(&n);
+                let (u, v) = frame_from(&n, geo[6]);
                 // The impulse on this side: +F on B, -F on A.
                 let sg = if side == 0 {
                     [-g[0], -g[1], -g[2]]
@@ -156,7 +156,7 @@ impl MatrixFree {
             }
         }
         let n = [geo[0], geo[1], geo[2]];
-        let (u, v) = frame(&n);
+        let (u, v) = frame_from(&n, geo[9]);
         [dot(&n, &rel), dot(&u, &rel), dot(&v, &rel)]
     }
 }
@@ -186,8 +186,20 @@ fn point_velocity(x: &[f64; 6], r: &[f64; 3]) -> [f64; 3] {
 /// the assembly checks the rows' coefficients against this function).
 #[inline(always)]
 fn frame(n: &[f64; 3]) -> ([f64; 3], [f64; 3]) {
+    frame_from(n, frame_recip(n))
+}
+
+/// The one division of [`frame`], `-1 / (sign(n_z) + n_z)`: stored with each contact's
+/// geometry, so the iterations rebuild the tangents without dividing.
+#[inline(always)]
+fn frame_recip(n: &[f64; 3]) -> f64 {
+    -1.0 / (1.0f64.copysign(n[2]) + n[2])
+}
+
+/// [`frame`] from `n` and its [`frame_recip`] `a`.
+#[inline(always)]
+fn frame_from(n: &[f64; 3], a: f64) -> ([f64; 3], [f64; 3]) {
     let sign = 1.0f64.copysign(n[2]);
-    let a = -1.0 / (sign + n[2]);
     let b = n[0] * n[1] * a;
     let u = [1.0 + sign * n[0] * n[0] * a, sign * b, -sign * n[0]];
     let w = [b, sign + n[1] * n[1] * a, -n[1]];
@@ -339,8 +351,9 @@ impl CcpProblem {
             mf.c_body.push(body);
             let [a, b] = f.arms;
             let n = f.normal;
+            let rc = frame_recip(&n);
             mf.c_geo
-                .push([n[0], n[1], n[2], a[0], a[1], a[2], b[0], b[1], b[2]]);
+                .push([n[0], n[1], n[2], a[0], a[1], a[2], b[0], b[1], b[2], rc]);
         }
         mf.n_mf = mf.of_triplet.iter().filter(|&&c| c != NONE).count();
         mf.skip_block = (0..nblocks)
@@ -353,7 +366,7 @@ impl CcpProblem {
         mf.b_ptr.extend_from_slice(&count);
         let n_sides = count[mf.b_inv.len()] as usize;
         mf.s_row.resize(n_sides, 0);
-        mf.s_geo.resize(n_sides, [0.0; 6]);
+        mf.s_geo.resize(n_sides, [0.0; 7]);
         let mut cursor = count;
         for (c, body) in mf.c_body.iter().enumerate() {
             for (side, &s) in body.iter().enumerate() {
@@ -363,7 +376,7 @@ impl CcpProblem {
                     let o = 3 + 3 * side;
                     mf.s_row[*slot as usize] = 2 * mf.c_row[c] + side as u32;
                     mf.s_geo[*slot as usize] =
-                        [geo[0], geo[1], geo[2], geo[o], geo[o + 1], geo[o + 2]];
+                        [geo[0], geo[1], geo[2], geo[o], geo[o + 1], geo[o + 2], geo[9]];
                     *slot += 1;
                 }
             }

@@ -295,7 +295,7 @@ impl CcpProblem {
             + (4 * m + 8 * ne + 8 * nc + 8 * nd + 24 * m);
         let sides = mf.s_row.len();
         let spheres = mf.n_bodies() * (20 + 96);
-        let contacts = mf.c_row.len() * 24 + mf.n_mf * (84 + 72) + sides * (48 + 4);
+        let contacts = mf.c_row.len() * 24 + mf.n_mf * (84 + 80) + sides * (56 + 4);
         explicit + spheres + contacts
     }
 
