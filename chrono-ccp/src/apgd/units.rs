@@ -59,8 +59,7 @@ impl Apgd {
         let t = 1.0 / l;
         let mu = problem.friction_mu();
         let (g, gr, grp, s) = (&self.g, &self.grad, &self.grad_new, &self.s);
-        // One task per `STEP_ROWS` rows (whole triplets); inside it fixed-size triplets, so
-        // one bounds check per triplet and array, not per element.
+        // One task per `STEP_ROWS` rows (whole triplets), its slices taken once.
         let step = |(c, ((y, gy), gn)): (usize, StepChunks)| {
             let base = c * STEP_ROWS;
             let n = gn.len();
@@ -70,32 +69,26 @@ impl Apgd {
                 &grp[base..base + n],
                 &s[base..base + n],
             );
+            // Row-wise first (plain loops over slices, which the compiler vectorizes: the same
+            // operations per element, so the same bits), then the cone projections.
+            if let Some(beta) = beta {
+                for ((((y, gy), &g), &gr), (&gp, &grp)) in (y.iter_mut())
+                    .zip(gy.iter_mut())
+                    .zip(g)
+                    .zip(gr)
+                    .zip(gn.iter().zip(grp))
+                {
+                    // The general path's `gn + beta (gn - g)`: here `g` is the new iterate
+                    // and `gn` still holds the previous one.
+                    *y = g + beta * (g - gp);
+                    *gy = gr + beta * (gr - grp);
+                }
+            }
+            for (((gn, &y), &gy), &s) in gn.iter_mut().zip(&*y).zip(&*gy).zip(s) {
+                *gn = y - t * s * gy;
+            }
             let mu = &mu[base / 3..(base + n) / 3];
-            for (k, (((y, gy), gn), &mu)) in (y.chunks_exact_mut(3))
-                .zip(gy.chunks_exact_mut(3))
-                .zip(gn.chunks_exact_mut(3))
-                .zip(mu)
-                .enumerate()
-            {
-                let i = 3 * k;
-                let y: &mut [f64; 3] = y.try_into().expect("a triplet");
-                let gy: &mut [f64; 3] = gy.try_into().expect("a triplet");
-                let gn: &mut [f64; 3] = gn.try_into().expect("a triplet");
-                let s: &[f64; 3] = s[i..i + 3].try_into().expect("a triplet");
-                if let Some(beta) = beta {
-                    let g: &[f64; 3] = g[i..i + 3].try_into().expect("a triplet");
-                    let gr: &[f64; 3] = gr[i..i + 3].try_into().expect("a triplet");
-                    let grp: &[f64; 3] = grp[i..i + 3].try_into().expect("a triplet");
-                    for j in 0..3 {
-                        // The general path's `gn + beta (gn - g)`: here `g` is the new
-                        // iterate and `gn` still holds the previous one.
-                        y[j] = g[j] + beta * (g[j] - gn[j]);
-                        gy[j] = gr[j] + beta * (gr[j] - grp[j]);
-                    }
-                }
-                for j in 0..3 {
-                    gn[j] = y[j] - t * s[j] * gy[j];
-                }
+            for (gn, &mu) in gn.chunks_exact_mut(3).zip(mu) {
                 project_friction_cone(mu, gn);
             }
         };

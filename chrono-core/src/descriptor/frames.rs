@@ -375,8 +375,15 @@ impl CcpProblem {
                     let geo = &mf.c_geo[c];
                     let o = 3 + 3 * side;
                     mf.s_row[*slot as usize] = 2 * mf.c_row[c] + side as u32;
-                    mf.s_geo[*slot as usize] =
-                        [geo[0], geo[1], geo[2], geo[o], geo[o + 1], geo[o + 2], geo[9]];
+                    mf.s_geo[*slot as usize] = [
+                        geo[0],
+                        geo[1],
+                        geo[2],
+                        geo[o],
+                        geo[o + 1],
+                        geo[o + 2],
+                        geo[9],
+                    ];
                     *slot += 1;
                 }
             }
