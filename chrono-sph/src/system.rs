@@ -642,6 +642,7 @@ fn make_ctx<'a>(
         kernel,
         eos,
         grid,
+        periodic: s.periodic.iter().any(|&p| p),
         list,
         mu: s.viscosity,
         alpha: s.artificial_viscosity,
