@@ -82,10 +82,10 @@ impl Tile {
         }
     }
 
-    /// Compacts the in-support entries of `list` (at most [`TILE`]) around `pa` (slot
-    /// `a`): only positions are read. Pads to a multiple of `lanes` with `a` itself;
-    /// returns the padded count. `periodic`: also stores the displacements (zero for
-    /// the padding).
+    /// Periodic grids: compacts the in-support entries of `list` (at most [`TILE`])
+    /// around `pa` (slot `a`) with their displacements (only positions are read). Pads
+    /// to a multiple of `lanes` with `a` itself (zero displacement); returns the padded
+    /// count.
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     fn compact(
@@ -108,23 +108,63 @@ impl Tile {
             // k < TILE: the mask only tells the compiler so (no bounds checks)
             let i = k & (TILE - 1);
             self.idx[i] = b;
-            if c.periodic {
-                self.x[i] = d[0];
-                self.y[i] = d[1];
-                self.z[i] = d[2];
-                self.r2[i] = r2;
-            }
+            self.x[i] = d[0];
+            self.y[i] = d[1];
+            self.z[i] = d[2];
+            self.r2[i] = r2;
             k += (r2 < support2) as usize;
         }
         let kp = k.next_multiple_of(lanes);
         for i in k..kp {
             self.idx[i] = a;
-            if c.periodic {
-                self.x[i] = 0.0;
-                self.y[i] = 0.0;
-                self.z[i] = 0.0;
-                self.r2[i] = 0.0;
+            self.x[i] = 0.0;
+            self.y[i] = 0.0;
+            self.z[i] = 0.0;
+            self.r2[i] = 0.0;
+        }
+        kp
+    }
+
+    /// [`compact`](Self::compact) without periodic axes, `lanes` list entries at a time:
+    /// their positions transposed, the squared distances in SIMD (the same unfused
+    /// arithmetic), the compaction per lane.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    fn compact_simd<S: Simd>(
+        &mut self,
+        s: S,
+        nb: &[Packed],
+        pa: &Packed,
+        pos_a: &[S::f64s; 3],
+        a: u32,
+        list: &[u32],
+        support2: f64,
+    ) -> usize {
+        debug_assert!(list.len() <= TILE);
+        let lanes = S::F64_LANES;
+        let mut r2s = [0.0f64; 16];
+        let mut k = 0usize;
+        let whole = list.len() / lanes * lanes;
+        for ids in list[..whole].chunks_exact(lanes) {
+            let [xb, yb, zb, _] = columns(s, nb, ids, |r| &r.pos_p);
+            let (_, r2) = displacement(s, pos_a, xb, yb, zb);
+            S::as_mut_simd_f64s(&mut r2s[..lanes]).0[0] = r2;
+            for (&b, &r2) in ids.iter().zip(&r2s[..lanes]) {
+                self.idx[k & (TILE - 1)] = b;
+                k += (r2 < support2) as usize;
             }
+        }
+        let pos = pa.pos();
+        for &b in &list[whole..] {
+            let q = nb[b as usize].pos();
+            let d = [pos[0] - q[0], pos[1] - q[1], pos[2] - q[2]];
+            let r2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+            self.idx[k & (TILE - 1)] = b;
+            k += (r2 < support2) as usize;
+        }
+        let kp = k.next_multiple_of(lanes);
+        for i in k..kp {
+            self.idx[i] = a;
         }
         kp
     }
@@ -196,17 +236,30 @@ fn separation<S: Simd>(
         let col = |v: &[f64; TILE + PAD]| S::as_simd_f64s(&v[j..j + lanes]).0[0];
         ([col(&t.x), col(&t.y), col(&t.z)], col(&t.r2))
     } else {
-        let x = [
-            s.sub_f64s(pa[0], xb),
-            s.sub_f64s(pa[1], yb),
-            s.sub_f64s(pa[2], zb),
-        ];
-        let r2 = s.add_f64s(
-            s.add_f64s(s.mul_f64s(x[0], x[0]), s.mul_f64s(x[1], x[1])),
-            s.mul_f64s(x[2], x[2]),
-        );
-        (x, r2)
+        displacement(s, pa, xb, yb, zb)
     }
+}
+
+/// `x_a - x_b` and its square, `(d_x d_x + d_y d_y) + d_z d_z` unfused: the scalar
+/// arithmetic of `CellGrid::displacement` without periodic axes, lane by lane.
+#[inline(always)]
+fn displacement<S: Simd>(
+    s: S,
+    pa: &[S::f64s; 3],
+    xb: S::f64s,
+    yb: S::f64s,
+    zb: S::f64s,
+) -> ([S::f64s; 3], S::f64s) {
+    let x = [
+        s.sub_f64s(pa[0], xb),
+        s.sub_f64s(pa[1], yb),
+        s.sub_f64s(pa[2], zb),
+    ];
+    let r2 = s.add_f64s(
+        s.add_f64s(s.mul_f64s(x[0], x[0]), s.mul_f64s(x[1], x[1])),
+        s.mul_f64s(x[2], x[2]),
+    );
+    (x, r2)
 }
 
 /// Kernel constants in the form the reference [`Kernel`](chrono_core::particles::Kernel)
@@ -433,7 +486,11 @@ fn continuity_one<S: Simd, const KER: u8, const DIFF: u8>(
     ];
     let mut w = 0usize;
     for chunk in c.list.neighbors(a).chunks(TILE) {
-        let kp = t.compact(c, nb, pa, a as u32, chunk, support2, lanes);
+        let kp = if c.periodic {
+            t.compact(c, nb, pa, a as u32, chunk, support2, lanes)
+        } else {
+            t.compact_simd(s, nb, pa, &pos_a, a as u32, chunk, support2)
+        };
         seq[w..w + kp].copy_from_slice(&t.idx[..kp]);
         w += kp;
         for j in (0..kp).step_by(lanes) {
