@@ -198,8 +198,16 @@ pub(crate) fn fluid_pressure(d: &mut ParticleData, eos: &Tait) {
 }
 
 /// Wall-marker pressure, density and no-slip velocity extrapolated from the fluid
-/// (Adami et al. 2012). `bc` is scratch (one `[p, rho, vx, vy, vz]` per particle).
-pub(crate) fn wall_extrapolation(d: &mut ParticleData, c: &PassCtx<'_>, bc: &mut Vec<[f64; 5]>) {
+/// (Adami et al. 2012). `bc` is scratch (one `[p, rho, vx, vy, vz]` per particle). `nb`:
+/// records packed since the last move (positions, fluid velocities and kinds are read
+/// from them, one bounds-checked load per neighbour; the densities and pressures, updated
+/// since, from the arrays).
+pub(crate) fn wall_extrapolation(
+    d: &mut ParticleData,
+    nb: &[Packed],
+    c: &PassCtx<'_>,
+    bc: &mut Vec<[f64; 5]>,
+) {
     let n = d.len();
     bc.resize(n, [0.0; 5]);
     let g_minus_a = [
@@ -214,18 +222,20 @@ pub(crate) fn wall_extrapolation(d: &mut ParticleData, c: &PassCtx<'_>, bc: &mut
             if d.kind[w] != WALL {
                 return;
             }
-            let pw = [d.x[w], d.y[w], d.z[w]];
+            let pw = nb[w].pos();
             let (mut sw, mut sp, mut sr) = (0.0, 0.0, [0.0; 3]);
             let mut sv = [0.0; 3];
             let n = d.wall_normal[w];
             let linear = c.no_slip == NoSlip::Linear && n != [0.0; 3];
             let mut sd = 0.0;
+            let depth = d.wall_depth[w];
             for &f in c.list.neighbors(w) {
                 let f = f as usize;
-                if d.kind[f] != FLUID {
+                let rf = &nb[f];
+                if !rf.fluid() {
                     continue;
                 }
-                let x = c.grid.displacement(pw, [d.x[f], d.y[f], d.z[f]]);
+                let x = c.grid.displacement(pw, rf.pos());
                 let r2 = x[0] * x[0] + x[1] * x[1] + x[2] * x[2];
                 if r2 >= support2 {
                     continue; // W = 0: the list's skin
@@ -237,11 +247,12 @@ pub(crate) fn wall_extrapolation(d: &mut ParticleData, c: &PassCtx<'_>, bc: &mut
                 sr[0] += rw * x[0];
                 sr[1] += rw * x[1];
                 sr[2] += rw * x[2];
-                sv[0] += d.vx[f] * wk;
-                sv[1] += d.vy[f] * wk;
-                sv[2] += d.vz[f] * wk;
+                let vf = rf.vel();
+                sv[0] += vf[0] * wk;
+                sv[1] += vf[1] * wk;
+                sv[2] += vf[2] * wk;
                 // distance of f in front of the wall surface (x = x_w - x_f)
-                sd += (-(n[0] * x[0] + n[1] * x[1] + n[2] * x[2]) - d.wall_depth[w]) * wk;
+                sd += (-(n[0] * x[0] + n[1] * x[1] + n[2] * x[2]) - depth) * wk;
             }
             if sw > 0.0 {
                 let mut p =
@@ -251,7 +262,7 @@ pub(crate) fn wall_extrapolation(d: &mut ParticleData, c: &PassCtx<'_>, bc: &mut
                 }
                 // v_w = v_wall - ratio (v~_f - v_wall)
                 let ratio = if linear {
-                    d.wall_depth[w] / (sd / sw).max(0.2 * c.kernel.h())
+                    depth / (sd / sw).max(0.2 * c.kernel.h())
                 } else {
                     1.0
                 };

@@ -6,22 +6,31 @@
 //!
 //! Per fluid particle `a`, its neighbour list is walked in tiles of [`TILE`] entries:
 //!
-//! 1. *gather* (scalar): each neighbour's record is read once, its displacement and
-//!    distance computed, and the entries inside the support `r < 2 h` are compacted into
-//!    a stack tile of columns (the list's Verlet skin, a third of the entries, costs no
-//!    kernel work and no branch: the write index advances by `r2 < (2 h)^2`);
-//! 2. *compute* (SIMD): the pair terms of the compacted tile, `lanes` neighbours at a
-//!    time, branch-free (masks and selects), accumulated into per-lane sums. The tile is
-//!    padded to a whole number of vectors with a neutral neighbour (zero mass and volume,
-//!    zero displacement, `a`'s own velocity) whose terms are exact zeros.
+//! 1. *compaction*: the positions of `lanes` list entries at a time are loaded as whole
+//!    record rows and transposed into columns ([`Packed`] is three groups of four
+//!    values; AVX2: 4 loads and 8 shuffles per group of 4 neighbours), their squared
+//!    distances computed in SIMD (the scalar arithmetic, unfused), and the indices of the
+//!    entries inside the support `r < 2 h` compacted into the tile (the list's Verlet
+//!    skin, a third of the entries, costs no kernel work and no branch: the write index
+//!    advances by `r2 < (2 h)^2`); on periodic grids the displacement wraps, so this
+//!    step is scalar and also stores the displacements;
+//! 2. *compute* (SIMD): the pair terms of the compacted entries, `lanes` neighbours at a
+//!    time, their records loaded and transposed the same way (no per-entry column
+//!    stores), branch-free (masks and selects), accumulated into per-lane sums. The
+//!    compacted entries are padded to a whole number of vectors with `a` itself, whose
+//!    terms are exact zeros (zero displacement, zero velocity difference, zero density
+//!    and pressure differences). Adding a zero of either sign leaves a lane sum
+//!    unchanged unless the sum is `-0`, and the sums never are: they start at `+0` (or,
+//!    lane 0 of the acceleration, at the body force), and a rounded sum is `-0` only when
+//!    both addends are. So the sums are bit-identical to those of the zero-mass neutral
+//!    neighbour the earlier passes padded with (a body-force component of exactly `-0`
+//!    aside).
 //!
 //! The continuity pass (first in a step) records, per fluid particle, the sequence of list
-//! entries its tiles kept, each tile padded to whole vectors with the particle's own
-//! index ([`Support`]); the force pass (same positions) walks that sequence instead of
-//! the whole list: no skin entries, no compaction, and the very same vectors, so its sums
-//! are bit-identical to a pass that filters the list itself. A padding entry is the
-//! particle itself with its mass zeroed: zero displacement, its own velocity and density,
-//! the neutral neighbour above.
+//! entries its tiles kept, padding included ([`Support`]); the force pass (same
+//! positions) walks that sequence instead of the whole list: no skin entries, no
+//! compaction, and the very same vectors, so its sums are bit-identical to a pass that
+//! filters the list itself.
 //!
 //! The per-lane sums are reduced once per particle in a fixed order, so a result depends
 //! on the SIMD level (lane count, FMA) but never on the thread count. With one lane and no
