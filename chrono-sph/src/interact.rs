@@ -57,6 +57,9 @@ pub(crate) struct PassCtx<'a> {
     pub kernel: &'a Kernel,
     pub eos: &'a Tait,
     pub grid: &'a CellGrid,
+    /// Whether some axis of `grid` is periodic (the displacement of a pair may then
+    /// wrap; else it is the plain difference).
+    pub periodic: bool,
     pub list: &'a NeighborList,
     pub mu: f64,
     pub alpha: f64,
@@ -81,34 +84,74 @@ pub(crate) struct PassCtx<'a> {
 /// What a pair loop reads of a neighbour, packed in one record: one bounds-checked load
 /// per neighbour instead of one per SoA array (the SoA arrays stay the storage; the
 /// records are refreshed before each pass, a copy of `n` records against ~100 pair
-/// visits per particle).
+/// visits per particle). Three groups of four values: the SIMD passes of
+/// [`pairs`](crate::pairs) load each group of `lanes` neighbours as `lanes` rows and
+/// transpose them into four columns (no per-entry column stores).
 #[derive(Debug, Clone, Copy, Default)]
 pub(crate) struct Packed {
-    /// Position, m.
-    pub pos: [f64; 3],
-    /// Velocity, m/s: the particle's own (continuity pass) or, for wall markers, the
-    /// extrapolated no-slip velocity (force pass, see [`PackVelocity`]).
-    pub vel: [f64; 3],
-    /// Density, kg/m^3.
-    pub rho: f64,
-    /// Pressure, Pa.
-    pub p: f64,
-    /// `p / rho^2`, m^5/(kg s^2).
-    pub pr2: f64,
-    /// Mass, kg.
-    pub mass: f64,
-    /// Volume `m / rho`, m^3 (the same division the pair term would do).
-    pub vol: f64,
-    /// 1 for a fluid particle, 0 for a wall marker (a multiplier: the specialized passes
-    /// mask fluid-only terms with it instead of branching).
-    pub fl: f64,
+    /// `[x, y, z, p]`: position (m) and pressure (Pa).
+    pub pos_p: [f64; 4],
+    /// `[vx, vy, vz, rho]`: velocity (m/s; the particle's own in the continuity pass or,
+    /// for wall markers, the extrapolated no-slip velocity in the force pass, see
+    /// [`PackVelocity`]) and density (kg/m^3).
+    pub vel_rho: [f64; 4],
+    /// `[p / rho^2, m, m / rho, fl]`: `p / rho^2` (m^5/(kg s^2)), mass (kg), volume
+    /// (m^3, the same division the pair term would do), and 1 for a fluid particle, 0
+    /// for a wall marker (a multiplier: the specialized passes mask fluid-only terms
+    /// with it instead of branching).
+    pub pr2_m_vol_fl: [f64; 4],
 }
 
 impl Packed {
+    /// The record of a particle with position `pos`, velocity `vel`, density `rho`,
+    /// pressure `p` and mass `mass`; `fluid`: a fluid particle (else a wall marker).
+    #[inline(always)]
+    pub fn new(pos: [f64; 3], vel: [f64; 3], rho: f64, p: f64, mass: f64, fluid: bool) -> Self {
+        Self {
+            pos_p: [pos[0], pos[1], pos[2], p],
+            vel_rho: [vel[0], vel[1], vel[2], rho],
+            pr2_m_vol_fl: [
+                p / (rho * rho),
+                mass,
+                mass / rho,
+                if fluid { 1.0 } else { 0.0 },
+            ],
+        }
+    }
+    /// Position, m.
+    #[inline(always)]
+    pub fn pos(&self) -> [f64; 3] {
+        [self.pos_p[0], self.pos_p[1], self.pos_p[2]]
+    }
+    /// Velocity, m/s.
+    #[inline(always)]
+    pub fn vel(&self) -> [f64; 3] {
+        [self.vel_rho[0], self.vel_rho[1], self.vel_rho[2]]
+    }
+    /// Density, kg/m^3.
+    #[inline(always)]
+    pub fn rho(&self) -> f64 {
+        self.vel_rho[3]
+    }
+    /// Pressure, Pa.
+    #[inline(always)]
+    pub fn p(&self) -> f64 {
+        self.pos_p[3]
+    }
+    /// `p / rho^2`, m^5/(kg s^2).
+    #[inline(always)]
+    pub fn pr2(&self) -> f64 {
+        self.pr2_m_vol_fl[0]
+    }
+    /// Mass, kg.
+    #[inline(always)]
+    pub fn mass(&self) -> f64 {
+        self.pr2_m_vol_fl[1]
+    }
     /// Whether it is a fluid particle.
     #[inline(always)]
     pub fn fluid(&self) -> bool {
-        self.fl != 0.0
+        self.pr2_m_vol_fl[3] != 0.0
     }
 }
 
@@ -131,17 +174,14 @@ pub(crate) fn pack(d: &ParticleData, which: PackVelocity, out: &mut Vec<Packed>)
         } else {
             [d.vx[i], d.vy[i], d.vz[i]]
         };
-        let rho = d.rho[i];
-        *o = Packed {
-            pos: [d.x[i], d.y[i], d.z[i]],
+        *o = Packed::new(
+            [d.x[i], d.y[i], d.z[i]],
             vel,
-            rho,
-            p: d.p[i],
-            pr2: d.p[i] / (rho * rho),
-            mass: d.mass[i],
-            vol: d.mass[i] / rho,
-            fl: if fluid { 1.0 } else { 0.0 },
-        };
+            d.rho[i],
+            d.p[i],
+            d.mass[i],
+            fluid,
+        );
     });
 }
 
@@ -158,8 +198,16 @@ pub(crate) fn fluid_pressure(d: &mut ParticleData, eos: &Tait) {
 }
 
 /// Wall-marker pressure, density and no-slip velocity extrapolated from the fluid
-/// (Adami et al. 2012). `bc` is scratch (one `[p, rho, vx, vy, vz]` per particle).
-pub(crate) fn wall_extrapolation(d: &mut ParticleData, c: &PassCtx<'_>, bc: &mut Vec<[f64; 5]>) {
+/// (Adami et al. 2012). `bc` is scratch (one `[p, rho, vx, vy, vz]` per particle). `nb`:
+/// records packed since the last move (positions, fluid velocities and kinds are read
+/// from them, one bounds-checked load per neighbour; the densities and pressures, updated
+/// since, from the arrays).
+pub(crate) fn wall_extrapolation(
+    d: &mut ParticleData,
+    nb: &[Packed],
+    c: &PassCtx<'_>,
+    bc: &mut Vec<[f64; 5]>,
+) {
     let n = d.len();
     bc.resize(n, [0.0; 5]);
     let g_minus_a = [
@@ -174,18 +222,20 @@ pub(crate) fn wall_extrapolation(d: &mut ParticleData, c: &PassCtx<'_>, bc: &mut
             if d.kind[w] != WALL {
                 return;
             }
-            let pw = [d.x[w], d.y[w], d.z[w]];
+            let pw = nb[w].pos();
             let (mut sw, mut sp, mut sr) = (0.0, 0.0, [0.0; 3]);
             let mut sv = [0.0; 3];
             let n = d.wall_normal[w];
             let linear = c.no_slip == NoSlip::Linear && n != [0.0; 3];
             let mut sd = 0.0;
+            let depth = d.wall_depth[w];
             for &f in c.list.neighbors(w) {
                 let f = f as usize;
-                if d.kind[f] != FLUID {
+                let rf = &nb[f];
+                if !rf.fluid() {
                     continue;
                 }
-                let x = c.grid.displacement(pw, [d.x[f], d.y[f], d.z[f]]);
+                let x = c.grid.displacement(pw, rf.pos());
                 let r2 = x[0] * x[0] + x[1] * x[1] + x[2] * x[2];
                 if r2 >= support2 {
                     continue; // W = 0: the list's skin
@@ -197,11 +247,12 @@ pub(crate) fn wall_extrapolation(d: &mut ParticleData, c: &PassCtx<'_>, bc: &mut
                 sr[0] += rw * x[0];
                 sr[1] += rw * x[1];
                 sr[2] += rw * x[2];
-                sv[0] += d.vx[f] * wk;
-                sv[1] += d.vy[f] * wk;
-                sv[2] += d.vz[f] * wk;
+                let vf = rf.vel();
+                sv[0] += vf[0] * wk;
+                sv[1] += vf[1] * wk;
+                sv[2] += vf[2] * wk;
                 // distance of f in front of the wall surface (x = x_w - x_f)
-                sd += (-(n[0] * x[0] + n[1] * x[1] + n[2] * x[2]) - d.wall_depth[w]) * wk;
+                sd += (-(n[0] * x[0] + n[1] * x[1] + n[2] * x[2]) - depth) * wk;
             }
             if sw > 0.0 {
                 let mut p =
@@ -211,7 +262,7 @@ pub(crate) fn wall_extrapolation(d: &mut ParticleData, c: &PassCtx<'_>, bc: &mut
                 }
                 // v_w = v_wall - ratio (v~_f - v_wall)
                 let ratio = if linear {
-                    d.wall_depth[w] / (sd / sw).max(0.2 * c.kernel.h())
+                    depth / (sd / sw).max(0.2 * c.kernel.h())
                 } else {
                     1.0
                 };
@@ -251,7 +302,7 @@ pub(crate) fn wall_extrapolation(d: &mut ParticleData, c: &PassCtx<'_>, bc: &mut
 /// Displacement `x_a - x_b` and distance squared of a pair.
 #[inline(always)]
 fn separation(c: &PassCtx<'_>, pa: &Packed, pb: &Packed) -> ([f64; 3], f64) {
-    let x = c.grid.displacement(pa.pos, pb.pos);
+    let x = c.grid.displacement(pa.pos(), pb.pos());
     (x, x[0] * x[0] + x[1] * x[1] + x[2] * x[2])
 }
 
@@ -268,16 +319,13 @@ pub(crate) fn pair_accel(c: &PassCtx<'_>, pa: &Packed, pb: &Packed, support2: f6
     }
     let h = c.kernel.h();
     let fk = c.kernel.grad_factor(r2.sqrt());
-    let mb = pb.mass;
-    let vv = [
-        pa.vel[0] - pb.vel[0],
-        pa.vel[1] - pb.vel[1],
-        pa.vel[2] - pb.vel[2],
-    ];
-    let rho_ab = 0.5 * (pa.rho + pb.rho);
+    let mb = pb.mass();
+    let (va, vb) = (pa.vel(), pb.vel());
+    let vv = [va[0] - vb[0], va[1] - vb[1], va[2] - vb[2]];
+    let rho_ab = 0.5 * (pa.rho() + pb.rho());
     let eta2 = 0.01 * h * h;
     // pressure: -m_b (p_a/rho_a^2 + p_b/rho_b^2) F x_ab
-    let mut coef = -mb * (pa.pr2 + pb.pr2) * fk;
+    let mut coef = -mb * (pa.pr2() + pb.pr2()) * fk;
     if c.alpha > 0.0 {
         let vx = vv[0] * x[0] + vv[1] * x[1] + vv[2] * x[2];
         if vx < 0.0 {
@@ -315,11 +363,11 @@ pub(crate) fn continuity_pass(nb: &[Packed], c: &PassCtx<'_>, deriv: &mut [Deriv
                 out.xsph = [0.0; 3];
                 return;
             }
-            let va = pa.vel;
+            let va = pa.vel();
             let mut sum = 0.0;
             let mut diff = 0.0;
             let mut xs = [0.0; 3];
-            let (rho_a, p_a) = (pa.rho, pa.p);
+            let (rho_a, p_a) = (pa.rho(), pa.p());
             for &b in c.list.neighbors(a) {
                 let pb = &nb[b as usize];
                 let (x, r2) = separation(c, pa, pb);
@@ -327,27 +375,28 @@ pub(crate) fn continuity_pass(nb: &[Packed], c: &PassCtx<'_>, deriv: &mut [Deriv
                     continue;
                 }
                 let (wk, fk) = c.kernel.w_and_grad_factor(r2.sqrt());
-                let vab = [va[0] - pb.vel[0], va[1] - pb.vel[1], va[2] - pb.vel[2]];
-                let mb = pb.mass;
-                sum += mb / pb.rho * fk * (vab[0] * x[0] + vab[1] * x[1] + vab[2] * x[2]);
+                let (vb, rho_b) = (pb.vel(), pb.rho());
+                let vab = [va[0] - vb[0], va[1] - vb[1], va[2] - vb[2]];
+                let mb = pb.mass();
+                sum += mb / rho_b * fk * (vab[0] * x[0] + vab[1] * x[1] + vab[2] * x[2]);
                 if pb.fluid() {
-                    let k = c.xsph * mb * wk / (0.5 * (rho_a + pb.rho));
+                    let k = c.xsph * mb * wk / (0.5 * (rho_a + rho_b));
                     xs[0] -= k * vab[0];
                     xs[1] -= k * vab[1];
                     xs[2] -= k * vab[2];
                     // delta-SPH: psi_ba (-F) V_b
                     let psi = match c.diffusion {
                         DensityDiffusion::None => 0.0,
-                        DensityDiffusion::MolteniColagrossi => pb.rho - rho_a,
+                        DensityDiffusion::MolteniColagrossi => rho_b - rho_a,
                         DensityDiffusion::Fourtakas => {
                             // (p_b - p_a) minus its hydrostatic part -rho_ab g . x_ab
                             let g = c.gravity;
-                            let rho_ab = 0.5 * (rho_a + pb.rho);
-                            (pb.p - p_a + rho_ab * (g[0] * x[0] + g[1] * x[1] + g[2] * x[2]))
+                            let rho_ab = 0.5 * (rho_a + rho_b);
+                            (pb.p() - p_a + rho_ab * (g[0] * x[0] + g[1] * x[1] + g[2] * x[2]))
                                 * c.inv_c2
                         }
                     };
-                    diff -= mb / pb.rho * psi * fk;
+                    diff -= mb / rho_b * psi * fk;
                 }
             }
             out.drho = rho_a * sum + c.diffusion_coef * diff;

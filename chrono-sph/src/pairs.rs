@@ -6,22 +6,31 @@
 //!
 //! Per fluid particle `a`, its neighbour list is walked in tiles of [`TILE`] entries:
 //!
-//! 1. *gather* (scalar): each neighbour's record is read once, its displacement and
-//!    distance computed, and the entries inside the support `r < 2 h` are compacted into
-//!    a stack tile of columns (the list's Verlet skin, a third of the entries, costs no
-//!    kernel work and no branch: the write index advances by `r2 < (2 h)^2`);
-//! 2. *compute* (SIMD): the pair terms of the compacted tile, `lanes` neighbours at a
-//!    time, branch-free (masks and selects), accumulated into per-lane sums. The tile is
-//!    padded to a whole number of vectors with a neutral neighbour (zero mass and volume,
-//!    zero displacement, `a`'s own velocity) whose terms are exact zeros.
+//! 1. *compaction*: the positions of `lanes` list entries at a time are loaded as whole
+//!    record rows and transposed into columns ([`Packed`] is three groups of four
+//!    values; AVX2: 4 loads and 8 shuffles per group of 4 neighbours), their squared
+//!    distances computed in SIMD (the scalar arithmetic, unfused), and the indices of the
+//!    entries inside the support `r < 2 h` compacted into the tile (the list's Verlet
+//!    skin, a third of the entries, costs no kernel work and no branch: the write index
+//!    advances by `r2 < (2 h)^2`); on periodic grids the displacement wraps, so this
+//!    step is scalar and also stores the displacements;
+//! 2. *compute* (SIMD): the pair terms of the compacted entries, `lanes` neighbours at a
+//!    time, their records loaded and transposed the same way (no per-entry column
+//!    stores), branch-free (masks and selects), accumulated into per-lane sums. The
+//!    compacted entries are padded to a whole number of vectors with `a` itself, whose
+//!    terms are exact zeros (zero displacement, zero velocity difference, zero density
+//!    and pressure differences). Adding a zero of either sign leaves a lane sum
+//!    unchanged unless the sum is `-0`, and the sums never are: they start at `+0` (or,
+//!    lane 0 of the acceleration, at the body force), and a rounded sum is `-0` only when
+//!    both addends are. So the sums are bit-identical to those of the zero-mass neutral
+//!    neighbour the earlier passes padded with (a body-force component of exactly `-0`
+//!    aside).
 //!
 //! The continuity pass (first in a step) records, per fluid particle, the sequence of list
-//! entries its tiles kept, each tile padded to whole vectors with the particle's own
-//! index ([`Support`]); the force pass (same positions) walks that sequence instead of
-//! the whole list: no skin entries, no compaction, and the very same vectors, so its sums
-//! are bit-identical to a pass that filters the list itself. A padding entry is the
-//! particle itself with its mass zeroed: zero displacement, its own velocity and density,
-//! the neutral neighbour above.
+//! entries its tiles kept, padding included ([`Support`]); the force pass (same
+//! positions) walks that sequence instead of the whole list: no skin entries, no
+//! compaction, and the very same vectors, so its sums are bit-identical to a pass that
+//! filters the list itself.
 //!
 //! The per-lane sums are reduced once per particle in a fixed order, so a result depends
 //! on the SIMD level (lane count, FMA) but never on the thread count. With one lane and no
@@ -57,68 +66,38 @@ const DIFF_NONE: u8 = 0;
 const DIFF_MC: u8 = 1;
 const DIFF_FOURTAKAS: u8 = 2;
 
-/// The compacted neighbours of one tile, by column.
+/// One tile of a particle's neighbours: the list entries inside the support (compacted,
+/// padded with the particle itself) and, on periodic grids only, their displacements.
 struct Tile {
+    /// The list entry of each slot (padding: the particle itself).
+    idx: [u32; TILE + PAD],
+    /// Displacement `x_a - x_b` and squared distance (periodic grids only: elsewhere
+    /// the compute recomputes them from the transposed positions).
     x: [f64; TILE + PAD],
     y: [f64; TILE + PAD],
     z: [f64; TILE + PAD],
     r2: [f64; TILE + PAD],
-    vx: [f64; TILE + PAD],
-    vy: [f64; TILE + PAD],
-    vz: [f64; TILE + PAD],
-    rho: [f64; TILE + PAD],
-    /// `p` (continuity) or `p / rho^2` (force).
-    aux: [f64; TILE + PAD],
-    mass: [f64; TILE + PAD],
-    vol: [f64; TILE + PAD],
-    fl: [f64; TILE + PAD],
-    /// The list entry of each column (padding: the particle itself).
-    idx: [u32; TILE + PAD],
 }
 
 impl Tile {
     fn new() -> Self {
         let z = [0.0; TILE + PAD];
         Self {
+            idx: [0; TILE + PAD],
             x: z,
             y: z,
             z,
             r2: z,
-            vx: z,
-            vy: z,
-            vz: z,
-            rho: z,
-            aux: z,
-            mass: z,
-            vol: z,
-            fl: z,
-            idx: [0; TILE + PAD],
         }
     }
 
-    /// Store neighbour `pb`'s displacement from `pa`, squared distance, velocity and
-    /// density in slot `i` (both gathers); returns the squared distance.
-    #[inline(always)]
-    fn put_kinematics(&mut self, i: usize, c: &PassCtx<'_>, pa: &Packed, pb: &Packed) -> f64 {
-        let d = c.grid.displacement(pa.pos, pb.pos);
-        let r2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
-        self.x[i] = d[0];
-        self.y[i] = d[1];
-        self.z[i] = d[2];
-        self.r2[i] = r2;
-        self.vx[i] = pb.vel[0];
-        self.vy[i] = pb.vel[1];
-        self.vz[i] = pb.vel[2];
-        self.rho[i] = pb.rho;
-        r2
-    }
-
-    /// Compacts the in-support entries of `list` (at most [`TILE`]) around `pa` (slot
-    /// `a`); `pressure`: `aux` holds `p` (else `p / rho^2`). Pads to a multiple of
-    /// `lanes` with the neutral neighbour (`idx`: `a`); returns the padded count.
+    /// Periodic grids: compacts the in-support entries of `list` (at most [`TILE`])
+    /// around `pa` (slot `a`) with their displacements (only positions are read). Pads
+    /// to a multiple of `lanes` with `a` itself (zero displacement); returns the padded
+    /// count.
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
-    fn gather(
+    fn compact(
         &mut self,
         c: &PassCtx<'_>,
         nb: &[Packed],
@@ -126,66 +105,170 @@ impl Tile {
         a: u32,
         list: &[u32],
         support2: f64,
-        pressure: bool,
         lanes: usize,
     ) -> usize {
         debug_assert!(list.len() <= TILE);
+        let pos = pa.pos();
         let mut k = 0usize;
         for &b in list {
             let pb = &nb[b as usize];
+            let d = c.grid.displacement(pos, pb.pos());
+            let r2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
             // k < TILE: the mask only tells the compiler so (no bounds checks)
             let i = k & (TILE - 1);
-            let r2 = self.put_kinematics(i, c, pa, pb);
-            self.aux[i] = if pressure { pb.p } else { pb.pr2 };
-            self.mass[i] = pb.mass;
-            self.vol[i] = pb.vol;
-            self.fl[i] = pb.fl;
             self.idx[i] = b;
+            self.x[i] = d[0];
+            self.y[i] = d[1];
+            self.z[i] = d[2];
+            self.r2[i] = r2;
             k += (r2 < support2) as usize;
         }
         let kp = k.next_multiple_of(lanes);
         for i in k..kp {
+            self.idx[i] = a;
             self.x[i] = 0.0;
             self.y[i] = 0.0;
             self.z[i] = 0.0;
             self.r2[i] = 0.0;
-            self.vx[i] = pa.vel[0];
-            self.vy[i] = pa.vel[1];
-            self.vz[i] = pa.vel[2];
-            self.rho[i] = pa.rho;
-            self.aux[i] = if pressure { pa.p } else { pa.pr2 };
-            self.mass[i] = 0.0;
-            self.vol[i] = 0.0;
-            self.fl[i] = 0.0;
+        }
+        kp
+    }
+
+    /// [`compact`](Self::compact) without periodic axes, `lanes` list entries at a time:
+    /// their positions transposed, the squared distances in SIMD (the same unfused
+    /// arithmetic), the compaction per lane.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    fn compact_simd<S: Simd>(
+        &mut self,
+        s: S,
+        nb: &[Packed],
+        pa: &Packed,
+        pos_a: &[S::f64s; 3],
+        a: u32,
+        list: &[u32],
+        support2: f64,
+    ) -> usize {
+        debug_assert!(list.len() <= TILE);
+        let lanes = S::F64_LANES;
+        let mut r2s = [0.0f64; 16];
+        let mut k = 0usize;
+        let whole = list.len() / lanes * lanes;
+        for ids in list[..whole].chunks_exact(lanes) {
+            let [xb, yb, zb, _] = columns(s, nb, ids, |r| &r.pos_p);
+            let (_, r2) = displacement(s, pos_a, xb, yb, zb);
+            S::as_mut_simd_f64s(&mut r2s[..lanes]).0[0] = r2;
+            for (&b, &r2) in ids.iter().zip(&r2s[..lanes]) {
+                self.idx[k & (TILE - 1)] = b;
+                k += (r2 < support2) as usize;
+            }
+        }
+        let pos = pa.pos();
+        for &b in &list[whole..] {
+            let q = nb[b as usize].pos();
+            let d = [pos[0] - q[0], pos[1] - q[1], pos[2] - q[2]];
+            let r2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+            self.idx[k & (TILE - 1)] = b;
+            k += (r2 < support2) as usize;
+        }
+        let kp = k.next_multiple_of(lanes);
+        for i in k..kp {
             self.idx[i] = a;
         }
         kp
     }
 
-    /// Force pass: the columns of `seq` (at most [`TILE`] entries of the sequence the
-    /// continuity pass kept for particle `a`, already padded) around `pa`, with `aux =
-    /// p / rho^2`; an entry `a` is the neutral neighbour (its mass zeroed, the rest is
-    /// `a`'s own: zero displacement, `a`'s velocity, density and `p / rho^2`). Only the
-    /// columns the force terms read are written.
+    /// Periodic grids: the displacements of the entries `seq` around `pa` (at most
+    /// [`TILE`]).
     #[inline(always)]
-    fn gather_kept(
-        &mut self,
-        c: &PassCtx<'_>,
-        nb: &[Packed],
-        pa: &Packed,
-        a: u32,
-        seq: &[u32],
-    ) -> usize {
+    fn displacements(&mut self, c: &PassCtx<'_>, nb: &[Packed], pa: &Packed, seq: &[u32]) {
         debug_assert!(seq.len() <= TILE);
+        let pos = pa.pos();
         for (i, &b) in seq.iter().enumerate() {
-            let pb = &nb[b as usize];
+            let d = c.grid.displacement(pos, nb[b as usize].pos());
             let i = i & (TILE - 1);
-            self.put_kinematics(i, c, pa, pb);
-            self.aux[i] = pb.pr2;
-            self.mass[i] = if b != a { pb.mass } else { 0.0 };
+            self.x[i] = d[0];
+            self.y[i] = d[1];
+            self.z[i] = d[2];
+            self.r2[i] = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
         }
-        seq.len()
     }
+}
+
+/// The four columns of one group of [`Packed`] (`field` picks it) over the neighbours
+/// `ids` (one per lane): `lanes` rows loaded whole and transposed (AVX2: 4 loads and 8
+/// shuffles for 16 values).
+#[inline(always)]
+fn columns<S: Simd>(
+    s: S,
+    nb: &[Packed],
+    ids: &[u32],
+    field: impl Fn(&Packed) -> &[f64; 4],
+) -> [S::f64s; 4] {
+    let lanes = S::F64_LANES;
+    debug_assert_eq!(ids.len(), lanes);
+    if lanes == 1 {
+        let (v, _) = S::as_simd_f64s(field(&nb[ids[0] as usize]));
+        [v[0], v[1], v[2], v[3]]
+    } else if lanes == 4 {
+        let row = |j: usize| S::as_simd_f64s(field(&nb[ids[j] as usize])).0[0];
+        s.deinterleave_shfl_f64s([row(0), row(1), row(2), row(3)])
+    } else {
+        // any other width: the rows through a stack buffer
+        let mut buf = [0.0f64; 4 * 16];
+        for (j, &b) in ids.iter().enumerate() {
+            buf[4 * j..4 * j + 4].copy_from_slice(field(&nb[b as usize]));
+        }
+        let (v, _) = S::as_simd_f64s(&buf[..4 * lanes]);
+        s.deinterleave_shfl_f64s([v[0], v[1], v[2], v[3]])
+    }
+}
+
+/// Displacements `x_a - x_b` and squared distances of one vector of neighbours: from
+/// the transposed positions `(xb, yb, zb)` (the scalar arithmetic of
+/// `CellGrid::displacement` without periodic axes, unfused), or, on periodic grids,
+/// from the tile's slots `j..j + lanes`.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn separation<S: Simd>(
+    s: S,
+    c: &PassCtx<'_>,
+    pa: &[S::f64s; 3],
+    xb: S::f64s,
+    yb: S::f64s,
+    zb: S::f64s,
+    t: &Tile,
+    j: usize,
+) -> ([S::f64s; 3], S::f64s) {
+    if c.periodic {
+        let lanes = S::F64_LANES;
+        let col = |v: &[f64; TILE + PAD]| S::as_simd_f64s(&v[j..j + lanes]).0[0];
+        ([col(&t.x), col(&t.y), col(&t.z)], col(&t.r2))
+    } else {
+        displacement(s, pa, xb, yb, zb)
+    }
+}
+
+/// `x_a - x_b` and its square, `(d_x d_x + d_y d_y) + d_z d_z` unfused: the scalar
+/// arithmetic of `CellGrid::displacement` without periodic axes, lane by lane.
+#[inline(always)]
+fn displacement<S: Simd>(
+    s: S,
+    pa: &[S::f64s; 3],
+    xb: S::f64s,
+    yb: S::f64s,
+    zb: S::f64s,
+) -> ([S::f64s; 3], S::f64s) {
+    let x = [
+        s.sub_f64s(pa[0], xb),
+        s.sub_f64s(pa[1], yb),
+        s.sub_f64s(pa[2], zb),
+    ];
+    let r2 = s.add_f64s(
+        s.add_f64s(s.mul_f64s(x[0], x[0]), s.mul_f64s(x[1], x[1])),
+        s.mul_f64s(x[2], x[2]),
+    );
+    (x, r2)
 }
 
 /// Kernel constants in the form the reference [`Kernel`](chrono_core::particles::Kernel)
@@ -318,7 +401,7 @@ impl<const KER: u8, const DIFF: u8, const AV: bool> WithSimd for TaskOp<'_, '_, 
                     s, c, nb, pa, a, kc, support2, &mut tile, o, sq, l,
                 ),
                 Pass::Force => {
-                    force_one::<S, KER, AV>(s, c, pa, a, kc, &mut tile, o, nb, &sq[..*l as usize])
+                    force_one::<S, KER, AV>(s, c, pa, kc, &mut tile, o, nb, &sq[..*l as usize])
                 }
             }
         }
@@ -378,7 +461,7 @@ fn continuity_one<S: Simd, const KER: u8, const DIFF: u8>(
     seq: &mut [u32],
     len: &mut u32,
 ) {
-    if pa.fl == 0.0 {
+    if !pa.fluid() {
         out.drho = 0.0;
         out.xsph = [0.0; 3];
         *len = 0;
@@ -388,13 +471,14 @@ fn continuity_one<S: Simd, const KER: u8, const DIFF: u8>(
     let zero = s.splat_f64s(0.0);
     let (mut sum, mut diff) = (zero, zero);
     let (mut xs0, mut xs1, mut xs2) = (zero, zero, zero);
+    let va = pa.vel();
     let va = [
-        s.splat_f64s(pa.vel[0]),
-        s.splat_f64s(pa.vel[1]),
-        s.splat_f64s(pa.vel[2]),
+        s.splat_f64s(va[0]),
+        s.splat_f64s(va[1]),
+        s.splat_f64s(va[2]),
     ];
-    let rho_a = s.splat_f64s(pa.rho);
-    let p_a = s.splat_f64s(pa.p);
+    let rho_a = s.splat_f64s(pa.rho());
+    let p_a = s.splat_f64s(pa.p());
     let half = s.splat_f64s(0.5);
     let xsph = s.splat_f64s(c.xsph);
     let g = [
@@ -403,34 +487,34 @@ fn continuity_one<S: Simd, const KER: u8, const DIFF: u8>(
         s.splat_f64s(c.gravity[2]),
     ];
     let inv_c2 = s.splat_f64s(c.inv_c2);
+    let pos_a = pa.pos();
+    let pos_a = [
+        s.splat_f64s(pos_a[0]),
+        s.splat_f64s(pos_a[1]),
+        s.splat_f64s(pos_a[2]),
+    ];
     let mut w = 0usize;
     for chunk in c.list.neighbors(a).chunks(TILE) {
-        let kp = t.gather(c, nb, pa, a as u32, chunk, support2, true, lanes);
+        let kp = if c.periodic {
+            t.compact(c, nb, pa, a as u32, chunk, support2, lanes)
+        } else {
+            t.compact_simd(s, nb, pa, &pos_a, a as u32, chunk, support2)
+        };
         seq[w..w + kp].copy_from_slice(&t.idx[..kp]);
         w += kp;
-        let (xv, _) = S::as_simd_f64s(&t.x[..kp]);
-        let (yv, _) = S::as_simd_f64s(&t.y[..kp]);
-        let (zv, _) = S::as_simd_f64s(&t.z[..kp]);
-        let (r2v, _) = S::as_simd_f64s(&t.r2[..kp]);
-        let (vxv, _) = S::as_simd_f64s(&t.vx[..kp]);
-        let (vyv, _) = S::as_simd_f64s(&t.vy[..kp]);
-        let (vzv, _) = S::as_simd_f64s(&t.vz[..kp]);
-        let (rhov, _) = S::as_simd_f64s(&t.rho[..kp]);
-        let (pv, _) = S::as_simd_f64s(&t.aux[..kp]);
-        let (mv, _) = S::as_simd_f64s(&t.mass[..kp]);
-        let (volv, _) = S::as_simd_f64s(&t.vol[..kp]);
-        let (flv, _) = S::as_simd_f64s(&t.fl[..kp]);
-        let nv = xv.len();
-        for j in 0..nv {
-            let x = [xv[j], yv[j], zv[j]];
-            let r = s.sqrt_f64s(r2v[j]);
+        for j in (0..kp).step_by(lanes) {
+            let ids = &t.idx[j..j + lanes];
+            let [xb, yb, zb, pb] = columns(s, nb, ids, |r| &r.pos_p);
+            let [vxb, vyb, vzb, rho_b] = columns(s, nb, ids, |r| &r.vel_rho);
+            let [_, mb, vb, flb] = columns(s, nb, ids, |r| &r.pr2_m_vol_fl);
+            let (x, r2) = separation(s, c, &pos_a, xb, yb, zb, t, j);
+            let r = s.sqrt_f64s(r2);
             let (wk, fk) = kernel_wf::<S, KER>(s, kc, r, true);
             let vab = [
-                s.sub_f64s(va[0], vxv[j]),
-                s.sub_f64s(va[1], vyv[j]),
-                s.sub_f64s(va[2], vzv[j]),
+                s.sub_f64s(va[0], vxb),
+                s.sub_f64s(va[1], vyb),
+                s.sub_f64s(va[2], vzb),
             ];
-            let vb = volv[j];
             // sum += V_b F (v_ab . x_ab)
             let vdx = s.mul_add_e_f64s(
                 vab[2],
@@ -439,8 +523,8 @@ fn continuity_one<S: Simd, const KER: u8, const DIFF: u8>(
             );
             sum = s.mul_add_e_f64s(s.mul_f64s(vb, fk), vdx, sum);
             // XSPH (fluid b only: the fluid flag zeroes the mass)
-            let rho_ab = s.mul_f64s(half, s.add_f64s(rho_a, rhov[j]));
-            let mf = s.mul_f64s(mv[j], flv[j]);
+            let rho_ab = s.mul_f64s(half, s.add_f64s(rho_a, rho_b));
+            let mf = s.mul_f64s(mb, flb);
             let k = s.div_f64s(s.mul_f64s(s.mul_f64s(xsph, mf), wk), rho_ab);
             xs0 = s.negate_mul_add_e_f64s(k, vab[0], xs0);
             xs1 = s.negate_mul_add_e_f64s(k, vab[1], xs1);
@@ -448,16 +532,16 @@ fn continuity_one<S: Simd, const KER: u8, const DIFF: u8>(
             // delta-SPH, fluid b only: psi_ba (-F) V_b
             if DIFF != DIFF_NONE {
                 let psi = if DIFF == DIFF_MC {
-                    s.sub_f64s(rhov[j], rho_a)
+                    s.sub_f64s(rho_b, rho_a)
                 } else {
                     let gx = s.mul_add_e_f64s(
                         g[2],
                         x[2],
                         s.mul_add_e_f64s(g[1], x[1], s.mul_f64s(g[0], x[0])),
                     );
-                    s.mul_f64s(s.mul_add_e_f64s(rho_ab, gx, s.sub_f64s(pv[j], p_a)), inv_c2)
+                    s.mul_f64s(s.mul_add_e_f64s(rho_ab, gx, s.sub_f64s(pb, p_a)), inv_c2)
                 };
-                let vf = s.mul_f64s(vb, flv[j]);
+                let vf = s.mul_f64s(vb, flb);
                 diff = s.negate_mul_add_e_f64s(s.mul_f64s(vf, psi), fk, diff);
             }
         }
@@ -465,7 +549,7 @@ fn continuity_one<S: Simd, const KER: u8, const DIFF: u8>(
     *len = w as u32;
     let sum = s.reduce_sum_f64s(sum);
     let diff = s.reduce_sum_f64s(diff);
-    out.drho = pa.rho * sum + c.diffusion_coef * diff;
+    out.drho = pa.rho() * sum + c.diffusion_coef * diff;
     out.xsph = [
         s.reduce_sum_f64s(xs0),
         s.reduce_sum_f64s(xs1),
@@ -481,14 +565,13 @@ fn force_one<S: Simd, const KER: u8, const AV: bool>(
     s: S,
     c: &PassCtx<'_>,
     pa: &Packed,
-    a: usize,
     kc: KConst,
     t: &mut Tile,
     out: &mut Deriv,
     nb: &[Packed],
     seq: &[u32],
 ) {
-    if pa.fl == 0.0 {
+    if !pa.fluid() {
         out.acc = [0.0; 3];
         return;
     }
@@ -498,47 +581,48 @@ fn force_one<S: Simd, const KER: u8, const AV: bool>(
         s.partial_load_f64s(&[c.accel[1]]),
         s.partial_load_f64s(&[c.accel[2]]),
     ];
+    let va = pa.vel();
     let va = [
-        s.splat_f64s(pa.vel[0]),
-        s.splat_f64s(pa.vel[1]),
-        s.splat_f64s(pa.vel[2]),
+        s.splat_f64s(va[0]),
+        s.splat_f64s(va[1]),
+        s.splat_f64s(va[2]),
     ];
-    let rho_a = s.splat_f64s(pa.rho);
-    let pr2_a = s.splat_f64s(pa.pr2);
+    let rho_a = s.splat_f64s(pa.rho());
+    let pr2_a = s.splat_f64s(pa.pr2());
     let half = s.splat_f64s(0.5);
     let h = c.kernel.h();
     let eta2 = s.splat_f64s(0.01 * h * h);
     let ach = s.splat_f64s(-c.alpha * c.eos.sound_speed * h);
     let two_mu = s.splat_f64s(2.0 * c.mu);
     let zero = s.splat_f64s(0.0);
+    let pos_a = pa.pos();
+    let pos_a = [
+        s.splat_f64s(pos_a[0]),
+        s.splat_f64s(pos_a[1]),
+        s.splat_f64s(pos_a[2]),
+    ];
+    let lanes = S::F64_LANES;
     // each chunk is a whole number of vectors: the sequence is, and TILE is a multiple
     // of every lane count
     for chunk in seq.chunks(TILE) {
-        let kp = t.gather_kept(c, nb, pa, a as u32, chunk);
-        let (xv, _) = S::as_simd_f64s(&t.x[..kp]);
-        let (yv, _) = S::as_simd_f64s(&t.y[..kp]);
-        let (zv, _) = S::as_simd_f64s(&t.z[..kp]);
-        let (r2v, _) = S::as_simd_f64s(&t.r2[..kp]);
-        let (vxv, _) = S::as_simd_f64s(&t.vx[..kp]);
-        let (vyv, _) = S::as_simd_f64s(&t.vy[..kp]);
-        let (vzv, _) = S::as_simd_f64s(&t.vz[..kp]);
-        let (rhov, _) = S::as_simd_f64s(&t.rho[..kp]);
-        let (pr2v, _) = S::as_simd_f64s(&t.aux[..kp]);
-        let (mv, _) = S::as_simd_f64s(&t.mass[..kp]);
-        let nv = xv.len();
-        for j in 0..nv {
-            let x = [xv[j], yv[j], zv[j]];
-            let r2 = r2v[j];
+        if c.periodic {
+            t.displacements(c, nb, pa, chunk);
+        }
+        for j in (0..chunk.len()).step_by(lanes) {
+            let ids = &chunk[j..j + lanes];
+            let [xb, yb, zb, _] = columns(s, nb, ids, |r| &r.pos_p);
+            let [vxb, vyb, vzb, rho_b] = columns(s, nb, ids, |r| &r.vel_rho);
+            let [pr2_b, mb, _, _] = columns(s, nb, ids, |r| &r.pr2_m_vol_fl);
+            let (x, r2) = separation(s, c, &pos_a, xb, yb, zb, t, j);
             let (_, fk) = kernel_wf::<S, KER>(s, kc, s.sqrt_f64s(r2), false);
-            let mb = mv[j];
             let vv = [
-                s.sub_f64s(va[0], vxv[j]),
-                s.sub_f64s(va[1], vyv[j]),
-                s.sub_f64s(va[2], vzv[j]),
+                s.sub_f64s(va[0], vxb),
+                s.sub_f64s(va[1], vyb),
+                s.sub_f64s(va[2], vzb),
             ];
-            let rho_ab = s.mul_f64s(half, s.add_f64s(rho_a, rhov[j]));
+            let rho_ab = s.mul_f64s(half, s.add_f64s(rho_a, rho_b));
             // pressure: -m_b (p_a/rho_a^2 + p_b/rho_b^2) F
-            let mut coef = s.mul_f64s(s.mul_f64s(s.neg_f64s(mb), s.add_f64s(pr2_a, pr2v[j])), fk);
+            let mut coef = s.mul_f64s(s.mul_f64s(s.neg_f64s(mb), s.add_f64s(pr2_a, pr2_b)), fk);
             if AV {
                 let vx = s.mul_add_e_f64s(
                     vv[2],

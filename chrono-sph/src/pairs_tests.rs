@@ -13,6 +13,7 @@ use crate::settings::NoSlip;
 struct Cloud {
     nb: Vec<Packed>,
     grid: CellGrid,
+    periodic: bool,
     list: NeighborList,
 }
 
@@ -36,16 +37,8 @@ fn cloud(seed: u64, n: usize, periodic: bool) -> Cloud {
         let p = 2e4 * (next() - 0.3);
         let mass = 1.0 + 0.1 * next();
         let fluid = next() < 0.67;
-        nb.push(Packed {
-            pos,
-            vel: [next() - 0.5, next() - 0.5, next() - 0.5],
-            rho,
-            p,
-            pr2: p / (rho * rho),
-            mass,
-            vol: mass / rho,
-            fl: if fluid { 1.0 } else { 0.0 },
-        });
+        let vel = [next() - 0.5, next() - 0.5, next() - 0.5];
+        nb.push(Packed::new(pos, vel, rho, p, mass, fluid));
         xs.push(pos[0]);
         ys.push(pos[1]);
         zs.push(pos[2]);
@@ -58,7 +51,12 @@ fn cloud(seed: u64, n: usize, periodic: bool) -> Cloud {
     let mut list = NeighborList::new();
     grid.neighbor_list([&xs, &ys, &zs], radius, &mut list)
         .unwrap();
-    Cloud { nb, grid, list }
+    Cloud {
+        nb,
+        grid,
+        periodic,
+        list,
+    }
 }
 
 fn ctx<'a>(
@@ -72,6 +70,7 @@ fn ctx<'a>(
         kernel,
         eos,
         grid: &cl.grid,
+        periodic: cl.periodic,
         list: &cl.list,
         mu: 1e-3,
         alpha,
@@ -124,7 +123,7 @@ fn in_support(c: &PassCtx<'_>, nb: &[Packed]) -> usize {
                 .neighbors(a)
                 .iter()
                 .filter(|&&b| {
-                    let d = c.grid.displacement(nb[a].pos, nb[b as usize].pos);
+                    let d = c.grid.displacement(nb[a].pos(), nb[b as usize].pos());
                     d[0] * d[0] + d[1] * d[1] + d[2] * d[2] < s2
                 })
                 .count()

@@ -372,7 +372,8 @@ impl SphSystem {
             self.data.rho_half = out;
         }
         interact::fluid_pressure(&mut self.data, &self.eos);
-        interact::wall_extrapolation(&mut self.data, &ctx, &mut self.bc);
+        // the records of the continuity pass: same positions, fluid velocities and kinds
+        interact::wall_extrapolation(&mut self.data, &self.packed, &ctx, &mut self.bc);
         self.timings.density += t0.elapsed().as_secs_f64();
     }
 
@@ -642,6 +643,7 @@ fn make_ctx<'a>(
         kernel,
         eos,
         grid,
+        periodic: s.periodic.iter().any(|&p| p),
         list,
         mu: s.viscosity,
         alpha: s.artificial_viscosity,
