@@ -280,12 +280,18 @@ fn symmetric_upper_mul_add(upper: &SparseColMat<usize, f64>, x: &[f64], out: &mu
     let s = upper.symbolic();
     let (cp, ri, val) = (s.col_ptr(), s.row_idx(), upper.val());
     for j in 0..upper.ncols() {
+        // Column j is the first to touch out[j] (earlier columns hold rows < j), so its
+        // sum is kept in a register, in the same order.
+        let (xj, mut oj) = (x[j], out[j]);
         for idx in cp[j]..cp[j + 1] {
             let (i, a) = (ri[idx], val[idx]);
-            out[i] += a * x[j];
             if i != j {
-                out[j] += a * x[i];
+                out[i] += a * xj;
+                oj += a * x[i];
+            } else {
+                oj += a * xj;
             }
         }
+        out[j] = oj;
     }
 }
