@@ -81,7 +81,7 @@ impl SparseBilateral {
         };
         let upper = self.upper.as_mut().ok_or_else(|| missing("pattern"))?;
         let vals = upper.val_mut();
-        problem.fill_n_entries(&self.plan, vals);
+        problem.fill_n_entries(&mut self.plan, vals);
         let mut max_diag: f64 = 0.0;
         for (v, &(i, j)) in vals.iter().zip(&self.entries) {
             if i == j {
@@ -283,8 +283,8 @@ fn symmetric_upper_mul_add(upper: &SparseColMat<usize, f64>, x: &[f64], out: &mu
         // Column j is the first to touch out[j] (earlier columns hold rows < j), so its
         // sum is kept in a register, in the same order.
         let (xj, mut oj) = (x[j], out[j]);
-        for idx in cp[j]..cp[j + 1] {
-            let (i, a) = (ri[idx], val[idx]);
+        let (r0, r1) = (cp[j], cp[j + 1]);
+        for (&i, &a) in ri[r0..r1].iter().zip(&val[r0..r1]) {
             if i != j {
                 out[i] += a * xj;
                 oj += a * x[i];
