@@ -189,28 +189,28 @@ impl UpLooking {
     ) -> Result<usize, NonPositivePivot> {
         let (eps, delta) = (epsilon.abs(), delta.abs());
         let mut regularized = 0;
-        let x = &mut self.x;
+        let (x, inv_diag) = (&mut self.x[..], &mut self.inv_diag[..]);
+        let (l_ptr, l_row, l_val) = (&self.l_ptr[..], &self.l_row[..], &mut self.l_val[..]);
         for k in 0..self.n {
-            for p in self.a_ptr[k]..self.a_ptr[k + 1] {
-                x[self.a_row[p]] += values[self.a_src[p]];
+            let (a0, a1) = (self.a_ptr[k], self.a_ptr[k + 1]);
+            for (&i, &src) in self.a_row[a0..a1].iter().zip(&self.a_src[a0..a1]) {
+                x[i] += values[src];
             }
             let mut d = x[k];
             x[k] = 0.0;
-            for r in self.reach_ptr[k]..self.reach_ptr[k + 1] {
-                let (j, pos) = (self.reach_col[r], self.reach_pos[r]);
-                let lkj = x[j] * self.inv_diag[j];
+            let (r0, r1) = (self.reach_ptr[k], self.reach_ptr[k + 1]);
+            for (&j, &pos) in self.reach_col[r0..r1].iter().zip(&self.reach_pos[r0..r1]) {
+                let lkj = x[j] * inv_diag[j];
                 x[j] = 0.0;
                 // Columns of L hold their rows in increasing order: those above k were
                 // filled by the earlier rows.
-                let (rows, vals) = (
-                    &self.l_row[self.l_ptr[j] + 1..pos],
-                    &self.l_val[self.l_ptr[j] + 1..pos],
-                );
-                for (&i, &lij) in rows.iter().zip(vals) {
+                let p0 = l_ptr[j] + 1;
+                let (done, rest) = l_val.split_at_mut(pos);
+                for (&i, &lij) in l_row[p0..pos].iter().zip(&done[p0..]) {
                     x[i] -= lij * lkj;
                 }
                 d -= lkj * lkj;
-                self.l_val[pos] = lkj;
+                rest[0] = lkj;
             }
             if delta > 0.0 && d <= eps {
                 d = delta;
@@ -221,8 +221,8 @@ impl UpLooking {
                 return Err(NonPositivePivot(k + 1));
             }
             let lkk = d.sqrt();
-            self.l_val[self.l_ptr[k]] = lkk;
-            self.inv_diag[k] = lkk.recip();
+            l_val[l_ptr[k]] = lkk;
+            inv_diag[k] = lkk.recip();
         }
         Ok(regularized)
     }
