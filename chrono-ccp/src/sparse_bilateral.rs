@@ -176,7 +176,14 @@ impl SparseBilateral {
                     Some(p) => (p.arrays().0.to_vec(), p.arrays().1.to_vec()),
                     None => ((0..nb).collect(), (0..nb).collect()),
                 };
-                UpLooking::new(s.col_ptr(), s.row_idx(), &fwd, &inv, l.col_ptr(), l.row_idx())
+                UpLooking::new(
+                    s.col_ptr(),
+                    s.row_idx(),
+                    &fwd,
+                    &inv,
+                    l.col_ptr(),
+                    l.row_idx(),
+                )
             }
             SymbolicCholeskyRaw::Supernodal(_) => None,
         };

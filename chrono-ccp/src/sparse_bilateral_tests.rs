@@ -42,11 +42,17 @@ fn mechanism(n: usize, blocks: usize, rng: &mut Rng) -> Vec<Triplet<usize, usize
         }
         rows.push(row);
     }
-    let w: Vec<f64> = (0..blocks).map(|b| if b == 0 { 1e-3 } else { 1.0 + b as f64 }).collect();
+    let w: Vec<f64> = (0..blocks)
+        .map(|b| if b == 0 { 1e-3 } else { 1.0 + b as f64 })
+        .collect();
     let mut t = Vec::new();
     for j in 0..n {
         for i in 0..=j {
-            let mut s = if i == j && rng.uniform() < 0.2 { 1e-6 } else { 0.0 };
+            let mut s = if i == j && rng.uniform() < 0.2 {
+                1e-6
+            } else {
+                0.0
+            };
             let mut shared = false;
             for (bi, ci) in &rows[i] {
                 for (bj, cj) in &rows[j] {
@@ -87,8 +93,15 @@ fn up_looking_is_bit_identical_to_faer_simplicial() {
             None => ((0..n).collect(), (0..n).collect()),
         };
         let s = a.symbolic();
-        let mut up = UpLooking::new(s.col_ptr(), s.row_idx(), &fwd, &inv, l.col_ptr(), l.row_idx())
-            .expect("the pattern of L agrees with faer's");
+        let mut up = UpLooking::new(
+            s.col_ptr(),
+            s.row_idx(),
+            &fwd,
+            &inv,
+            l.col_ptr(),
+            l.row_idx(),
+        )
+        .expect("the pattern of L agrees with faer's");
         let scale = a.val().iter().fold(0.0f64, |m, v| m.max(v.abs()));
         let cols = 1 + case % 6;
         let mut mem = MemBuffer::new(StackReq::any_of(&[
@@ -123,7 +136,11 @@ fn up_looking_is_bit_identical_to_faer_simplicial() {
         let mut x_up = rhs.clone();
         up.solve(&mut x_up, cols);
         for (k, (p, q)) in x_faer.iter().zip(&x_up).enumerate() {
-            assert_eq!(p.to_bits(), q.to_bits(), "case {case}, entry {k}: {p} vs {q}");
+            assert_eq!(
+                p.to_bits(),
+                q.to_bits(),
+                "case {case}, entry {k}: {p} vs {q}"
+            );
         }
         // A second factorization on the same pattern, other values.
         let scaled: Vec<f64> = a.val().iter().map(|v| 0.75 * v).collect();
@@ -155,7 +172,10 @@ fn up_looking_is_bit_identical_to_faer_simplicial() {
         compared += 1;
     }
     assert!(compared >= 20, "only {compared} simplicial cases");
-    assert!(regularized >= 5, "only {regularized} cases with regularized pivots");
+    assert!(
+        regularized >= 5,
+        "only {regularized} cases with regularized pivots"
+    );
 }
 
 #[test]

@@ -216,7 +216,7 @@ impl UpLooking {
                 d = delta;
                 regularized += 1;
             }
-            if !(d > 0.0) {
+            if d.is_nan() || d <= 0.0 {
                 x.fill(0.0);
                 return Err(NonPositivePivot(k + 1));
             }

@@ -167,18 +167,37 @@ mod tests {
         let mut rows = ConstraintRows::new();
         rows.push_bilateral(
             &[
-                RowEntry { block: blocks[0], coefs: &a },
-                RowEntry { block: blocks[1], coefs: &b },
+                RowEntry {
+                    block: blocks[0],
+                    coefs: &a,
+                },
+                RowEntry {
+                    block: blocks[1],
+                    coefs: &b,
+                },
             ],
             0.0,
             1e-3,
         );
         let second = if moved { blocks[2] } else { blocks[1] };
-        rows.push_bilateral(&[RowEntry { block: second, coefs: &d }], 0.0, 0.0);
+        rows.push_bilateral(
+            &[RowEntry {
+                block: second,
+                coefs: &d,
+            }],
+            0.0,
+            0.0,
+        );
         rows.push_bilateral(
             &[
-                RowEntry { block: blocks[2], coefs: &a },
-                RowEntry { block: blocks[0], coefs: &d },
+                RowEntry {
+                    block: blocks[2],
+                    coefs: &a,
+                },
+                RowEntry {
+                    block: blocks[0],
+                    coefs: &d,
+                },
             ],
             0.0,
             2e-3,
@@ -198,7 +217,12 @@ mod tests {
         assert_eq!(plan.len(), 9);
         // Same rows and blocks, other coefficients: the plan holds; a row on another
         // block: the plan is made again.
-        for q in [p, problem(0.37, false), problem(0.5, true), problem(0.9, false)] {
+        for q in [
+            p,
+            problem(0.37, false),
+            problem(0.5, true),
+            problem(0.9, false),
+        ] {
             let mut out = vec![f64::NAN; plan.len()];
             q.fill_n_entries(&mut plan, &mut out);
             for (&(i, j), v) in positions.iter().zip(&out) {
