@@ -432,7 +432,11 @@ impl CcpSolver for Schur {
         // 2 n_coefs multiply-adds), at least one, so statistics compare with the other solvers.
         let per_iteration = (nc * nc).div_ceil(2 * problem.n_coefs().max(1)).max(1);
         let max_it = if nc == 0 { 0 } else { max_it };
+        // True while `gamma` and `self.grad` hold the completed current iterate (a check
+        // just ran): the final completion would redo the same sums.
+        let mut completed = false;
         for it in 0..max_it {
+            completed = false;
             iterations = it + 1;
             apply_n += per_iteration;
             Self::reduced_gradient(&self.s, &self.q, &self.y, &mut self.grad_c);
@@ -457,14 +461,17 @@ impl CcpSolver for Schur {
                 history.push(iterations, res, apply_n, || {
                     problem.objective_from_gradient(gamma, &self.grad, &mut self.work)
                 });
+                completed = true;
                 if res <= tol {
                     break;
                 }
             }
         }
-        self.recover_bilateral(problem, gamma);
-        problem.gradient(gamma, &mut self.grad, &mut self.work);
-        apply_n += 1;
+        if !completed {
+            self.recover_bilateral(problem, gamma);
+            problem.gradient(gamma, &mut self.grad, &mut self.work);
+            apply_n += 1;
+        }
         final_stats(
             problem,
             gamma,

@@ -7,19 +7,25 @@
 //! factorization are kept while the rows touch the same blocks (a mechanism's joints do,
 //! step after step); each solve refills the values and refactors numerically.
 //!
+//! The values are refilled through an [`NEntryPlan`] (the products each entry sums, found
+//! at analysis), and when faer chose its simplicial factorization the numeric factor and
+//! the solves run on [`UpLooking`], which repeats faer's operations bit for bit without
+//! redoing the pattern work on every call.
+//!
 //! Dependent (redundant) rows make `N_BB` singular. faer's dynamic regularization replaces
 //! a pivot below `1e-12 max(diag)` by `max(diag)`: the factor is then that of a slightly
 //! different SPD matrix, and a few steps of iterative refinement against the true `N_BB`
 //! make the solve exact for the consistent systems the solver produces (the dependent
 //! row's multiplier stays about zero, as when [`crate::dense`] drops it).
 
-use chrono_core::descriptor::CcpProblem;
+use chrono_core::descriptor::{CcpProblem, NEntryPlan};
 
 use crate::error::CcpError;
+use crate::up_looking::UpLooking;
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::linalg::cholesky::llt::factor::LltRegularization;
 use faer::sparse::linalg::cholesky::{
-    CholeskySymbolicParams, LltRef, SymbolicCholesky, SymmetricOrdering,
+    CholeskySymbolicParams, LltRef, SymbolicCholesky, SymbolicCholeskyRaw, SymmetricOrdering,
     factorize_symbolic_cholesky,
 };
 use faer::sparse::{SparseColMat, Triplet};
@@ -35,7 +41,11 @@ pub(crate) struct SparseBilateral {
     upper: Option<SparseColMat<usize, f64>>,
     /// `(i, j)` (local bilateral indices) of each stored value, in storage order.
     entries: Vec<(usize, usize)>,
+    /// The products of each stored value.
+    plan: NEntryPlan,
     symbolic: Option<SymbolicCholesky<usize>>,
+    /// The same factorization on the fixed pattern, when faer's is simplicial.
+    up: Option<UpLooking>,
     l_values: Vec<f64>,
     scratch: Option<MemBuffer>,
     scratch_cols: usize,
@@ -71,14 +81,25 @@ impl SparseBilateral {
         };
         let upper = self.upper.as_mut().ok_or_else(|| missing("pattern"))?;
         let vals = upper.val_mut();
+        problem.fill_n_entries(&mut self.plan, vals);
         let mut max_diag: f64 = 0.0;
-        for (v, &(i, j)) in vals.iter_mut().zip(&self.entries) {
-            *v = problem.n_entry(b_rows[i], b_rows[j]);
+        for (v, &(i, j)) in vals.iter().zip(&self.entries) {
             if i == j {
                 max_diag = max_diag.max(*v);
             }
         }
         let scale = if max_diag > 0.0 { max_diag } else { 1.0 };
+        let failed = |detail: String| CcpError::Factorization {
+            rows: b_rows.len(),
+            stage: "numeric",
+            detail,
+        };
+        if let Some(up) = &mut self.up {
+            return up
+                .factor(vals, scale, 1e-12 * scale)
+                .map(|_| ())
+                .map_err(|e| failed(format!("{e:?}")));
+        }
         let symbolic = self.symbolic.as_ref().ok_or_else(|| missing("symbolic"))?;
         let scratch = self.scratch.as_mut().ok_or_else(|| missing("symbolic"))?;
         symbolic
@@ -95,11 +116,7 @@ impl SparseBilateral {
                 Default::default(),
             )
             .map(|_| ())
-            .map_err(|e| CcpError::Factorization {
-                rows: b_rows.len(),
-                stage: "numeric",
-                detail: format!("{e:?}"),
-            })
+            .map_err(|e| failed(format!("{e:?}")))
     }
 
     /// The pattern, ordering and symbolic factorization for the current key.
@@ -152,6 +169,24 @@ impl SparseBilateral {
             stage: "symbolic",
             detail: format!("{e:?}"),
         })?;
+        self.plan_values(problem, b_rows);
+        self.up = match symbolic.raw() {
+            SymbolicCholeskyRaw::Simplicial(l) => {
+                let (fwd, inv): (Vec<usize>, Vec<usize>) = match symbolic.perm() {
+                    Some(p) => (p.arrays().0.to_vec(), p.arrays().1.to_vec()),
+                    None => ((0..nb).collect(), (0..nb).collect()),
+                };
+                UpLooking::new(
+                    s.col_ptr(),
+                    s.row_idx(),
+                    &fwd,
+                    &inv,
+                    l.col_ptr(),
+                    l.row_idx(),
+                )
+            }
+            SymbolicCholeskyRaw::Supernodal(_) => None,
+        };
         self.l_values.clear();
         self.l_values.resize(symbolic.len_val(), 0.0);
         self.symbolic = Some(symbolic);
@@ -160,6 +195,12 @@ impl SparseBilateral {
         self.scratch_cols = 0;
         self.ensure_scratch(1);
         Ok(())
+    }
+
+    /// The plan of the stored values of `N_BB` (see [`NEntryPlan`]).
+    fn plan_values(&mut self, problem: &CcpProblem, b_rows: &[usize]) {
+        let positions = self.entries.iter().map(|&(i, j)| (b_rows[i], b_rows[j]));
+        problem.plan_n_entries(positions, &mut self.plan);
     }
 
     /// Scratch for the factorization and a solve with `cols` right-hand sides.
@@ -221,6 +262,10 @@ impl SparseBilateral {
 
     /// One solve with the factor.
     fn solve_factor(&mut self, x: &mut [f64], cols: usize) {
+        if let Some(up) = &mut self.up {
+            up.solve(x, cols);
+            return;
+        }
         self.ensure_scratch(cols);
         let (Some(symbolic), Some(scratch)) = (&self.symbolic, &mut self.scratch) else {
             x.fill(f64::NAN);
@@ -242,12 +287,18 @@ fn symmetric_upper_mul_add(upper: &SparseColMat<usize, f64>, x: &[f64], out: &mu
     let s = upper.symbolic();
     let (cp, ri, val) = (s.col_ptr(), s.row_idx(), upper.val());
     for j in 0..upper.ncols() {
-        for idx in cp[j]..cp[j + 1] {
-            let (i, a) = (ri[idx], val[idx]);
-            out[i] += a * x[j];
+        // Column j is the first to touch out[j] (earlier columns hold rows < j), so its
+        // sum is kept in a register, in the same order.
+        let (xj, mut oj) = (x[j], out[j]);
+        let (r0, r1) = (cp[j], cp[j + 1]);
+        for (&i, &a) in ri[r0..r1].iter().zip(&val[r0..r1]) {
             if i != j {
-                out[j] += a * x[i];
+                out[i] += a * xj;
+                oj += a * x[i];
+            } else {
+                oj += a * xj;
             }
         }
+        out[j] = oj;
     }
 }

@@ -24,6 +24,7 @@ mod file_fuzz;
 mod frames;
 #[cfg(test)]
 mod frames_tests;
+mod n_plan;
 mod ops;
 mod problem;
 pub mod reduce;
@@ -39,6 +40,7 @@ pub use cone::{
 };
 pub use coupled::{CoupledMass, DenseMass, dense_matrix};
 pub use file::{FrameData, ProblemFile, ProblemFormat};
+pub use n_plan::NEntryPlan;
 pub use ops::UNIT_ROWS;
 pub use problem::{CcpProblem, CcpWork, Sections, upper_index};
 pub use rows::{ConstraintRows, ContactFrame, N_GROUPS, PER_BODY_ROWS, RowEntry, RowGroup, RowId};

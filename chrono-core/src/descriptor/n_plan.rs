@@ -1,0 +1,233 @@
+//! Entries of `N` at fixed positions, with the Jacobian entries each one sums found once
+//! ([`NEntryPlan`]), for solvers that refill the same entries step after step (the joint
+//! block of a mechanism).
+
+use super::problem::CcpProblem;
+
+/// A list of entries `N_ij = D_i'M^-1 D_j + eps_i delta_ij` (rows `i`, `j` of a
+/// [`CcpProblem`]) with, for each, the products it sums: the coefficients of `D_i` and of
+/// `M^-1 D_j` on every variable block both rows touch.
+///
+/// [`CcpProblem::n_entry`] finds those products by comparing the blocks of the two rows on
+/// every call; a plan finds them once ([`CcpProblem::plan_n_entries`]) and
+/// [`CcpProblem::fill_n_entries`] then only multiplies, in the same order, so the values
+/// are bit-identical to `n_entry`'s. The plan remembers the layout it was made from (the
+/// entries of the rows it names: their blocks and where their coefficients are stored);
+/// `fill_n_entries` checks it (a pass over those rows' entries) and plans again if it
+/// changed, so a plan is never stale: the joint rows of a mechanism keep their layout from
+/// one step to the next and are planned once.
+#[derive(Debug, Clone, Default)]
+pub struct NEntryPlan {
+    /// The rows `(i, j)` of each entry.
+    rows: Vec<[u32; 2]>,
+    /// The products of entry `k` are `pairs[start[k]..start[k + 1]]`.
+    start: Vec<u32>,
+    /// Start of the coefficients of `D_i` and of `M^-1 D_j`, and their number, in
+    /// `n_entry`'s summation order.
+    pairs: Vec<[u32; 3]>,
+    /// The layout planned on: each row named (row, first entry, end of its entries) ...
+    layout_rows: Vec<[u32; 3]>,
+    /// ... and each of their entries (block, first coefficient, end of its coefficients).
+    layout_entries: Vec<[u32; 3]>,
+}
+
+impl NEntryPlan {
+    /// Number of entries planned.
+    pub fn len(&self) -> usize {
+        self.rows.len()
+    }
+
+    /// True if no entry is planned.
+    pub fn is_empty(&self) -> bool {
+        self.rows.is_empty()
+    }
+}
+
+impl CcpProblem {
+    /// Plan the entries `N_ij` at `positions` (row pairs `(i, j)`) for
+    /// [`fill_n_entries`](Self::fill_n_entries), reusing `plan`'s buffers.
+    ///
+    /// # Panics
+    /// If a row index is out of range.
+    pub fn plan_n_entries(
+        &self,
+        positions: impl IntoIterator<Item = (usize, usize)>,
+        plan: &mut NEntryPlan,
+    ) {
+        plan.rows.clear();
+        for (i, j) in positions {
+            assert!(i < self.n_rows && j < self.n_rows, "row out of range");
+            plan.rows.push([i as u32, j as u32]);
+        }
+        self.replan(plan);
+    }
+
+    /// The products and layout of `plan.rows` in this problem.
+    fn replan(&self, plan: &mut NEntryPlan) {
+        plan.start.clear();
+        plan.pairs.clear();
+        plan.start.push(0);
+        for &[i, j] in &plan.rows {
+            let (i, j) = (i as usize, j as usize);
+            for e in self.row_ptr[i] as usize..self.row_ptr[i + 1] as usize {
+                for f in self.row_ptr[j] as usize..self.row_ptr[j + 1] as usize {
+                    if self.ent_block[e] == self.ent_block[f] {
+                        let c0 = self.ent_coef[e];
+                        let len = self.ent_coef[e + 1] - c0;
+                        plan.pairs.push([c0, self.ent_coef[f], len]);
+                    }
+                }
+            }
+            plan.start.push(plan.pairs.len() as u32);
+        }
+        let mut named: Vec<u32> = plan.rows.iter().flatten().copied().collect();
+        named.sort_unstable();
+        named.dedup();
+        plan.layout_rows.clear();
+        plan.layout_entries.clear();
+        for i in named {
+            let (e0, e1) = (self.row_ptr[i as usize], self.row_ptr[i as usize + 1]);
+            plan.layout_rows.push([i, e0, e1]);
+            for e in e0 as usize..e1 as usize {
+                let c = [self.ent_block[e], self.ent_coef[e], self.ent_coef[e + 1]];
+                plan.layout_entries.push(c);
+            }
+        }
+    }
+
+    /// True if the rows `plan` names have the layout it was made from.
+    fn plan_holds(&self, plan: &NEntryPlan) -> bool {
+        let mut seen = plan.layout_entries.iter();
+        for &[i, e0, e1] in &plan.layout_rows {
+            let i = i as usize;
+            if i + 1 >= self.row_ptr.len() || self.row_ptr[i] != e0 || self.row_ptr[i + 1] != e1 {
+                return false;
+            }
+            for e in e0 as usize..e1 as usize {
+                let now = [self.ent_block[e], self.ent_coef[e], self.ent_coef[e + 1]];
+                if seen.next() != Some(&now) {
+                    return false;
+                }
+            }
+        }
+        true
+    }
+
+    /// The planned entries of `N` into `out` (one per planned position, in the plan's
+    /// order), bit-identical to [`n_entry`](Self::n_entry); `plan` is made again first if
+    /// the layout of its rows changed (see [`NEntryPlan`]).
+    ///
+    /// # Panics
+    /// If `out` does not have the plan's length, or a planned row is out of range.
+    pub fn fill_n_entries(&self, plan: &mut NEntryPlan, out: &mut [f64]) {
+        assert_eq!(out.len(), plan.len(), "out has the wrong length");
+        if !self.plan_holds(plan) {
+            self.replan(plan);
+        }
+        for (k, o) in out.iter_mut().enumerate() {
+            let [i, j] = plan.rows[k];
+            // The same sum as `n_entry`: the compliance first, then every product in order.
+            let mut s = if i == j { self.eps[i as usize] } else { 0.0 };
+            for &[c0, m0, len] in &plan.pairs[plan.start[k] as usize..plan.start[k + 1] as usize] {
+                let (c0, m0, len) = (c0 as usize, m0 as usize, len as usize);
+                let (a, b) = (&self.coefs[c0..c0 + len], &self.minv[m0..m0 + len]);
+                if let (Ok(a), Ok(b)) = (<&[f64; 6]>::try_from(a), <&[f64; 6]>::try_from(b)) {
+                    // A rigid body's block, unrolled (the same sequential sum).
+                    for t in 0..6 {
+                        s += a[t] * b[t];
+                    }
+                } else {
+                    for (a, b) in a.iter().zip(b) {
+                        s += a * b;
+                    }
+                }
+            }
+            *o = s;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::NEntryPlan;
+    use crate::descriptor::{CcpProblem, ConstraintRows, MassOperator, RowEntry, Variables};
+
+    /// A small mechanism-like problem: three bodies, rows on one or two of them.
+    /// With `moved`, the second row is on the third body instead of the second.
+    fn problem(scale: f64, moved: bool) -> CcpProblem {
+        let mut vars = Variables::new();
+        let mut blocks = Vec::new();
+        for k in 0..3 {
+            let m = 1.0 + k as f64;
+            let j = nalgebra::Matrix3::new(2.0, 0.1, 0.0, 0.1, 3.0, 0.2, 0.0, 0.2, 4.0) * m;
+            blocks.push(vars.add(MassOperator::rigid_body(m, j).unwrap()));
+        }
+        let c = |s: f64| -> [f64; 6] { std::array::from_fn(|t| scale * (s + t as f64).sin()) };
+        let (a, b, d) = (c(0.3), c(1.7), c(2.9));
+        let mut rows = ConstraintRows::new();
+        rows.push_bilateral(
+            &[
+                RowEntry {
+                    block: blocks[0],
+                    coefs: &a,
+                },
+                RowEntry {
+                    block: blocks[1],
+                    coefs: &b,
+                },
+            ],
+            0.0,
+            1e-3,
+        );
+        let second = if moved { blocks[2] } else { blocks[1] };
+        rows.push_bilateral(
+            &[RowEntry {
+                block: second,
+                coefs: &d,
+            }],
+            0.0,
+            0.0,
+        );
+        rows.push_bilateral(
+            &[
+                RowEntry {
+                    block: blocks[2],
+                    coefs: &a,
+                },
+                RowEntry {
+                    block: blocks[0],
+                    coefs: &d,
+                },
+            ],
+            0.0,
+            2e-3,
+        );
+        let mut p = CcpProblem::new();
+        p.assemble(&vars, &rows, &[0.0; 18]).unwrap();
+        p
+    }
+
+    #[test]
+    fn planned_entries_equal_n_entry_bit_for_bit_whatever_the_layout() {
+        let p = problem(1.0, false);
+        let positions: Vec<(usize, usize)> =
+            (0..3).flat_map(|i| (0..3).map(move |j| (i, j))).collect();
+        let mut plan = NEntryPlan::default();
+        p.plan_n_entries(positions.iter().copied(), &mut plan);
+        assert_eq!(plan.len(), 9);
+        // Same rows and blocks, other coefficients: the plan holds; a row on another
+        // block: the plan is made again.
+        for q in [
+            p,
+            problem(0.37, false),
+            problem(0.5, true),
+            problem(0.9, false),
+        ] {
+            let mut out = vec![f64::NAN; plan.len()];
+            q.fill_n_entries(&mut plan, &mut out);
+            for (&(i, j), v) in positions.iter().zip(&out) {
+                assert_eq!(v.to_bits(), q.n_entry(i, j).to_bits(), "N[{i},{j}]");
+            }
+        }
+    }
+}
