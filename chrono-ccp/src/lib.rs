@@ -119,12 +119,9 @@ pub mod minres;
 pub mod psor;
 pub mod schur;
 mod sparse_bilateral;
-#[cfg(test)]
-mod sparse_bilateral_tests;
 #[cfg(feature = "testing")]
 pub mod testing;
 pub mod two_phase;
-mod up_looking;
 mod util;
 
 pub use apgd::{Apgd, ApgdOptions};

@@ -8,9 +8,7 @@
 //! step after step); each solve refills the values and refactors numerically.
 //!
 //! The values are refilled through an [`NEntryPlan`] (the products each entry sums, found
-//! at analysis), and when faer chose its simplicial factorization the numeric factor and
-//! the solves run on [`UpLooking`], which repeats faer's operations bit for bit without
-//! redoing the pattern work on every call.
+//! at analysis).
 //!
 //! Dependent (redundant) rows make `N_BB` singular. faer's dynamic regularization replaces
 //! a pivot below `1e-12 max(diag)` by `max(diag)`: the factor is then that of a slightly
@@ -21,11 +19,10 @@
 use chrono_core::descriptor::{CcpProblem, NEntryPlan};
 
 use crate::error::CcpError;
-use crate::up_looking::UpLooking;
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::linalg::cholesky::llt::factor::LltRegularization;
 use faer::sparse::linalg::cholesky::{
-    CholeskySymbolicParams, LltRef, SymbolicCholesky, SymbolicCholeskyRaw, SymmetricOrdering,
+    CholeskySymbolicParams, LltRef, SymbolicCholesky, SymmetricOrdering,
     factorize_symbolic_cholesky,
 };
 use faer::sparse::{SparseColMat, Triplet};
@@ -44,8 +41,6 @@ pub(crate) struct SparseBilateral {
     /// The products of each stored value.
     plan: NEntryPlan,
     symbolic: Option<SymbolicCholesky<usize>>,
-    /// The same factorization on the fixed pattern, when faer's is simplicial.
-    up: Option<UpLooking>,
     l_values: Vec<f64>,
     scratch: Option<MemBuffer>,
     scratch_cols: usize,
@@ -94,12 +89,6 @@ impl SparseBilateral {
             stage: "numeric",
             detail,
         };
-        if let Some(up) = &mut self.up {
-            return up
-                .factor(vals, scale, 1e-12 * scale)
-                .map(|_| ())
-                .map_err(|e| failed(format!("{e:?}")));
-        }
         let symbolic = self.symbolic.as_ref().ok_or_else(|| missing("symbolic"))?;
         let scratch = self.scratch.as_mut().ok_or_else(|| missing("symbolic"))?;
         symbolic
@@ -170,23 +159,6 @@ impl SparseBilateral {
             detail: format!("{e:?}"),
         })?;
         self.plan_values(problem, b_rows);
-        self.up = match symbolic.raw() {
-            SymbolicCholeskyRaw::Simplicial(l) => {
-                let (fwd, inv): (Vec<usize>, Vec<usize>) = match symbolic.perm() {
-                    Some(p) => (p.arrays().0.to_vec(), p.arrays().1.to_vec()),
-                    None => ((0..nb).collect(), (0..nb).collect()),
-                };
-                UpLooking::new(
-                    s.col_ptr(),
-                    s.row_idx(),
-                    &fwd,
-                    &inv,
-                    l.col_ptr(),
-                    l.row_idx(),
-                )
-            }
-            SymbolicCholeskyRaw::Supernodal(_) => None,
-        };
         self.l_values.clear();
         self.l_values.resize(symbolic.len_val(), 0.0);
         self.symbolic = Some(symbolic);
@@ -262,10 +234,6 @@ impl SparseBilateral {
 
     /// One solve with the factor.
     fn solve_factor(&mut self, x: &mut [f64], cols: usize) {
-        if let Some(up) = &mut self.up {
-            up.solve(x, cols);
-            return;
-        }
         self.ensure_scratch(cols);
         let (Some(symbolic), Some(scratch)) = (&self.symbolic, &mut self.scratch) else {
             x.fill(f64::NAN);
