@@ -132,7 +132,7 @@ impl MatrixFree {
 
     /// The triplet `c`'s rows of `D' w`: the relative velocity of the contact points along
     /// `n, u, w`.
-    #[inline]
+    #[inline(always)]
     pub fn triplet(&self, c: usize, w: &[f64]) -> [f64; 3] {
         let geo = &self.c_geo[c];
         let mut rel = [0.0; 3];
