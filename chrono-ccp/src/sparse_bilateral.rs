@@ -76,7 +76,13 @@ impl SparseBilateral {
         };
         let upper = self.upper.as_mut().ok_or_else(|| missing("pattern"))?;
         let vals = upper.val_mut();
-        problem.fill_n_entries(&mut self.plan, vals);
+        problem
+            .fill_n_entries(&mut self.plan, vals)
+            .map_err(|e| CcpError::Factorization {
+                rows: b_rows.len(),
+                stage: "numeric",
+                detail: e.to_string(),
+            })?;
         let mut max_diag: f64 = 0.0;
         for (v, &(i, j)) in vals.iter().zip(&self.entries) {
             if i == j {
@@ -158,7 +164,7 @@ impl SparseBilateral {
             stage: "symbolic",
             detail: format!("{e:?}"),
         })?;
-        self.plan_values(problem, b_rows);
+        self.plan_values(problem, b_rows)?;
         self.l_values.clear();
         self.l_values.resize(symbolic.len_val(), 0.0);
         self.symbolic = Some(symbolic);
@@ -170,9 +176,13 @@ impl SparseBilateral {
     }
 
     /// The plan of the stored values of `N_BB` (see [`NEntryPlan`]).
-    fn plan_values(&mut self, problem: &CcpProblem, b_rows: &[usize]) {
+    fn plan_values(&mut self, problem: &CcpProblem, b_rows: &[usize]) -> Result<(), CcpError> {
         let positions = self.entries.iter().map(|&(i, j)| (b_rows[i], b_rows[j]));
-        problem.plan_n_entries(positions, &mut self.plan);
+        (problem.plan_n_entries(positions, &mut self.plan)).map_err(|e| CcpError::Factorization {
+            rows: b_rows.len(),
+            stage: "pattern",
+            detail: e.to_string(),
+        })
     }
 
     /// Scratch for the factorization and a solve with `cols` right-hand sides.

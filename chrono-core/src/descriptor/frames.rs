@@ -1,7 +1,7 @@
 //! The matrix-free share of `N g` for friction triplets between spheres
 //! ([`ContactFrame`]): instead of 36 Jacobian coefficients (twice: `D` and `M^-1 D`) a
-//! triplet stores its normal and two lever arms (9 numbers), and a sphere's `M^-1` is a
-//! scalar mass and a scalar inertia.
+//! triplet stores its normal, two lever arms and its tangent frame's one division (10
+//! numbers), and a sphere's `M^-1` is a scalar mass and a scalar inertia.
 //!
 //! With `F = n g_n + u g_u + w g_w` the triplet's impulse on B (and `-F` on A), the
 //! velocity change of a sphere is `dv = F_sum / m` and `dw = (sum r x F) / J` (world frame:

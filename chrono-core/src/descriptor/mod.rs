@@ -16,6 +16,7 @@
 //! equivalently the conic QP `min 1/2 g'N g + r'g, g_i in Y_i`; the new velocities are
 //! `v+ = M^-1 (k + D g)`.
 
+mod assemble;
 mod cone;
 mod coupled;
 mod file;

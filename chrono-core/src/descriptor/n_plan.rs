@@ -3,6 +3,7 @@
 //! block of a mechanism).
 
 use super::problem::CcpProblem;
+use crate::error::{ChronoError, Result};
 
 /// A list of entries `N_ij = D_i'M^-1 D_j + eps_i delta_ij` (rows `i`, `j` of a
 /// [`CcpProblem`]) with, for each, the products it sums: the coefficients of `D_i` and of
@@ -47,19 +48,28 @@ impl CcpProblem {
     /// Plan the entries `N_ij` at `positions` (row pairs `(i, j)`) for
     /// [`fill_n_entries`](Self::fill_n_entries), reusing `plan`'s buffers.
     ///
-    /// # Panics
-    /// If a row index is out of range.
+    /// # Errors
+    /// A position with a row out of range (the plan is then left empty).
     pub fn plan_n_entries(
         &self,
         positions: impl IntoIterator<Item = (usize, usize)>,
         plan: &mut NEntryPlan,
-    ) {
+    ) -> Result<()> {
         plan.rows.clear();
-        for (i, j) in positions {
-            assert!(i < self.n_rows && j < self.n_rows, "row out of range");
+        for (k, (i, j)) in positions.into_iter().enumerate() {
+            if i >= self.n_rows || j >= self.n_rows {
+                plan.rows.clear();
+                self.replan(plan);
+                return Err(ChronoError::invalid(
+                    format!("positions[{k}]"),
+                    format!("({i}, {j})"),
+                    format!("rows must be below n_rows = {}", self.n_rows),
+                ));
+            }
             plan.rows.push([i as u32, j as u32]);
         }
         self.replan(plan);
+        Ok(())
     }
 
     /// The products and layout of `plan.rows` in this problem.
@@ -117,10 +127,27 @@ impl CcpProblem {
     /// order), bit-identical to [`n_entry`](Self::n_entry); `plan` is made again first if
     /// the layout of its rows changed (see [`NEntryPlan`]).
     ///
-    /// # Panics
-    /// If `out` does not have the plan's length, or a planned row is out of range.
-    pub fn fill_n_entries(&self, plan: &mut NEntryPlan, out: &mut [f64]) {
-        assert_eq!(out.len(), plan.len(), "out has the wrong length");
+    /// # Errors
+    /// If `out` does not have the plan's length, or a planned row is out of range of this
+    /// problem (nothing is written then).
+    pub fn fill_n_entries(&self, plan: &mut NEntryPlan, out: &mut [f64]) -> Result<()> {
+        if out.len() != plan.len() {
+            return Err(ChronoError::invalid(
+                "out.len()",
+                out.len(),
+                format!("must equal the planned entries ({})", plan.len()),
+            ));
+        }
+        if let Some(k) =
+            (plan.rows.iter()).position(|r| r.iter().any(|&i| i as usize >= self.n_rows))
+        {
+            let [i, j] = plan.rows[k];
+            return Err(ChronoError::invalid(
+                format!("plan position {k}"),
+                format!("({i}, {j})"),
+                format!("rows must be below n_rows = {}", self.n_rows),
+            ));
+        }
         if !self.plan_holds(plan) {
             self.replan(plan);
         }
@@ -144,6 +171,7 @@ impl CcpProblem {
             }
             *o = s;
         }
+        Ok(())
     }
 }
 
@@ -213,7 +241,8 @@ mod tests {
         let positions: Vec<(usize, usize)> =
             (0..3).flat_map(|i| (0..3).map(move |j| (i, j))).collect();
         let mut plan = NEntryPlan::default();
-        p.plan_n_entries(positions.iter().copied(), &mut plan);
+        p.plan_n_entries(positions.iter().copied(), &mut plan)
+            .unwrap();
         assert_eq!(plan.len(), 9);
         // Same rows and blocks, other coefficients: the plan holds; a row on another
         // block: the plan is made again.
@@ -224,10 +253,49 @@ mod tests {
             problem(0.9, false),
         ] {
             let mut out = vec![f64::NAN; plan.len()];
-            q.fill_n_entries(&mut plan, &mut out);
+            q.fill_n_entries(&mut plan, &mut out).unwrap();
             for (&(i, j), v) in positions.iter().zip(&out) {
                 assert_eq!(v.to_bits(), q.n_entry(i, j).to_bits(), "N[{i},{j}]");
             }
         }
+    }
+
+    #[test]
+    fn bad_positions_and_lengths_are_errors_naming_them() {
+        let p = problem(1.0, false);
+        let mut plan = NEntryPlan::default();
+        let e = p
+            .plan_n_entries([(0, 1), (2, 7)], &mut plan)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("positions[1]") && e.contains("(2, 7)"), "{e}");
+        assert!(plan.is_empty());
+        p.plan_n_entries([(0, 1), (2, 2)], &mut plan).unwrap();
+        let e = p
+            .fill_n_entries(&mut plan, &mut [0.0; 3])
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("out.len()") && e.contains('3'), "{e}");
+        // A plan made on a larger problem, filled from a smaller one.
+        let mut small_rows = ConstraintRows::new();
+        let mut vars = Variables::new();
+        let b = vars.add(MassOperator::rigid_body(1.0, nalgebra::Matrix3::identity()).unwrap());
+        small_rows.push_bilateral(
+            &[RowEntry {
+                block: b,
+                coefs: &[1.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+            }],
+            0.0,
+            0.0,
+        );
+        let mut small = CcpProblem::new();
+        small.assemble(&vars, &small_rows, &[0.0; 6]).unwrap();
+        let mut out = [7.0; 2];
+        let e = small
+            .fill_n_entries(&mut plan, &mut out)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("plan position 0") && e.contains("(0, 1)"), "{e}");
+        assert_eq!(out, [7.0; 2]);
     }
 }

@@ -1,0 +1,373 @@
+//! Assembly of a [`CcpProblem`] from the step's variables, rows and momentum: the two
+//! copies of the Jacobian (by row with `M^-1 D`, by block), `diag(N)`, the residual
+//! scales, the cones' diagonal blocks, the matrix-free triplets and `r`. The row-wise
+//! loops are parallel for large problems, each value computed on its own (the same bits
+//! for any thread count).
+
+use rayon::prelude::*;
+
+use super::problem::{CcpProblem, GROUP_ORDER, Sections, group_name};
+use super::rows::{ConstraintRows, PER_BODY_ROWS, RowGroup};
+use super::variables::{BlockId, Variables};
+use crate::error::{ChronoError, Result};
+
+/// Below this many rows the assembly's row-wise loops run on the calling thread.
+const PAR_MIN_ASSEMBLY_ROWS: usize = 4096;
+
+impl CcpProblem {
+    /// Assemble from the step's variables, rows and momentum `k = M v + h f` (length `ndof`,
+    /// N s). Reuses this problem's buffers. Rejects malformed input (a row naming a block
+    /// that does not exist, coefficient counts that do not match a block, non-finite
+    /// numbers, negative compliance or friction, `lo > hi`, a non-finite `M^-1 k`) with an
+    /// error naming the row or field.
+    pub fn assemble(&mut self, vars: &Variables, rows: &ConstraintRows, k: &[f64]) -> Result<()> {
+        if k.len() != vars.ndof() {
+            return Err(ChronoError::invalid(
+                "k.len()",
+                k.len(),
+                format!("must equal ndof = {}", vars.ndof()),
+            ));
+        }
+        if let Some(i) = k.iter().position(|x| !x.is_finite()) {
+            return Err(ChronoError::invalid(
+                format!("k[{i}]"),
+                k[i],
+                "must be finite",
+            ));
+        }
+        self.vars.clone_from(vars);
+        self.k.clear();
+        self.k.extend_from_slice(k);
+        let nblocks = vars.len();
+        for v in [
+            &mut self.row_ptr,
+            &mut self.ent_block,
+            &mut self.ent_off,
+            &mut self.ent_coef,
+        ] {
+            v.clear();
+        }
+        for v in [
+            &mut self.coefs,
+            &mut self.minv,
+            &mut self.b,
+            &mut self.eps,
+            &mut self.lo,
+            &mut self.hi,
+            &mut self.mu,
+        ] {
+            v.clear();
+        }
+        self.mu_rolling.clear();
+        self.mu_per_body.clear();
+        self.row_ptr.push(0);
+
+        let mut row = 0usize;
+        for (gi, &group) in GROUP_ORDER.iter().enumerate() {
+            let g = &rows.groups[group as usize];
+            self.group_start[gi] = row;
+            let name = group_name(group);
+            for i in 0..g.n_rows() {
+                let (e0, e1) = (g.row_ptr[i] as usize, g.row_ptr[i + 1] as usize);
+                for e in e0..e1 {
+                    let blk = g.ent_block[e] as usize;
+                    if blk >= nblocks {
+                        return Err(ChronoError::UnknownHandle {
+                            kind: "variable block",
+                            index: blk,
+                            field: format!("rows.{name}[{i}]"),
+                        });
+                    }
+                    let nd = vars.block_ndof(BlockId(blk as u32));
+                    let c0 = g.ent_coef[e] as usize;
+                    let c1 = if e + 1 < g.ent_coef.len() {
+                        g.ent_coef[e + 1] as usize
+                    } else {
+                        g.coefs.len()
+                    };
+                    if c1 - c0 != nd {
+                        return Err(ChronoError::invalid(
+                            format!("rows.{name}[{i}].coefs.len()"),
+                            c1 - c0,
+                            format!("must equal the ndof ({nd}) of block {blk}"),
+                        ));
+                    }
+                    let c = &g.coefs[c0..c1];
+                    if let Some(j) = c.iter().position(|x| !x.is_finite()) {
+                        return Err(ChronoError::invalid(
+                            format!("rows.{name}[{i}].coefs[{j}]"),
+                            c[j],
+                            "must be finite",
+                        ));
+                    }
+                    self.ent_block.push(blk as u32);
+                    self.ent_off.push(vars.offset(BlockId(blk as u32)) as u32);
+                    self.ent_coef.push(self.coefs.len() as u32);
+                    self.coefs.extend_from_slice(c);
+                }
+                self.row_ptr.push(self.ent_block.len() as u32);
+                if !g.b[i].is_finite() {
+                    return Err(ChronoError::invalid(
+                        format!("rows.{name}[{i}].b"),
+                        g.b[i],
+                        "must be finite",
+                    ));
+                }
+                if !(g.eps[i].is_finite() && g.eps[i] >= 0.0) {
+                    return Err(ChronoError::invalid(
+                        format!("rows.{name}[{i}].eps"),
+                        g.eps[i],
+                        "must be finite and >= 0",
+                    ));
+                }
+                self.b.push(g.b[i]);
+                self.eps.push(g.eps[i]);
+                row += 1;
+            }
+            let bad_mu = |i: usize, m: f64| {
+                ChronoError::invalid(format!("rows.{name}[{i}].mu"), m, "must be finite and >= 0")
+            };
+            match group {
+                RowGroup::Box => {
+                    for (i, (&lo, &hi)) in g.lo.iter().zip(&g.hi).enumerate() {
+                        if lo.is_nan() || hi.is_nan() || lo > hi {
+                            return Err(ChronoError::invalid(
+                                format!("rows.box[{i}].lo/hi"),
+                                format!("[{lo}, {hi}]"),
+                                "need lo <= hi",
+                            ));
+                        }
+                    }
+                    self.lo.extend_from_slice(&g.lo);
+                    self.hi.extend_from_slice(&g.hi);
+                }
+                RowGroup::Friction => {
+                    if let Some(i) = g.mu.iter().position(|m| !(m.is_finite() && *m >= 0.0)) {
+                        return Err(bad_mu(i, g.mu[i]));
+                    }
+                    self.mu.extend_from_slice(&g.mu);
+                }
+                RowGroup::Rolling => {
+                    if let Some(i) = g.mu.iter().position(|m| !(m.is_finite() && *m >= 0.0)) {
+                        return Err(bad_mu(i / 3, g.mu[i]));
+                    }
+                    self.mu_rolling
+                        .extend(g.mu.chunks_exact(3).map(|c| [c[0], c[1], c[2]]));
+                }
+                RowGroup::RollingPerBody => {
+                    if let Some(i) = g.mu.iter().position(|m| !(m.is_finite() && *m >= 0.0)) {
+                        return Err(bad_mu(i / 3, g.mu[i]));
+                    }
+                    self.mu_per_body
+                        .extend(g.mu.chunks_exact(3).map(|c| [c[0], c[1], c[2]]));
+                }
+                _ => {}
+            }
+        }
+        self.ent_coef.push(self.coefs.len() as u32);
+        self.fill_minv();
+        self.n_rows = row;
+        let gs = self.group_start;
+        self.sections = Sections {
+            bilateral: gs[0]..gs[1],
+            boxed: gs[1]..gs[2],
+            unilateral: gs[2]..gs[3],
+            friction: gs[3]..gs[4],
+            rolling: gs[4]..gs[5],
+            rolling_per_body: gs[5]..row,
+        };
+        self.build_transpose(nblocks);
+        self.build_diagonal();
+        self.build_matrix_free(rows);
+
+        self.v_free.clear();
+        self.v_free.resize(vars.ndof(), 0.0);
+        vars.apply_inverse(k, &mut self.v_free);
+        if let Some(i) = self.v_free.iter().position(|x| !x.is_finite()) {
+            return Err(ChronoError::invalid(
+                format!("M^-1 k [dof {i}]"),
+                self.v_free[i],
+                "must be finite (momentum too large for the mass)",
+            ));
+        }
+        let mut r = std::mem::take(&mut self.r);
+        r.clear();
+        r.resize(self.n_rows, 0.0);
+        let one = |(i, r): (usize, &mut f64)| *r = self.b[i] + self.row_dot(i, &self.v_free);
+        if self.n_rows >= PAR_MIN_ASSEMBLY_ROWS {
+            r.par_iter_mut().enumerate().for_each(one);
+        } else {
+            r.iter_mut().enumerate().for_each(one);
+        }
+        self.r = r;
+        Ok(())
+    }
+
+    /// `M^-1 D` entry by entry (`minv`, laid out like `coefs`), in parallel over chunks of
+    /// entries for large problems (each entry on its own: the same bits for any thread
+    /// count).
+    fn fill_minv(&mut self) {
+        const ENTRIES: usize = 2048;
+        let mut minv = std::mem::take(&mut self.minv);
+        minv.clear();
+        minv.resize(self.coefs.len(), 0.0);
+        let n_ent = self.ent_block.len();
+        let chunk = |e0: usize, out: &mut [f64]| {
+            let e1 = (e0 + ENTRIES).min(n_ent);
+            let base = self.ent_coef[e0] as usize;
+            for e in e0..e1 {
+                let (c0, c1) = (self.ent_coef[e] as usize, self.ent_coef[e + 1] as usize);
+                (self.vars.mass(BlockId(self.ent_block[e])))
+                    .apply_inverse(&self.coefs[c0..c1], &mut out[c0 - base..c1 - base]);
+            }
+        };
+        // Split `minv` at the chunks' first coefficients (a few dozen slices).
+        let mut parts = Vec::with_capacity(n_ent.div_ceil(ENTRIES));
+        let (mut rest, mut at) = (&mut minv[..], 0);
+        for e0 in (0..n_ent).step_by(ENTRIES) {
+            let end = self.ent_coef[(e0 + ENTRIES).min(n_ent)] as usize;
+            let (mine, tail) = rest.split_at_mut(end - at);
+            parts.push((e0, mine));
+            (rest, at) = (tail, end);
+        }
+        if n_ent >= 2 * ENTRIES {
+            parts.into_par_iter().for_each(|(e0, out)| chunk(e0, out));
+        } else {
+            parts.into_iter().for_each(|(e0, out)| chunk(e0, out));
+        }
+        self.minv = minv;
+    }
+
+    /// The block-ordered copy of the Jacobian (counting sort of entries by block, stable:
+    /// row order kept within a block).
+    fn build_transpose(&mut self, nblocks: usize) {
+        self.tr_ptr.clear();
+        self.tr_ptr.resize(nblocks + 1, 0);
+        for &blk in &self.ent_block {
+            self.tr_ptr[blk as usize + 1] += 1;
+        }
+        for i in 0..nblocks {
+            self.tr_ptr[i + 1] += self.tr_ptr[i];
+        }
+        self.tr_cptr.clear();
+        let mut c = 0u32;
+        for i in 0..nblocks {
+            self.tr_cptr.push(c);
+            let n = self.tr_ptr[i + 1] - self.tr_ptr[i];
+            c += n * self.vars.block_ndof(BlockId(i as u32)) as u32;
+        }
+        self.tr_cptr.push(c);
+        let n_ent = self.ent_block.len();
+        self.tr_row.clear();
+        self.tr_row.resize(n_ent, 0);
+        // Per slot of the block order: its entry (the counting sort, u32 work only) ...
+        let mut tr_ent = std::mem::take(&mut self.tr_ent);
+        tr_ent.clear();
+        tr_ent.resize(n_ent, 0);
+        let mut cursor: Vec<u32> = self.tr_ptr[..nblocks].to_vec();
+        for i in 0..self.n_rows {
+            for e in self.row_ptr[i] as usize..self.row_ptr[i + 1] as usize {
+                let blk = self.ent_block[e] as usize;
+                let t = cursor[blk] as usize;
+                cursor[blk] += 1;
+                self.tr_row[t] = i as u32;
+                tr_ent[t] = e as u32;
+            }
+        }
+        // ... then the coefficients, slot by slot over each run of equal-size blocks (a
+        // run's slots are contiguous and of one size), in parallel for large problems.
+        self.tr_minv.clear();
+        self.tr_minv.resize(self.minv.len(), 0.0);
+        let par = n_ent >= PAR_MIN_ASSEMBLY_ROWS;
+        for run in self.vars.runs() {
+            let (b0, b1) = (run.first_block, run.first_block + run.n_blocks);
+            let (t0, t1) = (self.tr_ptr[b0] as usize, self.tr_ptr[b1] as usize);
+            let (c0, c1) = (self.tr_cptr[b0] as usize, self.tr_cptr[b1] as usize);
+            if t1 == t0 || run.ndof == 0 {
+                continue;
+            }
+            let (minv, ent_coef, tr_ent) = (&self.minv, &self.ent_coef, &tr_ent);
+            let copy = |(k, out): (usize, &mut [f64])| {
+                let src = ent_coef[tr_ent[t0 + k] as usize] as usize;
+                out.copy_from_slice(&minv[src..src + out.len()]);
+            };
+            let slots = &mut self.tr_minv[c0..c1];
+            if par {
+                slots.par_chunks_mut(run.ndof).enumerate().for_each(copy);
+            } else {
+                slots.chunks_mut(run.ndof).enumerate().for_each(copy);
+            }
+        }
+        self.tr_ent = tr_ent;
+    }
+
+    /// `diag(N)`, the residual scales and the diagonal blocks of the cones (each value on
+    /// its own, in parallel for large problems: the same bits for any thread count).
+    fn build_diagonal(&mut self) {
+        let par = self.n_rows >= PAR_MIN_ASSEMBLY_ROWS;
+        let mut diag = std::mem::take(&mut self.diag);
+        diag.clear();
+        diag.resize(self.n_rows, 0.0);
+        let one = |(i, d): (usize, &mut f64)| {
+            let mut x = self.eps[i];
+            for e in self.row_ptr[i] as usize..self.row_ptr[i + 1] as usize {
+                let (c0, c1) = (self.ent_coef[e] as usize, self.ent_coef[e + 1] as usize);
+                for (c, m) in self.coefs[c0..c1].iter().zip(&self.minv[c0..c1]) {
+                    x += c * m;
+                }
+            }
+            *d = x;
+        };
+        if par {
+            diag.par_iter_mut().enumerate().for_each(one);
+        } else {
+            diag.iter_mut().enumerate().for_each(one);
+        }
+        self.diag = diag;
+        self.scale.clear();
+        self.scale.resize(self.n_rows, 0.0);
+        let inv = |d: f64| if d > 0.0 { 1.0 / d } else { 0.0 };
+        let mut i = 0;
+        while i < self.n_rows {
+            let (start, n) = self.sections.block_of(i);
+            let mean = self.diag[start..start + n].iter().sum::<f64>() / n as f64;
+            self.scale[start..start + n].fill(inv(mean));
+            i = start + n;
+        }
+        // Cone blocks: per section, a fixed-size upper triangle per contact.
+        let mut blocks = std::mem::take(&mut self.cone_blocks);
+        blocks.clear();
+        let s = self.sections.clone();
+        let sizes = [
+            (s.friction.clone(), 3),
+            (s.rolling.clone(), 6),
+            (s.rolling_per_body.clone(), PER_BODY_ROWS),
+        ];
+        let total: usize = (sizes.iter())
+            .map(|(r, n)| r.len() / n * (n * (n + 1) / 2))
+            .sum();
+        blocks.resize(total, 0.0);
+        let mut rest = &mut blocks[..];
+        for (rows, n) in sizes {
+            let len = n * (n + 1) / 2;
+            let (mine, tail) = rest.split_at_mut(rows.len() / n * len);
+            rest = tail;
+            let fill = |(c, out): (usize, &mut [f64])| {
+                let start = rows.start + c * n;
+                let mut q = 0;
+                for j in 0..n {
+                    for k in j..n {
+                        out[q] = self.n_entry(start + j, start + k);
+                        q += 1;
+                    }
+                }
+            };
+            if par {
+                mine.par_chunks_mut(len).enumerate().for_each(fill);
+            } else {
+                mine.chunks_mut(len).enumerate().for_each(fill);
+            }
+        }
+        self.cone_blocks = blocks;
+    }
+}
