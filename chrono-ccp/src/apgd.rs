@@ -122,6 +122,9 @@ pub struct Apgd {
     work: CcpWork,
     /// Metric `P` (step scale per row).
     s: Vec<f64>,
+    /// `1 / P` per row (0 where `P` is 0): the line search's `d'P^-1 d` without a division
+    /// per row.
+    s_inv: Vec<f64>,
     g: Vec<f64>,
     g_new: Vec<f64>,
     y: Vec<f64>,
@@ -203,7 +206,7 @@ impl Apgd {
     /// Fill `g_new = P_Y(y - P grad_y / l)` and `grad_new = N g_new + r`; return
     /// `(d'N d, d'P^-1 d)` with `d = g_new - y`.
     fn trial(&mut self, problem: &CcpProblem, l: f64) -> (f64, f64) {
-        let (y, gy, s) = (&self.y, &self.grad_y, &self.s);
+        let (y, gy, s, si) = (&self.y, &self.grad_y, &self.s, &self.s_inv);
         let t = 1.0 / l;
         fill_with(&mut self.g_new, |i| y[i] - t * s[i] * gy[i]);
         problem.project(&mut self.g_new);
@@ -212,7 +215,7 @@ impl Apgd {
         // One pass for both (each sum in sum_by's order: the same bits as two passes).
         sum2_by(gn.len(), &mut self.work.partials, |i| {
             let d = gn[i] - y[i];
-            let dpd = if s[i] > 0.0 { d * d / s[i] } else { 0.0 };
+            let dpd = d * d * si[i];
             (d * (grn[i] - gy[i]), dpd)
         })
     }
@@ -236,6 +239,7 @@ impl CcpSolver for Apgd {
         self.work.resize(problem);
         for v in [
             &mut self.s,
+            &mut self.s_inv,
             &mut self.g,
             &mut self.g_new,
             &mut self.y,
@@ -251,6 +255,8 @@ impl CcpSolver for Apgd {
         } else {
             self.s.fill(1.0);
         }
+        let s = &self.s;
+        fill_with(&mut self.s_inv, |i| if s[i] > 0.0 { 1.0 / s[i] } else { 0.0 });
 
         sanitize_and_project(problem, gamma);
         self.g.copy_from_slice(gamma);

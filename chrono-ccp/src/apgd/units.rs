@@ -9,7 +9,10 @@
 //! (a unit is three chunks of rows and one chunk of triplets), so the iterates are the same
 //! bits as the general path's, for any thread count.
 
-use chrono_core::descriptor::{CcpProblem, UNIT_ROWS, project_friction_cone, reduce::CHUNK};
+use chrono_core::descriptor::{
+    CcpProblem, UNIT_ROWS, project_friction_cone,
+    reduce::{CHUNK, lane_sum},
+};
 use rayon::prelude::*;
 
 use super::Apgd;
@@ -107,48 +110,49 @@ impl Apgd {
                 .for_each(step);
         }
 
-        let (y, gy, gn, g, s) = (&self.y, &self.grad_y, &self.g_new, &self.g, &self.s);
+        let (y, gy, gn, g, si) = (&self.y, &self.grad_y, &self.g_new, &self.g, &self.s_inv);
         let scale = problem.scales();
         let sums = |rows: std::ops::Range<usize>, grn: &[f64]| {
             let mut u = UnitSums::default();
             let base = rows.start;
             for (c, c0) in rows.clone().step_by(CHUNK).enumerate() {
                 let c1 = (c0 + CHUNK).min(rows.end);
-                let (mut a, mut b, mut sl) = (0.0, 0.0, 0.0);
-                // Sliced to the chunk so the loop runs without per-element bounds checks
-                // (the same operations in the same order).
-                let r = c0..c1;
-                let it = (gn[r.clone()].iter())
-                    .zip(&y[r.clone()])
-                    .zip(&grn[c0 - base..c1 - base])
-                    .zip(&gy[r.clone()])
-                    .zip(&s[r.clone()])
-                    .zip(&g[r]);
-                for (((((&gn, &y), &grn), &gy), &s), &g) in it {
-                    let d = gn - y;
-                    a += d * (grn - gy);
-                    b += if s > 0.0 { d * d / s } else { 0.0 };
-                    sl += gy * (gn - g);
-                }
+                // Sliced to the chunk so the loop runs without per-element bounds checks,
+                // summed in `lane_sum`'s order (that of `sum_by`, `sum2_by`).
+                let n = c1 - c0;
+                let (gn, y, grn, gy, si, g) = (
+                    &gn[c0..c1],
+                    &y[c0..c1],
+                    &grn[c0 - base..c1 - base],
+                    &gy[c0..c1],
+                    &si[c0..c1],
+                    &g[c0..c1],
+                );
+                let [a, b, sl] = lane_sum::<3>(n, |j| {
+                    let d = gn[j] - y[j];
+                    [d * (grn[j] - gy[j]), d * d * si[j], gy[j] * (gn[j] - g[j])]
+                });
                 (u.dnd[c], u.dpd[c], u.slope[c]) = (a, b, sl);
                 u.chunks = c + 1;
             }
-            let mut res2 = 0.0;
             let r = rows.clone();
-            let it = (gn[r.clone()].chunks_exact(3))
-                .zip(grn.chunks_exact(3))
-                .zip(scale[r.clone()].chunks_exact(3))
-                .zip(&mu[r.start / 3..r.end / 3]);
-            for (((gn, grn), sc), &mu) in it {
-                let h = sc[0];
-                res2 += if h <= 0.0 {
+            let (gn, sc, mu) = (&gn[r.clone()], &scale[r.clone()], &mu[r.start / 3..r.end / 3]);
+            let [res2] = lane_sum::<1>(mu.len(), |k| {
+                let t = 3 * k;
+                let h = sc[t];
+                [if h <= 0.0 {
                     0.0
                 } else {
-                    let mut z = [gn[0] - h * grn[0], gn[1] - h * grn[1], gn[2] - h * grn[2]];
-                    project_friction_cone(mu, &mut z);
-                    (0..3).map(|j| ((gn[j] - z[j]) / h).powi(2)).sum()
-                };
-            }
+                    let mut z = [
+                        gn[t] - h * grn[t],
+                        gn[t + 1] - h * grn[t + 1],
+                        gn[t + 2] - h * grn[t + 2],
+                    ];
+                    project_friction_cone(mu[k], &mut z);
+                    let ih = 1.0 / h;
+                    (0..3).map(|j| ((gn[t + j] - z[j]) * ih).powi(2)).sum()
+                }]
+            });
             u.res2 = res2;
             u
         };

@@ -18,12 +18,17 @@ pub fn project_friction_cone(mu: f64, g: &mut [f64]) {
         g[2] = 0.0;
         return;
     }
-    // sqrt(u^2 + w^2), not hypot: impulses are far from overflow, and hypot's care costs
-    // several times more in this hot loop.
-    let gt = (gu * gu + gw * gw).sqrt();
-    if gt <= mu * gn {
+    // The inside test on squares, `u^2 + w^2 <= (mu g_n)^2` with `g_n >= 0`: no square
+    // root for the common case (a sticking contact). The surface case shrinks its result
+    // until it passes this same test, so the projection is idempotent exactly.
+    let t2 = gu * gu + gw * gw;
+    let radius = mu * gn;
+    if gn >= 0.0 && t2 <= radius * radius {
         return; // inside the cone (this includes the apex)
     }
+    // sqrt(u^2 + w^2), not hypot: impulses are far from overflow, and hypot's care costs
+    // several times more in this hot loop.
+    let gt = t2.sqrt();
     if mu * gt <= -gn {
         g[0] = 0.0;
         g[1] = 0.0;
@@ -32,10 +37,20 @@ pub fn project_friction_cone(mu: f64, g: &mut [f64]) {
     }
     let gn_new = (mu * gt + gn) / (mu * mu + 1.0);
     let scale = mu * gn_new / gt; // gt > 0 here, else one of the branches above was taken
+    let radius = mu * gn_new;
+    let (mut u, mut w) = (gu * scale, gw * scale);
+    // Round-off can leave the scaled point an ulp outside; shrink by ulps until the inside
+    // test above holds for it.
+    for _ in 0..4 {
+        if u * u + w * w <= radius * radius {
+            break;
+        }
+        u *= 1.0 - f64::EPSILON;
+        w *= 1.0 - f64::EPSILON;
+    }
     g[0] = gn_new;
-    g[1] = gu * scale;
-    g[2] = gw * scale;
-    shrink_into_ball(&mut g[1..3], mu * gn_new);
+    g[1] = u;
+    g[2] = w;
 }
 
 /// After a radial scaling onto the ball of `radius`, round-off can leave the norm an ulp
