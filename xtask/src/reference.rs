@@ -18,6 +18,18 @@ const FILES: &[(&str, &str)] = &[
         include_str!("../../data/reference/dambreak_martin_moyce_n2_1_trixi_digitization.csv"),
     ),
     (
+        "dambreak_martin_moyce_n2_2_a2.25in.csv",
+        include_str!("../../data/reference/dambreak_martin_moyce_n2_2_a2.25in.csv"),
+    ),
+    (
+        "dambreak_martin_moyce_n2_2_a1.125in.csv",
+        include_str!("../../data/reference/dambreak_martin_moyce_n2_2_a1.125in.csv"),
+    ),
+    (
+        "dambreak_koshizuka_oka_1996.csv",
+        include_str!("../../data/reference/dambreak_koshizuka_oka_1996.csv"),
+    ),
+    (
         "poiseuille_startup_series.csv",
         include_str!("../../data/reference/poiseuille_startup_series.csv"),
     ),
@@ -100,6 +112,32 @@ pub fn martin_moyce_n2_1_alt() -> &'static [(f64, f64)] {
     pairs(&CELL, "dambreak_martin_moyce_n2_1_trixi_digitization.csv")
 }
 
+/// Martin and Moyce (1952), Fig. 3, a column twice as high as wide (`n^2 = 2`) with
+/// `a = 2.25 in` (the width of the square column's data): the surge front `(T, Z)`,
+/// `T = t sqrt(2 g / a)`, `Z = x / a` (`data/reference/dambreak_martin_moyce_n2_2_a2.25in.csv`,
+/// digits from PySPH's `db_exp_data.py`).
+pub fn martin_moyce_n2_2() -> &'static [(f64, f64)] {
+    static CELL: OnceLock<Vec<(f64, f64)>> = OnceLock::new();
+    pairs(&CELL, "dambreak_martin_moyce_n2_2_a2.25in.csv")
+}
+
+/// The same experiment with the smaller column, `a = 1.125 in`
+/// (`data/reference/dambreak_martin_moyce_n2_2_a1.125in.csv`): its spread against
+/// [`martin_moyce_n2_2`] is the experiment's scale effect and uncertainty.
+pub fn martin_moyce_n2_2_small() -> &'static [(f64, f64)] {
+    static CELL: OnceLock<Vec<(f64, f64)>> = OnceLock::new();
+    pairs(&CELL, "dambreak_martin_moyce_n2_2_a1.125in.csv")
+}
+
+/// Koshizuka and Oka (1996), Nucl. Sci. Eng. 123:421-434: the leading edge of a column
+/// `L = 0.146 m` wide and `2 L` high (`n^2 = 2`), `(T, Z)` with `T = t sqrt(2 g / L)`,
+/// `Z = x / L` (`data/reference/dambreak_koshizuka_oka_1996.csv`, digits from PySPH's
+/// `db_exp_data.py`).
+pub fn koshizuka_oka_1996() -> &'static [(f64, f64)] {
+    static CELL: OnceLock<Vec<(f64, f64)>> = OnceLock::new();
+    pairs(&CELL, "dambreak_koshizuka_oka_1996.csv")
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -124,6 +162,18 @@ mod tests {
         let alt = martin_moyce_n2_1_alt();
         assert_eq!(alt.len(), 10);
         assert_eq!(alt[9], (1.92861, 3.00078));
+        let (big, small, ko) = (
+            martin_moyce_n2_2(),
+            martin_moyce_n2_2_small(),
+            koshizuka_oka_1996(),
+        );
+        assert_eq!((big.len(), small.len(), ko.len()), (15, 10, 9));
+        assert_eq!(big[3], (2.547, 2.995));
+        assert_eq!(small[4], (2.95, 3.728));
+        assert_eq!(ko[0], (0.0, 1.0));
+        for d in [big, small, ko] {
+            assert!(d.windows(2).all(|w| w[1].0 > w[0].0 && w[1].1 > w[0].1));
+        }
     }
 
     #[test]
