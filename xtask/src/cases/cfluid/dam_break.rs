@@ -5,7 +5,10 @@
 //! Same parameter names as `sph-dam-break` where they apply (`column_width`,
 //! `column_height`, `tank_length`, `spacing`, `t_end`, `xsph`, `sweep`: coarser runs at
 //! `1.5^k` the spacing for the error against resolution, `--full` one), plus the time
-//! step `h`, the solver `tolerance`, `solver` and `max_iterations`. The front is found as in
+//! step `h`, the solver `tolerance`, `solver` and `max_iterations`; `compare_sph` (on in
+//! `--full`) also runs `sph-dam-break`'s WCSPH at the same column, tank and spacing and
+//! reports `front_rms_vs_sph` (RMS distance of the two fronts over `0 < T <= 3`), the
+//! reference at ratios without published data, and `front_error_sph` where data exist. The front is found as in
 //! `sph-dam-break` (largest `x + dp/2` of the fluid particles within `2 dp` of the floor
 //! with at least [`FRONT_MIN_NEIGHBOURS`] fluid neighbours within `2 dp`), and
 //! `front_error` is the same RMS of `Z = x / a` for `0 < T <= 3` against the published
@@ -28,8 +31,8 @@ use std::time::Instant;
 use super::{left_tank, tank_scene};
 use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series};
 use crate::cases::sph::dam_break::{
-    FRONT_MIN_NEIGHBOURS, front_checks, front_reference, front_rms_against, interpolate,
-    reference_series,
+    DamBreakParams, FRONT_MIN_NEIGHBOURS, front_checks, front_reference, front_rms_against,
+    front_rms_between, interpolate, reference_series, wcsph_front,
 };
 use crate::cases::sph::{particle_frames, sweep_point, sweep_spacings};
 use crate::params::{CaseParams, ParamCase, ParamInfo};
@@ -63,6 +66,9 @@ pub struct CfluidDamBreakParams {
     /// Extra coarser runs for the error-against-resolution sweep (spacing x 1.5^k, the
     /// same time step).
     pub sweep: u32,
+    /// Also run `sph-dam-break`'s WCSPH at the same column, tank and spacing and report the
+    /// distance of the two fronts (the reference at ratios without published data).
+    pub compare_sph: bool,
 }
 
 impl Default for CfluidDamBreakParams {
@@ -80,6 +86,7 @@ impl Default for CfluidDamBreakParams {
             solver: "apgd".into(),
             max_iterations: 500,
             sweep: 0,
+            compare_sph: false,
         }
     }
 }
@@ -101,6 +108,11 @@ impl CaseParams for CfluidDamBreakParams {
         ParamInfo::new("solver", "-", "CCP solver name (chrono-ccp)"),
         ParamInfo::new("max_iterations", "-", "iteration cap per step"),
         ParamInfo::new("sweep", "-", "extra coarser runs (spacing x 1.5^k)"),
+        ParamInfo::new(
+            "compare_sph",
+            "-",
+            "also run WCSPH at the same spacing and report the fronts' distance",
+        ),
     ];
     fn apply_mode(&mut self, mode: Mode) {
         match mode {
@@ -114,6 +126,7 @@ impl CaseParams for CfluidDamBreakParams {
             Mode::Full => {
                 self.spacing = self.column_width / 36.0;
                 self.sweep = 1;
+                self.compare_sph = true;
             }
         }
     }
@@ -279,6 +292,23 @@ fn run(p: &CfluidDamBreakParams, ctx: &RunContext) -> anyhow::Result<CaseOutput>
         ("front_Z_at_T3", 3.0),
     ] {
         out.metric(name, interpolate(&samples, tt));
+    }
+    if p.compare_sph {
+        let sph = DamBreakParams {
+            column_width: a,
+            column_height: p.column_height,
+            tank_length: p.tank_length,
+            spacing: p.spacing,
+            t_end: p.t_end,
+            ..DamBreakParams::default()
+        };
+        let wcsph = wcsph_front(&sph, p.spacing)?;
+        out.metric("front_rms_vs_sph", front_rms_between(&samples, &wcsph));
+        if let Some(r) = &data {
+            out.metric("front_error_sph", front_rms_against(&wcsph, r.data));
+        }
+    } else if data.is_none() {
+        ctx.note("no published front for this ratio: `--set compare_sph=true` compares with WCSPH");
     }
     out.metric("max_compression_pct", 100.0 * max_c)
         .metric("avg_iterations", iterations as f64 / n as f64)

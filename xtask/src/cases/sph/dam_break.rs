@@ -378,6 +378,25 @@ pub(crate) fn front_rms_against(samples: &[(f64, f64)], data: &[(f64, f64)]) -> 
     rms_against(samples, data.iter().copied())
 }
 
+/// The front `(T, Z)` of a WCSPH run of `p` at spacing `dp` (the case's own model and
+/// settings), for comparisons at ratios without published data.
+pub(crate) fn wcsph_front(p: &DamBreakParams, dp: f64) -> anyhow::Result<Vec<(f64, f64)>> {
+    Ok(simulate(p, dp, None)?.front)
+}
+
+/// RMS of the difference of two fronts `(T, Z)` at `T = 0.1, 0.2, ..., 3` (each linearly
+/// interpolated; NaN if either does not cover the window).
+pub(crate) fn front_rms_between(a: &[(f64, f64)], b: &[(f64, f64)]) -> f64 {
+    let n = 30;
+    let sum: f64 = (1..=n)
+        .map(|k| {
+            let t = 0.1 * k as f64;
+            (interpolate(a, t) - interpolate(b, t)).powi(2)
+        })
+        .sum();
+    (sum / n as f64).sqrt()
+}
+
 /// The metrics and the check of the front against `reference` (or a note that the ratio
 /// has no published data); returns `front_error`, the RMS against the checked data set
 /// (NaN without data).
@@ -505,5 +524,11 @@ mod tests {
         assert!(front_rms_against(&s, martin_moyce_n2_1()).abs() < 1e-12);
         assert!((interpolate(&s, 0.205) - 1.055).abs() < 1e-12);
         assert!(interpolate(&s, 3.5).is_nan());
+        // A front shifted by 0.1 in Z is 0.1 away everywhere.
+        let shifted: Vec<(f64, f64)> = s.iter().map(|&(t, z)| (t, z + 0.1)).collect();
+        let s3: Vec<(f64, f64)> = s.iter().copied().chain([(3.1, 3.8)]).collect();
+        let sh3: Vec<(f64, f64)> = shifted.iter().copied().chain([(3.1, 3.9)]).collect();
+        assert!((front_rms_between(&s3, &sh3) - 0.1).abs() < 1e-12);
+        assert!(front_rms_between(&s, &shifted).is_nan());
     }
 }
