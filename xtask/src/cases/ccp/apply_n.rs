@@ -1,7 +1,8 @@
 //! `ccp-apply-n`: throughput of `N g` (`CcpProblem::apply_n`, the unit of cost of every
 //! iterative CCP solver) on a captured granular pile, in contacts/s and GB/s, against the
 //! machine's memory bandwidth measured by a STREAM-like triad `a = b + s c` (McCalpin 1995)
-//! with rayon over the same threads.
+//! with rayon over the same threads, timed alternately with the product (one of each per
+//! repetition, medians of both).
 //!
 //! Metrics: `contacts`, `rows`, `nnz` (stored Jacobian coefficients), `apply_n_median_s`,
 //! `contacts_per_s`, `bytes_per_apply_n` (the compulsory traffic,
@@ -62,29 +63,39 @@ fn median(mut v: Vec<f64>) -> f64 {
     v[v.len() / 2]
 }
 
-/// Median seconds of `a[i] = b[i] + s c[i]` over `reps` runs (after one warm-up).
-pub fn triad_seconds(len: usize, reps: usize) -> f64 {
-    let b = vec![1.0f64; len];
-    let c = vec![2.0f64; len];
-    let mut a = vec![0.0f64; len];
-    let s = 3.0;
-    let mut times = Vec::with_capacity(reps);
-    for k in 0..=reps {
+/// The triad's arrays `a = b + s c` (`len` elements each).
+pub struct Triad {
+    a: Vec<f64>,
+    b: Vec<f64>,
+    c: Vec<f64>,
+}
+
+impl Triad {
+    /// Arrays of `len` elements (written once, so their pages are mapped before timing).
+    pub fn new(len: usize) -> Self {
+        Self {
+            a: vec![0.0; len],
+            b: vec![1.0; len],
+            c: vec![2.0; len],
+        }
+    }
+
+    /// Seconds of one `a[i] = b[i] + s c[i]` over the arrays, in parallel.
+    pub fn seconds(&mut self) -> f64 {
+        let s = 3.0;
         let t0 = std::time::Instant::now();
-        a.par_chunks_mut(1 << 14)
-            .zip(b.par_chunks(1 << 14))
-            .zip(c.par_chunks(1 << 14))
+        (self.a.par_chunks_mut(1 << 14))
+            .zip(self.b.par_chunks(1 << 14))
+            .zip(self.c.par_chunks(1 << 14))
             .for_each(|((a, b), c)| {
                 for i in 0..a.len() {
                     a[i] = b[i] + s * c[i];
                 }
             });
-        if k > 0 {
-            times.push(t0.elapsed().as_secs_f64());
-        }
-        std::hint::black_box(&a);
+        let t = t0.elapsed().as_secs_f64();
+        std::hint::black_box(&self.a);
+        t
     }
-    median(times)
 }
 
 fn run(p: &ApplyNParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
@@ -97,15 +108,20 @@ fn run(p: &ApplyNParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     let mut work = CcpWork::for_problem(&problem);
     let mut out_v = vec![0.0; m];
     problem.apply_n(&gamma, &mut out_v, &mut work); // warm-up
-    let mut times = Vec::with_capacity(p.reps);
+    // The product and the triad alternate, one of each per round, so both medians come
+    // from the same minutes of a shared machine (its bandwidth drifts between runs).
+    let mut triad = Triad::new(p.triad_len);
+    triad.seconds(); // warm-up
+    let (mut times, mut t_triads) = (Vec::with_capacity(p.reps), Vec::with_capacity(p.reps));
     for _ in 0..p.reps {
         let t0 = std::time::Instant::now();
         problem.apply_n(std::hint::black_box(&gamma), &mut out_v, &mut work);
         times.push(t0.elapsed().as_secs_f64());
+        t_triads.push(triad.seconds());
     }
     let t = median(times);
     let bytes = problem.apply_n_bytes() as f64;
-    let t_triad = triad_seconds(p.triad_len, p.reps.max(5));
+    let t_triad = median(t_triads);
     let triad_gb_s = 24.0 * p.triad_len as f64 / t_triad / 1e9;
     let gb_s = bytes / t / 1e9;
     let mut out = CaseOutput::new();
