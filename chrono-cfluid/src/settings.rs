@@ -81,6 +81,11 @@ pub struct CfluidSettings {
     /// shrinks. `eps = 0.1` at `h_k = 1.2 dp` is `nu_x = 0.1 (1.2 dp)^2 / h`: 0.029 m^2/s
     /// at dp = 0.02 m, h = 2 ms.
     pub xsph_viscosity: f64,
+    /// Whether the XSPH smoothing leaves the linear part of the velocity field alone
+    /// (the gradient-corrected form, see `docs/validation-cfluid.md`): it then damps the
+    /// particle noise but not a smooth flow at a free surface or a wall, where the plain
+    /// form drags the surface particles toward their neighbours' one-sided mean.
+    pub xsph_corrected: bool,
     /// Largest stabilization rate `C_i / h` of a compressed particle, 1/s (`> 0`): a badly
     /// compressed start recovers at this rate instead of exploding.
     pub max_recovery_rate: f64,
@@ -157,6 +162,7 @@ impl Default for CfluidSettings {
             surface: SurfaceMode::OneSided,
             xsph: 0.1,
             xsph_viscosity: 0.0,
+            xsph_corrected: false,
             max_recovery_rate: 10.0,
             warm_start_factor: 1.0,
             position_iterations: 0,

@@ -58,7 +58,12 @@ fn linear(samples: &[(f64, f64)], sigma: f64, omega: f64) -> Option<(f64, [f64; 
 }
 
 /// Nelder-Mead on `f` from `x0` with initial steps `step`; `iters` iterations.
-fn nelder_mead(f: impl Fn([f64; 2]) -> f64, x0: [f64; 2], step: [f64; 2], iters: usize) -> [f64; 2] {
+fn nelder_mead(
+    f: impl Fn([f64; 2]) -> f64,
+    x0: [f64; 2],
+    step: [f64; 2],
+    iters: usize,
+) -> [f64; 2] {
     let mut s = [x0, [x0[0] + step[0], x0[1]], [x0[0], x0[1] + step[1]]];
     let mut v = s.map(&f);
     for _ in 0..iters {
@@ -165,7 +170,11 @@ pub fn log_decrement(samples: &[(f64, f64)], offset: f64, window: usize) -> Opti
         let nb = &y[i - w..=i + w];
         let is_max = nb.iter().all(|&v| v <= y[i]) && y[i] > 0.0;
         let is_min = nb.iter().all(|&v| v >= y[i]) && y[i] < 0.0;
-        if (is_max || is_min) && ext.last().is_none_or(|&(_, s): &(usize, f64)| s * y[i] < 0.0) {
+        if (is_max || is_min)
+            && ext
+                .last()
+                .is_none_or(|&(_, s): &(usize, f64)| s * y[i] < 0.0)
+        {
             ext.push((i, y[i]));
         }
     }
@@ -198,7 +207,10 @@ mod tests {
                 let t = 0.1 + i as f64 * 0.004;
                 // a deterministic "noise" that is not a sinusoid of the fitted frequency
                 let n = noise * ((37.0 * t).sin() * (91.0 * t).cos());
-                (t, 0.02 + (-sigma * t).exp() * (0.5 * (wd * t).cos() - 0.2 * (wd * t).sin()) + n)
+                (
+                    t,
+                    0.02 + (-sigma * t).exp() * (0.5 * (wd * t).cos() - 0.2 * (wd * t).sin()) + n,
+                )
             })
             .collect()
     }

@@ -63,7 +63,7 @@ pub struct SloshingDecayParams {
     pub fill_height: f64,
     /// Surface elevation at the left wall at the release, m.
     pub amplitude: f64,
-    /// Particle spacing, m (0: `tank_length / 16`).
+    /// Particle spacing, m (0: `tank_length / 32`).
     pub spacing: f64,
     /// Run length in periods of `omega_1` (when `t_end` is 0).
     pub periods: f64,
@@ -85,6 +85,8 @@ pub struct SloshingDecayParams {
     pub xsph: f64,
     /// Constraint fluid: XSPH as a viscosity, m^2/s (see `CfluidSettings::xsph_viscosity`).
     pub xsph_viscosity: f64,
+    /// Constraint fluid: gradient-corrected XSPH (`CfluidSettings::xsph_corrected`).
+    pub xsph_corrected: bool,
     /// Constraint fluid: compressibility, 1/Pa.
     pub compressibility: f64,
     /// Constraint fluid: largest stabilization rate, 1/s.
@@ -110,7 +112,7 @@ impl Default for SloshingDecayParams {
             models: vec!["cfluid".into(), "sph".into()],
             tank_length: 0.8,
             fill_height: 0.3,
-            amplitude: 0.005,
+            amplitude: 0.01,
             spacing: 0.0,
             periods: 5.0,
             t_end: 0.0,
@@ -122,6 +124,7 @@ impl Default for SloshingDecayParams {
             h: 2e-3,
             xsph: c.xsph,
             xsph_viscosity: c.xsph_viscosity,
+            xsph_corrected: c.xsph_corrected,
             compressibility: c.compressibility,
             max_recovery_rate: c.max_recovery_rate,
             h_over_dp: c.h_over_dp,
@@ -139,9 +142,17 @@ impl CaseParams for SloshingDecayParams {
         ParamInfo::new("models", "-", "fluid models: cfluid and/or sph"),
         ParamInfo::new("tank_length", "m", "tank length a (x)"),
         ParamInfo::new("fill_height", "m", "liquid depth h"),
-        ParamInfo::new("amplitude", "m", "surface elevation at the left wall at release"),
-        ParamInfo::new("spacing", "m", "particle spacing dp (0: a / 16)"),
-        ParamInfo::new("periods", "-", "run length in periods of omega_1 (t_end = 0)"),
+        ParamInfo::new(
+            "amplitude",
+            "m",
+            "surface elevation at the left wall at release",
+        ),
+        ParamInfo::new("spacing", "m", "particle spacing dp (0: a / 32)"),
+        ParamInfo::new(
+            "periods",
+            "-",
+            "run length in periods of omega_1 (t_end = 0)",
+        ),
         ParamInfo::new("t_end", "s", "run length (0: periods)"),
         ParamInfo::new("skip_periods", "-", "start of the fit, in periods"),
         ParamInfo::new("viscosity", "m^2/s", "kinematic viscosity of the theory"),
@@ -150,28 +161,56 @@ impl CaseParams for SloshingDecayParams {
         ParamInfo::new("check", "-", "check frequency and damping (else report)"),
         ParamInfo::new("h", "s", "constraint fluid: time step"),
         ParamInfo::new("xsph", "-", "constraint fluid: XSPH epsilon"),
-        ParamInfo::new("xsph_viscosity", "m^2/s", "constraint fluid: XSPH as a viscosity"),
-        ParamInfo::new("compressibility", "1/Pa", "constraint fluid: compressibility"),
-        ParamInfo::new("max_recovery_rate", "1/s", "constraint fluid: stabilization cap"),
+        ParamInfo::new(
+            "xsph_viscosity",
+            "m^2/s",
+            "constraint fluid: XSPH as a viscosity",
+        ),
+        ParamInfo::new(
+            "xsph_corrected",
+            "-",
+            "constraint fluid: gradient-corrected XSPH",
+        ),
+        ParamInfo::new(
+            "compressibility",
+            "1/Pa",
+            "constraint fluid: compressibility",
+        ),
+        ParamInfo::new(
+            "max_recovery_rate",
+            "1/s",
+            "constraint fluid: stabilization cap",
+        ),
         ParamInfo::new("h_over_dp", "-", "constraint fluid: h_k / dp"),
         ParamInfo::new("tolerance", "1/s", "constraint fluid: solver tolerance"),
         ParamInfo::new("solver", "-", "constraint fluid: CCP solver name"),
-        ParamInfo::new("max_iterations", "-", "constraint fluid: iteration cap per step"),
+        ParamInfo::new(
+            "max_iterations",
+            "-",
+            "constraint fluid: iteration cap per step",
+        ),
         ParamInfo::new("sph_alpha", "-", "WCSPH: artificial viscosity alpha"),
         ParamInfo::new("sph_sound_factor", "-", "WCSPH: sound speed over sqrt(g h)"),
     ];
     fn apply_mode(&mut self, mode: Mode) {
         match mode {
-            // a / 16 at the 0.8 m tank (6 layers), 3 periods: frequency and damping
-            // reported, not checked (see docs/validation-cfluid.md: both models' numerical
-            // damping is far above water's at every resolution this machine runs).
+            // a / 16 (6 layers in the 0.8 x 0.3 m tank), surface elevation 0.3 dp, 3
+            // periods: frequency and damping reported, not checked. Issue 29 reads its
+            // criteria at the default resolution; at a / 16 the constraint fluid's decay is
+            // not a clean damped sinusoid (fit residual 0.1-0.2) and both models' numerical
+            // damping is far above water's (docs/validation-cfluid.md).
             Mode::Quick => {
+                self.spacing = self.tank_length / 16.0;
+                self.amplitude = 0.015;
                 self.periods = 3.0;
                 self.check = false;
             }
-            Mode::Default => {}
-            Mode::Full => {
+            // a / 32 (12 layers), 5 periods: checked.
+            Mode::Default => {
                 self.spacing = self.tank_length / 32.0;
+            }
+            Mode::Full => {
+                self.spacing = self.tank_length / 48.0;
             }
         }
     }
@@ -259,7 +298,12 @@ struct Run {
     series: Series,
 }
 
-fn run_cfluid(p: &SloshingDecayParams, dp: f64, t_end: f64, ctx: &RunContext) -> anyhow::Result<Run> {
+fn run_cfluid(
+    p: &SloshingDecayParams,
+    dp: f64,
+    t_end: f64,
+    ctx: &RunContext,
+) -> anyhow::Result<Run> {
     let (a, hf) = (p.tank_length, p.fill_height);
     let top = hf + 0.5 * a.min(hf).max(4.0 * dp);
     let tank = SlabTank::sloshing(dp, p.h_over_dp, a, hf, top);
@@ -277,6 +321,7 @@ fn run_cfluid(p: &SloshingDecayParams, dp: f64, t_end: f64, ctx: &RunContext) ->
         h_over_dp: p.h_over_dp,
         xsph: p.xsph,
         xsph_viscosity: p.xsph_viscosity,
+        xsph_corrected: p.xsph_corrected,
         compressibility: p.compressibility,
         max_recovery_rate: p.max_recovery_rate,
         domain_lower: [-t, 0.0, -t],
@@ -300,7 +345,9 @@ fn run_cfluid(p: &SloshingDecayParams, dp: f64, t_end: f64, ctx: &RunContext) ->
         Ok((xc, px, eta))
     };
     {
-        let f = sys.item::<ConstraintFluid>(id).ok_or_else(|| anyhow::anyhow!("no fluid"))?;
+        let f = sys
+            .item::<ConstraintFluid>(id)
+            .ok_or_else(|| anyhow::anyhow!("no fluid"))?;
         let (xc, px, eta) = probe(f)?;
         series.push(&[0.0, xc, px, eta]);
         samples.push((0.0, xc));
@@ -308,14 +355,18 @@ fn run_cfluid(p: &SloshingDecayParams, dp: f64, t_end: f64, ctx: &RunContext) ->
     for step in 1..=n {
         let report = sys.step(p.h)?;
         iterations += report.solve.iterations;
-        let f = sys.item::<ConstraintFluid>(id).ok_or_else(|| anyhow::anyhow!("no fluid"))?;
+        let f = sys
+            .item::<ConstraintFluid>(id)
+            .ok_or_else(|| anyhow::anyhow!("no fluid"))?;
         let (xc, px, eta) = probe(f)?;
         let time = step as f64 * p.h;
         series.push(&[time, xc, px, eta]);
         samples.push((time, xc));
         ctx.progress_steps(step, n);
     }
-    let f = sys.item::<ConstraintFluid>(id).ok_or_else(|| anyhow::anyhow!("no fluid"))?;
+    let f = sys
+        .item::<ConstraintFluid>(id)
+        .ok_or_else(|| anyhow::anyhow!("no fluid"))?;
     Ok(Run {
         samples,
         depth,
@@ -349,9 +400,8 @@ fn run_sph(p: &SloshingDecayParams, dp: f64, t_end: f64, ctx: &RunContext) -> an
     for &q in &set.fluid {
         let x = displaced(q, a, depth, p.amplitude);
         // linear theory's pressure at the release, as a hydrostatic head above x
-        let head = p.amplitude * (k * x[0]).cos() * (k * x[2]).cosh() / (k * depth).cosh()
-            + depth
-            - x[2];
+        let head =
+            p.amplitude * (k * x[0]).cos() * (k * x[2]).cosh() / (k * depth).cosh() + depth - x[2];
         b.add_fluid_points(&[x], Some(x[2] + head));
     }
     b.add_wall_markers(&set.walls, 0);
@@ -399,14 +449,18 @@ fn run_sph(p: &SloshingDecayParams, dp: f64, t_end: f64, ctx: &RunContext) -> an
 fn run(p: &SloshingDecayParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     validate(p)?;
     let a = p.tank_length;
-    let dp = if p.spacing > 0.0 { p.spacing } else { a / 16.0 };
+    let dp = if p.spacing > 0.0 { p.spacing } else { a / 32.0 };
     let mut out = CaseOutput::new();
     out.metric("a_over_dp", a / dp);
     let mut steps = 0;
     let mut first_series = None;
     for model in &p.models {
         let om_req = sloshing_mode(1, a, p.fill_height, G);
-        let t_end = if p.t_end > 0.0 { p.t_end } else { p.periods * TAU / om_req };
+        let t_end = if p.t_end > 0.0 {
+            p.t_end
+        } else {
+            p.periods * TAU / om_req
+        };
         let start = Instant::now();
         let r = if model == "cfluid" {
             run_cfluid(p, dp, t_end, ctx)?
@@ -417,8 +471,12 @@ fn run(p: &SloshingDecayParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> 
         let om1 = sloshing_mode(1, a, r.depth, G);
         let zeta_th = sloshing_damping_ratio(a, r.depth, p.viscosity, G);
         let t_skip = p.skip_periods * TAU / om1;
-        let fit_samples: Vec<(f64, f64)> =
-            r.samples.iter().copied().filter(|s| s.0 >= t_skip).collect();
+        let fit_samples: Vec<(f64, f64)> = r
+            .samples
+            .iter()
+            .copied()
+            .filter(|s| s.0 >= t_skip)
+            .collect();
         let f = fit_damped(&fit_samples, om1)?;
         let per_period = fit_samples.len() as f64 / ((t_end - t_skip) * om1 / TAU);
         let window = ((per_period / 8.0).round() as usize).max(1);
@@ -458,7 +516,11 @@ fn run(p: &SloshingDecayParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> 
             out.metric(format!("omega_d[{model}]"), f.omega_d);
             out.metric(format!("damping_factor[{model}]"), factor);
         }
-        out.check(Check::below(format!("left_tank[{model}]"), r.left as f64, 0.0));
+        out.check(Check::below(
+            format!("left_tank[{model}]"),
+            r.left as f64,
+            0.0,
+        ));
         ctx.note(format!(
             "{model}: depth {:.4} m, omega_d {:.4} rad/s against omega_1 {om1:.4} ({:+.2} %), \
              zeta {zeta:.4} (log decrement {}) against {zeta_th:.2e} (x{:.0}), fit residual \
