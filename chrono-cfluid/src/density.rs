@@ -430,7 +430,7 @@ fn inverse3(m: &[[f64; 3]; 3]) -> Option<[[f64; 3]; 3]> {
         [c(0, 1, 1, 2), -c(0, 1, 0, 2), c(0, 1, 0, 1)],
     ];
     let det = m[0][0] * cof[0][0] + m[0][1] * cof[0][1] + m[0][2] * cof[0][2];
-    if !(det.abs() >= 1e-2) {
+    if det.is_nan() || det.abs() < 1e-2 {
         return None;
     }
     // inverse = adjugate / det, adjugate = cofactor transposed
