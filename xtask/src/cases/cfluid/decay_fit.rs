@@ -161,7 +161,8 @@ pub fn fit_damped(samples: &[(f64, f64)], omega_guess: f64) -> anyhow::Result<Da
 /// straight line through `ln |e_i|` against `i` (successive extrema, half a period
 /// apart: `|e_{i+1}| / |e_i| = exp(-pi zeta / sqrt(1 - zeta^2))`), and the number of
 /// extrema used. `None` with fewer than 3 extrema. An extremum is a sample larger (or
-/// smaller) than every sample within `window` samples on either side.
+/// smaller) than every sample within `window` samples on either side; the extrema after
+/// the first one below 5 % of the largest are left out (noise).
 pub fn log_decrement(samples: &[(f64, f64)], offset: f64, window: usize) -> Option<(f64, usize)> {
     let w = window.max(1);
     let y: Vec<f64> = samples.iter().map(|s| s.1 - offset).collect();
@@ -177,6 +178,11 @@ pub fn log_decrement(samples: &[(f64, f64)], offset: f64, window: usize) -> Opti
         {
             ext.push((i, y[i]));
         }
+    }
+    // the extrema that stand out of the noise: from the largest down to 5 % of it
+    let top = ext.iter().fold(0.0f64, |m, e| m.max(e.1.abs()));
+    if let Some(k) = ext.iter().position(|e| e.1.abs() < 0.05 * top) {
+        ext.truncate(k);
     }
     if ext.len() < 3 {
         return None;
