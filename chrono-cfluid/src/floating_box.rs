@@ -96,7 +96,7 @@ impl Default for FloatingBox {
             depth: 0.16,
             spacing: 0.01,
             h_over_dp: CfluidSettings::default().h_over_dp,
-            xsph: 0.1,
+            xsph: CfluidSettings::default().xsph,
             coupling: Coupling::MarkerRows,
             contact_radius: 0.5,
             position_iterations: 0,

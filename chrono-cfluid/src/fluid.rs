@@ -754,10 +754,15 @@ impl PhysicsItem for ConstraintFluid {
         {
             return Err(self.non_finite(ctx, i, "velocity after the solve"));
         }
-        if self.settings.xsph > 0.0 && self.neighbors_fresh {
+        let eps = self.settings.xsph_epsilon(ctx.h);
+        if eps > 0.0 && self.neighbors_fresh {
             let mut out = std::mem::take(&mut self.vel_scratch);
-            self.field()
-                .xsph(self.settings.xsph, &self.rho, &self.vel, &mut out);
+            if self.settings.xsph_corrected {
+                self.field()
+                    .xsph_corrected(eps, &self.rho, &self.vel, &mut out);
+            } else {
+                self.field().xsph(eps, &self.rho, &self.vel, &mut out);
+            }
             self.vel_scratch = std::mem::replace(&mut self.vel, out);
         }
         let h = ctx.h;

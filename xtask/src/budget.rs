@@ -64,6 +64,7 @@ pub const BUDGETS: &[Budget] = &[
     b("cfluid-floating-box", 70.0, 70.0),
     b("cfluid-timestep", 20.0, 20.0),
     b("cfluid-sloshing", 9.0, 9.0),
+    b("cfluid-sloshing-decay", 12.0, 12.0),
     b("cfluid-still-water", 15.0, 15.0),
     b("ccp-solvers", 35.0, 4.0),
     b("fea-cantilever", 1.0, 1.0),

@@ -89,6 +89,7 @@ pub fn all_cases() -> Vec<Box<dyn Case>> {
         cfluid::floating_box::case(),
         cfluid::timestep::case(),
         cfluid::sloshing::case(),
+        cfluid::sloshing_decay::case(),
         cfluid::still_water::case(),
         ccp::solvers::case(),
         fea::cantilever::case(),

@@ -80,7 +80,7 @@ impl Default for CfluidDamBreakParams {
             tank_length: 5.0 * a,
             spacing: a / 24.0,
             t_end: 0.165,
-            xsph: 0.1,
+            xsph: CfluidSettings::default().xsph,
             h: 5e-4,
             tolerance: 1e-4,
             solver: "apgd".into(),

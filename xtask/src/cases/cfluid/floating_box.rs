@@ -134,7 +134,7 @@ impl Default for FloatingBoxParams {
             h: 1e-3,
             t_end: 3.0,
             window: 0.25,
-            xsph: 0.1,
+            xsph: CfluidSettings::default().xsph,
             coupling: Coupling::MarkerRows,
             contact_radius: 0.5,
             tolerance: 1e-4,

@@ -119,7 +119,7 @@ impl Default for IncompressibilityParams {
             tank_length: 0.1,
             h_over_dp: 1.2,
             compressibility: 1e-9,
-            xsph: 0.1,
+            xsph: CfluidSettings::default().xsph,
             surface: SurfaceMode::OneSided,
             solver: "apgd".into(),
             max_iterations: 1000,

@@ -4,9 +4,11 @@
 //! See `docs/validation-cfluid.md`.
 
 pub mod dam_break;
+pub mod decay_fit;
 pub mod floating_box;
 pub mod incompressibility;
 pub mod sloshing;
+pub mod sloshing_decay;
 pub mod still_water;
 pub mod timestep;
 

@@ -85,7 +85,7 @@ impl Default for CfluidSloshingParams {
             fit_periods: 3.0,
             rel_tolerance: 0.10,
             h: 2e-3,
-            xsph: 0.1,
+            xsph: CfluidSettings::default().xsph,
             tolerance: 1e-4,
             solver: "apgd".into(),
             max_iterations: 500,

@@ -118,7 +118,7 @@ impl Default for StillWaterParams {
             spacing: 0.02,
             h: 4e-3,
             t_end: 20.0,
-            xsph: 0.1,
+            xsph: CfluidSettings::default().xsph,
             tolerance: 1e-4,
             solver: "apgd".into(),
             max_iterations: 500,

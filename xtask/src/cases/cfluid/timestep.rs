@@ -129,7 +129,7 @@ impl Default for TimestepParams {
             alpha: 0.03,
             sph_xsph: 0.5,
             sound_speed_start: 0.0,
-            xsph: 0.1,
+            xsph: CfluidSettings::default().xsph,
             h_start: 3e-3,
             tolerance: 1e-4,
             solver: "apgd".into(),
