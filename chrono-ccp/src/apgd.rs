@@ -256,7 +256,10 @@ impl CcpSolver for Apgd {
             self.s.fill(1.0);
         }
         let s = &self.s;
-        fill_with(&mut self.s_inv, |i| if s[i] > 0.0 { 1.0 / s[i] } else { 0.0 });
+        fill_with(
+            &mut self.s_inv,
+            |i| if s[i] > 0.0 { 1.0 / s[i] } else { 0.0 },
+        );
 
         sanitize_and_project(problem, gamma);
         self.g.copy_from_slice(gamma);

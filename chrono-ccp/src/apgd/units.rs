@@ -136,7 +136,11 @@ impl Apgd {
                 u.chunks = c + 1;
             }
             let r = rows.clone();
-            let (gn, sc, mu) = (&gn[r.clone()], &scale[r.clone()], &mu[r.start / 3..r.end / 3]);
+            let (gn, sc, mu) = (
+                &gn[r.clone()],
+                &scale[r.clone()],
+                &mu[r.start / 3..r.end / 3],
+            );
             let [res2] = lane_sum::<1>(mu.len(), |k| {
                 let t = 3 * k;
                 let h = sc[t];
