@@ -325,7 +325,7 @@ impl TrackData {
         }
         for (k, w) in r.x.windows(2).enumerate() {
             check_finite(&format!("{field}.road_wheels.x[{k}]"), w[0])?;
-            if !(w[1] < w[0] - 2.0 * r.radius) {
+            if !w[1].is_finite() || w[1] >= w[0] - 2.0 * r.radius {
                 return Err(VehicleError::invalid(
                     format!("{field}.road_wheels.x[{}]", k + 1),
                     w[1],
