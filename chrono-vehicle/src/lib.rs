@@ -1,6 +1,6 @@
 //! # chrono-vehicle
 //!
-//! Wheeled vehicles built from templates, each a small struct made from a serde description
+//! Wheeled and tracked vehicles built from templates, each a small struct made from a serde description
 //! (JSON), so another vehicle is a new data file, not new code:
 //!
 //! - [`suspension`]: double wishbone (control arms, upright, spindle, tie rod, spring and
@@ -14,6 +14,9 @@
 //! - [`driver`]: open loop, speed controller (PID), path follower;
 //! - [`terrain`]: rigid flat and heightmap terrains;
 //! - [`vehicle`]: the wheeled vehicle assembled from a description; [`hmmwv`] is the HMMWV;
+//! - [`track`]: track templates (sprocket, idler and tensioner, road wheels on torsion-bar
+//!   arms, support rollers, single-pin shoes) and [`tracked`]: the tracked vehicle built from
+//!   them; [`m113`] is the M113A1;
 //! - [`scene`]: a vehicle set down on flat ground, steer angles, wheel slip and sinkage,
 //!   differential locks for loose ground;
 //! - [`output`]: the vehicle's time series as CSV.
@@ -26,6 +29,7 @@ pub mod driver;
 pub mod error;
 pub mod hmmwv;
 mod json_path;
+pub mod m113;
 pub mod output;
 pub mod powertrain;
 pub mod scene;
@@ -34,6 +38,8 @@ pub mod steering;
 pub mod suspension;
 pub mod terrain;
 pub mod tire;
+pub mod track;
+pub mod tracked;
 pub mod vehicle;
 
 pub use error::{Result, VehicleError};

@@ -81,6 +81,7 @@ pub const BUDGETS: &[Budget] = &[
     b("hmmwv-turn", 11.0, 5.0),
     b("hmmwv-lane-change", 7.0, 7.0),
     b("hmmwv-granular", 165.0, 135.0),
+    b("m113-static", 13.0, 9.0),
 ];
 
 /// The budget of `case` in `mode` (s); `None` for an unknown case or `--full` (which
@@ -101,7 +102,7 @@ pub fn area_shares() -> Vec<(&'static str, f64)> {
     for b in BUDGETS {
         let area = match b.case.split('-').next().unwrap_or(b.case) {
             "smc" => "granular",
-            "hmmwv" => "vehicle",
+            "hmmwv" | "m113" => "vehicle",
             a => a,
         };
         match shares.iter_mut().find(|(a, _)| *a == area) {

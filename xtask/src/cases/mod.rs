@@ -106,6 +106,7 @@ pub fn all_cases() -> Vec<Box<dyn Case>> {
         vehicle::turn::case(),
         vehicle::lane_change::case(),
         vehicle::granular::case(),
+        vehicle::m113_static::case(),
     ]
 }
 

@@ -1,8 +1,9 @@
-//! Vehicle cases: the HMMWV of `chrono-vehicle` on rigid terrain.
+//! Vehicle cases: the HMMWV and the M113 of `chrono-vehicle`.
 
 pub mod accel;
 pub mod granular;
 pub mod lane_change;
+pub mod m113_static;
 pub mod scene;
 pub mod static_settle;
 pub mod turn;

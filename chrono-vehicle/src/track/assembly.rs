@@ -1,0 +1,394 @@
+//! One track's running gear in a system.
+//!
+//! | part | body and joint | contact |
+//! |---|---|---|
+//! | sprocket | revolute motor to the chassis about Y ([`TrackAssembly::set_sprocket_drive`]: free, held or driven) | two gear rings at `±gear_offset`: a pin seat (cylinder of radius `pitch_radius - pin_radius`) and `num_teeth` convex teeth each |
+//! | idler | wheel on a revolute joint in a carrier; the carrier on a prismatic joint along X; the tensioner a preloaded [`SpringDamper`] pushing it rearward | cylinder |
+//! | road wheel | wheel on a revolute joint in a trailing arm; the arm on a revolute joint to the chassis with a [`TorsionSpring`] (plus the rotary shock's damping where fitted) | cylinder |
+//! | roller | revolute joint to the chassis | cylinder |
+//! | shoe | box plate; revolute joints about Y at the pins to its neighbours; the loop closes by two distance rows (the pin in the track plane), so no row repeats another | the plate (against wheels and ground) and two pin ends (cylinders at the front pin, in the gear rings' planes) |
+//!
+//! The shoes are laid out by [`super::geometry::layout`]; the idler starts where that puts
+//! it and the tensioner's spring is at its preload there. Shoes and wheels start touching
+//! (zero gap), so nothing jumps at the first step.
+
+use std::f64::consts::TAU;
+
+use chrono_core::force::ForceHandle;
+use chrono_core::math::{Isometry3, Point3, UnitQuaternion, Vector3};
+use chrono_core::{
+    BodyHandle, Drive, JointBuilder, JointHandle, JointKind, RigidBodyBuilder, Shape, SpringDamper,
+    System,
+};
+
+use crate::error::{Result, VehicleError};
+use crate::suspension::MassData;
+
+use super::TrackData;
+use super::geometry::{ChainLayout, layout};
+use super::torsion::TorsionSpring;
+
+/// Length of the tensioner spring at assembly (its chassis anchor this far ahead of the
+/// idler centre along X), m. Only its direction matters: the force is the preload there.
+const TENSIONER_ARM: f64 = 0.5;
+
+/// A road wheel and its suspension.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RoadWheel {
+    /// The wheel.
+    pub wheel: BodyHandle,
+    /// The trailing arm.
+    pub arm: BodyHandle,
+    /// The torsion bar (with the shock's damping where fitted).
+    pub torsion_bar: ForceHandle,
+}
+
+/// One side's running gear (see the [module docs](self)).
+#[derive(Debug, Clone, PartialEq)]
+pub struct TrackAssembly {
+    /// 0 left, 1 right.
+    pub side: usize,
+    /// The sprocket.
+    pub sprocket: BodyHandle,
+    /// Its joint to the chassis (a rotational motor about Y).
+    pub sprocket_joint: JointHandle,
+    /// The idler wheel.
+    pub idler: BodyHandle,
+    /// The idler's carrier (slides along X).
+    pub carrier: BodyHandle,
+    /// The tensioner spring-damper (chassis to carrier).
+    pub tensioner: ForceHandle,
+    /// The road wheels, front to rear.
+    pub road_wheels: Vec<RoadWheel>,
+    /// The support rollers.
+    pub rollers: Vec<BodyHandle>,
+    /// The shoes in chain order.
+    pub shoes: Vec<BodyHandle>,
+    /// The pin joints: `pins[k]` joins shoe `k - 1` and shoe `k` by a revolute joint for
+    /// `k >= 1`; `pins[0]` is `closure[0]`.
+    pub pins: Vec<JointHandle>,
+    /// The loop's closure between the last shoe and the first: two distance joints (see
+    /// [`TrackAssembly::build`]).
+    pub closure: [JointHandle; 2],
+    /// The assembled layout (pin positions in the track frame, idler offset, closure).
+    pub layout: ChainLayout,
+}
+
+impl TrackAssembly {
+    /// Build side `side` (0 left at `+track_y`, 1 right at `-track_y`) of `data` (validated
+    /// by the caller) into `sys`, with its track frame at `frame` (the chassis reference pose
+    /// shifted to the track's mid-plane; rotation = the chassis').
+    pub fn build(
+        sys: &mut System,
+        data: &TrackData,
+        side: usize,
+        chassis: BodyHandle,
+        frame: &Isometry3<f64>,
+    ) -> Result<Self> {
+        let shoes_n = data.shoe.count[side];
+        let lay = layout(data, shoes_n, side)?;
+        let name = ["track.left", "track.right"][side];
+        let label = |part: &str| format!("{name}.{part}");
+        let w = |p: [f64; 2]| -> Vector3<f64> {
+            frame.transform_point(&Point3::new(p[0], 0.0, p[1])).coords
+        };
+        let rot = frame.rotation;
+        let y_axis = rot * Vector3::y();
+        let x_axis = rot * Vector3::x();
+        let (mat_shoe, mat_wheel) = (data.materials.shoe, data.materials.wheel);
+        let dynamic = |part: &str, m: &MassData, at: Vector3<f64>, q: UnitQuaternion<f64>| {
+            RigidBodyBuilder::dynamic()
+                .name(label(part))
+                .mass(m.mass)
+                .inertia_diagonal(m.inertia_vector())
+                .position(at)
+                .rotation(q)
+        };
+        let cylinder = |radius: f64, width: f64| Shape::Cylinder {
+            half_length: 0.5 * width,
+            radius,
+        };
+        let revolute = |sys: &mut System, part: &str, a, b, at: Vector3<f64>| {
+            sys.add_joint(
+                JointBuilder::at_axis(JointKind::Revolute, a, b, at, y_axis).name(label(part)),
+            )
+        };
+
+        // Rollers must stay below the upper run (checked before anything is built).
+        for (k, ro) in data.rollers.iter().enumerate() {
+            let clear = ro.radius + 0.5 * data.shoe.thickness;
+            let n = lay.pins.len();
+            for j in 0..n {
+                let d = segment_distance(ro.location, lay.pins[j], lay.pins[(j + 1) % n]);
+                if d < clear - 1e-6 {
+                    return Err(VehicleError::invalid(
+                        format!("track.rollers[{k}].location"),
+                        format!("{:?}", ro.location),
+                        format!(
+                            "the roller reaches {:.4} m into shoe {j} of the assembled chain",
+                            clear - d
+                        ),
+                    ));
+                }
+            }
+        }
+
+        // Sprocket: gear rings with the pin seat and the teeth.
+        let s = &data.sprocket;
+        let tau = TAU / s.num_teeth as f64;
+        let seat = s.pitch_radius - data.shoe.pin_radius;
+        // Tooth half-angle at the pitch radius: the pin plus clearance fits the gap.
+        let half_gap = ((data.shoe.pin_radius + s.flank_clearance) / s.pitch_radius).asin();
+        let a_pitch = 0.5 * tau - half_gap;
+        let a_tip = 0.5 * a_pitch;
+        let root = 0.8 * seat;
+        let mut sb = dynamic("sprocket", &s.mass, w(s.location), rot);
+        for ring in [-1.0, 1.0] {
+            let yc = ring * s.gear_offset;
+            sb = sb.collider(
+                cylinder(seat, s.gear_width),
+                Isometry3::translation(0.0, yc, 0.0),
+                mat_wheel,
+            );
+            for k in 0..s.num_teeth {
+                let phi = lay.sprocket_start_angle - (k as f64 + 0.5) * tau;
+                let mut pts = Vec::with_capacity(12);
+                for y in [yc - 0.5 * s.gear_width, yc + 0.5 * s.gear_width] {
+                    for (r, a) in [
+                        (root, a_pitch),
+                        (s.pitch_radius, a_pitch),
+                        (s.tip_radius, a_tip),
+                    ] {
+                        for sg in [-1.0, 1.0] {
+                            let t = phi + sg * a;
+                            pts.push(Vector3::new(r * t.cos(), y, r * t.sin()));
+                        }
+                    }
+                }
+                sb = sb.collider(
+                    Shape::ConvexHull { points: pts },
+                    Isometry3::identity(),
+                    mat_wheel,
+                );
+            }
+        }
+        let sprocket = sys.add_body(sb)?;
+        let sprocket_joint = sys.add_joint(
+            JointBuilder::at_axis(
+                JointKind::RotationalMotor {
+                    drive: Drive::Effort(0.0),
+                    max_torque: f64::INFINITY,
+                    limits: None,
+                },
+                chassis,
+                sprocket,
+                w(s.location),
+                y_axis,
+            )
+            .name(label("sprocket_joint")),
+        )?;
+
+        // Idler on its carrier and tensioner.
+        let i = &data.idler;
+        let ic = w([i.location[0] + lay.idler_offset, i.location[1]]);
+        let carrier = sys.add_body(dynamic("idler_carrier", &i.carrier, ic, rot))?;
+        sys.add_joint(
+            JointBuilder::at_axis(JointKind::Prismatic, chassis, carrier, ic, x_axis)
+                .name(label("tensioner_slide")),
+        )?;
+        let idler = sys.add_body(dynamic("idler", &i.mass, ic, rot).collider(
+            cylinder(i.radius, i.width),
+            Isometry3::identity(),
+            mat_wheel,
+        ))?;
+        revolute(sys, "idler_revolute", carrier, idler, ic)?;
+        let t = &i.tensioner;
+        let tensioner = sys.add_force_element(Box::new(
+            SpringDamper::linear(
+                label("tensioner"),
+                chassis,
+                ic + x_axis * TENSIONER_ARM,
+                carrier,
+                ic,
+                TENSIONER_ARM,
+                t.stiffness,
+                t.damping,
+            )
+            .with_preload(t.preload),
+        ))?;
+
+        // Road wheels on trailing arms.
+        let r = &data.road_wheels;
+        let mut road_wheels = Vec::with_capacity(r.x.len());
+        for (k, &x) in r.x.iter().enumerate() {
+            let c = w([x, r.z]);
+            let pivot = w([x + r.arm_pivot[0], r.z + r.arm_pivot[1]]);
+            let arm = sys.add_body(dynamic(
+                &format!("arm[{k}]"),
+                &r.arm,
+                0.5 * (c + pivot),
+                rot,
+            ))?;
+            revolute(sys, &format!("arm_revolute[{k}]"), chassis, arm, pivot)?;
+            let wheel = sys.add_body(
+                dynamic(&format!("road_wheel[{k}]"), &r.wheel, c, rot).collider(
+                    cylinder(r.radius, r.width),
+                    Isometry3::identity(),
+                    mat_wheel,
+                ),
+            )?;
+            revolute(sys, &format!("road_wheel_revolute[{k}]"), arm, wheel, c)?;
+            let damping = r.torsion_bar.damping
+                + if r.shock_wheels.contains(&k) {
+                    r.shock_damping
+                } else {
+                    0.0
+                };
+            let torsion_bar = sys.add_force_element(Box::new(TorsionSpring::new(
+                label(&format!("torsion_bar[{k}]")),
+                chassis,
+                arm,
+                y_axis,
+                r.torsion_bar.stiffness,
+                damping,
+                r.torsion_bar.preload,
+            )))?;
+            road_wheels.push(RoadWheel {
+                wheel,
+                arm,
+                torsion_bar,
+            });
+        }
+
+        // Support rollers.
+        let mut rollers = Vec::with_capacity(data.rollers.len());
+        for (k, ro) in data.rollers.iter().enumerate() {
+            let c = w(ro.location);
+            let b = sys.add_body(dynamic(&format!("roller[{k}]"), &ro.mass, c, rot).collider(
+                cylinder(ro.radius, ro.width),
+                Isometry3::identity(),
+                mat_wheel,
+            ))?;
+            revolute(sys, &format!("roller_revolute[{k}]"), chassis, b, c)?;
+            rollers.push(b);
+        }
+
+        // Shoes and pins.
+        let sh = &data.shoe;
+        let n = lay.pins.len();
+        let plate = Shape::Box {
+            half_extents: Vector3::new(0.5 * sh.pitch, 0.5 * sh.width, 0.5 * sh.thickness),
+        };
+        let pin_end = cylinder(sh.pin_radius, s.gear_width + 0.02);
+        let mut shoes = Vec::with_capacity(n);
+        for k in 0..n {
+            let (a, b) = (w(lay.pins[k]), w(lay.pins[(k + 1) % n]));
+            let xl = (b - a).normalize();
+            let zl = xl.cross(&y_axis);
+            let q = UnitQuaternion::from_basis_unchecked(&[xl, y_axis, zl]);
+            let mut bb = dynamic(&format!("shoe[{k}]"), &sh.mass, 0.5 * (a + b), q).collider(
+                plate.clone(),
+                Isometry3::identity(),
+                mat_shoe,
+            );
+            for ring in [-1.0, 1.0] {
+                bb = bb.collider(
+                    pin_end.clone(),
+                    Isometry3::translation(0.5 * sh.pitch, ring * s.gear_offset, 0.0),
+                    mat_shoe,
+                );
+            }
+            shoes.push(sys.add_body(bb)?);
+        }
+        // Pins 1..n: revolute joints. Pin 0 closes the loop: a revolute there would repeat
+        // three rows (the loop's out-of-plane motion is already fixed by the others), which
+        // makes the Schur solver's joint block singular and slow; two distance rows from the
+        // pin on the last shoe to two points of the first (half a pitch along and across
+        // it) fix the pin in the track plane only, so the rows stay independent.
+        let mut pins = Vec::with_capacity(n);
+        let p0 = w(lay.pins[0]);
+        let q0 = sys.body(shoes[0])?.rotation();
+        let mut closure = [None, None];
+        for (i, dir) in [Vector3::x(), Vector3::z()].into_iter().enumerate() {
+            let anchor = p0 + q0 * dir * (0.5 * sh.pitch);
+            closure[i] = Some(
+                sys.add_joint(
+                    JointBuilder::distance_between(shoes[n - 1], shoes[0], p0, anchor)
+                        .name(label(&format!("pin[0].closure[{i}]"))),
+                )?,
+            );
+        }
+        let closure = [closure[0].expect("set"), closure[1].expect("set")];
+        pins.push(closure[0]);
+        for k in 1..n {
+            pins.push(revolute(
+                sys,
+                &format!("pin[{k}]"),
+                shoes[k - 1],
+                shoes[k],
+                w(lay.pins[k]),
+            )?);
+        }
+        Ok(Self {
+            side,
+            sprocket,
+            sprocket_joint,
+            idler,
+            carrier,
+            tensioner,
+            road_wheels,
+            rollers,
+            shoes,
+            pins,
+            closure,
+            layout: lay,
+        })
+    }
+
+    /// Set the sprocket's drive: `Drive::Effort(t)` a torque (N m, about +Y: forward
+    /// driving), `Drive::Speed(0.0)` held (a locked brake), `Drive::Speed(w)` a set speed.
+    pub fn set_sprocket_drive(&self, sys: &mut System, drive: Drive) -> Result<()> {
+        sys.joint_mut(self.sprocket_joint)?.set_drive(drive)?;
+        Ok(())
+    }
+
+    /// The tensioner's force at the last step, N (positive pushes the idler rearward).
+    pub fn tensioner_force(&self, sys: &System) -> f64 {
+        sys.force_element::<SpringDamper>(self.tensioner)
+            .map_or(f64::NAN, |s| s.force())
+    }
+
+    /// The magnitude of each pin joint's reaction force at the last step, N: the chain's
+    /// tension at each pin (plus the pin's share of the shoes' weight and contact loads).
+    /// Pin 0's is one of its two closure rows only.
+    pub fn pin_forces(&self, sys: &System) -> Result<Vec<f64>> {
+        self.pins
+            .iter()
+            .map(|&p| Ok(sys.joint(p)?.reaction_force().norm()))
+            .collect()
+    }
+
+    /// Every body of the running gear except the shoes (sprocket, idler and carrier, road
+    /// wheels and arms, rollers).
+    pub fn running_gear(&self) -> Vec<BodyHandle> {
+        let mut v = vec![self.sprocket, self.idler, self.carrier];
+        for r in &self.road_wheels {
+            v.push(r.wheel);
+            v.push(r.arm);
+        }
+        v.extend(&self.rollers);
+        v
+    }
+}
+
+/// Distance from `p` to the segment `a b` in the plane, m.
+fn segment_distance(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
+    let (dx, dz) = (b[0] - a[0], b[1] - a[1]);
+    let l2 = dx * dx + dz * dz;
+    let t = if l2 > 0.0 {
+        (((p[0] - a[0]) * dx + (p[1] - a[1]) * dz) / l2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (p[0] - a[0] - t * dx).hypot(p[1] - a[1] - t * dz)
+}

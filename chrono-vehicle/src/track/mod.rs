@@ -1,0 +1,399 @@
+//! Track templates: the running gear of a tracked vehicle, one side at a time, built from a
+//! serde description like the wheeled templates.
+//!
+//! - [`geometry`]: the loop the chain wraps (sprocket pitch circle, road wheels, idler), the
+//!   pins placed one pitch apart along it and the idler position that closes the loop;
+//! - [`torsion`]: the torsion-bar spring (a rotational spring-damper with preload between
+//!   the chassis and a road-wheel arm);
+//! - [`assembly`]: one side in a system: sprocket (two gear rings whose teeth drive the
+//!   shoes' pin ends), idler on a tensioner (a carrier on a prismatic joint pushed rearward
+//!   by a preloaded spring-damper), road wheels on trailing arms with torsion bars and rotary
+//!   shocks, optional support rollers, and single-pin shoes joined by revolute joints; all
+//!   contacts (shoe–wheel, pin–sprocket, shoe–ground) are ordinary CCP contact rows with
+//!   the data's materials.
+//!
+//! Frames: the track frame is the chassis frame shifted to the track's mid-plane
+//! (`y = ±track_y`); positions in the data are `[x, z]` in that plane, X forward, Z up, m.
+//! Both sides have the same side-view geometry (only `y` differs); the shoe count can
+//! differ (the M113 has 63 on the left and 64 on the right).
+//!
+//! The chain is assembled from the data: the pins go one pitch apart around the wheels,
+//! and the idler slides along its tensioner (within its travel) until the last pin meets
+//! the first. A chain too short or too long for that travel, a sprocket whose tooth count
+//! does not match the pitch at its pitch radius, a negative preload: each is an error
+//! naming the field.
+
+pub mod assembly;
+pub mod geometry;
+pub mod torsion;
+
+use serde::{Deserialize, Serialize};
+
+use chrono_core::ContactMaterial;
+
+use crate::error::{Result, VehicleError, check_finite, check_non_negative, check_positive};
+use crate::suspension::MassData;
+
+pub use assembly::{RoadWheel, TrackAssembly};
+pub use geometry::{ChainLayout, Circle};
+pub use torsion::TorsionSpring;
+
+/// The drive sprocket: two gear rings (one each side of the shoes, at `±gear_offset` from
+/// the track mid-plane) of `num_teeth` teeth each; the shoes' pin ends seat in the gaps at
+/// the pitch radius and the teeth push on them.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SprocketData {
+    /// Centre `[x, z]` in the track frame, m.
+    pub location: [f64; 2],
+    /// Sprocket (both gears and hub) mass and inertia.
+    pub mass: MassData,
+    /// Number of teeth of each gear ring.
+    pub num_teeth: usize,
+    /// Pitch radius: where the pin centres sit in the gaps, m. Must equal
+    /// `pitch / (2 sin(pi / num_teeth))` within 0.1 %.
+    pub pitch_radius: f64,
+    /// Tooth tip radius, m (> pitch radius).
+    pub tip_radius: f64,
+    /// Width of each gear ring, m.
+    pub gear_width: f64,
+    /// Lateral distance of each gear ring's mid-plane from the track mid-plane, m (the shoe
+    /// plate lies between the rings: `> shoe.width / 2 + gear_width / 2`).
+    pub gear_offset: f64,
+    /// Clearance between a seated pin and each tooth flank at the pitch radius, m.
+    pub flank_clearance: f64,
+}
+
+/// The tensioner: a preloaded spring-damper pushing the idler carrier rearward along the
+/// track frame's X axis.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TensionerData {
+    /// Force at the assembled position, N (>= 0, pushes the idler rearward).
+    pub preload: f64,
+    /// Stiffness, N/m (the force falls by this much per metre of rearward travel).
+    pub stiffness: f64,
+    /// Damping, N s/m.
+    pub damping: f64,
+    /// Range of the idler position along X relative to `idler.location`, m: `[rearward
+    /// limit (<= 0), forward limit (>= 0)]`, the range the assembly may place it in.
+    pub travel: [f64; 2],
+}
+
+/// The idler: a wheel at the rear on a carrier that slides along the tensioner.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct IdlerData {
+    /// Nominal centre `[x, z]` in the track frame, m.
+    pub location: [f64; 2],
+    /// Wheel radius, m.
+    pub radius: f64,
+    /// Wheel width, m.
+    pub width: f64,
+    /// Wheel mass and inertia.
+    pub mass: MassData,
+    /// Carrier mass and inertia.
+    pub carrier: MassData,
+    /// The tensioner.
+    pub tensioner: TensionerData,
+}
+
+/// The torsion bar of a road-wheel arm: torque `T = preload - k theta - c theta_dot` about
+/// the track frame's +Y axis on the arm (reaction on the chassis), `theta` the arm's
+/// rotation from its assembled position.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TorsionBarData {
+    /// Rate `k`, N m/rad.
+    pub stiffness: f64,
+    /// Damping `c`, N m s/rad.
+    pub damping: f64,
+    /// Torque at the assembled position, N m (about +Y; a trailing arm carrying load needs
+    /// a negative one).
+    pub preload: f64,
+}
+
+/// The road wheels: all of one size, on trailing arms with torsion bars.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RoadWheelData {
+    /// Wheel centres' X in the track frame, m, front to rear.
+    pub x: Vec<f64>,
+    /// Wheel centres' Z in the track frame (assembled position), m.
+    pub z: f64,
+    /// Wheel radius, m.
+    pub radius: f64,
+    /// Wheel width (both discs of a dual wheel as one cylinder), m.
+    pub width: f64,
+    /// Wheel mass and inertia.
+    pub wheel: MassData,
+    /// Arm mass and inertia (centre of mass midway between pivot and wheel).
+    pub arm: MassData,
+    /// Arm pivot relative to the wheel centre `[dx, dz]`, m (a trailing arm: `dx > 0`).
+    pub arm_pivot: [f64; 2],
+    /// The torsion bar of every arm.
+    pub torsion_bar: TorsionBarData,
+    /// Rotary shock: extra damping at the pivot, N m s/rad, on the wheels in `shock_wheels`.
+    pub shock_damping: f64,
+    /// Indices of the wheels with a shock absorber.
+    pub shock_wheels: Vec<usize>,
+}
+
+/// A support (return) roller under the upper run, fixed to the chassis by a revolute joint.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RollerData {
+    /// Centre `[x, z]` in the track frame, m. Its top must not poke through the upper run
+    /// of the assembled chain.
+    pub location: [f64; 2],
+    /// Radius, m.
+    pub radius: f64,
+    /// Width, m.
+    pub width: f64,
+    /// Mass and inertia.
+    pub mass: MassData,
+}
+
+/// A single-pin track shoe: a plate (box) `pitch` long, `width` wide, `thickness` thick,
+/// with the pins at its ends at mid-thickness; the pin ends reach out to the sprocket's
+/// gear rings.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ShoeData {
+    /// Pin-to-pin distance, m.
+    pub pitch: f64,
+    /// Plate width, m.
+    pub width: f64,
+    /// Plate thickness, m.
+    pub thickness: f64,
+    /// Pin (end connector) radius, m (< thickness / 2, so pins never touch the ground).
+    pub pin_radius: f64,
+    /// Mass and inertia of one shoe.
+    pub mass: MassData,
+    /// Number of shoes on the left and the right track.
+    pub count: [usize; 2],
+}
+
+/// The contact materials of the running gear (NSC friction; SMC constants for later).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TrackMaterials {
+    /// Shoe plate and pins (against wheels, sprocket and ground; the terrain's own
+    /// material combines with it by the minimum friction).
+    pub shoe: ContactMaterial,
+    /// Road wheels, idler, rollers and sprocket.
+    pub wheel: ContactMaterial,
+}
+
+/// One track's running gear (both sides share it; see the [module docs](self)).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TrackData {
+    /// The drive sprocket (front).
+    pub sprocket: SprocketData,
+    /// The idler and its tensioner (rear).
+    pub idler: IdlerData,
+    /// The road wheels and their suspension.
+    pub road_wheels: RoadWheelData,
+    /// Support rollers (none on a flat-track suspension).
+    #[serde(default)]
+    pub rollers: Vec<RollerData>,
+    /// The shoes.
+    pub shoe: ShoeData,
+    /// Contact materials.
+    pub materials: TrackMaterials,
+}
+
+fn check_point(field: &str, p: [f64; 2]) -> Result<()> {
+    check_finite(&format!("{field}[0]"), p[0])?;
+    check_finite(&format!("{field}[1]"), p[1])?;
+    Ok(())
+}
+
+impl TrackData {
+    /// Check every field (the error names it under `field`, e.g. `track`).
+    pub fn validate(&self, field: &str) -> Result<()> {
+        let f = |s: &str| format!("{field}.{s}");
+        let sh = &self.shoe;
+        check_positive(&f("shoe.pitch"), sh.pitch)?;
+        check_positive(&f("shoe.width"), sh.width)?;
+        check_positive(&f("shoe.thickness"), sh.thickness)?;
+        check_positive(&f("shoe.pin_radius"), sh.pin_radius)?;
+        if sh.pin_radius >= 0.5 * sh.thickness {
+            return Err(VehicleError::invalid(
+                f("shoe.pin_radius"),
+                sh.pin_radius,
+                format!("must be < thickness / 2 = {}", 0.5 * sh.thickness),
+            ));
+        }
+        sh.mass.validate(&f("shoe.mass"))?;
+        for (i, &n) in sh.count.iter().enumerate() {
+            if n < 8 {
+                return Err(VehicleError::invalid(
+                    format!("{field}.shoe.count[{i}]"),
+                    n,
+                    "a track needs at least 8 shoes",
+                ));
+            }
+        }
+
+        let s = &self.sprocket;
+        check_point(&f("sprocket.location"), s.location)?;
+        s.mass.validate(&f("sprocket.mass"))?;
+        if s.num_teeth < 3 {
+            return Err(VehicleError::invalid(
+                f("sprocket.num_teeth"),
+                s.num_teeth,
+                "a sprocket needs at least 3 teeth",
+            ));
+        }
+        check_positive(&f("sprocket.pitch_radius"), s.pitch_radius)?;
+        let want = sh.pitch / (2.0 * (std::f64::consts::PI / s.num_teeth as f64).sin());
+        if (s.pitch_radius - want).abs() > 1e-3 * want {
+            return Err(VehicleError::invalid(
+                f("sprocket.num_teeth"),
+                s.num_teeth,
+                format!(
+                    "does not match the shoe pitch {} m at the pitch radius {} m: {} teeth need \
+                     a pitch radius of {want:.5} m (pitch / (2 sin(pi / teeth)))",
+                    sh.pitch, s.pitch_radius, s.num_teeth
+                ),
+            ));
+        }
+        if !(s.tip_radius.is_finite() && s.tip_radius > s.pitch_radius + sh.pin_radius) {
+            return Err(VehicleError::invalid(
+                f("sprocket.tip_radius"),
+                s.tip_radius,
+                "must exceed pitch_radius + shoe.pin_radius (the teeth must reach past the pins)",
+            ));
+        }
+        check_positive(&f("sprocket.gear_width"), s.gear_width)?;
+        check_non_negative(&f("sprocket.flank_clearance"), s.flank_clearance)?;
+        if !(s.gear_offset.is_finite() && s.gear_offset > 0.5 * (sh.width + s.gear_width)) {
+            return Err(VehicleError::invalid(
+                f("sprocket.gear_offset"),
+                s.gear_offset,
+                format!(
+                    "must exceed (shoe.width + gear_width) / 2 = {} (the rings sit outside the \
+                     shoe plate)",
+                    0.5 * (sh.width + s.gear_width)
+                ),
+            ));
+        }
+        // The gap at the pitch radius must hold the pin with the clearance.
+        let half_gap = (sh.pin_radius + s.flank_clearance) / s.pitch_radius;
+        if half_gap >= 0.5 * std::f64::consts::PI / s.num_teeth as f64 {
+            return Err(VehicleError::invalid(
+                f("sprocket.flank_clearance"),
+                s.flank_clearance,
+                "the pin plus clearance leaves no room for a tooth between two gaps",
+            ));
+        }
+
+        let i = &self.idler;
+        check_point(&f("idler.location"), i.location)?;
+        check_positive(&f("idler.radius"), i.radius)?;
+        check_positive(&f("idler.width"), i.width)?;
+        i.mass.validate(&f("idler.mass"))?;
+        i.carrier.validate(&f("idler.carrier"))?;
+        let t = &i.tensioner;
+        check_non_negative(&f("idler.tensioner.preload"), t.preload)?;
+        check_positive(&f("idler.tensioner.stiffness"), t.stiffness)?;
+        check_non_negative(&f("idler.tensioner.damping"), t.damping)?;
+        if !(t.travel[0].is_finite() && t.travel[0] <= 0.0) {
+            return Err(VehicleError::invalid(
+                f("idler.tensioner.travel[0]"),
+                t.travel[0],
+                "the rearward limit must be finite and <= 0",
+            ));
+        }
+        if !(t.travel[1].is_finite() && t.travel[1] >= 0.0 && t.travel[1] > t.travel[0]) {
+            return Err(VehicleError::invalid(
+                f("idler.tensioner.travel[1]"),
+                t.travel[1],
+                "the forward limit must be finite, >= 0 and above the rearward limit",
+            ));
+        }
+
+        let r = &self.road_wheels;
+        if r.x.len() < 2 {
+            return Err(VehicleError::invalid(
+                f("road_wheels.x"),
+                r.x.len(),
+                "at least two road wheels",
+            ));
+        }
+        for (k, w) in r.x.windows(2).enumerate() {
+            check_finite(&format!("{field}.road_wheels.x[{k}]"), w[0])?;
+            if !w[1].is_finite() || w[1] >= w[0] - 2.0 * r.radius {
+                return Err(VehicleError::invalid(
+                    format!("{field}.road_wheels.x[{}]", k + 1),
+                    w[1],
+                    "road wheels go front to rear without overlapping",
+                ));
+            }
+        }
+        check_finite(&f("road_wheels.z"), r.z)?;
+        check_positive(&f("road_wheels.radius"), r.radius)?;
+        check_positive(&f("road_wheels.width"), r.width)?;
+        r.wheel.validate(&f("road_wheels.wheel"))?;
+        r.arm.validate(&f("road_wheels.arm"))?;
+        check_point(&f("road_wheels.arm_pivot"), r.arm_pivot)?;
+        if r.arm_pivot[0].hypot(r.arm_pivot[1]) < 1e-3 {
+            return Err(VehicleError::invalid(
+                f("road_wheels.arm_pivot"),
+                format!("{:?}", r.arm_pivot),
+                "the pivot must be away from the wheel centre",
+            ));
+        }
+        check_non_negative(
+            &f("road_wheels.torsion_bar.stiffness"),
+            r.torsion_bar.stiffness,
+        )?;
+        check_non_negative(&f("road_wheels.torsion_bar.damping"), r.torsion_bar.damping)?;
+        check_finite(&f("road_wheels.torsion_bar.preload"), r.torsion_bar.preload)?;
+        check_non_negative(&f("road_wheels.shock_damping"), r.shock_damping)?;
+        for (k, &w) in r.shock_wheels.iter().enumerate() {
+            if w >= r.x.len() {
+                return Err(VehicleError::invalid(
+                    format!("{field}.road_wheels.shock_wheels[{k}]"),
+                    w,
+                    format!("there are {} road wheels", r.x.len()),
+                ));
+            }
+        }
+        for (k, ro) in self.rollers.iter().enumerate() {
+            let g = |s: &str| format!("{field}.rollers[{k}].{s}");
+            check_point(&g("location"), ro.location)?;
+            check_positive(&g("radius"), ro.radius)?;
+            check_positive(&g("width"), ro.width)?;
+            ro.mass.validate(&g("mass"))?;
+        }
+        self.materials
+            .shoe
+            .validate()
+            .map_err(|e| VehicleError::invalid(f("materials.shoe"), "-", e.to_string()))?;
+        self.materials
+            .wheel
+            .validate()
+            .map_err(|e| VehicleError::invalid(f("materials.wheel"), "-", e.to_string()))?;
+        Ok(())
+    }
+
+    /// The mass of one side's running gear with `shoes` shoes (sprocket, idler and carrier,
+    /// road wheels and arms, rollers, shoes), kg.
+    pub fn side_mass(&self, shoes: usize) -> f64 {
+        let r = &self.road_wheels;
+        self.sprocket.mass.mass
+            + self.idler.mass.mass
+            + self.idler.carrier.mass
+            + r.x.len() as f64 * (r.wheel.mass + r.arm.mass)
+            + self.rollers.iter().map(|x| x.mass.mass).sum::<f64>()
+            + shoes as f64 * self.shoe.mass.mass
+    }
+
+    /// The mass of one side's shoes, kg.
+    pub fn chain_mass(&self, shoes: usize) -> f64 {
+        shoes as f64 * self.shoe.mass.mass
+    }
+}

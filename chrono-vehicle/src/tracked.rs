@@ -1,0 +1,382 @@
+//! A tracked vehicle from a description: a chassis (rigid body) and two
+//! [`TrackAssembly`]s, left at `+track_y` and right at `-track_y`; and the flat-ground
+//! scene and contact-force sums the validation cases read.
+//!
+//! The chassis has no collision shape yet (the hull's comes with the obstacle cases), and
+//! no driveline: the sprockets turn freely, are held, or are driven through
+//! [`TrackAssembly::set_sprocket_drive`].
+
+use std::collections::BTreeMap;
+use std::sync::Arc;
+
+use serde::{Deserialize, Serialize};
+
+use chrono_ccp::CcpSolver;
+use chrono_core::math::{Isometry3, Vector3};
+use chrono_core::{
+    BodyHandle, ContactMaterial, ContactMethod, Drive, RigidBodyBuilder, System, SystemSettings,
+};
+
+use crate::error::{Result, VehicleError, check_positive};
+use crate::suspension::MassData;
+use crate::terrain::{FlatTerrain, Terrain};
+use crate::track::{TrackAssembly, TrackData};
+
+/// Published figures of the real vehicle, kept with the model for the validation cases (SI).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PublishedData {
+    /// Combat mass, kg.
+    pub combat_mass: f64,
+    /// Nominal (zero-penetration) ground pressure, Pa: weight over `2 track_width
+    /// ground_contact_length`.
+    pub ground_pressure: f64,
+    /// Ground contact length of a track, m.
+    pub ground_contact_length: f64,
+    /// Track (shoe) width, m.
+    pub track_width: f64,
+    /// Tread (track centre to centre), m.
+    pub tread: f64,
+    /// Highest vertical obstacle, m.
+    pub vertical_obstacle: f64,
+    /// Top road speed, m/s.
+    pub road_speed: f64,
+    /// Engine rated power, W.
+    pub engine_power: f64,
+    /// Engine speed at the rated power, rpm.
+    pub engine_speed: f64,
+}
+
+/// The chassis (hull) of a tracked vehicle.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TrackedChassisData {
+    /// Mass and inertia (about the centre of mass).
+    pub mass: MassData,
+    /// Centre of mass in the chassis reference frame, m.
+    pub com: [f64; 3],
+}
+
+/// A tracked vehicle's description (the M113's is `data/m113.json`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TrackedVehicleData {
+    /// Name.
+    pub name: String,
+    /// The references the values come from.
+    pub sources: Vec<String>,
+    /// Where each value comes from, by field path.
+    pub provenance: BTreeMap<String, String>,
+    /// Published figures of the real vehicle.
+    pub published: PublishedData,
+    /// The chassis.
+    pub chassis: TrackedChassisData,
+    /// Lateral distance of each track's mid-plane from the chassis reference, m.
+    pub track_y: f64,
+    /// The running gear of one side (both sides share it).
+    pub track: TrackData,
+}
+
+impl TrackedVehicleData {
+    /// Check every field (errors name it).
+    pub fn validate(&self) -> Result<()> {
+        self.chassis.mass.validate("chassis.mass")?;
+        if self.chassis.com.iter().any(|c| !c.is_finite()) {
+            return Err(VehicleError::invalid(
+                "chassis.com",
+                format!("{:?}", self.chassis.com),
+                "must be finite",
+            ));
+        }
+        check_positive("track_y", self.track_y)?;
+        self.track.validate("track")?;
+        Ok(())
+    }
+
+    /// The mass of the whole vehicle (chassis and both sides' running gear), kg.
+    pub fn total_mass(&self) -> f64 {
+        self.chassis.mass.mass
+            + self.track.side_mass(self.track.shoe.count[0])
+            + self.track.side_mass(self.track.shoe.count[1])
+    }
+
+    /// The mass of both tracks' shoes, kg.
+    pub fn chain_mass(&self) -> f64 {
+        self.track.chain_mass(self.track.shoe.count[0])
+            + self.track.chain_mass(self.track.shoe.count[1])
+    }
+
+    /// Nominal ground pressure of the model, Pa: `m g / (2 b L)` with the model's mass, the
+    /// shoe width `b` and the ground contact length `L` from the first to the last road
+    /// wheel centre, gravity `g` (m/s^2).
+    pub fn nominal_ground_pressure(&self, g: f64) -> f64 {
+        self.total_mass() * g / (2.0 * self.track.shoe.width * self.contact_length())
+    }
+
+    /// The model's ground contact length: first to last road wheel centre, m.
+    pub fn contact_length(&self) -> f64 {
+        let x = &self.track.road_wheels.x;
+        x[0] - x[x.len() - 1]
+    }
+}
+
+/// A tracked vehicle in a system.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TrackedVehicle {
+    /// The chassis body.
+    pub chassis: BodyHandle,
+    /// Left (0) and right (1) running gear.
+    pub sides: [TrackAssembly; 2],
+}
+
+impl TrackedVehicle {
+    /// Build `data` into `sys` with the chassis reference frame at `pose` (world).
+    pub fn build(
+        sys: &mut System,
+        data: &TrackedVehicleData,
+        pose: &Isometry3<f64>,
+    ) -> Result<Self> {
+        data.validate()?;
+        let com = pose.transform_point(&data.chassis.com.into()).coords;
+        let chassis = sys.add_body(
+            RigidBodyBuilder::dynamic()
+                .name("chassis")
+                .mass(data.chassis.mass.mass)
+                .inertia_diagonal(data.chassis.mass.inertia_vector())
+                .position(com)
+                .rotation(pose.rotation),
+        )?;
+        let side = |sys: &mut System, k: usize| {
+            let y = if k == 0 { data.track_y } else { -data.track_y };
+            let frame = pose * Isometry3::translation(0.0, y, 0.0);
+            TrackAssembly::build(sys, &data.track, k, chassis, &frame)
+        };
+        let left = side(sys, 0)?;
+        let right = side(sys, 1)?;
+        Ok(Self {
+            chassis,
+            sides: [left, right],
+        })
+    }
+
+    /// Set both sprockets' drives (see [`TrackAssembly::set_sprocket_drive`]).
+    pub fn set_sprocket_drives(&self, sys: &mut System, drive: Drive) -> Result<()> {
+        for s in &self.sides {
+            s.set_sprocket_drive(sys, drive)?;
+        }
+        Ok(())
+    }
+
+    /// All shoes of both sides.
+    pub fn shoes(&self) -> Vec<BodyHandle> {
+        self.sides.iter().flat_map(|s| s.shoes.clone()).collect()
+    }
+}
+
+/// The height of the chassis reference above a ground at `ground` (m) that puts the lowest
+/// shoe plate `clearance` m above it (the assembled chains' lowest pin minus half a shoe
+/// thickness), m.
+pub fn start_height(data: &TrackedVehicleData, ground: f64, clearance: f64) -> Result<f64> {
+    data.validate()?;
+    let t = &data.track;
+    let mut lowest = f64::INFINITY;
+    for side in 0..2 {
+        let l = crate::track::geometry::layout(t, t.shoe.count[side], side)?;
+        lowest = l.pins.iter().map(|p| p[1]).fold(lowest, f64::min);
+    }
+    Ok(ground + clearance - (lowest - 0.5 * t.shoe.thickness))
+}
+
+/// One contact's force at the last step: the two bodies (dense indices), the force on the
+/// second (N, world; the first gets its opposite) and the contact point (on the second's
+/// surface, world).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ContactForce {
+    /// Dense index of body A.
+    pub owner_a: usize,
+    /// Dense index of body B.
+    pub owner_b: usize,
+    /// Force on B, N.
+    pub on_b: Vector3<f64>,
+    /// Contact point, m.
+    pub point: Vector3<f64>,
+}
+
+/// The forces of the last step's contacts (NSC: impulses over `h` s; SMC: the penalty
+/// forces).
+pub fn contact_forces(sys: &System, h: f64) -> Vec<ContactForce> {
+    let mut out = Vec::new();
+    match sys.settings().contact_method {
+        ContactMethod::Nsc => {
+            let (problem, gamma) = (sys.last_problem(), sys.last_gamma());
+            for c in sys.contacts() {
+                let k = problem.row_index(c.row);
+                if k + 2 >= gamma.len() {
+                    continue;
+                }
+                let on_b = (c.normal() * gamma[k] + c.u * gamma[k + 1] + c.w * gamma[k + 2]) / h;
+                out.push(ContactForce {
+                    owner_a: c.point.owner_a as usize,
+                    owner_b: c.point.owner_b as usize,
+                    on_b,
+                    point: c.point.point_b,
+                });
+            }
+        }
+        ContactMethod::Smc => {
+            for c in sys.smc_contacts() {
+                out.push(ContactForce {
+                    owner_a: c.owner_a as usize,
+                    owner_b: c.owner_b as usize,
+                    on_b: c.force,
+                    point: c.point,
+                });
+            }
+        }
+    }
+    out
+}
+
+/// Sum of the contact forces on the bodies of `group` from bodies outside it, N.
+pub fn group_contact_force(
+    sys: &System,
+    forces: &[ContactForce],
+    group: &[BodyHandle],
+) -> Vector3<f64> {
+    let set = sys.body_set();
+    let idx: Vec<usize> = group.iter().filter_map(|&b| set.dense_index(b)).collect();
+    let mut f = Vector3::zeros();
+    for c in forces {
+        let (a, b) = (idx.contains(&c.owner_a), idx.contains(&c.owner_b));
+        if b && !a {
+            f += c.on_b;
+        } else if a && !b {
+            f -= c.on_b;
+        }
+    }
+    f
+}
+
+/// A system with flat rigid ground at `z = 0` (its material: friction `mu`) and a tracked
+/// vehicle whose lowest shoe is 5 mm above it.
+pub struct TrackedFlatScene {
+    /// The system (default settings).
+    pub sys: System,
+    /// The vehicle.
+    pub vehicle: TrackedVehicle,
+    /// Its description.
+    pub data: TrackedVehicleData,
+    /// The ground body.
+    pub ground: BodyHandle,
+}
+
+impl TrackedFlatScene {
+    /// Build the scene with the CCP `solver` (`chrono_ccp::Schur` solves the pin joints
+    /// directly).
+    pub fn new(data: TrackedVehicleData, mu: f64, solver: Box<dyn CcpSolver>) -> Result<Self> {
+        let mut sys = System::new(SystemSettings::default(), solver)?;
+        let terrain = Arc::new(FlatTerrain::new(0.0, mu)?);
+        let ground = terrain.add_to_system(&mut sys, ContactMaterial::with_friction(mu))?;
+        let z0 = start_height(&data, 0.0, crate::scene::START_CLEARANCE)?;
+        let vehicle =
+            TrackedVehicle::build(&mut sys, &data, &Isometry3::translation(0.0, 0.0, z0))?;
+        Ok(Self {
+            sys,
+            vehicle,
+            data,
+            ground,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::m113::m113_data;
+
+    fn solver() -> Box<dyn CcpSolver> {
+        Box::new(chrono_ccp::Schur::new(Default::default()))
+    }
+
+    #[test]
+    fn m113_model_mass_and_pressure_match_the_published_figures() {
+        let d = m113_data().unwrap();
+        let m = d.total_mass();
+        assert!((m - d.published.combat_mass).abs() < 1e-3 * m, "{m}");
+        assert!((d.contact_length() - d.published.ground_contact_length).abs() < 1e-3);
+        let p = d.nominal_ground_pressure(chrono_core::math::GRAVITY_MAGNITUDE);
+        assert!((p / d.published.ground_pressure - 1.0).abs() < 0.03, "{p}");
+    }
+
+    #[test]
+    fn the_assembled_m113_starts_with_closed_chains() {
+        let s = TrackedFlatScene::new(m113_data().unwrap(), 0.8, solver()).unwrap();
+        assert!(
+            s.sys.max_joint_violation() < 1e-9,
+            "{}",
+            s.sys.max_joint_violation()
+        );
+        for side in &s.vehicle.sides {
+            assert_eq!(side.shoes.len(), side.pins.len());
+            assert!(side.layout.closure_error < 1e-9);
+        }
+        assert_eq!(s.vehicle.sides[0].shoes.len(), 63);
+        assert_eq!(s.vehicle.sides[1].shoes.len(), 64);
+        let m: f64 = s
+            .sys
+            .bodies()
+            .iter()
+            .filter(|b| b.is_dynamic())
+            .map(|b| b.mass())
+            .sum();
+        assert!((m - s.data.total_mass()).abs() < 1e-6 * m);
+    }
+
+    #[test]
+    fn bad_inputs_are_errors_naming_the_field() {
+        let build = |d: TrackedVehicleData| {
+            TrackedFlatScene::new(d, 0.8, solver())
+                .err()
+                .map(|e| e.to_string())
+                .unwrap_or_default()
+        };
+        let mut d = m113_data().unwrap();
+        d.track.shoe.count[0] = 55;
+        let e = build(d);
+        assert!(
+            e.contains("track.shoe.count[0]") && e.contains("too few"),
+            "{e}"
+        );
+
+        let mut d = m113_data().unwrap();
+        d.track.sprocket.num_teeth = 11;
+        let e = build(d);
+        assert!(
+            e.contains("track.sprocket.num_teeth") && e.contains("pitch"),
+            "{e}"
+        );
+
+        let mut d = m113_data().unwrap();
+        d.track.idler.tensioner.preload = -1.0;
+        let e = build(d);
+        assert!(e.contains("track.idler.tensioner.preload"), "{e}");
+
+        let mut d = m113_data().unwrap();
+        d.track.shoe.pin_radius = 0.05;
+        let e = build(d);
+        assert!(e.contains("track.shoe.pin_radius"), "{e}");
+
+        let mut d = m113_data().unwrap();
+        d.track.rollers.push(crate::track::RollerData {
+            location: [-2.0, 0.3],
+            radius: 0.12,
+            width: 0.2,
+            mass: MassData {
+                mass: 10.0,
+                inertia: [0.1, 0.1, 0.1],
+            },
+        });
+        let e = build(d);
+        assert!(e.contains("track.rollers[0].location"), "{e}");
+    }
+}
