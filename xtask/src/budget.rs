@@ -52,7 +52,7 @@ pub const BUDGETS: &[Budget] = &[
     b("smc-bounce", 1.0, 1.0),
     b("granular-settle", 20.0, 20.0),
     b("granular-hopper", 92.0, 92.0),
-    b("granular-ball-drop", 207.0, 110.0),
+    b("granular-ball-drop", 100.0, 76.0),
     b("granular-shear", 74.0, 40.0),
     b("granular-repose", 20.0, 20.0),
     b("sph-hydrostatic", 29.0, 12.0),
