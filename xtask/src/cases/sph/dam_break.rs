@@ -33,7 +33,7 @@
 //! the data are Martin and Moyce's Fig. 3 (`a = 2.25 in`, checked against 0.2, the
 //! constraint-fluid accuracy issue's criterion for the other published ratios), with the
 //! RMS against their smaller column (`front_error_mm_small`, `a = 1.125 in`) and against
-//! Koshizuka and Oka (1996) (`front_error_ko`) reported ([`front_reference`]). Other
+//! Koshizuka and Oka (1996) (`front_error_ko`) reported (`front_reference`). Other
 //! ratios (0.5 to 2 are supported) report the front metrics (`front_Z_at_T1`,
 //! `front_Z_at_T2`, `front_Z_at_T3`) without an experimental check.
 //! Always checked: no fluid left the tank (`left_tank = 0`). Informational metrics:
