@@ -362,26 +362,44 @@ impl Field<'_> {
                     }
                 }
                 let grad = inverse3(&l).map_or([[0.0; 3]; 3], |li| mul3(&g, &li));
-                let mut acc = [0.0; 3];
-                for &j in self.nbrs.neighbors(i) {
-                    let j = j as usize;
-                    if j >= self.n_fluid {
-                        continue;
-                    }
-                    let d = self.displacement(i, j);
-                    let r = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
-                    let w = 2.0 * self.mass / (rho[i] + rho[j]) * self.kernel.w(r);
-                    for a in 0..3 {
-                        let lin = -(grad[a][0] * d[0] + grad[a][1] * d[1] + grad[a][2] * d[2]);
-                        acc[a] += w * (vel[j][a] - vi[a] - lin);
-                    }
-                }
-                *o = [
-                    vi[0] + eps * acc[0],
-                    vi[1] + eps * acc[1],
-                    vi[2] + eps * acc[2],
-                ];
+                *o = self.xsph_at(i, eps, rho, vel, Some(&grad));
             });
+    }
+
+    /// `v_i + eps sum_j (2 m / (rho_i + rho_j)) (v_j - v_i - G (x_j - x_i)) W_ij` over the
+    /// fluid neighbours (`G = 0` when `grad` is `None`: plain XSPH).
+    fn xsph_at(
+        &self,
+        i: usize,
+        eps: f64,
+        rho: &[f64],
+        vel: &[[f64; 3]],
+        grad: Option<&[[f64; 3]; 3]>,
+    ) -> [f64; 3] {
+        let vi = vel[i];
+        let mut acc = [0.0; 3];
+        for &j in self.nbrs.neighbors(i) {
+            let j = j as usize;
+            if j >= self.n_fluid {
+                continue;
+            }
+            let d = self.displacement(i, j);
+            let r = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+            let w = 2.0 * self.mass / (rho[i] + rho[j]) * self.kernel.w(r);
+            for a in 0..3 {
+                let dv = vel[j][a] - vi[a];
+                acc[a] += w * match grad {
+                    // x_j - x_i = -d
+                    Some(g) => dv + (g[a][0] * d[0] + g[a][1] * d[1] + g[a][2] * d[2]),
+                    None => dv,
+                };
+            }
+        }
+        [
+            vi[0] + eps * acc[0],
+            vi[1] + eps * acc[1],
+            vi[2] + eps * acc[2],
+        ]
     }
 
     /// XSPH smoothing (Monaghan 1989), fluid neighbours only:
@@ -390,27 +408,7 @@ impl Field<'_> {
         out[..self.n_fluid]
             .par_iter_mut()
             .enumerate()
-            .for_each(|(i, o)| {
-                let vi = vel[i];
-                let mut acc = [0.0; 3];
-                for &j in self.nbrs.neighbors(i) {
-                    let j = j as usize;
-                    if j >= self.n_fluid {
-                        continue;
-                    }
-                    let d = self.displacement(i, j);
-                    let r = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
-                    let w = 2.0 * self.mass / (rho[i] + rho[j]) * self.kernel.w(r);
-                    for a in 0..3 {
-                        acc[a] += w * (vel[j][a] - vi[a]);
-                    }
-                }
-                *o = [
-                    vi[0] + eps * acc[0],
-                    vi[1] + eps * acc[1],
-                    vi[2] + eps * acc[2],
-                ];
-            });
+            .for_each(|(i, o)| *o = self.xsph_at(i, eps, rho, vel, None));
     }
 }
 

@@ -63,6 +63,7 @@ pub mod fea;
 pub mod granular;
 pub mod rigid;
 pub mod sph;
+mod timed_solver;
 pub mod vehicle;
 
 /// All validation cases, in the order `cargo xtask validate` runs them.

@@ -12,10 +12,10 @@
 //! the narrow phase, assembly (NSC: variables, rows, problem; SMC: contact forces) plus
 //! integration, and the CCP solve.
 
+use crate::cases::timed_solver::TimedSolver;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
 
-use chrono_core::descriptor::{CcpProblem, CcpSolver, SolveStats, SolverSettings};
 use chrono_core::granular::probe::max_penetration;
 use chrono_core::granular::{GrainBed, Region, add_box_container};
 use chrono_core::math::Vector3;
@@ -141,31 +141,6 @@ impl CaseParams for SettleBenchParams {
             self.0.n = 2000;
             self.0.steps = 20;
         }
-    }
-}
-
-/// A CCP solver that adds its wall time to a shared counter (ns).
-struct TimedSolver {
-    inner: Box<dyn CcpSolver>,
-    nanos: Arc<AtomicU64>,
-}
-
-impl CcpSolver for TimedSolver {
-    fn name(&self) -> &'static str {
-        self.inner.name()
-    }
-    fn settings(&self) -> &SolverSettings {
-        self.inner.settings()
-    }
-    fn settings_mut(&mut self) -> &mut SolverSettings {
-        self.inner.settings_mut()
-    }
-    fn solve(&mut self, problem: &CcpProblem, gamma: &mut [f64]) -> SolveStats {
-        let t = std::time::Instant::now();
-        let s = self.inner.solve(problem, gamma);
-        self.nanos
-            .fetch_add(t.elapsed().as_nanos() as u64, Ordering::Relaxed);
-        s
     }
 }
 

@@ -24,6 +24,7 @@
 //! Forces are averaged over the last 40 % of the steps (the contact forces of the rigid
 //! shoes fluctuate by about 5 % from step to step).
 
+use crate::cases::timed_solver::TimedSolver;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Instant;
@@ -31,7 +32,7 @@ use std::time::Instant;
 use serde::{Deserialize, Serialize};
 
 use chrono_core::Drive;
-use chrono_core::descriptor::{CcpProblem, CcpSolver, SolveStats, SolverSettings};
+use chrono_core::descriptor::{CcpSolver, SolverSettings};
 use chrono_vehicle::m113::m113_data;
 use chrono_vehicle::tracked::{TrackedFlatScene, contact_forces, group_contact_force};
 
@@ -103,31 +104,6 @@ impl CaseParams for M113StaticParams {
         if mode == Mode::Quick {
             self.t_end = 1.0;
         }
-    }
-}
-
-/// A CCP solver that adds its wall time to a shared counter (ns).
-struct TimedSolver {
-    inner: Box<dyn CcpSolver>,
-    nanos: Arc<AtomicU64>,
-}
-
-impl CcpSolver for TimedSolver {
-    fn name(&self) -> &'static str {
-        self.inner.name()
-    }
-    fn settings(&self) -> &SolverSettings {
-        self.inner.settings()
-    }
-    fn settings_mut(&mut self) -> &mut SolverSettings {
-        self.inner.settings_mut()
-    }
-    fn solve(&mut self, problem: &CcpProblem, gamma: &mut [f64]) -> SolveStats {
-        let t = Instant::now();
-        let s = self.inner.solve(problem, gamma);
-        self.nanos
-            .fetch_add(t.elapsed().as_nanos() as u64, Ordering::Relaxed);
-        s
     }
 }
 
