@@ -7,7 +7,7 @@ use nalgebra::Vector3;
 use super::fill::Region;
 use crate::body::BodyHandle;
 use crate::error::{ChronoError, Result};
-use crate::system::{ContactMethod, System};
+use crate::system::{ContactMethod, System, contact_forces};
 
 /// Least-squares line `y = a x + b` through the points `(x, y)`: `(a, b)`; `None` below two
 /// points or without spread in `x`.
@@ -167,24 +167,8 @@ pub fn grain_forces_on(
             f -= on_b;
         }
     };
-    match sys.settings().contact_method {
-        ContactMethod::Nsc => {
-            let (problem, gamma) = (sys.last_problem(), sys.last_gamma());
-            for c in sys.contacts() {
-                let k = problem.row_index(c.row);
-                if k + 2 >= gamma.len() {
-                    continue;
-                }
-                // Rows n, u, w are B's velocity relative to A's: the impulse acts on B.
-                let imp = c.normal() * gamma[k] + c.u * gamma[k + 1] + c.w * gamma[k + 2];
-                add(c.point.owner_a, c.point.owner_b, imp / h);
-            }
-        }
-        ContactMethod::Smc => {
-            for c in sys.smc_contacts() {
-                add(c.owner_a, c.owner_b, c.force);
-            }
-        }
+    for c in contact_forces(sys, h) {
+        add(c.owner_a as u32, c.owner_b as u32, c.on_b);
     }
     f
 }

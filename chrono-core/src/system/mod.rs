@@ -15,11 +15,13 @@
 //! println!("{}", sys.body(bx).unwrap().position());
 //! ```
 
+mod contact_forces;
 mod coulomb;
 mod remove;
 mod smc_step;
 mod step;
 
+pub use contact_forces::{ContactForce, contact_forces};
 pub use coulomb::FrictionLaw;
 
 pub use smc_step::SmcTiming;
