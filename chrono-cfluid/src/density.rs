@@ -345,14 +345,8 @@ impl Field<'_> {
                 let vi = vel[i];
                 let mut l = [[0.0; 3]; 3];
                 let mut g = [[0.0; 3]; 3];
-                for &j in self.nbrs.neighbors(i) {
-                    let j = j as usize;
-                    if j >= self.n_fluid {
-                        continue;
-                    }
-                    // d = x_i - x_j; grad_i W_ij = F d; x_j - x_i = -d
-                    let d = self.displacement(i, j);
-                    let r = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+                // d = x_i - x_j; grad_i W_ij = F d; x_j - x_i = -d
+                for (j, d, r) in self.fluid_neighbours(i) {
                     let f = self.mass / rho[j] * self.kernel.grad_factor(r);
                     for a in 0..3 {
                         for b in 0..3 {
@@ -364,6 +358,18 @@ impl Field<'_> {
                 let grad = inverse3(&l).map_or([[0.0; 3]; 3], |li| mul3(&g, &li));
                 *o = self.xsph_at(i, eps, rho, vel, Some(&grad));
             });
+    }
+
+    /// The fluid neighbours `j` of particle `i` (walls and markers skipped) with
+    /// `d = x_i - x_j` and `r = |d|`.
+    fn fluid_neighbours(&self, i: usize) -> impl Iterator<Item = (usize, [f64; 3], f64)> + '_ {
+        (self.nbrs.neighbors(i).iter())
+            .map(|&j| j as usize)
+            .filter(|&j| j < self.n_fluid)
+            .map(move |j| {
+                let d = self.displacement(i, j);
+                (j, d, (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt())
+            })
     }
 
     /// `v_i + eps sum_j (2 m / (rho_i + rho_j)) (v_j - v_i - G (x_j - x_i)) W_ij` over the
@@ -378,13 +384,7 @@ impl Field<'_> {
     ) -> [f64; 3] {
         let vi = vel[i];
         let mut acc = [0.0; 3];
-        for &j in self.nbrs.neighbors(i) {
-            let j = j as usize;
-            if j >= self.n_fluid {
-                continue;
-            }
-            let d = self.displacement(i, j);
-            let r = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+        for (j, d, r) in self.fluid_neighbours(i) {
             let w = 2.0 * self.mass / (rho[i] + rho[j]) * self.kernel.w(r);
             for a in 0..3 {
                 let dv = vel[j][a] - vi[a];
