@@ -4,6 +4,11 @@
 //!
 //! `cargo run --release -p chrono-vehicle --example m113_probe -- [h] [steps] [solver]
 //! [max_iterations] [compliance] [torsion_preload]`
+//!
+//! With `RAMP=a` (rad/s^2) in the environment the sprockets are held for 0.5 s, then driven
+//! at the prescribed speed `a (t - 0.5)` (both sides): the chassis' forward speed is printed
+//! against the sprocket's pitch-circle speed `w r_p`, which shows whether the chain follows
+//! the sprocket at every speed.
 
 use std::time::Instant;
 
@@ -50,8 +55,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
     sc.vehicle
         .set_sprocket_drives(&mut sc.sys, Drive::Speed(0.0))?;
+    let ramp: Option<f64> = std::env::var("RAMP").ok().map(|s| s.parse()).transpose()?;
+    let r_p = sc.data.track.sprocket.pitch_radius;
     let every = (n / 40).max(1);
     for i in 0..n {
+        let w = ramp.map_or(0.0, |a| (a * (sc.sys.time() - 0.5)).max(0.0));
+        if ramp.is_some() {
+            sc.vehicle
+                .set_sprocket_drives(&mut sc.sys, Drive::Speed(w))?;
+        }
         let t = Instant::now();
         let r = sc.sys.step(h);
         let dt = t.elapsed().as_secs_f64();
@@ -59,13 +71,16 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         match r {
             Ok(r) if i % every == 0 || i + 1 == n => println!(
                 "step {i}: {dt:.3} s, {} contacts, {} rows, {} iterations, residual {:.1e}, \
-                 chassis z {:.4} m, vz {:.4} m/s, joint drift {:.1e} m",
+                 chassis z {:.4} m, vz {:.4} m/s, vx {:.4} m/s against w r_p {:.4} m/s, \
+                 joint drift {:.1e} m",
                 r.contacts,
                 r.rows,
                 r.solve.iterations,
                 r.solve.residual,
                 c.position().z,
                 c.linear_velocity().z,
+                c.linear_velocity().x,
+                w * r_p,
                 sc.sys.max_joint_violation()
             ),
             Ok(_) => {}

@@ -40,6 +40,7 @@ pub mod terrain;
 pub mod tire;
 pub mod track;
 pub mod tracked;
+pub mod tracked_drive;
 pub mod vehicle;
 
 pub use error::{Result, VehicleError};

@@ -43,7 +43,14 @@ mod tests {
             }
         }
         let mut all = Vec::new();
-        for key in ["published", "chassis", "track_y", "track"] {
+        for key in [
+            "published",
+            "chassis",
+            "track_y",
+            "track",
+            "powertrain",
+            "driveline",
+        ] {
             leaves(&v[key], key.to_string(), &mut all);
         }
         for p in all {

@@ -2,9 +2,10 @@
 //! [`TrackAssembly`]s, left at `+track_y` and right at `-track_y`; and the flat-ground
 //! scene and contact-force sums the validation cases read.
 //!
-//! The chassis has no collision shape yet (the hull's comes with the obstacle cases), and
-//! no driveline: the sprockets turn freely, are held, or are driven through
-//! [`TrackAssembly::set_sprocket_drive`].
+//! The chassis has no collision shape yet (the hull's comes with the obstacle cases). The
+//! sprockets turn freely, are held, or are driven through
+//! [`TrackAssembly::set_sprocket_drive`]; the powertrain and the steering driveline are
+//! [`crate::tracked_drive::TrackedDrive`].
 
 use std::collections::BTreeMap;
 use std::sync::Arc;
@@ -15,7 +16,9 @@ use chrono_ccp::CcpSolver;
 use chrono_core::math::{Isometry3, Vector3};
 use chrono_core::{BodyHandle, ContactMaterial, Drive, RigidBodyBuilder, System, SystemSettings};
 
+use crate::driveline::TrackDrivelineParams;
 use crate::error::{Result, VehicleError, check_positive};
+use crate::powertrain::PowertrainParams;
 use crate::suspension::MassData;
 use crate::terrain::{FlatTerrain, Terrain};
 use crate::track::{TrackAssembly, TrackData};
@@ -73,6 +76,10 @@ pub struct TrackedVehicleData {
     pub track_y: f64,
     /// The running gear of one side (both sides share it).
     pub track: TrackData,
+    /// Engine, torque converter and transmission.
+    pub powertrain: PowertrainParams,
+    /// The braked-differential driveline to the sprockets.
+    pub driveline: TrackDrivelineParams,
 }
 
 impl TrackedVehicleData {
@@ -88,6 +95,8 @@ impl TrackedVehicleData {
         }
         check_positive("track_y", self.track_y)?;
         self.track.validate("track")?;
+        self.powertrain.validate()?;
+        self.driveline.validate("driveline")?;
         Ok(())
     }
 

@@ -1,6 +1,7 @@
 //! The driveline: shafts with inertia in the system's CCP ([`shafts`]: gears,
 //! differentials with optional locking, clutches and brakes, couplings to the wheel
-//! spindles) and the HMMWV's 4WD layout ([`four_wd`]).
+//! spindles), the HMMWV's 4WD layout ([`four_wd`]) and the braked-differential driveline
+//! of a tracked vehicle ([`track_bds`]).
 //!
 //! Wiring a powertrain and the 4WD driveline into a system (one [`ShaftSystem`] item
 //! holds the shafts of both), and the per-step calls:
@@ -36,6 +37,8 @@
 
 pub mod four_wd;
 pub mod shafts;
+pub mod track_bds;
 
 pub use four_wd::{FourWd, FourWdParams, Wheel};
 pub use shafts::{LinkId, LinkKind, ShaftId, ShaftSystem};
+pub use track_bds::{TrackDriveline, TrackDrivelineParams};
