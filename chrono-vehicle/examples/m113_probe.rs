@@ -15,7 +15,9 @@ use std::time::Instant;
 use chrono_core::Drive;
 use chrono_core::descriptor::SolverSettings;
 use chrono_vehicle::m113::m113_data;
+use chrono_vehicle::state::DriverInputs;
 use chrono_vehicle::tracked::TrackedFlatScene;
+use chrono_vehicle::tracked_drive::TrackedDrive;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().collect();
@@ -30,6 +32,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     d.track.materials.wheel.compliance = compliance;
     if let Some(t) = args.get(6) {
         d.track.road_wheels.torsion_bar.preload = t.parse()?;
+    }
+    // `MU_WHEEL=x`: the friction of the wheels' and sprocket's material (for a test).
+    if let Ok(m) = std::env::var("MU_WHEEL") {
+        d.track.materials.wheel.friction = m.parse()?;
     }
     let settings = SolverSettings {
         tolerance: 1e-8,
@@ -56,6 +62,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     sc.vehicle
         .set_sprocket_drives(&mut sc.sys, Drive::Speed(0.0))?;
     let ramp: Option<f64> = std::env::var("RAMP").ok().map(|s| s.parse()).transpose()?;
+    let power: Option<f64> = std::env::var("POWER").ok().map(|s| s.parse()).transpose()?;
+    let mut drive = match power {
+        Some(_) => Some(TrackedDrive::build(&mut sc.sys, &sc.vehicle, &sc.data)?),
+        None => None,
+    };
     let r_p = sc.data.track.sprocket.pitch_radius;
     let every = (n / 40).max(1);
     for i in 0..n {
@@ -64,11 +75,40 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             sc.vehicle
                 .set_sprocket_drives(&mut sc.sys, Drive::Speed(w))?;
         }
+        if let (Some(d), Some(th)) = (drive.as_mut(), power) {
+            let on = sc.sys.time() >= 0.5;
+            let inputs = DriverInputs {
+                throttle: if on { th } else { 0.0 },
+                brake: if on { 0.0 } else { 1.0 },
+                steering: 0.0,
+            };
+            d.synchronize(&mut sc.sys, inputs)?;
+        }
         let t = Instant::now();
         let r = sc.sys.step(h);
         let dt = t.elapsed().as_secs_f64();
         let c = sc.sys.body(sc.vehicle.chassis)?;
         match r {
+            Ok(_) if drive.is_some() && i % every == 0 => {
+                let (seated, offset, near) = engagement(&sc)?;
+                let near: Vec<String> = near
+                    .iter()
+                    .map(|(a, l)| format!("{a:.0}:{:.0}", 1e3 * l))
+                    .collect();
+                let d = drive.as_ref().expect("checked");
+                println!(
+                    "t {:.3}: vx {:.3} m/s, sprocket {:.3} rad/s ({:.3} m/s at r_p), \
+                     torque {:.0} N m, {seated} pins seated (offset up to {:.1} mm), near \
+                     (world angle deg: lift mm) {}",
+                    sc.sys.time(),
+                    c.linear_velocity().x,
+                    d.sprocket_speed(&sc.sys, 0),
+                    d.sprocket_speed(&sc.sys, 0) * r_p,
+                    d.sprocket_torque(&sc.sys, 0),
+                    1e3 * offset,
+                    near.join(" ")
+                );
+            }
             Ok(r) if i % every == 0 || i + 1 == n => println!(
                 "step {i}: {dt:.3} s, {} contacts, {} rows, {} iterations, residual {:.1e}, \
                  chassis z {:.4} m, vz {:.4} m/s, vx {:.4} m/s against w r_p {:.4} m/s, \
@@ -91,4 +131,42 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         }
     }
     Ok(())
+}
+
+/// The left sprocket's pins near it (centres within the tip radius plus a pin radius of the
+/// sprocket centre, in the track plane): how many are seated (centre within 5 mm of the
+/// pitch circle), the largest tangential offset of a seated one from the centre of its
+/// tooth gap (m), and every near pin's lift above the pitch circle (m) by angle.
+fn engagement(
+    sc: &TrackedFlatScene,
+) -> Result<(usize, f64, Vec<(f64, f64)>), Box<dyn std::error::Error>> {
+    let side = &sc.vehicle.sides[0];
+    let t = &sc.data.track;
+    let (r_p, tau) = (
+        t.sprocket.pitch_radius,
+        std::f64::consts::TAU / t.sprocket.num_teeth as f64,
+    );
+    let sp = sc.sys.body(side.sprocket)?;
+    let (c, rot) = (sp.position(), sp.rotation());
+    let (mut seated, mut offset, mut near) = (0, 0.0f64, Vec::new());
+    for &b in &side.shoes {
+        let shoe = sc.sys.body(b)?;
+        let pin = shoe.position()
+            + shoe.rotation() * chrono_core::math::Vector3::new(0.5 * t.shoe.pitch, 0.0, 0.0);
+        let world = pin - c;
+        let local = rot.inverse() * world;
+        let r = local.x.hypot(local.z);
+        if r > t.sprocket.tip_radius + t.shoe.pin_radius {
+            continue;
+        }
+        near.push((world.z.atan2(world.x).to_degrees(), r - r_p));
+        if (r - r_p).abs() < 5e-3 {
+            let a = local.z.atan2(local.x) - side.layout.sprocket_start_angle;
+            let k = (a / tau).round();
+            seated += 1;
+            offset = offset.max(((a - k * tau) * r_p).abs());
+        }
+    }
+    near.sort_by(|a, b| a.0.total_cmp(&b.0));
+    Ok((seated, offset, near))
 }
