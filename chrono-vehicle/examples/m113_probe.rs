@@ -133,13 +133,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     Ok(())
 }
 
+/// Seated pins, the largest offset of a seated pin in its gap (m), and `(angle deg, lift
+/// m)` of every pin near the sprocket.
+type Engagement = (usize, f64, Vec<(f64, f64)>);
+
 /// The left sprocket's pins near it (centres within the tip radius plus a pin radius of the
 /// sprocket centre, in the track plane): how many are seated (centre within 5 mm of the
 /// pitch circle), the largest tangential offset of a seated one from the centre of its
 /// tooth gap (m), and every near pin's lift above the pitch circle (m) by angle.
-fn engagement(
-    sc: &TrackedFlatScene,
-) -> Result<(usize, f64, Vec<(f64, f64)>), Box<dyn std::error::Error>> {
+fn engagement(sc: &TrackedFlatScene) -> Result<Engagement, Box<dyn std::error::Error>> {
     let side = &sc.vehicle.sides[0];
     let t = &sc.data.track;
     let (r_p, tau) = (

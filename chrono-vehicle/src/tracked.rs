@@ -325,6 +325,19 @@ mod tests {
         let e = build(d);
         assert!(e.contains("track.shoe.pin_radius"), "{e}");
 
+        // A trough narrower than the pin, and troughs so wide they leave no tooth.
+        for g in [0.015, 0.3] {
+            let mut d = m113_data().unwrap();
+            d.track.sprocket.gap_radius = g;
+            let e = build(d);
+            assert!(e.contains("track.sprocket.gap_radius"), "{g}: {e}");
+        }
+
+        let mut d = m113_data().unwrap();
+        d.track.materials.sprocket.friction = -0.1;
+        let e = build(d);
+        assert!(e.contains("track.materials.sprocket"), "{e}");
+
         let mut d = m113_data().unwrap();
         d.track.rollers.push(crate::track::RollerData {
             location: [-2.0, 0.3],

@@ -81,7 +81,8 @@ pub const BUDGETS: &[Budget] = &[
     b("hmmwv-turn", 11.0, 5.0),
     b("hmmwv-lane-change", 7.0, 7.0),
     b("hmmwv-granular", 165.0, 135.0),
-    b("m113-static", 13.0, 9.0),
+    b("m113-static", 15.0, 15.0),
+    b("m113-accel", 25.0, 17.0),
 ];
 
 /// The budget of `case` in `mode` (s); `None` for an unknown case or `--full` (which

@@ -28,6 +28,10 @@ use super::TrackData;
 use super::geometry::{ChainLayout, layout};
 use super::torsion::TorsionSpring;
 
+/// Convex slices of a sprocket tooth between the seat and the tip radius (its concave
+/// flanks as chords).
+const TOOTH_SLICES: usize = 4;
+
 /// Length of the tensioner spring at assembly (its chassis anchor this far ahead of the
 /// idler centre along X), m. Only its direction matters: the force is the preload there.
 const TENSIONER_ARM: f64 = 0.5;
@@ -95,7 +99,11 @@ impl TrackAssembly {
         let rot = frame.rotation;
         let y_axis = rot * Vector3::y();
         let x_axis = rot * Vector3::x();
-        let (mat_shoe, mat_wheel) = (data.materials.shoe, data.materials.wheel);
+        let (mat_shoe, mat_wheel, mat_sprocket) = (
+            data.materials.shoe,
+            data.materials.wheel,
+            data.materials.sprocket,
+        );
         let dynamic = |part: &str, m: &MassData, at: Vector3<f64>, q: UnitQuaternion<f64>| {
             RigidBodyBuilder::dynamic()
                 .name(label(part))
@@ -137,39 +145,46 @@ impl TrackAssembly {
         let s = &data.sprocket;
         let tau = TAU / s.num_teeth as f64;
         let seat = s.pitch_radius - data.shoe.pin_radius;
-        // Tooth half-angle at the pitch radius: the pin plus clearance fits the gap.
-        let half_gap = ((data.shoe.pin_radius + s.flank_clearance) / s.pitch_radius).asin();
-        let a_pitch = 0.5 * tau - half_gap;
-        let a_tip = 0.5 * a_pitch;
+        // Each tooth is what two neighbouring troughs leave of the disc of the tip radius
+        // (`SprocketData::gap_radius`): its flanks are concave arcs, so it is built from
+        // `TOOTH_SLICES` convex slices between radii from just inside the seat to the tip,
+        // each the hull of its corners (the arcs become chords).
         let root = 0.8 * seat;
+        let radii: Vec<f64> = std::iter::once(root)
+            .chain(
+                (0..=TOOTH_SLICES)
+                    .map(|j| seat + (s.tip_radius - seat) * j as f64 / TOOTH_SLICES as f64),
+            )
+            .collect();
+        let half_width = |r: f64| 0.5 * tau - s.gap_half_angle(seat, r);
         let mut sb = dynamic("sprocket", &s.mass, w(s.location), rot);
         for ring in [-1.0, 1.0] {
             let yc = ring * s.gear_offset;
             sb = sb.collider(
                 cylinder(seat, s.gear_width),
                 Isometry3::translation(0.0, yc, 0.0),
-                mat_wheel,
+                mat_sprocket,
             );
             for k in 0..s.num_teeth {
                 let phi = lay.sprocket_start_angle - (k as f64 + 0.5) * tau;
-                let mut pts = Vec::with_capacity(12);
-                for y in [yc - 0.5 * s.gear_width, yc + 0.5 * s.gear_width] {
-                    for (r, a) in [
-                        (root, a_pitch),
-                        (s.pitch_radius, a_pitch),
-                        (s.tip_radius, a_tip),
-                    ] {
-                        for sg in [-1.0, 1.0] {
-                            let t = phi + sg * a;
-                            pts.push(Vector3::new(r * t.cos(), y, r * t.sin()));
+                for pair in radii.windows(2) {
+                    let mut pts = Vec::with_capacity(8);
+                    for y in [yc - 0.5 * s.gear_width, yc + 0.5 * s.gear_width] {
+                        for &r in pair {
+                            // Below the seat the tooth keeps its width at the seat.
+                            let a = half_width(r.max(seat));
+                            for sg in [-1.0, 1.0] {
+                                let t = phi + sg * a;
+                                pts.push(Vector3::new(r * t.cos(), y, r * t.sin()));
+                            }
                         }
                     }
+                    sb = sb.collider(
+                        Shape::ConvexHull { points: pts },
+                        Isometry3::identity(),
+                        mat_sprocket,
+                    );
                 }
-                sb = sb.collider(
-                    Shape::ConvexHull { points: pts },
-                    Isometry3::identity(),
-                    mat_wheel,
-                );
             }
         }
         let sprocket = sys.add_body(sb)?;

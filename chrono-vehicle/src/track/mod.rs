@@ -60,8 +60,31 @@ pub struct SprocketData {
     /// Lateral distance of each gear ring's mid-plane from the track mid-plane, m (the shoe
     /// plate lies between the rings: `> shoe.width / 2 + gear_width / 2`).
     pub gear_offset: f64,
-    /// Clearance between a seated pin and each tooth flank at the pitch radius, m.
-    pub flank_clearance: f64,
+    /// Radius of each tooth gap, m: the gap is a circular trough whose bottom is the pin
+    /// seat (radius `pitch_radius - shoe.pin_radius` from the sprocket centre) and whose
+    /// centre lies on the gap's mid-line `gap_radius` beyond it. A loaded pin rolls up the
+    /// trough's side until the chain's tension balances the drive force, and leaves it at
+    /// the exit without bearing on a radial face (the scalloped gear of Project Chrono's
+    /// M113 sprocket: troughs of radius 0.089 m). Must exceed `shoe.pin_radius`, and the
+    /// teeth between two troughs must keep a width at the tip radius.
+    pub gap_radius: f64,
+}
+
+impl SprocketData {
+    /// Half-angle (rad) that a tooth gap subtends at radius `r` from the sprocket centre:
+    /// the trough (centre at `c = seat + gap_radius` on the gap's mid-line, radius
+    /// `gap_radius`) meets the circle of radius `r` at `cos b = (c^2 + r^2 - R^2) / (2 c r)`;
+    /// 0 at or below the seat radius `seat`.
+    pub fn gap_half_angle(&self, seat: f64, r: f64) -> f64 {
+        let c = seat + self.gap_radius;
+        let rg = self.gap_radius;
+        if r <= seat {
+            return 0.0;
+        }
+        ((c * c + r * r - rg * rg) / (2.0 * c * r))
+            .clamp(-1.0, 1.0)
+            .acos()
+    }
 }
 
 /// The tensioner: a preloaded spring-damper pushing the idler carrier rearward along the
@@ -181,8 +204,10 @@ pub struct TrackMaterials {
     /// Shoe plate and pins (against wheels, sprocket and ground; the terrain's own
     /// material combines with it by the minimum friction).
     pub shoe: ContactMaterial,
-    /// Road wheels, idler, rollers and sprocket.
+    /// Road wheels, idler and rollers.
     pub wheel: ContactMaterial,
+    /// The sprocket's gear rings (steel, against the pin ends).
+    pub sprocket: ContactMaterial,
 }
 
 /// One track's running gear (both sides share it; see the [module docs](self)).
@@ -268,7 +293,13 @@ impl TrackData {
             ));
         }
         check_positive(&f("sprocket.gear_width"), s.gear_width)?;
-        check_non_negative(&f("sprocket.flank_clearance"), s.flank_clearance)?;
+        if !(s.gap_radius.is_finite() && s.gap_radius > sh.pin_radius) {
+            return Err(VehicleError::invalid(
+                f("sprocket.gap_radius"),
+                s.gap_radius,
+                "must exceed shoe.pin_radius (the pin must fit in the trough)",
+            ));
+        }
         if !(s.gear_offset.is_finite() && s.gear_offset > 0.5 * (sh.width + s.gear_width)) {
             return Err(VehicleError::invalid(
                 f("sprocket.gear_offset"),
@@ -280,13 +311,19 @@ impl TrackData {
                 ),
             ));
         }
-        // The gap at the pitch radius must hold the pin with the clearance.
-        let half_gap = (sh.pin_radius + s.flank_clearance) / s.pitch_radius;
-        if half_gap >= 0.5 * std::f64::consts::PI / s.num_teeth as f64 {
+        // Two troughs must leave a tooth at the tip radius.
+        let seat = s.pitch_radius - sh.pin_radius;
+        let tip_gap = s.gap_half_angle(seat, s.tip_radius);
+        if tip_gap >= std::f64::consts::PI / s.num_teeth as f64 {
             return Err(VehicleError::invalid(
-                f("sprocket.flank_clearance"),
-                s.flank_clearance,
-                "the pin plus clearance leaves no room for a tooth between two gaps",
+                f("sprocket.gap_radius"),
+                s.gap_radius,
+                format!(
+                    "the troughs leave no tooth at the tip radius {} m (each gap spans {:.1}                      deg there, a tooth pitch is {:.1} deg)",
+                    s.tip_radius,
+                    2.0 * tip_gap.to_degrees(),
+                    360.0 / s.num_teeth as f64
+                ),
             ));
         }
 
@@ -377,6 +414,10 @@ impl TrackData {
             .wheel
             .validate()
             .map_err(|e| VehicleError::invalid(f("materials.wheel"), "-", e.to_string()))?;
+        self.materials
+            .sprocket
+            .validate()
+            .map_err(|e| VehicleError::invalid(f("materials.sprocket"), "-", e.to_string()))?;
         Ok(())
     }
 
@@ -395,5 +436,28 @@ impl TrackData {
     /// The mass of one side's shoes, kg.
     pub fn chain_mass(&self, shoes: usize) -> f64 {
         shoes as f64 * self.shoe.mass.mass
+    }
+}
+
+#[cfg(test)]
+mod gap_tests {
+    use crate::m113::m113_data;
+
+    /// The trough meets the circle of radius `r` where `gap_half_angle` says: that point lies
+    /// on the trough's circle; at and below the seat the gap closes.
+    #[test]
+    fn the_gap_half_angle_lies_on_the_trough() {
+        let s = m113_data().unwrap().track.sprocket;
+        let seat = 0.2266;
+        let c = seat + s.gap_radius;
+        assert_eq!(s.gap_half_angle(seat, seat), 0.0);
+        assert_eq!(s.gap_half_angle(seat, 0.9 * seat), 0.0);
+        for r in [0.23, 0.2466, 0.27, 0.29] {
+            let b = s.gap_half_angle(seat, r);
+            let (x, y) = (r * b.cos(), r * b.sin());
+            let d = (x - c).hypot(y);
+            assert!((d - s.gap_radius).abs() < 1e-12, "{r}: {d}");
+            assert!(b > 0.0 && b < std::f64::consts::PI / s.num_teeth as f64);
+        }
     }
 }

@@ -108,6 +108,7 @@ pub fn all_cases() -> Vec<Box<dyn Case>> {
         vehicle::lane_change::case(),
         vehicle::granular::case(),
         vehicle::m113_static::case(),
+        vehicle::m113_accel::case(),
     ]
 }
 

@@ -100,11 +100,11 @@ impl CaseParams for M113StaticParams {
         ParamInfo::new("shoes_left", "-", "shoes on the left track"),
         ParamInfo::new("shoes_right", "-", "shoes on the right track"),
     ];
-    fn apply_mode(&mut self, mode: Mode) {
-        if mode == Mode::Quick {
-            self.t_end = 1.0;
-        }
-    }
+    // `--quick` runs the default set-up: with a 1.0 s run the averaging window (0.6-1.0 s)
+    // read the ground load 0.57 % low after the sprocket got its trough-shaped gaps (the
+    // contact rattle of the rigid shoes, ~5 % from step to step, does not average out
+    // over 0.4 s); the default's window (0.9-1.5 s) reads it within 0.01 %.
+    fn apply_mode(&mut self, _mode: Mode) {}
 }
 
 /// Mean vertical chassis speed over the averaging window below which the vehicle counts as

@@ -3,6 +3,7 @@
 pub mod accel;
 pub mod granular;
 pub mod lane_change;
+pub mod m113_accel;
 pub mod m113_static;
 pub mod scene;
 pub mod static_settle;
