@@ -83,6 +83,7 @@ pub const BUDGETS: &[Budget] = &[
     b("hmmwv-granular", 165.0, 135.0),
     b("m113-static", 15.0, 15.0),
     b("m113-accel", 25.0, 17.0),
+    b("m113-turn", 19.0, 19.0),
 ];
 
 /// The budget of `case` in `mode` (s); `None` for an unknown case or `--full` (which

@@ -109,6 +109,7 @@ pub fn all_cases() -> Vec<Box<dyn Case>> {
         vehicle::granular::case(),
         vehicle::m113_static::case(),
         vehicle::m113_accel::case(),
+        vehicle::m113_turn::case(),
     ]
 }
 
