@@ -14,9 +14,14 @@
 //! wide). The bar starts undeformed with the mode's velocity `v_x = v0 sin(pi x/(2L))`,
 //! `v0 = eps0 sqrt(E/rho)` for a strain amplitude `eps0`.
 //!
-//! The bar lies along x from the grid box's lower x face (a sticky wall: the fixed end) to
-//! `x = L`; the section is `width x width`, centred on y = z = 0, with two free cells of
-//! grid around it. Gravity is off.
+//! The bar lies along x from the grid box's lower x face to `x = L`; the section is
+//! `width x width`, centred on y = z = 0, with two free cells of grid around it. Gravity is
+//! off. The fixed end is a slip wall: `u_x = 0` with the section free to contract, which
+//! is the rod theory's fixed end (and the symmetry plane of a free-free bar of length
+//! `2 L`). A sticky end would also clamp the section's Poisson contraction, a local 3-D
+//! stress concentration whose short waves the APIC transfers damp (energy drift 6.4 % in
+//! 10 periods at 16 cells and `nu` = 0.3, against 0.96 % with the slip end; the same for
+//! `nu` = 0).
 
 use nalgebra::{Matrix3, Vector3};
 
@@ -150,7 +155,7 @@ impl ElasticBar {
             [spec.cells_along + 3, side_cells, side_cells],
             dx,
         )?
-        .with_walls(0, Wall::Sticky, Wall::Separating);
+        .with_walls(0, Wall::Slip, Wall::Separating);
         let settings = MpmSettings {
             gravity: [0.0; 3],
             cfl: spec.cfl,
