@@ -276,3 +276,56 @@ pub fn crossing_frequency(signal: &[(f64, f64)]) -> f64 {
     }
     (times.len() - 1) as f64 / (2.0 * (times[times.len() - 1] - times[0]))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn frequency_and_energy_errors_fall_under_refinement() {
+        // 4 periods at 8 and 16 cells along (a few thousand marker-steps).
+        let run = |cells_along| {
+            let mut bar = ElasticBar::new(BarSpec {
+                cells_along,
+                ..BarSpec::default()
+            })
+            .unwrap();
+            let r = bar.run(4.0, |_| {}).unwrap();
+            (
+                (r.frequency / bar.reference_frequency() - 1.0).abs(),
+                r.energy_drift.abs(),
+            )
+        };
+        let (f8, e8) = run(8);
+        let (f16, e16) = run(16);
+        assert!(f16 < 0.7 * f8, "frequency error {f8} -> {f16}");
+        assert!(e16 < 0.5 * e8, "energy drift {e8} -> {e16}");
+        assert!(f16 < 0.03, "frequency error at 16 cells {f16}");
+    }
+
+    #[test]
+    fn bad_bar_input_names_the_field() {
+        let bad = |spec: BarSpec, field: &str| {
+            let e = ElasticBar::new(spec).unwrap_err();
+            assert!(e.to_string().contains(field), "{e} should name {field}");
+        };
+        let d = BarSpec::default();
+        bad(BarSpec { young: -1.0, ..d }, "material.young");
+        bad(BarSpec { poisson: 0.7, ..d }, "material.poisson");
+        bad(BarSpec { length: 0.0, ..d }, "bar.length");
+        bad(
+            BarSpec {
+                density: f64::NAN,
+                ..d
+            },
+            "bar.density",
+        );
+        bad(
+            BarSpec {
+                cells_along: 1,
+                ..d
+            },
+            "bar.cells_along",
+        );
+    }
+}

@@ -67,6 +67,9 @@ pub enum MpmError {
         /// Which quantity.
         what: String,
     },
+    /// Writing output failed (an error of chrono-core's io).
+    #[error(transparent)]
+    Io(#[from] chrono_core::ChronoError),
 }
 
 /// Result alias of chrono-mpm.

@@ -11,7 +11,8 @@
 //!   Drucker–Prager sand (Klar et al. 2016) and von Mises clay, each with its return
 //!   mapping;
 //! - [`body`]: an MPM body advanced by explicit APIC steps (Jiang et al. 2015);
-//! - [`bar`]: the axially vibrating elastic bar, a scene for validation.
+//! - [`bar`]: the axially vibrating elastic bar, a scene for validation;
+//! - [`vtk`]: VTP frames of the markers (stress, `J_E`, `J_P`, plastic strain).
 //!
 //! This is the plain MPM mode (the full stress by MPM). The seed's split (shear by MPM,
 //! pressure by constraint-fluid density rows in the one CCP, Stomakhin et al., "Augmented
@@ -24,6 +25,7 @@ pub mod error;
 pub mod grid;
 pub mod markers;
 pub mod material;
+pub mod vtk;
 
 #[cfg(test)]
 mod tests;
