@@ -1,6 +1,37 @@
 //! # chrono-mpm
 //!
-//! The material point method (to be built): cubic B-spline transfers between markers and a
-//! background grid, elasto-plastic models (snow-like hardening, sand), and the split of the
-//! stress into pressure, solved by constraint fluids, and shear, solved by MPM (Chorin
-//! split; Stomakhin et al., "Augmented MPM for phase-change and varied materials", ACM TOG 2014).
+//! The material point method: markers (material points) carry mass, volume, velocity, the
+//! APIC affine matrix and the elastic and plastic deformation gradients `F_E`, `F_P`; a
+//! sparse background grid is the scratchpad of each step.
+//!
+//! - [`bspline`]: quadratic B-spline transfers (and why quadratic);
+//! - [`grid`]: the grid's box, its walls and the sparse block storage;
+//! - [`markers`]: the markers, structure of arrays;
+//! - [`material`]: fixed-corotated elasticity with snow hardening (Stomakhin et al. 2013),
+//!   Drucker–Prager sand (Klar et al. 2016) and von Mises clay, each with its return
+//!   mapping;
+//! - [`body`]: an MPM body advanced by explicit APIC steps (Jiang et al. 2015);
+//! - [`bar`]: the axially vibrating elastic bar, a scene for validation;
+//! - [`vtk`]: VTP frames of the markers (stress, `J_E`, `J_P`, plastic strain).
+//!
+//! This is the plain MPM mode (the full stress by MPM). The seed's split (shear by MPM,
+//! pressure by constraint-fluid density rows in the one CCP, Stomakhin et al., "Augmented
+//! MPM for phase-change and varied materials", ACM TOG 2014) comes later.
+
+pub mod bar;
+pub mod body;
+pub mod bspline;
+pub mod error;
+pub mod grid;
+pub mod markers;
+pub mod material;
+pub mod vtk;
+
+#[cfg(test)]
+mod tests;
+
+pub use body::{MpmBody, MpmSettings};
+pub use error::{MpmError, Result};
+pub use grid::{GridSpec, SparseGrid, Wall};
+pub use markers::Markers;
+pub use material::{DruckerPrager, Elasticity, FixedCorotated, Material, SnowHardening, VonMises};

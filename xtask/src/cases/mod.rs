@@ -61,6 +61,7 @@ pub mod ccp;
 pub mod cfluid;
 pub mod fea;
 pub mod granular;
+pub mod mpm;
 pub mod rigid;
 pub mod sph;
 mod timed_solver;
@@ -102,6 +103,7 @@ pub fn all_cases() -> Vec<Box<dyn Case>> {
         fea::shell_pressure::case(),
         fea::bend45::case(),
         fea::tire_drop::case(),
+        mpm::elastic_bar::case(),
         vehicle::static_settle::case(),
         vehicle::accel::case(),
         vehicle::turn::case(),

@@ -1,0 +1,195 @@
+//! Drucker–Prager sand with cohesion, return mapping in Hencky strain (Klar, Gast, Pradhana,
+//! Fu, Schroeder, Jiang & Teran, "Drucker-Prager elastoplasticity for sand animation",
+//! ACM TOG 35(4), 2016, sec. 7.3), extended with a cohesion that moves the cone's apex.
+//!
+//! With the Kirchhoff stress `tau` (Pa), its deviator `s` and the yield function
+//!
+//! ```text
+//! f(tau) = |s| + alpha tr(tau) - kappa <= 0
+//! alpha = 2 sqrt(2/3) sin(phi) / (3 - sin(phi))
+//! kappa = 2 sqrt(6) c cos(phi) / (3 - sin(phi))
+//! ```
+//!
+//! the cone circumscribes the Mohr–Coulomb hexagon at its compressive meridian (friction
+//! angle `phi`, cohesion `c` in Pa); `alpha` is Klar's eq. 27 and `c = 0` is Klar's sand.
+//! The flow is non-associated (no dilatancy, as Klar's): the trial Hencky strain `eps`
+//! keeps its trace and its deviator is scaled back radially onto the cone; a trial state
+//! beyond the apex (tension past `kappa / alpha`) goes to the apex.
+
+use nalgebra::{Matrix3, Vector3};
+
+use super::hencky::{principal_stress, split, strains};
+use super::{Elasticity, SignedSvd};
+use crate::error::{Result, invalid};
+
+/// Drucker–Prager sand with cohesion.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DruckerPrager {
+    /// Elastic moduli (Hencky elasticity).
+    pub elastic: Elasticity,
+    /// Friction angle `phi`, rad.
+    pub friction_angle: f64,
+    /// Cohesion `c`, Pa.
+    pub cohesion: f64,
+    /// `alpha` of the yield function, -.
+    pub alpha: f64,
+    /// `kappa` of the yield function, Pa.
+    pub kappa: f64,
+}
+
+impl DruckerPrager {
+    /// Sand of friction angle `friction_angle_deg` (in [0, 90) degrees) and `cohesion`
+    /// (>= 0 Pa; > 0 when the friction angle is 0). Errors name the field.
+    pub fn new(young: f64, poisson: f64, friction_angle_deg: f64, cohesion: f64) -> Result<Self> {
+        let elastic = Elasticity::new("material", young, poisson)?;
+        if !(friction_angle_deg.is_finite() && (0.0..90.0).contains(&friction_angle_deg)) {
+            return Err(invalid(
+                "material.friction_angle_deg",
+                friction_angle_deg,
+                "must lie in [0, 90)",
+            ));
+        }
+        if !(cohesion.is_finite() && cohesion >= 0.0) {
+            return Err(invalid(
+                "material.cohesion",
+                cohesion,
+                "must be finite and >= 0",
+            ));
+        }
+        if friction_angle_deg == 0.0 && cohesion == 0.0 {
+            return Err(invalid(
+                "material.cohesion",
+                cohesion,
+                "must be > 0 when the friction angle is 0 (the material would have no strength)",
+            ));
+        }
+        let phi = friction_angle_deg.to_radians();
+        let (sin, cos) = phi.sin_cos();
+        Ok(Self {
+            elastic,
+            friction_angle: phi,
+            cohesion,
+            alpha: 2.0 * (2.0f64 / 3.0).sqrt() * sin / (3.0 - sin),
+            kappa: 2.0 * 6.0f64.sqrt() * cohesion * cos / (3.0 - sin),
+        })
+    }
+
+    /// The yield function `f(tau)` of principal Kirchhoff stresses, Pa (<= 0 admissible).
+    pub fn yield_function(&self, tau: &Vector3<f64>) -> f64 {
+        let (dev, tr) = split(tau);
+        dev.norm() + self.alpha * tr - self.kappa
+    }
+
+    /// The returned principal Hencky strains of trial strains `eps`.
+    pub fn return_strain(&self, eps: &Vector3<f64>) -> Vector3<f64> {
+        let el = &self.elastic;
+        let (dev, tr) = split(eps);
+        // tr(tau) = (3 lambda + 2 mu) tr(eps); |s| = 2 mu |dev eps|.
+        let bulk3 = 3.0 * el.lambda + 2.0 * el.mu;
+        let tr_tau = bulk3 * tr;
+        if self.alpha > 0.0 && self.alpha * tr_tau >= self.kappa {
+            // Beyond the apex: the apex, tr(tau) = kappa / alpha, s = 0.
+            return Vector3::repeat(self.kappa / (self.alpha * bulk3) / 3.0);
+        }
+        let dev_norm = dev.norm();
+        let s_norm = 2.0 * el.mu * dev_norm;
+        let limit = self.kappa - self.alpha * tr_tau; // the admissible |s| at this pressure
+        if s_norm <= limit {
+            return *eps;
+        }
+        dev * (limit / s_norm) + Vector3::repeat(tr / 3.0)
+    }
+
+    /// The return mapping of `(F_E trial, F_P)`; `None` for a degenerate state.
+    pub fn project(
+        &self,
+        fe_trial: &Matrix3<f64>,
+        fp: &Matrix3<f64>,
+    ) -> Option<(Matrix3<f64>, Matrix3<f64>)> {
+        let svd = SignedSvd::new(fe_trial)?;
+        let eps = strains(&svd.s)?;
+        let eps_new = self.return_strain(&eps);
+        if eps_new == eps {
+            return Some((*fe_trial, *fp));
+        }
+        let s_new = eps_new.map(f64::exp);
+        Some((svd.compose(&s_new), svd.plastic_update(&s_new, fp)))
+    }
+
+    /// Principal Kirchhoff stresses of principal Hencky strains, Pa.
+    pub fn principal_stress(&self, eps: &Vector3<f64>) -> Vector3<f64> {
+        principal_stress(&self.elastic, eps)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::Rotation3;
+    use proptest::prelude::*;
+
+    fn check(
+        m: &DruckerPrager,
+        a: [f64; 6],
+        e: [f64; 3],
+    ) -> std::result::Result<(), TestCaseError> {
+        let r1 = Rotation3::from_euler_angles(a[0], a[1], a[2]).into_inner();
+        let r2 = Rotation3::from_euler_angles(a[3], a[4], a[5]).into_inner();
+        let s = Vector3::from(e).map(f64::exp);
+        let fe = r1 * Matrix3::from_diagonal(&s) * r2;
+        let fp = Matrix3::identity();
+        let (fe1, fp1) = m.project(&fe, &fp).unwrap();
+        let eps1 = strains(&SignedSvd::new(&fe1).unwrap().s).unwrap();
+        let tau = m.principal_stress(&eps1);
+        let scale = m.elastic.young * (1e-3 + Vector3::from(e).norm()) + m.kappa;
+        let f = m.yield_function(&tau);
+        // On or inside the cone.
+        prop_assert!(f <= 1e-9 * scale, "f = {f}, scale {scale}");
+        // A plastic step lands on the surface.
+        let eps0 = Vector3::from(e);
+        if m.yield_function(&m.principal_stress(&eps0)) > 1e-9 * scale {
+            prop_assert!(f.abs() <= 1e-9 * scale, "plastic but f = {f}");
+        }
+        prop_assert!((fe1 * fp1 - fe * fp).norm() < 1e-9);
+        let (fe2, fp2) = m.project(&fe1, &fp1).unwrap();
+        prop_assert!((fe2 - fe1).norm() < 1e-10, "not idempotent");
+        prop_assert!((fp2 - fp1).norm() < 1e-10);
+        Ok(())
+    }
+
+    proptest! {
+        #[test]
+        fn sand_return_lands_on_or_inside_and_is_idempotent(
+            a in prop::array::uniform6(-3.0f64..3.0),
+            e in prop::array::uniform3(-0.05f64..0.05),
+            phi in 0.0f64..50.0,
+            c in 0.0f64..2e3,
+        ) {
+            let c = if phi == 0.0 { c + 1.0 } else { c };
+            let m = DruckerPrager::new(1e6, 0.3, phi, c).unwrap();
+            check(&m, a, e)?;
+        }
+    }
+
+    #[test]
+    fn cohesionless_tension_goes_to_the_apex() {
+        let m = DruckerPrager::new(1e6, 0.3, 30.0, 0.0).unwrap();
+        let eps = m.return_strain(&Vector3::new(0.01, 0.002, -0.001));
+        assert!(eps.norm() < 1e-15, "{eps}");
+        // Compression inside the cone stays.
+        let e0 = Vector3::new(-0.01, -0.01, -0.011);
+        assert_eq!(m.return_strain(&e0), e0);
+    }
+
+    #[test]
+    fn bad_input_names_the_field() {
+        let e = DruckerPrager::new(1e6, 0.3, 95.0, 0.0).unwrap_err();
+        assert!(e.to_string().contains("material.friction_angle_deg"), "{e}");
+        let e = DruckerPrager::new(1e6, 0.3, 30.0, -1.0).unwrap_err();
+        assert!(e.to_string().contains("material.cohesion"), "{e}");
+        let e = DruckerPrager::new(1e6, 0.3, 0.0, 0.0).unwrap_err();
+        assert!(e.to_string().contains("material.cohesion"), "{e}");
+        let e = DruckerPrager::new(-1e6, 0.3, 30.0, 0.0).unwrap_err();
+        assert!(e.to_string().contains("material.young"), "{e}");
+    }
+}

@@ -1,0 +1,3 @@
+//! Validation cases of chrono-mpm.
+
+pub mod elastic_bar;
