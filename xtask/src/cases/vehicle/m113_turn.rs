@@ -288,7 +288,6 @@ fn run(p: &M113TurnParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     let (mut sum_df, mut sum_th, mut sum_yaw, mut sum_v, mut sum_x) = (0.0, 0.0, 0.0, 0.0, 0.0);
     let mut sum_simple = 0.0;
     let mut theory_error: Option<String> = None;
-    let out_steps_failed;
     let mut contacts: Vec<[f64; 3]> = Vec::new();
     let mass = d.total_mass();
     let mut count = 0usize;
@@ -393,7 +392,7 @@ fn run(p: &M113TurnParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     }
     let k = count as f64;
     let (df, th, yaw, speed) = (sum_df / k, sum_th / k, sum_yaw / k, sum_v / k);
-    out_steps_failed = window - count;
+    let out_steps_failed = window - count;
 
     let mut out = CaseOutput::new();
     out.metric("theory_failed_steps", out_steps_failed as f64);
