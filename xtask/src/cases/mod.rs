@@ -63,6 +63,7 @@ pub mod fea;
 pub mod granular;
 pub mod rigid;
 pub mod sph;
+pub mod fsi;
 mod timed_solver;
 pub mod vehicle;
 
@@ -85,6 +86,7 @@ pub fn all_cases() -> Vec<Box<dyn Case>> {
         sph::poiseuille::case(),
         sph::dam_break::case(),
         sph::sloshing::case(),
+        fsi::floating_body::case(),
         cfluid::incompressibility::case(),
         cfluid::dam_break::case(),
         cfluid::floating_box::case(),
