@@ -170,7 +170,10 @@ impl FsiBuilder {
                     self.bodies.iter().all(|b| {
                         b.shapes.iter().all(|s| {
                             let pl = (b.pose * s.local_pose).inverse_transform_point(&x.into());
-                            signed_distance(&s.shape, [pl.x, pl.y, pl.z], s.open) >= 0.5 * dp
+                            // a particle exactly dp/2 off a face stays: the tolerance keeps the
+                            // carving mirror-symmetric under round-off
+                            signed_distance(&s.shape, [pl.x, pl.y, pl.z], s.open)
+                                >= 0.5 * dp * (1.0 - 1e-6)
                         })
                     })
                 })
@@ -188,7 +191,6 @@ impl FsiBuilder {
                 name: b.name.clone(),
                 carrier,
                 markers: b.local_markers.len(),
-                prev: None,
                 load: [Vector3::zeros(); 2],
             });
         }

@@ -8,9 +8,10 @@
 //!
 //! 1. each coupled body's markers get the motion the body has at `t`, advanced with its
 //!    velocity: `x_c(s) = x(t) + (s - t) v(t)`, `R(s) = exp((s - t) [w(t)]) R(t)`; the
-//!    marker velocity is the rigid motion `v + w x r`, its acceleration (only used by
-//!    the pressure extrapolation `(g - a_w)`) `a + alpha x r + w x (w x r)` with `a`,
-//!    `alpha` the body's accelerations of the previous step (backward difference);
+//!    marker velocity is the rigid motion `v + w x r`, its acceleration in the pressure
+//!    extrapolation `(g - a_w)` the centripetal `w x (w x r)` only: the body's
+//!    acceleration is not known before its step, and a lagged estimate fed back through
+//!    the marker pressures acts as an explicit added mass (unstable for light bodies);
 //! 2. the fluid advances to `t + h` exactly, by as many sub-steps as its own stability
 //!    limits need (CFL, force, viscous; the last sub-step shortened,
 //!    [`SphSystem::advance_exactly`]); the markers move at every sub-step;
@@ -50,9 +51,6 @@ pub(crate) struct Coupled {
     pub carrier: usize,
     /// Markers of the body.
     pub markers: usize,
-    /// Velocity and angular velocity (world) at the start of the previous step, for the
-    /// acceleration estimate.
-    pub prev: Option<(Vector3<f64>, Vector3<f64>, f64)>,
     /// The mean force and torque (world, about the centre of mass) of the last step.
     pub load: [Vector3<f64>; 2],
 }
@@ -162,19 +160,16 @@ impl PhysicsItem for SphFluid {
                 .get(c.handle)
                 .ok_or(ChronoError::StaleBody { handle: c.handle })?;
             let (v, w) = (b.linear_velocity(), b.angular_velocity());
-            let (a, alpha) = match c.prev {
-                Some((v0, w0, h0)) if h0 > 0.0 => ((v - v0) / h0, (w - w0) / h0),
-                _ => (Vector3::zeros(), Vector3::zeros()),
-            };
-            c.prev = Some((v, w, ctx.h));
             let motion = RigidMotion {
                 t0: ctx.time,
                 position: b.position(),
                 rotation: b.rotation(),
                 velocity: v,
                 angular_velocity: w,
-                acceleration: a,
-                angular_acceleration: alpha,
+                // no lagged body acceleration in the pressure extrapolation: fed back
+                // through the marker pressures it acts as an explicit added mass
+                acceleration: Vector3::zeros(),
+                angular_acceleration: Vector3::zeros(),
             };
             self.sph
                 .set_carrier_motion(c.carrier, motion)

@@ -260,7 +260,10 @@ pub fn floating(
         FloatShape::Sphere => (p.width * s / dp).round() * dp,
         _ => slab_layers(p.h_over_dp) as f64 * dp,
     };
-    let top = p.depth + s + 4.0 * dp;
+    // the lattice holds whole layers (`Fit::Floor`): the still-water level is `depth`
+    // rounded down to a multiple of `dp`
+    let level = (p.depth / dp + 1e-6).floor() * dp;
+    let top = level + s + 4.0 * dp;
     let draft = archimedes_draft(p.shape, s, p.body_density / p.rho0);
     let sys_settings = SystemSettings::default();
     let gz = sys_settings.gravity;
@@ -294,7 +297,7 @@ pub fn floating(
         ),
         FloatShape::Sphere => (Shape::Sphere { radius: 0.5 * s }, UnitQuaternion::identity()),
     };
-    let centre = Vector3::new(0.5 * len, 0.5 * width, p.depth - draft + 0.5 * s + p.offset);
+    let centre = Vector3::new(0.5 * len, 0.5 * width, level - draft + 0.5 * s + p.offset);
     let mut builder = RigidBodyBuilder::dynamic()
         .name("float")
         .mass_from_shape(&shape, p.body_density)?;
@@ -314,7 +317,7 @@ pub fn floating(
             .collider(shape, Isometry3::identity(), Default::default()),
     )?;
     let mut fsi = FsiBuilder::new(settings)?;
-    fsi.add_fluid_box([0.0; 3], [len, width, p.depth], Some(p.depth))?;
+    fsi.add_fluid_box([0.0; 3], [len, width, level], Some(level))?;
     fsi.sph().add_tank(
         [0.0; 3],
         [len, width, top],

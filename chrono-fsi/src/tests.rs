@@ -193,3 +193,37 @@ fn mismatched_gravity_is_an_error() {
     let e = sys.step(1e-3).unwrap_err();
     assert!(e.to_string().contains("gravity"), "{e}");
 }
+
+/// A box at rest at its Archimedes draft in still water (slab tank, gravity) does not
+/// drift: no horizontal motion (the scene is symmetric), no tilt, and it stays within a
+/// quarter spacing of where it started (the draft acceptance of issue 24).
+#[test]
+fn floating_box_at_rest_does_not_drift() {
+    use crate::scene::{FloatShape, FloatingParams, floating};
+    let p = FloatingParams {
+        shape: FloatShape::Box,
+        body_size: 0.08,
+        depth: 0.12,
+        length: 8.0,
+        spacing: 0.02,
+        offset: 0.0,
+        ..FloatingParams::default()
+    };
+    let mut scene = floating(&p, Box::new(Psor::new(Default::default()))).unwrap();
+    let x0 = scene.system.body(scene.body).unwrap().position();
+    let mut max_dz: f64 = 0.0;
+    while scene.system.time() < 0.3 {
+        scene.system.step(1e-3).unwrap();
+        let x = scene.system.body(scene.body).unwrap().position();
+        max_dz = max_dz.max((x.z - x0.z).abs());
+    }
+    let body = scene.system.body(scene.body).unwrap();
+    let x = body.position();
+    let dx = ((x.x - x0.x).powi(2) + (x.y - x0.y).powi(2)).sqrt();
+    let tilt = body.rotation().angle();
+    eprintln!("rest: horizontal drift {dx:e} m, tilt {tilt:e} rad, largest heave {max_dz:e} m");
+    // round-off only: the scene and its carving are mirror-symmetric
+    assert!(dx < 1e-8 * p.spacing, "horizontal drift {dx:e} m");
+    assert!(tilt < 1e-8, "tilt {tilt:e} rad");
+    assert!(max_dz < 0.25 * p.spacing, "heave {max_dz:e} m");
+}
