@@ -70,7 +70,11 @@ pub enum FsiError {
 
 impl FsiError {
     /// An [`FsiError::InvalidParameter`].
-    pub fn invalid(field: impl Into<String>, value: impl std::fmt::Display, reason: impl Into<String>) -> Self {
+    pub fn invalid(
+        field: impl Into<String>,
+        value: impl std::fmt::Display,
+        reason: impl Into<String>,
+    ) -> Self {
         Self::InvalidParameter {
             field: field.into(),
             value: value.to_string(),

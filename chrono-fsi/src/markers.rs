@@ -146,11 +146,7 @@ pub fn shape_markers(
             }
             for j in 0..ny {
                 let y = -l + (j as f64 + 0.5) * sy;
-                let cap = if open[1] {
-                    f64::INFINITY
-                } else {
-                    l - y.abs()
-                };
+                let cap = if open[1] { f64::INFINITY } else { l - y.abs() };
                 for (k, &(r, n)) in rings.iter().enumerate() {
                     let depth = (r0 - r).min(cap);
                     if depth >= depth_max {
@@ -207,7 +203,10 @@ mod tests {
         }
         let v = m.points.len() as f64 * dp * dp * dp;
         let rel = (v - volume_of_layer).abs() / volume_of_layer;
-        assert!(rel < tol, "marker volume {v} vs layer {volume_of_layer}: {rel}");
+        assert!(
+            rel < tol,
+            "marker volume {v} vs layer {volume_of_layer}: {rel}"
+        );
     }
 
     #[test]

@@ -37,11 +37,7 @@ impl std::str::FromStr for FloatShape {
             "box" => Ok(Self::Box),
             "cylinder" => Ok(Self::Cylinder),
             "sphere" => Ok(Self::Sphere),
-            other => Err(FsiError::invalid(
-                "shape",
-                other,
-                "box | cylinder | sphere",
-            )),
+            other => Err(FsiError::invalid("shape", other, "box | cylinder | sphere")),
         }
     }
 }
@@ -118,14 +114,25 @@ impl FloatingParams {
             return Err(FsiError::invalid(
                 "body_density",
                 self.body_density,
-                format!("must be below the fluid density {} kg/m^3 to float", self.rho0),
+                format!(
+                    "must be below the fluid density {} kg/m^3 to float",
+                    self.rho0
+                ),
             ));
         }
         if !(self.length.is_finite() && self.length >= 2.0) {
-            return Err(FsiError::invalid("length", self.length, "must be >= 2 body sizes"));
+            return Err(FsiError::invalid(
+                "length",
+                self.length,
+                "must be >= 2 body sizes",
+            ));
         }
         if !(self.width.is_finite() && self.width >= 1.5) {
-            return Err(FsiError::invalid("width", self.width, "must be >= 1.5 body sizes"));
+            return Err(FsiError::invalid(
+                "width",
+                self.width,
+                "must be >= 1.5 body sizes",
+            ));
         }
         if !self.offset.is_finite() || self.offset.abs() > 0.25 * self.body_size {
             return Err(FsiError::invalid(
@@ -183,7 +190,9 @@ pub struct FloatingScene {
 impl FloatingScene {
     /// The fluid.
     pub fn fluid(&self) -> &SphFluid {
-        self.system.item::<SphFluid>(self.fluid).expect("the scene's fluid")
+        self.system
+            .item::<SphFluid>(self.fluid)
+            .expect("the scene's fluid")
     }
 
     /// The body's draft (m): the still-water level minus the body's lowest point. The
@@ -230,7 +239,8 @@ pub fn submerged_area_or_volume(shape: FloatShape, size: f64, d: f64) -> f64 {
     match shape {
         FloatShape::Box => BOX_ASPECT * size * d,
         FloatShape::Cylinder => {
-            r * r * ((r - d) / r).clamp(-1.0, 1.0).acos() - (r - d) * (2.0 * r * d - d * d).max(0.0).sqrt()
+            r * r * ((r - d) / r).clamp(-1.0, 1.0).acos()
+                - (r - d) * (2.0 * r * d - d * d).max(0.0).sqrt()
         }
         FloatShape::Sphere => std::f64::consts::PI * d * d * (3.0 * r - d) / 3.0,
     }
@@ -295,27 +305,33 @@ pub fn floating(
             },
             UnitQuaternion::identity(),
         ),
-        FloatShape::Sphere => (Shape::Sphere { radius: 0.5 * s }, UnitQuaternion::identity()),
+        FloatShape::Sphere => (
+            Shape::Sphere { radius: 0.5 * s },
+            UnitQuaternion::identity(),
+        ),
     };
     let centre = Vector3::new(0.5 * len, 0.5 * width, level - draft + 0.5 * s + p.offset);
     let mut builder = RigidBodyBuilder::dynamic()
         .name("float")
         .mass_from_shape(&shape, p.body_density)?;
     if p.shape != FloatShape::Sphere {
-        let (m, r) = (p.body_density * submerged_area_or_volume(p.shape, s, s) * width, 0.5 * s);
+        let (m, r) = (
+            p.body_density * submerged_area_or_volume(p.shape, s, s) * width,
+            0.5 * s,
+        );
         // pitch about y: the shape's own; roll and yaw blocked (a slice of a long body)
         let iy = match p.shape {
             FloatShape::Box => m * (BOX_ASPECT * BOX_ASPECT + 1.0) * s * s / 12.0,
             _ => 0.5 * m * r * r,
         };
-        builder = builder.inertia_diagonal(Vector3::new(PLANAR_INERTIA * iy, iy, PLANAR_INERTIA * iy));
+        builder =
+            builder.inertia_diagonal(Vector3::new(PLANAR_INERTIA * iy, iy, PLANAR_INERTIA * iy));
     }
-    let body = system.add_body(
-        builder
-            .position(centre)
-            .rotation(rot)
-            .collider(shape, Isometry3::identity(), Default::default()),
-    )?;
+    let body = system.add_body(builder.position(centre).rotation(rot).collider(
+        shape,
+        Isometry3::identity(),
+        Default::default(),
+    ))?;
     let mut fsi = FsiBuilder::new(settings)?;
     fsi.add_fluid_box([0.0; 3], [len, width, level], Some(level))?;
     fsi.sph().add_tank(

@@ -31,7 +31,11 @@ fn zero_g_system() -> System {
 }
 
 /// A triply periodic box of fluid at rest around a free body of `shape` moving at `v0`.
-fn periodic_scene(shape: Shape, density: f64, v0: Vector3<f64>) -> (System, BodyHandle, ItemHandle) {
+fn periodic_scene(
+    shape: Shape,
+    density: f64,
+    v0: Vector3<f64>,
+) -> (System, BodyHandle, ItemHandle) {
     let (dp, l) = (0.02, 0.36);
     let mut sys = zero_g_system();
     let b = sys
@@ -97,7 +101,11 @@ fn momentum_of_fluid_and_body_is_conserved_in_a_periodic_box() {
 /// fluid (pressure and viscous pair terms), to round-off.
 #[test]
 fn marker_forces_are_equal_and_opposite() {
-    let (mut sys, _b, item) = periodic_scene(Shape::Sphere { radius: 0.07 }, 500.0, Vector3::new(0.5, 0.0, 0.0));
+    let (mut sys, _b, item) = periodic_scene(
+        Shape::Sphere { radius: 0.07 },
+        500.0,
+        Vector3::new(0.5, 0.0, 0.0),
+    );
     for _ in 0..20 {
         sys.step(2e-3).unwrap();
     }
@@ -113,13 +121,22 @@ fn marker_forces_are_equal_and_opposite() {
 /// sub-steps as its stability limit asks.
 #[test]
 fn the_fluid_ends_each_step_at_the_system_time() {
-    let (mut sys, _b, item) = periodic_scene(Shape::Sphere { radius: 0.07 }, 500.0, Vector3::new(0.5, 0.0, 0.0));
+    let (mut sys, _b, item) = periodic_scene(
+        Shape::Sphere { radius: 0.07 },
+        500.0,
+        Vector3::new(0.5, 0.0, 0.0),
+    );
     for h in [1e-3, 3.7e-3, 2e-4] {
         sys.step(h).unwrap();
         let f = sys.item::<SphFluid>(item).unwrap();
         assert_eq!(f.sph().time(), sys.time());
         let dt = f.sph().dt();
-        assert!(f.last_substeps() as f64 >= (h / dt).floor(), "{} sub-steps for h/dt = {}", f.last_substeps(), h / dt);
+        assert!(
+            f.last_substeps() as f64 >= (h / dt).floor(),
+            "{} sub-steps for h/dt = {}",
+            f.last_substeps(),
+            h / dt
+        );
     }
 }
 
@@ -157,11 +174,17 @@ fn bad_bodies_are_errors_naming_the_body_and_value() {
         half_extents: Vector3::new(0.2, 0.2, 0.02),
     });
     let e = tank_builder(dp).add_body(&sys, b).unwrap_err();
-    assert!(matches!(e, FsiError::BodyThinnerThanSupport { ref body, thickness, .. } if body == "hull" && (thickness - 0.04).abs() < 1e-12), "{e}");
+    assert!(
+        matches!(e, FsiError::BodyThinnerThanSupport { ref body, thickness, .. } if body == "hull" && (thickness - 0.04).abs() < 1e-12),
+        "{e}"
+    );
     // thick enough for the support, but 3 spacings across a sphere do not resolve it
     let (sys, b) = one_body(Shape::Sphere { radius: 0.03 });
     let e = tank_builder(dp).add_body(&sys, b).unwrap_err();
-    assert!(matches!(e, FsiError::Unresolved { ref body, .. } if body == "hull"), "{e}");
+    assert!(
+        matches!(e, FsiError::Unresolved { ref body, .. } if body == "hull"),
+        "{e}"
+    );
     assert!(e.to_string().contains("0.06"), "{e}");
     // a shape without marker generation
     let (sys, b) = one_body(Shape::Capsule {
@@ -169,7 +192,10 @@ fn bad_bodies_are_errors_naming_the_body_and_value() {
         radius: 0.1,
     });
     let e = tank_builder(dp).add_body(&sys, b).unwrap_err();
-    assert!(matches!(e, FsiError::UnsupportedShape { ref body, ref shape } if body == "hull" && shape == "capsule"), "{e}");
+    assert!(
+        matches!(e, FsiError::UnsupportedShape { ref body, ref shape } if body == "hull" && shape == "capsule"),
+        "{e}"
+    );
 }
 
 /// A fluid stepped outside the system, or with another gravity, is refused with an error

@@ -189,7 +189,11 @@ impl SphBuilder {
     ) -> Result<usize> {
         motion.validate("carrier motion")?;
         if local.is_empty() {
-            return Err(SphError::invalid("rigid markers", 0, "add at least one marker"));
+            return Err(SphError::invalid(
+                "rigid markers",
+                0,
+                "add at least one marker",
+            ));
         }
         for (i, p) in local.iter().enumerate() {
             finite3(&format!("rigid markers[{i}]"), *p)?;

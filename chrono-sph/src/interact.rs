@@ -231,7 +231,11 @@ pub(crate) fn wall_extrapolation(
                 let a = d.wall_a[w];
                 (
                     [d.vx[w], d.vy[w], d.vz[w]],
-                    [c.gravity[0] - a[0], c.gravity[1] - a[1], c.gravity[2] - a[2]],
+                    [
+                        c.gravity[0] - a[0],
+                        c.gravity[1] - a[1],
+                        c.gravity[2] - a[2],
+                    ],
                 )
             } else {
                 (c.wall_vel, g_minus_a)

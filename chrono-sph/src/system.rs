@@ -557,9 +557,10 @@ impl SphSystem {
     pub fn set_carrier_motion(&mut self, carrier: usize, motion: RigidMotion) -> Result<()> {
         motion.validate(&format!("carrier {carrier} motion"))?;
         let n = self.carriers.len();
-        let c = self.carriers.get_mut(carrier).ok_or_else(|| {
-            SphError::invalid("carrier", carrier, format!("only {n} carriers"))
-        })?;
+        let c = self
+            .carriers
+            .get_mut(carrier)
+            .ok_or_else(|| SphError::invalid("carrier", carrier, format!("only {n} carriers")))?;
         c.motion = motion;
         Ok(())
     }

@@ -448,11 +448,9 @@ impl System {
                     continue;
                 }
                 item.advance_explicit(ctx, &self.bodies, &mut self.loads)?;
-                if let Some(i) =
-                    self.loads.as_slice().iter().position(|l| {
-                        !(crate::math::is_finite3(&l[0]) && crate::math::is_finite3(&l[1]))
-                    })
-                {
+                if let Some(i) = self.loads.as_slice().iter().position(|l| {
+                    !(crate::math::is_finite3(&l[0]) && crate::math::is_finite3(&l[1]))
+                }) {
                     return Err(ChronoError::NonFinite {
                         item: format!("item \"{}\"", item.name()),
                         step: self.step_count,

@@ -60,10 +60,10 @@ use crate::case::Case;
 pub mod ccp;
 pub mod cfluid;
 pub mod fea;
+pub mod fsi;
 pub mod granular;
 pub mod rigid;
 pub mod sph;
-pub mod fsi;
 mod timed_solver;
 pub mod vehicle;
 

@@ -22,6 +22,13 @@
 //! reported: `jitter` (RMS vertical speed over the window), `substeps` (fluid sub-steps
 //! per system step) and the wall time.
 //!
+//! Defaults: `dp = 0.02 m`, 5 spacings per body size (the ~40 s budget); `--full`
+//! `dp = 0.0125 m`. Measured (issue 24, first session): default box -9 %, cylinder
+//! -16 % (not yet settled at 0.5 s, jitter 0.017 m/s), sphere -6 %; at `dp = 0.0125 m`
+//! (offset 0.01 m, 0.8 s) box -8.3 %, cylinder -4.1 %, sphere -2.8 %: every body floats
+//! too high, by 0.2-0.4 dp. The draft criterion holds for the sphere, not for the box
+//! and the cylinder yet.
+//!
 //! Not yet: the sphere's heave period against Hulme (1982) (needs the added-mass table
 //! and a 3-D tank ten diameters long, a `--full` set-up), and `fluid = cfluid` (an error).
 
@@ -75,12 +82,12 @@ impl Default for FloatingBodyParams {
             body_size: 0.1,
             depth: 0.15,
             fluid: "sph".into(),
-            spacing: 0.0125,
+            spacing: 0.02,
             length: 10.0,
             width: 3.0,
-            offset: 0.01,
+            offset: 0.0,
             damping: 8.0,
-            t_end: 0.8,
+            t_end: 0.5,
             coupling_step: 1e-3,
             window: 0.25,
             rho_water: 1000.0,
@@ -101,16 +108,29 @@ impl CaseParams for FloatingBodyParams {
         ParamInfo::new("offset", "m", "start above the Archimedes position"),
         ParamInfo::new("damping", "1/s", "fluid velocity relaxation rate"),
         ParamInfo::new("t_end", "s", "simulated time"),
-        ParamInfo::new("coupling_step", "s", "multibody step h (the fluid sub-steps inside it)"),
-        ParamInfo::new("window", "-", "fraction of the run the draft is averaged over"),
+        ParamInfo::new(
+            "coupling_step",
+            "s",
+            "multibody step h (the fluid sub-steps inside it)",
+        ),
+        ParamInfo::new(
+            "window",
+            "-",
+            "fraction of the run the draft is averaged over",
+        ),
         ParamInfo::new("rho_water", "kg/m^3", "water density"),
     ];
     fn apply_mode(&mut self, mode: Mode) {
-        if mode == Mode::Quick {
-            self.spacing = 0.02;
-            self.body_size = 0.12;
-            self.length = 6.0;
-            self.t_end = 0.6;
+        match mode {
+            Mode::Quick => {
+                self.spacing = 0.025;
+                self.body_size = 0.125;
+                self.length = 6.0;
+                self.t_end = 0.4;
+            }
+            Mode::Default => {}
+            // 8 spacings per body size
+            Mode::Full => self.spacing = 0.0125,
         }
     }
 }
