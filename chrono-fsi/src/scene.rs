@@ -232,6 +232,41 @@ impl FloatingScene {
     }
 }
 
+impl FloatingScene {
+    /// The body's draft (m) from the hydrostatic level: the level `L` where the pressure
+    /// of the far fluid extrapolates to zero, `L = z_f + p_f / (g (rho_f + rho_0) / 2)`
+    /// averaged over the fluid particles in the lower half of the water farther than one
+    /// body size (horizontally) from the body and than the support from the end walls;
+    /// minus the body's lowest point. Archimedes' level (the buoyancy is the weight of the
+    /// fluid displaced below the zero-pressure level).
+    pub fn draft_pressure(&self, p: &FloatingParams) -> f64 {
+        let b = self.system.body(self.body).expect("the scene's body");
+        let c = b.position();
+        let sph = self.fluid().sph();
+        let d = sph.data();
+        let g = -sph.settings().gravity[2];
+        let rho0 = sph.settings().rho0;
+        let margin = sph.kernel().support();
+        let level0 = (p.depth / p.spacing + 1e-6).floor() * p.spacing;
+        let (mut sum, mut n) = (0.0, 0usize);
+        for i in 0..d.len() {
+            if d.kind[i] != chrono_sph::data::FLUID || d.z[i] > 0.5 * level0 || d.z[i] < margin {
+                continue;
+            }
+            let (dx, dy) = (d.x[i] - c.x, d.y[i] - c.y);
+            let dist = match p.shape {
+                FloatShape::Sphere => (dx * dx + dy * dy).sqrt(),
+                _ => dx.abs(),
+            };
+            if dist > p.body_size && d.x[i] > margin && d.x[i] < self.tank[0] - margin {
+                sum += d.z[i] + d.p[i] / (g * 0.5 * (d.rho[i] + rho0));
+                n += 1;
+            }
+        }
+        sum / n.max(1) as f64 - (c.z - 0.5 * p.body_size)
+    }
+}
+
 /// The body's submerged cross-section area (box, cylinder: m^2, per unit length) or
 /// volume (sphere: m^3) at draft `d` (m), `0 <= d <= size`.
 pub fn submerged_area_or_volume(shape: FloatShape, size: f64, d: f64) -> f64 {
