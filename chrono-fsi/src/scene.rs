@@ -143,7 +143,7 @@ impl FloatingParams {
         }
         let d = archimedes_draft(self.shape, self.body_size, self.body_density / self.rho0);
         let below = (0.5 * self.body_size).max(4.0 * self.spacing);
-        if self.depth < d + below {
+        if self.depth < d + below - 1e-9 {
             return Err(FsiError::invalid(
                 "depth",
                 self.depth,
@@ -237,7 +237,7 @@ impl FloatingScene {
     /// of the far fluid extrapolates to zero, `L = z_f + p_f / (g (rho_f + rho_0) / 2)`
     /// averaged over the fluid particles in the lower half of the water farther than one
     /// body size (horizontally) from the body and than the support from the end walls;
-    /// minus the body's lowest point. Archimedes' level (the buoyancy is the weight of the
+    /// minus the body's lowest point (NaN when no particle qualifies). Archimedes' level (the buoyancy is the weight of the
     /// fluid displaced below the zero-pressure level).
     pub fn draft_pressure(&self, p: &FloatingParams) -> f64 {
         let b = self.system.body(self.body).expect("the scene's body");
@@ -250,7 +250,7 @@ impl FloatingScene {
         let level0 = (p.depth / p.spacing + 1e-6).floor() * p.spacing;
         let (mut sum, mut n) = (0.0, 0usize);
         for i in 0..d.len() {
-            if d.kind[i] != chrono_sph::data::FLUID || d.z[i] > 0.5 * level0 || d.z[i] < margin {
+            if d.kind[i] != chrono_sph::data::FLUID || d.z[i] > 0.5 * level0 {
                 continue;
             }
             let (dx, dy) = (d.x[i] - c.x, d.y[i] - c.y);
@@ -263,7 +263,10 @@ impl FloatingScene {
                 n += 1;
             }
         }
-        sum / n.max(1) as f64 - (c.z - 0.5 * p.body_size)
+        if n == 0 {
+            return f64::NAN;
+        }
+        sum / n as f64 - (c.z - 0.5 * p.body_size)
     }
 }
 
