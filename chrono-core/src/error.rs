@@ -96,6 +96,17 @@ pub enum ChronoError {
         /// Why.
         reason: String,
     },
+    /// A physics item asks for something the chosen stepper does not do (e.g. collision
+    /// proxies in an SMC system): refused instead of silently ignored.
+    #[error("item \"{item}\" is not supported by {stepper}: {reason}")]
+    ItemNotSupported {
+        /// The item's name.
+        item: String,
+        /// The stepper, e.g. `the SMC step`.
+        stepper: String,
+        /// What it asked for.
+        reason: String,
+    },
     /// Reading or writing a file failed.
     #[error("i/o error on {path}: {message}")]
     Io {

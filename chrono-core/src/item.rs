@@ -11,6 +11,7 @@ use crate::bodies::Bodies;
 use crate::collision::CollisionProxy;
 use crate::descriptor::{BlockId, CcpProblem, ConstraintRows, Variables};
 use crate::error::Result;
+use crate::force::BodyLoads;
 
 /// The callback of a contact Jacobian: `entry(block, rows)` with `rows[k]` the
 /// coefficients of direction `k` on that block (see [`Contactable::contact_jacobian`]).
@@ -44,7 +45,8 @@ crate::slots::generational_handle!(ItemHandle, "item");
 /// Items are `Any`, so the owner of a [`System`](crate::system::System) reads its item
 /// back with its type: [`System::item`](crate::system::System::item).
 ///
-/// Call order each step: [`begin_step`](Self::begin_step),
+/// Call order each step: [`advance_explicit`](Self::advance_explicit) (explicit items
+/// only, while the body loads are gathered), [`begin_step`](Self::begin_step),
 /// [`add_variables`](Self::add_variables),
 /// [`load_momentum`](Self::load_momentum), [`collision_proxies`](Self::collision_proxies)
 /// (the system finds their contacts with the body colliders and builds friction rows whose
@@ -61,6 +63,34 @@ pub trait PhysicsItem: std::any::Any + Send + Sync {
     /// coupled mass operator depends on `h`. An error (a matrix that is not positive
     /// definite) aborts the step. Default: nothing.
     fn begin_step(&mut self, _ctx: &StepContext) -> Result<()> {
+        Ok(())
+    }
+
+    /// Whether this item is *explicit* and exchanges forces with rigid bodies through
+    /// [`advance_explicit`](Self::advance_explicit) (an SPH fluid carrying BCE markers on
+    /// bodies). Default: `false`. The system then evaluates the body loads every step
+    /// (it would otherwise skip them when no force element or joint exists).
+    fn exchanges_body_loads(&self) -> bool {
+        false
+    }
+
+    /// Advance an explicit item over the whole step `[t, t + h]` with its own sub-steps
+    /// (the bodies, read-only, at `q(l)`, `v(l)`: the item predicts their motion over the
+    /// step), and add into `loads` the mean force and torque it put on each body,
+    /// `F = J / h`, `T = L / h`, where `J` and `L` are the linear and angular (about the
+    /// body's center of mass) impulses summed over the sub-steps. The multibody step then
+    /// adds `h F = J` to the body's momentum `k = M v + h f` (explicit, staggered
+    /// coupling: the body sees the fluid impulse of `[t, t + h]`, the fluid saw the body
+    /// move with `v(l)`). Called at the start of the step, once, after the force elements
+    /// and joint efforts, by both the NSC and the SMC steppers; only for items whose
+    /// [`exchanges_body_loads`](Self::exchanges_body_loads) is `true`. An error (a
+    /// diverged sub-step) aborts the step. Default: nothing.
+    fn advance_explicit(
+        &mut self,
+        _ctx: &StepContext,
+        _bodies: &Bodies,
+        _loads: &mut BodyLoads,
+    ) -> Result<()> {
         Ok(())
     }
 

@@ -1,5 +1,65 @@
 //! # chrono-fsi
 //!
-//! Fluid–solid interaction (to be built): boundary condition enforcing (BCE) markers rigidly
-//! attached to bodies and interpolated on FE meshes, two-way forces between SPH and solids,
-//! SPH sub-stepping inside a multibody step, and active domains around moving bodies.
+//! Fluid–solid interaction: an explicit WCSPH fluid (chrono-sph) as a physics item of the
+//! one chrono-core [`System`](chrono_core::System), two-way coupled to rigid bodies through
+//! boundary condition enforcing (BCE) markers.
+//!
+//! - [`markers`]: marker layers inside boxes, spheres and cylinders at the fluid spacing;
+//! - [`FsiBuilder`]: tanks, fluid blocks carved around the bodies, the bodies' markers
+//!   (bad input, e.g. a body thinner than the kernel support, is an error naming the body);
+//! - [`SphFluid`]: the item. [`System::step(h)`](chrono_core::System::step) advances it to
+//!   `t + h` exactly with its own sub-steps, the markers following the bodies, and puts the
+//!   fluid's impulse on each body into the multibody step (the coupling and its stability
+//!   limit: [`fluid`]).
+//!
+//! Not yet: ANCF and tetrahedral mesh markers, constraint fluids (chrono-cfluid),
+//! ellipsoid, convex-hull and triangle-mesh markers, active domains.
+//!
+//! ```
+//! use chrono_ccp::Psor;
+//! use chrono_core::math::{Isometry3, Vector3};
+//! use chrono_core::{RigidBodyBuilder, Shape, System, SystemSettings};
+//! use chrono_fsi::FsiBuilder;
+//! use chrono_sph::SphSettings;
+//!
+//! let dp = 0.02;
+//! let settings = SphSettings {
+//!     spacing: dp,
+//!     sound_speed: 10.0,
+//!     domain_lower: [0.0; 3],
+//!     domain_upper: [0.4; 3],
+//!     periodic: [true; 3],
+//!     gravity: [0.0; 3],
+//!     ..SphSettings::default()
+//! };
+//! let sys_settings = SystemSettings { gravity: Vector3::zeros(), ..SystemSettings::default() };
+//! let mut sys = System::new(sys_settings, Box::new(Psor::new(Default::default()))).unwrap();
+//! let ball = Shape::Sphere { radius: 0.06 };
+//! let b = sys
+//!     .add_body(
+//!         RigidBodyBuilder::dynamic()
+//!             .mass_from_shape(&ball, 500.0).unwrap()
+//!             .position(Vector3::new(0.2, 0.2, 0.2))
+//!             .collider(ball, Isometry3::identity(), Default::default()),
+//!     )
+//!     .unwrap();
+//! let mut fsi = FsiBuilder::new(settings).unwrap();
+//! fsi.add_fluid_box([0.0; 3], [0.4; 3], None).unwrap();
+//! fsi.add_body(&sys, b).unwrap();
+//! let fluid = sys.add_item(Box::new(fsi.build("water", 1).unwrap()));
+//! sys.step(2e-3).unwrap();
+//! let f = sys.item::<chrono_fsi::SphFluid>(fluid).unwrap();
+//! assert!(f.last_substeps() >= 1);
+//! ```
+
+pub mod builder;
+pub mod error;
+pub mod fluid;
+pub mod markers;
+pub mod scene;
+#[cfg(test)]
+mod tests;
+
+pub use builder::FsiBuilder;
+pub use error::{FsiError, Result};
+pub use fluid::SphFluid;

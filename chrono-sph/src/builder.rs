@@ -23,6 +23,7 @@ pub struct SphBuilder {
     eos: Tait,
     motion: WallMotion,
     data: ParticleData,
+    carriers: Vec<crate::carrier::Carrier>,
 }
 
 fn check_box(field: &str, lower: [f64; 3], upper: [f64; 3]) -> Result<()> {
@@ -50,6 +51,7 @@ impl SphBuilder {
             eos,
             motion: WallMotion::Fixed,
             data: ParticleData::default(),
+            carriers: Vec::new(),
         })
     }
 
@@ -173,6 +175,45 @@ impl SphBuilder {
         walls.len()
     }
 
+    /// Adds wall markers carried by a rigid motion (a body moved from outside, see
+    /// [`crate::carrier`]): `local` are the body-frame offsets (m) from the motion's centre,
+    /// placed at `motion`'s pose at its `t0`; the markers are in wall group `group` (for
+    /// [`SphSystem::wall_force`]). Returns the carrier index
+    /// ([`SphSystem::set_carrier_motion`], [`SphSystem::take_carrier_impulse`]). The markers
+    /// have no wall normal: their no-slip velocity is Adami's `2 v_m - v~_f`.
+    pub fn add_rigid_markers(
+        &mut self,
+        motion: crate::carrier::RigidMotion,
+        local: &[[f64; 3]],
+        group: u16,
+    ) -> Result<usize> {
+        motion.validate("carrier motion")?;
+        if local.is_empty() {
+            return Err(SphError::invalid(
+                "rigid markers",
+                0,
+                "add at least one marker",
+            ));
+        }
+        for (i, p) in local.iter().enumerate() {
+            finite3(&format!("rigid markers[{i}]"), *p)?;
+        }
+        let k = self.carriers.len();
+        let dp = self.settings.spacing;
+        let m = self.settings.rho0 * dp * dp * dp;
+        let (c, r) = motion.pose_at(motion.t0);
+        for p in local {
+            let x = c + r * nalgebra::Vector3::new(p[0], p[1], p[2]);
+            self.data
+                .push(Kind::Wall, [x.x, x.y, x.z], self.settings.rho0, m, group);
+            let last = self.data.len() - 1;
+            self.data.anchor[last] = *p;
+            self.data.carrier[last] = k as u32;
+        }
+        self.carriers.push(crate::carrier::Carrier::new(motion));
+        Ok(k)
+    }
+
     /// Adds a particle set: its fluid ([`add_fluid_points`](Self::add_fluid_points), with
     /// the hydrostatic density below `free_surface` if given), then its walls
     /// ([`add_wall_markers`](Self::add_wall_markers) from group 0). Returns the number
@@ -197,6 +238,13 @@ impl SphBuilder {
             return Err(SphError::invalid("fluid particles", 0, "add at least one"));
         }
         let kernel = Kernel::new(self.settings.kernel, self.settings.h(), 3)?;
-        SphSystem::new(self.settings, kernel, self.eos, self.motion, self.data)
+        SphSystem::new(
+            self.settings,
+            kernel,
+            self.eos,
+            self.motion,
+            self.data,
+            self.carriers,
+        )
     }
 }

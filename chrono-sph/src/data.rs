@@ -65,6 +65,12 @@ pub struct ParticleData {
     pub anchor: Vec<[f64; 3]>,
     /// Derivatives of the last evaluation.
     pub deriv: Vec<Deriv>,
+    /// Wall markers moved by a rigid carrier ([`crate::carrier`]): the carrier index
+    /// ([`NO_CARRIER`](crate::carrier::NO_CARRIER) otherwise); their `anchor` is then the
+    /// body-frame offset.
+    pub carrier: Vec<u32>,
+    /// Carrier markers: the acceleration of the pressure extrapolation, m/s^2.
+    pub(crate) wall_a: Vec<[f64; 3]>,
     /// Wall markers: the velocity used by the viscous term (no-slip extrapolation).
     pub(crate) wall_v: Vec<[f64; 3]>,
     /// Wall markers: unit normal of the wall surface they stand behind, pointing into the
@@ -129,6 +135,8 @@ impl ParticleData {
         self.deriv.push(Deriv::default());
         self.wall_v.push([0.0; 3]);
         self.rho_half.push(rho);
+        self.carrier.push(crate::carrier::NO_CARRIER);
+        self.wall_a.push([0.0; 3]);
     }
 
     /// Reorders every array by `order` (see [`chrono_core::particles::permute`]); no
@@ -150,6 +158,8 @@ impl ParticleData {
         }
         permute(order, &mut self.kind, &mut self.scratch_u8);
         permute(order, &mut self.id, &mut self.scratch_u32);
+        permute(order, &mut self.carrier, &mut self.scratch_u32);
+        permute(order, &mut self.wall_a, &mut self.scratch_3);
         permute(order, &mut self.group, &mut self.scratch_u16);
         permute(order, &mut self.anchor, &mut self.scratch_3);
         permute(order, &mut self.wall_v, &mut self.scratch_3);

@@ -48,6 +48,7 @@
 use chrono_core::particles::{CellGrid, Kernel, NeighborList};
 use rayon::prelude::*;
 
+use crate::carrier::NO_CARRIER;
 use crate::data::{Deriv, FLUID, ParticleData, WALL};
 use crate::eos::Tait;
 use crate::settings::{DensityDiffusion, NoSlip};
@@ -223,6 +224,22 @@ pub(crate) fn wall_extrapolation(
                 return;
             }
             let pw = nb[w].pos();
+            // carrier markers: their own rigid velocity and acceleration; tank walls: the
+            // wall motion's (unchanged arithmetic)
+            let carried = d.carrier[w] != NO_CARRIER;
+            let (vw, g_minus_a) = if carried {
+                let a = d.wall_a[w];
+                (
+                    [d.vx[w], d.vy[w], d.vz[w]],
+                    [
+                        c.gravity[0] - a[0],
+                        c.gravity[1] - a[1],
+                        c.gravity[2] - a[2],
+                    ],
+                )
+            } else {
+                (c.wall_vel, g_minus_a)
+            };
             let (mut sw, mut sp, mut sr) = (0.0, 0.0, [0.0; 3]);
             let mut sv = [0.0; 3];
             let n = d.wall_normal[w];
@@ -266,7 +283,6 @@ pub(crate) fn wall_extrapolation(
                 } else {
                     1.0
                 };
-                let vw = c.wall_vel;
                 *out = [
                     p,
                     c.eos.density(p),
@@ -275,7 +291,7 @@ pub(crate) fn wall_extrapolation(
                     vw[2] - ratio * (sv[2] / sw - vw[2]),
                 ];
             } else {
-                *out = [0.0, c.eos.rho0, c.wall_vel[0], c.wall_vel[1], c.wall_vel[2]];
+                *out = [0.0, c.eos.rho0, vw[0], vw[1], vw[2]];
             }
         });
     }

@@ -17,6 +17,9 @@
 //!   tanks with marker layers, periodic directions (quasi-2D slabs, channels) (the
 //!   lattice itself is [`chrono_core::particles::lattice`]);
 //! - [`motion`]: [`WallMotion`], prescribed tank motion (sloshing);
+//! - [`carrier`]: wall markers carried by a [`RigidMotion`] set from outside (a body of a
+//!   multibody system, chrono-fsi), the force, torque and impulse of the fluid on them,
+//!   and [`SphSystem::advance_exactly`], which ends exactly at a given time;
 //! - [`scene`]: ready-made scenes on the quasi-2D slab tank: the dam break or still
 //!   water ([`scene::slab_tank`]) and the sloshing tank ([`scene::sloshing`]);
 //! - probes ([`SphSystem::pressure_at`], [`SphSystem::free_surface_height`],
@@ -52,6 +55,7 @@
 
 pub mod analytic;
 pub mod builder;
+pub mod carrier;
 pub mod data;
 pub mod eos;
 pub mod error;
@@ -67,6 +71,7 @@ pub mod system;
 mod tests;
 
 pub use builder::{SphBuilder, TankSides};
+pub use carrier::RigidMotion;
 pub use data::{Deriv, Kind, ParticleData};
 pub use eos::{Tait, sound_speed_for};
 pub use error::{Result, SphError};

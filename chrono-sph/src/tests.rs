@@ -255,3 +255,90 @@ fn steps_are_bit_reproducible_and_independent_of_the_thread_count() {
     assert_eq!(one, dam_break_state(2, 150), "1 vs 2 threads");
     assert_eq!(one, dam_break_state(3, 150), "1 vs 3 threads");
 }
+
+/// A rigid carrier at rest is a fixed wall: the same markers added as a carrier (centre
+/// at the origin, so their positions are the same bits) or as a wall box give the same
+/// fluid, bit for bit; the carrier's load is the probe's wall force; `advance_exactly`
+/// ends on its time and refuses one in the past.
+#[test]
+fn carrier_at_rest_is_a_fixed_wall() {
+    use crate::RigidMotion;
+    use chrono_core::math::{UnitQuaternion, Vector3};
+    let build = |carried: bool| {
+        let dp = 0.04;
+        let h = 8.0 * dp;
+        let ly = 7.0 * dp;
+        let settings = SphSettings {
+            spacing: dp,
+            sound_speed: 10.0 * (2.0 * 9.81 * h).sqrt(),
+            domain_lower: [0.0; 3],
+            domain_upper: [2.0 * h, ly, 2.0 * h],
+            periodic: [false, true, false],
+            ..SphSettings::default()
+        };
+        let mut b = SphBuilder::new(settings).unwrap();
+        b.add_fluid_box([0.0; 3], [h, ly, h], Some(h)).unwrap();
+        b.add_tank(
+            [0.0; 3],
+            [2.0 * h, ly, 2.0 * h],
+            3,
+            [true, true, false, false, true, false],
+            0,
+        )
+        .unwrap();
+        // an obstacle block on the floor, right of the water column
+        let (lo, hi) = ([1.25 * h, 0.0, 0.0], [1.5 * h, ly, 0.25 * h]);
+        if carried {
+            use chrono_core::particles::lattice::{Fit, Lattice};
+            let pts = Lattice::new(lo, dp)
+                .unwrap()
+                .fill(lo, hi, Fit::Floor)
+                .unwrap();
+            let rest = RigidMotion::at_rest(Vector3::zeros(), UnitQuaternion::identity());
+            b.add_rigid_markers(rest, &pts, 9).unwrap();
+        } else {
+            b.add_wall_box(lo, hi, 9).unwrap();
+        }
+        b.build().unwrap()
+    };
+    let (mut a, mut b) = (build(false), build(true));
+    assert_eq!(a.len(), b.len());
+    for _ in 0..60 {
+        a.step().unwrap();
+        b.step().unwrap();
+    }
+    let (da, db) = (a.data(), b.data());
+    let key = |d: &crate::ParticleData, i: usize| {
+        (
+            d.id[i],
+            d.x[i].to_bits(),
+            d.z[i].to_bits(),
+            d.vx[i].to_bits(),
+        )
+    };
+    let mut ka: Vec<_> = (0..da.len())
+        .filter(|&i| da.kind[i] == FLUID)
+        .map(|i| key(da, i))
+        .collect();
+    let mut kb: Vec<_> = (0..db.len())
+        .filter(|&i| db.kind[i] == FLUID)
+        .map(|i| key(db, i))
+        .collect();
+    ka.sort_unstable();
+    kb.sort_unstable();
+    assert_eq!(ka, kb, "the carried block changed the fluid");
+    // the water reached the block and pushes it
+    let load = b.carrier_load(0)[0];
+    let probe = b.wall_force(9);
+    assert!(load.x > 1e-3, "no load on the block: {load}");
+    assert!(
+        (load - probe).norm() <= 1e-12 * load.norm(),
+        "{load} vs {probe}"
+    );
+    // exact end time, and no way back
+    let t_end = b.time() + 1.234e-3;
+    let n = b.advance_exactly(t_end).unwrap();
+    assert!(n >= 1);
+    assert_eq!(b.time(), t_end);
+    assert!(b.advance_exactly(t_end - 1e-3).is_err());
+}

@@ -404,9 +404,11 @@ impl System {
     }
 
     /// Evaluate the force elements and the joint efforts at the current state into
-    /// `self.loads`. A non-finite load is an error naming the element and the step.
+    /// `self.loads`, then advance the explicit items over the step
+    /// ([`PhysicsItem::advance_explicit`]), which add their mean loads. A non-finite load is an error naming the element and the step.
     pub(crate) fn gather_loads(&mut self, ctx: &StepContext) -> Result<()> {
-        if self.force_elements.is_empty() && self.joints.is_empty() {
+        let explicit = self.items.iter().any(|i| i.exchanges_body_loads());
+        if self.force_elements.is_empty() && self.joints.is_empty() && !explicit {
             // Nothing adds loads: zero, kept from the last step while the bodies stay.
             if !self.loads_zero {
                 self.loads.reset_zero(&self.bodies);
@@ -438,6 +440,24 @@ impl System {
                 self.loads.add_torque(hb, &load.torque);
                 self.loads.add_force_at(ha, &(-load.force), &load.point_a);
                 self.loads.add_torque(ha, &(-load.torque));
+            }
+        }
+        if explicit {
+            for item in &mut self.items {
+                if !item.exchanges_body_loads() {
+                    continue;
+                }
+                item.advance_explicit(ctx, &self.bodies, &mut self.loads)?;
+                if let Some(i) = self.loads.as_slice().iter().position(|l| {
+                    !(crate::math::is_finite3(&l[0]) && crate::math::is_finite3(&l[1]))
+                }) {
+                    return Err(ChronoError::NonFinite {
+                        item: format!("item \"{}\"", item.name()),
+                        step: self.step_count,
+                        time: self.time,
+                        what: format!("load on body {i}"),
+                    });
+                }
             }
         }
         Ok(())

@@ -197,7 +197,8 @@ impl System {
     ///    no problem is assembled;
     /// 4. `q(l+1) = q(l) + h L(q) v(l+1)`.
     ///
-    /// Items' collision proxies are not collided in SMC mode.
+    /// Items' collision proxies are not collided in SMC mode: an item that exposes any is
+    /// refused with [`ChronoError::ItemNotSupported`] naming it (before anything moves).
     pub(crate) fn step_smc(&mut self, h: f64) -> Result<StepReport> {
         if !(h.is_finite() && h > 0.0) {
             return Err(ChronoError::invalid(
@@ -207,6 +208,22 @@ impl System {
             ));
         }
         self.settings.smc.validate()?;
+        // Items' proxies would need item-side contact forces: refuse them rather than let a
+        // fluid or a mesh fall through the bodies unnoticed.
+        for item in &self.items {
+            self.proxies.clear();
+            item.collision_proxies(&mut self.proxies);
+            if !self.proxies.is_empty() {
+                return Err(ChronoError::ItemNotSupported {
+                    item: item.name().to_string(),
+                    stepper: "the SMC step".into(),
+                    reason: format!(
+                        "it exposes {} collision proxies, which SMC contact does not collide (use NSC)",
+                        self.proxies.len()
+                    ),
+                });
+            }
+        }
         self.check_smc_step(h)?;
         self.prepare_smc_caches()?;
 

@@ -295,3 +295,28 @@ fn bad_proxy_is_an_error_naming_item_and_proxy() {
     let msg = e.to_string();
     assert!(msg.contains("item 0 proxy 0"), "{msg}");
 }
+
+/// The SMC stepper does not collide items' proxies: a system with such an item is refused
+/// with an error naming the item, before anything moves (it used to let the particles fall
+/// through the ground silently).
+#[test]
+fn smc_refuses_items_with_proxies() {
+    let mut sys = system(GRAVITY);
+    let mut settings = sys.settings().clone();
+    settings.contact_method = chrono_core::ContactMethod::Smc;
+    sys.set_settings(settings).unwrap();
+    ground(&mut sys);
+    sys.add_item(Box::new(Particles::new(
+        vec![Vector3::new(0.0, 0.0, 0.1)],
+        1.0,
+        0.05,
+    )));
+    let e = sys.step(1e-4).unwrap_err();
+    assert!(
+        matches!(&e, ChronoError::ItemNotSupported { item, .. } if item == "particles"),
+        "{e}"
+    );
+    assert!(e.to_string().contains("SMC"), "{e}");
+    assert_eq!(sys.time(), 0.0);
+    assert_eq!(particles(&sys).pos[0].z, 0.1);
+}

@@ -60,6 +60,7 @@ use crate::case::Case;
 pub mod ccp;
 pub mod cfluid;
 pub mod fea;
+pub mod fsi;
 pub mod granular;
 pub mod mpm;
 pub mod rigid;
@@ -86,6 +87,7 @@ pub fn all_cases() -> Vec<Box<dyn Case>> {
         sph::poiseuille::case(),
         sph::dam_break::case(),
         sph::sloshing::case(),
+        fsi::floating_body::case(),
         cfluid::incompressibility::case(),
         cfluid::dam_break::case(),
         cfluid::floating_box::case(),

@@ -1,0 +1,3 @@
+//! Fluid–solid interaction cases (chrono-fsi).
+
+pub mod floating_body;
