@@ -56,3 +56,23 @@ pub fn split(v: &Vector3<f64>) -> (Vector3<f64>, f64) {
     let tr = v.sum();
     (v - Vector3::repeat(tr / 3.0), tr)
 }
+
+/// The return mapping of `(F_E trial, F_P)` for a plasticity model whose yield surface
+/// lives in principal Hencky strains: `ret` maps the trial strains `eps = ln s` onto the
+/// surface (or leaves them), and the plastic part takes what the elastic part gave up,
+/// `F_E = U diag(exp eps') V^T`, `F_P = V diag(s / exp eps') V^T F_P`. `None` for a
+/// degenerate `F_E`; an elastic step returns the input unchanged (same bits).
+pub fn project(
+    fe_trial: &Matrix3<f64>,
+    fp: &Matrix3<f64>,
+    ret: impl Fn(&Vector3<f64>) -> Vector3<f64>,
+) -> Option<(Matrix3<f64>, Matrix3<f64>)> {
+    let svd = SignedSvd::new(fe_trial)?;
+    let eps = strains(&svd.s)?;
+    let eps_new = ret(&eps);
+    if eps_new == eps {
+        return Some((*fe_trial, *fp));
+    }
+    let s_new = eps_new.map(f64::exp);
+    Some((svd.compose(&s_new), svd.plastic_update(&s_new, fp)))
+}

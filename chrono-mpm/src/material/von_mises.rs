@@ -16,8 +16,8 @@
 
 use nalgebra::{Matrix3, Vector3};
 
-use super::hencky::{principal_stress, split, strains};
-use super::{Elasticity, SignedSvd};
+use super::Elasticity;
+use super::hencky::{principal_stress, split};
 use crate::error::{Result, positive};
 
 /// Von Mises clay.
@@ -72,14 +72,7 @@ impl VonMises {
         fe_trial: &Matrix3<f64>,
         fp: &Matrix3<f64>,
     ) -> Option<(Matrix3<f64>, Matrix3<f64>)> {
-        let svd = SignedSvd::new(fe_trial)?;
-        let eps = strains(&svd.s)?;
-        let eps_new = self.return_strain(&eps);
-        if eps_new == eps {
-            return Some((*fe_trial, *fp));
-        }
-        let s_new = eps_new.map(f64::exp);
-        Some((svd.compose(&s_new), svd.plastic_update(&s_new, fp)))
+        super::hencky::project(fe_trial, fp, |eps| self.return_strain(eps))
     }
 
     /// Principal Kirchhoff stresses of principal Hencky strains, Pa.
@@ -91,6 +84,8 @@ impl VonMises {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::material::SignedSvd;
+    use crate::material::hencky::strains;
     use nalgebra::Rotation3;
     use proptest::prelude::*;
 

@@ -23,21 +23,18 @@
 //! balance of the power with the resistance); the published road speed alongside. Wall
 //! time, steps/s and the CCP solve's share.
 
-use crate::cases::timed_solver::TimedSolver;
-use std::sync::Arc;
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::atomic::Ordering;
 use std::time::Instant;
 
 use serde::{Deserialize, Serialize};
 
-use chrono_core::descriptor::{CcpSolver, SolverSettings};
 use chrono_vehicle::m113::m113_data;
 use chrono_vehicle::state::DriverInputs;
 use chrono_vehicle::tracked::TrackedFlatScene;
 use chrono_vehicle::tracked_drive::TrackedDrive;
 
 use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series};
-use crate::cases::rigid::{VtkFrames, make_solver, n_steps};
+use crate::cases::rigid::{VtkFrames, n_steps};
 use crate::params::{CaseParams, ParamCase, ParamInfo};
 
 /// Parameters of `m113-accel`.
@@ -169,22 +166,7 @@ fn run(p: &M113AccelParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     let mut data = m113_data()?;
     data.powertrain.transmission.upshift_rpm = p.upshift_rpm;
     data.powertrain.transmission.downshift_rpm = p.downshift_rpm;
-    let nanos = Arc::new(AtomicU64::new(0));
-    // As in `m113-static`: the Schur solver with its contact complement matrix-free.
-    let inner: Box<dyn CcpSolver> = if p.solver == "schur" {
-        let settings = SolverSettings {
-            tolerance: p.tolerance,
-            max_iterations: p.max_iterations,
-            record_history: false,
-        };
-        Box::new(chrono_ccp::Schur::new(settings).with_max_dense_rows(0))
-    } else {
-        make_solver(&p.solver, p.tolerance, p.max_iterations)?
-    };
-    let solver = Box::new(TimedSolver {
-        inner,
-        nanos: nanos.clone(),
-    });
+    let (solver, nanos) = super::m113_solver(&p.solver, p.tolerance, p.max_iterations)?;
     let mut scene = TrackedFlatScene::new(data, p.mu, solver)?;
     let mut drive = TrackedDrive::build(&mut scene.sys, &scene.vehicle, &scene.data)?;
     let (sys, v, d) = (&mut scene.sys, &scene.vehicle, &scene.data);

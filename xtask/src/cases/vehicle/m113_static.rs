@@ -24,20 +24,17 @@
 //! Forces are averaged over the last 40 % of the steps (the contact forces of the rigid
 //! shoes fluctuate by about 5 % from step to step).
 
-use crate::cases::timed_solver::TimedSolver;
-use std::sync::Arc;
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::atomic::Ordering;
 use std::time::Instant;
 
 use serde::{Deserialize, Serialize};
 
 use chrono_core::Drive;
-use chrono_core::descriptor::{CcpSolver, SolverSettings};
 use chrono_vehicle::m113::m113_data;
 use chrono_vehicle::tracked::{TrackedFlatScene, contact_forces, group_contact_force};
 
 use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series};
-use crate::cases::rigid::{VtkFrames, make_solver, n_steps};
+use crate::cases::rigid::{VtkFrames, n_steps};
 use crate::params::{CaseParams, ParamCase, ParamInfo};
 
 /// Parameters of `m113-static`.
@@ -117,23 +114,7 @@ fn run(p: &M113StaticParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     data.track.idler.tensioner.preload = p.preload;
     data.track.road_wheels.torsion_bar.preload = p.torsion_preload;
     data.track.shoe.count = [p.shoes_left, p.shoes_right];
-    let nanos = Arc::new(AtomicU64::new(0));
-    // The Schur solver's dense complement costs O(n_B n_C^2) a step: with ~800 joint rows
-    // and ~1500 contact rows that is a second; matrix-free it is 15-20 ms.
-    let inner: Box<dyn CcpSolver> = if p.solver == "schur" {
-        let settings = SolverSettings {
-            tolerance: p.tolerance,
-            max_iterations: p.max_iterations,
-            record_history: false,
-        };
-        Box::new(chrono_ccp::Schur::new(settings).with_max_dense_rows(0))
-    } else {
-        make_solver(&p.solver, p.tolerance, p.max_iterations)?
-    };
-    let solver = Box::new(TimedSolver {
-        inner,
-        nanos: nanos.clone(),
-    });
+    let (solver, nanos) = super::m113_solver(&p.solver, p.tolerance, p.max_iterations)?;
     let mut scene = TrackedFlatScene::new(data, p.mu, solver)?;
     let (sys, v, d) = (&mut scene.sys, &scene.vehicle, &scene.data);
     v.set_sprocket_drives(sys, Drive::Speed(0.0))?;

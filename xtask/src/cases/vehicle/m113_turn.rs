@@ -47,14 +47,11 @@
 //! outer track against the braked inner one (at 0.5, 33.8 kN, the vehicle stalls in the
 //! turn at full throttle in first gear): the default 0.3 needs 20.3 kN.
 
-use crate::cases::timed_solver::TimedSolver;
-use std::sync::Arc;
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::atomic::Ordering;
 use std::time::Instant;
 
 use serde::{Deserialize, Serialize};
 
-use chrono_core::descriptor::{CcpSolver, SolverSettings};
 use chrono_core::math::{GRAVITY_MAGNITUDE, Vector3};
 use chrono_vehicle::m113::m113_data;
 use chrono_vehicle::powertrain::ShiftSpeed;
@@ -63,7 +60,7 @@ use chrono_vehicle::tracked::{TrackedFlatScene, contact_forces};
 use chrono_vehicle::tracked_drive::TrackedDrive;
 
 use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series};
-use crate::cases::rigid::{VtkFrames, make_solver, n_steps};
+use crate::cases::rigid::{VtkFrames, n_steps};
 use crate::params::{CaseParams, ParamCase, ParamInfo};
 
 /// Parameters of `m113-turn`.
@@ -216,21 +213,7 @@ fn run(p: &M113TurnParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
             anyhow::bail!("parameter `shift_on` must be `input_shaft` or `engine`, got `{other}`")
         }
     };
-    let nanos = Arc::new(AtomicU64::new(0));
-    let inner: Box<dyn CcpSolver> = if p.solver == "schur" {
-        let settings = SolverSettings {
-            tolerance: p.tolerance,
-            max_iterations: p.max_iterations,
-            record_history: false,
-        };
-        Box::new(chrono_ccp::Schur::new(settings).with_max_dense_rows(0))
-    } else {
-        make_solver(&p.solver, p.tolerance, p.max_iterations)?
-    };
-    let solver = Box::new(TimedSolver {
-        inner,
-        nanos: nanos.clone(),
-    });
+    let (solver, nanos) = super::m113_solver(&p.solver, p.tolerance, p.max_iterations)?;
     let mut scene = TrackedFlatScene::new(data, p.mu, solver)?;
     let mut drive = TrackedDrive::build(&mut scene.sys, &scene.vehicle, &scene.data)?;
     let ground = scene
