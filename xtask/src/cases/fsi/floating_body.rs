@@ -18,7 +18,7 @@
 //! fraction of the run; the level is where the fluid's actual volume `sum m/rho` fills
 //! the tank around the body ([`chrono_fsi::scene::FloatingScene::draft`]).
 //! Checked (acceptance of issue 24): `|d - d_A| <= max(2 % d_A, dp / 4)` per shape where
-//! the body is resolved, `body_size / dp >= 10` ([`RESOLVED_SPACINGS`]; coarser set-ups
+//! the body is resolved, `body_size / dp >= 10` (`RESOLVED_SPACINGS`; coarser set-ups
 //! report the error and the tolerance); `drift`, the horizontal displacement at the end,
 //! below `dp` (the scene is symmetric) at every resolution; reported: `jitter` (RMS
 //! vertical speed over the window), `substeps` (fluid sub-steps per system step) and the
