@@ -32,7 +32,8 @@
 //! `O(n_B n_C^2)` for `S`, then `O(n_C^2)` per iteration.
 //! It suits mechanisms (hundreds of joint rows, tens of contacts); past
 //! [`max_dense_rows`](Schur::with_max_dense_rows) contact rows the complement is applied
-//! matrix-free (two products with `N` and a sparse solve per iteration), and a problem
+//! matrix-free (one product with `N`, the joint rows' share of a second and a sparse solve
+//! per iteration), and a problem
 //! without bilateral rows goes to the fallback solver (APGD by default) directly.
 //!
 //! Reference: the Schur-complement (reduced) formulation of the contact problem of a
@@ -67,7 +68,44 @@ pub struct Schur {
     rhs_b: Vec<f64>,
     full: Vec<f64>,
     grad: Vec<f64>,
+    zero: Vec<f64>,
+    scratch: ImplicitScratch,
     work: CcpWork,
+}
+
+/// Power iterations for the step size of the matrix-free mode (a lower bound of the
+/// largest eigenvalue, raised by the backtracking where it is too low).
+const POWER_ITERATIONS: usize = 4;
+
+/// The matrix-free mode's vectors (one entry per row), kept across solves.
+#[derive(Default)]
+struct ImplicitScratch {
+    x: Vec<f64>,
+    grad_x: Vec<f64>,
+    best: Vec<f64>,
+    y: Vec<f64>,
+    grad_y: Vec<f64>,
+    x_new: Vec<f64>,
+    step: Vec<f64>,
+    n_step: Vec<f64>,
+}
+
+impl ImplicitScratch {
+    fn resize(&mut self, m: usize) {
+        for v in [
+            &mut self.x,
+            &mut self.grad_x,
+            &mut self.best,
+            &mut self.y,
+            &mut self.grad_y,
+            &mut self.x_new,
+            &mut self.step,
+            &mut self.n_step,
+        ] {
+            v.clear();
+            v.resize(m, 0.0);
+        }
+    }
 }
 
 impl Schur {
@@ -98,6 +136,8 @@ impl Schur {
             rhs_b: Vec::new(),
             full: Vec::new(),
             grad: Vec::new(),
+            zero: Vec::new(),
+            scratch: ImplicitScratch::default(),
             work: CcpWork::default(),
         }
     }
@@ -128,6 +168,36 @@ impl Schur {
         problem.gradient(gamma, &mut self.grad, &mut self.work);
     }
 
+    /// Extend a step `d` (its non-bilateral part given, its bilateral part overwritten) by
+    /// the joint impulses that keep the joints exact: `d_B = -N_BB^-1 (base_B + N_BC d_C)`
+    /// with `base_B` the bilateral part of the gradient at the point the step starts from,
+    /// and leave `N d` in `out`. One product with `N` and one sparse solve: the velocity
+    /// change of `d_C` (`M^-1 D_C' d_C`, the first half of a product) gives `N_BC d_C` on
+    /// the joint rows alone, the joint impulses' velocity change is added row by row (a
+    /// mechanism has few joint rows next to its contacts), and the second half gives `N d`.
+    fn complete_step(
+        &mut self,
+        problem: &CcpProblem,
+        d: &mut [f64],
+        base: &[f64],
+        out: &mut [f64],
+    ) {
+        for &i in &self.b_rows {
+            d[i] = 0.0;
+        }
+        problem.velocity_changes_of(d, &mut self.work);
+        self.rhs_b.clear();
+        let v = &self.work.v;
+        self.rhs_b
+            .extend(self.b_rows.iter().map(|&i| base[i] + problem.row_dot(i, v)));
+        self.factor.solve_corrected_later(&mut self.rhs_b);
+        for (k, &i) in self.b_rows.iter().enumerate() {
+            d[i] = -self.rhs_b[k];
+            problem.add_row_velocity(i, d[i], &mut self.work);
+        }
+        problem.rows_from_velocity(d, &self.work, out, None);
+    }
+
     /// Power-iteration estimate of `lambda_max(D^1/2 S D^1/2)` (`D` the rows' step scales,
     /// `S` the Schur complement) with the operator applied matrix-free: `S x` is the
     /// non-bilateral part of `N [z; x]` with `z = -N_BB^-1 N_BC x`.
@@ -152,17 +222,10 @@ impl Schur {
             for &i in &self.c_rows {
                 x[i] *= sc[i].sqrt() / norm;
             }
-            for &i in &self.b_rows {
-                x[i] = 0.0;
-            }
-            problem.apply_n(&x, &mut nx, &mut self.work);
-            self.rhs_b.clear();
-            self.rhs_b.extend(self.b_rows.iter().map(|&i| nx[i]));
-            self.factor.solve(&mut self.rhs_b, 1);
-            for (k, &i) in self.b_rows.iter().enumerate() {
-                x[i] = -self.rhs_b[k];
-            }
-            problem.apply_n(&x, &mut nx, &mut self.work);
+            // `S x` is the non-bilateral part of `N [z; x]`, `z` the completion from zero.
+            let zero = std::mem::take(&mut self.zero);
+            self.complete_step(problem, &mut x, &zero, &mut nx);
+            self.zero = zero;
             let mut l2 = 0.0;
             for &i in &self.c_rows {
                 x[i] = sc[i].sqrt() * nx[i];
@@ -181,8 +244,9 @@ impl Schur {
 
     /// The mode for many non-bilateral rows (granular contacts): accelerated projected
     /// gradient on the reduced problem with the Schur complement applied matrix-free, every
-    /// iterate completed by the exact joint impulses ([`complete`](Self::complete): two
-    /// products with `N` and one sparse solve per iteration). The metric is the rows'
+    /// iterate completed by the exact joint impulses (each step by
+    /// [`complete_step`](Self::complete_step): one product with `N` and one sparse solve per
+    /// trial; the warm start by [`complete`](Self::complete)). The metric is the rows'
     /// diagonal scales (Jacobi preconditioning, cone-averaged); the step `1 / L` with `L`
     /// from a power iteration, doubled while the quadratic model does not bound the step;
     /// momentum with gradient restart; the best iterate is returned. The joints hold to
@@ -193,20 +257,28 @@ impl Schur {
         let m = problem.n_rows();
         let max_it = self.settings.max_iterations.max(1);
         let mut history = History::new(self.settings.record_history, max_it);
-        let mut lip = self.reduced_lipschitz(problem, 8);
-        let mut apply_n = 1 + 2 * 8;
+        self.zero.clear();
+        self.zero.resize(m, 0.0);
+        let mut lip = self.reduced_lipschitz(problem, POWER_ITERATIONS);
+        let mut apply_n = 1 + POWER_ITERATIONS;
         let sc = problem.scales();
+        // The non-bilateral rows: the problem's rows before and after its bilateral section.
+        let bil = problem.sections().bilateral.clone();
+        let c_ranges = [0..bil.start, bil.end..m];
+        let mut v = std::mem::take(&mut self.scratch);
+        v.resize(m);
         // x: the iterate, y: the extrapolated point; both completed (their joints exact),
         // and since the completion is affine, so is every combination of them.
-        let mut x: Vec<f64> = gamma.to_vec();
-        self.complete(problem, &mut x);
+        v.x.copy_from_slice(gamma);
+        self.complete(problem, &mut v.x);
         apply_n += 2;
-        let mut grad_x = self.grad.clone();
-        let mut best_res = problem.residual(&x, &grad_x, &mut self.work);
-        let mut best = x.clone();
-        let mut y = x.clone();
-        let mut grad_y = grad_x.clone();
-        let mut x_new = vec![0.0; m];
+        v.grad_x.copy_from_slice(&self.grad);
+        let mut best_res = problem.residual(&v.x, &v.grad_x, &mut self.work);
+        v.best.copy_from_slice(&v.x);
+        v.y.copy_from_slice(&v.x);
+        v.grad_y.copy_from_slice(&v.grad_x);
+        // Stale until the first step writes it; only its non-bilateral rows are read.
+        v.x_new.copy_from_slice(&v.x);
         let mut theta = 1.0f64;
         let mut iterations = 0;
         for it in 1..=max_it {
@@ -217,19 +289,50 @@ impl Schur {
             // Projected step from y; backtrack until the quadratic model bounds the step
             // (d'S d <= L |d|^2 in the metric), as in APGD.
             for _ in 0..40 {
-                x_new.copy_from_slice(&y);
-                for &i in &self.c_rows {
-                    x_new[i] = y[i] - sc[i] * grad_y[i] / lip;
+                let t = 1.0 / lip;
+                for r in &c_ranges {
+                    let (xn, y, gy, s) = (
+                        &mut v.x_new[r.clone()],
+                        &v.y[r.clone()],
+                        &v.grad_y[r.clone()],
+                        &sc[r.clone()],
+                    );
+                    for (((xn, &y), &gy), &s) in xn.iter_mut().zip(y).zip(gy).zip(s) {
+                        *xn = y - s * gy * t;
+                    }
                 }
-                problem.project(&mut x_new);
-                self.complete(problem, &mut x_new);
-                apply_n += 2;
+                // The bilateral rows are left alone by the projection.
+                problem.project(&mut v.x_new);
+                // The step from `y` (completed), completed by its joint impulses: the new
+                // gradient is `grad_y + N d`, one product instead of two.
+                for r in &c_ranges {
+                    let (st, xn, y) =
+                        (&mut v.step[r.clone()], &v.x_new[r.clone()], &v.y[r.clone()]);
+                    for ((st, &xn), &y) in st.iter_mut().zip(xn).zip(y) {
+                        *st = xn - y;
+                    }
+                }
+                self.complete_step(problem, &mut v.step, &v.grad_y, &mut v.n_step);
+                for i in bil.clone() {
+                    v.x_new[i] = v.y[i] + v.step[i];
+                }
+                for ((g, &gy), &ns) in self.grad.iter_mut().zip(&v.grad_y).zip(&v.n_step) {
+                    *g = gy + ns;
+                }
+                apply_n += 1;
                 let (mut dnd, mut dpd) = (0.0, 0.0);
-                for &i in &self.c_rows {
-                    let d = x_new[i] - y[i];
-                    dnd += d * (self.grad[i] - grad_y[i]);
-                    if sc[i] > 0.0 {
-                        dpd += d * d / sc[i];
+                for r in &c_ranges {
+                    let (st, g, gy, s) = (
+                        &v.step[r.clone()],
+                        &self.grad[r.clone()],
+                        &v.grad_y[r.clone()],
+                        &sc[r.clone()],
+                    );
+                    for (((&d, &g), &gy), &s) in st.iter().zip(g).zip(gy).zip(s) {
+                        dnd += d * (g - gy);
+                        if s > 0.0 {
+                            dpd += d * d / s;
+                        }
                     }
                 }
                 if dnd <= lip * dpd || dpd == 0.0 {
@@ -237,32 +340,38 @@ impl Schur {
                 }
                 lip *= 2.0;
             }
-            let res = problem.residual(&x_new, &self.grad, &mut self.work);
+            let res = problem.residual(&v.x_new, &self.grad, &mut self.work);
             history.push(it, res, apply_n, || {
-                problem.objective_from_gradient(&x_new, &self.grad, &mut self.work)
+                problem.objective_from_gradient(&v.x_new, &self.grad, &mut self.work)
             });
             if !res.is_finite() {
                 break;
             }
             if res < best_res {
                 best_res = res;
-                best.copy_from_slice(&x_new);
+                v.best.copy_from_slice(&v.x_new);
             }
             // Nesterov momentum with gradient restart (O'Donoghue and Candès).
-            let slope: f64 = self
-                .c_rows
-                .iter()
-                .map(|&i| grad_y[i] * (x_new[i] - x[i]))
-                .sum();
-            let beta = momentum(&mut theta, slope);
-            for k in 0..m {
-                y[k] = x_new[k] + beta * (x_new[k] - x[k]);
-                grad_y[k] = self.grad[k] + beta * (self.grad[k] - grad_x[k]);
+            let mut slope = 0.0;
+            for r in &c_ranges {
+                let (gy, xn, x) = (&v.grad_y[r.clone()], &v.x_new[r.clone()], &v.x[r.clone()]);
+                for ((&gy, &xn), &x) in gy.iter().zip(xn).zip(x) {
+                    slope += gy * (xn - x);
+                }
             }
-            std::mem::swap(&mut x, &mut x_new);
-            grad_x.copy_from_slice(&self.grad);
+            let beta = momentum(&mut theta, slope);
+            for (((y, gy), (&xn, &x)), (&g, &gx)) in (v.y.iter_mut().zip(v.grad_y.iter_mut()))
+                .zip(v.x_new.iter().zip(&v.x))
+                .zip(self.grad.iter().zip(&v.grad_x))
+            {
+                *y = xn + beta * (xn - x);
+                *gy = g + beta * (g - gx);
+            }
+            std::mem::swap(&mut v.x, &mut v.x_new);
+            std::mem::swap(&mut v.grad_x, &mut self.grad);
         }
-        gamma.copy_from_slice(&best);
+        gamma.copy_from_slice(&v.best);
+        self.scratch = v;
         problem.gradient(gamma, &mut self.grad, &mut self.work);
         apply_n += 1;
         final_stats(

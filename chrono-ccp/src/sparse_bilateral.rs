@@ -46,6 +46,9 @@ pub(crate) struct SparseBilateral {
     scratch_cols: usize,
     rhs: Vec<f64>,
     res: Vec<f64>,
+    /// True once a solve with this factor met the round-off bound without refinement (the
+    /// factor is exact: no regularized pivot and no ill-conditioning that shows).
+    checked: bool,
 }
 
 /// Iterative-refinement steps of a solve with a regularized factor.
@@ -110,7 +113,7 @@ impl SparseBilateral {
                 MemStack::new(scratch),
                 Default::default(),
             )
-            .map(|_| ())
+            .map(|_| self.checked = false)
             .map_err(|e| failed(format!("{e:?}")))
     }
 
@@ -214,7 +217,7 @@ impl SparseBilateral {
         rhs.extend_from_slice(x);
         self.solve_factor(x, cols);
         let nb = x.len() / cols;
-        for _ in 0..REFINE_STEPS {
+        for step in 0..REFINE_STEPS {
             res.clear();
             res.resize(x.len(), 0.0);
             if let Some(upper) = &self.upper {
@@ -231,8 +234,10 @@ impl SparseBilateral {
                 bn = bn.max(b.abs());
             }
             if rn <= 1e-14 * bn {
+                self.checked |= step == 0;
                 break;
             }
+
             self.solve_factor(&mut res, cols);
             for (xi, d) in x.iter_mut().zip(&res) {
                 *xi += d;
@@ -240,6 +245,19 @@ impl SparseBilateral {
         }
         self.rhs = rhs;
         self.res = res;
+    }
+
+    /// Solve `N_BB x = r` in place (one right-hand side) inside an iteration that corrects
+    /// its own joint residual (the Schur solver's completed steps start from the residual the
+    /// last one left): with an unregularized factor, the factor's solve alone (round-off of
+    /// the Cholesky factor, no residual check) once a checked solve with this factor needed
+    /// no refinement; otherwise [`solve`](Self::solve), which records that.
+    pub(crate) fn solve_corrected_later(&mut self, x: &mut [f64]) {
+        if self.checked {
+            self.solve_factor(x, 1);
+        } else {
+            self.solve(x, 1);
+        }
     }
 
     /// One solve with the factor.

@@ -46,6 +46,22 @@ impl CcpProblem {
             let nd = out.len();
             let (t0, t1) = (self.tr_ptr[block] as usize, self.tr_ptr[block + 1] as usize);
             let c = &self.tr_minv[self.tr_cptr[block] as usize..self.tr_cptr[block + 1] as usize];
+            if let Ok(out) = <&mut [f64; 6]>::try_from(&mut *out) {
+                // A rigid body: fixed-size columns, the same sums in the same order.
+                for (&t, col) in self.tr_row[t0..t1].iter().zip(c.chunks_exact(6)) {
+                    let g = gamma[t as usize];
+                    // A zero impulse (a separating contact, a row a solver fills later)
+                    // adds nothing: skipping it keeps the bits (the sums start at +0).
+                    if g == 0.0 {
+                        continue;
+                    }
+                    let col: &[f64; 6] = col.try_into().expect("6");
+                    for k in 0..6 {
+                        out[k] += g * col[k];
+                    }
+                }
+                return;
+            }
             for (t, col) in (t0..t1).zip(c.chunks_exact(nd)) {
                 let g = gamma[self.tr_row[t] as usize];
                 for (o, x) in out.iter_mut().zip(col) {
@@ -87,7 +103,82 @@ impl CcpProblem {
     /// fixed-order sum, whatever the thread count.
     fn product(&self, gamma: &[f64], out: &mut [f64], work: &mut CcpWork, shift: Option<&[f64]>) {
         self.velocity_changes(gamma, out, work);
-        let (v, w) = (&work.v, &work.w);
+        self.rows_from(gamma, &work.v, &work.w, out, shift);
+    }
+
+    /// The first half of a product, for solvers that change the velocity between the two
+    /// halves ([`add_row_velocity`](Self::add_row_velocity)): `work.v = M^-1 D' g` for the
+    /// explicit rows' blocks and `work.w` for the matrix-free spheres (m/s and rad/s per unit
+    /// impulse). [`rows_from_velocity`](Self::rows_from_velocity) then gives `N g`.
+    ///
+    /// # Panics
+    /// If `gamma` does not have one entry per row.
+    pub fn velocity_changes_of(&self, gamma: &[f64], work: &mut CcpWork) {
+        assert_eq!(gamma.len(), self.n_rows, "gamma has the wrong length");
+        work.resize(self);
+        let mf = self.mf.active();
+        self.minv_d_blocks(gamma, &mut work.v, mf);
+        if mf {
+            self.mf.gather(gamma, &mut work.w);
+        }
+    }
+
+    /// `work.v += s M^-1 D_i'`: the velocity change of an impulse `s` on row `i`, added to
+    /// the first half of a product ([`velocity_changes_of`](Self::velocity_changes_of)), so
+    /// that a solver can extend `g` by a few rows (a Schur solver's joint impulses) without a
+    /// second full pass over the Jacobian. A row that touches a matrix-free sphere is not
+    /// allowed (such a sphere's velocity lives in `work.w`, and only friction triplets with a
+    /// frame touch it).
+    ///
+    /// # Panics
+    /// If `i` is not a row, or (debug builds) if row `i` touches a matrix-free sphere.
+    pub fn add_row_velocity(&self, i: usize, s: f64, work: &mut CcpWork) {
+        debug_assert!(
+            (self.row_ptr[i] as usize..self.row_ptr[i + 1] as usize).all(|e| !self
+                .mf
+                .skip_block
+                .get(self.ent_block[e] as usize)
+                .copied()
+                .unwrap_or(false)),
+            "row {i} touches a matrix-free sphere"
+        );
+        self.row_add_minv(i, s, &mut work.v);
+    }
+
+    /// The second half of a product: `out = D' (work's velocities) + E g (+ shift)`, i.e.
+    /// `N g (+ shift)` if `work` holds [`velocity_changes_of`](Self::velocity_changes_of)`(g)`
+    /// (plus any [`add_row_velocity`](Self::add_row_velocity) of the same `g`'s rows), with
+    /// the same operations (so the same bits) as [`apply_n`](Self::apply_n) and
+    /// [`gradient`](Self::gradient).
+    ///
+    /// # Panics
+    /// If a length is wrong.
+    pub fn rows_from_velocity(
+        &self,
+        gamma: &[f64],
+        work: &CcpWork,
+        out: &mut [f64],
+        shift: Option<&[f64]>,
+    ) {
+        assert_eq!(gamma.len(), self.n_rows, "gamma has the wrong length");
+        assert_eq!(out.len(), self.n_rows, "out has the wrong length");
+        assert_eq!(
+            work.v.len(),
+            self.ndof(),
+            "work is not sized for this problem"
+        );
+        self.rows_from(gamma, &work.v, &work.w, out, shift);
+    }
+
+    /// `out = D'(v, w) + E g + shift`: the row half of [`product`](Self::product).
+    fn rows_from(
+        &self,
+        gamma: &[f64],
+        v: &[f64],
+        w: &[f64],
+        out: &mut [f64],
+        shift: Option<&[f64]>,
+    ) {
         let eps = &self.eps;
         // `x + r_i`, or `x` itself (not `x + 0`, which would turn -0 into +0).
         let sh = |x: f64, i: usize| match shift {
@@ -146,11 +237,70 @@ impl CcpProblem {
                 }
             }
             _ => {
+                let d = self
+                    .triplet_dot(i, v)
+                    .unwrap_or_else(|| std::array::from_fn(|j| self.row_dot(i + j, v)));
                 for j in 0..3 {
-                    o[j] = sh(self.row_dot(i + j, v) + eps[i + j] * gamma[i + j], i + j);
+                    o[j] = sh(d[j] + eps[i + j] * gamma[i + j], i + j);
                 }
             }
         }
+    }
+
+    /// `D_i' v` for the three rows `i, i+1, i+2` of a friction triplet whose rows touch the
+    /// same one or two rigid bodies (6 dof each) in the same order, the usual case (a body
+    /// on fixed ground touches one): each body's velocity is read once for the three rows.
+    /// The same sums in the same order as [`row_dot`](Self::row_dot), so the same bits;
+    /// `None` for any other layout.
+    #[inline]
+    fn triplet_dot(&self, i: usize, v: &[f64]) -> Option<[f64; 3]> {
+        let p = self.row_ptr.get(i..i + 4)?;
+        let e0 = p[0] as usize;
+        let n = p[1] as usize - e0;
+        if !(n == 1 || n == 2) || p[2] as usize != e0 + 2 * n || p[3] as usize != e0 + 3 * n {
+            return None;
+        }
+        let off = self.ent_off.get(e0..e0 + 3 * n)?;
+        let cp = self.ent_coef.get(e0..e0 + 3)?;
+        let c0 = cp[0] as usize;
+        // The same blocks in the same order in all three rows (an offset names its block),
+        // each of 6 dof: then the coefficients are 18 n consecutive values.
+        let same = if n == 1 {
+            off[1] == off[0] && off[2] == off[0]
+        } else {
+            off[2] == off[0] && off[4] == off[0] && off[3] == off[1] && off[5] == off[1]
+        };
+        if !same || cp[1] as usize != c0 + 6 || (n == 2 && cp[2] as usize != c0 + 12) {
+            return None;
+        }
+        let va: &[f64; 6] = v
+            .get(off[0] as usize..off[0] as usize + 6)?
+            .try_into()
+            .ok()?;
+        let c = self.coefs.get(c0..c0 + 18 * n)?;
+        if n == 1 {
+            return Some(std::array::from_fn(|j| {
+                let c: &[f64; 6] = c[6 * j..6 * j + 6].try_into().expect("6");
+                let mut s = 0.0;
+                for k in 0..6 {
+                    s += c[k] * va[k];
+                }
+                s
+            }));
+        }
+        let ob = off[1] as usize;
+        let vb: &[f64; 6] = v.get(ob..ob + 6)?.try_into().ok()?;
+        let c: &[f64; 36] = c.try_into().ok()?;
+        Some(std::array::from_fn(|j| {
+            let mut s = 0.0;
+            for k in 0..6 {
+                s += c[12 * j + k] * va[k];
+            }
+            for k in 0..6 {
+                s += c[12 * j + 6 + k] * vb[k];
+            }
+            s
+        }))
     }
 
     /// The rows `start..start + o.len()` (whole friction triplets) of `N g + r` into `o`:

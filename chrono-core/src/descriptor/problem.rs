@@ -379,6 +379,19 @@ impl CcpProblem {
         for e in self.row_ptr[i] as usize..self.row_ptr[i + 1] as usize {
             let (c0, c1) = (self.ent_coef[e] as usize, self.ent_coef[e + 1] as usize);
             let off = self.ent_off[e] as usize;
+            // A rigid body's 6 dof as fixed-size arrays (no per-coefficient bounds checks or
+            // loop control); the same sums in the same order, so the same bits.
+            if let (Some(c), Some(x)) = (
+                self.coefs.get(c0..c0 + 6).filter(|_| c1 - c0 == 6),
+                v.get(off..off + 6),
+            ) {
+                let (c, x): (&[f64; 6], &[f64; 6]) =
+                    (c.try_into().expect("6"), x.try_into().expect("6"));
+                for k in 0..6 {
+                    s += c[k] * x[k];
+                }
+                continue;
+            }
             let x = &v[off..off + (c1 - c0)];
             for (c, x) in self.coefs[c0..c1].iter().zip(x) {
                 s += c * x;
@@ -393,6 +406,14 @@ impl CcpProblem {
         for e in self.row_ptr[i] as usize..self.row_ptr[i + 1] as usize {
             let (c0, c1) = (self.ent_coef[e] as usize, self.ent_coef[e + 1] as usize);
             let off = self.ent_off[e] as usize;
+            if c1 - c0 == 6 {
+                let x: &mut [f64; 6] = (&mut v[off..off + 6]).try_into().expect("6");
+                let c: &[f64; 6] = self.minv[c0..c0 + 6].try_into().expect("6");
+                for k in 0..6 {
+                    x[k] += s * c[k];
+                }
+                continue;
+            }
             let x = &mut v[off..off + (c1 - c0)];
             for (x, c) in x.iter_mut().zip(&self.minv[c0..c1]) {
                 *x += s * c;

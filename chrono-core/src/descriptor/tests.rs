@@ -106,6 +106,49 @@ fn apply_n_entries_and_blocks_match_the_dense_matrix() {
 }
 
 #[test]
+fn split_product_with_added_rows_matches_the_dense_matrix() {
+    // The two halves of a product with some rows' impulses added in between (a Schur
+    // solver's joint rows): `N g` of the whole `g`, whatever rows are added late.
+    let (p, n, _, _) = sample();
+    let mut work = CcpWork::for_problem(&p);
+    let g: Vec<f64> = (0..12).map(|i| (i as f64 * 0.7 + 0.2).cos()).collect();
+    let dense = &n * DVector::from_column_slice(&g);
+    for late in [vec![], vec![0], vec![0, 1, 2], (0..12).collect::<Vec<_>>()] {
+        let mut early = g.clone();
+        for &i in &late {
+            early[i] = 0.0;
+        }
+        p.velocity_changes_of(&early, &mut work);
+        for &i in &late {
+            p.add_row_velocity(i, g[i], &mut work);
+        }
+        let mut out = vec![f64::NAN; 12];
+        p.rows_from_velocity(&g, &work, &mut out, None);
+        for i in 0..12 {
+            assert!(
+                (out[i] - dense[i]).abs() < 1e-12,
+                "rows {late:?} late: row {i}"
+            );
+        }
+        // With the shift: the gradient.
+        p.rows_from_velocity(&g, &work, &mut out, Some(p.r()));
+        for i in 0..12 {
+            assert!(
+                (out[i] - dense[i] - p.r()[i]).abs() < 1e-12,
+                "gradient row {i}"
+            );
+        }
+    }
+    // Nothing added late: the same bits as `apply_n`.
+    let mut a = vec![0.0; 12];
+    p.apply_n(&g, &mut a, &mut work);
+    p.velocity_changes_of(&g, &mut work);
+    let mut b = vec![0.0; 12];
+    p.rows_from_velocity(&g, &work, &mut b, None);
+    assert_eq!(a, b);
+}
+
+#[test]
 fn r_and_velocities_match_the_definitions() {
     let (p, _, d, k) = sample();
     let mut vfree = vec![0.0; p.ndof()];
