@@ -53,7 +53,7 @@ pub const BUDGETS: &[Budget] = &[
     b("granular-settle", 7.0, 7.0),
     b("granular-hopper", 43.0, 43.0),
     b("granular-ball-drop", 100.0, 76.0),
-    b("granular-shear", 74.0, 40.0),
+    b("granular-shear", 90.0, 40.0),
     b("granular-repose", 16.0, 16.0),
     b("sph-hydrostatic", 29.0, 12.0),
     b("sph-poiseuille", 10.0, 3.0),
