@@ -340,7 +340,14 @@ impl Schur {
                 }
                 lip *= 2.0;
             }
-            let res = problem.residual(&v.x_new, &self.grad, &mut self.work);
+            let mut res = problem.residual(&v.x_new, &self.grad, &mut self.work);
+            if res <= tol {
+                // The gradient was updated step by step and carries their round-off:
+                // converged only if the exact gradient agrees (else iterate on from it).
+                problem.gradient(&v.x_new, &mut self.grad, &mut self.work);
+                apply_n += 1;
+                res = problem.residual(&v.x_new, &self.grad, &mut self.work);
+            }
             history.push(it, res, apply_n, || {
                 problem.objective_from_gradient(&v.x_new, &self.grad, &mut self.work)
             });
