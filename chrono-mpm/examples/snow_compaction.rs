@@ -38,6 +38,18 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             100.0 * (s.stress / exact - 1.0)
         );
     }
+    // The compaction through the column: 1 - J per marker layer, bottom to top.
+    let mk = &c.body.markers;
+    let mut layers: Vec<(f64, f64)> = (0..mk.len())
+        .map(|p| (mk.x[p].z, 1.0 - (mk.fe[p] * mk.fp[p]).determinant()))
+        .collect();
+    layers.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let per = layers.len() / (spec.cells * spec.markers_per_cell);
+    let strains: Vec<String> = layers
+        .chunks(per.max(1))
+        .map(|l| format!("{:.3}", l.iter().map(|q| q.1).sum::<f64>() / l.len() as f64))
+        .collect();
+    println!("strain by layer, bottom to top: {}", strains.join(" "));
     println!(
         "{} markers, {} steps in {:.2} s",
         c.body.markers.len(),

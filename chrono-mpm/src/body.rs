@@ -428,7 +428,9 @@ impl MpmBody {
         self.grid.prev.clear();
         self.grid.prev.extend_from_slice(&self.grid.mom);
         self.grid.impulse.clear();
-        self.grid.impulse.resize(self.grid.active.len() * nr, [0.0; 3]);
+        self.grid
+            .impulse
+            .resize(self.grid.active.len() * nr, [0.0; 3]);
         let mut mom = std::mem::take(&mut self.grid.mom);
         let mut impulse = std::mem::take(&mut self.grid.impulse);
         let grid = &self.grid;

@@ -14,9 +14,10 @@
 //! gives) von Mises with `sigma_y = sqrt(3) c_u` has the same limit shear stress `c_u` as
 //! Tresca, so the same `q_u`.
 //!
-//! The scene is half of the symmetric problem: the soil `x in [0, 3 B]`, `z in [0, 2 B]`
-//! (the Prandtl mechanism reaches `B` beyond the footing's edge and about `0.7 B` deep),
-//! one cell thick in `y` between slip walls (plane strain); the plane `x = 0` is a
+//! The scene is half of the symmetric problem: the soil `x in [0, domain_width B]`,
+//! `z in [0, domain_depth B]` (the Prandtl mechanism reaches `B` beyond the footing's edge
+//! and about `0.7 B` deep), one cell thick in `y` between slip walls (plane strain, one
+//! layer of markers); the plane `x = 0` is a
 //! symmetry (slip) wall, the far side and the bottom are slip walls. The footing is a
 //! sticky (rough) rigid box of half-width `B/2` centred on `x = 0`, its base on the soil's
 //! surface, pushed down at `V(t) = speed r(t)` with the smooth ramp
@@ -154,7 +155,7 @@ impl Footing {
         let dx = 0.5 * b / spec.cells_half_width as f64;
         let nx = (spec.domain_width * b / dx).round() as usize;
         let nz = (spec.domain_depth * b / dx).round() as usize;
-        let (lx, lz) = (nx as f64 * dx, nz as f64 * dx);
+        let lz = nz as f64 * dx;
         // Room above the surface for the heave: a quarter of the depth plus 2 cells.
         let above = nz / 4 + 2;
         let grid = GridSpec::new([0.0; 3], [nx, 1, nz + above], dx)?
@@ -166,14 +167,18 @@ impl Footing {
             cfl: spec.cfl,
         };
         let mut body = MpmBody::new(grid, Material::VonMises(soil), settings)?;
+        // Plane strain: one layer of markers across the slab (a second layer would only
+        // repeat the first), `markers_per_cell` per axis in the plane.
         let d = dx / spec.markers_per_cell as f64;
-        body.markers.fill_box(
-            Vector3::zeros(),
-            Vector3::new(lx, dx, lz),
-            d,
-            spec.density,
-            |_| Vector3::zeros(),
-        )?;
+        let (mx, mz) = (nx * spec.markers_per_cell, nz * spec.markers_per_cell);
+        let vol = d * d * dx;
+        for i in 0..mx {
+            for k in 0..mz {
+                let x = Vector3::new((i as f64 + 0.5) * d, 0.5 * dx, (k as f64 + 0.5) * d);
+                body.markers
+                    .push(spec.density * vol, vol, x, Vector3::zeros())?;
+            }
+        }
         // The footing: half-width B/2 about x = 0, as high as the room above, its base on
         // the surface; wider than the slab in y.
         let h = 0.5 * above as f64 * dx + dx;
@@ -258,5 +263,89 @@ impl Footing {
             }
         }
         Ok(out)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn spec() -> FootingSpec {
+        FootingSpec {
+            footing_width: 1.0,
+            cohesion: 1e4,
+            young: 5e6,
+            poisson: 0.3,
+            density: 1800.0,
+            cells_half_width: 2,
+            markers_per_cell: 2,
+            domain_width: 2.5,
+            domain_depth: 1.5,
+            speed: 0.05,
+            ramp_time: 0.2,
+            final_settlement: 0.1,
+            cfl: 0.4,
+        }
+    }
+
+    #[test]
+    fn bad_footing_input_names_the_field() {
+        let bad = |s: FootingSpec, field: &str| {
+            let e = Footing::new(s).unwrap_err();
+            assert!(e.to_string().contains(field), "{e} should name {field}");
+        };
+        let d = spec();
+        bad(
+            FootingSpec {
+                cohesion: -1.0,
+                ..d
+            },
+            "material.cohesion",
+        );
+        bad(FootingSpec { young: 0.0, ..d }, "material.young");
+        bad(
+            FootingSpec {
+                footing_width: f64::NAN,
+                ..d
+            },
+            "footing.footing_width",
+        );
+        bad(
+            FootingSpec {
+                final_settlement: 0.9,
+                ..d
+            },
+            "footing.final_settlement",
+        );
+        bad(
+            FootingSpec {
+                cells_half_width: 0,
+                ..d
+            },
+            "footing.cells_half_width",
+        );
+        bad(FootingSpec { speed: 0.0, ..d }, "footing.speed");
+    }
+
+    #[test]
+    fn the_footing_starts_on_the_surface_and_pushes() {
+        // A few steps: the footing's base starts on the soil's surface (no pressure
+        // before it moves), then the soil resists it (positive pressure).
+        let mut f = Footing::new(FootingSpec {
+            final_settlement: 0.002,
+            ramp_time: 0.0,
+            ..spec()
+        })
+        .unwrap();
+        assert_eq!(f.settlement(), 0.0);
+        let top = f.body.markers.x.iter().map(|x| x.z).fold(0.0, f64::max);
+        let base = f.body.rigid[0].position.z
+            - match f.body.rigid[0].shape {
+                crate::rigid::Shape::Box { half } => half[2],
+            };
+        assert!(base > top && base - top < f.body.spec().dx, "{base} {top}");
+        let s = f.run(4, |_| {}).unwrap();
+        assert!(s.iter().all(|s| s.pressure > 0.0), "{s:?}");
+        assert!((f.spec().prandtl_pressure() - 51415.9).abs() < 0.1);
     }
 }

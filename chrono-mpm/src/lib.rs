@@ -41,5 +41,5 @@ pub use body::{MpmBody, MpmSettings};
 pub use error::{MpmError, Result};
 pub use grid::{GridSpec, SparseGrid, Wall};
 pub use markers::Markers;
-pub use rigid::{Contact, RigidBody, Shape};
 pub use material::{DruckerPrager, Elasticity, FixedCorotated, Material, SnowHardening, VonMises};
+pub use rigid::{Contact, RigidBody, Shape};

@@ -150,7 +150,11 @@ impl RigidBody {
         if let Contact::Slip { friction } = contact
             && !(friction.is_finite() && friction >= 0.0)
         {
-            return Err(invalid("rigid.friction", friction, "must be finite and >= 0"));
+            return Err(invalid(
+                "rigid.friction",
+                friction,
+                "must be finite and >= 0",
+            ));
         }
         Ok(Self {
             shape: Shape::Box { half },
@@ -310,10 +314,19 @@ mod tests {
         // body moving down at 1 m/s: v_n = -2.
         let x = Vector3::new(0.0, 0.0, 1.0);
         let v = [1.0, 0.0, -3.0];
-        assert_eq!(slip(0.0).contact_velocity(&x, I, 1.0, v, none), Some([1.0, 0.0, -1.0]));
+        assert_eq!(
+            slip(0.0).contact_velocity(&x, I, 1.0, v, none),
+            Some([1.0, 0.0, -1.0])
+        );
         // mu |v_n| = 0.25 * 2 = 0.5 off the tangential 1 m/s.
-        assert_eq!(slip(0.25).contact_velocity(&x, I, 1.0, v, none), Some([0.5, 0.0, -1.0]));
-        assert_eq!(slip(1.0).contact_velocity(&x, I, 1.0, v, none), Some([0.0, 0.0, -1.0]));
+        assert_eq!(
+            slip(0.25).contact_velocity(&x, I, 1.0, v, none),
+            Some([0.5, 0.0, -1.0])
+        );
+        assert_eq!(
+            slip(1.0).contact_velocity(&x, I, 1.0, v, none),
+            Some([0.0, 0.0, -1.0])
+        );
         // Separating: unchanged.
         assert_eq!(
             slip(1.0).contact_velocity(&x, I, 1.0, [1.0, 0.0, 0.5], none),
@@ -328,7 +341,10 @@ mod tests {
             contact: Contact::Sticky,
             ..slip(0.0)
         };
-        assert_eq!(sticky.contact_velocity(&x, I, 1.0, v, none), Some([0.0, 0.0, -1.0]));
+        assert_eq!(
+            sticky.contact_velocity(&x, I, 1.0, v, none),
+            Some([0.0, 0.0, -1.0])
+        );
     }
 
     #[test]
@@ -336,8 +352,13 @@ mod tests {
         // A body at rest with its top face at z = 1; outside, v = c (z - 1) (zero on the
         // surface). A node 0.3 m deep, nodes 0.5 m apart: the image is the linear field's
         // value there, -0.3 c, from the nodes at heights 0.2 and 0.7 above the surface.
-        let body = RigidBody::new_box(Vector3::zeros(), [5.0, 5.0, 1.0], Vector3::zeros(), Contact::Sticky)
-            .unwrap();
+        let body = RigidBody::new_box(
+            Vector3::zeros(),
+            [5.0, 5.0, 1.0],
+            Vector3::zeros(),
+            Contact::Sticky,
+        )
+        .unwrap();
         let c = [0.4, -0.2, 1.0];
         let x = Vector3::new(0.0, 0.0, 0.7);
         let field = |j: [i64; 3]| -> Option<[f64; 3]> {
@@ -354,7 +375,9 @@ mod tests {
             ..body
         };
         let shifted = |j: [i64; 3]| field(j).map(|u| [u[0], u[1], u[2] - 2.0]);
-        let v = moving.contact_velocity(&x, I, 0.5, [9.0; 3], shifted).unwrap();
+        let v = moving
+            .contact_velocity(&x, I, 0.5, [9.0; 3], shifted)
+            .unwrap();
         assert!((v[2] - (-2.0 - 0.3 * c[2])).abs() < 1e-14, "{v:?}");
         // No material outside: the body's velocity.
         let v = moving.contact_velocity(&x, I, 0.5, [9.0; 3], none).unwrap();

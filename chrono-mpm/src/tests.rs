@@ -114,14 +114,34 @@ fn results_are_the_same_bits_at_one_and_two_threads() {
         pool.install(|| {
             let mut body = body_with_random_markers(3000, 5, Wall::Sticky);
             body.markers.v.iter_mut().for_each(|v| *v *= 0.01);
+            // Two rigid bodies (their impulses are a parallel sum, in block order).
+            for (x, contact) in [
+                (0.55, rigid::Contact::Sticky),
+                (0.2, rigid::Contact::Slip { friction: 0.3 }),
+            ] {
+                body.rigid.push(
+                    RigidBody::new_box(
+                        Vector3::new(x, 0.6, 0.9),
+                        [0.2, 0.3, 0.25],
+                        Vector3::new(0.05, 0.0, -0.1),
+                        contact,
+                    )
+                    .unwrap(),
+                );
+            }
             for _ in 0..10 {
                 let dt = 0.5 * body.stable_dt();
                 body.step(dt).unwrap();
             }
+            assert!(body.rigid.iter().all(|r| r.total_impulse.norm() > 0.0));
             (
                 body.markers.x.clone(),
                 body.markers.v.clone(),
                 body.markers.fe.clone(),
+                body.rigid
+                    .iter()
+                    .map(|r| r.total_impulse)
+                    .collect::<Vec<_>>(),
             )
         })
     };
@@ -369,7 +389,10 @@ fn plate_reaction_is_the_uniaxial_strain_modulus() {
     // boundary quadrature's (`docs/mpm.md`): first order in dx, 7.5 % at 8 cells.
     let (e8, m8) = plate_stress_error(8);
     let (e16, m16) = plate_stress_error(16);
-    assert!(e16 < 0.05, "plate stress off the modulus by {e16} at 16 cells");
+    assert!(
+        e16 < 0.05,
+        "plate stress off the modulus by {e16} at 16 cells"
+    );
     assert!(e16 < 0.7 * e8, "error {e8} -> {e16} under refinement");
     // The material itself is on the modulus (its mean stress against its mean strain).
     assert!(m8 < 2e-3 && m16 < 2e-3, "markers {m8}, {m16}");
