@@ -208,7 +208,7 @@ impl Compaction {
                     next += 1;
                 }
             }
-            if k % 64 == 0 {
+            if k.is_multiple_of(64) {
                 progress((self.strain() / eps_f).min(1.0));
             }
         }

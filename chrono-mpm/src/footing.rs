@@ -258,7 +258,7 @@ impl Footing {
                     next += 1;
                 }
             }
-            if k % 64 == 0 {
+            if k.is_multiple_of(64) {
                 progress((s / s_f).min(1.0));
             }
         }

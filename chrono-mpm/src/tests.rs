@@ -341,8 +341,9 @@ fn rigid_impulse_equals_the_material_momentum_change() {
 }
 
 /// The largest relative error of the plate's stress against `(lambda + 2 mu) strain` from
-/// 0.5 % strain on, compressing an elastic column (confined sides) of `cells` cells to 2 %.
-fn plate_stress_error(cells: usize) -> (f64, f64) {
+/// 0.5 % strain on, compressing an elastic column (confined sides) of `cells` cells with
+/// `mpc` markers per cell per axis to 2 %; and the markers' mean-stress error.
+fn plate_stress_error(cells: usize, mpc: usize) -> (f64, f64) {
     let (young, poisson, rho, h) = (1e6, 0.3, 1000.0, 1.0);
     let mat = FixedCorotated::elastic(young, poisson).unwrap();
     let m = mat.elastic.p_modulus();
@@ -352,7 +353,7 @@ fn plate_stress_error(cells: usize) -> (f64, f64) {
         width: 0.25,
         density: rho,
         cells,
-        markers_per_cell: 2,
+        markers_per_cell: mpc,
         strain_rate: 0.02 / (40.0 * transit),
         ramp_time: 5.0 * transit,
         final_strain: 0.02,
@@ -387,8 +388,8 @@ fn plate_reaction_is_the_uniaxial_strain_modulus() {
     // plate's reaction over the section against (lambda + 2 mu) strain (exact for
     // fixed-corotated in uniaxial strain, `uniaxial_strain_stress`). The error is the
     // boundary quadrature's (`docs/mpm.md`): first order in dx, 7.5 % at 8 cells.
-    let (e8, m8) = plate_stress_error(8);
-    let (e16, m16) = plate_stress_error(16);
+    let (e8, m8) = plate_stress_error(8, 2);
+    let (e16, m16) = plate_stress_error(16, 2);
     assert!(
         e16 < 0.05,
         "plate stress off the modulus by {e16} at 16 cells"
@@ -396,4 +397,7 @@ fn plate_reaction_is_the_uniaxial_strain_modulus() {
     assert!(e16 < 0.7 * e8, "error {e8} -> {e16} under refinement");
     // The material itself is on the modulus (its mean stress against its mean strain).
     assert!(m8 < 2e-3 && m16 < 2e-3, "markers {m8}, {m16}");
+    // One marker per cell: the midpoint quadrature balances the end nodes (docs/mpm.md).
+    let (e8_1, _) = plate_stress_error(8, 1);
+    assert!(e8_1 < 0.03, "one marker per cell, 8 cells: {e8_1}");
 }

@@ -309,7 +309,7 @@ fn impact(
         let dt = (0.999 * body.stable_dt()).min(p.impact_time - body.time() + 1e-15);
         body.step(dt)?;
         k += 1;
-        if k % 16 == 0 {
+        if k.is_multiple_of(16) {
             e_max = e_max.max(energy(&body));
             ctx.progress(0.7 + 0.3 * body.time() / p.impact_time);
         }
