@@ -14,8 +14,9 @@
 //! the limit pressure as `poisson` approaches 0.5).
 //!
 //! The default run is the coarse one (`B/2` = 4 cells, 960 markers: 1.03 q_u, about 7 s
-//! on the shared 2-core machine); `--full` runs 8 cells (1.011 q_u; with the nu 0.49 run, 1.062, 193 s) with the
-//! same check, and the `poisson` 0.49 run beside it. `--quick` stops at 0.08 B.
+//! on the shared 2-core machine); `--full` runs 8 cells (1.011 q_u) with the same check,
+//! and the `poisson` 0.49 run beside it (1.062 q_u; both 193 s). `--quick` stops at
+//! 0.08 B.
 //!
 //! Friction (`friction_angle_deg` > 0, Drucker–Prager against Prandtl–Reissner's `N_c`)
 //! is not in this case yet: a non-zero angle is an error.
