@@ -30,6 +30,7 @@ use crate::error::{MpmError, Result, invalid, positive};
 use crate::grid::{BLOCK, BLOCK3, GHOST, GridSpec, SparseGrid, Wall, key, unkey};
 use crate::markers::Markers;
 use crate::material::Material;
+use crate::rigid::RigidBody;
 
 /// Settings of an MPM body.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -70,6 +71,9 @@ struct P2gMarker {
 pub struct MpmBody {
     /// The markers (their arrays may be read and edited between steps).
     pub markers: Markers,
+    /// Kinematic rigid bodies acting on the grid ([`crate::rigid`]), applied in order after
+    /// the walls; their positions advance by `velocity dt` each step.
+    pub rigid: Vec<RigidBody>,
     material: Material,
     spec: GridSpec,
     settings: MpmSettings,
@@ -110,6 +114,7 @@ impl MpmBody {
         }
         Ok(Self {
             markers: Markers::new(),
+            rigid: Vec::new(),
             material,
             spec,
             settings,
@@ -202,9 +207,16 @@ impl MpmBody {
     /// The step without the time-step check (`dt = 0` is a pure transfer P2G, G2P).
     pub(crate) fn advance(&mut self, dt: f64) -> Result<()> {
         self.check_bounds()?;
+        for (k, r) in self.rigid.iter().enumerate() {
+            r.check(k)?;
+        }
         self.p2g(dt);
         self.grid_update(dt);
         self.g2p(dt)?;
+        for r in &mut self.rigid {
+            r.position += r.velocity * dt;
+            r.last_dt = dt;
+        }
         self.steps += 1;
         self.time += dt;
         Ok(())
@@ -333,6 +345,9 @@ impl MpmBody {
                     mom[l] = v;
                 }
             });
+        if !self.rigid.is_empty() {
+            self.rigid_update();
+        }
         // The ghost nodes: images of the updated nodes inside.
         self.grid.prev.clear();
         self.grid.prev.extend_from_slice(&self.grid.mom);
@@ -400,6 +415,76 @@ impl MpmBody {
                 }
             });
         self.grid.mom = mom;
+    }
+
+    /// The rigid bodies' contact conditions on the nodes of the box (the ghosts take their
+    /// images afterwards), reading the node velocities after the walls (for the sticky
+    /// image, [`crate::rigid`]), and each body's impulse, summed per block and then over
+    /// the blocks in order (the same bits for any thread count).
+    fn rigid_update(&mut self) {
+        let spec = self.spec;
+        let nb = spec.blocks();
+        let nr = self.rigid.len();
+        self.grid.prev.clear();
+        self.grid.prev.extend_from_slice(&self.grid.mom);
+        self.grid.impulse.clear();
+        self.grid
+            .impulse
+            .resize(self.grid.active.len() * nr, [0.0; 3]);
+        let mut mom = std::mem::take(&mut self.grid.mom);
+        let mut impulse = std::mem::take(&mut self.grid.impulse);
+        let grid = &self.grid;
+        let rigid = &self.rigid;
+        // The velocity of node `i` of the box, if it has mass.
+        let node = |i: [i64; 3]| -> Option<[f64; 3]> {
+            if (0..3).any(|a| i[a] < 0 || i[a] > spec.cells[a] as i64) {
+                return None;
+            }
+            let g: [usize; 3] = std::array::from_fn(|a| (i[a] + GHOST) as usize);
+            let bi = grid.block_index(key([g[0] / BLOCK, g[1] / BLOCK, g[2] / BLOCK], nb))?;
+            let l = ((g[0] % BLOCK) * BLOCK + g[1] % BLOCK) * BLOCK + g[2] % BLOCK;
+            (grid.mass[bi * BLOCK3 + l] > 0.0).then(|| grid.prev[bi * BLOCK3 + l])
+        };
+        mom.par_chunks_mut(BLOCK3)
+            .zip(impulse.par_chunks_mut(nr))
+            .with_min_len(BLOCKS_PER_TASK)
+            .enumerate()
+            .for_each(|(k, (mom, impulse))| {
+                let b = unkey(grid.active[k], nb);
+                let mass = &grid.mass[k * BLOCK3..(k + 1) * BLOCK3];
+                for l in 0..BLOCK3 {
+                    if mass[l] <= 0.0 {
+                        continue;
+                    }
+                    let loc = [l / (BLOCK * BLOCK), (l / BLOCK) % BLOCK, l % BLOCK];
+                    let i: [i64; 3] =
+                        std::array::from_fn(|a| (b[a] * BLOCK + loc[a]) as i64 - GHOST);
+                    if (0..3).any(|a| i[a] < 0 || i[a] > spec.cells[a] as i64) {
+                        continue;
+                    }
+                    let x = Vector3::from_fn(|a, _| spec.origin[a] + i[a] as f64 * spec.dx);
+                    let mut v = mom[l];
+                    for (r, body) in rigid.iter().enumerate() {
+                        if let Some(v1) = body.contact_velocity(&x, i, spec.dx, v, node) {
+                            for a in 0..3 {
+                                impulse[r][a] += mass[l] * (v1[a] - v[a]);
+                            }
+                            v = v1;
+                        }
+                    }
+                    mom[l] = v;
+                }
+            });
+        for (r, body) in self.rigid.iter_mut().enumerate() {
+            let mut j = Vector3::zeros();
+            for k in 0..self.grid.active.len() {
+                j += Vector3::from(impulse[k * nr + r]);
+            }
+            body.impulse = j;
+            body.total_impulse += j;
+        }
+        self.grid.mom = mom;
+        self.grid.impulse = impulse;
     }
 
     /// Grid to particle: velocity, affine matrix, deformation gradient (with the return

@@ -134,6 +134,8 @@ pub struct SparseGrid {
     pub(crate) mom: Vec<[f64; 3]>,
     /// Node velocities before the ghost images (scratch of the grid update).
     pub(crate) prev: Vec<[f64; 3]>,
+    /// Impulse per active block and rigid body (scratch of the grid update), N s.
+    pub(crate) impulse: Vec<[f64; 3]>,
 }
 
 impl SparseGrid {

@@ -10,7 +10,11 @@
 //! - [`material`]: fixed-corotated elasticity with snow hardening (Stomakhin et al. 2013),
 //!   Drucker–Prager sand (Klar et al. 2016) and von Mises clay, each with its return
 //!   mapping;
+//! - [`rigid`]: kinematic rigid bodies (plates, footings) in the grid update, with
+//!   their reaction force;
 //! - [`body`]: an MPM body advanced by explicit APIC steps (Jiang et al. 2015);
+//! - [`compaction`]: confined compaction of a column by a plate (the oedometer);
+//! - [`footing`]: a rigid strip footing pushed into cohesive soil (Prandtl's problem);
 //! - [`bar`]: the axially vibrating elastic bar, a scene for validation;
 //! - [`vtk`]: VTP frames of the markers (stress, `J_E`, `J_P`, plastic strain).
 //!
@@ -21,10 +25,13 @@
 pub mod bar;
 pub mod body;
 pub mod bspline;
+pub mod compaction;
 pub mod error;
+pub mod footing;
 pub mod grid;
 pub mod markers;
 pub mod material;
+pub mod rigid;
 pub mod vtk;
 
 #[cfg(test)]
@@ -35,3 +42,4 @@ pub use error::{MpmError, Result};
 pub use grid::{GridSpec, SparseGrid, Wall};
 pub use markers::Markers;
 pub use material::{DruckerPrager, Elasticity, FixedCorotated, Material, SnowHardening, VonMises};
+pub use rigid::{Contact, RigidBody, Shape};

@@ -3,6 +3,7 @@
 use nalgebra::{Matrix3, Vector3};
 
 use crate::*;
+use crate::{compaction, rigid};
 
 fn rng(seed: &mut u64) -> f64 {
     // xorshift64*: a fixed sequence for the tests.
@@ -113,14 +114,34 @@ fn results_are_the_same_bits_at_one_and_two_threads() {
         pool.install(|| {
             let mut body = body_with_random_markers(3000, 5, Wall::Sticky);
             body.markers.v.iter_mut().for_each(|v| *v *= 0.01);
+            // Two rigid bodies (their impulses are a parallel sum, in block order).
+            for (x, contact) in [
+                (0.55, rigid::Contact::Sticky),
+                (0.2, rigid::Contact::Slip { friction: 0.3 }),
+            ] {
+                body.rigid.push(
+                    RigidBody::new_box(
+                        Vector3::new(x, 0.6, 0.9),
+                        [0.2, 0.3, 0.25],
+                        Vector3::new(0.05, 0.0, -0.1),
+                        contact,
+                    )
+                    .unwrap(),
+                );
+            }
             for _ in 0..10 {
                 let dt = 0.5 * body.stable_dt();
                 body.step(dt).unwrap();
             }
+            assert!(body.rigid.iter().all(|r| r.total_impulse.norm() > 0.0));
             (
                 body.markers.x.clone(),
                 body.markers.v.clone(),
                 body.markers.fe.clone(),
+                body.rigid
+                    .iter()
+                    .map(|r| r.total_impulse)
+                    .collect::<Vec<_>>(),
             )
         })
     };
@@ -247,4 +268,136 @@ fn walls_stop_a_falling_block_without_penetration() {
         // Free fall from 0.2 m lands at 2 m/s; at rest means well below that.
         assert!(vmax < 0.2, "{floor:?}: still moving at {vmax} m/s");
     }
+}
+
+/// A free elastic block (no walls near, gravity off) pushed by a plate moving down and
+/// sideways: the markers' momentum changes by the plate's impulse, to round-off.
+fn pushed_block(contact: rigid::Contact) -> (Vector3<f64>, Vector3<f64>, Vector3<f64>) {
+    let spec = GridSpec::new([0.0; 3], [12, 12, 12], 0.1).unwrap();
+    let mat = FixedCorotated::elastic(1e5, 0.3).unwrap();
+    let mut body = MpmBody::new(
+        spec,
+        mat.into(),
+        MpmSettings {
+            gravity: [0.0; 3],
+            cfl: 0.5,
+        },
+    )
+    .unwrap();
+    body.markers
+        .fill_box(
+            Vector3::new(0.3, 0.3, 0.3),
+            Vector3::new(0.9, 0.9, 0.8),
+            0.05,
+            1000.0,
+            |x| Vector3::new(0.0, 0.1 * x[0], 0.0),
+        )
+        .unwrap();
+    // A plate wider than the block, pressed 2 cm into its top, moving down and sideways:
+    // only its lower face acts.
+    body.rigid.push(
+        RigidBody::new_box(
+            Vector3::new(0.6, 0.6, 0.98),
+            [1.0, 1.0, 0.2],
+            Vector3::new(0.3, 0.0, -0.5),
+            contact,
+        )
+        .unwrap(),
+    );
+    let p0 = body.momentum();
+    let dt = 0.5 * body.stable_dt();
+    for _ in 0..40 {
+        body.step(dt).unwrap();
+    }
+    let p1 = body.momentum();
+    (p0, p1, body.rigid[0].total_impulse)
+}
+
+#[test]
+fn rigid_impulse_equals_the_material_momentum_change() {
+    for contact in [
+        rigid::Contact::Sticky,
+        rigid::Contact::Slip { friction: 0.0 },
+        rigid::Contact::Slip { friction: 0.4 },
+    ] {
+        let (p0, p1, j) = pushed_block(contact);
+        // The plate did push (a real impulse, not zero = zero).
+        assert!(j.z < -1.0, "{contact:?}: impulse {j}");
+        let err = (p1 - p0 - j).norm();
+        assert!(
+            err < 1e-12 * (j.norm() + p0.norm()),
+            "{contact:?}: momentum change {} vs plate impulse {j} (error {err:e})",
+            p1 - p0
+        );
+        if contact == (rigid::Contact::Slip { friction: 0.0 }) {
+            // Frictionless: no tangential impulse.
+            assert!(j.x.abs() + j.y.abs() < 1e-12 * j.norm(), "{j}");
+        }
+        if contact == rigid::Contact::Sticky {
+            // The sticky plate drags the material along x.
+            assert!(j.x > 0.01 * j.norm(), "{j}");
+        }
+    }
+}
+
+/// The largest relative error of the plate's stress against `(lambda + 2 mu) strain` from
+/// 0.5 % strain on, compressing an elastic column (confined sides) of `cells` cells with
+/// `mpc` markers per cell per axis to 2 %; and the markers' mean-stress error.
+fn plate_stress_error(cells: usize, mpc: usize) -> (f64, f64) {
+    let (young, poisson, rho, h) = (1e6, 0.3, 1000.0, 1.0);
+    let mat = FixedCorotated::elastic(young, poisson).unwrap();
+    let m = mat.elastic.p_modulus();
+    let transit = h / (m / rho).sqrt();
+    let spec = compaction::CompactionSpec {
+        height: h,
+        width: 0.25,
+        density: rho,
+        cells,
+        markers_per_cell: mpc,
+        strain_rate: 0.02 / (40.0 * transit),
+        ramp_time: 5.0 * transit,
+        final_strain: 0.02,
+        cfl: 0.4,
+    };
+    let mut c = compaction::Compaction::new(spec, mat.into()).unwrap();
+    let samples = c.run(40, |_| {}).unwrap();
+    assert!(samples.len() >= 30, "{} samples", samples.len());
+    let mut worst: f64 = 0.0;
+    for s in samples.iter().filter(|s| s.strain >= 0.005) {
+        let exact = -mat.uniaxial_strain_stress(1.0 - s.strain);
+        worst = worst.max((s.stress / exact - 1.0).abs());
+        // Quasi-static.
+        assert!(s.kinetic < 0.01 * s.elastic, "{s:?}");
+    }
+    // The markers' mean axial stress is (lambda + 2 mu) times their mean strain.
+    let mk = &c.body.markers;
+    let n = mk.len() as f64;
+    let (mut sz, mut ez) = (0.0, 0.0);
+    for p in 0..mk.len() {
+        let j = mk.fe[p].determinant();
+        sz += mat.kirchhoff(&mk.fe[p], &mk.fp[p])[(2, 2)] / j / n;
+        ez += (1.0 - j) / n;
+    }
+    let marker_error = (sz / mat.uniaxial_strain_stress(1.0 - ez) - 1.0).abs();
+    (worst, marker_error)
+}
+
+#[test]
+fn plate_reaction_is_the_uniaxial_strain_modulus() {
+    // An elastic column confined on its sides, pushed slowly by a plate to 2 % strain: the
+    // plate's reaction over the section against (lambda + 2 mu) strain (exact for
+    // fixed-corotated in uniaxial strain, `uniaxial_strain_stress`). The error is the
+    // boundary quadrature's (`docs/mpm.md`): first order in dx, 7.5 % at 8 cells.
+    let (e8, m8) = plate_stress_error(8, 2);
+    let (e16, m16) = plate_stress_error(16, 2);
+    assert!(
+        e16 < 0.05,
+        "plate stress off the modulus by {e16} at 16 cells"
+    );
+    assert!(e16 < 0.7 * e8, "error {e8} -> {e16} under refinement");
+    // The material itself is on the modulus (its mean stress against its mean strain).
+    assert!(m8 < 2e-3 && m16 < 2e-3, "markers {m8}, {m16}");
+    // One marker per cell: the midpoint quadrature balances the end nodes (docs/mpm.md).
+    let (e8_1, _) = plate_stress_error(8, 1);
+    assert!(e8_1 < 0.03, "one marker per cell, 8 cells: {e8_1}");
 }

@@ -106,6 +106,8 @@ pub fn all_cases() -> Vec<Box<dyn Case>> {
         fea::bend45::case(),
         fea::tire_drop::case(),
         mpm::elastic_bar::case(),
+        mpm::snow::case(),
+        mpm::footing::case(),
         vehicle::static_settle::case(),
         vehicle::accel::case(),
         vehicle::turn::case(),

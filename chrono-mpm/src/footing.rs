@@ -1,0 +1,351 @@
+//! A rigid strip footing pushed into a weightless cohesive soil, in plane strain: the
+//! bearing-capacity problem of Prandtl (1920).
+//!
+//! For a rigid-perfectly plastic Tresca soil of undrained shear strength `c_u`, weightless
+//! and without surcharge, the limit pressure under a strip footing of width `B` (smooth or
+//! rough: the mechanisms differ, the load does not for `phi = 0`) is
+//!
+//! ```text
+//! q_u = (2 + pi) c_u          (Prandtl 1920; e.g. Terzaghi, Theoretical Soil Mechanics, 1943)
+//! ```
+//!
+//! The soil here is von Mises clay ([`VonMises::from_undrained_strength`]): in plane strain
+//! (with the out-of-plane stress at the mean of the in-plane ones, as an isochoric flow
+//! gives) von Mises with `sigma_y = sqrt(3) c_u` has the same limit shear stress `c_u` as
+//! Tresca, so the same `q_u`.
+//!
+//! The scene is half of the symmetric problem: the soil `x in [0, domain_width B]`,
+//! `z in [0, domain_depth B]` (the Prandtl mechanism reaches `B` beyond the footing's edge
+//! and about `0.7 B` deep), one cell thick in `y` between slip walls (plane strain, one
+//! layer of markers); the plane `x = 0` is a
+//! symmetry (slip) wall, the far side and the bottom are slip walls. The footing is a
+//! sticky (rough) rigid box of half-width `B/2` centred on `x = 0`, its base on the soil's
+//! surface, pushed down at `V(t) = speed r(t)` with the smooth ramp
+//! `r = (1 - cos(pi t / t_ramp))/2` (see [`crate::compaction`]). The pressure is the
+//! footing's reaction (the momentum it takes from the grid) over `B/2` times the slab's
+//! thickness, averaged over each sampling interval. Gravity is off (weightless soil).
+//!
+//! [`VonMises::from_undrained_strength`]: crate::VonMises::from_undrained_strength
+
+use nalgebra::Vector3;
+
+use crate::body::{MpmBody, MpmSettings};
+use crate::error::{Result, invalid, positive};
+use crate::grid::{GridSpec, Wall};
+use crate::material::{Material, VonMises};
+use crate::rigid::{Contact, RigidBody};
+
+/// Parameters of the footing problem.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FootingSpec {
+    /// Footing width `B`, m.
+    pub footing_width: f64,
+    /// Undrained shear strength `c_u`, Pa.
+    pub cohesion: f64,
+    /// Young's modulus of the soil, Pa.
+    pub young: f64,
+    /// Poisson's ratio of the soil.
+    pub poisson: f64,
+    /// Density of the soil, kg/m^3 (inertia only: the soil is weightless).
+    pub density: f64,
+    /// Grid cells across the footing's half-width `B/2`.
+    pub cells_half_width: usize,
+    /// Markers per cell per axis.
+    pub markers_per_cell: usize,
+    /// Soil half-width from the symmetry plane, in footing widths `B`.
+    pub domain_width: f64,
+    /// Soil depth, in footing widths `B`.
+    pub domain_depth: f64,
+    /// The footing's final speed, m/s.
+    pub speed: f64,
+    /// Duration of the speed ramp, s.
+    pub ramp_time: f64,
+    /// Final settlement, in footing widths `B`.
+    pub final_settlement: f64,
+    /// CFL number of the time step.
+    pub cfl: f64,
+}
+
+impl FootingSpec {
+    /// Prandtl's limit pressure `(2 + pi) c_u`, Pa.
+    pub fn prandtl_pressure(&self) -> f64 {
+        (2.0 + std::f64::consts::PI) * self.cohesion
+    }
+}
+
+/// One sample of the footing's load-settlement curve.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FootingSample {
+    /// Time at the middle of the sampling interval, s.
+    pub t: f64,
+    /// Settlement at the middle of the interval, m.
+    pub settlement: f64,
+    /// Mean pressure under the footing over the interval, Pa.
+    pub pressure: f64,
+    /// Kinetic energy of the soil at the end of the interval, J.
+    pub kinetic: f64,
+    /// Elastic energy of the soil at the end of the interval, J.
+    pub elastic: f64,
+    /// Work done by the footing on the soil since the start, J.
+    pub work: f64,
+}
+
+/// The footing and its soil.
+#[derive(Clone, Debug)]
+pub struct Footing {
+    /// The MPM body (the footing is `body.rigid[0]`).
+    pub body: MpmBody,
+    spec: FootingSpec,
+    /// The loaded area of the half model, `B/2` times the slab thickness, m^2.
+    pub area: f64,
+    z0: f64,
+}
+
+impl Footing {
+    /// Builds the soil and the footing; errors name the field (`footing.*`,
+    /// `material.*`).
+    pub fn new(spec: FootingSpec) -> Result<Self> {
+        let b = positive("footing.footing_width", spec.footing_width)?;
+        positive("footing.density", spec.density)?;
+        positive("footing.speed", spec.speed)?;
+        positive("footing.cfl", spec.cfl)?;
+        if !(spec.ramp_time.is_finite() && spec.ramp_time >= 0.0) {
+            return Err(invalid(
+                "footing.ramp_time",
+                spec.ramp_time,
+                "must be finite and >= 0",
+            ));
+        }
+        if !(spec.domain_width >= 1.0 && spec.domain_width.is_finite()) {
+            return Err(invalid(
+                "footing.domain_width",
+                spec.domain_width,
+                "must be >= 1 (footing widths)",
+            ));
+        }
+        if !(spec.domain_depth >= 0.5 && spec.domain_depth.is_finite()) {
+            return Err(invalid(
+                "footing.domain_depth",
+                spec.domain_depth,
+                "must be >= 0.5 (footing widths)",
+            ));
+        }
+        if !(spec.final_settlement > 0.0 && spec.final_settlement < 0.5 * spec.domain_depth) {
+            return Err(invalid(
+                "footing.final_settlement",
+                spec.final_settlement,
+                "must lie in (0, domain_depth / 2) (footing widths)",
+            ));
+        }
+        if spec.cells_half_width < 1 {
+            return Err(invalid(
+                "footing.cells_half_width",
+                spec.cells_half_width,
+                "must be >= 1",
+            ));
+        }
+        if spec.markers_per_cell == 0 || spec.markers_per_cell > 8 {
+            return Err(invalid(
+                "footing.markers_per_cell",
+                spec.markers_per_cell,
+                "must lie in [1, 8]",
+            ));
+        }
+        let soil = VonMises::from_undrained_strength(spec.young, spec.poisson, spec.cohesion)?;
+        let dx = 0.5 * b / spec.cells_half_width as f64;
+        let nx = (spec.domain_width * b / dx).round() as usize;
+        let nz = (spec.domain_depth * b / dx).round() as usize;
+        let lz = nz as f64 * dx;
+        // Room above the surface for the heave: a quarter of the depth plus 2 cells.
+        let above = nz / 4 + 2;
+        let grid = GridSpec::new([0.0; 3], [nx, 1, nz + above], dx)?
+            .with_walls(0, Wall::Slip, Wall::Slip)
+            .with_walls(1, Wall::Slip, Wall::Slip)
+            .with_walls(2, Wall::Slip, Wall::Open);
+        let settings = MpmSettings {
+            gravity: [0.0; 3],
+            cfl: spec.cfl,
+        };
+        let mut body = MpmBody::new(grid, Material::VonMises(soil), settings)?;
+        // Plane strain: one layer of markers across the slab (a second layer would only
+        // repeat the first), `markers_per_cell` per axis in the plane.
+        let d = dx / spec.markers_per_cell as f64;
+        let (mx, mz) = (nx * spec.markers_per_cell, nz * spec.markers_per_cell);
+        let vol = d * d * dx;
+        for i in 0..mx {
+            for k in 0..mz {
+                let x = Vector3::new((i as f64 + 0.5) * d, 0.5 * dx, (k as f64 + 0.5) * d);
+                body.markers
+                    .push(spec.density * vol, vol, x, Vector3::zeros())?;
+            }
+        }
+        // The footing: half-width B/2 about x = 0, as high as the room above, its base on
+        // the surface; wider than the slab in y.
+        let h = 0.5 * above as f64 * dx + dx;
+        let z0 = lz + h;
+        body.rigid.push(RigidBody::new_box(
+            Vector3::new(0.0, 0.5 * dx, z0),
+            [0.5 * b, dx, h],
+            Vector3::zeros(),
+            Contact::Sticky,
+        )?);
+        Ok(Self {
+            body,
+            spec,
+            area: 0.5 * b * dx,
+            z0,
+        })
+    }
+
+    /// The parameters.
+    pub fn spec(&self) -> &FootingSpec {
+        &self.spec
+    }
+
+    /// The settlement of the footing, m.
+    pub fn settlement(&self) -> f64 {
+        self.z0 - self.body.rigid[0].position.z
+    }
+
+    /// The footing's speed at time `t`, m/s (downwards positive).
+    pub fn speed(&self, t: f64) -> f64 {
+        let r = if t < self.spec.ramp_time {
+            0.5 * (1.0 - (std::f64::consts::PI * t / self.spec.ramp_time).cos())
+        } else {
+            1.0
+        };
+        self.spec.speed * r
+    }
+
+    /// Runs to the final settlement with `samples` samples (at least 1); `progress` gets
+    /// the fraction done.
+    pub fn run(
+        &mut self,
+        samples: usize,
+        mut progress: impl FnMut(f64),
+    ) -> Result<Vec<FootingSample>> {
+        let samples = samples.max(1);
+        let s_f = self.spec.final_settlement * self.spec.footing_width;
+        let mut out = Vec::with_capacity(samples);
+        let mut next = 1;
+        let (mut t0, mut s0, mut j0) = (self.body.time(), self.settlement(), 0.0);
+        let mut work = 0.0;
+        let mut k = 0u64;
+        while self.settlement() < s_f {
+            let t = self.body.time();
+            let v = self.speed(t);
+            self.body.rigid[0].velocity = Vector3::new(0.0, 0.0, -v);
+            let dt = 0.999 * self.body.stable_dt();
+            self.body.step(dt)?;
+            // The work of the footing on the soil: the impulse it gives times its
+            // velocity (0, 0, -v).
+            work += self.body.rigid[0].impulse.z * -v;
+            k += 1;
+            let s = self.settlement();
+            if s >= s_f * next as f64 / samples as f64 || s >= s_f {
+                let t1 = self.body.time();
+                let j1 = self.body.rigid[0].total_impulse.z;
+                out.push(FootingSample {
+                    t: 0.5 * (t0 + t1),
+                    settlement: 0.5 * (s0 + s),
+                    pressure: -(j1 - j0) / (t1 - t0) / self.area,
+                    kinetic: self.body.kinetic_energy(),
+                    elastic: self.body.elastic_energy(),
+                    work,
+                });
+                (t0, s0, j0) = (t1, s, j1);
+                while s_f * next as f64 / samples as f64 <= s {
+                    next += 1;
+                }
+            }
+            if k.is_multiple_of(64) {
+                progress((s / s_f).min(1.0));
+            }
+        }
+        Ok(out)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn spec() -> FootingSpec {
+        FootingSpec {
+            footing_width: 1.0,
+            cohesion: 1e4,
+            young: 5e6,
+            poisson: 0.3,
+            density: 1800.0,
+            cells_half_width: 2,
+            markers_per_cell: 2,
+            domain_width: 2.5,
+            domain_depth: 1.5,
+            speed: 0.05,
+            ramp_time: 0.2,
+            final_settlement: 0.1,
+            cfl: 0.4,
+        }
+    }
+
+    #[test]
+    fn bad_footing_input_names_the_field() {
+        let bad = |s: FootingSpec, field: &str| {
+            let e = Footing::new(s).unwrap_err();
+            assert!(e.to_string().contains(field), "{e} should name {field}");
+        };
+        let d = spec();
+        bad(
+            FootingSpec {
+                cohesion: -1.0,
+                ..d
+            },
+            "material.cohesion",
+        );
+        bad(FootingSpec { young: 0.0, ..d }, "material.young");
+        bad(
+            FootingSpec {
+                footing_width: f64::NAN,
+                ..d
+            },
+            "footing.footing_width",
+        );
+        bad(
+            FootingSpec {
+                final_settlement: 0.9,
+                ..d
+            },
+            "footing.final_settlement",
+        );
+        bad(
+            FootingSpec {
+                cells_half_width: 0,
+                ..d
+            },
+            "footing.cells_half_width",
+        );
+        bad(FootingSpec { speed: 0.0, ..d }, "footing.speed");
+    }
+
+    #[test]
+    fn the_footing_starts_on_the_surface_and_pushes() {
+        // A few steps: the footing's base starts on the soil's surface (no pressure
+        // before it moves), then the soil resists it (positive pressure).
+        let mut f = Footing::new(FootingSpec {
+            final_settlement: 0.002,
+            ramp_time: 0.0,
+            ..spec()
+        })
+        .unwrap();
+        assert_eq!(f.settlement(), 0.0);
+        let top = f.body.markers.x.iter().map(|x| x.z).fold(0.0, f64::max);
+        let base = f.body.rigid[0].position.z
+            - match f.body.rigid[0].shape {
+                crate::rigid::Shape::Box { half } => half[2],
+            };
+        assert!(base > top && base - top < f.body.spec().dx, "{base} {top}");
+        let s = f.run(4, |_| {}).unwrap();
+        assert!(s.iter().all(|s| s.pressure > 0.0), "{s:?}");
+        assert!((f.spec().prandtl_pressure() - 51415.9).abs() < 0.1);
+    }
+}
