@@ -8,6 +8,8 @@
 //! - [`cable`]: markers over the round section of ANCF cable/beam meshes, placed by the
 //!   shape functions, their forces put back on the nodal coordinates with the same
 //!   weights (consistent virtual work; [`FsiBuilder::add_cable`]);
+//! - [`beam_flow`]: a flexible beam clamped in a periodic array flow (the scene of
+//!   `fsi-flexible-beam`);
 //! - [`FsiBuilder`]: tanks, fluid blocks carved around the bodies, the bodies' markers
 //!   (bad input, e.g. a body thinner than the kernel support, is an error naming the body);
 //! - [`SphFluid`]: the item. [`System::step(h)`](chrono_core::System::step) advances it to
@@ -55,6 +57,7 @@
 //! assert!(f.last_substeps() >= 1);
 //! ```
 
+pub mod beam_flow;
 pub mod builder;
 pub mod cable;
 #[cfg(test)]
