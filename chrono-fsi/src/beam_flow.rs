@@ -13,6 +13,31 @@
 //!
 //! The box is rounded to whole spacings (`P`, `L + gap`); the fluid is carved around the
 //! beam ([`FsiBuilder`]).
+//!
+//! ```
+//! use chrono_fsi::beam_flow::{BeamFlowParams, beam_in_flow};
+//!
+//! let p = BeamFlowParams {
+//!     diameter: 0.02,
+//!     length: 0.12,
+//!     elements: 3,
+//!     young: 1e6,
+//!     beam_density: 1000.0,
+//!     pitch: 0.05,
+//!     gap: 0.02,
+//!     rho: 1000.0,
+//!     viscosity: 1.0,
+//!     body_force: 0.07,
+//!     spacing: 0.005,
+//!     speed_estimate: 0.01,
+//! };
+//! let solver = chrono_ccp::Psor::new(Default::default());
+//! let mut scene = beam_in_flow(&p, Box::new(solver)).unwrap();
+//! scene.system.step(4e-3).unwrap();
+//! // the flow pushes the beam along x
+//! assert!(scene.fluid().cable_force(0).unwrap().x > 0.0);
+//! assert!(scene.tip_displacement().norm() < 1e-3);
+//! ```
 
 use std::f64::consts::PI;
 

@@ -9,7 +9,7 @@ use chrono_sph::{RigidMotion, SphBuilder, SphSettings};
 use chrono_core::item::PhysicsItem;
 use chrono_fea::CableItem;
 
-use crate::cable::{CableMarkers, cable_distance};
+use crate::cable::{CableMarkers, cable_distance, node_uses};
 use crate::error::{FsiError, Result};
 use crate::fluid::{Coupled, CoupledCable, SphFluid};
 use crate::markers::{shape_kind, shape_markers, thickness};
@@ -185,6 +185,11 @@ impl FsiBuilder {
     pub fn build(mut self, name: impl Into<String>, group_base: u16) -> Result<SphFluid> {
         let dp = self.settings().spacing;
         let fluid = std::mem::take(&mut self.fluid);
+        let uses: Vec<Vec<u32>> = self
+            .cables
+            .iter()
+            .map(|c| node_uses(c.item.mesh()))
+            .collect();
         for (points, free_surface) in fluid {
             let kept: Vec<[f64; 3]> = points
                 .into_iter()
@@ -198,10 +203,9 @@ impl FsiBuilder {
                             signed_distance(&s.shape, [pl.x, pl.y, pl.z], s.open)
                                 >= 0.5 * dp * (1.0 - 1e-6)
                         })
-                    }) && self
-                        .cables
-                        .iter()
-                        .all(|c| cable_distance(c.item.mesh(), &x) >= 0.5 * dp * (1.0 - 1e-6))
+                    }) && self.cables.iter().zip(&uses).all(|(c, u)| {
+                        cable_distance(c.item.mesh(), u, &x) >= 0.5 * dp * (1.0 - 1e-6)
+                    })
                 })
                 .collect();
             self.sph.add_fluid_points(&kept, free_surface);

@@ -303,18 +303,24 @@ fn normal_frame(t: &Vector3<f64>) -> (Vector3<f64>, Vector3<f64>) {
     (n1, t.cross(&n1))
 }
 
+/// The number of elements at each node of `mesh` (1 at a free end).
+pub fn node_uses(mesh: &CableMesh) -> Vec<u32> {
+    let mut uses = vec![0u32; mesh.nodes().len()];
+    for el in mesh.elements() {
+        uses[el.nodes[0]] += 1;
+        uses[el.nodes[1]] += 1;
+    }
+    uses
+}
+
 /// Signed distance (m, negative inside) of the world point `p` to the round beam of
 /// `mesh` in its current configuration: the union over the elements of tubes of the
 /// section radius around the centre line (sampled by `SAMPLES` chords per element),
 /// closed flat at the free ends (nodes of one element). Used to carve the fluid.
-pub fn cable_distance(mesh: &CableMesh, p: &Vector3<f64>) -> f64 {
+/// `uses[n]` is the number of elements at node `n` ([`node_uses`]).
+pub fn cable_distance(mesh: &CableMesh, uses: &[u32], p: &Vector3<f64>) -> f64 {
     const SAMPLES: usize = 8;
     let els = mesh.elements();
-    let mut uses = vec![0u32; mesh.nodes().len()];
-    for el in els {
-        uses[el.nodes[0]] += 1;
-        uses[el.nodes[1]] += 1;
-    }
     let mut best = f64::INFINITY;
     for (e, el) in els.iter().enumerate() {
         let a = section_radius(mesh, e);

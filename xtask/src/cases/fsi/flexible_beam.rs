@@ -24,14 +24,18 @@
 //!   (1959), `F / (mu U L) = 4 pi / (-ln(c)/2 - 0.738 + c - 0.887 c^2 + 2.038 c^3)` (it gives
 //!   24.81 at `c = 0.1`, their table 24.83), times `mu U`; checked within 15 % where it
 //!   applies: Reynolds number `rho U D / mu <= 1` (Stokes flow) and the beam resolved by at
-//!   least `RESOLVED_SPACINGS` spacings across; otherwise reported.
+//!   least `RESOLVED_SPACINGS` (6) spacings across (`--full`); otherwise reported. `U` is
+//!   the superficial velocity (the cell average, zero inside the beam).
 //!
 //! Reported: `reynolds`, `solid_fraction`, `drag_balance` (the total drag over the body
 //! force on the cell's fluid, 1 in steady state), `substeps_per_step`, the wall time.
 //!
-//! Defaults: `D = 0.02 m`, `L = 0.16 m`, `P = 3 D`, `dp = D / 4`, `mu = 1 Pa s`, `f` for
-//! `U ~ 0.01 m/s` (`Re ~ 0.2`), `E = 1 MPa` (tip deflection ~1.5 % of `L`), 1.2 s.
-//! `--full`: `dp = D / 6`, 1.5 s.
+//! Defaults: `D = 0.02 m`, `L = 0.16 m`, `P = 3 D` (`c = 0.087`), `dp = D / 4`,
+//! `mu = 1 Pa s`, `f = 0.0676 m/s^2` (`U ~ 0.013 m/s`, `Re ~ 0.25`), `E = 1 MPa` (tip
+//! deflection ~1.7 % of `L`), 1 s (the flow relaxes in ~0.15 s, the beam in ~0.1 s).
+//! `--full`: `dp = D / 6`, 1.5 s (about 250 s): the tip within 0.03 % of the static
+//! solution, the drag 18 % below Sangani & Acrivos (not yet within 15 %; -20 % at
+//! `D / 8`: not a resolution error).
 
 use std::f64::consts::PI;
 use std::time::Instant;
@@ -44,8 +48,11 @@ use serde::{Deserialize, Serialize};
 use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series};
 use crate::params::{CaseParams, ParamCase, ParamInfo};
 
-/// Spacings across the beam from which the drag is checked against the correlation.
-const RESOLVED_SPACINGS: f64 = 4.0;
+/// Spacings across the beam from which the drag is checked against the correlation
+/// (`--full`); below it the drag is reported. At 6 and 8 spacings the SPH array drags
+/// 18-20 % less than Sangani & Acrivos at the measured velocity, not falling with the
+/// spacing (docs/validation-fsi.md): the check fails, not yet understood.
+const RESOLVED_SPACINGS: f64 = 6.0;
 
 /// Parameters of `fsi-flexible-beam`.
 #[derive(Clone, Debug, Serialize, Deserialize)]
@@ -94,7 +101,7 @@ impl Default for FlexibleBeamParams {
             viscosity: 1.0,
             body_force: 0.0676,
             spacing: 0.005,
-            t_end: 1.2,
+            t_end: 1.0,
             coupling_step: 4e-3,
             window: 0.25,
         }
@@ -128,7 +135,7 @@ impl CaseParams for FlexibleBeamParams {
     ];
     fn apply_mode(&mut self, mode: Mode) {
         match mode {
-            Mode::Quick => self.t_end = 0.6,
+            Mode::Quick => self.t_end = 0.45,
             Mode::Default => {}
             Mode::Full => {
                 self.spacing = self.diameter / 6.0;
