@@ -405,7 +405,7 @@ impl PhysicsItem for SphFluid {
     }
 
     /// The cables' proxies, their ids tagged with the cable index above
-    /// [`PROXY_BITS`] bits.
+    /// 24 bits (`PROXY_BITS`).
     fn collision_proxies(&self, out: &mut Vec<CollisionProxy>) {
         for (k, c) in self.cables.iter().enumerate() {
             let start = out.len();
