@@ -281,6 +281,13 @@ impl CableItem {
             .set_velocity(6 * n.0, &v, &format!("node {} velocity", n.0))
     }
 
+    /// Set the applied generalized load on the nodal coordinates (6 per node; N on the
+    /// positions, N m on the slopes; see [`CableMesh::set_coordinate_load`]): it enters
+    /// `F_ext` from the next step on, until changed.
+    pub fn set_coordinate_load(&mut self, load: &[f64]) -> Result<()> {
+        self.mesh.set_coordinate_load(load)
+    }
+
     /// Set the configuration (all coordinates, [`CableMesh::set_coordinates`]); the
     /// velocities are kept.
     pub fn set_coordinates(&mut self, q: &[f64]) -> Result<()> {
@@ -335,6 +342,9 @@ impl PhysicsItem for CableItem {
             core.q[6 * n + 3..6 * n + 6].copy_from_slice(node.slope.as_slice());
             core.force[6 * n..6 * n + 3].copy_from_slice(node.force.as_slice());
             core.force[6 * n + 3..6 * n + 6].fill(0.0);
+        }
+        for (f, l) in core.force.iter_mut().zip(self.mesh.coordinate_load()) {
+            *f += l;
         }
         core.begin_assembly();
         for (e, el) in self.mesh.elements().iter().enumerate() {

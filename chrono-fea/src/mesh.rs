@@ -77,6 +77,8 @@ pub struct CableMesh {
     nodes: Vec<GradientNode>,
     elements: Vec<AncfCable>,
     gravity: Vector3<f64>,
+    /// Applied generalized load on the coordinates (6 per node; empty: none).
+    coordinate_load: Vec<f64>,
 }
 
 impl CableMesh {
@@ -280,6 +282,36 @@ impl CableMesh {
         self.gravity
     }
 
+    /// Set an applied generalized load on the nodal coordinates, a dead load added to the
+    /// nodal forces: `load[6 n .. 6 n + 3]` on node `n`'s position (N) and
+    /// `load[6 n + 3 .. 6 n + 6]` on its slope (N m). A distributed force `f(x)` along the
+    /// centre line enters as `Q_k = ∫ S_k f dx` (`S_k` the element's shape functions), so
+    /// `Q . q_dot` is the power of `f` (e.g. fluid forces interpolated by chrono-fsi).
+    /// Errors: a length other than [`ndof`](Self::ndof) or a value that is not finite.
+    /// An empty slice removes it.
+    pub fn set_coordinate_load(&mut self, load: &[f64]) -> Result<()> {
+        if load.is_empty() {
+            self.coordinate_load.clear();
+            return Ok(());
+        }
+        crate::error::check_coordinates(load, self.ndof(), 6).map_err(|_| {
+            FeaError::invalid(
+                "coordinate_load",
+                format!("{} values", load.len()),
+                format!("must be {} finite values (6 per node)", self.ndof()),
+            )
+        })?;
+        self.coordinate_load.clear();
+        self.coordinate_load.extend_from_slice(load);
+        Ok(())
+    }
+
+    /// The applied generalized load on the coordinates (empty: none;
+    /// [`set_coordinate_load`](Self::set_coordinate_load)).
+    pub fn coordinate_load(&self) -> &[f64] {
+        &self.coordinate_load
+    }
+
     /// Number of global coordinates (6 per node).
     pub fn ndof(&self) -> usize {
         GradientNode::NDOF * self.nodes.len()
@@ -339,7 +371,8 @@ impl CableMesh {
         6 * el.nodes[i / 6] + i % 6
     }
 
-    /// The applied load at load factor `lambda`: `lambda (F_nodal + Q_gravity)`, a global
+    /// The applied load at load factor `lambda`: `lambda (F_nodal + Q_coord + Q_gravity)`
+    /// (`Q_coord`: [`set_coordinate_load`](Self::set_coordinate_load)), a global
     /// vector (N for the position rows, N m for the slope rows).
     pub fn external_force(&self, lambda: f64) -> Vec<f64> {
         let mut f = vec![0.0; self.ndof()];
@@ -347,6 +380,9 @@ impl CableMesh {
             for i in 0..3 {
                 f[6 * n + i] += lambda * node.force[i];
             }
+        }
+        for (fi, li) in f.iter_mut().zip(&self.coordinate_load) {
+            *fi += lambda * li;
         }
         if self.gravity != Vector3::zeros() {
             for el in &self.elements {

@@ -6,8 +6,12 @@ use chrono_core::particles::lattice::{Fit, Lattice, wall_layers};
 use chrono_core::{BodyHandle, RigidBody, Shape, System};
 use chrono_sph::{RigidMotion, SphBuilder, SphSettings};
 
+use chrono_core::item::PhysicsItem;
+use chrono_fea::CableItem;
+
+use crate::cable::{CableMarkers, cable_distance, node_uses};
 use crate::error::{FsiError, Result};
-use crate::fluid::{Coupled, SphFluid};
+use crate::fluid::{Coupled, CoupledCable, SphFluid};
 use crate::markers::{shape_kind, shape_markers, thickness};
 
 /// Fewest fluid spacings across a body's smallest dimension: below it the markers cannot
@@ -44,6 +48,7 @@ pub struct FsiBuilder {
     sph: SphBuilder,
     fluid: Vec<(Vec<[f64; 3]>, Option<f64>)>,
     bodies: Vec<PendingBody>,
+    cables: Vec<CoupledCable>,
 }
 
 impl FsiBuilder {
@@ -53,6 +58,7 @@ impl FsiBuilder {
             sph: SphBuilder::new(settings)?,
             fluid: Vec::new(),
             bodies: Vec::new(),
+            cables: Vec::new(),
         })
     }
 
@@ -157,11 +163,33 @@ impl FsiBuilder {
         Ok(n)
     }
 
-    /// The fluid item named `name`: fluid blocks carved around the bodies, the bodies'
-    /// markers as rigid carriers (one wall group per body, `group_base + k`).
+    /// Couple the ANCF cable `item` to the fluid: BCE markers over the round section of
+    /// each element's area at the fluid spacing ([`crate::cable`]), placed at its current
+    /// configuration. The fluid item owns the cable from then on
+    /// ([`SphFluid::cable`]). Returns the cable's index. Errors name the cable and the
+    /// element: a section thinner than the kernel support or resolved by fewer than
+    /// [`MIN_CELLS_ACROSS`] spacings.
+    pub fn add_cable(&mut self, item: CableItem) -> Result<usize> {
+        let s = self.settings();
+        let (dp, support) = (s.spacing, 2.0 * s.h());
+        let markers = CableMarkers::new(item.name(), item.mesh(), dp, support)?;
+        let mut c = CoupledCable::new(item, markers, usize::MAX);
+        c.place()?;
+        self.cables.push(c);
+        Ok(self.cables.len() - 1)
+    }
+
+    /// The fluid item named `name`: fluid blocks carved around the bodies and cables, the
+    /// bodies' markers as rigid carriers (one wall group per body, `group_base + k`), the
+    /// cables' as point carriers (groups after the bodies').
     pub fn build(mut self, name: impl Into<String>, group_base: u16) -> Result<SphFluid> {
         let dp = self.settings().spacing;
         let fluid = std::mem::take(&mut self.fluid);
+        let uses: Vec<Vec<u32>> = self
+            .cables
+            .iter()
+            .map(|c| node_uses(c.item.mesh()))
+            .collect();
         for (points, free_surface) in fluid {
             let kept: Vec<[f64; 3]> = points
                 .into_iter()
@@ -175,6 +203,8 @@ impl FsiBuilder {
                             signed_distance(&s.shape, [pl.x, pl.y, pl.z], s.open)
                                 >= 0.5 * dp * (1.0 - 1e-6)
                         })
+                    }) && self.cables.iter().zip(&uses).all(|(c, u)| {
+                        cable_distance(c.item.mesh(), u, &x) >= 0.5 * dp * (1.0 - 1e-6)
                     })
                 })
                 .collect();
@@ -194,8 +224,17 @@ impl FsiBuilder {
                 load: [Vector3::zeros(); 2],
             });
         }
-        let sph = self.sph.build()?;
-        Ok(SphFluid::new(name.into(), sph, coupled))
+        let mut cables = std::mem::take(&mut self.cables);
+        let base = group_base + self.bodies.len() as u16;
+        for (k, c) in cables.iter_mut().enumerate() {
+            c.carrier = self.sph.add_point_markers(&c.x, base + k as u16)?;
+        }
+        let mut sph = self.sph.build()?;
+        for c in &cables {
+            // the markers move with the cable's initial velocity from t = 0
+            sph.set_point_motion(c.carrier, 0.0, &c.x, &c.v)?;
+        }
+        Ok(SphFluid::new(name.into(), sph, coupled, cables))
     }
 }
 

@@ -44,17 +44,89 @@
 //! i.e. stable while about `(m_a / m) h c_s / D < 3`; one or a few fluid sub-steps per
 //! multibody step are stable for every density ratio tried.
 //!
+//! **ANCF cables** ([`crate::cable`]) coupled to the fluid are owned by the fluid item
+//! (the system gives an item no access to another): their markers are placed from the
+//! nodal coordinates and velocities at `t` and move with constant velocity over the step
+//! (a point carrier of chrono-sph), and the markers' impulses over the sub-steps, mapped to
+//! the nodal coordinates with the shape-function weights, enter the cable's implicit step
+//! as the mean generalized load `Q = J / h` (added to the cable's momentum `h Q` in
+//! [`load_momentum`](PhysicsItem::load_momentum)). The item forwards every other call
+//! (variables, rows, contact proxies, update) to its cables.
+//!
 //! Fixed and kinematic bodies carry markers too (their loads are computed and reported,
 //! [`SphFluid::body_load`], and dropped by the stepper): a body with a prescribed motion is
 //! a moving wall.
 
 use chrono_core::bodies::Bodies;
-use chrono_core::descriptor::{CcpProblem, Variables};
+use chrono_core::collision::CollisionProxy;
+use chrono_core::descriptor::{BlockId, CcpProblem, ConstraintRows, Variables};
 use chrono_core::force::BodyLoads;
 use chrono_core::item::{PhysicsItem, StepContext};
 use chrono_core::math::Vector3;
 use chrono_core::{BodyHandle, ChronoError};
+use chrono_fea::CableItem;
 use chrono_sph::{RigidMotion, SphSystem};
+
+use crate::cable::CableMarkers;
+
+/// Bits of a contact proxy id below the cable index (see
+/// [`SphFluid::collision_proxies`](PhysicsItem::collision_proxies)).
+const PROXY_BITS: u32 = 24;
+
+/// An ANCF cable coupled to the fluid, owned by the fluid item.
+#[derive(Debug)]
+pub(crate) struct CoupledCable {
+    pub item: CableItem,
+    pub markers: CableMarkers,
+    /// The point carrier index in the SPH system.
+    pub carrier: usize,
+    /// Scratch: marker positions, velocities and impulses.
+    pub x: Vec<[f64; 3]>,
+    pub v: Vec<[f64; 3]>,
+    pub impulse: Vec<[f64; 3]>,
+    /// The mean generalized load of the last step (6 per node).
+    pub load: Vec<f64>,
+    /// The mean force of the fluid on the cable over the last step, N.
+    pub force: Vector3<f64>,
+    /// The mean force on each marker over the last step, N.
+    pub marker_force: Vec<[f64; 3]>,
+    /// The cable's variable block of this step.
+    pub block: Option<BlockId>,
+}
+
+impl CoupledCable {
+    pub fn new(item: CableItem, markers: CableMarkers, carrier: usize) -> Self {
+        let n = markers.len();
+        let ndof = item.mesh().ndof();
+        Self {
+            item,
+            markers,
+            carrier,
+            x: vec![[0.0; 3]; n],
+            v: vec![[0.0; 3]; n],
+            impulse: vec![[0.0; 3]; n],
+            load: vec![0.0; ndof],
+            force: Vector3::zeros(),
+            marker_force: vec![[0.0; 3]; n],
+            block: None,
+        }
+    }
+
+    /// Places the markers at the cable's state (positions into `x`, velocities into `v`).
+    pub fn place(&mut self) -> crate::Result<()> {
+        let item = &self.item;
+        self.markers.place(
+            chrono_core::item::PhysicsItem::name(item),
+            item.mesh(),
+            |n| {
+                item.node_velocity(n)
+                    .unwrap_or((Vector3::zeros(), Vector3::zeros()))
+            },
+            &mut self.x,
+            &mut self.v,
+        )
+    }
+}
 
 /// A body coupled to the fluid.
 #[derive(Debug, Clone)]
@@ -77,16 +149,23 @@ pub struct SphFluid {
     pub(crate) name: String,
     pub(crate) sph: SphSystem,
     pub(crate) bodies: Vec<Coupled>,
+    pub(crate) cables: Vec<CoupledCable>,
     last_substeps: u64,
     substeps: u64,
 }
 
 impl SphFluid {
-    pub(crate) fn new(name: String, sph: SphSystem, bodies: Vec<Coupled>) -> Self {
+    pub(crate) fn new(
+        name: String,
+        sph: SphSystem,
+        bodies: Vec<Coupled>,
+        cables: Vec<CoupledCable>,
+    ) -> Self {
         Self {
             name,
             sph,
             bodies,
+            cables,
             last_substeps: 0,
             substeps: 0,
         }
@@ -127,11 +206,51 @@ impl SphFluid {
             .map(|c| c.load)
     }
 
+    /// Number of coupled cables.
+    pub fn num_cables(&self) -> usize {
+        self.cables.len()
+    }
+
+    /// Cable `k` (in the order of [`FsiBuilder::add_cable`](crate::FsiBuilder::add_cable)).
+    pub fn cable(&self, k: usize) -> Option<&CableItem> {
+        self.cables.get(k).map(|c| &c.item)
+    }
+
+    /// Cable `k`, mutable (e.g. to set node velocities before the first step).
+    pub fn cable_mut(&mut self, k: usize) -> Option<&mut CableItem> {
+        self.cables.get_mut(k).map(|c| &mut c.item)
+    }
+
+    /// The BCE markers of cable `k`.
+    pub fn cable_markers(&self, k: usize) -> Option<&CableMarkers> {
+        self.cables.get(k).map(|c| &c.markers)
+    }
+
+    /// The mean fluid force on cable `k` over the last system step, N.
+    pub fn cable_force(&self, k: usize) -> Option<Vector3<f64>> {
+        self.cables.get(k).map(|c| c.force)
+    }
+
+    /// The mean fluid force on each marker of cable `k` over the last system step, N.
+    pub fn cable_marker_forces(&self, k: usize) -> Option<&[[f64; 3]]> {
+        self.cables.get(k).map(|c| c.marker_force.as_slice())
+    }
+
+    /// The mean generalized load of the fluid on the nodal coordinates of cable `k` over
+    /// the last system step (6 per node: N on positions, N m on slopes).
+    pub fn cable_load(&self, k: usize) -> Option<&[f64]> {
+        self.cables.get(k).map(|c| c.load.as_slice())
+    }
+
     fn domain_error(&self, e: chrono_sph::SphError) -> ChronoError {
-        ChronoError::Domain {
-            domain: format!("chrono-sph (item \"{}\")", self.name),
-            source: chrono_core::error::DomainError(std::sync::Arc::new(e)),
-        }
+        self_domain_error(&self.name, e)
+    }
+}
+
+fn self_domain_error(name: &str, e: chrono_sph::SphError) -> ChronoError {
+    ChronoError::Domain {
+        domain: format!("chrono-sph (item \"{name}\")"),
+        source: chrono_core::error::DomainError(std::sync::Arc::new(e)),
     }
 }
 
@@ -191,6 +310,24 @@ impl PhysicsItem for SphFluid {
                     ChronoError::invalid(format!("body \"{}\" motion", c.name), "", e.to_string())
                 })?;
         }
+        for c in &mut self.cables {
+            c.place().map_err(|e| {
+                ChronoError::invalid(
+                    format!("cable \"{}\" markers", c.item.name()),
+                    "",
+                    e.to_string(),
+                )
+            })?;
+            self.sph
+                .set_point_motion(c.carrier, ctx.time, &c.x, &c.v)
+                .map_err(|e| {
+                    ChronoError::invalid(
+                        format!("cable \"{}\" markers", c.item.name()),
+                        "",
+                        e.to_string(),
+                    )
+                })?;
+        }
         let t_end = ctx.time + ctx.h;
         let n = self
             .sph
@@ -207,21 +344,136 @@ impl PhysicsItem for SphFluid {
             loads.add_force_at(c.handle, &f, &x);
             loads.add_torque(c.handle, &t);
         }
+        for c in &mut self.cables {
+            self.sph
+                .take_point_impulses(c.carrier, &mut c.impulse)
+                .map_err(|e| self_domain_error(&self.name, e))?;
+            c.force = Vector3::zeros();
+            for (j, f) in c.impulse.iter().zip(c.marker_force.iter_mut()) {
+                *f = [j[0] * inv_h, j[1] * inv_h, j[2] * inv_h];
+                c.force += Vector3::new(f[0], f[1], f[2]);
+            }
+            c.load.fill(0.0);
+            c.markers
+                .nodal_loads(c.item.mesh(), &c.marker_force, &mut c.load);
+            if let Some(i) = c.load.iter().position(|x| !x.is_finite()) {
+                return Err(ChronoError::NonFinite {
+                    item: format!("item \"{}\" (cable \"{}\")", self.name, c.item.name()),
+                    step: ctx.step,
+                    time: ctx.time,
+                    what: format!("fluid load on coordinate {i}"),
+                });
+            }
+        }
         Ok(())
     }
 
-    fn add_variables(&mut self, _vars: &mut Variables) {}
+    /// The cables' `M + h R + h^2 K` (see [`CableItem`]).
+    fn begin_step(&mut self, ctx: &StepContext) -> chrono_core::Result<()> {
+        for c in &mut self.cables {
+            c.item.begin_step(ctx)?;
+        }
+        Ok(())
+    }
 
-    fn load_momentum(&self, _ctx: &StepContext, _vars: &Variables, _k: &mut [f64]) {}
+    /// The cables' blocks (the block of each is remembered for
+    /// [`load_momentum`](PhysicsItem::load_momentum)).
+    fn add_variables(&mut self, vars: &mut Variables) {
+        for c in &mut self.cables {
+            let before = vars.len();
+            c.item.add_variables(vars);
+            c.block = (vars.len() > before).then_some(BlockId(before as u32));
+        }
+    }
+
+    /// The cables' `M v + h f`, plus the fluid's impulse `h Q = J` on their free
+    /// coordinates (the system calls [`advance_explicit`](PhysicsItem::advance_explicit)
+    /// after the items' [`begin_step`](PhysicsItem::begin_step), so the load of this step
+    /// enters here).
+    fn load_momentum(&self, ctx: &StepContext, vars: &Variables, k: &mut [f64]) {
+        for c in &self.cables {
+            c.item.load_momentum(ctx, vars, k);
+            let Some(blk) = c.block else { continue };
+            let kb = &mut k[vars.range(blk)];
+            let map = c.item.dof_map();
+            for (g, q) in c.load.iter().enumerate() {
+                if let Some(f) = map.free_index(g) {
+                    kb[f] += ctx.h * q;
+                }
+            }
+        }
+    }
+
+    /// The cables' proxies, their ids tagged with the cable index above
+    /// 24 bits (`PROXY_BITS`).
+    fn collision_proxies(&self, out: &mut Vec<CollisionProxy>) {
+        for (k, c) in self.cables.iter().enumerate() {
+            let start = out.len();
+            c.item.collision_proxies(out);
+            for p in &mut out[start..] {
+                p.id |= (k as u32) << PROXY_BITS;
+            }
+        }
+    }
+
+    fn proxy_jacobian(
+        &self,
+        proxy: u32,
+        p: &Vector3<f64>,
+        dirs: &[Vector3<f64>; 3],
+        entry: &mut dyn FnMut(BlockId, [&[f64]; 3]),
+    ) -> [f64; 3] {
+        let k = (proxy >> PROXY_BITS) as usize;
+        match self.cables.get(k) {
+            Some(c) => c
+                .item
+                .proxy_jacobian(proxy & ((1 << PROXY_BITS) - 1), p, dirs, entry),
+            None => [0.0; 3],
+        }
+    }
+
+    fn add_constraints(
+        &mut self,
+        ctx: &StepContext,
+        vars: &Variables,
+        rows: &mut ConstraintRows,
+    ) -> chrono_core::Result<()> {
+        for c in &mut self.cables {
+            c.item.add_constraints(ctx, vars, rows)?;
+        }
+        Ok(())
+    }
+
+    fn add_body_constraints(
+        &mut self,
+        ctx: &StepContext,
+        bodies: &Bodies,
+        vars: &Variables,
+        rows: &mut ConstraintRows,
+    ) -> chrono_core::Result<()> {
+        for c in &mut self.cables {
+            c.item.add_body_constraints(ctx, bodies, vars, rows)?;
+        }
+        Ok(())
+    }
+
+    fn warm_start(&self, problem: &CcpProblem, gamma: &mut [f64]) {
+        for c in &self.cables {
+            c.item.warm_start(problem, gamma);
+        }
+    }
 
     fn update(
         &mut self,
-        _ctx: &StepContext,
-        _vars: &Variables,
-        _v: &[f64],
-        _problem: &CcpProblem,
-        _gamma: &[f64],
+        ctx: &StepContext,
+        vars: &Variables,
+        v: &[f64],
+        problem: &CcpProblem,
+        gamma: &[f64],
     ) -> chrono_core::Result<()> {
+        for c in &mut self.cables {
+            c.item.update(ctx, vars, v, problem, gamma)?;
+        }
         Ok(())
     }
 }

@@ -5,6 +5,11 @@
 //! boundary condition enforcing (BCE) markers.
 //!
 //! - [`markers`]: marker layers inside boxes, spheres and cylinders at the fluid spacing;
+//! - [`cable`]: markers over the round section of ANCF cable/beam meshes, placed by the
+//!   shape functions, their forces put back on the nodal coordinates with the same
+//!   weights (consistent virtual work; [`FsiBuilder::add_cable`]);
+//! - [`beam_flow`]: a flexible beam clamped in a periodic array flow (the scene of
+//!   `fsi-flexible-beam`);
 //! - [`FsiBuilder`]: tanks, fluid blocks carved around the bodies, the bodies' markers
 //!   (bad input, e.g. a body thinner than the kernel support, is an error naming the body);
 //! - [`SphFluid`]: the item. [`System::step(h)`](chrono_core::System::step) advances it to
@@ -12,7 +17,7 @@
 //!   fluid's impulse on each body into the multibody step (the coupling and its stability
 //!   limit: [`fluid`]).
 //!
-//! Not yet: ANCF and tetrahedral mesh markers, constraint fluids (chrono-cfluid),
+//! Not yet: shell and tetrahedral mesh markers, constraint fluids (chrono-cfluid),
 //! ellipsoid, convex-hull and triangle-mesh markers, active domains.
 //!
 //! ```
@@ -52,7 +57,11 @@
 //! assert!(f.last_substeps() >= 1);
 //! ```
 
+pub mod beam_flow;
 pub mod builder;
+pub mod cable;
+#[cfg(test)]
+mod cable_tests;
 pub mod error;
 pub mod fluid;
 pub mod markers;

@@ -24,6 +24,7 @@ pub struct SphBuilder {
     motion: WallMotion,
     data: ParticleData,
     carriers: Vec<crate::carrier::Carrier>,
+    point_carriers: Vec<crate::carrier::PointCarrier>,
 }
 
 fn check_box(field: &str, lower: [f64; 3], upper: [f64; 3]) -> Result<()> {
@@ -52,6 +53,7 @@ impl SphBuilder {
             motion: WallMotion::Fixed,
             data: ParticleData::default(),
             carriers: Vec::new(),
+            point_carriers: Vec::new(),
         })
     }
 
@@ -214,6 +216,38 @@ impl SphBuilder {
         Ok(k)
     }
 
+    /// Adds wall markers of a point carrier (a deformable body moved from outside, see
+    /// [`crate::carrier`]): `positions` (m) at time 0, at rest until
+    /// [`SphSystem::set_point_motion`]; wall group `group`. Returns the point carrier's
+    /// index ([`SphSystem::take_point_impulses`]). The markers have no wall normal: their
+    /// no-slip velocity is Adami's `2 v_m - v~_f`.
+    pub fn add_point_markers(&mut self, positions: &[[f64; 3]], group: u16) -> Result<usize> {
+        if positions.is_empty() {
+            return Err(SphError::invalid(
+                "point markers",
+                0,
+                "add at least one marker",
+            ));
+        }
+        for (i, p) in positions.iter().enumerate() {
+            finite3(&format!("point markers[{i}]"), *p)?;
+        }
+        let k = self.point_carriers.len();
+        let dp = self.settings.spacing;
+        let m = self.settings.rho0 * dp * dp * dp;
+        let first_id = self.data.len() as u32;
+        for p in positions {
+            self.data.push(Kind::Wall, *p, self.settings.rho0, m, group);
+            let last = self.data.len() - 1;
+            self.data.carrier[last] = crate::carrier::POINT_CARRIER | k as u32;
+        }
+        self.point_carriers.push(crate::carrier::PointCarrier::new(
+            first_id,
+            positions.to_vec(),
+        ));
+        Ok(k)
+    }
+
     /// Adds a particle set: its fluid ([`add_fluid_points`](Self::add_fluid_points), with
     /// the hydrostatic density below `free_surface` if given), then its walls
     /// ([`add_wall_markers`](Self::add_wall_markers) from group 0). Returns the number
@@ -245,6 +279,7 @@ impl SphBuilder {
             self.motion,
             self.data,
             self.carriers,
+            self.point_carriers,
         )
     }
 }

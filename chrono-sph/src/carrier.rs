@@ -22,6 +22,21 @@
 //! (deterministic). The impulse over a kick-drift-kick step of size `dt` is
 //! `dt (F^n + F^(n+1)) / 2`: the very kicks the fluid gets, so fluid plus carrier
 //! momentum is conserved to round-off.
+//!
+//! # Point carriers (deformable bodies)
+//!
+//! A *point carrier* ([`SphBuilder::add_point_markers`](crate::SphBuilder::add_point_markers))
+//! has no rigid motion: each marker `w` moves with its own constant velocity over the
+//! interval set from outside ([`SphSystem::set_point_motion`](crate::SphSystem::set_point_motion)),
+//!
+//! ```text
+//! x_w(s) = x_w(t0) + (s - t0) v_w,    a_w = 0 (pressure extrapolation)
+//! ```
+//!
+//! e.g. the markers of a finite-element mesh whose nodes move with their velocity over a
+//! multibody step (chrono-fsi interpolates them with the shape functions). The fluid's
+//! force and impulse are kept per marker (same sums as for rigid carriers), so the caller
+//! can distribute them to its own coordinates.
 
 use nalgebra::{UnitQuaternion, Vector3};
 
@@ -29,6 +44,11 @@ use crate::error::{Result, SphError};
 
 /// Marker carrier index of a particle that belongs to no carrier.
 pub const NO_CARRIER: u32 = u32::MAX;
+
+/// Bit of a [`ParticleData::carrier`](crate::ParticleData) code that marks a point
+/// carrier's marker (the low bits are the point carrier's index);
+/// [`NO_CARRIER`] has it set too and is tested first.
+pub const POINT_CARRIER: u32 = 1 << 31;
 
 /// The rigid motion of a carrier over an interval (see the [module docs](self)).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -114,6 +134,37 @@ impl Carrier {
             rotation,
             load: [Vector3::zeros(); 2],
             impulse: [Vector3::zeros(); 2],
+        }
+    }
+}
+
+/// A point carrier: markers with per-marker positions at `t0` and velocities, and the
+/// fluid's per-marker force and impulse (see the [module docs](self)). The markers have
+/// consecutive particle ids from `first_id` (creation order).
+#[derive(Debug, Clone)]
+pub(crate) struct PointCarrier {
+    pub first_id: u32,
+    pub t0: f64,
+    /// Positions at `t0`, m.
+    pub x0: Vec<[f64; 3]>,
+    /// Velocities, m/s.
+    pub v: Vec<[f64; 3]>,
+    /// Force of the last force evaluation, N.
+    pub force: Vec<[f64; 3]>,
+    /// Impulse accumulated since the last take, N s.
+    pub impulse: Vec<[f64; 3]>,
+}
+
+impl PointCarrier {
+    pub fn new(first_id: u32, x0: Vec<[f64; 3]>) -> Self {
+        let n = x0.len();
+        Self {
+            first_id,
+            t0: 0.0,
+            x0,
+            v: vec![[0.0; 3]; n],
+            force: vec![[0.0; 3]; n],
+            impulse: vec![[0.0; 3]; n],
         }
     }
 }

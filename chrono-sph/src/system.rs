@@ -33,7 +33,7 @@ use std::time::Instant;
 use chrono_core::particles::{CellGrid, GridConfig, Kernel, NeighborList};
 use rayon::prelude::*;
 
-use crate::carrier::{Carrier, NO_CARRIER};
+use crate::carrier::{Carrier, NO_CARRIER, PointCarrier};
 use crate::data::{FLUID, ParticleData, WALL};
 use crate::eos::Tait;
 use crate::error::{Result, SphError};
@@ -104,6 +104,8 @@ pub struct SphSystem {
     n_fluid: usize,
     /// Rigid marker carriers ([`crate::carrier`]).
     carriers: Vec<Carrier>,
+    /// Point carriers ([`crate::carrier`]).
+    point_carriers: Vec<PointCarrier>,
     /// Scratch: the fluid's force on each carrier marker, N.
     marker_f: Vec<[f64; 3]>,
 }
@@ -116,6 +118,7 @@ impl SphSystem {
         motion: WallMotion,
         data: ParticleData,
         carriers: Vec<Carrier>,
+        point_carriers: Vec<PointCarrier>,
     ) -> Result<Self> {
         let h = settings.h();
         let mut lo = settings.domain_lower;
@@ -152,6 +155,7 @@ impl SphSystem {
             timings: Timings::default(),
             n_fluid,
             carriers,
+            point_carriers,
             marker_f: Vec::new(),
         })
     }
@@ -262,7 +266,7 @@ impl SphSystem {
     /// markers.
     fn move_walls(&mut self, t: f64) {
         self.move_tank_walls(t);
-        if !self.carriers.is_empty() {
+        if !self.carriers.is_empty() || !self.point_carriers.is_empty() {
             self.move_carriers(t);
         }
     }

@@ -433,3 +433,50 @@ fn unsupported_mesh_is_reported_singular() {
         "{err}"
     );
 }
+
+/// A generalized load on the coordinates acts as the nodal forces and end moments it
+/// stands for: a tip force on the position entries gives the same solution as
+/// `set_force`, and a uniform load `q` as consistent nodal loads (`q l / 2` on positions,
+/// `+-q l^2 / 12` on slopes) gives the Euler–Bernoulli tip deflection `q L^4 / (8 E I)`.
+/// A load of the wrong length is an error naming the field.
+#[test]
+fn coordinate_load_acts_as_the_nodal_forces_it_stands_for() {
+    let (l, h, n) = (1.0, 0.01, 8);
+    let ei = material(h).bending_stiffness();
+    let settings = StaticSettings {
+        load_steps: 1,
+        ..Default::default()
+    };
+    let p = 1e-3 * ei / (l * l);
+    let mut a = cantilever(n, l, h);
+    a.set_force(NodeId(n), Vector3::new(0.0, 0.0, -p)).unwrap();
+    solve_static(&mut a, &settings).unwrap();
+    let mut b = cantilever(n, l, h);
+    let mut q = vec![0.0; b.ndof()];
+    q[6 * n + 2] = -p;
+    b.set_coordinate_load(&q).unwrap();
+    solve_static(&mut b, &settings).unwrap();
+    let (ta, tb) = (
+        a.node(NodeId(n)).unwrap().displacement(),
+        b.node(NodeId(n)).unwrap().displacement(),
+    );
+    assert!((ta - tb).norm() < 1e-12 * ta.norm(), "{ta} vs {tb}");
+    // a uniform load, consistent nodal loads of the Hermite shape functions
+    let w = 1e-3 * ei / l.powi(3);
+    let le = l / n as f64;
+    let mut c = cantilever(n, l, h);
+    let mut q = vec![0.0; c.ndof()];
+    for e in 0..n {
+        q[6 * e + 2] -= 0.5 * w * le;
+        q[6 * e + 5] -= w * le * le / 12.0;
+        q[6 * (e + 1) + 2] -= 0.5 * w * le;
+        q[6 * (e + 1) + 5] += w * le * le / 12.0;
+    }
+    c.set_coordinate_load(&q).unwrap();
+    solve_static(&mut c, &settings).unwrap();
+    let tip = -c.node(NodeId(n)).unwrap().displacement().z;
+    let exact = w * l.powi(4) / (8.0 * ei);
+    assert!((tip / exact - 1.0).abs() < 1e-3, "tip {tip} vs {exact}");
+    let e = c.set_coordinate_load(&[0.0; 5]).unwrap_err();
+    assert!(e.to_string().contains("coordinate_load"), "{e}");
+}

@@ -1,12 +1,13 @@
-//! The rigid carriers of a [`SphSystem`](super::SphSystem): placing their markers at a
-//! time, and the fluid's loads and impulses on them (see [`crate::carrier`]).
+//! The rigid and point carriers of a [`SphSystem`](super::SphSystem): placing their
+//! markers at a time, and the fluid's loads and impulses on them (see
+//! [`crate::carrier`]).
 
 use std::time::Instant;
 
 use rayon::prelude::*;
 
 use super::{SphSystem, make_ctx};
-use crate::carrier::{NO_CARRIER, RigidMotion};
+use crate::carrier::{NO_CARRIER, POINT_CARRIER, RigidMotion};
 use crate::data::FLUID;
 use crate::error::{Result, SphError};
 use crate::interact;
@@ -25,6 +26,7 @@ impl SphSystem {
             self.settings.periodic,
         );
         let carriers = &self.carriers;
+        let points = &self.point_carriers;
         let d = &mut self.data;
         (
             d.x.par_iter_mut(),
@@ -36,10 +38,29 @@ impl SphSystem {
             d.wall_a.par_iter_mut(),
             d.anchor.par_iter(),
             d.carrier.par_iter(),
+            d.id.par_iter(),
         )
             .into_par_iter()
-            .for_each(|(x, y, z, vx, vy, vz, acc, a, &k)| {
+            .for_each(|(x, y, z, vx, vy, vz, acc, a, &k, &id)| {
                 if k == NO_CARRIER {
+                    return;
+                }
+                if k & POINT_CARRIER != 0 {
+                    // a point carrier's marker: its own constant velocity from t0
+                    let c = &points[(k & !POINT_CARRIER) as usize];
+                    let i = (id - c.first_id) as usize;
+                    let (x0, v) = (c.x0[i], c.v[i]);
+                    let s = t - c.t0;
+                    let mut p = [x0[0] + s * v[0], x0[1] + s * v[1], x0[2] + s * v[2]];
+                    for ax in 0..3 {
+                        if per[ax] {
+                            let l = hi[ax] - lo[ax];
+                            p[ax] = lo[ax] + (p[ax] - lo[ax]).rem_euclid(l);
+                        }
+                    }
+                    (*x, *y, *z) = (p[0], p[1], p[2]);
+                    (*vx, *vy, *vz) = (v[0], v[1], v[2]);
+                    *acc = [0.0; 3];
                     return;
                 }
                 let c = &carriers[k as usize];
@@ -72,6 +93,92 @@ impl SphSystem {
             .get_mut(carrier)
             .ok_or_else(|| SphError::invalid("carrier", carrier, format!("only {n} carriers")))?;
         c.motion = motion;
+        Ok(())
+    }
+
+    /// Sets the motion of point carrier `carrier` from time `t0` (s) on: marker `i` (in
+    /// the order of [`SphBuilder::add_point_markers`](crate::SphBuilder::add_point_markers))
+    /// at `positions[i]` (m) at `t0`, moving with `velocities[i]` (m/s); see
+    /// [`crate::carrier`]. The markers follow from the next step; the impulse accumulated
+    /// so far is kept. Errors: an unknown carrier, a length that is not the number of
+    /// markers, a value that is not finite.
+    pub fn set_point_motion(
+        &mut self,
+        carrier: usize,
+        t0: f64,
+        positions: &[[f64; 3]],
+        velocities: &[[f64; 3]],
+    ) -> Result<()> {
+        let c = self.point_carrier_mut(carrier)?;
+        let n = c.x0.len();
+        for (what, len) in [
+            ("positions", positions.len()),
+            ("velocities", velocities.len()),
+        ] {
+            if len != n {
+                return Err(SphError::invalid(
+                    format!("point carrier {carrier} {what}"),
+                    len,
+                    format!("must have one entry per marker ({n})"),
+                ));
+            }
+        }
+        let bad = |v: &[[f64; 3]]| v.iter().position(|p| p.iter().any(|x| !x.is_finite()));
+        if !t0.is_finite() {
+            return Err(SphError::invalid(
+                format!("point carrier {carrier} t0"),
+                t0,
+                "must be finite",
+            ));
+        }
+        for (what, v) in [("positions", positions), ("velocities", velocities)] {
+            if let Some(i) = bad(v) {
+                return Err(SphError::invalid(
+                    format!("point carrier {carrier} {what}[{i}]"),
+                    format!("{:?}", v[i]),
+                    "must be finite",
+                ));
+            }
+        }
+        c.t0 = t0;
+        c.x0.copy_from_slice(positions);
+        c.v.copy_from_slice(velocities);
+        Ok(())
+    }
+
+    fn point_carrier_mut(&mut self, carrier: usize) -> Result<&mut crate::carrier::PointCarrier> {
+        let n = self.point_carriers.len();
+        self.point_carriers.get_mut(carrier).ok_or_else(|| {
+            SphError::invalid("point carrier", carrier, format!("only {n} point carriers"))
+        })
+    }
+
+    /// Number of point carriers.
+    pub fn num_point_carriers(&self) -> usize {
+        self.point_carriers.len()
+    }
+
+    /// The fluid's force on each marker of point carrier `carrier` (N) at the last force
+    /// evaluation (zero before the first); `None` for an unknown carrier.
+    pub fn point_forces(&self, carrier: usize) -> Option<&[[f64; 3]]> {
+        self.point_carriers.get(carrier).map(|c| c.force.as_slice())
+    }
+
+    /// Copies into `out` and zeroes the impulse (N s) of the fluid on each marker of point
+    /// carrier `carrier` summed over the steps since the last call (per step
+    /// `dt (F^n + F^(n+1)) / 2`, as for rigid carriers). Errors: an unknown carrier, `out`
+    /// not one entry per marker.
+    pub fn take_point_impulses(&mut self, carrier: usize, out: &mut [[f64; 3]]) -> Result<()> {
+        let c = self.point_carrier_mut(carrier)?;
+        if out.len() != c.impulse.len() {
+            return Err(SphError::invalid(
+                format!("point carrier {carrier} impulse buffer"),
+                out.len(),
+                format!("must have one entry per marker ({})", c.impulse.len()),
+            ));
+        }
+        out.copy_from_slice(&c.impulse);
+        c.impulse.fill([0.0; 3]);
         Ok(())
     }
 
@@ -108,12 +215,19 @@ impl SphSystem {
             c.impulse[0] += half * c.load[0];
             c.impulse[1] += half * c.load[1];
         }
+        for c in &mut self.point_carriers {
+            for (j, f) in c.impulse.iter_mut().zip(&c.force) {
+                for a in 0..3 {
+                    j[a] += half * f[a];
+                }
+            }
+        }
     }
 
     /// The fluid's force and torque on every carrier at the current state (after the
     /// force pass: the packed records hold the no-slip wall velocities).
     pub(super) fn carrier_loads(&mut self) {
-        if self.carriers.is_empty() {
+        if self.carriers.is_empty() && self.point_carriers.is_empty() {
             return;
         }
         let t0 = Instant::now();
@@ -158,6 +272,11 @@ impl SphSystem {
         for w in 0..d.len() {
             let k = d.carrier[w];
             if k == NO_CARRIER {
+                continue;
+            }
+            if k & POINT_CARRIER != 0 {
+                let c = &mut self.point_carriers[(k & !POINT_CARRIER) as usize];
+                c.force[(d.id[w] - c.first_id) as usize] = self.marker_f[w];
                 continue;
             }
             let c = &mut self.carriers[k as usize];

@@ -88,6 +88,7 @@ pub fn all_cases() -> Vec<Box<dyn Case>> {
         sph::dam_break::case(),
         sph::sloshing::case(),
         fsi::floating_body::case(),
+        fsi::flexible_beam::case(),
         cfluid::incompressibility::case(),
         cfluid::dam_break::case(),
         cfluid::floating_box::case(),
