@@ -45,9 +45,9 @@ crate::slots::generational_handle!(ItemHandle, "item");
 /// Items are `Any`, so the owner of a [`System`](crate::system::System) reads its item
 /// back with its type: [`System::item`](crate::system::System::item).
 ///
-/// Call order each step: [`advance_explicit`](Self::advance_explicit) (explicit items
-/// only, while the body loads are gathered), [`begin_step`](Self::begin_step),
-/// [`add_variables`](Self::add_variables),
+/// Call order each step (NSC): [`begin_step`](Self::begin_step),
+/// [`add_variables`](Self::add_variables), [`advance_explicit`](Self::advance_explicit)
+/// (explicit items only, while the body loads are gathered),
 /// [`load_momentum`](Self::load_momentum), [`collision_proxies`](Self::collision_proxies)
 /// (the system finds their contacts with the body colliders and builds friction rows whose
 /// item side comes from [`proxy_jacobian`](Self::proxy_jacobian)),
