@@ -21,8 +21,8 @@
 //! markers' plastic compaction alternates between neighbouring layers (`J_P` 0.67 to 0.78
 //! at 30 %, every marker at the critical compression): a marker-level checkerboard, not
 //! a boundary error (7.3 % before the folding, partly its cancellation). It is not inertia
-//! (13.9 % at a tenth of the rate) and falls with 16 cells (6.6 %). One marker per cell
-//! (per axis) is the default (12.4 % with two).
+//! (13.9 % at a tenth of the rate) nor resolution (6.6 % at 16 cells, 7.5 % at 32). One
+//! marker per cell (per axis) is the default (12.4 % with two).
 //!
 //! Impact: a cube of the same snow falls at `impact_speed` onto a separating floor under
 //! gravity for `impact_time`: reported, not checked (no reference): that it runs without
