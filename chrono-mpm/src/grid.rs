@@ -136,6 +136,15 @@ pub struct SparseGrid {
     pub(crate) prev: Vec<[f64; 3]>,
     /// Impulse per active block and rigid body (scratch of the grid update), N s.
     pub(crate) impulse: Vec<[f64; 3]>,
+    /// Node masses with the ghosts' folded in (the box nodes; [`crate::fold`]), kg.
+    pub(crate) fmass: Vec<f64>,
+    /// The sticky bodies' ghost links of the step (scratch of the grid update).
+    pub(crate) links: Vec<crate::fold::Link>,
+    /// The links' folded mass and momentum per node: (node, link order, mass, momentum,
+    /// body) (scratch of the grid update).
+    pub(crate) folds: Vec<(usize, usize, f64, [f64; 3], usize)>,
+    /// The folded nodes' momentum change per rigid body (scratch of the grid update), N s.
+    pub(crate) fold_impulse: Vec<[f64; 3]>,
 }
 
 impl SparseGrid {

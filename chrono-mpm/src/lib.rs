@@ -6,6 +6,8 @@
 //!
 //! - [`bspline`]: quadratic B-spline transfers (and why quadratic);
 //! - [`grid`]: the grid's box, its walls and the sparse block storage;
+//! - [`fold`]: consistent boundary images (the ghosts' mass and force folded into the
+//!   nodes they mirror);
 //! - [`markers`]: the markers, structure of arrays;
 //! - [`material`]: fixed-corotated elasticity with snow hardening (Stomakhin et al. 2013),
 //!   Drucker–Prager sand (Klar et al. 2016) and von Mises clay, each with its return
@@ -27,6 +29,7 @@ pub mod body;
 pub mod bspline;
 pub mod compaction;
 pub mod error;
+pub mod fold;
 pub mod footing;
 pub mod grid;
 pub mod markers;

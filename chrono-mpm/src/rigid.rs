@@ -27,8 +27,8 @@
 //! surface* and a linear field is continued exactly through it. Setting `v_b` on every
 //! node inside instead puts the effective surface up to a cell inside the body: a column
 //! 8 cells high compressed by a plate came out 10 % softer than `lambda + 2 mu` that way,
-//! 7.5 % with the image; what remains is the markers' quadrature of the traction at the
-//! column's ends (first order in `dx`: 4.3 % at 16 cells, 2.5 to 4 % at 32; `docs/mpm.md`,
+//! 7.6 % with the image, 0.26 % with the image and the ghosts' mass and force folded into
+//! the nodes it reads ([`crate::fold`]; 0.13 % at 16 cells; `docs/mpm.md`,
 //! `plate_reaction_is_the_uniaxial_strain_modulus`).
 //! The slip contact keeps the simple node condition (its error is first order in `dx`).
 //!
@@ -38,8 +38,10 @@
 //! J = sum_i m_i (v_i' - v_i)        N s, per step
 //! ```
 //!
-//! the impulse the body gives the material ([`RigidBody::impulse`]); the force the
-//! material exerts on the body is `-J / dt` ([`RigidBody::force_on_body`]). Since the
+//! over the nodes it changes (those inside and, for a sticky body, the nodes its ghosts
+//! are folded into, with the folded masses), the impulse the body gives the material
+//! ([`RigidBody::impulse`]); the force the material exerts on the body is `-J / dt`
+//! ([`RigidBody::force_on_body`]). Since the
 //! transfers conserve momentum (P2G and G2P to round-off), the markers' momentum changes by
 //! the sum of the bodies' impulses (and of the walls' and gravity's): tested to round-off
 //! (`rigid_impulse_equals_the_material_momentum_change`).
@@ -248,12 +250,40 @@ impl RigidBody {
         node: impl Fn([i64; 3]) -> Option<[f64; 3]>,
     ) -> Option<Vector3<f64>> {
         let vb = self.velocity;
+        let m = self.mirror(x, i, dx, a, n)?;
+        // 2 v_b - ((1 - W) v_b + sum_k w_k v_k) = v_b - sum_k w_k (v_k - v_b).
+        let mut v = vb;
+        for k in 0..m.count {
+            v -= (Vector3::from(node(m.nodes[k])?) - vb) * m.weights[k];
+        }
+        Some(v)
+    }
+
+    /// The mirror point of a node at `x` (index `i`) at depth `a` (m) inside the body,
+    /// `x + 2 a n`, as an interpolation `v(mirror) = (1 - W) v_b + sum_k w_k v_k` between
+    /// the surface point (`v_b`) and the (up to two) nodes outside on the normal line,
+    /// `W = sum_k w_k`. `None` when the mirror point is not reached (a node deeper than the
+    /// search); no nodes when the node is on the surface.
+    pub(crate) fn mirror(
+        &self,
+        x: &Vector3<f64>,
+        i: [i64; 3],
+        dx: f64,
+        a: f64,
+        n: &Vector3<f64>,
+    ) -> Option<Mirror> {
+        let mut m = Mirror {
+            nodes: [[0; 3]; 2],
+            weights: [0.0; 2],
+            count: 0,
+        };
         if a <= 0.0 {
-            return Some(vb);
+            return Some(m);
         }
         let axis = n.iamax();
         let step = if n[axis] > 0.0 { 1 } else { -1 };
-        let (mut h0, mut v0) = (0.0, vb);
+        let mut h0 = 0.0;
+        let mut j0: Option<[i64; 3]> = None;
         // The mirror point is at most `a` beyond the surface: a few nodes suffice.
         for k in 1..=(a / dx).ceil() as i64 + 2 {
             let xk = x + n * (k as f64 * dx);
@@ -263,16 +293,35 @@ impl RigidBody {
             }
             let mut j = i;
             j[axis] += step * k;
-            let vk = Vector3::from(node(j)?);
             if a <= h {
                 let t = (a - h0) / (h - h0);
-                let vm = v0 + (vk - v0) * t;
-                return Some(vb * 2.0 - vm);
+                match j0 {
+                    None => {
+                        m.nodes[0] = j;
+                        m.weights[0] = t;
+                        m.count = 1;
+                    }
+                    Some(jp) => {
+                        m.nodes = [jp, j];
+                        m.weights = [1.0 - t, t];
+                        m.count = 2;
+                    }
+                }
+                return Some(m);
             }
-            (h0, v0) = (h, vk);
+            (h0, j0) = (h, Some(j));
         }
         None
     }
+}
+
+/// The interpolation of a sticky image's mirror point ([`RigidBody::mirror`]): node
+/// indices of the box and weights, the first `count` used.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Mirror {
+    pub nodes: [[i64; 3]; 2],
+    pub weights: [f64; 2],
+    pub count: usize,
 }
 
 #[cfg(test)]
