@@ -357,15 +357,7 @@ impl MpmBody {
                     for a in 0..3 {
                         v[a] = mom[l][a] / mass[l];
                     }
-                    let loc = [l / (BLOCK * BLOCK), (l / BLOCK) % BLOCK, l % BLOCK];
-                    for a in 0..3 {
-                        let i = (b[a] * BLOCK + loc[a]) as i64 - GHOST;
-                        if i == 0 {
-                            apply_wall(&mut v, a, 0, spec.walls[a][0]);
-                        } else if i == spec.cells[a] as i64 {
-                            apply_wall(&mut v, a, 1, spec.walls[a][1]);
-                        }
-                    }
+                    apply_node_walls(&mut v, b, l, &spec);
                     mom[l] = v;
                 }
             });
@@ -502,15 +494,7 @@ impl MpmBody {
             // The node's own wall conditions still hold.
             let b = unkey(self.grid.active[j / BLOCK3], nb);
             let l = j % BLOCK3;
-            let loc = [l / (BLOCK * BLOCK), (l / BLOCK) % BLOCK, l % BLOCK];
-            for a in 0..3 {
-                let i = (b[a] * BLOCK + loc[a]) as i64 - GHOST;
-                if i == 0 {
-                    apply_wall(&mut v, a, 0, spec.walls[a][0]);
-                } else if i == spec.cells[a] as i64 {
-                    apply_wall(&mut v, a, 1, spec.walls[a][1]);
-                }
-            }
+            apply_node_walls(&mut v, b, l, &spec);
             for a in 0..3 {
                 fold_j[body][a] += (v[a] - v0[a]) * mj;
             }
@@ -755,6 +739,21 @@ impl MpmBody {
             }
         }
         (p, l)
+    }
+}
+
+/// `v` after the wall conditions of the node at local index `l` of block `b`: those of
+/// every domain face the node lies on.
+#[inline]
+fn apply_node_walls(v: &mut [f64; 3], b: [usize; 3], l: usize, spec: &GridSpec) {
+    let loc = [l / (BLOCK * BLOCK), (l / BLOCK) % BLOCK, l % BLOCK];
+    for a in 0..3 {
+        let i = (b[a] * BLOCK + loc[a]) as i64 - GHOST;
+        if i == 0 {
+            apply_wall(v, a, 0, spec.walls[a][0]);
+        } else if i == spec.cells[a] as i64 {
+            apply_wall(v, a, 1, spec.walls[a][1]);
+        }
     }
 }
 
