@@ -85,7 +85,7 @@ pub const BUDGETS: &[Budget] = &[
     b("hmmwv-accel", 15.0, 3.0),
     b("hmmwv-turn", 11.0, 5.0),
     b("hmmwv-lane-change", 4.0, 4.0),
-    b("hmmwv-granular", 165.0, 135.0),
+    b("hmmwv-granular", 96.0, 94.0),
     b("m113-static", 11.0, 11.0),
     b("m113-accel", 25.0, 17.0),
     b("m113-turn", 18.0, 18.0),
