@@ -28,7 +28,7 @@ use crate::body::{MpmBody, MpmSettings};
 use crate::error::{Result, invalid, positive};
 use crate::grid::{GridSpec, Wall};
 use crate::material::Material;
-use crate::rigid::{Contact, RigidBody};
+use crate::rigid::{Contact, RigidBody, push_down, speed_ramp};
 
 /// Parameters of the compaction.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -163,12 +163,7 @@ impl Compaction {
 
     /// The plate's speed at time `t`, m/s (downwards positive).
     pub fn plate_speed(&self, t: f64) -> f64 {
-        let r = if t < self.spec.ramp_time {
-            0.5 * (1.0 - (std::f64::consts::PI * t / self.spec.ramp_time).cos())
-        } else {
-            1.0
-        };
-        self.spec.strain_rate * self.spec.height * r
+        self.spec.strain_rate * self.spec.height * speed_ramp(t, self.spec.ramp_time)
     }
 
     /// Runs to the final strain, taking `samples` samples (at least 1); `progress` gets
@@ -176,42 +171,29 @@ impl Compaction {
     pub fn run(
         &mut self,
         samples: usize,
-        mut progress: impl FnMut(f64),
+        progress: impl FnMut(f64),
     ) -> Result<Vec<CompactionSample>> {
-        let samples = samples.max(1);
-        let eps_f = self.spec.final_strain;
-        let mut out = Vec::with_capacity(samples);
-        let mut next = 1;
-        let (mut t0, mut e0, mut j0) = (self.body.time(), self.strain(), 0.0);
-        let mut k = 0u64;
-        while self.strain() < eps_f {
-            let t = self.body.time();
-            self.body.rigid[0].velocity = Vector3::new(0.0, 0.0, -self.plate_speed(t));
-            let dt = 0.999 * self.body.stable_dt();
-            self.body.step(dt)?;
-            k += 1;
-            let e = self.strain();
-            if e >= eps_f * next as f64 / samples as f64 || e >= eps_f {
-                let t1 = self.body.time();
-                // The material takes momentum -z from the plate: the compressive force on
-                // the plate is -impulse_z per time.
-                let j1 = self.body.rigid[0].total_impulse.z;
-                out.push(CompactionSample {
-                    t: 0.5 * (t0 + t1),
-                    strain: 0.5 * (e0 + e),
-                    stress: -(j1 - j0) / (t1 - t0) / self.area,
-                    kinetic: self.body.kinetic_energy(),
-                    elastic: self.body.elastic_energy(),
-                });
-                (t0, e0, j0) = (t1, e, j1);
-                while eps_f * next as f64 / samples as f64 <= e {
-                    next += 1;
-                }
-            }
-            if k.is_multiple_of(64) {
-                progress((self.strain() / eps_f).min(1.0));
-            }
-        }
-        Ok(out)
+        let (spec, z0) = (self.spec, self.plate_z0);
+        let strain = |b: &MpmBody| (z0 - b.rigid[0].position.z) / spec.height;
+        let speed = |t: f64| spec.strain_rate * spec.height * speed_ramp(t, spec.ramp_time);
+        let out = push_down(
+            &mut self.body,
+            self.area,
+            spec.final_strain,
+            samples,
+            strain,
+            speed,
+            progress,
+        )?;
+        Ok(out
+            .into_iter()
+            .map(|s| CompactionSample {
+                t: s.t,
+                strain: s.measure,
+                stress: s.pressure,
+                kinetic: s.kinetic,
+                elastic: s.elastic,
+            })
+            .collect())
     }
 }

@@ -33,7 +33,7 @@ use crate::body::{MpmBody, MpmSettings};
 use crate::error::{Result, invalid, positive};
 use crate::grid::{GridSpec, Wall};
 use crate::material::{Material, VonMises};
-use crate::rigid::{Contact, RigidBody};
+use crate::rigid::{Contact, RigidBody, push_down, speed_ramp};
 
 /// Parameters of the footing problem.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -209,60 +209,35 @@ impl Footing {
 
     /// The footing's speed at time `t`, m/s (downwards positive).
     pub fn speed(&self, t: f64) -> f64 {
-        let r = if t < self.spec.ramp_time {
-            0.5 * (1.0 - (std::f64::consts::PI * t / self.spec.ramp_time).cos())
-        } else {
-            1.0
-        };
-        self.spec.speed * r
+        self.spec.speed * speed_ramp(t, self.spec.ramp_time)
     }
 
     /// Runs to the final settlement with `samples` samples (at least 1); `progress` gets
     /// the fraction done.
-    pub fn run(
-        &mut self,
-        samples: usize,
-        mut progress: impl FnMut(f64),
-    ) -> Result<Vec<FootingSample>> {
-        let samples = samples.max(1);
-        let s_f = self.spec.final_settlement * self.spec.footing_width;
-        let mut out = Vec::with_capacity(samples);
-        let mut next = 1;
-        let (mut t0, mut s0, mut j0) = (self.body.time(), self.settlement(), 0.0);
-        let mut work = 0.0;
-        let mut k = 0u64;
-        while self.settlement() < s_f {
-            let t = self.body.time();
-            let v = self.speed(t);
-            self.body.rigid[0].velocity = Vector3::new(0.0, 0.0, -v);
-            let dt = 0.999 * self.body.stable_dt();
-            self.body.step(dt)?;
-            // The work of the footing on the soil: the impulse it gives times its
-            // velocity (0, 0, -v).
-            work += self.body.rigid[0].impulse.z * -v;
-            k += 1;
-            let s = self.settlement();
-            if s >= s_f * next as f64 / samples as f64 || s >= s_f {
-                let t1 = self.body.time();
-                let j1 = self.body.rigid[0].total_impulse.z;
-                out.push(FootingSample {
-                    t: 0.5 * (t0 + t1),
-                    settlement: 0.5 * (s0 + s),
-                    pressure: -(j1 - j0) / (t1 - t0) / self.area,
-                    kinetic: self.body.kinetic_energy(),
-                    elastic: self.body.elastic_energy(),
-                    work,
-                });
-                (t0, s0, j0) = (t1, s, j1);
-                while s_f * next as f64 / samples as f64 <= s {
-                    next += 1;
-                }
-            }
-            if k.is_multiple_of(64) {
-                progress((s / s_f).min(1.0));
-            }
-        }
-        Ok(out)
+    pub fn run(&mut self, samples: usize, progress: impl FnMut(f64)) -> Result<Vec<FootingSample>> {
+        let (spec, z0) = (self.spec, self.z0);
+        let settlement = |b: &MpmBody| z0 - b.rigid[0].position.z;
+        let speed = |t: f64| spec.speed * speed_ramp(t, spec.ramp_time);
+        let out = push_down(
+            &mut self.body,
+            self.area,
+            spec.final_settlement * spec.footing_width,
+            samples,
+            settlement,
+            speed,
+            progress,
+        )?;
+        Ok(out
+            .into_iter()
+            .map(|s| FootingSample {
+                t: s.t,
+                settlement: s.measure,
+                pressure: s.pressure,
+                kinetic: s.kinetic,
+                elastic: s.elastic,
+                work: s.work,
+            })
+            .collect())
     }
 }
 

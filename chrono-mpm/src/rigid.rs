@@ -324,6 +324,86 @@ pub(crate) struct Mirror {
     pub count: usize,
 }
 
+/// The smooth start of a prescribed speed: `(1 - cos(pi t / t_r)) / 2` for `t < t_r`, then
+/// 1 (no velocity jump, so no stress wave from the start).
+pub fn speed_ramp(t: f64, ramp_time: f64) -> f64 {
+    if t < ramp_time {
+        0.5 * (1.0 - (std::f64::consts::PI * t / ramp_time).cos())
+    } else {
+        1.0
+    }
+}
+
+/// One sample of [`push_down`]: the means over a sampling interval.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct PushSample {
+    /// Time at the middle of the interval, s.
+    pub t: f64,
+    /// The progress measure at the middle of the interval.
+    pub measure: f64,
+    /// Mean downward force on the body over the interval over `area`, Pa: minus the
+    /// z-impulse it gave the material per time (the material takes momentum -z from it).
+    pub pressure: f64,
+    /// Kinetic energy of the markers at the end of the interval, J.
+    pub kinetic: f64,
+    /// Elastic energy of the markers at the end of the interval, J.
+    pub elastic: f64,
+    /// Work done by the body on the material since the start, J.
+    pub work: f64,
+}
+
+/// Push `body.rigid[0]` down at `speed(t)` (m/s, downwards positive, set at each step's
+/// start time; steps of 0.999 of the stable one) until `measure(body)` reaches `last`;
+/// `samples` samples (at least 1), each when the measure passes the next of `samples`
+/// equal fractions of `last`; `progress` gets the fraction done every 64 steps. The
+/// shared driver of the compaction plate and the footing.
+pub(crate) fn push_down(
+    body: &mut crate::body::MpmBody,
+    area: f64,
+    last: f64,
+    samples: usize,
+    measure: impl Fn(&crate::body::MpmBody) -> f64,
+    speed: impl Fn(f64) -> f64,
+    mut progress: impl FnMut(f64),
+) -> Result<Vec<PushSample>> {
+    let samples = samples.max(1);
+    let mut out = Vec::with_capacity(samples);
+    let mut next = 1;
+    let (mut t0, mut m0, mut j0) = (body.time(), measure(body), 0.0);
+    let mut work = 0.0;
+    let mut k = 0u64;
+    while measure(body) < last {
+        let v = speed(body.time());
+        body.rigid[0].velocity = Vector3::new(0.0, 0.0, -v);
+        let dt = 0.999 * body.stable_dt();
+        body.step(dt)?;
+        // The body's work on the material: the impulse it gives times its velocity.
+        work += body.rigid[0].impulse.z * -v;
+        k += 1;
+        let m = measure(body);
+        if m >= last * next as f64 / samples as f64 || m >= last {
+            let t1 = body.time();
+            let j1 = body.rigid[0].total_impulse.z;
+            out.push(PushSample {
+                t: 0.5 * (t0 + t1),
+                measure: 0.5 * (m0 + m),
+                pressure: -(j1 - j0) / (t1 - t0) / area,
+                kinetic: body.kinetic_energy(),
+                elastic: body.elastic_energy(),
+                work,
+            });
+            (t0, m0, j0) = (t1, m, j1);
+            while last * next as f64 / samples as f64 <= m {
+                next += 1;
+            }
+        }
+        if k.is_multiple_of(64) {
+            progress((m / last).min(1.0));
+        }
+    }
+    Ok(out)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
