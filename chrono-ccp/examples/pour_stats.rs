@@ -70,6 +70,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .ok()
         .and_then(|s| s.parse().ok())
         .unwrap_or(0);
+    // `granular-settle`'s unit of kinetic energy per grain: m g d of the mean grain.
+    let ke_unit = 2500.0 * 4.0 / 3.0
+        * std::f64::consts::PI
+        * (0.9 * radius).powi(3)
+        * sys.settings().gravity.norm()
+        * 2.0
+        * radius;
     let t0 = std::time::Instant::now();
     for i in 1..=steps {
         sys.solver_mut().settings_mut().record_history = i == hist;
@@ -84,14 +91,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         an_sum += r.solve.apply_n;
         capped += usize::from(!r.solve.converged);
         println!(
-            "step {i:4} contacts {:6} mf {:6} it {:4} apply_n {:4} res {:.2e} conv {} pen/r {:.4}",
+            "step {i:4} contacts {:6} mf {:6} it {:4} apply_n {:4} res {:.2e} conv {} pen/r {:.4} ke/mgd {:.3e}",
             r.contacts,
             sys.last_problem().n_matrix_free(),
             r.solve.iterations,
             r.solve.apply_n,
             r.solve.residual,
             r.solve.converged,
-            max_penetration(&sys) / (0.8 * radius)
+            max_penetration(&sys) / (0.8 * radius),
+            sys.kinetic_energy() / n as f64 / ke_unit
         );
     }
     // A fingerprint of the final state (to compare code paths bit for bit).

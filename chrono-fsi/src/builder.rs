@@ -14,6 +14,18 @@ use crate::error::{FsiError, Result};
 use crate::fluid::{Coupled, CoupledCable, SphFluid};
 use crate::markers::{shape_kind, shape_markers, thickness};
 
+/// The signed distance from a body's surface (in spacings) up to which fluid lattice
+/// points are removed: `0`, the points inside the body and on its surface (a point on a
+/// face that lies on a lattice plane stands for a cell half inside; it goes, so such a
+/// face keeps the rule of a tank wall, the first layer `dp` off). A threshold of `dp / 2` (the
+/// earlier rule: the first layer no closer than `dp / 2`) is exact for a face on the
+/// lattice, but off the lattice, and on every curved surface, it leaves a fluid-free gap
+/// of `dp / 4` to `dp / 2` on average: measured, the gap made a horizontal cylinder and a
+/// sphere float 11 % and 9 % too high (`fsi-floating-body --quick`) and a square array of
+/// cylinders drag 9-18 % less than Sangani & Acrivos (`fsi-cylinder-array`; the gap acts
+/// as a slip layer). See docs/validation-fsi.md.
+pub const CARVE_DEPTH: f64 = 0.0;
+
 /// Fewest fluid spacings across a body's smallest dimension: below it the markers cannot
 /// represent the shape (a sphere of 3 spacings is a lumpy cluster).
 pub const MIN_CELLS_ACROSS: f64 = 4.0;
@@ -39,10 +51,12 @@ struct PendingBody {
 /// carved around the coupled bodies, and the bodies' BCE markers
 /// ([`markers`](crate::markers)).
 ///
-/// Fluid particles whose centre is less than `dp / 2` outside a body's surface (or inside
-/// it) are removed, so the first fluid layer stands about `dp` from the outer marker
-/// layer, as at a tank wall. Every body gets `wall_layers(h / dp)` marker layers (they
-/// cover the kernel support `2 h`).
+/// Fluid lattice points whose centre lies inside a body or a cable's section are removed
+/// ([`CARVE_DEPTH`]): each point stands for its lattice cell of fluid, so the fluid keeps
+/// the volume outside the body up to the lattice's round-off, and the first fluid layer
+/// stands on average `dp / 2` off the surface (the outer marker layer `dp / 2` below it),
+/// as at a tank wall, whatever the body's shape and position on the lattice. Every body
+/// gets `wall_layers(h / dp)` marker layers (they cover the kernel support `2 h`).
 #[derive(Debug)]
 pub struct FsiBuilder {
     sph: SphBuilder,
@@ -198,13 +212,14 @@ impl FsiBuilder {
                     self.bodies.iter().all(|b| {
                         b.shapes.iter().all(|s| {
                             let pl = (b.pose * s.local_pose).inverse_transform_point(&x.into());
-                            // a particle exactly dp/2 off a face stays: the tolerance keeps the
-                            // carving mirror-symmetric under round-off
+                            // a point on the surface goes (its cell is half inside; see
+                            // CARVE_DEPTH); the tolerance keeps the carving mirror-symmetric
+                            // under round-off
                             signed_distance(&s.shape, [pl.x, pl.y, pl.z], s.open)
-                                >= 0.5 * dp * (1.0 - 1e-6)
+                                > (CARVE_DEPTH + 1e-6) * dp
                         })
                     }) && self.cables.iter().zip(&uses).all(|(c, u)| {
-                        cable_distance(c.item.mesh(), u, &x) >= 0.5 * dp * (1.0 - 1e-6)
+                        cable_distance(c.item.mesh(), u, &x) > (CARVE_DEPTH + 1e-6) * dp
                     })
                 })
                 .collect();

@@ -62,6 +62,7 @@ pub mod builder;
 pub mod cable;
 #[cfg(test)]
 mod cable_tests;
+pub mod cylinder_array;
 pub mod error;
 pub mod fluid;
 pub mod markers;

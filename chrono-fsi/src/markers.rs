@@ -3,8 +3,9 @@
 //!
 //! A marker stands for the volume `dp^3` of a fluid particle (the wall-marker convention of
 //! chrono-sph), so the layers are placed about `dp` apart both along and across the
-//! surface, with the outer layer `dp / 2` inside it: the first fluid layer, `dp / 2`
-//! outside, is then `dp` away, as next to a tank wall. `layers` layers of depth
+//! surface, with the outer layer `dp / 2` inside it: the first fluid layer, on average
+//! `dp / 2` outside (the fluid lattice points inside the body are removed,
+//! [`crate::builder::CARVE_DEPTH`]), is then on average `dp` away, as next to a tank wall. `layers` layers of depth
 //! `(k + 1/2) dp`, `k = 0 .. layers`, cover the kernel support when
 //! `layers dp >= 2 h` (the caller's choice, see [`crate::FsiBuilder`]).
 //!

@@ -89,6 +89,7 @@ pub fn all_cases() -> Vec<Box<dyn Case>> {
         sph::sloshing::case(),
         fsi::floating_body::case(),
         fsi::flexible_beam::case(),
+        fsi::cylinder_array::case(),
         cfluid::incompressibility::case(),
         cfluid::dam_break::case(),
         cfluid::floating_box::case(),

@@ -1,4 +1,5 @@
 //! Fluid–solid interaction cases (chrono-fsi).
 
+pub mod cylinder_array;
 pub mod flexible_beam;
 pub mod floating_body;
