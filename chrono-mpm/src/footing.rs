@@ -64,6 +64,8 @@ pub struct FootingSpec {
     pub final_settlement: f64,
     /// CFL number of the time step.
     pub cfl: f64,
+    /// F-bar volume averaging ([`crate::fbar`]).
+    pub f_bar: crate::fbar::FBar,
 }
 
 impl FootingSpec {
@@ -165,6 +167,7 @@ impl Footing {
         let settings = MpmSettings {
             gravity: [0.0; 3],
             cfl: spec.cfl,
+            f_bar: spec.f_bar,
         };
         let mut body = MpmBody::new(grid, Material::VonMises(soil), settings)?;
         // Plane strain: one layer of markers across the slab (a second layer would only
@@ -260,6 +263,7 @@ mod tests {
             ramp_time: 0.2,
             final_settlement: 0.1,
             cfl: 0.4,
+            f_bar: crate::fbar::FBar::Off,
         }
     }
 
