@@ -2,7 +2,7 @@
 //! prints the load-settlement curve and the limit pressure against Prandtl's
 //! `(2 + pi) c_u`.
 //!
-//! `cargo run --release -p chrono-mpm --example footing [cells_half_width [poisson [speed [markers_per_cell [final_settlement [f_bar (0 off, 1 increment, 2 total)]]]]]]`
+//! `cargo run --release -p chrono-mpm --example footing [cells_half_width [poisson [speed [markers_per_cell [final_settlement [f_bar (0 off, 1 increment, 2 total, 3 plastic)]]]]]]`
 
 use chrono_mpm::footing::{Footing, FootingSpec};
 
@@ -29,7 +29,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         ramp_time: 0.2,
         final_settlement: arg(5, 0.1)?,
         cfl: 0.4,
-        f_bar: [FBar::Off, FBar::Increment, FBar::Total][arg(6, 0.0)? as usize],
+        f_bar: [FBar::Off, FBar::Increment, FBar::Total, FBar::PlasticIncrement][arg(6, 0.0)? as usize],
     };
     let mut f = Footing::new(spec)?;
     let start = std::time::Instant::now();

@@ -1,7 +1,7 @@
 //! Confined compaction of Stomakhin 2013's snow by a plate (`chrono_mpm::compaction`):
 //! prints the axial stress against the model's own uniaxial-strain curve.
 //!
-//! `cargo run --release -p chrono-mpm --example snow_compaction [cells [strain_rate [final_strain [markers_per_cell [f_bar (0 off, 1 increment, 2 total)]]]]]`
+//! `cargo run --release -p chrono-mpm --example snow_compaction [cells [strain_rate [final_strain [markers_per_cell [f_bar (0 off, 1 increment, 2 total, 3 plastic)]]]]]`
 
 use chrono_mpm::compaction::{Compaction, CompactionSpec};
 use chrono_mpm::{FixedCorotated, SnowHardening};
@@ -26,7 +26,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         ramp_time: 0.05,
         final_strain: arg(3, 0.3)?,
         cfl: 0.4,
-        f_bar: [FBar::Off, FBar::Increment, FBar::Total][arg(5, 0.0)? as usize],
+        f_bar: [FBar::Off, FBar::Increment, FBar::Total, FBar::PlasticIncrement][arg(5, 0.0)? as usize],
     };
     let mut c = Compaction::new(spec, mat.into())?;
     let start = std::time::Instant::now();

@@ -52,9 +52,33 @@ pub enum FBar {
     /// `(Jbar / J)^(1/3)`: restores a checkerboard already present, but smooths the strain
     /// itself every step (an experiment; see the module documentation).
     Total,
+    /// The plastic part only: the step's plastic volume change `det F_P' / det F_P` (from
+    /// the return mapping) averaged over the stencil like the increments, `F_E` kept (an
+    /// experiment against the snow column's checkerboard of `J_P`, `docs/mpm.md`).
+    PlasticIncrement,
+}
+
+impl std::str::FromStr for FBar {
+    type Err = MpmError;
+
+    /// `off`, `increment`, `total` or `plastic`; anything else is an error naming the field `f_bar`.
+    fn from_str(s: &str) -> Result<Self, MpmError> {
+        match s {
+            "off" => Ok(FBar::Off),
+            "increment" => Ok(FBar::Increment),
+            "total" => Ok(FBar::Total),
+            "plastic" => Ok(FBar::PlasticIncrement),
+            _ => Err(invalid(
+                "f_bar",
+                s,
+                "must be off, increment, total or plastic",
+            )),
+        }
+    }
 }
 
 use crate::body::P2gMarker;
+use crate::error::{MpmError, invalid};
 use crate::bspline::Stencil;
 use crate::grid::{BLOCK, BLOCK3, GHOST, SparseGrid, key, unkey};
 

@@ -1,7 +1,7 @@
-//! Grid to particle ([`MpmBody::g2p`]) in three passes: the markers' velocity, affine
-//! matrix and velocity-gradient increment; the F-bar volume averaging of the increments
-//! (when [`MpmSettings::f_bar`]); the deformation gradient with its return mapping and
-//! the position.
+//! Grid to particle ([`MpmBody::g2p`]) in passes: the markers' velocity, affine matrix
+//! and velocity-gradient increment; the F-bar volume averaging of the increments (when
+//! [`MpmSettings::f_bar`]); the deformation gradient with its return mapping (then the
+//! plastic variant's averaging); the position.
 
 use super::*;
 use crate::fbar;
@@ -13,10 +13,22 @@ impl MpmBody {
         self.g2p_velocity(dt);
         self.status.clear();
         self.status.resize(self.markers.len(), 0);
-        if self.settings.f_bar != FBar::Off {
-            self.f_bar_increments(self.settings.f_bar);
+        let mode = self.settings.f_bar;
+        if matches!(mode, FBar::Increment | FBar::Total) {
+            self.f_bar_increments(mode);
         }
-        self.g2p_update(dt);
+        if mode == FBar::PlasticIncrement {
+            let mk = &self.markers;
+            self.vol_dj.clear();
+            self.vol_dj.extend(
+                (0..mk.len()).map(|p| [mk.fe[p].determinant(), mk.fp[p].determinant()]),
+            );
+        }
+        self.project();
+        if mode == FBar::PlasticIncrement {
+            self.f_bar_plastic();
+        }
+        self.advect(dt);
         self.check_status()
     }
 
@@ -106,19 +118,58 @@ impl MpmBody {
             });
     }
 
-    /// `F_E <- return_mapping(dF_p F_E)`, `x_p <- x_p + dt v_p`, and the finiteness check.
-    fn g2p_update(&mut self, dt: f64) {
+    /// The plastic variant ([`FBar::PlasticIncrement`]): the step's plastic volume change
+    /// `r_p = det F_P' / det F_P` (the return mapping's) replaced by its stencil average
+    /// weighted by the markers' volumes at the step's start, `F_P' <- (rbar_p / r_p)^(1/3)
+    /// F_P'`, `F_E` kept (so the total `J` changes with it). Reads `self.vol_dj[p] =
+    /// (det F_E, det F_P)` of the step's start.
+    fn f_bar_plastic(&mut self) {
+        let mk = &self.markers;
+        self.vol_dj
+            .par_iter_mut()
+            .enumerate()
+            .with_min_len(MARKERS_PER_TASK)
+            .for_each(|(p, vd)| {
+                let vol = mk.volume0[p] * vd[0] * vd[1];
+                let r = mk.fp[p].determinant() / vd[1];
+                *vd = [vol, vol * r];
+            });
+        let nb = self.spec.blocks();
+        let mut nodal = std::mem::take(&mut self.nodal_dj);
+        fbar::nodal_average(&self.grid, &self.scratch, &self.vol_dj, nb, &mut nodal);
+        self.nodal_dj = nodal;
+        let (origin, dx) = (self.spec.origin, self.spec.dx);
+        let grid = &self.grid;
+        let nodal = &self.nodal_dj;
+        let vol_dj = &self.vol_dj;
+        let mk = &mut self.markers;
+        mk.fp
+            .par_iter_mut()
+            .zip(self.status.par_iter_mut())
+            .zip(mk.x.par_iter())
+            .enumerate()
+            .with_min_len(MARKERS_PER_TASK)
+            .for_each(|(p, ((fp, status), x))| {
+                let st = Stencil::new((*x).into(), origin, dx);
+                let r_bar = fbar::interpolate(grid, nodal, nb, &st);
+                match fbar::factor(vol_dj[p][1] / vol_dj[p][0], r_bar) {
+                    Some(a) => *fp *= a,
+                    None => *status = BAD_VOLUME,
+                }
+            });
+    }
+
+    /// `F_E <- return_mapping(dF_p F_E)` (`F_P` takes what the return gives up).
+    fn project(&mut self) {
         let mat = self.material;
         let mk = &mut self.markers;
-        mk.x.par_iter_mut()
-            .zip(mk.v.par_iter())
-            .zip(mk.c.par_iter())
-            .zip(mk.fe.par_iter_mut())
+        mk.fe
+            .par_iter_mut()
             .zip(mk.fp.par_iter_mut())
             .zip(self.df.par_iter())
             .zip(self.status.par_iter_mut())
             .with_min_len(MARKERS_PER_TASK)
-            .for_each(|((((((x, v), c), fe), fp), df), status)| {
+            .for_each(|(((fe, fp), df), status)| {
                 if *status == 0 {
                     let fe_trial = df * *fe;
                     match mat.project(&fe_trial, fp) {
@@ -129,6 +180,20 @@ impl MpmBody {
                         None => *status = BAD_PROJECTION,
                     }
                 }
+            });
+    }
+
+    /// `x_p <- x_p + dt v_p`, and the finiteness check.
+    fn advect(&mut self, dt: f64) {
+        let mk = &mut self.markers;
+        mk.x.par_iter_mut()
+            .zip(mk.v.par_iter())
+            .zip(mk.c.par_iter())
+            .zip(mk.fe.par_iter())
+            .zip(mk.fp.par_iter())
+            .zip(self.status.par_iter_mut())
+            .with_min_len(MARKERS_PER_TASK)
+            .for_each(|(((((x, v), c), fe), fp), status)| {
                 *x += v * dt;
                 let finite = x.iter().chain(v.iter()).all(|s| s.is_finite())
                     && c.iter()

@@ -21,6 +21,7 @@
 //! Friction (`friction_angle_deg` > 0, Drucker–Prager against Prandtl–Reissner's `N_c`)
 //! is not in this case yet: a non-zero angle is an error.
 
+use chrono_mpm::FBar;
 use chrono_mpm::footing::{Footing, FootingSample, FootingSpec};
 use serde::{Deserialize, Serialize};
 
@@ -62,8 +63,10 @@ pub struct FootingParams {
     pub cfl: f64,
     /// Relative tolerance on the limit pressure.
     pub tolerance: f64,
-    /// Poisson's ratio of the locking run (0 = no locking run).
+    /// Poisson's ratio of the locking runs (0 = none).
     pub poisson_locking: f64,
+    /// F-bar of the main run: off, increment or total (`chrono_mpm::fbar`).
+    pub f_bar: String,
 }
 
 impl Default for FootingParams {
@@ -86,6 +89,7 @@ impl Default for FootingParams {
             cfl: 0.4,
             tolerance: 0.1,
             poisson_locking: 0.0,
+            f_bar: "off".into(),
         }
     }
 }
@@ -127,7 +131,12 @@ impl CaseParams for FootingParams {
         ParamInfo::new(
             "poisson_locking",
             "-",
-            "Poisson's ratio of a second run showing (no) volumetric locking; 0 = none",
+            "Poisson's ratio of two more runs, without and with F-bar (increment), showing volumetric locking and its removal; 0 = none",
+        ),
+        ParamInfo::new(
+            "f_bar",
+            "-",
+            "F-bar of the main run: off, increment or total (chrono_mpm::fbar)",
         ),
     ];
 
@@ -143,7 +152,7 @@ impl CaseParams for FootingParams {
     }
 }
 
-fn spec(p: &FootingParams, poisson: f64) -> FootingSpec {
+fn spec(p: &FootingParams, poisson: f64, f_bar: FBar) -> FootingSpec {
     FootingSpec {
         footing_width: p.footing_width,
         cohesion: p.cohesion,
@@ -158,6 +167,7 @@ fn spec(p: &FootingParams, poisson: f64) -> FootingSpec {
         ramp_time: p.ramp_time,
         final_settlement: p.final_settlement,
         cfl: p.cfl,
+        f_bar,
     }
 }
 
@@ -190,8 +200,9 @@ fn run(p: &FootingParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         "limit_from_settlement must lie in (0, final_settlement), got {}",
         p.limit_from_settlement
     );
-    let share = if p.poisson_locking > 0.0 { 0.5 } else { 1.0 };
-    let mut f = Footing::new(spec(p, p.poisson))?;
+    let f_bar: FBar = p.f_bar.parse()?;
+    let share = if p.poisson_locking > 0.0 { 0.2 } else { 1.0 };
+    let mut f = Footing::new(spec(p, p.poisson, f_bar))?;
     let samples = f.run(50, |x| ctx.progress(share * x))?;
     let prandtl = f.spec().prandtl_pressure();
     let (q, ke) = plateau(p, &samples)?;
@@ -211,37 +222,64 @@ fn run(p: &FootingParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         ke
     ));
     let mut steps = f.body.steps();
-    let mut series = Series::new(["settlement_over_b", "q_over_qu", "q_over_qu_locking"]);
-    let locking = if p.poisson_locking > 0.0 {
-        let mut g = Footing::new(spec(p, p.poisson_locking))?;
-        let s2 = g.run(50, |x| ctx.progress(0.5 + 0.5 * x))?;
-        let (q2, _) = plateau(p, &s2)?;
-        out.metric("limit_ratio_locking", q2 / prandtl);
-        ctx.note(format!(
-            "poisson {}: limit pressure {:.4} (2 + pi) c_u (poisson {}: {:.4})",
-            p.poisson_locking,
-            q2 / prandtl,
-            p.poisson,
-            q / prandtl
-        ));
-        steps += g.body.steps();
-        Some(s2)
-    } else {
-        None
-    };
-    for (k, s) in samples.iter().enumerate() {
-        let l = locking
+    let mut series = Series::new([
+        "settlement_over_b",
+        "q_over_qu",
+        "q_over_qu_locking",
+        "q_over_qu_locking_fbar",
+    ]);
+    // The locking runs: without F-bar (reported) and with it (checked against Prandtl).
+    let mut locking: [Option<Vec<FootingSample>>; 2] = [None, None];
+    if p.poisson_locking > 0.0 {
+        for (k, mode) in [FBar::Off, FBar::Increment].into_iter().enumerate() {
+            let mut g = Footing::new(spec(p, p.poisson_locking, mode))?;
+            let from = 0.2 + 0.4 * k as f64;
+            let s2 = g.run(50, |x| ctx.progress(from + 0.4 * x))?;
+            let (q2, _) = plateau(p, &s2)?;
+            let name = if k == 0 { "locking" } else { "locking_fbar" };
+            if k == 0 {
+                out.metric("limit_ratio_locking", q2 / prandtl);
+            } else {
+                out.check(Check::relative(
+                    "limit_pressure_locking_fbar",
+                    q2,
+                    prandtl,
+                    p.tolerance,
+                ));
+                out.metric("limit_ratio_locking_fbar", q2 / prandtl);
+            }
+            ctx.note(format!(
+                "{name}: poisson {}, F-bar {mode:?}: {} steps, limit pressure {:.4} (2 + pi) c_u (poisson {}: {:.4})",
+                p.poisson_locking,
+                g.body.steps(),
+                q2 / prandtl,
+                p.poisson,
+                q / prandtl
+            ));
+            steps += g.body.steps();
+            locking[k] = Some(s2);
+        }
+    }
+    let at = |k: usize, i: usize| {
+        locking[k]
             .as_ref()
-            .and_then(|v| v.get(k))
-            .map_or(f64::NAN, |t| t.pressure / prandtl);
-        series.push(&[s.settlement / p.footing_width, s.pressure / prandtl, l]);
+            .and_then(|v| v.get(i))
+            .map_or(f64::NAN, |t| t.pressure / prandtl)
+    };
+    for (i, s) in samples.iter().enumerate() {
+        series.push(&[
+            s.settlement / p.footing_width,
+            s.pressure / prandtl,
+            at(0, i),
+            at(1, i),
+        ]);
     }
     out.series = series;
     out.plot = PlotSpec::new(
         "MPM strip footing on Tresca soil: pressure against settlement",
         "settlement / B",
         "q / ((2 + pi) c_u)",
-        &["q_over_qu", "q_over_qu_locking"],
+        &["q_over_qu", "q_over_qu_locking", "q_over_qu_locking_fbar"],
     );
     out.steps = steps;
     Ok(out)
