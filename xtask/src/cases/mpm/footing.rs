@@ -9,14 +9,16 @@
 //! samples from `limit_from_settlement` B on (the plateau), within `tolerance` (10 %) of
 //! `(2 + pi) c_u` (Prandtl 1920; exact for smooth and rough footings on a weightless
 //! Tresca soil). Reported: the kinetic/elastic energy ratio over the plateau (quasi-static),
-//! the load-settlement curve, and, for volumetric locking, the same run at
-//! `poisson_locking` (the plastic flow is isochoric; a locking discretisation would raise
-//! the limit pressure as `poisson` approaches 0.5).
+//! the load-settlement curve. Volumetric locking: with `poisson_locking` > 0 the same run at
+//! that Poisson's ratio without F-bar (reported: the plastic flow is isochoric and the
+//! quadratic-spline field locks, 1.139 q_u at 0.49, 4 cells) and with F-bar
+//! (`chrono_mpm::fbar`; checked against Prandtl like the main run: 1.034 q_u).
 //!
-//! The default run is the coarse one (`B/2` = 4 cells, 960 markers: 1.03 q_u, about 7 s
+//! The default run is the coarse one (`B/2` = 4 cells, 960 markers: 1.036 q_u, about 7 s
 //! on the shared 2-core machine); `--full` runs 8 cells (1.011 q_u) with the same check,
-//! and the `poisson` 0.49 run beside it (1.062 q_u; both 193 s). `--quick` stops at
-//! 0.08 B.
+//! and the `poisson` 0.49 runs beside it (1.062 q_u without F-bar, 0.976 with it, checked).
+//! `--quick` stops at 0.08 B. `f_bar` sets the main run's F-bar (off by default: with
+//! F-bar the nu 0.3 soil reads 0.952 q_u, `docs/mpm.md`).
 //!
 //! Friction (`friction_angle_deg` > 0, Drucker–Prager against Prandtl–Reissner's `N_c`)
 //! is not in this case yet: a non-zero angle is an error.
@@ -290,7 +292,7 @@ pub fn case() -> Box<dyn Case> {
     ParamCase::<FootingParams>::boxed(
         "mpm-footing",
         "mpm",
-        "Rigid strip footing pushed into weightless von Mises (Tresca-matched) clay, plane strain, plain explicit MPM: limit pressure within 10 % of Prandtl's (2 + pi) c_u; quasi-static energy ratio and volumetric locking (poisson 0.49 under --full) reported.",
+        "Rigid strip footing pushed into weightless von Mises (Tresca-matched) clay, plane strain, plain explicit MPM: limit pressure within 10 % of Prandtl's (2 + pi) c_u; quasi-static energy ratio and volumetric locking at poisson 0.49 under --full (without F-bar reported, with F-bar checked).",
         run,
     )
 }
