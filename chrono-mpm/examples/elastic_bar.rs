@@ -24,7 +24,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         cfl: arg(2, d.cfl)?,
         markers_per_cell: arg(3, d.markers_per_cell as f64)? as usize,
         poisson: arg(4, d.poisson)?,
-        f_bar: [FBar::Off, FBar::Increment, FBar::Total, FBar::PlasticIncrement][arg(5, 0.0)? as usize],
+        f_bar: [
+            FBar::Off,
+            FBar::Increment,
+            FBar::Total,
+            FBar::PlasticIncrement,
+        ][arg(5, 0.0)? as usize],
         ..d
     })?;
     let start = std::time::Instant::now();

@@ -30,7 +30,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         ramp_time: 0.2,
         final_settlement: arg(5, 0.1)?,
         cfl: 0.4,
-        f_bar: [FBar::Off, FBar::Increment, FBar::Total, FBar::PlasticIncrement][arg(6, 0.0)? as usize],
+        f_bar: [
+            FBar::Off,
+            FBar::Increment,
+            FBar::Total,
+            FBar::PlasticIncrement,
+        ][arg(6, 0.0)? as usize],
     };
     let mut f = Footing::new(spec)?;
     let start = std::time::Instant::now();

@@ -26,7 +26,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         ramp_time: 0.05,
         final_strain: arg(3, 0.3)?,
         cfl: 0.4,
-        f_bar: [FBar::Off, FBar::Increment, FBar::Total, FBar::PlasticIncrement][arg(5, 0.0)? as usize],
+        f_bar: [
+            FBar::Off,
+            FBar::Increment,
+            FBar::Total,
+            FBar::PlasticIncrement,
+        ][arg(5, 0.0)? as usize],
     };
     let mut c = Compaction::new(spec, mat.into())?;
     let start = std::time::Instant::now();

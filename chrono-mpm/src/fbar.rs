@@ -78,8 +78,8 @@ impl std::str::FromStr for FBar {
 }
 
 use crate::body::P2gMarker;
-use crate::error::{MpmError, invalid};
 use crate::bspline::Stencil;
+use crate::error::{MpmError, invalid};
 use crate::grid::{BLOCK, BLOCK3, GHOST, SparseGrid, key, unkey};
 
 /// The least grid blocks of one parallel task (the results do not depend on it).

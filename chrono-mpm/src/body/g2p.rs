@@ -20,9 +20,8 @@ impl MpmBody {
         if mode == FBar::PlasticIncrement {
             let mk = &self.markers;
             self.vol_dj.clear();
-            self.vol_dj.extend(
-                (0..mk.len()).map(|p| [mk.fe[p].determinant(), mk.fp[p].determinant()]),
-            );
+            self.vol_dj
+                .extend((0..mk.len()).map(|p| [mk.fe[p].determinant(), mk.fp[p].determinant()]));
         }
         self.project();
         if mode == FBar::PlasticIncrement {

@@ -201,7 +201,7 @@ mod tests {
         // line t = c cos(phi) - p sin(phi) are on the matched cone, for any p.
         for (phi, c) in [(0.0, 1e4), (20.0, 1e4), (35.0, 2e3)] {
             let m = DruckerPrager::plane_strain(1e7, 0.3, phi, c).unwrap();
-            let (sin, cos) = (phi as f64).to_radians().sin_cos();
+            let (sin, cos) = phi.to_radians().sin_cos();
             for p in [-5e4, -1e4, 0.0, 0.5 * c * cos / sin.max(1e-3)] {
                 let t = c * cos - p * sin;
                 if t < 0.0 {
