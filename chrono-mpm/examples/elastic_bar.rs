@@ -1,9 +1,11 @@
 //! The axially vibrating elastic bar (`chrono_mpm::bar`): prints the first frequency
 //! against `sqrt(E/rho)/(4L)` and the energy drift over ten periods.
 //!
-//! `cargo run --release -p chrono-mpm --example elastic_bar [cells_along [cfl [markers_per_cell]]]`
+//! `cargo run --release -p chrono-mpm --example elastic_bar [cells_along [cfl [markers_per_cell [poisson [f_bar (0 off, 1 increment, 2 total, 3 plastic)]]]]]`
 
 use chrono_mpm::bar::{BarSpec, ElasticBar};
+
+use chrono_mpm::fbar::FBar;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let cells_along = match std::env::args().nth(1) {
@@ -21,6 +23,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         cells_along,
         cfl: arg(2, d.cfl)?,
         markers_per_cell: arg(3, d.markers_per_cell as f64)? as usize,
+        poisson: arg(4, d.poisson)?,
+        f_bar: [
+            FBar::Off,
+            FBar::Increment,
+            FBar::Total,
+            FBar::PlasticIncrement,
+        ][arg(5, 0.0)? as usize],
         ..d
     })?;
     let start = std::time::Instant::now();

@@ -1,10 +1,12 @@
 //! Confined compaction of Stomakhin 2013's snow by a plate (`chrono_mpm::compaction`):
 //! prints the axial stress against the model's own uniaxial-strain curve.
 //!
-//! `cargo run --release -p chrono-mpm --example snow_compaction [cells [strain_rate [final_strain [markers_per_cell]]]]`
+//! `cargo run --release -p chrono-mpm --example snow_compaction [cells [strain_rate [final_strain [markers_per_cell [f_bar (0 off, 1 increment, 2 total, 3 plastic)]]]]]`
 
 use chrono_mpm::compaction::{Compaction, CompactionSpec};
 use chrono_mpm::{FixedCorotated, SnowHardening};
+
+use chrono_mpm::fbar::FBar;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let arg = |i: usize, default: f64| -> Result<f64, Box<dyn std::error::Error>> {
@@ -24,6 +26,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         ramp_time: 0.05,
         final_strain: arg(3, 0.3)?,
         cfl: 0.4,
+        f_bar: [
+            FBar::Off,
+            FBar::Increment,
+            FBar::Total,
+            FBar::PlasticIncrement,
+        ][arg(5, 0.0)? as usize],
     };
     let mut c = Compaction::new(spec, mat.into())?;
     let start = std::time::Instant::now();
@@ -50,6 +58,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .map(|l| format!("{:.3}", l.iter().map(|q| q.1).sum::<f64>() / l.len() as f64))
         .collect();
     println!("strain by layer, bottom to top: {}", strains.join(" "));
+    let mut jp: Vec<(f64, f64)> = (0..mk.len())
+        .map(|p| (mk.x[p].z, mk.fp[p].determinant()))
+        .collect();
+    jp.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let jps: Vec<String> = jp
+        .chunks(per.max(1))
+        .map(|l| format!("{:.3}", l.iter().map(|q| q.1).sum::<f64>() / l.len() as f64))
+        .collect();
+    println!("J_P by layer, bottom to top: {}", jps.join(" "));
     println!(
         "{} markers, {} steps in {:.2} s",
         c.body.markers.len(),

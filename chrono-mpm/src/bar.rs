@@ -51,6 +51,8 @@ pub struct BarSpec {
     pub strain_amplitude: f64,
     /// CFL number of the time step `dt = cfl dx / (c + v0)`.
     pub cfl: f64,
+    /// F-bar volume averaging ([`crate::fbar`]).
+    pub f_bar: crate::fbar::FBar,
 }
 
 impl Default for BarSpec {
@@ -65,6 +67,7 @@ impl Default for BarSpec {
             markers_per_cell: 2,
             strain_amplitude: 1e-3,
             cfl: 0.4,
+            f_bar: crate::fbar::FBar::Off,
         }
     }
 }
@@ -159,6 +162,7 @@ impl ElasticBar {
         let settings = MpmSettings {
             gravity: [0.0; 3],
             cfl: spec.cfl,
+            f_bar: spec.f_bar,
         };
         let mut body = MpmBody::new(grid, material.into(), settings)?;
         let c = (spec.young / spec.density).sqrt();

@@ -27,12 +27,14 @@ use rayon::prelude::*;
 
 use crate::bspline::{Stencil, apic_d_inverse};
 use crate::error::{MpmError, Result, invalid, positive};
+use crate::fbar::FBar;
 use crate::fold;
 use crate::grid::{BLOCK, BLOCK3, GHOST, GridSpec, SparseGrid, Wall, key, unkey};
 use crate::markers::Markers;
 use crate::material::Material;
 use crate::rigid::RigidBody;
 
+mod g2p;
 mod rigid_update;
 
 /// Settings of an MPM body.
@@ -43,6 +45,11 @@ pub struct MpmSettings {
     /// The CFL number of the explicit limit `dt <= cfl dx / (c + |v|max)`, with
     /// `c = sqrt((lambda + 2 mu) / rho)` the P-wave speed.
     pub cfl: f64,
+    /// F-bar ([`crate::fbar`]): each marker's volume change of the step replaced by its
+    /// volume-weighted average over the grid stencil, against volumetric locking in nearly
+    /// incompressible or isochoric-plastic flow and a checkerboard of the markers' volume
+    /// changes. Off by default.
+    pub f_bar: FBar,
 }
 
 impl Default for MpmSettings {
@@ -50,16 +57,17 @@ impl Default for MpmSettings {
         Self {
             gravity: [0.0, 0.0, -9.81],
             cfl: 0.5,
+            f_bar: FBar::Off,
         }
     }
 }
 
 /// What P2G needs of a marker, in sorted order (contiguous for the block gather).
 #[derive(Clone, Copy, Debug, Default)]
-struct P2gMarker {
-    st: Stencil,
+pub(crate) struct P2gMarker {
+    pub(crate) st: Stencil,
     /// Base node per axis shifted by GHOST.
-    g0: [usize; 3],
+    pub(crate) g0: [usize; 3],
     m: f64,
     /// m v.
     mv: [f64; 3],
@@ -83,6 +91,13 @@ pub struct MpmBody {
     grid: SparseGrid,
     scratch: Vec<P2gMarker>,
     status: Vec<u8>,
+    /// The step's velocity-gradient increment `I + dt grad v` per marker (G2P scratch),
+    /// scaled by the F-bar factor when [`MpmSettings::f_bar`].
+    df: Vec<Matrix3<f64>>,
+    /// F-bar scratch: per marker `(V^n, V^n dJ)`, per node the weighted sums, then the
+    /// nodal average ([`crate::fbar`]).
+    vol_dj: Vec<[f64; 2]>,
+    nodal_dj: Vec<[f64; 2]>,
     steps: u64,
     time: f64,
 }
@@ -96,6 +111,7 @@ const BLOCKS_PER_TASK: usize = 8;
 /// Why a marker failed in G2P.
 const BAD_STATE: u8 = 1;
 const BAD_PROJECTION: u8 = 2;
+const BAD_VOLUME: u8 = 3;
 
 impl MpmBody {
     /// A body of `material` on the grid `spec`; add markers through [`MpmBody::markers`].
@@ -124,6 +140,9 @@ impl MpmBody {
             grid: SparseGrid::default(),
             scratch: Vec::new(),
             status: Vec::new(),
+            df: Vec::new(),
+            vol_dj: Vec::new(),
+            nodal_dj: Vec::new(),
             steps: 0,
             time: 0.0,
         })
@@ -142,6 +161,11 @@ impl MpmBody {
     /// The settings.
     pub fn settings(&self) -> &MpmSettings {
         &self.settings
+    }
+
+    /// Sets the F-bar mode ([`MpmSettings::f_bar`]) for the following steps.
+    pub fn set_f_bar(&mut self, mode: FBar) {
+        self.settings.f_bar = mode;
     }
 
     /// The sparse grid of the last step (active blocks, node masses).
@@ -433,111 +457,6 @@ impl MpmBody {
                 }
             });
         self.grid.mom = mom;
-    }
-
-    /// Grid to particle: velocity, affine matrix, deformation gradient (with the return
-    /// mapping) and position.
-    pub(crate) fn g2p(&mut self, dt: f64) -> Result<()> {
-        let spec = self.spec;
-        let nb = spec.blocks();
-        let (origin, dx) = (spec.origin, spec.dx);
-        let dinv = apic_d_inverse(dx);
-        let grid = &self.grid;
-        let mat = self.material;
-        let mk = &mut self.markers;
-        let n = mk.len();
-        self.status.clear();
-        self.status.resize(n, 0);
-        mk.x.par_iter_mut()
-            .zip(mk.v.par_iter_mut())
-            .zip(mk.c.par_iter_mut())
-            .zip(mk.fe.par_iter_mut())
-            .zip(mk.fp.par_iter_mut())
-            .zip(self.status.par_iter_mut())
-            .with_min_len(MARKERS_PER_TASK)
-            .for_each(|(((((x, v), c), fe), fp), status)| {
-                let st = Stencil::new((*x).into(), origin, dx);
-                let g0 = [
-                    (st.base[0] + GHOST) as usize,
-                    (st.base[1] + GHOST) as usize,
-                    (st.base[2] + GHOST) as usize,
-                ];
-                // The (up to 8) blocks of the stencil.
-                let b0 = [g0[0] / BLOCK, g0[1] / BLOCK, g0[2] / BLOCK];
-                let mut bidx = [[[usize::MAX; 2]; 2]; 2];
-                let mut vp = Vector3::zeros();
-                let mut bp = Matrix3::zeros();
-                let mut grad_v = Matrix3::zeros();
-                for o0 in 0..3 {
-                    let g_0 = g0[0] + o0;
-                    for o1 in 0..3 {
-                        let g_1 = g0[1] + o1;
-                        for o2 in 0..3 {
-                            let g_2 = g0[2] + o2;
-                            let d = [
-                                g_0 / BLOCK - b0[0],
-                                g_1 / BLOCK - b0[1],
-                                g_2 / BLOCK - b0[2],
-                            ];
-                            let slot = &mut bidx[d[0]][d[1]][d[2]];
-                            if *slot == usize::MAX {
-                                *slot = grid
-                                    .block_index(key([g_0 / BLOCK, g_1 / BLOCK, g_2 / BLOCK], nb))
-                                    .expect("P2G activated every block of every stencil");
-                            }
-                            let l = ((g_0 % BLOCK) * BLOCK + g_1 % BLOCK) * BLOCK + g_2 % BLOCK;
-                            let vi = Vector3::from(grid.mom[*slot * BLOCK3 + l]);
-                            let o = [o0, o1, o2];
-                            let w = st.weight(o);
-                            let r = Vector3::from(st.offset(o, dx));
-                            let gw = Vector3::from(st.grad(o));
-                            vp += vi * w;
-                            bp += (vi * w) * r.transpose();
-                            grad_v += vi * gw.transpose();
-                        }
-                    }
-                }
-                *v = vp;
-                *c = bp * dinv;
-                let fe_trial = (Matrix3::identity() + grad_v * dt) * *fe;
-                match mat.project(&fe_trial, fp) {
-                    Some((fe1, fp1)) => {
-                        *fe = fe1;
-                        *fp = fp1;
-                    }
-                    None => *status = BAD_PROJECTION,
-                }
-                *x += vp * dt;
-                let finite = x.iter().chain(v.iter()).all(|s| s.is_finite())
-                    && c.iter()
-                        .chain(fe.iter())
-                        .chain(fp.iter())
-                        .all(|s| s.is_finite());
-                if !finite {
-                    *status = BAD_STATE;
-                }
-            });
-        if let Some(p) = self
-            .status
-            .par_iter()
-            .with_min_len(MARKERS_PER_TASK)
-            .position_first(|&s| s != 0)
-        {
-            let what = match self.status[p] {
-                BAD_PROJECTION => format!(
-                    "degenerate elastic deformation gradient (det F_E = {:.3e}) in the return mapping",
-                    self.markers.fe[p].determinant()
-                ),
-                _ => "non-finite position, velocity or deformation gradient".to_string(),
-            };
-            return Err(MpmError::Diverged {
-                marker: p,
-                step: self.steps,
-                time: self.time,
-                what,
-            });
-        }
-        Ok(())
     }
 
     /// Total marker momentum `sum m_p v_p`, kg m/s (fixed-order sum).

@@ -51,6 +51,8 @@ pub struct CompactionSpec {
     pub final_strain: f64,
     /// CFL number of the time step (recomputed each step: hardening stiffens).
     pub cfl: f64,
+    /// F-bar volume averaging ([`crate::fbar`]).
+    pub f_bar: crate::fbar::FBar,
 }
 
 /// One sample of the compaction.
@@ -123,6 +125,7 @@ impl Compaction {
         let settings = MpmSettings {
             gravity: [0.0; 3],
             cfl: spec.cfl,
+            f_bar: spec.f_bar,
         };
         let mut body = MpmBody::new(grid, material, settings)?;
         let d = dx / spec.markers_per_cell as f64;

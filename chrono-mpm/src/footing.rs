@@ -32,7 +32,7 @@ use nalgebra::Vector3;
 use crate::body::{MpmBody, MpmSettings};
 use crate::error::{Result, invalid, positive};
 use crate::grid::{GridSpec, Wall};
-use crate::material::{Material, VonMises};
+use crate::material::{DruckerPrager, Material, VonMises};
 use crate::rigid::{Contact, RigidBody, push_down, speed_ramp};
 
 /// Parameters of the footing problem.
@@ -40,8 +40,12 @@ use crate::rigid::{Contact, RigidBody, push_down, speed_ramp};
 pub struct FootingSpec {
     /// Footing width `B`, m.
     pub footing_width: f64,
-    /// Undrained shear strength `c_u`, Pa.
+    /// Undrained shear strength `c_u` (the cohesion `c` with friction), Pa.
     pub cohesion: f64,
+    /// Friction angle `phi`, degrees: 0 for the von Mises (Tresca-matched) clay, else
+    /// Drucker–Prager matched to Mohr–Coulomb in plane strain
+    /// ([`DruckerPrager::plane_strain`]).
+    pub friction_angle_deg: f64,
     /// Young's modulus of the soil, Pa.
     pub young: f64,
     /// Poisson's ratio of the soil.
@@ -64,13 +68,31 @@ pub struct FootingSpec {
     pub final_settlement: f64,
     /// CFL number of the time step.
     pub cfl: f64,
+    /// F-bar volume averaging ([`crate::fbar`]).
+    pub f_bar: crate::fbar::FBar,
 }
 
 impl FootingSpec {
-    /// Prandtl's limit pressure `(2 + pi) c_u`, Pa.
+    /// The limit pressure `c N_c`, Pa, of a weightless soil without surcharge:
+    /// Prandtl–Reissner's `N_c = (N_q - 1) cot(phi)`, `N_q = exp(pi tan(phi))
+    /// tan^2(pi/4 + phi/2)` (Prandtl 1920, Reissner 1924; e.g. Terzaghi, Theoretical Soil
+    /// Mechanics, 1943, ch. VIII), `N_c = 2 + pi` at `phi = 0`. Exact for a
+    /// rigid-perfectly plastic Mohr–Coulomb soil with associated flow.
     pub fn prandtl_pressure(&self) -> f64 {
-        (2.0 + std::f64::consts::PI) * self.cohesion
+        self.cohesion * bearing_factor_nc(self.friction_angle_deg)
     }
+}
+
+/// Prandtl–Reissner's bearing capacity factor `N_c` of friction angle `phi_deg` (degrees):
+/// `(N_q - 1) cot(phi)` with `N_q = exp(pi tan(phi)) tan^2(pi/4 + phi/2)`; `2 + pi` at 0.
+pub fn bearing_factor_nc(phi_deg: f64) -> f64 {
+    let phi = phi_deg.to_radians();
+    if phi.abs() < 1e-8 {
+        return 2.0 + std::f64::consts::PI;
+    }
+    let nq = (std::f64::consts::PI * phi.tan()).exp()
+        * (std::f64::consts::FRAC_PI_4 + 0.5 * phi).tan().powi(2);
+    (nq - 1.0) / phi.tan()
 }
 
 /// One sample of the footing's load-settlement curve.
@@ -151,7 +173,27 @@ impl Footing {
                 "must lie in [1, 8]",
             ));
         }
-        let soil = VonMises::from_undrained_strength(spec.young, spec.poisson, spec.cohesion)?;
+        if !(spec.cohesion > 0.0 && spec.cohesion.is_finite()) {
+            return Err(invalid(
+                "material.cohesion",
+                spec.cohesion,
+                "must be finite and > 0 (a weightless soil without cohesion carries no load)",
+            ));
+        }
+        let soil = if spec.friction_angle_deg == 0.0 {
+            Material::VonMises(VonMises::from_undrained_strength(
+                spec.young,
+                spec.poisson,
+                spec.cohesion,
+            )?)
+        } else {
+            Material::DruckerPrager(DruckerPrager::plane_strain(
+                spec.young,
+                spec.poisson,
+                spec.friction_angle_deg,
+                spec.cohesion,
+            )?)
+        };
         let dx = 0.5 * b / spec.cells_half_width as f64;
         let nx = (spec.domain_width * b / dx).round() as usize;
         let nz = (spec.domain_depth * b / dx).round() as usize;
@@ -165,8 +207,9 @@ impl Footing {
         let settings = MpmSettings {
             gravity: [0.0; 3],
             cfl: spec.cfl,
+            f_bar: spec.f_bar,
         };
-        let mut body = MpmBody::new(grid, Material::VonMises(soil), settings)?;
+        let mut body = MpmBody::new(grid, soil, settings)?;
         // Plane strain: one layer of markers across the slab (a second layer would only
         // repeat the first), `markers_per_cell` per axis in the plane.
         let d = dx / spec.markers_per_cell as f64;
@@ -249,6 +292,7 @@ mod tests {
         FootingSpec {
             footing_width: 1.0,
             cohesion: 1e4,
+            friction_angle_deg: 0.0,
             young: 5e6,
             poisson: 0.3,
             density: 1800.0,
@@ -260,6 +304,7 @@ mod tests {
             ramp_time: 0.2,
             final_settlement: 0.1,
             cfl: 0.4,
+            f_bar: crate::fbar::FBar::Off,
         }
     }
 
@@ -322,5 +367,16 @@ mod tests {
         let s = f.run(4, |_| {}).unwrap();
         assert!(s.iter().all(|s| s.pressure > 0.0), "{s:?}");
         assert!((f.spec().prandtl_pressure() - 51415.9).abs() < 0.1);
+        // N_c of the tables (Terzaghi 1943, Prandtl-Reissner): 14.83 at 20 deg, 30.14 at
+        // 30 deg, continuous at 0.
+        assert!((bearing_factor_nc(20.0) - 14.835).abs() < 1e-3);
+        assert!((bearing_factor_nc(30.0) - 30.140).abs() < 1e-3);
+        assert!((bearing_factor_nc(1e-6) - (2.0 + std::f64::consts::PI)).abs() < 1e-4);
+        let e = Footing::new(FootingSpec {
+            friction_angle_deg: 95.0,
+            ..spec()
+        })
+        .unwrap_err();
+        assert!(e.to_string().contains("material.friction_angle_deg"), "{e}");
     }
 }

@@ -6,6 +6,8 @@
 //!
 //! - [`bspline`]: quadratic B-spline transfers (and why quadratic);
 //! - [`grid`]: the grid's box, its walls and the sparse block storage;
+//! - [`fbar`]: F-bar, the markers' volume change averaged over the grid stencil (against
+//!   volumetric locking);
 //! - [`fold`]: consistent boundary images (the ghosts' mass and force folded into the
 //!   nodes they mirror);
 //! - [`markers`]: the markers, structure of arrays;
@@ -29,6 +31,7 @@ pub mod body;
 pub mod bspline;
 pub mod compaction;
 pub mod error;
+pub mod fbar;
 pub mod fold;
 pub mod footing;
 pub mod grid;
@@ -42,6 +45,7 @@ mod tests;
 
 pub use body::{MpmBody, MpmSettings};
 pub use error::{MpmError, Result};
+pub use fbar::FBar;
 pub use grid::{GridSpec, SparseGrid, Wall};
 pub use markers::Markers;
 pub use material::{DruckerPrager, Elasticity, FixedCorotated, Material, SnowHardening, VonMises};

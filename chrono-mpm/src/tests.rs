@@ -23,6 +23,7 @@ fn body_with_random_markers(n: usize, seed: u64, walls: Wall) -> MpmBody {
         MpmSettings {
             gravity: [0.0; 3],
             cfl: 0.5,
+            f_bar: crate::fbar::FBar::Off,
         },
     )
     .unwrap();
@@ -60,24 +61,30 @@ fn apic_transfers_conserve_momentum_and_angular_momentum() {
         (l1 - l0).norm() < 1e-12 * (1.0 + l0.norm()),
         "G2P angular {l1} vs {l0}"
     );
-    // And over a real step with the stress (internal forces cancel) and moving markers,
-    // which conserves both too (Jiang et al. 2015, sec. 5.3).
-    let mut body = body_with_random_markers(500, 9, Wall::Open);
-    for p in 0..body.markers.len() {
-        let s = 1.0 + 0.01 * (p % 7) as f64;
-        body.markers.fe[p] = Matrix3::new(s, 0.01, 0.0, 0.0, 1.0, 0.02, 0.0, 0.0, 2.0 - s);
+    // And over real steps with the stress (internal forces cancel) and moving markers,
+    // which conserve both too (Jiang et al. 2015, sec. 5.3), with and without F-bar (which
+    // changes the stress, not the transfers).
+    for mode in [FBar::Off, FBar::Increment] {
+        let mut body = body_with_random_markers(500, 9, Wall::Open);
+        body.set_f_bar(mode);
+        for p in 0..body.markers.len() {
+            let s = 1.0 + 0.01 * (p % 7) as f64;
+            body.markers.fe[p] = Matrix3::new(s, 0.01, 0.0, 0.0, 1.0, 0.02, 0.0, 0.0, 2.0 - s);
+        }
+        let (p0, l0) = (body.momentum(), body.angular_momentum());
+        for _ in 0..3 {
+            body.step(1e-4).unwrap();
+        }
+        let (p1, l1) = (body.momentum(), body.angular_momentum());
+        assert!(
+            (p1 - p0).norm() < 1e-11 * (1.0 + p0.norm()),
+            "{mode:?}: step momentum {p1} vs {p0}"
+        );
+        assert!(
+            (l1 - l0).norm() < 1e-11 * (1.0 + l0.norm()),
+            "{mode:?}: step angular {l1} vs {l0}"
+        );
     }
-    let (p0, l0) = (body.momentum(), body.angular_momentum());
-    body.step(1e-4).unwrap();
-    let (p1, l1) = (body.momentum(), body.angular_momentum());
-    assert!(
-        (p1 - p0).norm() < 1e-11 * (1.0 + p0.norm()),
-        "step momentum {p1} vs {p0}"
-    );
-    assert!(
-        (l1 - l0).norm() < 1e-11 * (1.0 + l0.norm()),
-        "step angular {l1} vs {l0}"
-    );
 }
 
 #[test]
@@ -106,13 +113,14 @@ fn rigid_motion_is_reproduced() {
 
 #[test]
 fn results_are_the_same_bits_at_one_and_two_threads() {
-    let run = |threads: usize| {
+    let run = |threads: usize, mode: FBar| {
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
             .build()
             .unwrap();
         pool.install(|| {
             let mut body = body_with_random_markers(3000, 5, Wall::Sticky);
+            body.set_f_bar(mode);
             body.markers.v.iter_mut().for_each(|v| *v *= 0.01);
             // Two rigid bodies (their impulses are a parallel sum, in block order).
             for (x, contact) in [
@@ -145,11 +153,17 @@ fn results_are_the_same_bits_at_one_and_two_threads() {
             )
         })
     };
-    let a = run(1);
-    let b = run(2);
-    let a2 = run(2);
-    assert_eq!(b, a2, "two runs at 2 threads differ");
-    assert_eq!(a, b, "1 and 2 threads differ");
+    for mode in [FBar::Off, FBar::Increment] {
+        let a = run(1, mode);
+        let b = run(2, mode);
+        let a2 = run(2, mode);
+        assert_eq!(b, a2, "{mode:?}: two runs at 2 threads differ");
+        assert_eq!(a, b, "{mode:?}: 1 and 2 threads differ");
+        if mode == FBar::Increment {
+            // F-bar changed the result (it is not a no-op on this non-uniform motion).
+            assert_ne!(a.2, run(1, FBar::Off).2, "F-bar changed nothing");
+        }
+    }
 }
 
 #[test]
@@ -281,6 +295,7 @@ fn pushed_block(contact: rigid::Contact) -> (Vector3<f64>, Vector3<f64>, Vector3
         MpmSettings {
             gravity: [0.0; 3],
             cfl: 0.5,
+            f_bar: crate::fbar::FBar::Off,
         },
     )
     .unwrap();
@@ -358,6 +373,7 @@ fn plate_stress_error(cells: usize, mpc: usize) -> (f64, f64) {
         ramp_time: 5.0 * transit,
         final_strain: 0.02,
         cfl: 0.4,
+        f_bar: crate::fbar::FBar::Off,
     };
     let mut c = compaction::Compaction::new(spec, mat.into()).unwrap();
     let samples = c.run(40, |_| {}).unwrap();
@@ -414,6 +430,7 @@ fn uniform_stress_block(wall: Wall, mpc: usize) -> (f64, f64) {
     let settings = MpmSettings {
         gravity: [0.0; 3],
         cfl: 0.5,
+        f_bar: crate::fbar::FBar::Off,
     };
     let mut body = MpmBody::new(spec, mat.into(), settings).unwrap();
     let rho = 500.0;

@@ -74,6 +74,35 @@ impl DruckerPrager {
         })
     }
 
+    /// The cone matched to Mohr–Coulomb (friction angle `friction_angle_deg`, cohesion
+    /// `cohesion`, Pa) in plane strain with this model's flow rule: the radial return
+    /// flows along the deviator `s`, so at steady plastic flow with no out-of-plane strain
+    /// `s_zz = 0`, the out-of-plane stress is the mean of the in-plane ones, and with
+    /// `t = (sigma_1 - sigma_3)/2`, `p = (sigma_1 + sigma_3)/2` (tension positive) the
+    /// cone reads `sqrt(2) t + 3 alpha p <= kappa`. Mohr–Coulomb's `t + p sin(phi) <= c
+    /// cos(phi)` is the same line for
+    ///
+    /// ```text
+    /// alpha = sqrt(2) sin(phi) / 3,   kappa = sqrt(2) c cos(phi)
+    /// ```
+    ///
+    /// (the plane-strain match of a non-dilatant Drucker–Prager flow; e.g. de Souza Neto,
+    /// Perić & Owen, "Computational Methods for Plasticity", Wiley 2008, sec. 6.4.2, which
+    /// gives the associated match beside it). At `phi = 0` it is the von Mises cylinder of
+    /// [`super::VonMises::from_undrained_strength`]. Errors as [`DruckerPrager::new`].
+    pub fn plane_strain(
+        young: f64,
+        poisson: f64,
+        friction_angle_deg: f64,
+        cohesion: f64,
+    ) -> Result<Self> {
+        let mut m = Self::new(young, poisson, friction_angle_deg, cohesion)?;
+        let (sin, cos) = m.friction_angle.sin_cos();
+        m.alpha = 2.0f64.sqrt() * sin / 3.0;
+        m.kappa = 2.0f64.sqrt() * cohesion * cos;
+        Ok(m)
+    }
+
     /// The yield function `f(tau)` of principal Kirchhoff stresses, Pa (<= 0 admissible).
     pub fn yield_function(&self, tau: &Vector3<f64>) -> f64 {
         let (dev, tr) = split(tau);
@@ -164,6 +193,37 @@ mod tests {
             let m = DruckerPrager::new(1e6, 0.3, phi, c).unwrap();
             check(&m, a, e)?;
         }
+    }
+
+    #[test]
+    fn plane_strain_match_is_mohr_coulomb_at_steady_flow() {
+        // Principal stresses (sigma_1, (sigma_1 + sigma_3)/2, sigma_3) on Mohr-Coulomb's
+        // line t = c cos(phi) - p sin(phi) are on the matched cone, for any p.
+        for (phi, c) in [(0.0, 1e4), (20.0, 1e4), (35.0, 2e3)] {
+            let m = DruckerPrager::plane_strain(1e7, 0.3, phi, c).unwrap();
+            let (sin, cos) = phi.to_radians().sin_cos();
+            for p in [-5e4, -1e4, 0.0, 0.5 * c * cos / sin.max(1e-3)] {
+                let t = c * cos - p * sin;
+                if t < 0.0 {
+                    continue;
+                }
+                let tau = Vector3::new(p + t, p, p - t);
+                let f = m.yield_function(&tau);
+                assert!(f.abs() < 1e-9 * (c + p.abs()), "phi {phi}, p {p}: f = {f}");
+            }
+            proptest::test_runner::TestRunner::default()
+                .run(
+                    &(
+                        prop::array::uniform6(-3.0f64..3.0),
+                        prop::array::uniform3(-0.05f64..0.05),
+                    ),
+                    |(a, e)| check(&m, a, e),
+                )
+                .unwrap();
+        }
+        let vm = crate::material::VonMises::from_undrained_strength(1e7, 0.3, 1e4).unwrap();
+        let m = DruckerPrager::plane_strain(1e7, 0.3, 0.0, 1e4).unwrap();
+        assert!((m.kappa - vm.radius()).abs() < 1e-9 * vm.radius());
     }
 
     #[test]

@@ -36,6 +36,8 @@ pub struct ElasticBarParams {
     pub strain_amplitude: f64,
     /// CFL number of the time step.
     pub cfl: f64,
+    /// F-bar: off, increment or total (`chrono_mpm::fbar`).
+    pub f_bar: String,
     /// Periods simulated.
     pub periods: f64,
     /// Refinement levels of the sweep: 1 = `cells_along` only, 2 = / 2 and x 1,
@@ -60,6 +62,7 @@ impl Default for ElasticBarParams {
             markers_per_cell: b.markers_per_cell,
             strain_amplitude: b.strain_amplitude,
             cfl: b.cfl,
+            f_bar: "off".into(),
             periods: 10.0,
             sweep_levels: 3,
             frequency_tolerance: 0.03,
@@ -87,6 +90,11 @@ impl CaseParams for ElasticBarParams {
         ParamInfo::new("markers_per_cell", "-", "markers per cell per axis"),
         ParamInfo::new("strain_amplitude", "-", "strain amplitude of the mode"),
         ParamInfo::new("cfl", "-", "CFL number of the time step (dt = cfl dx / c)"),
+        ParamInfo::new(
+            "f_bar",
+            "-",
+            "F-bar volume averaging: off, increment or total (chrono_mpm::fbar)",
+        ),
         ParamInfo::new("periods", "-", "periods simulated"),
         ParamInfo::new(
             "sweep_levels",
@@ -117,8 +125,8 @@ impl CaseParams for ElasticBarParams {
     }
 }
 
-fn spec(p: &ElasticBarParams, cells_along: usize) -> BarSpec {
-    BarSpec {
+fn spec(p: &ElasticBarParams, cells_along: usize) -> anyhow::Result<BarSpec> {
+    Ok(BarSpec {
         length: p.length,
         width: p.width,
         young: p.young,
@@ -128,7 +136,8 @@ fn spec(p: &ElasticBarParams, cells_along: usize) -> BarSpec {
         markers_per_cell: p.markers_per_cell,
         strain_amplitude: p.strain_amplitude,
         cfl: p.cfl,
-    }
+        f_bar: p.f_bar.parse()?,
+    })
 }
 
 fn run(p: &ElasticBarParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
@@ -152,7 +161,7 @@ fn run(p: &ElasticBarParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     let mut main = None;
     for &n in &levels {
         let start = std::time::Instant::now();
-        let mut bar = ElasticBar::new(spec(p, n))?;
+        let mut bar = ElasticBar::new(spec(p, n)?)?;
         let reference = bar.reference_frequency();
         let work = (n * n) as f64;
         let r = bar.run(p.periods, |f| ctx.progress((done + f * work) / total_work))?;
