@@ -7,9 +7,10 @@
 //!
 //! Measured, averaged over the last `window` of the run: the fluid's drag on the cylinder
 //! per length `F_b` (N/m) and the superficial velocity `U` (the fluid's volume flux over the
-//! whole cell). The run lasts `t_end_over_tau` times the flow's relaxation time
-//! `tau = rho (1 - c) P^2 / (mu K)` (the cell's momentum over its drag per unit velocity), so
-//! it reaches the steady state at any solid fraction, viscosity or spacing.
+//! whole cell). The run lasts `t_end_over_tau` times the flow's relaxation time, the longer
+//! of `rho (1 - c) P^2 / (mu K)` (the cell's momentum over its drag per unit velocity) and
+//! `rho (P - D)^2 / (pi^2 mu)` (viscous diffusion across the gap between cylinders), so it
+//! reaches the steady state at any solid fraction, viscosity or spacing.
 //!
 //! Reference and check: `drag_per_length` is Sangani & Acrivos' `K = F / (mu U)` of the
 //! measured flow, where their `F` is the force per length of the pressure-driven array
@@ -155,9 +156,14 @@ fn run_once(p: &CylinderArrayCaseParams, spacing: f64) -> anyhow::Result<RunResu
     let reference = sangani_acrivos_square(c);
     // relaxation time of the cell's flow: its momentum over its drag per unit velocity
     let k_est = reference.unwrap_or(4.0 * PI / (-0.5 * c.ln() - 0.738).max(0.1));
-    let tau = p.rho * (1.0 - c) * px * px / (p.viscosity * k_est);
+    // and the viscous time across the gap between cylinders (longer in a dense array)
+    let gap = px - p.diameter;
+    let tau = (p.rho * (1.0 - c) * px * px / (p.viscosity * k_est))
+        .max(p.rho * gap * gap / (PI * PI * p.viscosity));
     let t_end = p.t_end_over_tau * tau;
-    let n = (t_end / p.coupling_step).ceil().max(4.0) as u64;
+    // at least 40 coupling steps (a dense array relaxes within a few coupling steps of the
+    // default size; the average needs samples)
+    let n = (t_end / p.coupling_step).ceil().max(40.0) as u64;
     let h = t_end / n as f64;
     let from = ((1.0 - p.window) * n as f64) as u64;
     let (mut drag, mut u_sum, mut cnt) = (0.0, 0.0, 0usize);
