@@ -175,7 +175,9 @@ mod tests {
             }
             // The inside (local +z) is above the floor and behind the front plate.
             let inside = pl.pose.transform_point(&Vector3::new(0.0, 0.0, h.z).into());
-            let outside = pl.pose.transform_point(&Vector3::new(0.0, 0.0, -h.z).into());
+            let outside = pl
+                .pose
+                .transform_point(&Vector3::new(0.0, 0.0, -h.z).into());
             assert!(inside.z > outside.z || inside.x < outside.x, "{k}");
         }
     }

@@ -70,7 +70,9 @@ impl StepParams {
 /// half a shoe thickness) or the hull's outline, whichever reaches furthest.
 pub fn front_x(data: &TrackedVehicleData) -> f64 {
     let s = &data.track.sprocket;
-    let sprocket = s.location[0] + s.tip_radius.max(s.pitch_radius + 0.5 * data.track.shoe.thickness);
+    let sprocket = s.location[0]
+        + s.tip_radius
+            .max(s.pitch_radius + 0.5 * data.track.shoe.thickness);
     data.hull
         .as_ref()
         .map_or(sprocket, |h| sprocket.max(h.front_x()))
@@ -192,12 +194,42 @@ mod tests {
         };
         let d = m113_data().unwrap();
         for (name, st) in [
-            ("step.height", StepParams { height: -0.1, ..step() }),
-            ("step.height", StepParams { height: f64::NAN, ..step() }),
-            ("step.gap", StepParams { gap: f64::NAN, ..step() }),
+            (
+                "step.height",
+                StepParams {
+                    height: -0.1,
+                    ..step()
+                },
+            ),
+            (
+                "step.height",
+                StepParams {
+                    height: f64::NAN,
+                    ..step()
+                },
+            ),
+            (
+                "step.gap",
+                StepParams {
+                    gap: f64::NAN,
+                    ..step()
+                },
+            ),
             ("step.gap", StepParams { gap: 0.0, ..step() }),
-            ("step.length", StepParams { length: -1.0, ..step() }),
-            ("step.width", StepParams { width: 2.0, ..step() }),
+            (
+                "step.length",
+                StepParams {
+                    length: -1.0,
+                    ..step()
+                },
+            ),
+            (
+                "step.width",
+                StepParams {
+                    width: 2.0,
+                    ..step()
+                },
+            ),
         ] {
             let e = build(st, d.clone());
             assert!(e.contains(name), "{name}: {e}");

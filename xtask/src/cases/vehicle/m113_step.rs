@@ -293,9 +293,7 @@ fn run(p: &M113StepParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         match drive.as_mut() {
             Some(dr) => dr.synchronize(sys, inputs)?,
             // Held while settling, then the controller's share of the largest torque.
-            None if i <= n_settle => {
-                v.set_sprocket_drives(sys, chrono_core::Drive::Speed(0.0))?
-            }
+            None if i <= n_settle => v.set_sprocket_drives(sys, chrono_core::Drive::Speed(0.0))?,
             None => v.set_sprocket_drives(sys, chrono_core::Drive::Effort(u * p.drive_torque))?,
         }
         sys.step(p.h)?;
@@ -360,7 +358,11 @@ fn run(p: &M113StepParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
                 dr.powertrain().current_gear() as f64,
             ),
             None => {
-                let t = if driving { u * p.drive_torque } else { f64::NAN };
+                let t = if driving {
+                    u * p.drive_torque
+                } else {
+                    f64::NAN
+                };
                 // The sprockets' spin relative to the chassis about its Y axis.
                 let wc = sys.body(v.chassis)?.angular_velocity();
                 let y = rot * Vector3::y();
@@ -411,10 +413,7 @@ fn run(p: &M113StepParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
             stalled_at = sys.time();
             break;
         }
-        if driving
-            && idlers_past
-            && reference.z - p.step_height >= ride_height - p.z_tolerance
-        {
+        if driving && idlers_past && reference.z - p.step_height >= ride_height - p.z_tolerance {
             climbed_at = sys.time();
             break;
         }
@@ -482,7 +481,10 @@ fn run(p: &M113StepParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         format!("climbed in {:.2} s", climbed_at - p.settle)
     } else {
         let how = if stalled_at.is_finite() {
-            format!("stalled (standing still at full drive from {:.2} s)", stalled_at - p.stall_time)
+            format!(
+                "stalled (standing still at full drive from {:.2} s)",
+                stalled_at - p.stall_time
+            )
         } else {
             format!("did not climb within {:.1} s", p.t_end - p.settle)
         };
