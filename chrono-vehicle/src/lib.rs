@@ -16,7 +16,8 @@
 //! - [`vehicle`]: the wheeled vehicle assembled from a description; [`hmmwv`] is the HMMWV;
 //! - [`track`]: track templates (sprocket, idler and tensioner, road wheels on torsion-bar
 //!   arms, support rollers, single-pin shoes) and [`tracked`]: the tracked vehicle built from
-//!   them; [`m113`] is the M113A1;
+//!   them; [`m113`] is the M113A1; [`hull`]: a tracked vehicle's hull collision shape;
+//!   [`obstacle`]: the vertical-obstacle (step) scene;
 //! - [`scene`]: a vehicle set down on flat ground, steer angles, wheel slip and sinkage,
 //!   differential locks for loose ground;
 //! - [`output`]: the vehicle's time series as CSV.
@@ -28,8 +29,10 @@ pub mod driveline;
 pub mod driver;
 pub mod error;
 pub mod hmmwv;
+pub mod hull;
 mod json_path;
 pub mod m113;
+pub mod obstacle;
 pub mod output;
 pub mod powertrain;
 pub mod scene;

@@ -50,6 +50,8 @@ mod tests {
             "track",
             "powertrain",
             "driveline",
+            "hull",
+            "obstacle",
         ] {
             leaves(&v[key], key.to_string(), &mut all);
         }

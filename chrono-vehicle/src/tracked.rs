@@ -2,8 +2,8 @@
 //! [`TrackAssembly`]s, left at `+track_y` and right at `-track_y`; and the flat-ground
 //! scene and contact-force sums the validation cases read.
 //!
-//! The chassis has no collision shape yet (the hull's comes with the obstacle cases). The
-//! sprockets turn freely, are held, or are driven through
+//! The chassis collides through its hull's plates ([`crate::hull`]) when the data has a
+//! `hull`; without one it has no collision shape. The sprockets turn freely, are held, or are driven through
 //! [`TrackAssembly::set_sprocket_drive`]; the powertrain and the steering driveline are
 //! [`crate::tracked_drive::TrackedDrive`].
 
@@ -18,6 +18,7 @@ use chrono_core::{BodyHandle, ContactMaterial, Drive, RigidBodyBuilder, System, 
 
 use crate::driveline::TrackDrivelineParams;
 use crate::error::{Result, VehicleError, check_positive};
+use crate::hull::HullData;
 use crate::powertrain::PowertrainParams;
 use crate::suspension::MassData;
 use crate::terrain::{FlatTerrain, Terrain};
@@ -40,6 +41,10 @@ pub struct PublishedData {
     pub tread: f64,
     /// Highest vertical obstacle, m.
     pub vertical_obstacle: f64,
+    /// Ground clearance (flat ground to the hull's floor), m.
+    pub ground_clearance: f64,
+    /// Steepest grade climbed (rise over run, e.g. 0.6 for 60 %).
+    pub max_grade: f64,
     /// Top road speed, m/s.
     pub road_speed: f64,
     /// Engine rated power, W.
@@ -80,6 +85,14 @@ pub struct TrackedVehicleData {
     pub powertrain: PowertrainParams,
     /// The braked-differential driveline to the sprockets.
     pub driveline: TrackDrivelineParams,
+    /// The hull's collision shape (none: the chassis does not collide).
+    #[serde(default)]
+    pub hull: Option<HullData>,
+    /// The material of the test course's rigid obstacles (the vertical step of
+    /// [`crate::obstacle`]), fixed with the vehicle's data so that an obstacle case does
+    /// not choose it. A contact pair takes the lower friction of its two materials.
+    #[serde(default)]
+    pub obstacle: Option<ContactMaterial>,
 }
 
 impl TrackedVehicleData {
@@ -97,6 +110,13 @@ impl TrackedVehicleData {
         self.track.validate("track")?;
         self.powertrain.validate()?;
         self.driveline.validate("driveline")?;
+        if let Some(h) = &self.hull {
+            h.validate("hull", &self.track, self.track_y)?;
+        }
+        if let Some(m) = &self.obstacle {
+            m.validate()
+                .map_err(|e| VehicleError::invalid("obstacle", "-", e.to_string()))?;
+        }
         Ok(())
     }
 
@@ -145,14 +165,24 @@ impl TrackedVehicle {
     ) -> Result<Self> {
         data.validate()?;
         let com = pose.transform_point(&data.chassis.com.into()).coords;
-        let chassis = sys.add_body(
-            RigidBodyBuilder::dynamic()
-                .name("chassis")
-                .mass(data.chassis.mass.mass)
-                .inertia_diagonal(data.chassis.mass.inertia_vector())
-                .position(com)
-                .rotation(pose.rotation),
-        )?;
+        let mut cb = RigidBodyBuilder::dynamic()
+            .name("chassis")
+            .mass(data.chassis.mass.mass)
+            .inertia_diagonal(data.chassis.mass.inertia_vector())
+            .position(com)
+            .rotation(pose.rotation);
+        if let Some(h) = &data.hull {
+            // The body frame is the chassis frame moved to the centre of mass.
+            let to_body = Isometry3::translation(
+                -data.chassis.com[0],
+                -data.chassis.com[1],
+                -data.chassis.com[2],
+            );
+            for p in h.plates() {
+                cb = cb.collider(p.shape, to_body * p.pose, h.material);
+            }
+        }
+        let chassis = sys.add_body(cb)?;
         let side = |sys: &mut System, k: usize| {
             let y = if k == 0 { data.track_y } else { -data.track_y };
             let frame = pose * Isometry3::translation(0.0, y, 0.0);

@@ -118,6 +118,7 @@ pub fn all_cases() -> Vec<Box<dyn Case>> {
         vehicle::m113_static::case(),
         vehicle::m113_accel::case(),
         vehicle::m113_turn::case(),
+        vehicle::m113_step::case(),
     ]
 }
 
