@@ -41,14 +41,15 @@
 
 use std::f64::consts::PI;
 
+use chrono_core::System;
 use chrono_core::descriptor::CcpSolver;
 use chrono_core::item::ItemHandle;
 use chrono_core::math::Vector3;
-use chrono_core::{System, SystemSettings};
 use chrono_fea::{BeamMaterial, CableItem, CableMesh, CableQuadrature, NodeId};
-use chrono_sph::{SphSettings, sound_speed_for};
+use chrono_sph::SphSettings;
 
 use crate::error::{FsiError, Result};
+use crate::periodic::DrivenCell;
 use crate::{FsiBuilder, SphFluid};
 
 /// Parameters of [`beam_in_flow`] (SI units).
@@ -200,31 +201,17 @@ pub fn beam_in_flow(p: &BeamFlowParams, solver: Box<dyn CcpSolver>) -> Result<Be
     let snap = |x: f64| ((x / dp).round().max(1.0)) * dp;
     let (px, lz) = (snap(p.pitch), snap(p.length + p.gap));
     let cell = [px, px, lz];
-    let nu = p.viscosity / p.rho;
-    // the pressure difference across the beam ~ rho f P^2 / D (the cell's driving force
-    // per length on the diameter): the force term of `sound_speed_for` at length D
-    let force_scale = p.body_force.abs() * px * px / (p.diameter * p.diameter);
-    let cs = sound_speed_for(2.0 * p.speed_estimate, p.diameter, force_scale, nu, 0.01)?;
-    let settings = SphSettings {
+    let (settings, mut system) = DrivenCell {
+        cell,
         spacing: dp,
-        rho0: p.rho,
+        h_over_dp: defaults.h_over_dp,
+        rho: p.rho,
         viscosity: p.viscosity,
-        sound_speed: cs,
-        // resolved viscous flow: no artificial viscosity, no XSPH (Morris et al. 1997)
-        artificial_viscosity: 0.0,
-        xsph: 0.0,
-        gravity: [0.0; 3],
-        body_force: [p.body_force, 0.0, 0.0],
-        domain_lower: [0.0; 3],
-        domain_upper: cell,
-        periodic: [true; 3],
-        ..defaults
-    };
-    let sys_settings = SystemSettings {
-        gravity: Vector3::zeros(),
-        ..SystemSettings::default()
-    };
-    let mut system = System::new(sys_settings, solver)?;
+        body_force: p.body_force,
+        v_max: 2.0 * p.speed_estimate,
+        diameter: p.diameter,
+    }
+    .build(solver)?;
     let root = Vector3::new(0.5 * px, 0.5 * px, 0.5 * (lz - p.length));
     let mesh = clamped_beam(p, root)?;
     let material = *mesh.elements()[0].material();

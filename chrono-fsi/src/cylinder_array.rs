@@ -36,10 +36,11 @@ use chrono_core::descriptor::CcpSolver;
 use chrono_core::item::ItemHandle;
 use chrono_core::math::{Isometry3, Vector3};
 use chrono_core::particles::lattice::slab_layers;
-use chrono_core::{BodyHandle, RigidBodyBuilder, Shape, System, SystemSettings};
-use chrono_sph::{SphSettings, sound_speed_for};
+use chrono_core::{BodyHandle, RigidBodyBuilder, Shape, System};
+use chrono_sph::SphSettings;
 
 use crate::error::{FsiError, Result};
+use crate::periodic::DrivenCell;
 use crate::{FsiBuilder, SphFluid};
 
 /// Sangani & Acrivos (1982), Table 1, square arrays: solid fraction `c` and
@@ -219,34 +220,21 @@ pub fn cylinder_array(
     let ly = slab_layers(p.h_over_dp) as f64 * dp;
     let cell = [px, ly, px];
     let c = PI * p.diameter * p.diameter / (4.0 * px * px);
-    let nu = p.viscosity / p.rho;
-    // the expected superficial speed from the table (or the dilute limit beyond it), and
-    // the pressure difference across the cylinder ~ rho f P^2 / D for the sound speed
+    // the expected superficial speed from the table (or the dilute limit beyond it); the
+    // fluid's mean speed is higher by 1 / (1 - c)
     let k = sangani_acrivos_square(c).unwrap_or(4.0 * PI / (-0.5 * c.ln() - 0.738).max(0.1));
     let u = p.rho * p.body_force.abs() * px * px / (p.viscosity * k);
-    let force_scale = p.body_force.abs() * px * px / (p.diameter * p.diameter);
-    let cs = sound_speed_for(2.0 * u / (1.0 - c), p.diameter, force_scale, nu, 0.01)?;
-    let settings = SphSettings {
+    let (settings, mut system) = DrivenCell {
+        cell,
         spacing: dp,
         h_over_dp: p.h_over_dp,
-        rho0: p.rho,
+        rho: p.rho,
         viscosity: p.viscosity,
-        sound_speed: cs,
-        // resolved viscous flow: no artificial viscosity, no XSPH (Morris et al. 1997)
-        artificial_viscosity: 0.0,
-        xsph: 0.0,
-        gravity: [0.0; 3],
-        body_force: [p.body_force, 0.0, 0.0],
-        domain_lower: [0.0; 3],
-        domain_upper: cell,
-        periodic: [true; 3],
-        ..SphSettings::default()
-    };
-    let sys_settings = SystemSettings {
-        gravity: Vector3::zeros(),
-        ..SystemSettings::default()
-    };
-    let mut system = System::new(sys_settings, solver)?;
+        body_force: p.body_force,
+        v_max: 2.0 * u / (1.0 - c),
+        diameter: p.diameter,
+    }
+    .build(solver)?;
     let shape = Shape::Cylinder {
         half_length: 0.5 * ly,
         radius: 0.5 * p.diameter,

@@ -66,6 +66,7 @@ pub mod cylinder_array;
 pub mod error;
 pub mod fluid;
 pub mod markers;
+mod periodic;
 pub mod scene;
 #[cfg(test)]
 mod tests;
