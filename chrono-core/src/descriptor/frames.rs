@@ -187,7 +187,7 @@ fn frame_recip(n: &[f64; 3]) -> f64 {
 
 /// [`frame`] from `n` and its [`frame_recip`] `a`.
 #[inline(always)]
-fn frame_from(n: &[f64; 3], a: f64) -> ([f64; 3], [f64; 3]) {
+pub(super) fn frame_from(n: &[f64; 3], a: f64) -> ([f64; 3], [f64; 3]) {
     let sign = 1.0f64.copysign(n[2]);
     let b = n[0] * n[1] * a;
     let u = [1.0 + sign * n[0] * n[0] * a, sign * b, -sign * n[0]];

@@ -437,3 +437,61 @@ pub(super) type RunBuf = [[f64; RUN + PAD]; 3];
 pub(super) fn run_buf() -> RunBuf {
     [[0.0; RUN + PAD]; 3]
 }
+
+#[cfg(test)]
+impl MatrixFree {
+    /// The sphere pass sphere by sphere in plain scalar code (the reference of the SIMD
+    /// pass: the same sums in the same order).
+    pub(super) fn gather_reference(&self, gamma: &[f64], w: &mut [f64]) {
+        for s in 0..self.n_bodies() {
+            let (mut f, mut t) = ([0.0f64; 3], [0.0f64; 3]);
+            for j in self.b_ptr[s] as usize..self.b_ptr[s + 1] as usize {
+                let (i, side) = ((self.s_row[j] >> 1) as usize, self.s_row[j] & 1);
+                let n = [self.s_n[0][j], self.s_n[1][j], self.s_n[2][j]];
+                let r = [self.s_r[0][j], self.s_r[1][j], self.s_r[2][j]];
+                let (u, v) = super::frames::frame_from(&n, self.s_rc[j]);
+                let g = &gamma[i..i + 3];
+                let sg = if side == 0 {
+                    [-g[0], -g[1], -g[2]]
+                } else {
+                    [g[0], g[1], g[2]]
+                };
+                let fc: [f64; 3] =
+                    std::array::from_fn(|k| n[k] * sg[0] + u[k] * sg[1] + v[k] * sg[2]);
+                let tc = [
+                    r[1] * fc[2] - r[2] * fc[1],
+                    r[2] * fc[0] - r[0] * fc[2],
+                    r[0] * fc[1] - r[1] * fc[0],
+                ];
+                for k in 0..3 {
+                    f[k] += fc[k];
+                    t[k] += tc[k];
+                }
+            }
+            let [im, ij] = self.b_inv[s];
+            for k in 0..3 {
+                w[6 * s + k] = im * f[k];
+                w[6 * s + 3 + k] = ij * t[k];
+            }
+        }
+    }
+
+    /// The sphere pass with one lane ([`pulp::Scalar`]), in tasks of `task` spheres.
+    pub(super) fn gather_one_lane(&self, gamma: &[f64], w: &mut [f64], task: usize) {
+        let n = 6 * self.n_bodies();
+        for (t, o) in w[..n].chunks_mut(6 * task).enumerate() {
+            let op = GatherOp {
+                mf: self,
+                gamma,
+                s0: t * task,
+                out: o,
+            };
+            op.with_simd(pulp::Scalar::new());
+        }
+    }
+
+    /// The triplet pass over contacts `c0..c0 + len` with one lane ([`pulp::Scalar`]).
+    pub(super) fn triplet_one_lane(&self, w: &[f64], c0: usize, len: usize, d: &mut RunBuf) {
+        triplet_run(pulp::Scalar::new(), self, w, c0, len, d);
+    }
+}

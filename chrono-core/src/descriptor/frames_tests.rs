@@ -175,6 +175,50 @@ proptest! {
     }
 }
 
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(48))]
+
+    /// The SIMD passes (this CPU's level) and their one-lane form give the bits of the
+    /// plain scalar passes (sphere by sphere, contact by contact), for any task and run
+    /// split: the product does not depend on the SIMD level.
+    #[test]
+    fn simd_passes_equal_the_scalar_passes_bit_for_bit(
+        seed in any::<u64>(),
+        n_s in 2usize..40,
+        n_c in 1usize..90,
+        task in 1usize..9,
+    ) {
+        let (p, _, _) = scene(seed, n_s, n_c);
+        let mf = &p.mf;
+        let mut rng = crate::rng::Rng::splitmix64(seed ^ 0xb175);
+        let g: Vec<f64> = (0..p.n_rows()).map(|_| rng.range(-1.0, 1.0)).collect();
+        let nw = 6 * mf.n_bodies();
+        let (mut w_ref, mut w_simd, mut w_one) = (vec![0.0; nw], vec![1.0; nw], vec![2.0; nw]);
+        mf.gather_reference(&g, &mut w_ref);
+        mf.gather(&g, &mut w_simd);
+        mf.gather_one_lane(&g, &mut w_one, task);
+        let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        prop_assert_eq!(bits(&w_ref), bits(&w_simd));
+        prop_assert_eq!(bits(&w_ref), bits(&w_one));
+        let nc = mf.c_row.len();
+        let mut c0 = 0;
+        while c0 < nc {
+            let len = (task * 5).min(nc - c0).min(frames_simd::RUN);
+            let (mut d, mut d1) = (frames_simd::run_buf(), frames_simd::run_buf());
+            mf.triplet_task(&w_ref, c0, len, &mut d);
+            mf.triplet_one_lane(&w_ref, c0, len, &mut d1);
+            for j in 0..len {
+                let r = mf.triplet(c0 + j, &w_ref);
+                for k in 0..3 {
+                    prop_assert_eq!(r[k].to_bits(), d[k][j].to_bits());
+                    prop_assert_eq!(r[k].to_bits(), d1[k][j].to_bits());
+                }
+            }
+            c0 += len;
+        }
+    }
+}
+
 #[test]
 fn frames_qualify_only_where_they_match_and_survive_a_rebuild() {
     let (p, _, framed) = scene(7, 30, 30);
