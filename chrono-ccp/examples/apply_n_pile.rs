@@ -19,9 +19,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut work = CcpWork::for_problem(&problem);
     let mut out = vec![0.0; m];
     problem.apply_n(&gamma, &mut out, &mut work);
-    let fp = out
-        .iter()
-        .fold(0u64, |h, x| h.rotate_left(5) ^ x.to_bits());
+    let fp = out.iter().fold(0u64, |h, x| h.rotate_left(5) ^ x.to_bits());
     let mut times = Vec::with_capacity(reps);
     for _ in 0..reps {
         let t0 = std::time::Instant::now();

@@ -90,7 +90,12 @@ impl MatrixFree {
         self.of_triplet.clear();
         self.c_row.clear();
         self.c_body.clear();
-        for x in self.c_n.iter_mut().chain(&mut self.c_ra).chain(&mut self.c_rb) {
+        for x in self
+            .c_n
+            .iter_mut()
+            .chain(&mut self.c_ra)
+            .chain(&mut self.c_rb)
+        {
             x.clear();
         }
         self.c_rc.clear();

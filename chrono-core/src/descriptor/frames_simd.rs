@@ -18,8 +18,6 @@ use super::frames::{MatrixFree, NONE};
 
 /// Contact sides per block of the sphere pass (stack buffers of the per-side terms).
 const SIDE_BLOCK: usize = 64;
-/// Contacts per run of the triplet pass.
-pub(super) const RUN: usize = 64;
 /// Room after a block for a whole vector (the largest lane count, AVX-512).
 const PAD: usize = 8;
 
@@ -273,37 +271,74 @@ fn gather_gamma<S: Simd>(s: S, gamma: &[f64], rows: &[u32]) -> [S::f64s; 3] {
     ]
 }
 
-/// The triplet pass over the run of contacts `c0..c0 + d[0].len()` (at most [`RUN`]):
-/// `d[k][j]` gets row `k` (`n, u, w`) of contact `c0 + j`'s `D' w`, the relative velocity
-/// of its contact points (the operations of [`MatrixFree::triplet`]).
-pub(super) struct TripletOp<'a> {
+/// The rows of a task of friction triplets of `N g (+ shift)`: per triplet `k` (global
+/// rows `3 k..3 k + 3` of the slices below) its contact `of[k]` if matrix-free, else
+/// [`NONE`] (then `explicit(k, rows)` fills its rows). The runs of consecutive
+/// matrix-free contacts go through [`triplet_run`].
+pub(super) struct TripletsOp<'a, F: Fn(usize, &mut [f64])> {
     pub mf: &'a MatrixFree,
     pub w: &'a [f64],
-    pub c0: usize,
-    pub len: usize,
-    pub d: &'a mut [[f64; RUN + PAD]; 3],
+    pub of: &'a [u32],
+    pub rows: RowData<'a>,
+    pub explicit: F,
 }
 
-impl WithSimd for TripletOp<'_> {
+/// The per-row data of a task of triplets: `eps`, `g`, the optional shift (`r`) and the
+/// output.
+pub(super) struct RowData<'a> {
+    pub eps: &'a [f64],
+    pub g: &'a [f64],
+    pub shift: Option<&'a [f64]>,
+    pub out: &'a mut [f64],
+}
+
+impl<F: Fn(usize, &mut [f64])> WithSimd for TripletsOp<'_, F> {
     type Output = ();
 
     #[inline(always)]
     fn with_simd<S: Simd>(self, s: S) -> Self::Output {
-        triplet_run(s, self.mf, self.w, self.c0, self.len, self.d);
+        let Self {
+            mf,
+            w,
+            of,
+            rows,
+            explicit,
+        } = self;
+        let nt = of.len();
+        let mut k = 0;
+        while k < nt {
+            let c0 = of[k];
+            if c0 == NONE {
+                explicit(k, &mut rows.out[3 * k..3 * k + 3]);
+                k += 1;
+                continue;
+            }
+            let mut len = 1;
+            while k + len < nt && of[k + len] == c0 + len as u32 {
+                len += 1;
+            }
+            let r = 3 * k..3 * (k + len);
+            let run = RowData {
+                eps: &rows.eps[r.clone()],
+                g: &rows.g[r.clone()],
+                shift: rows.shift.map(|x| &x[r.clone()]),
+                out: &mut rows.out[r],
+            };
+            triplet_run(s, mf, w, c0 as usize, run);
+            k += len;
+        }
     }
 }
 
-/// See [`TripletOp`].
+/// The rows of `N g (+ shift)` of the consecutive matrix-free contacts `c0..c0 + n`
+/// (`rows`: their `3 n` rows): `D' w`, the relative velocity of the contact points along
+/// `n, u, w` (the operations of [`MatrixFree::triplet`]), plus `eps g` (and the shift), in
+/// the order of the scalar path: `(D' w + eps g) + shift`.
 #[inline(always)]
-pub(super) fn triplet_run<S: Simd>(
-    s: S,
-    mf: &MatrixFree,
-    w: &[f64],
-    c0: usize,
-    n: usize,
-    d: &mut [[f64; RUN + PAD]; 3],
-) {
+pub(super) fn triplet_run<S: Simd>(s: S, mf: &MatrixFree, w: &[f64], c0: usize, rows: RowData<'_>) {
     let lanes = S::F64_LANES;
+    let RowData { eps, g, shift, out } = rows;
+    let n = out.len() / 3;
     let mut j = 0;
     while j < n {
         let len = lanes.min(n - j);
@@ -337,10 +372,64 @@ pub(super) fn triplet_run<S: Simd>(
             s.add_f64s(s.sub_f64s(zero, vpa[2]), vpb[2]),
         ];
         let (u, v) = tangents(s, &nv, a);
-        store::<S>(&mut d[0], j, dot(s, &nv, &rel));
-        store::<S>(&mut d[1], j, dot(s, &u, &rel));
-        store::<S>(&mut d[2], j, dot(s, &v, &rel));
+        let d = [dot(s, &nv, &rel), dot(s, &u, &rel), dot(s, &v, &rel)];
+        let o0 = 3 * j;
+        if lanes == 4 && len == 4 {
+            // Contact by contact `(d_n, d_u, d_w, 0)`, and its rows with the next
+            // contact's first row: four rows at a time, in order, so each fourth value is
+            // overwritten by the next contact's (the last of the run in scalar code).
+            let t = s.deinterleave_shfl_f64s([d[0], d[1], d[2], zero]);
+            for (l, t) in t.iter().enumerate() {
+                let i = o0 + 3 * l;
+                if i + 4 <= out.len() {
+                    let x = s.add_f64s(
+                        *t,
+                        s.mul_f64s(
+                            S::as_simd_f64s(&eps[i..i + 4]).0[0],
+                            S::as_simd_f64s(&g[i..i + 4]).0[0],
+                        ),
+                    );
+                    let x = match shift {
+                        Some(r) => s.add_f64s(x, S::as_simd_f64s(&r[i..i + 4]).0[0]),
+                        None => x,
+                    };
+                    S::as_mut_simd_f64s(&mut out[i..i + 4]).0[0] = x;
+                } else {
+                    let mut buf = [0.0f64; 4];
+                    store::<S>(&mut buf, 0, *t);
+                    finish_rows([buf[0], buf[1], buf[2]], eps, g, shift, out, i);
+                }
+            }
+        } else {
+            let mut buf = [[0.0f64; 16]; 3];
+            for q in 0..3 {
+                store::<S>(&mut buf[q], 0, d[q]);
+            }
+            for l in 0..len {
+                let i = o0 + 3 * l;
+                finish_rows([buf[0][l], buf[1][l], buf[2][l]], eps, g, shift, out, i);
+            }
+        }
         j += len;
+    }
+}
+
+/// Rows `i..i + 3` of the output: `(d + eps g) + shift` in scalar code.
+#[inline(always)]
+fn finish_rows(
+    d: [f64; 3],
+    eps: &[f64],
+    g: &[f64],
+    shift: Option<&[f64]>,
+    out: &mut [f64],
+    i: usize,
+) {
+    for q in 0..3 {
+        let x = d[q] + eps[i + q] * g[i + q];
+        out[i + q] = match shift {
+            Some(r) => x + r[i + q],
+            None => x,
+        };
     }
 }
 
@@ -411,31 +500,22 @@ impl MatrixFree {
         });
     }
 
-    /// The triplet pass over contacts `c0..c0 + len` (`len <= RUN`) into `d`, at the CPU's
-    /// SIMD level.
-    pub(super) fn triplet_task(
+    /// The rows of a task of friction triplets ([`TripletsOp`]) at the CPU's SIMD level.
+    pub(super) fn triplets_task(
         &self,
         w: &[f64],
-        c0: usize,
-        len: usize,
-        d: &mut [[f64; RUN + PAD]; 3],
+        of: &[u32],
+        rows: RowData<'_>,
+        explicit: impl Fn(usize, &mut [f64]),
     ) {
-        Arch::new().dispatch(TripletOp {
+        Arch::new().dispatch(TripletsOp {
             mf: self,
             w,
-            c0,
-            len,
-            d,
+            of,
+            rows,
+            explicit,
         });
     }
-}
-
-/// Stack buffer of one run of the triplet pass.
-pub(super) type RunBuf = [[f64; RUN + PAD]; 3];
-
-/// A zeroed [`RunBuf`].
-pub(super) fn run_buf() -> RunBuf {
-    [[0.0; RUN + PAD]; 3]
 }
 
 #[cfg(test)]
@@ -490,8 +570,9 @@ impl MatrixFree {
         }
     }
 
-    /// The triplet pass over contacts `c0..c0 + len` with one lane ([`pulp::Scalar`]).
-    pub(super) fn triplet_one_lane(&self, w: &[f64], c0: usize, len: usize, d: &mut RunBuf) {
-        triplet_run(pulp::Scalar::new(), self, w, c0, len, d);
+    /// The rows of the consecutive contacts `c0..` ([`triplet_run`]) with one lane
+    /// ([`pulp::Scalar`]).
+    pub(super) fn triplet_one_lane(&self, w: &[f64], c0: usize, rows: RowData<'_>) {
+        triplet_run(pulp::Scalar::new(), self, w, c0, rows);
     }
 }

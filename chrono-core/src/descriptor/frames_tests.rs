@@ -200,21 +200,39 @@ proptest! {
         let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
         prop_assert_eq!(bits(&w_ref), bits(&w_simd));
         prop_assert_eq!(bits(&w_ref), bits(&w_one));
+        // The rows of runs of consecutive contacts (as laid out in a friction-only problem:
+        // row data of contact `c` at `3 c..`), with and without the shift.
         let nc = mf.c_row.len();
-        let mut c0 = 0;
-        while c0 < nc {
-            let len = (task * 5).min(nc - c0).min(frames_simd::RUN);
-            let (mut d, mut d1) = (frames_simd::run_buf(), frames_simd::run_buf());
-            mf.triplet_task(&w_ref, c0, len, &mut d);
-            mf.triplet_one_lane(&w_ref, c0, len, &mut d1);
-            for j in 0..len {
-                let r = mf.triplet(c0 + j, &w_ref);
+        let eps: Vec<f64> = (0..3 * nc).map(|_| rng.range(0.0, 0.01)).collect();
+        let gg: Vec<f64> = (0..3 * nc).map(|_| rng.range(-1.0, 1.0)).collect();
+        let r: Vec<f64> = (0..3 * nc).map(|_| rng.range(-1.0, 1.0)).collect();
+        for shift in [None, Some(&r[..])] {
+            let (mut o, mut o1) = (vec![0.0; 3 * nc], vec![0.0; 3 * nc]);
+            let mut c0 = 0;
+            while c0 < nc {
+                let len = (task * 5).min(nc - c0);
+                let rr = 3 * c0..3 * (c0 + len);
+                let rows = |out| frames_simd::RowData {
+                    eps: &eps[rr.clone()],
+                    g: &gg[rr.clone()],
+                    shift: shift.map(|x| &x[rr.clone()]),
+                    out,
+                };
+                let of: Vec<u32> = (c0 as u32..(c0 + len) as u32).collect();
+                mf.triplets_task(&w_ref, &of, rows(&mut o[rr.clone()]), |_, _| unreachable!());
+                mf.triplet_one_lane(&w_ref, c0, rows(&mut o1[rr.clone()]));
+                c0 += len;
+            }
+            for c in 0..nc {
+                let d = mf.triplet(c, &w_ref);
                 for k in 0..3 {
-                    prop_assert_eq!(r[k].to_bits(), d[k][j].to_bits());
-                    prop_assert_eq!(r[k].to_bits(), d1[k][j].to_bits());
+                    let i = 3 * c + k;
+                    let x = d[k] + eps[i] * gg[i];
+                    let want = shift.map_or(x, |r| x + r[i]);
+                    prop_assert_eq!(want.to_bits(), o[i].to_bits());
+                    prop_assert_eq!(want.to_bits(), o1[i].to_bits());
                 }
             }
-            c0 += len;
         }
     }
 }

@@ -4,12 +4,12 @@
 
 use rayon::prelude::*;
 
-use super::frames::NONE;
-use super::frames_simd::{RUN, run_buf};
 use super::cone::{
     project_box, project_friction_cone, project_rolling_cone, project_rolling_per_body_cone,
     project_unilateral,
 };
+use super::frames::NONE;
+use super::frames_simd::RowData;
 use super::problem::{CcpProblem, CcpWork};
 use super::reduce::{self, sum_by};
 use super::rows::PER_BODY_ROWS;
@@ -338,44 +338,16 @@ impl CcpProblem {
             }
             return;
         };
-        let (eps, g) = (&self.eps[start..], &gamma[start..]);
-        let mut d = run_buf();
-        let mut k = 0;
-        while k < nt {
-            let c0 = of[k];
-            if c0 == NONE {
-                self.triplet_rows(start + 3 * k, gamma, v, w, shift, &mut o[3 * k..3 * k + 3]);
-                k += 1;
-                continue;
-            }
-            let mut len = 1;
-            while len < RUN && k + len < nt && of[k + len] == c0 + len as u32 {
-                len += 1;
-            }
-            self.mf.triplet_task(w, c0 as usize, len, &mut d);
-            let rows = 3 * k..3 * (k + len);
-            let (o, eps, g) = (&mut o[rows.clone()], &eps[rows.clone()], &g[rows.clone()]);
-            match shift {
-                Some(r) => {
-                    let r = &r[start + rows.start..start + rows.end];
-                    for j in 0..len {
-                        for q in 0..3 {
-                            let i = 3 * j + q;
-                            o[i] = d[q][j] + eps[i] * g[i] + r[i];
-                        }
-                    }
-                }
-                None => {
-                    for j in 0..len {
-                        for q in 0..3 {
-                            let i = 3 * j + q;
-                            o[i] = d[q][j] + eps[i] * g[i];
-                        }
-                    }
-                }
-            }
-            k += len;
-        }
+        let end = start + o.len();
+        let rows = RowData {
+            eps: &self.eps[start..end],
+            g: &gamma[start..end],
+            shift: shift.map(|r| &r[start..end]),
+            out: o,
+        };
+        self.mf.triplets_task(w, of, rows, |k, oc| {
+            self.triplet_rows(start + 3 * k, gamma, v, w, shift, oc);
+        });
     }
 
     /// Is every row part of a friction triplet (no other section)? Such problems (granular
