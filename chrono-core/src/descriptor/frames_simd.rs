@@ -126,6 +126,10 @@ impl WithSimd for GatherOp<'_> {
     #[inline(always)]
     fn with_simd<S: Simd>(self, s: S) -> Self::Output {
         let Self { mf, gamma, s0, out } = self;
+        if S::F64_LANES == 4 {
+            gather4(s, mf, gamma, s0, out);
+            return;
+        }
         let n_sph = out.len() / 6;
         let ptr = &mf.b_ptr[s0..=s0 + n_sph];
         let (p0, p1) = (ptr[0] as usize, ptr[n_sph] as usize);
@@ -174,9 +178,7 @@ impl WithSimd for GatherOp<'_> {
     }
 }
 
-/// The terms of sides `b0..b1` (at most [`SIDE_BLOCK`]) into `terms` (from index 0): with
-/// `g` the side's triplet impulses, negated on side A, `F = n g_n + u g_u + w g_w` and
-/// `r x F`.
+/// The terms of sides `b0..b1` (at most [`SIDE_BLOCK`]) into `terms` (from index 0).
 #[inline(always)]
 fn side_terms<S: Simd>(
     s: S,
@@ -190,39 +192,7 @@ fn side_terms<S: Simd>(
     let mut j = b0;
     while j < b1 {
         let len = lanes.min(b1 - j);
-        let n = [
-            load(s, &mf.s_n[0], j, len),
-            load(s, &mf.s_n[1], j, len),
-            load(s, &mf.s_n[2], j, len),
-        ];
-        let r = [
-            load(s, &mf.s_r[0], j, len),
-            load(s, &mf.s_r[1], j, len),
-            load(s, &mf.s_r[2], j, len),
-        ];
-        let a = load(s, &mf.s_rc, j, len);
-        let rows = &mf.s_row[j..j + len];
-        // The side's sign as a sign bit (-0 on side A): `xor` negates exactly.
-        let mut neg = [0.0f64; 16];
-        for (x, &rs) in neg.iter_mut().zip(rows) {
-            *x = if rs & 1 == 0 { -0.0 } else { 0.0 };
-        }
-        let g = gather_gamma(s, gamma, rows);
-        let neg = from_buf::<S>(&neg);
-        let sg = [
-            s.xor_f64s(g[0], neg),
-            s.xor_f64s(g[1], neg),
-            s.xor_f64s(g[2], neg),
-        ];
-        let (u, w) = tangents(s, &n, a);
-        let mut fc = [s.splat_f64s(0.0); 3];
-        for c in 0..3 {
-            fc[c] = s.add_f64s(
-                s.add_f64s(s.mul_f64s(n[c], sg[0]), s.mul_f64s(u[c], sg[1])),
-                s.mul_f64s(w[c], sg[2]),
-            );
-        }
-        let tc = cross(s, &r, &fc);
+        let (fc, tc) = side_vectors(s, mf, gamma, j, len);
         let l = j - b0;
         for c in 0..3 {
             store::<S>(&mut terms.f[c], l, fc[c]);
@@ -230,6 +200,104 @@ fn side_terms<S: Simd>(
         }
         j += len;
     }
+}
+
+/// The terms of sides `j..j + len` (one lane each, zeros past `len`): with `g` the side's
+/// triplet impulses, negated on side A, `F = n g_n + u g_u + w g_w` and `r x F`.
+#[inline(always)]
+fn side_vectors<S: Simd>(
+    s: S,
+    mf: &MatrixFree,
+    gamma: &[f64],
+    j: usize,
+    len: usize,
+) -> ([S::f64s; 3], [S::f64s; 3]) {
+    let n = [
+        load(s, &mf.s_n[0], j, len),
+        load(s, &mf.s_n[1], j, len),
+        load(s, &mf.s_n[2], j, len),
+    ];
+    let r = [
+        load(s, &mf.s_r[0], j, len),
+        load(s, &mf.s_r[1], j, len),
+        load(s, &mf.s_r[2], j, len),
+    ];
+    let a = load(s, &mf.s_rc, j, len);
+    let rows = &mf.s_row[j..j + len];
+    // The side's sign as a sign bit (-0 on side A): `xor` negates exactly.
+    let mut neg = [0.0f64; 16];
+    for (x, &rs) in neg.iter_mut().zip(rows) {
+        *x = if rs & 1 == 0 { -0.0 } else { 0.0 };
+    }
+    let g = gather_gamma(s, gamma, rows);
+    let neg = from_buf::<S>(&neg);
+    let sg = [
+        s.xor_f64s(g[0], neg),
+        s.xor_f64s(g[1], neg),
+        s.xor_f64s(g[2], neg),
+    ];
+    let (u, w) = tangents(s, &n, a);
+    let mut fc = [s.splat_f64s(0.0); 3];
+    for c in 0..3 {
+        fc[c] = s.add_f64s(
+            s.add_f64s(s.mul_f64s(n[c], sg[0]), s.mul_f64s(u[c], sg[1])),
+            s.mul_f64s(w[c], sg[2]),
+        );
+    }
+    (fc, cross(s, &r, &fc))
+}
+
+/// The sphere pass with 4 lanes: the terms of 4 sides transposed into per-side vectors
+/// `(F, t_x)` and `(t_y, t_z, 0, 0)` and added to the current sphere's sums in registers
+/// (the same additions, component by component, in side order).
+#[inline(always)]
+fn gather4<S: Simd>(s: S, mf: &MatrixFree, gamma: &[f64], s0: usize, out: &mut [f64]) {
+    let n_sph = out.len() / 6;
+    let ptr = &mf.b_ptr[s0..=s0 + n_sph];
+    let (p0, p1) = (ptr[0] as usize, ptr[n_sph] as usize);
+    let zero = s.splat_f64s(0.0);
+    let mut k = 0usize;
+    let mut end = ptr[1] as usize;
+    let (mut fa, mut fb) = (zero, zero);
+    let mut j = p0;
+    while j < p1 {
+        let len = 4.min(p1 - j);
+        let (fc, tc) = side_vectors(s, mf, gamma, j, len);
+        let ta = s.deinterleave_shfl_f64s([fc[0], fc[1], fc[2], tc[0]]);
+        let tb = s.deinterleave_shfl_f64s([tc[1], tc[2], zero, zero]);
+        for l in 0..len {
+            while j + l == end {
+                finish4::<S>(mf, s0 + k, fa, fb, &mut out[6 * k..6 * k + 6]);
+                (fa, fb) = (zero, zero);
+                k += 1;
+                end = ptr[k + 1] as usize;
+            }
+            fa = s.add_f64s(fa, ta[l]);
+            fb = s.add_f64s(fb, tb[l]);
+        }
+        j += len;
+    }
+    while k < n_sph {
+        finish4::<S>(mf, s0 + k, fa, fb, &mut out[6 * k..6 * k + 6]);
+        (fa, fb) = (zero, zero);
+        k += 1;
+    }
+}
+
+/// Sphere `sph`'s `[dv; dw] = [F / m; t / J]` from its sums `(F, t_x)`, `(t_y, t_z, ..)`.
+#[inline(always)]
+fn finish4<S: Simd>(mf: &MatrixFree, sph: usize, fa: S::f64s, fb: S::f64s, o: &mut [f64]) {
+    let (mut a, mut b) = ([0.0f64; 4], [0.0f64; 4]);
+    store::<S>(&mut a, 0, fa);
+    store::<S>(&mut b, 0, fb);
+    let [im, ij] = mf.b_inv[sph];
+    let o: &mut [f64; 6] = o.try_into().expect("6");
+    o[0] = im * a[0];
+    o[1] = im * a[1];
+    o[2] = im * a[2];
+    o[3] = ij * a[3];
+    o[4] = ij * b[0];
+    o[5] = ij * b[1];
 }
 
 /// `g_n, g_u, g_w` of the sides' triplets (`rows`: `2 i + side` with `i` the normal row),
