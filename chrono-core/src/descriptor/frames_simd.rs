@@ -443,30 +443,38 @@ pub(super) fn triplet_run<S: Simd>(s: S, mf: &MatrixFree, w: &[f64], c0: usize, 
         let d = [dot(s, &nv, &rel), dot(s, &u, &rel), dot(s, &v, &rel)];
         let o0 = 3 * j;
         if lanes == 4 && len == 4 {
-            // Contact by contact `(d_n, d_u, d_w, 0)`, and its rows with the next
-            // contact's first row: four rows at a time, in order, so each fourth value is
-            // overwritten by the next contact's (the last of the run in scalar code).
+            // Contact by contact `(d_n, d_u, d_w, 0)`; the first three contacts' rows with
+            // the next contact's first row, four rows at a time and in order (each fourth
+            // value is overwritten by the next contact's), the fourth contact in scalar
+            // code. The group's 12 rows are taken as arrays once (no bounds checks).
             let t = s.deinterleave_shfl_f64s([d[0], d[1], d[2], zero]);
-            for (l, t) in t.iter().enumerate() {
-                let i = o0 + 3 * l;
-                if i + 4 <= out.len() {
-                    let x = s.add_f64s(
-                        *t,
-                        s.mul_f64s(
-                            S::as_simd_f64s(&eps[i..i + 4]).0[0],
-                            S::as_simd_f64s(&g[i..i + 4]).0[0],
-                        ),
-                    );
-                    let x = match shift {
-                        Some(r) => s.add_f64s(x, S::as_simd_f64s(&r[i..i + 4]).0[0]),
-                        None => x,
-                    };
-                    S::as_mut_simd_f64s(&mut out[i..i + 4]).0[0] = x;
-                } else {
-                    let mut buf = [0.0f64; 4];
-                    store::<S>(&mut buf, 0, *t);
-                    finish_rows([buf[0], buf[1], buf[2]], eps, g, shift, out, i);
-                }
+            let e: &[f64; 12] = eps[o0..o0 + 12].try_into().expect("12");
+            let gg: &[f64; 12] = g[o0..o0 + 12].try_into().expect("12");
+            let sh: Option<&[f64; 12]> = shift.map(|r| r[o0..o0 + 12].try_into().expect("12"));
+            let o: &mut [f64; 12] = (&mut out[o0..o0 + 12]).try_into().expect("12");
+            for l in 0..3 {
+                let i = 3 * l;
+                let x = s.add_f64s(
+                    t[l],
+                    s.mul_f64s(
+                        S::as_simd_f64s(&e[i..i + 4]).0[0],
+                        S::as_simd_f64s(&gg[i..i + 4]).0[0],
+                    ),
+                );
+                let x = match sh {
+                    Some(r) => s.add_f64s(x, S::as_simd_f64s(&r[i..i + 4]).0[0]),
+                    None => x,
+                };
+                S::as_mut_simd_f64s(&mut o[i..i + 4]).0[0] = x;
+            }
+            let mut buf = [0.0f64; 4];
+            store::<S>(&mut buf, 0, t[3]);
+            for q in 0..3 {
+                let x = buf[q] + e[9 + q] * gg[9 + q];
+                o[9 + q] = match sh {
+                    Some(r) => x + r[9 + q],
+                    None => x,
+                };
             }
         } else {
             let mut buf = [[0.0f64; 16]; 3];
