@@ -23,6 +23,9 @@ pub(super) const NONE: u32 = u32::MAX;
 /// Below this many spheres the gather runs on the calling thread.
 const PAR_MIN_BODIES: usize = 1024;
 
+/// Spheres per task of the sphere pass (one SIMD dispatch each).
+const GATHER_TASK: usize = 128;
+
 /// Relative tolerance of the check of the angular coefficients against the arms.
 const ARM_CHECK_TOL: f64 = 1e-9;
 
@@ -38,8 +41,13 @@ pub(super) struct MatrixFree {
     pub c_row: Vec<u32>,
     /// Per contact: the pure sphere of side A and of side B, or [`NONE`].
     pub c_body: Vec<[u32; 2]>,
-    /// Per contact: `n`, `r_A`, `r_B` (world).
-    pub c_geo: Vec<[f64; 10]>,
+    /// Per contact, by component (one array per quantity, so that SIMD lanes load them
+    /// directly): the normal `n`, the arms `r_A`, `r_B` (world) and the frame's division
+    /// ([`frame_recip`]).
+    pub c_n: [Vec<f64>; 3],
+    pub c_ra: [Vec<f64>; 3],
+    pub c_rb: [Vec<f64>; 3],
+    pub c_rc: Vec<f64>,
     /// Per sphere: `[1/m, 1/J]`.
     pub b_inv: Vec<[f64; 2]>,
     /// Per sphere: its contact sides `b_ptr[s]..b_ptr[s+1]` (in contact order) in the
@@ -47,8 +55,11 @@ pub(super) struct MatrixFree {
     pub b_ptr: Vec<u32>,
     /// Per contact side: `2 i + side` with `i` the normal row (side 0 = A, 1 = B).
     pub s_row: Vec<u32>,
-    /// Per contact side: the normal and this side's arm.
-    pub s_geo: Vec<[f64; 7]>,
+    /// Per contact side, by component: the normal, this side's arm and the frame's
+    /// division.
+    pub s_n: [Vec<f64>; 3],
+    pub s_r: [Vec<f64>; 3],
+    pub s_rc: Vec<f64>,
     /// Per variable block: its sphere, or [`NONE`].
     pub block_sphere: Vec<u32>,
     /// Per variable block: true if only matrix-free triplets touch it (its explicit
@@ -79,11 +90,22 @@ impl MatrixFree {
         self.of_triplet.clear();
         self.c_row.clear();
         self.c_body.clear();
-        self.c_geo.clear();
+        for x in self
+            .c_n
+            .iter_mut()
+            .chain(&mut self.c_ra)
+            .chain(&mut self.c_rb)
+        {
+            x.clear();
+        }
+        self.c_rc.clear();
         self.b_inv.clear();
         self.b_ptr.clear();
         self.s_row.clear();
-        self.s_geo.clear();
+        for x in self.s_n.iter_mut().chain(&mut self.s_r) {
+            x.clear();
+        }
+        self.s_rc.clear();
         self.block_sphere.clear();
         self.skip_block.clear();
         self.explicit_free = false;
@@ -91,42 +113,14 @@ impl MatrixFree {
     }
 
     /// `w = M^-1 D g` restricted to the spheres, in the world frame: `[dv; dw]` (6 per
-    /// sphere).
+    /// sphere), in tasks of [`GATHER_TASK`] spheres ([`super::frames_simd`]).
     pub fn gather(&self, gamma: &[f64], w: &mut [f64]) {
-        let one = |s: usize, out: &mut [f64]| {
-            let (mut f, mut t) = ([0.0; 3], [0.0; 3]);
-            let range = self.b_ptr[s] as usize..self.b_ptr[s + 1] as usize;
-            for (&rs, geo) in self.s_row[range.clone()].iter().zip(&self.s_geo[range]) {
-                let (i, side) = ((rs >> 1) as usize, rs & 1);
-                let g = &gamma[i..i + 3];
-                let n = [geo[0], geo[1], geo[2]];
-                let (u, v) = frame_from(&n, geo[6]);
-                // The impulse on this side: +F on B, -F on A.
-                let sg = if side == 0 {
-                    [-g[0], -g[1], -g[2]]
-                } else {
-                    [g[0], g[1], g[2]]
-                };
-                let fc: [f64; 3] =
-                    std::array::from_fn(|k| n[k] * sg[0] + u[k] * sg[1] + v[k] * sg[2]);
-                let tc = cross(&[geo[3], geo[4], geo[5]], &fc);
-                for k in 0..3 {
-                    f[k] += fc[k];
-                    t[k] += tc[k];
-                }
-            }
-            let [im, ij] = self.b_inv[s];
-            let out: &mut [f64; 6] = out.try_into().expect("6 per sphere");
-            for k in 0..3 {
-                out[k] = im * f[k];
-                out[3 + k] = ij * t[k];
-            }
-        };
         let w = &mut w[..6 * self.n_bodies()];
+        let task = |(t, o): (usize, &mut [f64])| self.gather_task(gamma, t * GATHER_TASK, o);
         if self.n_bodies() >= PAR_MIN_BODIES {
-            w.par_chunks_mut(6).enumerate().for_each(|(s, o)| one(s, o));
+            w.par_chunks_mut(6 * GATHER_TASK).enumerate().for_each(task);
         } else {
-            w.chunks_mut(6).enumerate().for_each(|(s, o)| one(s, o));
+            w.chunks_mut(6 * GATHER_TASK).enumerate().for_each(task);
         }
     }
 
@@ -134,14 +128,14 @@ impl MatrixFree {
     /// `n, u, w`.
     #[inline(always)]
     pub fn triplet(&self, c: usize, w: &[f64]) -> [f64; 3] {
-        let geo = &self.c_geo[c];
+        let at = |x: &[Vec<f64>; 3]| [x[0][c], x[1][c], x[2][c]];
         let mut rel = [0.0; 3];
         let [sa, sb] = self.c_body[c];
         if sa != NONE {
             let x: &[f64; 6] = w[6 * sa as usize..6 * sa as usize + 6]
                 .try_into()
                 .expect("6");
-            let vp = point_velocity(x, &[geo[3], geo[4], geo[5]]);
+            let vp = point_velocity(x, &at(&self.c_ra));
             for k in 0..3 {
                 rel[k] -= vp[k];
             }
@@ -150,13 +144,13 @@ impl MatrixFree {
             let x: &[f64; 6] = w[6 * sb as usize..6 * sb as usize + 6]
                 .try_into()
                 .expect("6");
-            let vp = point_velocity(x, &[geo[6], geo[7], geo[8]]);
+            let vp = point_velocity(x, &at(&self.c_rb));
             for k in 0..3 {
                 rel[k] += vp[k];
             }
         }
-        let n = [geo[0], geo[1], geo[2]];
-        let (u, v) = frame_from(&n, geo[9]);
+        let n = at(&self.c_n);
+        let (u, v) = frame_from(&n, self.c_rc[c]);
         [dot(&n, &rel), dot(&u, &rel), dot(&v, &rel)]
     }
 }
@@ -198,7 +192,7 @@ fn frame_recip(n: &[f64; 3]) -> f64 {
 
 /// [`frame`] from `n` and its [`frame_recip`] `a`.
 #[inline(always)]
-fn frame_from(n: &[f64; 3], a: f64) -> ([f64; 3], [f64; 3]) {
+pub(super) fn frame_from(n: &[f64; 3], a: f64) -> ([f64; 3], [f64; 3]) {
     let sign = 1.0f64.copysign(n[2]);
     let b = n[0] * n[1] * a;
     let u = [1.0 + sign * n[0] * n[0] * a, sign * b, -sign * n[0]];
@@ -352,8 +346,12 @@ impl CcpProblem {
             let [a, b] = f.arms;
             let n = f.normal;
             let rc = frame_recip(&n);
-            mf.c_geo
-                .push([n[0], n[1], n[2], a[0], a[1], a[2], b[0], b[1], b[2], rc]);
+            for k in 0..3 {
+                mf.c_n[k].push(n[k]);
+                mf.c_ra[k].push(a[k]);
+                mf.c_rb[k].push(b[k]);
+            }
+            mf.c_rc.push(rc);
         }
         mf.n_mf = mf.of_triplet.iter().filter(|&&c| c != NONE).count();
         mf.skip_block = (0..nblocks)
@@ -366,24 +364,23 @@ impl CcpProblem {
         mf.b_ptr.extend_from_slice(&count);
         let n_sides = count[mf.b_inv.len()] as usize;
         mf.s_row.resize(n_sides, 0);
-        mf.s_geo.resize(n_sides, [0.0; 7]);
+        for x in mf.s_n.iter_mut().chain(&mut mf.s_r) {
+            x.resize(n_sides, 0.0);
+        }
+        mf.s_rc.resize(n_sides, 0.0);
         let mut cursor = count;
         for (c, body) in mf.c_body.iter().enumerate() {
             for (side, &s) in body.iter().enumerate() {
                 if s != NONE {
                     let slot = &mut cursor[s as usize];
-                    let geo = &mf.c_geo[c];
-                    let o = 3 + 3 * side;
-                    mf.s_row[*slot as usize] = 2 * mf.c_row[c] + side as u32;
-                    mf.s_geo[*slot as usize] = [
-                        geo[0],
-                        geo[1],
-                        geo[2],
-                        geo[o],
-                        geo[o + 1],
-                        geo[o + 2],
-                        geo[9],
-                    ];
+                    let q = *slot as usize;
+                    let arm = if side == 0 { &mf.c_ra } else { &mf.c_rb };
+                    mf.s_row[q] = 2 * mf.c_row[c] + side as u32;
+                    for k in 0..3 {
+                        mf.s_n[k][q] = mf.c_n[k][c];
+                        mf.s_r[k][q] = arm[k][c];
+                    }
+                    mf.s_rc[q] = mf.c_rc[c];
                     *slot += 1;
                 }
             }

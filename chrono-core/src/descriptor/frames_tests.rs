@@ -175,6 +175,68 @@ proptest! {
     }
 }
 
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(48))]
+
+    /// The SIMD passes (this CPU's level) and their one-lane form give the bits of the
+    /// plain scalar passes (sphere by sphere, contact by contact), for any task and run
+    /// split: the product does not depend on the SIMD level.
+    #[test]
+    fn simd_passes_equal_the_scalar_passes_bit_for_bit(
+        seed in any::<u64>(),
+        n_s in 2usize..40,
+        n_c in 1usize..90,
+        task in 1usize..9,
+    ) {
+        let (p, _, _) = scene(seed, n_s, n_c);
+        let mf = &p.mf;
+        let mut rng = crate::rng::Rng::splitmix64(seed ^ 0xb175);
+        let g: Vec<f64> = (0..p.n_rows()).map(|_| rng.range(-1.0, 1.0)).collect();
+        let nw = 6 * mf.n_bodies();
+        let (mut w_ref, mut w_simd, mut w_one) = (vec![0.0; nw], vec![1.0; nw], vec![2.0; nw]);
+        mf.gather_reference(&g, &mut w_ref);
+        mf.gather(&g, &mut w_simd);
+        mf.gather_one_lane(&g, &mut w_one, task);
+        let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        prop_assert_eq!(bits(&w_ref), bits(&w_simd));
+        prop_assert_eq!(bits(&w_ref), bits(&w_one));
+        // The rows of runs of consecutive contacts (as laid out in a friction-only problem:
+        // row data of contact `c` at `3 c..`), with and without the shift.
+        let nc = mf.c_row.len();
+        let eps: Vec<f64> = (0..3 * nc).map(|_| rng.range(0.0, 0.01)).collect();
+        let gg: Vec<f64> = (0..3 * nc).map(|_| rng.range(-1.0, 1.0)).collect();
+        let r: Vec<f64> = (0..3 * nc).map(|_| rng.range(-1.0, 1.0)).collect();
+        for shift in [None, Some(&r[..])] {
+            let (mut o, mut o1) = (vec![0.0; 3 * nc], vec![0.0; 3 * nc]);
+            let mut c0 = 0;
+            while c0 < nc {
+                let len = (task * 5).min(nc - c0);
+                let rr = 3 * c0..3 * (c0 + len);
+                let rows = |out| frames_simd::RowData {
+                    eps: &eps[rr.clone()],
+                    g: &gg[rr.clone()],
+                    shift: shift.map(|x| &x[rr.clone()]),
+                    out,
+                };
+                let of: Vec<u32> = (c0 as u32..(c0 + len) as u32).collect();
+                mf.triplets_task(&w_ref, &of, rows(&mut o[rr.clone()]), |_, _| unreachable!());
+                mf.triplet_one_lane(&w_ref, c0, rows(&mut o1[rr.clone()]));
+                c0 += len;
+            }
+            for c in 0..nc {
+                let d = mf.triplet(c, &w_ref);
+                for k in 0..3 {
+                    let i = 3 * c + k;
+                    let x = d[k] + eps[i] * gg[i];
+                    let want = shift.map_or(x, |r| x + r[i]);
+                    prop_assert_eq!(want.to_bits(), o[i].to_bits());
+                    prop_assert_eq!(want.to_bits(), o1[i].to_bits());
+                }
+            }
+        }
+    }
+}
+
 #[test]
 fn frames_qualify_only_where_they_match_and_survive_a_rebuild() {
     let (p, _, framed) = scene(7, 30, 30);

@@ -23,6 +23,7 @@ mod file;
 #[cfg(test)]
 mod file_fuzz;
 mod frames;
+mod frames_simd;
 #[cfg(test)]
 mod frames_tests;
 mod n_plan;

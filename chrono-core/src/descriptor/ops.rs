@@ -8,6 +8,8 @@ use super::cone::{
     project_box, project_friction_cone, project_rolling_cone, project_rolling_per_body_cone,
     project_unilateral,
 };
+use super::frames::NONE;
+use super::frames_simd::RowData;
 use super::problem::{CcpProblem, CcpWork};
 use super::reduce::{self, sum_by};
 use super::rows::PER_BODY_ROWS;
@@ -17,6 +19,9 @@ const PAR_MIN_ROWS: usize = 4096;
 
 /// Below this many dof, block-wise loops run on the calling thread.
 const PAR_MIN_DOF: usize = 8192;
+
+/// Friction triplets per task of the row pass.
+const TRIPLET_TASK: usize = 256;
 
 /// Rows per unit of [`CcpProblem::gradient_by_units`]: [`reduce::CHUNK`] friction triplets,
 /// i.e. three reduction chunks of rows.
@@ -200,13 +205,15 @@ impl CcpProblem {
         };
         rows(head, 0);
         rows(tail, fr.end);
-        let triplet = |(k, o): (usize, &mut [f64])| {
-            self.triplet_rows(fr.start + 3 * k, gamma, v, w, shift, o);
+        let task = |(t, o): (usize, &mut [f64])| {
+            self.triplets_into(fr.start + 3 * TRIPLET_TASK * t, gamma, v, w, shift, o);
         };
         if par {
-            mid.par_chunks_mut(3).enumerate().for_each(triplet);
+            mid.par_chunks_mut(3 * TRIPLET_TASK)
+                .enumerate()
+                .for_each(task);
         } else {
-            mid.chunks_mut(3).enumerate().for_each(triplet);
+            mid.chunks_mut(3 * TRIPLET_TASK).enumerate().for_each(task);
         }
     }
 
@@ -230,7 +237,7 @@ impl CcpProblem {
         };
         let k = (i - self.sections.friction.start) / 3;
         match self.mf.of_triplet.get(k) {
-            Some(&c) if c != super::frames::NONE => {
+            Some(&c) if c != NONE => {
                 let d = self.mf.triplet(c as usize, w);
                 for j in 0..3 {
                     o[j] = sh(d[j] + eps[i + j] * gamma[i + j], i + j);
@@ -303,39 +310,44 @@ impl CcpProblem {
         }))
     }
 
-    /// The rows `start..start + o.len()` (whole friction triplets) of `N g + r` into `o`:
-    /// [`triplet_rows`](Self::triplet_rows) with the unit's slices taken once (the same
-    /// operations, so the same bits).
+    /// The rows `start..start + o.len()` (whole friction triplets) of `N g + r` into `o`
+    /// ([`triplets_into`](Self::triplets_into) with the shift `r`).
     fn unit_rows(&self, start: usize, gamma: &[f64], v: &[f64], w: &[f64], o: &mut [f64]) {
-        let end = start + o.len();
+        self.triplets_into(start, gamma, v, w, Some(&self.r), o);
+    }
+
+    /// The rows `start..start + o.len()` (whole friction triplets) of `N g + shift` into
+    /// `o`: [`triplet_rows`](Self::triplet_rows) for each triplet, with the runs of
+    /// consecutive matrix-free contacts computed together (SIMD over contacts, the same
+    /// operations, so the same bits).
+    fn triplets_into(
+        &self,
+        start: usize,
+        gamma: &[f64],
+        v: &[f64],
+        w: &[f64],
+        shift: Option<&[f64]>,
+        o: &mut [f64],
+    ) {
+        let nt = o.len() / 3;
         let k0 = (start - self.sections.friction.start) / 3;
-        let (eps, g, r) = (
-            &self.eps[start..end],
-            &gamma[start..end],
-            &self.r[start..end],
-        );
-        let Some(of) = self.mf.of_triplet.get(k0..k0 + o.len() / 3) else {
+        let Some(of) = self.mf.of_triplet.get(k0..k0 + nt) else {
             // No matrix-free triplets in this problem.
             for (k, oc) in o.chunks_mut(3).enumerate() {
-                self.triplet_rows(start + 3 * k, gamma, v, w, Some(&self.r), oc);
+                self.triplet_rows(start + 3 * k, gamma, v, w, shift, oc);
             }
             return;
         };
-        let it = (o.chunks_exact_mut(3).enumerate())
-            .zip(eps.chunks_exact(3))
-            .zip(g.chunks_exact(3))
-            .zip(r.chunks_exact(3))
-            .zip(of);
-        for (((((k, o), eps), g), r), &c) in it {
-            if c != super::frames::NONE {
-                let d = self.mf.triplet(c as usize, w);
-                for j in 0..3 {
-                    o[j] = d[j] + eps[j] * g[j] + r[j];
-                }
-            } else {
-                self.triplet_rows(start + 3 * k, gamma, v, w, Some(&self.r), o);
-            }
-        }
+        let end = start + o.len();
+        let rows = RowData {
+            eps: &self.eps[start..end],
+            g: &gamma[start..end],
+            shift: shift.map(|r| &r[start..end]),
+            out: o,
+        };
+        self.mf.triplets_task(w, of, rows, |k, oc| {
+            self.triplet_rows(start + 3 * k, gamma, v, w, shift, oc);
+        });
     }
 
     /// Is every row part of a friction triplet (no other section)? Such problems (granular
@@ -425,7 +437,7 @@ impl CcpProblem {
         let (mut m, mut ne, mut nc) = (self.n_rows, self.n_entries(), self.n_coefs());
         let mut nd = self.ndof();
         let mf_rows = (mf.of_triplet.iter())
-            .filter(|&&c| c != super::frames::NONE)
+            .filter(|&&c| c != NONE)
             .map(|&c| mf.c_row[c as usize]);
         for i in mf_rows {
             for r in i as usize..i as usize + 3 {
