@@ -78,7 +78,7 @@ pub struct BeamFlowParams {
     /// Particle spacing, m.
     pub spacing: f64,
     /// Expected mean speed (m/s) for the sound speed (`c_s` from
-    /// [`sound_speed_for`]: density variation ~1 %).
+    /// [`sound_speed_for`](chrono_sph::sound_speed_for): density variation ~1 %).
     pub speed_estimate: f64,
 }
 
