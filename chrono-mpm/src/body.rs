@@ -77,6 +77,23 @@ pub(crate) struct P2gMarker {
     a: [[f64; 3]; 3],
 }
 
+/// Per axis, the offsets `o` in `0..3` of a marker's stencil (first node `g0`) with
+/// `lo <= g0 + o < lo + BLOCK`: the part of the stencil inside the grid block whose first
+/// node is `lo`, as half-open ranges; `None` when the stencil misses the block.
+#[inline]
+pub(crate) fn stencil_in_block(g0: [usize; 3], lo: [usize; 3]) -> Option<[(usize, usize); 3]> {
+    let mut r = [(0usize, 0usize); 3];
+    for a in 0..3 {
+        let from = lo[a].saturating_sub(g0[a]).min(3);
+        let to = (lo[a] + BLOCK).saturating_sub(g0[a]).min(3);
+        if from >= to {
+            return None;
+        }
+        r[a] = (from, to);
+    }
+    Some(r)
+}
+
 /// An MPM body (see the module documentation).
 #[derive(Clone, Debug)]
 pub struct MpmBody {
@@ -629,16 +646,9 @@ fn scatter_into_block(
     mass: &mut [f64],
     mom: &mut [[f64; 3]],
 ) {
-    // Per axis the stencil offsets o with lo <= g0 + o < lo + BLOCK.
-    let mut r = [(0usize, 0usize); 3];
-    for a in 0..3 {
-        let from = lo[a].saturating_sub(s.g0[a]).min(3);
-        let to = (lo[a] + BLOCK).saturating_sub(s.g0[a]).min(3);
-        if from >= to {
-            return;
-        }
-        r[a] = (from, to);
-    }
+    let Some(r) = stencil_in_block(s.g0, lo) else {
+        return;
+    };
     for o0 in r[0].0..r[0].1 {
         for o1 in r[1].0..r[1].1 {
             for o2 in r[2].0..r[2].1 {

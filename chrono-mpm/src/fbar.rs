@@ -77,7 +77,7 @@ impl std::str::FromStr for FBar {
     }
 }
 
-use crate::body::P2gMarker;
+use crate::body::{P2gMarker, stencil_in_block};
 use crate::bspline::Stencil;
 use crate::error::{MpmError, invalid};
 use crate::grid::{BLOCK, BLOCK3, GHOST, SparseGrid, key, unkey};
@@ -178,15 +178,9 @@ pub(crate) fn nodal_average(
 /// stencil in the block), as `[sum w V, sum w V dJ]`.
 #[inline]
 fn scatter(s: &P2gMarker, vd: [f64; 2], lo: [usize; 3], out: &mut [[f64; 2]]) {
-    let mut r = [(0usize, 0usize); 3];
-    for a in 0..3 {
-        let from = lo[a].saturating_sub(s.g0[a]).min(3);
-        let to = (lo[a] + BLOCK).saturating_sub(s.g0[a]).min(3);
-        if from >= to {
-            return;
-        }
-        r[a] = (from, to);
-    }
+    let Some(r) = stencil_in_block(s.g0, lo) else {
+        return;
+    };
     for o0 in r[0].0..r[0].1 {
         for o1 in r[1].0..r[1].1 {
             for o2 in r[2].0..r[2].1 {
