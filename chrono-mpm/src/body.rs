@@ -618,19 +618,9 @@ fn grid_gather(
             mom.fill([0.0; 3]);
             let b = unkey(grid.active[k], nb);
             let lo = [b[0] * BLOCK, b[1] * BLOCK, b[2] * BLOCK];
-            for d0 in 0..2 {
-                for d1 in 0..2 {
-                    for d2 in 0..2 {
-                        let d = [d0, d1, d2];
-                        if (0..3).any(|a| b[a] + d[a] < 1) {
-                            continue;
-                        }
-                        let nbk = key([b[0] + d0 - 1, b[1] + d1 - 1, b[2] + d2 - 1], nb);
-                        let Some(run) = grid.run(nbk) else { continue };
-                        for s in &scratch[run.start as usize..run.end as usize] {
-                            scatter_into_block(s, lo, dx, mass, mom);
-                        }
-                    }
+            for run in grid.runs_reaching(b, nb) {
+                for s in &scratch[run] {
+                    scatter_into_block(s, lo, dx, mass, mom);
                 }
             }
         });

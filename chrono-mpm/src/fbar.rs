@@ -148,20 +148,10 @@ pub(crate) fn nodal_average(
         .for_each(|(k, out)| {
             let b = unkey(grid.active[k], nb);
             let lo = [b[0] * BLOCK, b[1] * BLOCK, b[2] * BLOCK];
-            for d0 in 0..2 {
-                for d1 in 0..2 {
-                    for d2 in 0..2 {
-                        let d = [d0, d1, d2];
-                        if (0..3).any(|a| b[a] + d[a] < 1) {
-                            continue;
-                        }
-                        let nbk = key([b[0] + d0 - 1, b[1] + d1 - 1, b[2] + d2 - 1], nb);
-                        let Some(run) = grid.run(nbk) else { continue };
-                        for s in run.start as usize..run.end as usize {
-                            let p = grid.sorted[s].1 as usize;
-                            scatter(&scratch[s], vol_dj[p], lo, out);
-                        }
-                    }
+            for run in grid.runs_reaching(b, nb) {
+                for s in run {
+                    let p = grid.sorted[s].1 as usize;
+                    scatter(&scratch[s], vol_dj[p], lo, out);
                 }
             }
             for n in out.iter_mut() {

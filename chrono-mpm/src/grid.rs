@@ -247,6 +247,25 @@ impl SparseGrid {
             .ok()
             .map(|i| self.runs[i])
     }
+
+    /// The sorted-marker index ranges of the markers whose stencils can reach block `b`
+    /// (block coordinates; `nb` blocks per axis): the runs of the 2 x 2 x 2 blocks at
+    /// `b - 1 .. b` per axis (a quadratic stencil starts at most one block below), in that
+    /// order (x slowest), the ones that hold markers.
+    pub(crate) fn runs_reaching(
+        &self,
+        b: [usize; 3],
+        nb: [usize; 3],
+    ) -> impl Iterator<Item = std::ops::Range<usize>> + '_ {
+        (0..8usize).filter_map(move |i| {
+            let d = [i >> 2, (i >> 1) & 1, i & 1];
+            if (0..3).any(|a| b[a] + d[a] < 1) {
+                return None;
+            }
+            let k = key([b[0] + d[0] - 1, b[1] + d[1] - 1, b[2] + d[2] - 1], nb);
+            self.run(k).map(|r| r.start as usize..r.end as usize)
+        })
+    }
 }
 
 /// Block coordinates of a block key.
