@@ -35,7 +35,7 @@ use chrono_fsi::cylinder_array::{
 use serde::{Deserialize, Serialize};
 
 use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series};
-use crate::params::{CaseParams, ParamCase, ParamInfo};
+use crate::params::{CaseParams, ParamCase, ParamInfo, ensure_positive};
 
 /// Spacings across the cylinder from which `K` is checked against the table (`--full`):
 /// at `c = 0.1` the error is -11.6 %, -9.0 % and -3.2 % at 6, 8 and 12 spacings
@@ -201,15 +201,8 @@ fn run_once(p: &CylinderArrayCaseParams, spacing: f64) -> anyhow::Result<RunResu
 }
 
 fn run(p: &CylinderArrayCaseParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
-    for (f, v) in [
-        ("t_end_over_tau", p.t_end_over_tau),
-        ("coupling_step", p.coupling_step),
-    ] {
-        anyhow::ensure!(
-            v.is_finite() && v > 0.0,
-            "parameter `{f}` must be > 0, got {v}"
-        );
-    }
+    ensure_positive("t_end_over_tau", p.t_end_over_tau)?;
+    ensure_positive("coupling_step", p.coupling_step)?;
     anyhow::ensure!(
         p.window > 0.0 && p.window <= 1.0,
         "parameter `window` must be in (0, 1], got {}",
