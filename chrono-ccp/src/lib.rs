@@ -109,6 +109,7 @@ macro_rules! settings_builders {
     };
 }
 
+pub mod admm;
 pub mod apgd;
 pub mod bb;
 pub mod cg;
@@ -124,6 +125,7 @@ pub mod testing;
 pub mod two_phase;
 mod util;
 
+pub use admm::{Admm, AdmmOptions};
 pub use apgd::{Apgd, ApgdOptions};
 pub use bb::BarzilaiBorwein;
 pub use cg::{Cg, KrylovOptions, NotBilateral, check_bilateral, relative_residual};
@@ -136,7 +138,7 @@ pub use schur::Schur;
 pub use two_phase::TwoPhase;
 
 /// The names accepted by [`by_name`]: the CCP solvers, then the bilateral-only ones.
-pub const SOLVER_NAMES: [&str; 10] = [
+pub const SOLVER_NAMES: [&str; 11] = [
     "jacobi",
     "psor",
     "psor-sym",
@@ -145,6 +147,7 @@ pub const SOLVER_NAMES: [&str; 10] = [
     "bb",
     "two-phase",
     "schur",
+    "admm",
     "cg",
     "minres",
 ];
@@ -162,6 +165,7 @@ pub fn by_name(name: &str, settings: SolverSettings) -> Result<Box<dyn CcpSolver
         "bb" => Box::new(BarzilaiBorwein::new(settings)),
         "two-phase" => Box::new(TwoPhase::new(settings)),
         "schur" => Box::new(Schur::new(settings)),
+        "admm" => Box::new(Admm::new(settings)),
         "cg" => Box::new(Cg::new(settings)),
         "minres" => Box::new(Minres::new(settings)),
         other => {

@@ -63,6 +63,18 @@ impl SparseBilateral {
         problem: &CcpProblem,
         b_rows: &[usize],
     ) -> Result<(), CcpError> {
+        self.factor_shifted(problem, b_rows, None)
+    }
+
+    /// [`factor`](Self::factor) of `N_BB + diag(shift)` (`shift` one value per row of
+    /// `b_rows`, in their order): the proximal system of [`crate::Admm`]. Solves and their
+    /// refinement are then against the shifted matrix.
+    pub(crate) fn factor_shifted(
+        &mut self,
+        problem: &CcpProblem,
+        b_rows: &[usize],
+        shift: Option<&[f64]>,
+    ) -> Result<(), CcpError> {
         self.key_scratch.clear();
         for &i in b_rows {
             self.key_scratch.extend(problem.row_blocks(i).map(|b| b.0));
@@ -87,8 +99,11 @@ impl SparseBilateral {
                 detail: e.to_string(),
             })?;
         let mut max_diag: f64 = 0.0;
-        for (v, &(i, j)) in vals.iter().zip(&self.entries) {
+        for (v, &(i, j)) in vals.iter_mut().zip(&self.entries) {
             if i == j {
+                if let Some(shift) = shift {
+                    *v += shift[i];
+                }
                 max_diag = max_diag.max(*v);
             }
         }

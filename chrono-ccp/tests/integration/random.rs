@@ -13,7 +13,7 @@ const SOLVE_TOL: f64 = 1e-11;
 const CHECK_TOL: f64 = 1e-9;
 
 /// The CCP solvers (CG and MINRES only take bilateral problems: see `bilateral.rs`).
-const SOLVERS: [&str; 8] = [
+const SOLVERS: [&str; 9] = [
     "jacobi",
     "psor",
     "psor-sym",
@@ -22,6 +22,7 @@ const SOLVERS: [&str; 8] = [
     "bb",
     "two-phase",
     "schur",
+    "admm",
 ];
 
 fn settings() -> SolverSettings {

@@ -9,7 +9,7 @@ use chrono_core::descriptor::{CcpProblem, ConstraintRows, MassOperator, RowEntry
 use chrono_core::math::GRAVITY;
 use chrono_core::math::Matrix3;
 
-const SOLVERS: [&str; 7] = [
+const SOLVERS: [&str; 8] = [
     "jacobi",
     "psor",
     "psor-sym",
@@ -17,6 +17,7 @@ const SOLVERS: [&str; 7] = [
     "bb",
     "two-phase",
     "schur",
+    "admm",
 ];
 const M: f64 = 2.0;
 const R: f64 = 0.1;
