@@ -1,7 +1,7 @@
 //! A granular column collapsing on a rough floor in a slab (`chrono_mpm::column`): prints
 //! the runout and final height against time and at rest.
 //!
-//! `cargo run --release -p chrono-mpm --example column [aspect_ratio [friction_angle_deg [cells_length [markers_per_cell [young [floor_friction_angle_deg (-1 sticky) [f_bar (0 off, 1 increment) [cfl [cohesion]]]]]]]]]`
+//! `cargo run --release -p chrono-mpm --example column [aspect_ratio [friction_angle_deg [cells_length [markers_per_cell [young [floor_friction_angle_deg (-1 sticky) [f_bar (0 off, 1 increment) [cfl [cohesion [associated (0 or 1)]]]]]]]]]]`
 
 use chrono_mpm::column::{Column, ColumnSpec};
 
@@ -21,6 +21,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         young: arg(5, d.young)?,
         cfl: arg(8, d.cfl)?,
         cohesion: arg(9, 0.0)?,
+        associated_flow: arg(10, 0.0)? > 0.0,
         floor_friction_angle_deg: match arg(6, arg(2, 30.0)?)? {
             f if f < 0.0 => None,
             f => Some(f),
@@ -45,6 +46,20 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             s.kinetic / (c.body.markers.mass.iter().sum::<f64>() * spec.gravity * h0)
         );
     }
+    let pe: f64 = c
+        .body
+        .markers
+        .x
+        .iter()
+        .zip(&c.body.markers.mass)
+        .map(|(x, m)| m * spec.gravity * x.z)
+        .sum();
+    println!(
+        "final energy: kinetic {:.4e} elastic {:.4e} potential {:.4e} J",
+        c.body.kinetic_energy(),
+        c.body.elastic_energy(),
+        pe
+    );
     println!(
         "a {}: runout ratio {:.4}, final height ratio {:.4}, at rest {} at t/tau {:.2}; {} markers, {} steps in {:.2} s",
         spec.aspect_ratio,

@@ -47,6 +47,9 @@ pub struct ColumnSpec {
     pub friction_angle_deg: f64,
     /// Cohesion of the sand, Pa (0: cohesionless).
     pub cohesion: f64,
+    /// The associated (dilatant) flow rule ([`DruckerPrager::associated`]) instead of the
+    /// non-dilatant one.
+    pub associated_flow: bool,
     /// Young's modulus of the sand, Pa.
     pub young: f64,
     /// Poisson's ratio of the sand.
@@ -83,6 +86,7 @@ impl Default for ColumnSpec {
             column_length: 0.1,
             friction_angle_deg: 30.0,
             cohesion: 0.0,
+            associated_flow: false,
             young: 2e6,
             poisson: 0.3,
             density: 1500.0,
@@ -184,12 +188,16 @@ impl Column {
                 "must lie in [1, 8]",
             ));
         }
-        let sand = Material::DruckerPrager(DruckerPrager::plane_strain(
+        let mut dp = DruckerPrager::plane_strain(
             spec.young,
             spec.poisson,
             spec.friction_angle_deg,
             spec.cohesion,
-        )?);
+        )?;
+        if spec.associated_flow {
+            dp = dp.associated();
+        }
+        let sand = Material::DruckerPrager(dp);
         let dx = l0 / spec.cells_length as f64;
         let h0 = a * l0;
         // The marker rows: whole marker spacings in H0 (at least one).

@@ -50,6 +50,8 @@ pub struct ColumnParams {
     pub friction_angle_deg: f64,
     /// The floor's Coulomb friction angle, degrees; < 0: the sand's (a rough bed).
     pub floor_friction_angle_deg: f64,
+    /// The associated (dilatant) flow rule instead of the non-dilatant one.
+    pub associated_flow: bool,
     /// `mpm` (or `nsc`, not implemented yet).
     pub method: String,
     /// Column length `L0`, m.
@@ -91,6 +93,7 @@ impl Default for ColumnParams {
             sweep: vec![0.5, 1.5, 4.0, 8.0],
             friction_angle_deg: 30.0,
             floor_friction_angle_deg: -1.0,
+            associated_flow: false,
             method: "mpm".into(),
             column_length: 0.1,
             cells: 4,
@@ -128,6 +131,11 @@ impl CaseParams for ColumnParams {
             "floor_friction_angle_deg",
             "deg",
             "Coulomb friction angle of the floor; < 0: the sand's (a rough bed)",
+        ),
+        ParamInfo::new(
+            "associated_flow",
+            "-",
+            "the associated (dilatant) Drucker-Prager flow instead of the non-dilatant one",
         ),
         ParamInfo::new(
             "method",
@@ -264,6 +272,8 @@ fn spec(p: &ColumnParams, a: f64, f_bar: FBar) -> ColumnSpec {
         aspect_ratio: a,
         column_length: p.column_length,
         friction_angle_deg: p.friction_angle_deg,
+        cohesion: 0.0,
+        associated_flow: p.associated_flow,
         young: p.young,
         poisson: p.poisson,
         density: p.density,
