@@ -76,6 +76,8 @@ pub struct ColumnSpec {
     pub max_time: f64,
     /// F-bar volume averaging ([`crate::fbar`]).
     pub f_bar: FBar,
+    /// The FLIP fraction of the velocity update ([`MpmBody::set_flip`]; 0: APIC).
+    pub flip: f64,
 }
 
 impl Default for ColumnSpec {
@@ -99,6 +101,7 @@ impl Default for ColumnSpec {
             rest_window: 1.0,
             max_time: 30.0,
             f_bar: FBar::Off,
+            flip: 0.0,
         }
     }
 }
@@ -225,6 +228,7 @@ impl Column {
             f_bar: spec.f_bar,
         };
         let mut body = MpmBody::new(grid, sand, settings)?;
+        body.set_flip(spec.flip)?;
         let vol = d * d * dx;
         for i in 0..mx {
             for k in 0..mz {
