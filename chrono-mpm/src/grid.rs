@@ -134,6 +134,9 @@ pub struct SparseGrid {
     pub(crate) mom: Vec<[f64; 3]>,
     /// Node velocities before the ghost images (scratch of the grid update).
     pub(crate) prev: Vec<[f64; 3]>,
+    /// Node momentum of the transfer alone, without the stress impulse (the FLIP blend's
+    /// old grid velocity, [`MpmBody::set_flip`](crate::MpmBody::set_flip)).
+    pub(crate) mom0: Vec<[f64; 3]>,
     /// Impulse per active block and rigid body (scratch of the grid update), N s.
     pub(crate) impulse: Vec<[f64; 3]>,
     /// Node masses with the ghosts' folded in (the box nodes; [`crate::fold`]), kg.

@@ -19,6 +19,8 @@
 //! - [`body`]: an MPM body advanced by explicit APIC steps (Jiang et al. 2015);
 //! - [`compaction`]: confined compaction of a column by a plate (the oedometer);
 //! - [`footing`]: a rigid strip footing pushed into cohesive soil (Prandtl's problem);
+//! - [`column`](mod@column): a granular column collapsing on a rough floor (Lube et al. 2005,
+//!   Lajeunesse et al. 2005);
 //! - [`bar`]: the axially vibrating elastic bar, a scene for validation;
 //! - [`vtk`]: VTP frames of the markers (stress, `J_E`, `J_P`, plastic strain).
 //!
@@ -29,6 +31,7 @@
 pub mod bar;
 pub mod body;
 pub mod bspline;
+pub mod column;
 pub mod compaction;
 pub mod error;
 pub mod fbar;

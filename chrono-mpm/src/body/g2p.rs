@@ -40,6 +40,7 @@ impl MpmBody {
         let (origin, dx) = (spec.origin, spec.dx);
         let dinv = apic_d_inverse(dx);
         let grid = &self.grid;
+        let flip = self.flip;
         let mk = &mut self.markers;
         self.df.clear();
         self.df.resize(mk.len(), Matrix3::zeros());
@@ -53,6 +54,7 @@ impl MpmBody {
                 let mut vp = Vector3::zeros();
                 let mut bp = Matrix3::zeros();
                 let mut grad_v = Matrix3::zeros();
+                let mut v_old = Vector3::zeros();
                 fbar::for_stencil_nodes(grid, nb, &st, |o, node| {
                     let vi = Vector3::from(grid.mom[node]);
                     let w = st.weight(o);
@@ -61,8 +63,15 @@ impl MpmBody {
                     vp += vi * w;
                     bp += (vi * w) * r.transpose();
                     grad_v += vi * gw.transpose();
+                    if flip > 0.0 && grid.mass[node] > 0.0 {
+                        v_old += Vector3::from(grid.mom0[node]) * (w / grid.mass[node]);
+                    }
                 });
-                *v = vp;
+                *v = if flip > 0.0 {
+                    vp + (*v - v_old) * flip
+                } else {
+                    vp
+                };
                 *c = bp * dinv;
                 *df = Matrix3::identity() + grad_v * dt;
             });

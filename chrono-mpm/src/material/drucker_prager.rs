@@ -35,6 +35,10 @@ pub struct DruckerPrager {
     pub alpha: f64,
     /// `kappa` of the yield function, Pa.
     pub kappa: f64,
+    /// `beta` of the plastic potential `g = |s| + beta tr(tau)`: 0 is the non-dilatant
+    /// flow (Klar's, the default), `alpha` the associated one
+    /// ([`DruckerPrager::associated`]).
+    pub dilatancy: f64,
 }
 
 impl DruckerPrager {
@@ -71,6 +75,7 @@ impl DruckerPrager {
             cohesion,
             alpha: 2.0 * (2.0f64 / 3.0).sqrt() * sin / (3.0 - sin),
             kappa: 2.0 * 6.0f64.sqrt() * cohesion * cos / (3.0 - sin),
+            dilatancy: 0.0,
         })
     }
 
@@ -103,6 +108,23 @@ impl DruckerPrager {
         Ok(m)
     }
 
+    /// The same cone with the associated flow rule: the plastic strain increment normal to
+    /// the cone, `d eps_p = dgamma (s/|s| + alpha I)` (dilatancy `beta = alpha`), returned
+    /// in one step in Hencky strain:
+    ///
+    /// ```text
+    /// dgamma = f(tau_trial) / (2 mu + 3 alpha beta (3 lambda + 2 mu))
+    /// ```
+    ///
+    /// (the cone is linear in the principal stresses and the Hencky response linear, so the
+    /// return is exact), to the apex when the deviator would change sign. A rigid-plastic
+    /// Coulomb flow without dilatancy is ill-posed (Schaeffer, J. Differential Equations
+    /// 66, 1987); the associated one is not.
+    pub fn associated(mut self) -> Self {
+        self.dilatancy = self.alpha;
+        self
+    }
+
     /// The yield function `f(tau)` of principal Kirchhoff stresses, Pa (<= 0 admissible).
     pub fn yield_function(&self, tau: &Vector3<f64>) -> f64 {
         let (dev, tr) = split(tau);
@@ -126,7 +148,17 @@ impl DruckerPrager {
         if s_norm <= limit {
             return *eps;
         }
-        dev * (limit / s_norm) + Vector3::repeat(tr / 3.0)
+        if self.dilatancy == 0.0 {
+            return dev * (limit / s_norm) + Vector3::repeat(tr / 3.0);
+        }
+        // Dilatant flow: `dgamma` along `n + beta I`, `n = dev / |dev|`.
+        let beta = self.dilatancy;
+        let dgamma = (s_norm - limit) / (2.0 * el.mu + 3.0 * self.alpha * beta * bulk3);
+        if 2.0 * el.mu * dgamma >= s_norm {
+            // The deviator would reverse: the apex (for the dilated trace).
+            return Vector3::repeat(self.kappa / (self.alpha * bulk3) / 3.0);
+        }
+        dev * (1.0 - 2.0 * el.mu * dgamma / s_norm) + Vector3::repeat(tr / 3.0 - beta * dgamma)
     }
 
     /// The return mapping of `(F_E trial, F_P)`; `None` for a degenerate state.
@@ -192,6 +224,7 @@ mod tests {
             let c = if phi == 0.0 { c + 1.0 } else { c };
             let m = DruckerPrager::new(1e6, 0.3, phi, c).unwrap();
             check(&m, a, e)?;
+            check(&m.associated(), a, e)?;
         }
     }
 

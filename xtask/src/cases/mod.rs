@@ -110,6 +110,7 @@ pub fn all_cases() -> Vec<Box<dyn Case>> {
         mpm::elastic_bar::case(),
         mpm::snow::case(),
         mpm::footing::case(),
+        mpm::column_collapse::case(),
         vehicle::static_settle::case(),
         vehicle::accel::case(),
         vehicle::turn::case(),

@@ -1,5 +1,6 @@
 //! Validation cases of chrono-mpm.
 
+pub mod column_collapse;
 pub mod elastic_bar;
 pub mod footing;
 pub mod snow;

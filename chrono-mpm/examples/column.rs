@@ -1,0 +1,83 @@
+//! A granular column collapsing on a rough floor in a slab (`chrono_mpm::column`): prints
+//! the runout and final height against time and at rest.
+//!
+//! `cargo run --release -p chrono-mpm --example column [aspect_ratio [friction_angle_deg [cells_length [markers_per_cell [young [floor_friction_angle_deg (-1 sticky) [f_bar (0 off, 1 increment) [cfl [cohesion [associated (0 or 1) [flip]]]]]]]]]]]`
+
+use chrono_mpm::column::{Column, ColumnSpec};
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let arg = |i: usize, default: f64| -> Result<f64, Box<dyn std::error::Error>> {
+        Ok(match std::env::args().nth(i) {
+            Some(s) => s.parse()?,
+            None => default,
+        })
+    };
+    let d = ColumnSpec::default();
+    let spec = ColumnSpec {
+        aspect_ratio: arg(1, d.aspect_ratio)?,
+        friction_angle_deg: arg(2, d.friction_angle_deg)?,
+        cells_length: arg(3, d.cells_length as f64)? as usize,
+        markers_per_cell: arg(4, d.markers_per_cell as f64)? as usize,
+        young: arg(5, d.young)?,
+        cfl: arg(8, d.cfl)?,
+        cohesion: arg(9, 0.0)?,
+        associated_flow: arg(10, 0.0)? > 0.0,
+        flip: arg(11, 0.0)?,
+        floor_friction_angle_deg: match arg(6, arg(2, 30.0)?)? {
+            f if f < 0.0 => None,
+            f => Some(f),
+        },
+        f_bar: if arg(7, 0.0)? > 0.0 {
+            chrono_mpm::FBar::Increment
+        } else {
+            chrono_mpm::FBar::Off
+        },
+        ..d
+    };
+    let mut c = Column::new(spec)?;
+    let start = std::time::Instant::now();
+    let r = c.run(|_| {})?;
+    let (l0, h0) = (spec.column_length, c.initial_height());
+    for s in r.samples.iter().step_by(25) {
+        println!(
+            "t/tau {:6.2}  (L - L0)/L0 {:.4}  H/H0 {:.4}  KE/(M g H0) {:.3e}",
+            s.t / c.time_scale(),
+            (s.front - l0) / l0,
+            s.height / h0,
+            s.kinetic / (c.body.markers.mass.iter().sum::<f64>() * spec.gravity * h0)
+        );
+    }
+    let pe: f64 = c
+        .body
+        .markers
+        .x
+        .iter()
+        .zip(&c.body.markers.mass)
+        .map(|(x, m)| m * spec.gravity * x.z)
+        .sum();
+    println!(
+        "final energy: kinetic {:.4e} elastic {:.4e} potential {:.4e} J",
+        c.body.kinetic_energy(),
+        c.body.elastic_energy(),
+        pe
+    );
+    println!(
+        "a {}: runout ratio {:.4}, final height ratio {:.4}, at rest {} at t/tau {:.2}; {} markers, {} steps in {:.2} s",
+        spec.aspect_ratio,
+        r.runout_ratio,
+        r.final_height_ratio,
+        r.at_rest,
+        r.time / c.time_scale(),
+        c.body.markers.len(),
+        r.steps,
+        start.elapsed().as_secs_f64()
+    );
+    if let Ok(path) = std::env::var("COLUMN_DUMP") {
+        let mut out = String::new();
+        for x in &c.body.markers.x {
+            out += &format!("{} {}\n", x.x, x.z);
+        }
+        std::fs::write(path, out)?;
+    }
+    Ok(())
+}
