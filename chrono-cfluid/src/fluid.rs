@@ -435,13 +435,6 @@ impl ConstraintFluid {
         &self.marker_row_ids
     }
 
-    /// The support fractions `phi_i` of the fluid particles at the start of the last step
-    /// (the reference of each density row, `C_i = rho_i / rho_0 - phi_i`; all 1 without
-    /// [`CfluidSettings::surface_reference`]).
-    pub fn support_fractions(&self) -> &[f64] {
-        &self.phi
-    }
-
     /// The density-row impulses of the last step, N m s (one per fluid particle, `>= 0`
     /// where it pushes).
     pub fn impulses(&self) -> &[f64] {
