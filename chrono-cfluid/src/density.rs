@@ -24,6 +24,8 @@
 use chrono_core::particles::{CellGrid, Kernel, NeighborList, Positions};
 use rayon::prelude::*;
 
+use crate::surface::SupportModel;
+
 /// The coefficients of one density row: the particles it touches (itself first) and
 /// three coefficients per particle, `D_i = -dC_i/dx_j`, 1/m. Kept per particle across
 /// steps so that refilling it allocates nothing once warm.
@@ -74,6 +76,31 @@ impl Field<'_> {
             rho += self.mass * self.kernel.w(r);
         }
         rho
+    }
+
+    /// The support fractions `phi_i` of all fluid particles by `model` (see
+    /// [`crate::surface`]), in parallel: the filled fraction `g_i = rho_i / rho_0` and the
+    /// first moment `M_i = |sum_j (m / rho_0) W_ij (x_j - x_i)|` over every neighbour.
+    pub fn support_fractions(&self, model: &SupportModel, phi: &mut [f64]) {
+        let v = self.mass / self.rho_0;
+        phi[..self.n_fluid]
+            .par_iter_mut()
+            .enumerate()
+            .for_each(|(i, p)| {
+                let mut g = v * self.kernel.w(0.0);
+                let mut m = [0.0; 3];
+                for &j in self.nbrs.neighbors(i) {
+                    let d = self.displacement(i, j as usize);
+                    let r = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+                    let w = v * self.kernel.w(r);
+                    g += w;
+                    // x_j - x_i = -d
+                    for a in 0..3 {
+                        m[a] -= w * d[a];
+                    }
+                }
+                *p = model.fraction(g, (m[0] * m[0] + m[1] * m[1] + m[2] * m[2]).sqrt());
+            });
     }
 
     /// The densities of all fluid particles, in parallel.

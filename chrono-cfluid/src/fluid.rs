@@ -15,6 +15,7 @@ use chrono_core::particles::{CellGrid, GridConfig, Kernel, NeighborList};
 use crate::density::{Field, RowBuf};
 use crate::geometry::lattice_mass;
 use crate::settings::CfluidSettings;
+use crate::surface::SupportModel;
 
 mod output;
 mod projection;
@@ -123,6 +124,11 @@ pub struct ConstraintFluid {
     pos: [Vec<f64>; 3],
     vel: Vec<[f64; 3]>,
     rho: Vec<f64>,
+    /// Support fractions `phi_i` of the last step (1 without
+    /// [`CfluidSettings::surface_reference`]).
+    phi: Vec<f64>,
+    /// The planar-surface model of the lattice, with `surface_reference`.
+    support_model: Option<SupportModel>,
     gamma: Vec<f64>,
     row_ids: Vec<RowId>,
     first_block: Option<BlockId>,
@@ -228,6 +234,10 @@ impl ConstraintFluid {
             pos,
             vel: vec![[0.0; 3]; n_fluid],
             rho: vec![settings.rest_density; n_fluid],
+            phi: vec![1.0; n_fluid],
+            support_model: settings
+                .surface_reference
+                .then(|| SupportModel::new(&kernel, settings.spacing)),
             gamma: vec![0.0; n_fluid],
             row_ids: Vec::with_capacity(n_fluid),
             first_block: None,
@@ -539,9 +549,13 @@ impl ConstraintFluid {
         let mut mrho = std::mem::take(&mut self.marker_rho);
         let mut wbufs = std::mem::take(&mut self.wall_rows);
         let mut wrho = std::mem::take(&mut self.wall_rho);
+        let mut phi = std::mem::take(&mut self.phi);
         {
             let field = self.field();
             field.densities(&mut rho);
+            if let Some(model) = &self.support_model {
+                field.support_fractions(model, &mut phi);
+            }
             field.rows(&mut bufs);
             if self.settings.body_marker_rows {
                 field.marker_rows(&mut mbufs, &mut mrho);
@@ -551,6 +565,7 @@ impl ConstraintFluid {
             }
         }
         self.rho = rho;
+        self.phi = phi;
         self.rows = bufs;
         self.marker_rows = mbufs;
         self.marker_rho = mrho;
@@ -575,8 +590,8 @@ impl ConstraintFluid {
             h,
             eps,
         };
-        for (buf, rho) in self.rows.iter_mut().zip(&self.rho) {
-            let id = push.push(buf, *rho, false, &mut entries, rows);
+        for ((buf, rho), phi) in self.rows.iter_mut().zip(&self.rho).zip(&self.phi) {
+            let id = push.push(buf, *rho, *phi, false, &mut entries, rows);
             self.row_ids.push(id);
         }
         self.marker_row_ids.clear();

@@ -55,6 +55,7 @@ mod fluid;
 mod geometry;
 pub mod scene;
 mod settings;
+mod surface;
 #[cfg(test)]
 mod tests;
 

@@ -86,6 +86,17 @@ pub struct CfluidSettings {
     /// particle noise but not a smooth flow at a free surface or a wall, where the plain
     /// form drags the surface particles toward their neighbours' one-sided mean.
     pub xsph_corrected: bool,
+    /// Whether a particle near a free surface holds its density at the reference of its
+    /// truncated support, `C_i = rho_i / rho_0 - phi_i`, instead of `rho_i / rho_0 - 1`
+    /// (`phi_i` in `(0, 1]` the fraction of a full kernel support its neighbourhood
+    /// fills at the rest spacing, from the first moment of its neighbours by the
+    /// planar-surface model of the lattice, see `surface.rs` and
+    /// `docs/validation-cfluid.md`). A row with `phi_i < 1` is unilateral (the free
+    /// surface pushes but never pulls). Without it the surface layers' rows are slack
+    /// until their truncated sums reach `rho_0`, so gravity packs them (the top layer of
+    /// still water held 1.38 particles per `dp^2`) and the energy released feeds particle
+    /// noise.
+    pub surface_reference: bool,
     /// Largest stabilization rate `C_i / h` of a compressed particle, 1/s (`> 0`): a badly
     /// compressed start recovers at this rate instead of exploding.
     pub max_recovery_rate: f64,
@@ -160,6 +171,7 @@ impl Default for CfluidSettings {
             kernel: KernelKind::WendlandC2,
             compressibility: 1e-9,
             surface: SurfaceMode::OneSided,
+            surface_reference: false,
             xsph: 0.1,
             xsph_viscosity: 0.0,
             xsph_corrected: false,

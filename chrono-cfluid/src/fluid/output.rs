@@ -21,6 +21,13 @@ pub const KIND_WALL: f64 = 1.0;
 pub const KIND_BODY_MARKER: f64 = 2.0;
 
 impl ConstraintFluid {
+    /// The support fractions `phi_i` of the fluid particles at the start of the last step
+    /// (the reference of each density row, `C_i = rho_i / rho_0 - phi_i`; all 1 without
+    /// [`CfluidSettings::surface_reference`](crate::CfluidSettings::surface_reference)).
+    pub fn support_fractions(&self) -> &[f64] {
+        &self.phi
+    }
+
     /// Write the particles as a VTK PolyData frame (`.vtp`, ASCII) with point data
     /// `velocity` (m/s), `density` (kg/m^3), `compression` (`rho / rho_0 - 1`), `pressure`
     /// (Pa, `p_i = g_i rho_0 / (h m_k)` of the last solve, see [`pressure`](Self::pressure))

@@ -22,8 +22,9 @@ pub(super) struct PushRow<'a> {
 }
 
 impl PushRow<'_> {
-    /// Push the row in `buf` (a particle or marker of density `rho`) by the surface mode,
-    /// or unilateral whatever the density if `marker` (a body face may be pushed by the
+    /// Push the row in `buf` (a particle or marker of density `rho`, support fraction
+    /// `phi`: `C = rho / rho_0 - phi`) by the surface mode, or unilateral whatever the
+    /// density if `marker` or `phi < 1` (a surface particle pushes but never pulls) (a body face may be pushed by the
     /// fluid but never holds it: a bilateral marker row held the film under a sinking body
     /// in tension). The body blocks are turned into body coordinates (angular part in the
     /// body frame); a body without variables (fixed, kinematic) moves its markers at a
@@ -32,6 +33,7 @@ impl PushRow<'_> {
         &self,
         buf: &'b mut RowBuf,
         rho: f64,
+        phi: f64,
         marker: bool,
         entries: &mut Vec<RowEntry<'b>>,
         rows: &mut ConstraintRows,
@@ -63,8 +65,8 @@ impl PushRow<'_> {
         }
         let s = self.settings;
         let (h, eps) = (self.h, self.eps);
-        let c = rho / s.rest_density - 1.0;
-        let surface = if marker {
+        let c = rho / s.rest_density - phi;
+        let surface = if marker || phi < 1.0 {
             SurfaceMode::Unilateral
         } else {
             s.surface
@@ -100,7 +102,7 @@ impl PushRow<'_> {
         ids.clear();
         for (k, (buf, rho)) in bufs.iter_mut().zip(rho).enumerate() {
             if !buf.particles.is_empty() {
-                let id = self.push(buf, *rho, true, entries, rows);
+                let id = self.push(buf, *rho, 1.0, true, entries, rows);
                 ids.push((k as u32, id));
             }
         }

@@ -92,6 +92,9 @@ pub struct SloshingDecayParams {
     /// Constraint fluid: free-surface treatment of the density rows (`one_sided`,
     /// `unilateral`, `clamped`; see `chrono_cfluid::SurfaceMode`).
     pub surface: String,
+    /// Constraint fluid: free-surface rows at the reference of their truncated support
+    /// (`CfluidSettings::surface_reference`).
+    pub surface_reference: bool,
     /// Constraint fluid: largest stabilization rate, 1/s.
     pub max_recovery_rate: f64,
     /// Constraint fluid: `h_k / dp`.
@@ -130,6 +133,7 @@ impl Default for SloshingDecayParams {
             xsph_corrected: c.xsph_corrected,
             compressibility: c.compressibility,
             surface: "one_sided".into(),
+            surface_reference: c.surface_reference,
             max_recovery_rate: c.max_recovery_rate,
             h_over_dp: c.h_over_dp,
             tolerance: 1e-4,
@@ -184,6 +188,11 @@ impl CaseParams for SloshingDecayParams {
             "surface",
             "-",
             "constraint fluid: one_sided | unilateral | clamped",
+        ),
+        ParamInfo::new(
+            "surface_reference",
+            "-",
+            "constraint fluid: surface rows at their truncated support's reference",
         ),
         ParamInfo::new(
             "max_recovery_rate",
@@ -334,6 +343,7 @@ fn run_cfluid(
         xsph_corrected: p.xsph_corrected,
         compressibility: p.compressibility,
         surface: SurfaceMode::parse(&p.surface)?,
+        surface_reference: p.surface_reference,
         max_recovery_rate: p.max_recovery_rate,
         domain_lower: [-t, 0.0, -t],
         domain_upper: [a + t, ly, top],

@@ -105,6 +105,9 @@ pub struct StillWaterParams {
     /// particles' contact spheres (radius `dp / 2`) keep the first fluid layer at least
     /// `dp / 2` from the wall faces, as in `cfluid-floating-box`.
     pub wall_colliders: bool,
+    /// Free-surface rows at the reference of their truncated support
+    /// (`CfluidSettings::surface_reference`).
+    pub surface_reference: bool,
     /// Dynamic relaxation before the run, s: steps of `h` with the velocities zeroed
     /// after each one, so the run starts from the model's rest state (0: the lattice).
     pub relax_time: f64,
@@ -127,6 +130,7 @@ impl Default for StillWaterParams {
             position_tolerance: 1e-4,
             relax_time: 1.0,
             wall_colliders: true,
+            surface_reference: CfluidSettings::default().surface_reference,
         }
     }
 }
@@ -157,6 +161,11 @@ impl CaseParams for StillWaterParams {
             "wall_colliders",
             "-",
             "rigid colliders behind the marker walls",
+        ),
+        ParamInfo::new(
+            "surface_reference",
+            "-",
+            "surface rows at their truncated support's reference (true/false)",
         ),
         ParamInfo::new(
             "relax_time",
@@ -256,6 +265,7 @@ fn run(p: &StillWaterParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         h_over_dp: p.h_over_dp,
         position_iterations: p.position_iterations,
         position_tolerance: p.position_tolerance,
+        surface_reference: p.surface_reference,
         ..CfluidSettings::default()
     };
     let mut scene = tank_scene(
