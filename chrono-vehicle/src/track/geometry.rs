@@ -209,8 +209,16 @@ pub struct ChainLayout {
     pub sprocket_start_angle: f64,
 }
 
-/// The circles of the loop with the idler moved by `offset` along X: sprocket pitch
-/// circle, road wheels, idler (the pin circles: radius plus half a shoe thickness).
+/// The circles of the loop with the idler moved by `offset` along X: the sprocket's pitch
+/// circle (the pins seat in its gaps) and, for the road wheels and the idler, the circle of
+/// radius `sqrt((r + t/2)^2 + (p/2)^2)` (wheel radius `r`, shoe thickness `t`, pitch `p`).
+/// Where the chain bends round a wheel a plate is a chord between two pins: on that circle
+/// its inner face is tangent to the wheel at its middle. With the pins on `r + t/2` (pins at
+/// mid-thickness; so until 2026-12-05) the plates cut up to
+/// `(r + t/2)(1 - cos(asin(p / (2 (r + t/2)))))` into the wheel, 1.0 cm round the M113's
+/// idler and 0.9 cm at its first road wheel: a rigid (NSC) contact pushed that out in the
+/// first steps; a penalty (SMC) contact would start with it loaded. The straight runs now
+/// start that much (0.9 cm for the M113) off the road wheels, which settle onto them.
 pub fn loop_circles(track: &TrackData, offset: f64) -> (Vec<Circle>, Vec<String>) {
     let half_t = 0.5 * track.shoe.thickness;
     let mut c = vec![Circle {
@@ -222,14 +230,14 @@ pub fn loop_circles(track: &TrackData, offset: f64) -> (Vec<Circle>, Vec<String>
     for (k, &x) in r.x.iter().enumerate() {
         c.push(Circle {
             center: [x, r.z],
-            radius: r.radius + half_t,
+            radius: (r.radius + half_t).hypot(0.5 * track.shoe.pitch),
         });
         names.push(format!("track.road_wheels.x[{k}]"));
     }
     let i = &track.idler;
     c.push(Circle {
         center: [i.location[0] + offset, i.location[1]],
-        radius: i.radius + half_t,
+        radius: (i.radius + half_t).hypot(0.5 * track.shoe.pitch),
     });
     names.push("track.idler.location".to_string());
     (c, names)
