@@ -450,6 +450,41 @@ mod tests {
         assert!(l1.idler_offset < l0.idler_offset);
     }
 
+    /// No plate cuts into a road wheel or the idler: the distance from each wheel's centre
+    /// to each plate's chord, less half a plate thickness (the inner face), is at least the
+    /// wheel's radius; round the idler some plates touch it (tangent at their middle). With
+    /// the pins on `r + t/2` (before 2026-12-05) the plates cut 1.0 cm into the idler.
+    #[test]
+    fn m113_plates_touch_but_do_not_cut_into_the_wheels() {
+        let d = m113_data().unwrap();
+        let t = &d.track;
+        let half_t = 0.5 * t.shoe.thickness;
+        for side in 0..2 {
+            let l = layout(t, t.shoe.count[side], side).unwrap();
+            let i = &t.idler;
+            let mut wheels: Vec<([f64; 2], f64)> = t
+                .road_wheels
+                .x
+                .iter()
+                .map(|&x| ([x, t.road_wheels.z], t.road_wheels.radius))
+                .collect();
+            wheels.push(([i.location[0] + l.idler_offset, i.location[1]], i.radius));
+            let n = l.pins.len();
+            for (k, &(c, r)) in wheels.iter().enumerate() {
+                let mut closest = f64::INFINITY;
+                for j in 0..n {
+                    let (a, b) = (l.pins[j], l.pins[(j + 1) % n]);
+                    let gap = crate::track::assembly::segment_distance(c, a, b) - half_t - r;
+                    assert!(gap > -1e-9, "side {side}, wheel {k}, plate {j}: cuts {gap:.2e} m in");
+                    closest = closest.min(gap);
+                }
+                // Every wheel is near the chain (the road wheels within the 0.9 cm the
+                // straight runs start off them).
+                assert!(closest < 0.01, "side {side}, wheel {k}: {closest}");
+            }
+        }
+    }
+
     #[test]
     fn too_few_or_too_many_shoes_are_errors_naming_the_count() {
         let d = m113_data().unwrap();
