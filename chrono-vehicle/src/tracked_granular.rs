@@ -155,7 +155,10 @@ impl TrackedGranularScene {
         let mut out = Vec::new();
         for &s in &self.vehicle.shoes() {
             // The shoe's centre in the chassis reference frame.
-            let p = inv.transform_point(&self.sys.body(s)?.position().into()).coords + com;
+            let p = inv
+                .transform_point(&self.sys.body(s)?.position().into())
+                .coords
+                + com;
             if p.x <= x_front && p.x >= x_rear && p.z < rw.z {
                 out.push(s);
             }
@@ -201,7 +204,8 @@ impl TrackedGranularScene {
         for c in self.sys.smc_contacts() {
             let (a, b) = (c.owner_a as usize, c.owner_b as usize);
             let pair = |x: usize, y: usize| {
-                is_shoe.get(x).copied().unwrap_or(false) && is_grain.get(y).copied().unwrap_or(false)
+                is_shoe.get(x).copied().unwrap_or(false)
+                    && is_grain.get(y).copied().unwrap_or(false)
             };
             if pair(a, b) || pair(b, a) {
                 n += 1;
@@ -303,8 +307,8 @@ mod tests {
     #[test]
     fn the_m113_is_set_down_over_the_patch_with_the_chains_rolling() {
         let d = m113_data().unwrap();
-        let mut s = TrackedGranularScene::new(d.clone(), &patch(), smc(), solver(), 2.5e-4, 0.05)
-            .unwrap();
+        let mut s =
+            TrackedGranularScene::new(d.clone(), &patch(), smc(), solver(), 2.5e-4, 0.05).unwrap();
         let (rear, front) = (s.patch.rear(), s.patch.front());
         assert!(rear < rear_x(&d) && front > front_x(&d), "{rear} {front}");
         assert_eq!(s.grains_inside_shoes().unwrap(), 0);

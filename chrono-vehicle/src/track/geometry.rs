@@ -475,7 +475,10 @@ mod tests {
                 for j in 0..n {
                     let (a, b) = (l.pins[j], l.pins[(j + 1) % n]);
                     let gap = crate::track::assembly::segment_distance(c, a, b) - half_t - r;
-                    assert!(gap > -1e-9, "side {side}, wheel {k}, plate {j}: cuts {gap:.2e} m in");
+                    assert!(
+                        gap > -1e-9,
+                        "side {side}, wheel {k}, plate {j}: cuts {gap:.2e} m in"
+                    );
                     closest = closest.min(gap);
                 }
                 // Every wheel is near the chain (the road wheels within the 0.9 cm the

@@ -133,16 +133,28 @@ impl Default for M113GranularParams {
 impl CaseParams for M113GranularParams {
     const INFO: &'static [ParamInfo] = &[
         ParamInfo::new("speed", "m/s", "target speed of the speed controller"),
-        ParamInfo::new("initial_speed", "m/s", "speed the vehicle starts rolling at"),
+        ParamInfo::new(
+            "initial_speed",
+            "m/s",
+            "speed the vehicle starts rolling at",
+        ),
         ParamInfo::new("t_drive", "s", "driving time after the start"),
-        ParamInfo::new("t_start", "s", "mean speed taken from this long after the start"),
+        ParamInfo::new(
+            "t_start",
+            "s",
+            "mean speed taken from this long after the start",
+        ),
         ParamInfo::new("kp", "1/(m/s)", "speed controller proportional gain"),
         ParamInfo::new("ki", "1/m", "speed controller integral gain"),
         ParamInfo::new("grain_diameter", "m", "grain diameter"),
         ParamInfo::new("grain_density", "kg/m^3", "grain density"),
         ParamInfo::new("grain_young_modulus", "Pa", "grain Young's modulus (Hertz)"),
         ParamInfo::new("mu", "-", "grain friction coefficient"),
-        ParamInfo::new("rolling_friction", "-", "grain rolling friction coefficient"),
+        ParamInfo::new(
+            "rolling_friction",
+            "-",
+            "grain rolling friction coefficient",
+        ),
         ParamInfo::new("restitution", "-", "grain restitution coefficient"),
         ParamInfo::new("patch_length", "m", "length of the moving patch"),
         ParamInfo::new("patch_width", "m", "width of the patch"),
@@ -154,8 +166,16 @@ impl CaseParams for M113GranularParams {
             "s",
             "time the braked vehicle rests on the bed before it rolls",
         ),
-        ParamInfo::new("method", "-", "contact method: smc (nsc waits for issue 27)"),
-        ParamInfo::new("tolerance", "-", "CCP solve tolerance (joint and shaft rows)"),
+        ParamInfo::new(
+            "method",
+            "-",
+            "contact method: smc (nsc waits for issue 27)",
+        ),
+        ParamInfo::new(
+            "tolerance",
+            "-",
+            "CCP solve tolerance (joint and shaft rows)",
+        ),
         ParamInfo::new("max_iterations", "-", "CCP solve iteration cap"),
         ParamInfo::new(
             "inside_every",
@@ -213,10 +233,7 @@ fn validate(p: &M113GranularParams) -> anyhow::Result<()> {
         p.t_start,
         p.t_drive
     );
-    anyhow::ensure!(
-        p.inside_every >= 1,
-        "parameter `inside_every` must be >= 1"
-    );
+    anyhow::ensure!(p.inside_every >= 1, "parameter `inside_every` must be >= 1");
     Ok(())
 }
 
@@ -377,8 +394,16 @@ fn run(p: &M113GranularParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     let wall = wall0.elapsed().as_secs_f64();
     let solve_s = (nanos.load(Ordering::Relaxed) - solve0) as f64 * 1e-9;
     vtk.finish()?;
-    let mean_speed = if n_v > 0 { sum_v / n_v as f64 } else { f64::NAN };
-    let track_speed = if n_v > 0 { sum_w / n_v as f64 } else { f64::NAN };
+    let mean_speed = if n_v > 0 {
+        sum_v / n_v as f64
+    } else {
+        f64::NAN
+    };
+    let track_speed = if n_v > 0 {
+        sum_w / n_v as f64
+    } else {
+        f64::NAN
+    };
     let slip = 1.0 - mean_speed / track_speed;
     let sinkage = if n_sink > 0 {
         sum_sink / n_sink as f64
