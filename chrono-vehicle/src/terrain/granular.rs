@@ -124,7 +124,7 @@ impl GranularPatchParams {
                 "granular_patch.length",
                 self.length,
                 format!(
-                    "too short: the front tires ({front_reach:.2} m ahead of the vehicle) would hit the front wall before the patch moves (needs length / 2 - slab > {front_reach:.2})"
+                    "too short: the vehicle's front ({front_reach:.2} m ahead of the point the patch follows) would hit the front wall before the patch moves (needs length / 2 - slab > {front_reach:.2})"
                 ),
             ))
         }
