@@ -17,7 +17,8 @@
 //! - [`track`]: track templates (sprocket, idler and tensioner, road wheels on torsion-bar
 //!   arms, support rollers, single-pin shoes) and [`tracked`]: the tracked vehicle built from
 //!   them; [`m113`] is the M113A1; [`hull`]: a tracked vehicle's hull collision shape;
-//!   [`obstacle`]: the vertical-obstacle (step) scene;
+//!   [`obstacle`]: the vertical-obstacle (step) scene; [`tracked_granular`]: a tracked
+//!   vehicle on a moving granular patch;
 //! - [`scene`]: a vehicle set down on flat ground, steer angles, wheel slip and sinkage,
 //!   differential locks for loose ground;
 //! - [`output`]: the vehicle's time series as CSV.
@@ -44,6 +45,7 @@ pub mod tire;
 pub mod track;
 pub mod tracked;
 pub mod tracked_drive;
+pub mod tracked_granular;
 pub mod vehicle;
 
 pub use error::{Result, VehicleError};

@@ -208,6 +208,77 @@ impl TrackedVehicle {
     pub fn shoes(&self) -> Vec<BodyHandle> {
         self.sides.iter().flat_map(|s| s.shoes.clone()).collect()
     }
+
+    /// Set the vehicle rolling straight ahead at `speed` (m/s along the chassis X axis),
+    /// the tracks without slip: every body moves with the chassis; the sprockets, road
+    /// wheels and idlers spin about the chassis Y axis at `speed / r` (pitch radius, wheel
+    /// radius, idler radius); each chain moves round its loop at `speed` relative to the
+    /// chassis, backwards along the lower run, so the shoes on the ground stand still.
+    ///
+    /// The chain's velocity is read from the pins' current positions: pin `k` moves along
+    /// `t_k = (p_{k+1} - p_{k-1}) / |...|` (the loop's direction there, sign such that the
+    /// lowest pin moves rearward), and shoe `k` between pins `k` and `k+1` gets the
+    /// rigid-body velocity of that pair, `v = (u_k + u_{k+1}) / 2` and the spin `omega_y =
+    /// (u_{k+1} - u_k) . (y x d) / |d|^2` about Y (`d` the shoe's pin-to-pin vector). On
+    /// the straight runs this is exact; round the wheels the pins' chords leave a residual
+    /// of order `(pitch / r)^2` that the first step's joint rows take up. The powertrain's
+    /// shafts are set by [`crate::tracked_drive::TrackedDrive::set_forward_speed`].
+    /// Errors: `speed` not finite (named `speed`).
+    pub fn set_forward_speed(
+        &self,
+        sys: &mut System,
+        data: &TrackedVehicleData,
+        speed: f64,
+    ) -> Result<()> {
+        crate::error::check_finite("speed", speed)?;
+        let rot = sys.body(self.chassis)?.rotation();
+        let (fwd, y) = (rot * Vector3::x(), rot * Vector3::y());
+        let base = fwd * speed;
+        let set = |sys: &mut System, b: BodyHandle, v: Vector3<f64>, w: Vector3<f64>| {
+            let body = sys.body_mut(b)?;
+            body.set_linear_velocity(v)?;
+            body.set_angular_velocity(w)?;
+            Ok::<(), VehicleError>(())
+        };
+        set(sys, self.chassis, base, Vector3::zeros())?;
+        let t = &data.track;
+        for s in &self.sides {
+            set(sys, s.sprocket, base, y * (speed / t.sprocket.pitch_radius))?;
+            set(sys, s.carrier, base, Vector3::zeros())?;
+            set(sys, s.idler, base, y * (speed / t.idler.radius))?;
+            for r in &s.road_wheels {
+                set(sys, r.arm, base, Vector3::zeros())?;
+                set(sys, r.wheel, base, y * (speed / t.road_wheels.radius))?;
+            }
+            for (k, &ro) in s.rollers.iter().enumerate() {
+                set(sys, ro, base, y * (speed / t.rollers[k].radius))?;
+            }
+            // The pins: at each shoe's rear end (shoe k runs from pin k to pin k+1).
+            let n = s.shoes.len();
+            let mut pins = Vec::with_capacity(n);
+            for &b in &s.shoes {
+                let body = sys.body(b)?;
+                pins.push(body.position() - body.rotation() * Vector3::x() * (0.5 * t.shoe.pitch));
+            }
+            let lowest = (0..n)
+                .min_by(|&a, &b| pins[a].z.total_cmp(&pins[b].z))
+                .unwrap_or(0);
+            let tangent = |k: usize| (pins[(k + 1) % n] - pins[(k + n - 1) % n]).normalize();
+            let sign = if tangent(lowest).dot(&fwd) > 0.0 {
+                -1.0
+            } else {
+                1.0
+            };
+            let u: Vec<Vector3<f64>> = (0..n).map(|k| tangent(k) * (sign * speed)).collect();
+            for k in 0..n {
+                let (ua, ub) = (u[k], u[(k + 1) % n]);
+                let d = pins[(k + 1) % n] - pins[k];
+                let wy = (ub - ua).dot(&y.cross(&d)) / d.norm_squared();
+                set(sys, s.shoes[k], base + 0.5 * (ua + ub), y * wy)?;
+            }
+        }
+        Ok(())
+    }
 }
 
 /// The height of the chassis reference above a ground at `ground` (m) that puts the lowest

@@ -96,6 +96,43 @@ impl TrackedDrive {
             .synchronize(self.inputs.brake, self.inputs.steering, shafts)
     }
 
+    /// Set the vehicle rolling straight ahead at `speed` (m/s) without track slip
+    /// ([`TrackedVehicle::set_forward_speed`]) and every shaft at its geared speed: the
+    /// sprocket shafts and the differential box at `w_s = speed / r_p` (pitch radius
+    /// `r_p`), the transmission's output at `w_s / r_c` (conical ratio `r_c`: `w_box = r_c
+    /// w_in`), its input and the crankshaft at that over the current gear's ratio (the
+    /// converter locked). A vehicle started at rest would spend its first seconds spinning
+    /// the shafts up; a test of a steady drive starts here instead. The gear stays; the next
+    /// [`synchronize`](Self::synchronize) shifts if the speed is past its shift point.
+    pub fn set_forward_speed(
+        &self,
+        sys: &mut System,
+        vehicle: &TrackedVehicle,
+        data: &TrackedVehicleData,
+        speed: f64,
+    ) -> Result<()> {
+        vehicle.set_forward_speed(sys, data, speed)?;
+        let w_s = speed / data.track.sprocket.pitch_radius;
+        let w_out = w_s / self.driveline.params().conical_ratio;
+        let w_in = self
+            .powertrain
+            .transmission()
+            .ratio()
+            .map_or(0.0, |r| w_out / r);
+        let handle = self.shafts;
+        let shafts = sys
+            .item_mut::<ShaftSystem>(handle)
+            .ok_or_else(|| VehicleError::invalid("tracked.shafts", handle, "no shaft item"))?;
+        for side in 0..2 {
+            shafts.set_speed(self.driveline.output_shaft(side), w_s)?;
+        }
+        shafts.set_speed(self.driveline.differential_box(), w_s)?;
+        shafts.set_speed(self.driveline.input_shaft(), w_out)?;
+        shafts.set_speed(self.powertrain.input_shaft(), w_in)?;
+        shafts.set_speed(self.powertrain.crankshaft(), w_in)?;
+        Ok(())
+    }
+
     /// The inputs of the last [`synchronize`](Self::synchronize) (clamped).
     pub fn inputs(&self) -> DriverInputs {
         self.inputs

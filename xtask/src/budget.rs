@@ -92,6 +92,7 @@ pub const BUDGETS: &[Budget] = &[
     b("m113-accel", 25.0, 17.0),
     b("m113-turn", 18.0, 18.0),
     b("m113-step", 16.0, 14.0),
+    b("m113-granular", 25.0, 15.0),
 ];
 
 /// The budget of `case` in `mode` (s); `None` for an unknown case or `--full` (which

@@ -33,6 +33,10 @@ pub struct GranularPatchParams {
     pub density: f64,
     /// Grain–grain and grain–wall friction coefficient.
     pub friction: f64,
+    /// Young's modulus of the grains, Pa (SMC Hertz contact; NSC ignores it). The default
+    /// is the project's `ContactMaterial` default, 2e7 Pa (`hmmwv-granular`'s grains).
+    #[serde(default = "default_young_modulus")]
+    pub young_modulus: f64,
     /// Coefficient of restitution (SMC damping; NSC contact is plastic).
     #[serde(default = "default_restitution")]
     pub restitution: f64,
@@ -60,6 +64,10 @@ fn default_restitution() -> f64 {
     0.3
 }
 
+fn default_young_modulus() -> f64 {
+    ContactMaterial::default().young_modulus
+}
+
 impl GranularPatchParams {
     /// Check every field (the error names it).
     pub fn validate(&self) -> Result<()> {
@@ -69,6 +77,7 @@ impl GranularPatchParams {
         check_positive("granular_patch.grain_radius", self.grain_radius)?;
         check_positive("granular_patch.density", self.density)?;
         crate::error::check_non_negative("granular_patch.friction", self.friction)?;
+        check_positive("granular_patch.young_modulus", self.young_modulus)?;
         crate::error::check_non_negative("granular_patch.compliance", self.compliance)?;
         crate::error::check_non_negative("granular_patch.rolling_friction", self.rolling_friction)?;
         if !(0.0..=1.0).contains(&self.restitution) {
@@ -115,7 +124,7 @@ impl GranularPatchParams {
                 "granular_patch.length",
                 self.length,
                 format!(
-                    "too short: the front tires ({front_reach:.2} m ahead of the vehicle) would hit the front wall before the patch moves (needs length / 2 - slab > {front_reach:.2})"
+                    "too short: the vehicle's front ({front_reach:.2} m ahead of the point the patch follows) would hit the front wall before the patch moves (needs length / 2 - slab > {front_reach:.2})"
                 ),
             ))
         }
@@ -149,6 +158,7 @@ impl GranularPatch {
             restitution: p.restitution,
             compliance: p.compliance,
             rolling_friction: p.rolling_friction,
+            young_modulus: p.young_modulus,
             ..ContactMaterial::with_friction(p.friction)
         };
         let lower = Vector3::new(rear, -0.5 * p.width, 0.0);

@@ -397,7 +397,7 @@ impl TrackAssembly {
 }
 
 /// Distance from `p` to the segment `a b` in the plane, m.
-fn segment_distance(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
+pub(crate) fn segment_distance(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
     let (dx, dz) = (b[0] - a[0], b[1] - a[1]);
     let l2 = dx * dx + dz * dz;
     let t = if l2 > 0.0 {

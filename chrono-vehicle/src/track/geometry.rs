@@ -209,8 +209,16 @@ pub struct ChainLayout {
     pub sprocket_start_angle: f64,
 }
 
-/// The circles of the loop with the idler moved by `offset` along X: sprocket pitch
-/// circle, road wheels, idler (the pin circles: radius plus half a shoe thickness).
+/// The circles of the loop with the idler moved by `offset` along X: the sprocket's pitch
+/// circle (the pins seat in its gaps) and, for the road wheels and the idler, the circle of
+/// radius `sqrt((r + t/2)^2 + (p/2)^2)` (wheel radius `r`, shoe thickness `t`, pitch `p`).
+/// Where the chain bends round a wheel a plate is a chord between two pins: on that circle
+/// its inner face is tangent to the wheel at its middle. With the pins on `r + t/2` (pins at
+/// mid-thickness; so until 2026-12-05) the plates cut up to
+/// `(r + t/2)(1 - cos(asin(p / (2 (r + t/2)))))` into the wheel, 1.0 cm round the M113's
+/// idler and 0.9 cm at its first road wheel: a rigid (NSC) contact pushed that out in the
+/// first steps; a penalty (SMC) contact would start with it loaded. The straight runs now
+/// start that much (0.9 cm for the M113) off the road wheels, which settle onto them.
 pub fn loop_circles(track: &TrackData, offset: f64) -> (Vec<Circle>, Vec<String>) {
     let half_t = 0.5 * track.shoe.thickness;
     let mut c = vec![Circle {
@@ -222,14 +230,14 @@ pub fn loop_circles(track: &TrackData, offset: f64) -> (Vec<Circle>, Vec<String>
     for (k, &x) in r.x.iter().enumerate() {
         c.push(Circle {
             center: [x, r.z],
-            radius: r.radius + half_t,
+            radius: (r.radius + half_t).hypot(0.5 * track.shoe.pitch),
         });
         names.push(format!("track.road_wheels.x[{k}]"));
     }
     let i = &track.idler;
     c.push(Circle {
         center: [i.location[0] + offset, i.location[1]],
-        radius: i.radius + half_t,
+        radius: (i.radius + half_t).hypot(0.5 * track.shoe.pitch),
     });
     names.push("track.idler.location".to_string());
     (c, names)
@@ -440,6 +448,44 @@ mod tests {
         let l0 = layout(t, t.shoe.count[0], 0).unwrap();
         let l1 = layout(t, t.shoe.count[1], 1).unwrap();
         assert!(l1.idler_offset < l0.idler_offset);
+    }
+
+    /// No plate cuts into a road wheel or the idler: the distance from each wheel's centre
+    /// to each plate's chord, less half a plate thickness (the inner face), is at least the
+    /// wheel's radius; round the idler some plates touch it (tangent at their middle). With
+    /// the pins on `r + t/2` (before 2026-12-05) the plates cut 1.0 cm into the idler.
+    #[test]
+    fn m113_plates_touch_but_do_not_cut_into_the_wheels() {
+        let d = m113_data().unwrap();
+        let t = &d.track;
+        let half_t = 0.5 * t.shoe.thickness;
+        for side in 0..2 {
+            let l = layout(t, t.shoe.count[side], side).unwrap();
+            let i = &t.idler;
+            let mut wheels: Vec<([f64; 2], f64)> = t
+                .road_wheels
+                .x
+                .iter()
+                .map(|&x| ([x, t.road_wheels.z], t.road_wheels.radius))
+                .collect();
+            wheels.push(([i.location[0] + l.idler_offset, i.location[1]], i.radius));
+            let n = l.pins.len();
+            for (k, &(c, r)) in wheels.iter().enumerate() {
+                let mut closest = f64::INFINITY;
+                for j in 0..n {
+                    let (a, b) = (l.pins[j], l.pins[(j + 1) % n]);
+                    let gap = crate::track::assembly::segment_distance(c, a, b) - half_t - r;
+                    assert!(
+                        gap > -1e-9,
+                        "side {side}, wheel {k}, plate {j}: cuts {gap:.2e} m in"
+                    );
+                    closest = closest.min(gap);
+                }
+                // Every wheel is near the chain (the road wheels within the 0.9 cm the
+                // straight runs start off them).
+                assert!(closest < 0.01, "side {side}, wheel {k}: {closest}");
+            }
+        }
     }
 
     #[test]

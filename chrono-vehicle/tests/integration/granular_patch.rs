@@ -13,6 +13,7 @@ fn params() -> GranularPatchParams {
         grain_radius: 0.04,
         density: 2500.0,
         friction: 0.5,
+        young_modulus: 2e7,
         restitution: 0.3,
         rolling_friction: 0.0,
         compliance: 0.0,

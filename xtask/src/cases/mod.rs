@@ -120,6 +120,7 @@ pub fn all_cases() -> Vec<Box<dyn Case>> {
         vehicle::m113_accel::case(),
         vehicle::m113_turn::case(),
         vehicle::m113_step::case(),
+        vehicle::m113_granular::case(),
     ]
 }
 

@@ -228,6 +228,7 @@ fn run(p: &GranularParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         grain_radius: 0.5 * p.grain_diameter,
         density: p.grain_density,
         friction: p.mu,
+        young_modulus: chrono_core::ContactMaterial::default().young_modulus,
         restitution: 0.3,
         rolling_friction: p.rolling_friction,
         compliance: p.compliance,

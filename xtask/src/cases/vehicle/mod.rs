@@ -4,6 +4,7 @@ pub mod accel;
 pub mod granular;
 pub mod lane_change;
 pub mod m113_accel;
+pub mod m113_granular;
 pub mod m113_static;
 pub mod m113_step;
 pub mod m113_turn;
