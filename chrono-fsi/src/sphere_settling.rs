@@ -78,7 +78,8 @@ use crate::{FsiBuilder, SphFluid};
 /// Zick & Homsy (1982, "Stokes flow through periodic arrays of spheres", J. Fluid Mech.
 /// 115:13-26), Table 2, simple cubic array: solid fraction `c` and the drag factor
 /// `K = F / (6 pi mu a U)` (`F` the force on a sphere of the pressure-driven array, `U`
-/// the superficial velocity). `c = 0.5236` is the close packing `pi / 6`.
+/// the superficial velocity). The last row, their `c = 0.5236`, is the close packing
+/// `pi / 6`.
 pub const ZICK_HOMSY_SIMPLE_CUBIC: [(f64, f64); 7] = [
     (0.027, 2.008),
     (0.064, 2.810),
@@ -86,7 +87,7 @@ pub const ZICK_HOMSY_SIMPLE_CUBIC: [(f64, f64); 7] = [
     (0.216, 7.442),
     (0.343, 15.4),
     (0.45, 28.1),
-    (0.5236, 42.1),
+    (std::f64::consts::FRAC_PI_6, 42.1),
 ];
 
 /// The dilute expansion of the simple cubic array's drag factor,
@@ -105,7 +106,7 @@ pub fn hasimoto_simple_cubic(c: f64) -> f64 {
 }
 
 /// `K(c)` of the simple cubic array: Zick & Homsy's table ([`ZICK_HOMSY_SIMPLE_CUBIC`])
-/// interpolated linearly in `(c, ln K)` for `c` in `[0.027, 0.5236]`, the dilute series
+/// interpolated linearly in `(c, ln K)` for `c` in `[0.027, pi / 6]`, the dilute series
 /// ([`hasimoto_simple_cubic`]) in `(0, 0.027)`; `None` otherwise.
 pub fn periodic_drag_factor(c: f64) -> Option<f64> {
     let t = &ZICK_HOMSY_SIMPLE_CUBIC;
