@@ -39,8 +39,8 @@ use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series};
 use crate::params::{CaseParams, ParamCase, ParamInfo, ensure_positive};
 
 /// Spacings across the sphere's diameter from which the terminal speed is checked: the
-/// error against Stokes' speed in the array falls with the spacing as about `dp^1.9`
-/// (+22.7 %, +13.4 %, +6.2 % at 6, 8 and 12 spacings, `c = 0.034`;
+/// error against Stokes' speed in the array falls with the spacing as `dp^1.5`-`dp^1.8`
+/// (+22.7 %, +13.4 %, +6.2 %, +2.9 % at 6, 8, 12 and 20 spacings, `c = 0.034`;
 /// docs/validation-fsi.md), so the default (8) and `--quick` (6) report it and `--full`
 /// checks it at 20.
 const RESOLVED_SPACINGS: f64 = 20.0;
