@@ -10,6 +10,8 @@
 //!   weights (consistent virtual work; [`FsiBuilder::add_cable`]);
 //! - [`beam_flow`]: a flexible beam clamped in a periodic array flow (the scene of
 //!   `fsi-flexible-beam`);
+//! - [`sphere_settling`]: a free sphere settling in a triply periodic cell, the mean
+//!   pressure gradient as compensating body forces (the scene of `fsi-sphere-settling`);
 //! - [`FsiBuilder`]: tanks, fluid blocks carved around the bodies, the bodies' markers
 //!   (bad input, e.g. a body thinner than the kernel support, is an error naming the body);
 //! - [`SphFluid`]: the item. [`System::step(h)`](chrono_core::System::step) advances it to
@@ -68,6 +70,7 @@ pub mod fluid;
 pub mod markers;
 mod periodic;
 pub mod scene;
+pub mod sphere_settling;
 #[cfg(test)]
 mod tests;
 

@@ -90,6 +90,7 @@ pub fn all_cases() -> Vec<Box<dyn Case>> {
         fsi::floating_body::case(),
         fsi::flexible_beam::case(),
         fsi::cylinder_array::case(),
+        fsi::sphere_settling::case(),
         cfluid::incompressibility::case(),
         cfluid::dam_break::case(),
         cfluid::floating_box::case(),

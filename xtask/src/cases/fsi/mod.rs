@@ -3,3 +3,4 @@
 pub mod cylinder_array;
 pub mod flexible_beam;
 pub mod floating_body;
+pub mod sphere_settling;
