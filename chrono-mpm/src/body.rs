@@ -674,30 +674,37 @@ fn transfer_gather(
             let lo = [b[0] * BLOCK, b[1] * BLOCK, b[2] * BLOCK];
             for run in grid.runs_reaching(b, nb) {
                 for s in &scratch[run] {
-                    let Some(r) = stencil_in_block(s.g0, lo) else {
-                        continue;
-                    };
-                    for o0 in r[0].0..r[0].1 {
-                        for o1 in r[1].0..r[1].1 {
-                            for o2 in r[2].0..r[2].1 {
-                                let o = [o0, o1, o2];
-                                let w = s.st.weight(o);
-                                let off = s.st.offset(o, dx);
-                                let l = ((s.g0[0] + o0 - lo[0]) * BLOCK + (s.g0[1] + o1 - lo[1]))
-                                    * BLOCK
-                                    + (s.g0[2] + o2 - lo[2]);
-                                for a in 0..3 {
-                                    let affine = s.mc[a][0] * off[0]
-                                        + s.mc[a][1] * off[1]
-                                        + s.mc[a][2] * off[2];
-                                    mom[l][a] += w * (s.mv[a] + affine);
-                                }
-                            }
+                    for_nodes_in_block(s, lo, |o, l| {
+                        let w = s.st.weight(o);
+                        let off = s.st.offset(o, dx);
+                        for a in 0..3 {
+                            let affine =
+                                s.mc[a][0] * off[0] + s.mc[a][1] * off[1] + s.mc[a][2] * off[2];
+                            mom[l][a] += w * (s.mv[a] + affine);
                         }
-                    }
+                    });
                 }
             }
         });
+}
+
+/// Calls `f(o, l)` for each node of marker `s`'s stencil that lies in the block whose
+/// first node is `lo` (`o`: the stencil offset, `l`: the node's index in the block), in
+/// the stencil's order (the order that fixes the sums' bits).
+#[inline]
+fn for_nodes_in_block(s: &P2gMarker, lo: [usize; 3], mut f: impl FnMut([usize; 3], usize)) {
+    let Some(r) = stencil_in_block(s.g0, lo) else {
+        return;
+    };
+    for o0 in r[0].0..r[0].1 {
+        for o1 in r[1].0..r[1].1 {
+            for o2 in r[2].0..r[2].1 {
+                let l = ((s.g0[0] + o0 - lo[0]) * BLOCK + (s.g0[1] + o1 - lo[1])) * BLOCK
+                    + (s.g0[2] + o2 - lo[2]);
+                f([o0, o1, o2], l);
+            }
+        }
+    }
 }
 
 /// Adds one marker's contributions to the nodes of one block (those of its stencil that
@@ -710,25 +717,15 @@ fn scatter_into_block(
     mass: &mut [f64],
     mom: &mut [[f64; 3]],
 ) {
-    let Some(r) = stencil_in_block(s.g0, lo) else {
-        return;
-    };
-    for o0 in r[0].0..r[0].1 {
-        for o1 in r[1].0..r[1].1 {
-            for o2 in r[2].0..r[2].1 {
-                let o = [o0, o1, o2];
-                let w = s.st.weight(o);
-                let off = s.st.offset(o, dx);
-                let gw = s.st.grad(o);
-                let l = ((s.g0[0] + o0 - lo[0]) * BLOCK + (s.g0[1] + o1 - lo[1])) * BLOCK
-                    + (s.g0[2] + o2 - lo[2]);
-                mass[l] += w * s.m;
-                for a in 0..3 {
-                    let affine = s.mc[a][0] * off[0] + s.mc[a][1] * off[1] + s.mc[a][2] * off[2];
-                    let force = s.a[a][0] * gw[0] + s.a[a][1] * gw[1] + s.a[a][2] * gw[2];
-                    mom[l][a] += w * (s.mv[a] + affine) + force;
-                }
-            }
+    for_nodes_in_block(s, lo, |o, l| {
+        let w = s.st.weight(o);
+        let off = s.st.offset(o, dx);
+        let gw = s.st.grad(o);
+        mass[l] += w * s.m;
+        for a in 0..3 {
+            let affine = s.mc[a][0] * off[0] + s.mc[a][1] * off[1] + s.mc[a][2] * off[2];
+            let force = s.a[a][0] * gw[0] + s.a[a][1] * gw[1] + s.a[a][2] * gw[2];
+            mom[l][a] += w * (s.mv[a] + affine) + force;
         }
-    }
+    });
 }
