@@ -31,7 +31,7 @@ impl ConstraintFluid {
     }
 
     /// The mass in the SPH density sums (fluid, wall and body markers),
-    /// `m_k = rho_0 / sum_lattice W` ([`lattice_mass`]), kg: the cubic lattice of spacing
+    /// `m_k = rho_0 / sum_lattice W` ([`lattice_mass`](crate::geometry::lattice_mass)), kg: the cubic lattice of spacing
     /// `dp` sums to exactly `rho_0`. It differs from [`particle_mass`](Self::particle_mass)
     /// by the kernel's lattice-sum error (`m_k = 0.983 rho_0 dp^3` for Wendland C2 at
     /// `h_k = 1.2 dp`).
@@ -138,7 +138,7 @@ impl ConstraintFluid {
     }
 
     /// The density rows of the last step, one per fluid particle (map them to global rows
-    /// with [`CcpProblem::row_index`]).
+    /// with [`CcpProblem::row_index`](chrono_core::descriptor::CcpProblem::row_index)).
     pub fn row_ids(&self) -> &[RowId] {
         &self.row_ids
     }
