@@ -101,9 +101,8 @@ impl MpmBody {
                 };
             });
         let nb = self.spec.blocks();
-        let mut nodal = std::mem::take(&mut self.nodal_dj);
-        fbar::nodal_average(&self.grid, &self.scratch, &self.vol_dj, nb, &mut nodal);
-        self.nodal_dj = nodal;
+        self.average_vol_dj_to_nodes(nb);
+        let mk = &self.markers;
         let (origin, dx) = (self.spec.origin, self.spec.dx);
         let grid = &self.grid;
         let nodal = &self.nodal_dj;
@@ -126,6 +125,14 @@ impl MpmBody {
             });
     }
 
+    /// The markers' `(V, V dJ)` pairs (`self.vol_dj`) averaged onto the nodes
+    /// (`self.nodal_dj`), as both F-bar variants need.
+    fn average_vol_dj_to_nodes(&mut self, nb: [usize; 3]) {
+        let mut nodal = std::mem::take(&mut self.nodal_dj);
+        fbar::nodal_average(&self.grid, &self.scratch, &self.vol_dj, nb, &mut nodal);
+        self.nodal_dj = nodal;
+    }
+
     /// The plastic variant ([`FBar::PlasticIncrement`]): the step's plastic volume change
     /// `r_p = det F_P' / det F_P` (the return mapping's) replaced by its stencil average
     /// weighted by the markers' volumes at the step's start, `F_P' <- (rbar_p / r_p)^(1/3)
@@ -143,9 +150,7 @@ impl MpmBody {
                 *vd = [vol, vol * r];
             });
         let nb = self.spec.blocks();
-        let mut nodal = std::mem::take(&mut self.nodal_dj);
-        fbar::nodal_average(&self.grid, &self.scratch, &self.vol_dj, nb, &mut nodal);
-        self.nodal_dj = nodal;
+        self.average_vol_dj_to_nodes(nb);
         let (origin, dx) = (self.spec.origin, self.spec.dx);
         let grid = &self.grid;
         let nodal = &self.nodal_dj;
