@@ -71,17 +71,7 @@ pub fn sangani_acrivos_dilute(c: f64) -> f64 {
 /// ([`sangani_acrivos_dilute`]; a cell rounded to whole spacings can land just below
 /// 0.05); `None` above the table or for a `c` that is not positive.
 pub fn sangani_acrivos_square(c: f64) -> Option<f64> {
-    let t = &SANGANI_ACRIVOS_SQUARE;
-    if c > 0.0 && c < t[0].0 {
-        return Some(sangani_acrivos_dilute(c));
-    }
-    if !(c >= t[0].0 && c <= t[t.len() - 1].0) {
-        return None;
-    }
-    let k = t.windows(2).position(|w| c <= w[1].0)?;
-    let ((c0, k0), (c1, k1)) = (t[k], t[k + 1]);
-    let s = (c - c0) / (c1 - c0);
-    Some((k0.ln() + s * (k1.ln() - k0.ln())).exp())
+    crate::periodic::drag_factor_from_table(&SANGANI_ACRIVOS_SQUARE, c, sangani_acrivos_dilute)
 }
 
 /// `K = rho f P^2 / (mu U)` from the cylinder's drag per length `F_b` (N/m) in the

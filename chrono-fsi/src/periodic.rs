@@ -62,3 +62,24 @@ impl DrivenCell {
         Ok((settings, System::new(sys_settings, solver)?))
     }
 }
+
+/// A periodic array's drag factor `K(c)` from a published table `t` of `(c, K)` pairs
+/// (increasing `c`): interpolated linearly in `(c, ln K)` (K grows about exponentially
+/// with `c`) inside the table, `dilute(c)` (the table's own low-concentration expansion)
+/// for `0 < c` below its first entry, `None` above it or for a `c` that is not positive.
+pub(crate) fn drag_factor_from_table(
+    t: &[(f64, f64)],
+    c: f64,
+    dilute: impl Fn(f64) -> f64,
+) -> Option<f64> {
+    if c > 0.0 && c < t[0].0 {
+        return Some(dilute(c));
+    }
+    if !(c >= t[0].0 && c <= t[t.len() - 1].0) {
+        return None;
+    }
+    let k = t.windows(2).position(|w| c <= w[1].0)?;
+    let ((c0, k0), (c1, k1)) = (t[k], t[k + 1]);
+    let s = (c - c0) / (c1 - c0);
+    Some((k0.ln() + s * (k1.ln() - k0.ln())).exp())
+}

@@ -109,17 +109,7 @@ pub fn hasimoto_simple_cubic(c: f64) -> f64 {
 /// interpolated linearly in `(c, ln K)` for `c` in `[0.027, pi / 6]`, the dilute series
 /// ([`hasimoto_simple_cubic`]) in `(0, 0.027)`; `None` otherwise.
 pub fn periodic_drag_factor(c: f64) -> Option<f64> {
-    let t = &ZICK_HOMSY_SIMPLE_CUBIC;
-    if c > 0.0 && c < t[0].0 {
-        return Some(hasimoto_simple_cubic(c));
-    }
-    if !(c >= t[0].0 && c <= t[t.len() - 1].0) {
-        return None;
-    }
-    let k = t.windows(2).position(|w| c <= w[1].0)?;
-    let ((c0, k0), (c1, k1)) = (t[k], t[k + 1]);
-    let s = (c - c0) / (c1 - c0);
-    Some((k0.ln() + s * (k1.ln() - k0.ln())).exp())
+    crate::periodic::drag_factor_from_table(&ZICK_HOMSY_SIMPLE_CUBIC, c, hasimoto_simple_cubic)
 }
 
 /// Schiller & Naumann's (1933) drag coefficient of an isolated sphere,
