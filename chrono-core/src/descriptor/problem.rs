@@ -329,6 +329,24 @@ impl CcpProblem {
         })
     }
 
+    /// The entries of row `i` with both coefficient sets: each block it touches, the
+    /// block's first dof, the coefficients of `D_i` (the row's Jacobian on that block) and of
+    /// `M^-1 D_i`. For operators built from rows, e.g. a coarse (Galerkin) `P'N P`.
+    pub fn row_entries(
+        &self,
+        i: usize,
+    ) -> impl Iterator<Item = (BlockId, usize, &[f64], &[f64])> + '_ {
+        (self.row_ptr[i] as usize..self.row_ptr[i + 1] as usize).map(|e| {
+            let (c0, c1) = (self.ent_coef[e] as usize, self.ent_coef[e + 1] as usize);
+            (
+                BlockId(self.ent_block[e]),
+                self.ent_off[e] as usize,
+                &self.coefs[c0..c1],
+                &self.minv[c0..c1],
+            )
+        })
+    }
+
     /// The entry `N_ij = D_i'M^-1 D_j + eps_i delta_ij` (sparse: sums over the blocks both
     /// rows touch).
     pub fn n_entry(&self, i: usize, j: usize) -> f64 {

@@ -106,6 +106,30 @@ fn apply_n_entries_and_blocks_match_the_dense_matrix() {
 }
 
 #[test]
+fn row_entries_rebuild_the_off_diagonal_of_n() {
+    // N_ij (i != j) = sum over the blocks both rows touch of D_i' (M^-1 D_j): from the
+    // rows' two coefficient sets alone.
+    let (p, n, _, _) = sample();
+    for i in 0..p.n_rows() {
+        for j in 0..p.n_rows() {
+            if i == j {
+                continue;
+            }
+            let mut s = 0.0;
+            for (bi, oi, d, _) in p.row_entries(i) {
+                for (bj, oj, _, md) in p.row_entries(j) {
+                    if bi == bj {
+                        assert_eq!(oi, oj);
+                        s += d.iter().zip(md).map(|(a, b)| a * b).sum::<f64>();
+                    }
+                }
+            }
+            assert!((s - n[(i, j)]).abs() < 1e-12, "N[{i},{j}]");
+        }
+    }
+}
+
+#[test]
 fn split_product_with_added_rows_matches_the_dense_matrix() {
     // The two halves of a product with some rows' impulses added in between (a Schur
     // solver's joint rows): `N g` of the whole `g`, whatever rows are added late.
