@@ -227,7 +227,7 @@ impl CaseParams for BallDropParams {
         ParamInfo::new(
             "h",
             "s",
-            "time step (0: 1e-3 NSC, the SMC limit at the impact speed)",
+            "time step (0: NSC 1e-3 for the bed, min(1e-3, 0.2 d / impact speed) for the drop; the SMC limit at the impact speed)",
         ),
         ParamInfo::new(
             "t_drop",
