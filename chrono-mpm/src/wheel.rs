@@ -236,7 +236,7 @@ impl Wheel {
         // and the bulldozed zone ahead.
         let drive =
             (1.0 - spec.slip) * (0.5 * spec.ramp_time * spec.rim_speed + spec.rim_travel * r);
-        let (behind, ahead) = (1.5 * r, 2.0 * r);
+        let (behind, ahead) = (r, 2.0 * r);
         let depth = spec.soil_depth * r;
         let mut body = spec.soil.build(behind + drive + ahead, depth, r, dx)?;
         let top = surface(depth, dx);

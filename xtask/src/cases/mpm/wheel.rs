@@ -58,6 +58,8 @@ pub struct WheelParams {
     pub gravity: f64,
     /// Grid cells across the wheel radius (the plates use the same spacing).
     pub cells: usize,
+    /// Nodes lighter than this fraction of an interior node take no rim condition.
+    pub contact_mass_fraction: f64,
     /// Markers per cell per axis.
     pub markers_per_cell: usize,
     /// Soil depth under the wheel, in radii.
@@ -106,6 +108,7 @@ impl Default for WheelParams {
             density: s.density,
             gravity: s.gravity,
             cells: w.cells_radius,
+            contact_mass_fraction: w.contact_mass_fraction,
             markers_per_cell: s.markers_per_cell,
             soil_depth: w.soil_depth,
             load_time: w.load_time,
@@ -151,6 +154,11 @@ impl CaseParams for WheelParams {
             "-",
             "grid cells across the wheel radius (plates: same dx)",
         ),
+        ParamInfo::new(
+            "contact_mass_fraction",
+            "-",
+            "nodes lighter than this fraction of an interior node's mass take no rim condition (0: all nodes with mass)",
+        ),
         ParamInfo::new("markers_per_cell", "-", "markers per cell per axis"),
         ParamInfo::new("soil_depth", "R", "soil depth under the wheel, in radii"),
         ParamInfo::new("load_time", "s", "load ramp (wheel at rest)"),
@@ -185,7 +193,10 @@ impl CaseParams for WheelParams {
 
     fn apply_mode(&mut self, mode: Mode) {
         match mode {
-            Mode::Quick => self.rim_travel = 1.5,
+            Mode::Quick => {
+                self.rim_travel = 1.5;
+                self.plate_final_sinkage = 0.06;
+            }
             Mode::Default => {}
             Mode::Full => self.cells = 16,
         }
@@ -227,6 +238,7 @@ fn run(p: &WheelParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         rim_speed: p.rim_speed,
         wheel_friction_angle_deg: delta,
         cells_radius: p.cells,
+        contact_mass_fraction: p.contact_mass_fraction,
         soil_depth: p.soil_depth,
         load_time: p.load_time,
         ramp_time: p.ramp_time,
