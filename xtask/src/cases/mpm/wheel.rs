@@ -18,7 +18,8 @@
 //! Checked: the wheel's vertical equilibrium at steady state (the soil's mean vertical
 //! force over the window equals the load within `equilibrium_tolerance`: Newton's second
 //! law for a wheel whose height has stopped changing; it fails when the window is not
-//! steady). The DEM side (the same wheel on chrono-core's granular terrain) is not built
+//! steady). `slip_sweep` (`--full`: 0, 0.1, 0.4) adds wheel runs at those slips,
+//! reported. The DEM side (the same wheel on chrono-core's granular terrain) is not built
 //! yet: `dem_sinkage` and `dem_drawbar_pull` are not reported.
 
 use chrono_mpm::plate::{Bekker, Plate, PlateSample, PlateSpec};
@@ -88,6 +89,8 @@ pub struct WheelParams {
     pub fit_from: f64,
     /// Relative tolerance of the vertical equilibrium check.
     pub equilibrium_tolerance: f64,
+    /// More wheel runs at these slips (reported: sinkage, DP/W, T/(W R) per slip).
+    pub slip_sweep: Vec<f64>,
 }
 
 impl Default for WheelParams {
@@ -123,6 +126,7 @@ impl Default for WheelParams {
             plate_speed: 0.2,
             fit_from: 0.25,
             equilibrium_tolerance: 0.05,
+            slip_sweep: Vec::new(),
         }
     }
 }
@@ -189,6 +193,11 @@ impl CaseParams for WheelParams {
             "-",
             "relative tolerance of the steady vertical equilibrium (soil force = load)",
         ),
+        ParamInfo::new(
+            "slip_sweep",
+            "-",
+            "more wheel runs at these slips, reported (--full: 0, 0.1, 0.4)",
+        ),
     ];
 
     fn apply_mode(&mut self, mode: Mode) {
@@ -198,7 +207,10 @@ impl CaseParams for WheelParams {
                 self.plate_final_sinkage = 0.06;
             }
             Mode::Default => {}
-            Mode::Full => self.cells = 16,
+            Mode::Full => {
+                self.cells = 16;
+                self.slip_sweep = vec![0.0, 0.1, 0.4];
+            }
         }
     }
 }
@@ -228,13 +240,13 @@ fn run(p: &WheelParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     } else {
         p.wheel_friction_angle_deg
     };
-    let spec = WheelSpec {
+    let spec = |slip: f64| WheelSpec {
         soil: soil(p),
         wheel_radius: p.wheel_radius,
         wheel_width: p.wheel_width,
         load: p.load,
         wheel_mass: None,
-        slip: p.slip,
+        slip,
         rim_speed: p.rim_speed,
         wheel_friction_angle_deg: delta,
         cells_radius: p.cells,
@@ -245,11 +257,20 @@ fn run(p: &WheelParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         rim_travel: p.rim_travel,
         average_fraction: p.average_fraction,
     };
-    let mut wheel = Wheel::new(spec)?;
+    let runs = 1 + p.slip_sweep.len();
+    let share = 0.6 / runs as f64;
+    let mut wheel = Wheel::new(spec(p.slip))?;
     let dx = wheel.body.spec().dx;
     let markers = wheel.body.markers.len();
-    let r = wheel.run(|x| ctx.progress(0.6 * x))?;
+    let r = wheel.run(|x| ctx.progress(share * x))?;
     let mut steps = r.steps;
+    let mut sweep = Vec::with_capacity(p.slip_sweep.len());
+    for (k, &slip) in p.slip_sweep.iter().enumerate() {
+        let mut w = Wheel::new(spec(slip))?;
+        let q = w.run(|x| ctx.progress(share * (k as f64 + 1.0 + x)))?;
+        steps += q.steps;
+        sweep.push((slip, q));
+    }
     // The plates on the same sand and grid spacing.
     let mut curves: Vec<(f64, Vec<PlateSample>)> = Vec::new();
     for (k, b) in [p.plate_width_small, p.plate_width_large]
@@ -300,6 +321,21 @@ fn run(p: &WheelParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     out.metric("bekker_sinkage", z_bekker);
     out.metric("sinkage_over_bekker", r.sinkage / z_bekker);
     out.metric("markers", markers as f64);
+    for (slip, q) in &sweep {
+        out.metric(format!("sinkage_s{slip}"), q.sinkage);
+        out.metric(
+            format!("drawbar_pull_ratio_s{slip}"),
+            q.drawbar_pull / p.load,
+        );
+        out.metric(format!("torque_ratio_s{slip}"), q.torque / wr);
+        ctx.note(format!(
+            "slip {slip}: sinkage {:.4} m, DP/W {:.3}, T/(W R) {:.3}, F_z/W {:.3}",
+            q.sinkage,
+            q.drawbar_pull / p.load,
+            q.torque / wr,
+            q.vertical_force / p.load
+        ));
+    }
     ctx.note(format!(
         "wheel: {markers} markers, dx {dx:.4} m, {} steps; slip {}: sinkage {:.4} m ({:.2} cells; static {:.4} m), DP {:.1} N (DP/W {:.3}), T {:.2} N m (T/(W R) {:.3}), F_z/W {:.3}",
         r.steps,
