@@ -29,7 +29,7 @@
 use nalgebra::Vector3;
 
 use crate::grid::{BLOCK, BLOCK3, GHOST, GridSpec, SparseGrid, Wall, key, unkey};
-use crate::rigid::{Contact, RigidBody};
+use crate::rigid::RigidBody;
 use rayon::prelude::*;
 
 /// The least grid blocks of one parallel task.
@@ -211,13 +211,10 @@ pub(crate) fn rigid_links(
             Vector3::from_fn(|a, _| spec.origin[a] + ((b[a] * BLOCK) as f64 - GHOST as f64) * dx);
         let hi = lo.add_scalar((BLOCK - 1) as f64 * dx);
         let near = |r: &RigidBody| {
-            let crate::rigid::Shape::Box { half } = r.shape;
+            let half = r.shape.bounding_half();
             (0..3).all(|a| lo[a] <= r.position[a] + half[a] && hi[a] >= r.position[a] - half[a])
         };
-        if !rigid
-            .iter()
-            .any(|r| r.contact == Contact::Sticky && near(r))
-        {
+        if !rigid.iter().any(|r| r.uses_image() && near(r)) {
             continue;
         }
         for l in 0..BLOCK3 {
@@ -232,7 +229,7 @@ pub(crate) fn rigid_links(
             }
             let x = Vector3::from_fn(|a, _| spec.origin[a] + i[a] as f64 * dx);
             for (r, body) in rigid.iter().enumerate() {
-                if body.contact != Contact::Sticky {
+                if !body.uses_image() {
                     continue;
                 }
                 let (phi, n) = body.shape.distance(&(x - body.position));

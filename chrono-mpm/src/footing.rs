@@ -359,10 +359,7 @@ mod tests {
         .unwrap();
         assert_eq!(f.settlement(), 0.0);
         let top = f.body.markers.x.iter().map(|x| x.z).fold(0.0, f64::max);
-        let base = f.body.rigid[0].position.z
-            - match f.body.rigid[0].shape {
-                crate::rigid::Shape::Box { half } => half[2],
-            };
+        let base = f.body.rigid[0].position.z - f.body.rigid[0].shape.bounding_half()[2];
         assert!(base > top && base - top < f.body.spec().dx, "{base} {top}");
         let s = f.run(4, |_| {}).unwrap();
         assert!(s.iter().all(|s| s.pressure > 0.0), "{s:?}");

@@ -137,8 +137,9 @@ pub struct SparseGrid {
     /// Node momentum of the transfer alone, without the stress impulse (the FLIP blend's
     /// old grid velocity, [`MpmBody::set_flip`](crate::MpmBody::set_flip)).
     pub(crate) mom0: Vec<[f64; 3]>,
-    /// Impulse per active block and rigid body (scratch of the grid update), N s.
-    pub(crate) impulse: Vec<[f64; 3]>,
+    /// Impulse (N s) and angular impulse about the body's centre (N m s) per active block
+    /// and rigid body (scratch of the grid update).
+    pub(crate) impulse: Vec<[f64; 6]>,
     /// Node masses with the ghosts' folded in (the box nodes; [`crate::fold`]), kg.
     pub(crate) fmass: Vec<f64>,
     /// The sticky bodies' ghost links of the step (scratch of the grid update).
@@ -146,8 +147,9 @@ pub struct SparseGrid {
     /// The links' folded mass and momentum per node: (node, link order, mass, momentum,
     /// body) (scratch of the grid update).
     pub(crate) folds: Vec<(usize, usize, f64, [f64; 3], usize)>,
-    /// The folded nodes' momentum change per rigid body (scratch of the grid update), N s.
-    pub(crate) fold_impulse: Vec<[f64; 3]>,
+    /// The folded nodes' momentum change (N s) and its moment about the body's centre
+    /// (N m s) per rigid body (scratch of the grid update).
+    pub(crate) fold_impulse: Vec<[f64; 6]>,
 }
 
 impl SparseGrid {

@@ -14,13 +14,17 @@
 //! - [`material`]: fixed-corotated elasticity with snow hardening (Stomakhin et al. 2013),
 //!   Drucker–Prager sand (Klar et al. 2016) and von Mises clay, each with its return
 //!   mapping;
-//! - [`rigid`]: kinematic rigid bodies (plates, footings) in the grid update, with
-//!   their reaction force;
+//! - [`rigid`]: kinematic rigid bodies (plates, footings: boxes; wheels: spinning
+//!   cylinders) in the grid update, with their reaction force and torque;
 //! - [`body`]: an MPM body advanced by explicit APIC steps (Jiang et al. 2015);
 //! - [`compaction`]: confined compaction of a column by a plate (the oedometer);
 //! - [`footing`]: a rigid strip footing pushed into cohesive soil (Prandtl's problem);
 //! - [`column`](mod@column): a granular column collapsing on a rough floor (Lube et al. 2005,
 //!   Lajeunesse et al. 2005);
+//! - [`soil_bin`]: a sand layer under gravity in its geostatic state (plane strain);
+//! - [`plate`]: plate sinkage on it and Bekker's pressure–sinkage law fitted to two widths;
+//! - [`wheel`]: a rigid wheel driven at fixed slip under a vertical load, two-way
+//!   (sinkage, drawbar pull, torque);
 //! - [`bar`]: the axially vibrating elastic bar, a scene for validation;
 //! - [`vtk`]: VTP frames of the markers (stress, `J_E`, `J_P`, plastic strain).
 //!
@@ -40,8 +44,11 @@ pub mod footing;
 pub mod grid;
 pub mod markers;
 pub mod material;
+pub mod plate;
 pub mod rigid;
+pub mod soil_bin;
 pub mod vtk;
+pub mod wheel;
 
 #[cfg(test)]
 mod tests;

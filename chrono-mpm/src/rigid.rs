@@ -74,6 +74,13 @@ pub enum Shape {
         /// Half-extents along x, y, z, m.
         half: [f64; 3],
     },
+    /// A cylinder with its axis along y (a wheel rolling in the x-z plane), m.
+    Cylinder {
+        /// Radius, m.
+        radius: f64,
+        /// Half-length along y, m.
+        half_length: f64,
+    },
 }
 
 impl Shape {
@@ -98,6 +105,42 @@ impl Shape {
                     (q[a], n)
                 }
             }
+            Shape::Cylinder {
+                radius,
+                half_length,
+            } => {
+                // A box in (r, |y|): the radial distance and the distance past the caps.
+                let r = (x.x * x.x + x.z * x.z).sqrt();
+                let qr = r - radius;
+                let qy = x.y.abs() - half_length;
+                let radial = if r > 0.0 {
+                    Vector3::new(x.x / r, 0.0, x.z / r)
+                } else {
+                    // On the axis every radial direction is as near: take -z (down).
+                    -Vector3::z()
+                };
+                let axial = Vector3::new(0.0, if x.y < 0.0 { -1.0 } else { 1.0 }, 0.0);
+                if qr > 0.0 || qy > 0.0 {
+                    let (a, b) = (qr.max(0.0), qy.max(0.0));
+                    let d = (a * a + b * b).sqrt();
+                    (d, (radial * a + axial * b) / d)
+                } else if qr >= qy {
+                    (qr, radial)
+                } else {
+                    (qy, axial)
+                }
+            }
+        }
+    }
+
+    /// A box containing the shape, half-extents about its centre, m.
+    pub fn bounding_half(&self) -> [f64; 3] {
+        match *self {
+            Shape::Box { half } => half,
+            Shape::Cylinder {
+                radius,
+                half_length,
+            } => [radius, half_length, radius],
         }
     }
 }
@@ -109,15 +152,33 @@ pub struct RigidBody {
     pub shape: Shape,
     /// Position of the centre, m.
     pub position: Vector3<f64>,
-    /// Prescribed velocity, m/s (may be changed between steps).
+    /// Prescribed velocity of the centre, m/s (may be changed between steps).
     pub velocity: Vector3<f64>,
+    /// Prescribed angular velocity about the centre, rad/s (may be changed between
+    /// steps): the surface velocity at `x` is `velocity + angular_velocity x (x - position)`.
+    /// Rotation moves the surface, not the shape (which must then be symmetric about the
+    /// axis of rotation, as a wheel is about its axle).
+    pub angular_velocity: Vector3<f64>,
     /// The contact condition.
     pub contact: Contact,
+    /// Nodes lighter than this take no contact condition, kg (0: every node with mass).
+    /// A node that only the tail of the markers' splines reaches lies outside the
+    /// material (a flat surface through a node row gives the row half an interior node's
+    /// mass and the row above it 1/32 of it, with two markers per cell): constraining it
+    /// puts the contact up to a cell outside the material, which a rolling wheel then
+    /// climbs (`crate::wheel`).
+    pub min_node_mass: f64,
     /// The impulse the body gave the material in the last step, `sum_i m_i (v_i' - v_i)`,
     /// N s.
     pub impulse: Vector3<f64>,
     /// The sum of [`RigidBody::impulse`] over all steps, N s.
     pub total_impulse: Vector3<f64>,
+    /// The angular impulse the body gave the material in the last step about its centre,
+    /// `sum_i (x_i - x_c) x m_i (v_i' - v_i)`, N m s (the torque the body's drive applies
+    /// times `dt`).
+    pub angular_impulse: Vector3<f64>,
+    /// The sum of [`RigidBody::angular_impulse`] over all steps, N m s.
+    pub total_angular_impulse: Vector3<f64>,
     /// The length of the last step, s.
     pub last_dt: f64,
 }
@@ -162,11 +223,73 @@ impl RigidBody {
             shape: Shape::Box { half },
             position,
             velocity,
+            angular_velocity: Vector3::zeros(),
             contact,
+            min_node_mass: 0.0,
             impulse: Vector3::zeros(),
             total_impulse: Vector3::zeros(),
+            angular_impulse: Vector3::zeros(),
+            total_angular_impulse: Vector3::zeros(),
             last_dt: 0.0,
         })
+    }
+
+    /// A cylinder (a wheel) of `radius` (m) and `half_length` (m) along y, centred at
+    /// `position` (m), moving at `velocity` (m/s) and spinning at `angular_velocity`
+    /// (rad/s). A sticky cylinder takes its surface velocity on the nodes inside (no
+    /// image: [`RigidBody::uses_image`]). Errors name the field (`rigid.radius`,
+    /// `rigid.half_length`, `rigid.position`, `rigid.velocity`, `rigid.angular_velocity`,
+    /// `rigid.friction`).
+    pub fn new_cylinder(
+        position: Vector3<f64>,
+        radius: f64,
+        half_length: f64,
+        velocity: Vector3<f64>,
+        angular_velocity: Vector3<f64>,
+        contact: Contact,
+    ) -> Result<Self> {
+        positive("rigid.radius", radius)?;
+        positive("rigid.half_length", half_length)?;
+        if !angular_velocity.iter().all(|c| c.is_finite()) {
+            return Err(invalid(
+                "rigid.angular_velocity",
+                format!("{angular_velocity:?}"),
+                "must be finite",
+            ));
+        }
+        let mut r = Self::new_box(position, [radius, half_length, radius], velocity, contact)?;
+        r.shape = Shape::Cylinder {
+            radius,
+            half_length,
+        };
+        r.angular_velocity = angular_velocity;
+        Ok(r)
+    }
+
+    /// The surface velocity at `x` (m), `velocity + angular_velocity x (x - position)`,
+    /// m/s.
+    #[inline]
+    pub fn velocity_at(&self, x: &Vector3<f64>) -> Vector3<f64> {
+        self.velocity + self.angular_velocity.cross(&(x - self.position))
+    }
+
+    /// Whether a sticky body takes the mirror image ([`crate::rigid`]): a box that does
+    /// not spin (its normals are grid axes and its surface velocity uniform). Other sticky
+    /// bodies set their surface velocity on the nodes inside.
+    pub fn uses_image(&self) -> bool {
+        self.contact == Contact::Sticky
+            && matches!(self.shape, Shape::Box { .. })
+            && self.angular_velocity == Vector3::zeros()
+    }
+
+    /// The torque the material exerted on the body about its centre over the last step,
+    /// `-angular_impulse / dt`, N m (zero before the first step).
+    pub fn torque_on_body(&self) -> Vector3<f64> {
+        if self.last_dt > 0.0 {
+            -self.angular_impulse / self.last_dt
+        } else {
+            Vector3::zeros()
+        }
     }
 
     /// The force the material exerted on the body over the last step, `-impulse / dt`, N
@@ -190,6 +313,9 @@ impl RigidBody {
         if !self.velocity.iter().all(|c| c.is_finite()) {
             return bad("velocity", format!("{:?}", self.velocity));
         }
+        if !self.angular_velocity.iter().all(|c| c.is_finite()) {
+            return bad("angular_velocity", format!("{:?}", self.angular_velocity));
+        }
         Ok(())
     }
 
@@ -209,8 +335,9 @@ impl RigidBody {
         if phi > 0.0 {
             return None;
         }
-        let vb = self.velocity;
+        let vb = self.velocity_at(x);
         match self.contact {
+            Contact::Sticky if !self.uses_image() => Some(vb.into()),
             Contact::Sticky => Some(
                 self.sticky_image(x, i, dx, -phi, &n, node)
                     .unwrap_or(vb)

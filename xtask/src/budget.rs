@@ -84,6 +84,7 @@ pub const BUDGETS: &[Budget] = &[
     b("mpm-snow", 6.0, 4.0),
     b("mpm-footing", 15.0, 8.0),
     b("mpm-column-collapse", 15.0, 10.0),
+    b("mpm-wheel", 15.0, 10.0),
     b("hmmwv-static", 2.0, 2.0),
     b("hmmwv-accel", 15.0, 3.0),
     b("hmmwv-turn", 11.0, 5.0),

@@ -49,7 +49,7 @@ impl MpmBody {
         // The folded nodes' momentum change per body, in node order.
         let mut fold_j = std::mem::take(&mut self.grid.fold_impulse);
         fold_j.clear();
-        fold_j.resize(nr, [0.0; 3]);
+        fold_j.resize(nr, [0.0; 6]);
         let mut q = 0;
         while q < folds.len() {
             let j = folds[q].0;
@@ -67,8 +67,15 @@ impl MpmBody {
             let b = unkey(self.grid.active[j / BLOCK3], nb);
             let l = j % BLOCK3;
             apply_node_walls(&mut v, b, l, &spec);
+            let dp = (Vector3::from(v) - v0) * mj;
+            let loc = [l / (BLOCK * BLOCK), (l / BLOCK) % BLOCK, l % BLOCK];
+            let xj = Vector3::from_fn(|a, _| {
+                spec.origin[a] + ((b[a] * BLOCK + loc[a]) as f64 - GHOST as f64) * spec.dx
+            });
+            let dl = (xj - self.rigid[body].position).cross(&dp);
             for a in 0..3 {
-                fold_j[body][a] += (v[a] - v0[a]) * mj;
+                fold_j[body][a] += dp[a];
+                fold_j[body][3 + a] += dl[a];
             }
             self.grid.mom[j] = v;
         }
@@ -80,7 +87,7 @@ impl MpmBody {
         self.grid.impulse.clear();
         self.grid
             .impulse
-            .resize(self.grid.active.len() * nr, [0.0; 3]);
+            .resize(self.grid.active.len() * nr, [0.0; 6]);
         let mut mom = std::mem::take(&mut self.grid.mom);
         let mut impulse = std::mem::take(&mut self.grid.impulse);
         let grid = &self.grid;
@@ -113,9 +120,15 @@ impl MpmBody {
                     let x = Vector3::from_fn(|a, _| spec.origin[a] + i[a] as f64 * spec.dx);
                     let mut v = mom[l];
                     for (r, body) in rigid.iter().enumerate() {
+                        if mass[l] < body.min_node_mass {
+                            continue;
+                        }
                         if let Some(v1) = body.contact_velocity(&x, i, spec.dx, v, node) {
+                            let dp = (Vector3::from(v1) - Vector3::from(v)) * mass[l];
+                            let dl = (x - body.position).cross(&dp);
                             for a in 0..3 {
-                                impulse[r][a] += mass[l] * (v1[a] - v[a]);
+                                impulse[r][a] += dp[a];
+                                impulse[r][3 + a] += dl[a];
                             }
                             v = v1;
                         }
@@ -124,13 +137,19 @@ impl MpmBody {
                 }
             });
         for (r, body) in self.rigid.iter_mut().enumerate() {
-            let mut j = Vector3::zeros();
+            let mut j = [0.0; 6];
             for k in 0..self.grid.active.len() {
-                j += Vector3::from(impulse[k * nr + r]);
+                for (c, jc) in j.iter_mut().enumerate() {
+                    *jc += impulse[k * nr + r][c];
+                }
             }
-            j += Vector3::from(fold_j[r]);
-            body.impulse = j;
-            body.total_impulse += j;
+            for (c, jc) in j.iter_mut().enumerate() {
+                *jc += fold_j[r][c];
+            }
+            body.impulse = Vector3::new(j[0], j[1], j[2]);
+            body.total_impulse += body.impulse;
+            body.angular_impulse = Vector3::new(j[3], j[4], j[5]);
+            body.total_angular_impulse += body.angular_impulse;
         }
         self.grid.mom = mom;
         self.grid.impulse = impulse;

@@ -112,6 +112,7 @@ pub fn all_cases() -> Vec<Box<dyn Case>> {
         mpm::snow::case(),
         mpm::footing::case(),
         mpm::column_collapse::case(),
+        mpm::wheel::case(),
         vehicle::static_settle::case(),
         vehicle::accel::case(),
         vehicle::turn::case(),

@@ -4,3 +4,4 @@ pub mod column_collapse;
 pub mod elastic_bar;
 pub mod footing;
 pub mod snow;
+pub mod wheel;
