@@ -174,7 +174,8 @@ impl Schur {
     /// and leave `N d` in `out`. One product with `N` and one sparse solve: the velocity
     /// change of `d_C` (`M^-1 D_C' d_C`, the first half of a product) gives `N_BC d_C` on
     /// the joint rows alone, the joint impulses' velocity change is added row by row (a
-    /// mechanism has few joint rows next to its contacts), and the second half gives `N d`.
+    /// mechanism has few joint rows next to its contacts), and the second half gives `N d`
+    /// on the other rows; on the joint rows `N d = -base_B` by construction.
     fn complete_step(
         &mut self,
         problem: &CcpProblem,
@@ -195,7 +196,14 @@ impl Schur {
             d[i] = -self.rhs_b[k];
             problem.add_row_velocity(i, d[i], &mut self.work);
         }
-        problem.rows_from_velocity(d, &self.work, out, None);
+        // The joint rows of `N d` are `N_BB d_B + N_BC d_C = -base_B` by construction (to the
+        // factor's round-off: the solve is refined until a check met that bound): set, not
+        // computed, which saves the products of about a third of a vehicle's rows. The
+        // completed iterates' joint gradient is then zero, as the exact one is.
+        problem.rows_from_velocity_except_bilateral(d, &self.work, out, None);
+        for &i in &self.b_rows {
+            out[i] = -base[i];
+        }
     }
 
     /// Power-iteration estimate of `lambda_max(D^1/2 S D^1/2)` (`D` the rows' step scales,

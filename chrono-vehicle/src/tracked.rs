@@ -122,7 +122,7 @@ impl TrackedVehicleData {
         // Too few or too many shoes for the loop is a data error (it names
         // `track.shoe.count[side]`), found on reading, not first when the vehicle is built.
         for (side, &n) in self.track.shoe.count.iter().enumerate() {
-            crate::track::geometry::layout(&self.track, n, side)?;
+            crate::track::geometry::check_shoe_count(&self.track, n, side)?;
         }
         self.powertrain.validate()?;
         self.driveline.validate("driveline")?;

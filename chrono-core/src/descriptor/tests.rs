@@ -149,6 +149,24 @@ fn split_product_with_added_rows_matches_the_dense_matrix() {
 }
 
 #[test]
+fn rows_except_bilateral_leave_the_joint_rows_and_match_the_others_bit_for_bit() {
+    // The sample's one bilateral row is row 0 (assembled order: bilateral first).
+    let (p, _, _, _) = sample();
+    assert_eq!(p.sections().bilateral, 0..1);
+    let mut work = CcpWork::for_problem(&p);
+    let g: Vec<f64> = (0..12).map(|i| (i as f64 * 0.3 - 1.1).sin()).collect();
+    p.velocity_changes_of(&g, &mut work);
+    for shift in [None, Some(p.r())] {
+        let mut all = vec![0.0; 12];
+        p.rows_from_velocity(&g, &work, &mut all, shift);
+        let mut some = vec![7.5; 12];
+        p.rows_from_velocity_except_bilateral(&g, &work, &mut some, shift);
+        assert_eq!(some[0], 7.5, "the bilateral row is left as it was");
+        assert_eq!(some[1..], all[1..], "the other rows: the same bits");
+    }
+}
+
+#[test]
 fn r_and_velocities_match_the_definitions() {
     let (p, _, d, k) = sample();
     let mut vfree = vec![0.0; p.ndof()];
