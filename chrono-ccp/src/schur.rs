@@ -42,7 +42,9 @@
 //! contact and friction", Int. J. Numer. Methods Eng. 60 (2004); accelerated projected
 //! gradient with restart as in [`crate::Apgd`] (Nesterov; O'Donoghue and Candès 2015).
 
-use chrono_core::descriptor::{CcpProblem, CcpSolver, CcpWork, SolveStats, SolverSettings};
+use chrono_core::descriptor::{
+    CcpProblem, CcpSolver, CcpWork, PackedRows, SolveStats, SolverSettings,
+};
 
 use crate::Apgd;
 use crate::sparse_bilateral::SparseBilateral;
@@ -70,6 +72,8 @@ pub struct Schur {
     grad: Vec<f64>,
     zero: Vec<f64>,
     scratch: ImplicitScratch,
+    /// The joint rows packed for the matrix-free mode's completed steps.
+    packed: PackedRows,
     work: CcpWork,
 }
 
@@ -138,6 +142,7 @@ impl Schur {
             grad: Vec::new(),
             zero: Vec::new(),
             scratch: ImplicitScratch::default(),
+            packed: PackedRows::default(),
             work: CcpWork::default(),
         }
     }
@@ -188,13 +193,17 @@ impl Schur {
         }
         problem.velocity_changes_of(d, &mut self.work);
         self.rhs_b.clear();
-        let v = &self.work.v;
-        self.rhs_b
-            .extend(self.b_rows.iter().map(|&i| base[i] + problem.row_dot(i, v)));
+        let (v, packed) = (&self.work.v, &self.packed);
+        self.rhs_b.extend(
+            self.b_rows
+                .iter()
+                .enumerate()
+                .map(|(k, &i)| base[i] + packed.dot(problem, k, v)),
+        );
         self.factor.solve_corrected_later(&mut self.rhs_b);
         for (k, &i) in self.b_rows.iter().enumerate() {
             d[i] = -self.rhs_b[k];
-            problem.add_row_velocity(i, d[i], &mut self.work);
+            self.packed.add_minv(problem, k, d[i], &mut self.work.v);
         }
         // The joint rows of `N d` are `N_BB d_B + N_BC d_C = -base_B` by construction (to the
         // factor's round-off: the solve is refined until a check met that bound): set, not
@@ -267,6 +276,8 @@ impl Schur {
         let mut history = History::new(self.settings.record_history, max_it);
         self.zero.clear();
         self.zero.resize(m, 0.0);
+        // The joint rows, used twice per completed step, packed once per solve.
+        self.packed.pack(problem, &self.b_rows);
         let mut lip = self.reduced_lipschitz(problem, POWER_ITERATIONS);
         let mut apply_n = 1 + POWER_ITERATIONS;
         let sc = problem.scales();

@@ -91,16 +91,28 @@ mod tests {
         use serde_json::json;
         // Fewer shoes than the loop needs (the M113's need 63-64), on either side.
         let e = read_edited(&["track", "shoe", "count"], json!([55, 64]));
-        assert!(e.contains("`track.shoe.count[0]` = 55") && e.contains("too few"), "{e}");
+        assert!(
+            e.contains("`track.shoe.count[0]` = 55") && e.contains("too few"),
+            "{e}"
+        );
         let e = read_edited(&["track", "shoe", "count"], json!([63, 58]));
-        assert!(e.contains("`track.shoe.count[1]` = 58") && e.contains("too few"), "{e}");
+        assert!(
+            e.contains("`track.shoe.count[1]` = 58") && e.contains("too few"),
+            "{e}"
+        );
         let e = read_edited(&["track", "shoe", "count"], json!([63, 80]));
-        assert!(e.contains("`track.shoe.count[1]` = 80") && e.contains("too many"), "{e}");
+        assert!(
+            e.contains("`track.shoe.count[1]` = 80") && e.contains("too many"),
+            "{e}"
+        );
         // A tooth count that does not match the pitch at the pitch radius, either way, and
         // a pitch that does not match the teeth.
         for n in [9, 11] {
             let e = read_edited(&["track", "sprocket", "num_teeth"], json!(n));
-            assert!(e.contains(&format!("`track.sprocket.num_teeth` = {n}")), "{e}");
+            assert!(
+                e.contains(&format!("`track.sprocket.num_teeth` = {n}")),
+                "{e}"
+            );
             assert!(e.contains("does not match the shoe pitch"), "{e}");
         }
         let e = read_edited(&["track", "shoe", "pitch"], json!(0.16));
@@ -110,10 +122,16 @@ mod tests {
         );
         // A negative tensioner preload.
         let e = read_edited(&["track", "idler", "tensioner", "preload"], json!(-2.0e4));
-        assert!(e.contains("`track.idler.tensioner.preload` = -20000"), "{e}");
+        assert!(
+            e.contains("`track.idler.tensioner.preload` = -20000"),
+            "{e}"
+        );
         // A value of the wrong type names its path.
         let e = read_edited(&["track", "shoe", "count"], json!([63, -1]));
-        assert!(e.contains("track.shoe.count[1]") && e.contains("m113-edited.json"), "{e}");
+        assert!(
+            e.contains("track.shoe.count[1]") && e.contains("m113-edited.json"),
+            "{e}"
+        );
         // The data as shipped reads.
         assert!(TrackedVehicleData::from_json(M113_JSON, "data/m113.json").is_ok());
     }
