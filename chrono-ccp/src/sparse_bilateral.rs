@@ -175,6 +175,8 @@ impl SparseBilateral {
             upper.symbolic(),
             Side::Upper,
             SymmetricOrdering::Amd,
+            // faer's choice (simplicial here): forcing the supernodal factor made the
+            // M113's solves 1.7x the instructions (docs/validation-vehicle.md, M113 speed).
             CholeskySymbolicParams::default(),
         )
         .map_err(|e| CcpError::Factorization {

@@ -13,9 +13,7 @@ pub const M113_JSON: &str = include_str!("../data/m113.json");
 
 /// The M113A1 description, validated.
 pub fn m113_data() -> Result<TrackedVehicleData> {
-    let d: TrackedVehicleData = crate::json_path::parse(M113_JSON, "data/m113.json")?;
-    d.validate()?;
-    Ok(d)
+    TrackedVehicleData::from_json(M113_JSON, "data/m113.json")
 }
 
 #[cfg(test)]
@@ -69,5 +67,72 @@ mod tests {
             assert!(found, "no provenance for `{p}`");
         }
         assert!(m113_data().is_ok());
+    }
+
+    /// `data/m113.json` with the value at `path` (member names) replaced by `v`, read back.
+    fn read_edited(path: &[&str], v: serde_json::Value) -> String {
+        let mut d: serde_json::Value = serde_json::from_str(M113_JSON).unwrap();
+        let mut x = &mut d;
+        for k in path {
+            x = &mut x[*k];
+        }
+        assert!(!x.is_null(), "no value at {path:?}");
+        *x = v;
+        TrackedVehicleData::from_json(&d.to_string(), "m113-edited.json")
+            .err()
+            .map(|e| e.to_string())
+            .unwrap_or_default()
+    }
+
+    /// The bad inputs, read from JSON: each is an error naming the field and the
+    /// rejected value (the chain check runs on reading, before any body is built).
+    #[test]
+    fn bad_track_data_in_the_json_names_the_field_and_value() {
+        use serde_json::json;
+        // Fewer shoes than the loop needs (the M113's need 63-64), on either side.
+        let e = read_edited(&["track", "shoe", "count"], json!([55, 64]));
+        assert!(
+            e.contains("`track.shoe.count[0]` = 55") && e.contains("too few"),
+            "{e}"
+        );
+        let e = read_edited(&["track", "shoe", "count"], json!([63, 58]));
+        assert!(
+            e.contains("`track.shoe.count[1]` = 58") && e.contains("too few"),
+            "{e}"
+        );
+        let e = read_edited(&["track", "shoe", "count"], json!([63, 80]));
+        assert!(
+            e.contains("`track.shoe.count[1]` = 80") && e.contains("too many"),
+            "{e}"
+        );
+        // A tooth count that does not match the pitch at the pitch radius, either way, and
+        // a pitch that does not match the teeth.
+        for n in [9, 11] {
+            let e = read_edited(&["track", "sprocket", "num_teeth"], json!(n));
+            assert!(
+                e.contains(&format!("`track.sprocket.num_teeth` = {n}")),
+                "{e}"
+            );
+            assert!(e.contains("does not match the shoe pitch"), "{e}");
+        }
+        let e = read_edited(&["track", "shoe", "pitch"], json!(0.16));
+        assert!(
+            e.contains("`track.sprocket.num_teeth` = 10") && e.contains("pitch 0.16"),
+            "{e}"
+        );
+        // A negative tensioner preload.
+        let e = read_edited(&["track", "idler", "tensioner", "preload"], json!(-2.0e4));
+        assert!(
+            e.contains("`track.idler.tensioner.preload` = -20000"),
+            "{e}"
+        );
+        // A value of the wrong type names its path.
+        let e = read_edited(&["track", "shoe", "count"], json!([63, -1]));
+        assert!(
+            e.contains("track.shoe.count[1]") && e.contains("m113-edited.json"),
+            "{e}"
+        );
+        // The data as shipped reads.
+        assert!(TrackedVehicleData::from_json(M113_JSON, "data/m113.json").is_ok());
     }
 }

@@ -96,7 +96,18 @@ pub struct TrackedVehicleData {
 }
 
 impl TrackedVehicleData {
-    /// Check every field (errors name it).
+    /// Read a description from JSON `text` (read from `path`, named in errors) and validate
+    /// it: a value of the wrong type names its field path, a value out of range (a track
+    /// with fewer shoes than its loop needs, a tooth count that does not match the pitch, a
+    /// negative tensioner preload, ...) names its field and value.
+    pub fn from_json(text: &str, path: &str) -> Result<Self> {
+        let d: Self = crate::json_path::parse(text, path)?;
+        d.validate()?;
+        Ok(d)
+    }
+
+    /// Check every field (errors name it), including that each side's chain closes round
+    /// its wheels within the tensioner's travel.
     pub fn validate(&self) -> Result<()> {
         self.chassis.mass.validate("chassis.mass")?;
         if self.chassis.com.iter().any(|c| !c.is_finite()) {
@@ -108,6 +119,11 @@ impl TrackedVehicleData {
         }
         check_positive("track_y", self.track_y)?;
         self.track.validate("track")?;
+        // Too few or too many shoes for the loop is a data error (it names
+        // `track.shoe.count[side]`), found on reading, not first when the vehicle is built.
+        for (side, &n) in self.track.shoe.count.iter().enumerate() {
+            crate::track::geometry::check_shoe_count(&self.track, n, side)?;
+        }
         self.powertrain.validate()?;
         self.driveline.validate("driveline")?;
         if let Some(h) = &self.hull {

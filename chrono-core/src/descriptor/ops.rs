@@ -175,6 +175,32 @@ impl CcpProblem {
         self.rows_from(gamma, &work.v, &work.w, out, shift);
     }
 
+    /// [`rows_from_velocity`](Self::rows_from_velocity) on every row but the bilateral
+    /// ones, whose entries of `out` are left as they are: for a solver that knows those rows
+    /// of `N g` without the products (a Schur solver's completed step makes them minus the
+    /// joint residual it started from), about a third of a vehicle's rows. The other rows get
+    /// the same bits as from [`rows_from_velocity`](Self::rows_from_velocity).
+    ///
+    /// # Panics
+    /// If a length is wrong.
+    pub fn rows_from_velocity_except_bilateral(
+        &self,
+        gamma: &[f64],
+        work: &CcpWork,
+        out: &mut [f64],
+        shift: Option<&[f64]>,
+    ) {
+        assert_eq!(gamma.len(), self.n_rows, "gamma has the wrong length");
+        assert_eq!(out.len(), self.n_rows, "out has the wrong length");
+        assert_eq!(
+            work.v.len(),
+            self.ndof(),
+            "work is not sized for this problem"
+        );
+        let skip = self.sections.bilateral.clone();
+        self.rows_from_skipping(gamma, &work.v, &work.w, out, shift, skip);
+    }
+
     /// `out = D'(v, w) + E g + shift`: the row half of [`product`](Self::product).
     fn rows_from(
         &self,
@@ -183,6 +209,20 @@ impl CcpProblem {
         w: &[f64],
         out: &mut [f64],
         shift: Option<&[f64]>,
+    ) {
+        self.rows_from_skipping(gamma, v, w, out, shift, 0..0);
+    }
+
+    /// [`rows_from`](Self::rows_from) leaving the rows `skip` (outside the friction
+    /// section) of `out` untouched.
+    fn rows_from_skipping(
+        &self,
+        gamma: &[f64],
+        v: &[f64],
+        w: &[f64],
+        out: &mut [f64],
+        shift: Option<&[f64]>,
+        skip: std::ops::Range<usize>,
     ) {
         let eps = &self.eps;
         // `x + r_i`, or `x` itself (not `x + 0`, which would turn -0 into +0).
@@ -196,7 +236,11 @@ impl CcpProblem {
         let (head, rest) = out.split_at_mut(fr.start);
         let (mid, tail) = rest.split_at_mut(fr.len());
         let rows = |o: &mut [f64], start: usize| {
-            let f = |(i, o): (usize, &mut f64)| *o = row(start + i);
+            let f = |(i, o): (usize, &mut f64)| {
+                if !skip.contains(&(start + i)) {
+                    *o = row(start + i);
+                }
+            };
             if par {
                 o.par_iter_mut().enumerate().for_each(f);
             } else {

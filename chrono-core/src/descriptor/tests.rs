@@ -173,6 +173,46 @@ fn split_product_with_added_rows_matches_the_dense_matrix() {
 }
 
 #[test]
+fn rows_except_bilateral_leave_the_joint_rows_and_match_the_others_bit_for_bit() {
+    // The sample's one bilateral row is row 0 (assembled order: bilateral first).
+    let (p, _, _, _) = sample();
+    assert_eq!(p.sections().bilateral, 0..1);
+    let mut work = CcpWork::for_problem(&p);
+    let g: Vec<f64> = (0..12).map(|i| (i as f64 * 0.3 - 1.1).sin()).collect();
+    p.velocity_changes_of(&g, &mut work);
+    for shift in [None, Some(p.r())] {
+        let mut all = vec![0.0; 12];
+        p.rows_from_velocity(&g, &work, &mut all, shift);
+        let mut some = vec![7.5; 12];
+        p.rows_from_velocity_except_bilateral(&g, &work, &mut some, shift);
+        assert_eq!(some[0], 7.5, "the bilateral row is left as it was");
+        assert_eq!(some[1..], all[1..], "the other rows: the same bits");
+    }
+}
+
+#[test]
+fn packed_rows_give_the_bits_of_the_problems_row_operations() {
+    // The sample has rows on two rigid bodies (packed) and rows touching the particle
+    // (3 dof: used through the problem); every row, in a shuffled order.
+    let (p, _, _, _) = sample();
+    let rows: Vec<usize> = (0..12).map(|k| (5 * k + 3) % 12).collect();
+    let mut packed = super::PackedRows::default();
+    packed.pack(&p, &rows);
+    assert_eq!(packed.len(), 12);
+    let v: Vec<f64> = (0..p.ndof())
+        .map(|i| (i as f64 * 0.41 + 0.3).sin())
+        .collect();
+    for (k, &i) in rows.iter().enumerate() {
+        assert_eq!(packed.dot(&p, k, &v).to_bits(), p.row_dot(i, &v).to_bits());
+        let mut a = v.clone();
+        let mut b = v.clone();
+        packed.add_minv(&p, k, -0.7, &mut a);
+        p.row_add_minv(i, -0.7, &mut b);
+        assert_eq!(a, b, "row {i}");
+    }
+}
+
+#[test]
 fn r_and_velocities_match_the_definitions() {
     let (p, _, d, k) = sample();
     let mut vfree = vec![0.0; p.ndof()];

@@ -243,28 +243,36 @@ pub fn loop_circles(track: &TrackData, offset: f64) -> (Vec<Circle>, Vec<String>
     (c, names)
 }
 
-/// Place `shoes` shoes around the wheels of `track` (validated), moving the idler within its
-/// tensioner travel until the chain closes. Errors name `track.shoe.count[side]` when the
-/// chain is too short or too long for the travel.
-pub fn layout(track: &TrackData, shoes: usize, side: usize) -> Result<ChainLayout> {
+/// The loop round the wheels of `track` with the idler moved `offset` m along X.
+fn path_at(track: &TrackData, offset: f64) -> Result<LoopPath> {
+    let (c, names) = loop_circles(track, offset);
+    LoopPath::new(&c, &names)
+}
+
+/// Arc length reached by `shoes` chords of `pitch` from s = 0 on `path`, minus its length:
+/// negative when the chain is too short for the loop, positive when too long.
+fn chain_excess(path: &LoopPath, shoes: usize, pitch: f64) -> f64 {
+    let mut s = 0.0;
+    for _ in 0..shoes {
+        s = path.chord_step(s, pitch);
+    }
+    s - path.length()
+}
+
+/// Check that `shoes` shoes can close round the wheels of `track` (validated) somewhere in
+/// the tensioner's travel, without placing them: the check [`layout`] starts with, cheap
+/// enough for reading data. Errors name `track.shoe.count[side]` with the loop length and
+/// the shortfall or surplus.
+pub fn check_shoe_count(track: &TrackData, shoes: usize, side: usize) -> Result<()> {
     let pitch = track.shoe.pitch;
-    let path_at = |offset: f64| -> Result<LoopPath> {
-        let (c, names) = loop_circles(track, offset);
-        LoopPath::new(&c, &names)
-    };
-    // Arc length reached by `shoes` chords from s = 0, minus the loop length.
-    let excess = |path: &LoopPath| {
-        let mut s = 0.0;
-        for _ in 0..shoes {
-            s = path.chord_step(s, pitch);
-        }
-        s - path.length()
-    };
     // The loop shortens as the idler moves forward (+X): `rear` is the longest loop,
     // `fwd` the shortest.
     let [rear, fwd] = track.idler.tensioner.travel;
-    let (p_rear, p_fwd) = (path_at(rear)?, path_at(fwd)?);
-    let (g_rear, g_fwd) = (excess(&p_rear), excess(&p_fwd));
+    let (p_rear, p_fwd) = (path_at(track, rear)?, path_at(track, fwd)?);
+    let (g_rear, g_fwd) = (
+        chain_excess(&p_rear, shoes, pitch),
+        chain_excess(&p_fwd, shoes, pitch),
+    );
     let field = format!("track.shoe.count[{side}]");
     if g_fwd < 0.0 {
         return Err(VehicleError::invalid(
@@ -291,11 +299,21 @@ pub fn layout(track: &TrackData, shoes: usize, side: usize) -> Result<ChainLayou
             ),
         ));
     }
-    // g rises with the offset: bisect for its root.
+    Ok(())
+}
+
+/// Place `shoes` shoes around the wheels of `track` (validated), moving the idler within its
+/// tensioner travel until the chain closes. Errors name `track.shoe.count[side]` when the
+/// chain is too short or too long for the travel ([`check_shoe_count`]).
+pub fn layout(track: &TrackData, shoes: usize, side: usize) -> Result<ChainLayout> {
+    check_shoe_count(track, shoes, side)?;
+    let pitch = track.shoe.pitch;
+    let [rear, fwd] = track.idler.tensioner.travel;
+    // The excess rises with the offset: bisect for its root.
     let (mut a, mut b) = (rear, fwd);
     for _ in 0..200 {
         let m = 0.5 * (a + b);
-        if excess(&path_at(m)?) > 0.0 {
+        if chain_excess(&path_at(track, m)?, shoes, pitch) > 0.0 {
             b = m;
         } else {
             a = m;
@@ -322,7 +340,7 @@ pub fn layout(track: &TrackData, shoes: usize, side: usize) -> Result<ChainLayou
             ),
         ));
     }
-    let path = path_at(offset)?;
+    let path = path_at(track, offset)?;
     let mut pins = Vec::with_capacity(shoes);
     let mut s = 0.0;
     for _ in 0..shoes {
