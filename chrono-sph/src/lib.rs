@@ -53,6 +53,8 @@
 //! assert!(sys.stats().max_speed < 0.1);
 //! ```
 
+#[cfg(test)]
+mod active_tests;
 pub mod analytic;
 pub mod builder;
 pub mod carrier;
@@ -76,5 +78,5 @@ pub use data::{Deriv, Kind, ParticleData};
 pub use eos::{Tait, sound_speed_for};
 pub use error::{Result, SphError};
 pub use motion::{Kinematics, WallMotion};
-pub use settings::{DensityDiffusion, MachPolicy, NoSlip, SphSettings};
+pub use settings::{ActiveDomain, DensityDiffusion, MachPolicy, NoSlip, SphSettings};
 pub use system::{SphStats, SphSystem, Timings};
