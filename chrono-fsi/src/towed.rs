@@ -323,6 +323,49 @@ mod tests {
         assert_eq!(p.speed_at(1.0), p.speed);
     }
 
+    /// Through the fluid item: an active domain covering the tank gives the full run's
+    /// body loads bit for bit; a small one steps a fraction of the fluid, centred on the
+    /// towed (kinematic) cylinder.
+    #[test]
+    fn covering_active_domain_gives_the_full_loads_bit_for_bit() {
+        let run = |active: Option<f64>| {
+            let p = TowedParams {
+                spacing: 0.125 / 4.0,
+                length: 8.0,
+                start: 2.0,
+                active_supports: active,
+                ..TowedParams::default()
+            };
+            let mut s = towed(&p, Box::new(chrono_ccp::Psor::new(Default::default()))).unwrap();
+            let mut f = Vec::new();
+            for _ in 0..25 {
+                s.step(2e-3).unwrap();
+                f.push(s.force().map(f64::to_bits));
+            }
+            let sph = s.fluid().sph();
+            let c = s.system.body(s.body).unwrap().position();
+            (
+                f,
+                sph.stats().active_fluid,
+                sph.num_fluid(),
+                sph.active_sources().to_vec(),
+                c,
+            )
+        };
+        let (full, n_full, n, _, _) = run(None);
+        assert_eq!(n_full, n);
+        let (cover, n_cover, _, _, _) = run(Some(1000.0));
+        assert_eq!(
+            full, cover,
+            "a covering active domain changed the body's load"
+        );
+        assert_eq!(n_cover, n);
+        let (_, n_small, _, src, c) = run(Some(2.0));
+        assert!(n_small > 0 && 2 * n_small < n, "{n_small} of {n}");
+        assert_eq!(src.len(), 1);
+        assert!((src[0][0] - c.x).abs() < 1e-12 && (src[0][2] - c.z).abs() < 1e-12);
+    }
+
     #[test]
     fn bad_parameters_name_the_field() {
         let p = TowedParams {

@@ -148,10 +148,8 @@ impl SphSystem {
     pub(super) fn carrier_radii(&self) -> Vec<f64> {
         let d = &self.data;
         let mut r = vec![0.0f64; self.carriers.len()];
-        for i in 0..d.len() {
-            let k = d.carrier[i];
+        for (&k, a) in d.carrier.iter().zip(&d.anchor) {
             if k != NO_CARRIER && k & POINT_CARRIER == 0 {
-                let a = d.anchor[i];
                 let l = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
                 r[k as usize] = r[k as usize].max(l);
             }
@@ -182,9 +180,7 @@ impl SphSystem {
             let mut m = [0.0; 3];
             for i in 0..c.x0.len() {
                 let p = at(i);
-                for a in 0..3 {
-                    m[a] += p[a];
-                }
+                m = [m[0] + p[0], m[1] + p[1], m[2] + p[2]];
             }
             let inv = 1.0 / c.x0.len() as f64;
             let m = [m[0] * inv, m[1] * inv, m[2] * inv];
