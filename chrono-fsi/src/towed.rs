@@ -331,8 +331,8 @@ mod tests {
         let run = |active: Option<f64>| {
             let p = TowedParams {
                 spacing: 0.125 / 4.0,
-                length: 8.0,
-                start: 2.0,
+                length: 12.0,
+                start: 3.0,
                 active_supports: active,
                 ..TowedParams::default()
             };

@@ -20,6 +20,8 @@
 //! - [`carrier`]: wall markers carried by a [`RigidMotion`] set from outside (a body of a
 //!   multibody system, chrono-fsi), the force, torque and impulse of the fluid on them,
 //!   and [`SphSystem::advance_exactly`], which ends exactly at a given time;
+//! - [`system::active`]: the active domain ([`ActiveDomain`], off by default): only the
+//!   fluid near moving carriers is stepped, the rest frozen but still seen as neighbours;
 //! - [`scene`]: ready-made scenes on the quasi-2D slab tank: the dam break or still
 //!   water ([`scene::slab_tank`]) and the sloshing tank ([`scene::sloshing`]);
 //! - probes ([`SphSystem::pressure_at`], [`SphSystem::free_surface_height`],

@@ -7,10 +7,10 @@
 //! the largest body-frame offset of its markers; a point carrier's marker centroid and
 //! the largest distance from it, at the current time. A fluid particle is *active* while
 //! its distance to the nearest bounding sphere, `d(x) = min_s (|x - c_s| - r_s)`, is at
-//! most [`ActiveDomain::radius`] (periodic axes: the minimum image). The set is
-//! re-evaluated at every fluid step after the drift, at the sources' new poses: a
-//! function of the positions only, so it is the same for any thread count and slot
-//! order.
+//! most [`ActiveDomain::radius`](crate::ActiveDomain::radius) (periodic axes: the
+//! minimum image). The set is re-evaluated at every fluid step after the drift, at the
+//! sources' new poses: a function of the positions only, so it is the same for any
+//! thread count and slot order.
 //!
 //! **Frozen particles** (inactive fluid) keep their position, velocity and density bit
 //! for bit; they are not kicked, drifted, filtered, nor evaluated (no neighbour row), and
