@@ -101,10 +101,10 @@ pub enum NoSlip {
 /// holding its state: it reflects what reaches it (sound waves at `c_s`, free-surface
 /// waves at up to `sqrt(g depth)`), so the error falls with `radius` and grows with the
 /// time those waves have to come back. Measured on a cylinder towed under a free surface
-/// (`xtask validate fsi-active-domain`, docs/validation-fsi.md, 0.6 s): the rms difference
-/// of the drag history to the full domain's is 22 %, 10 %, 3.0 % and 2.6 % of the mean
-/// drag at 2, 4, 6 and 8 kernel supports, with 20 %, 36 %, 48 % and 56 % of the
-/// particle-steps; two to three times more over 0.8 s (more reflected waves come back).
+/// (`xtask validate fsi-active-domain`, docs/validation-fsi.md, 0.5 s): the mean drag is
+/// off by 19 %, 6.6 %, 1.45 % and 0.04 % at 2, 4, 6 and 8 kernel supports, with 20 %,
+/// 36 %, 47 % and 55 % of the particle-steps; over 0.8 s the error at 6 supports is
+/// 4.8 % (more reflected waves come back).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct ActiveDomain {
     /// Activation distance from the sources' bounding spheres, m (`>= 2 h`).

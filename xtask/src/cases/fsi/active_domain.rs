@@ -13,6 +13,9 @@
 //!    cylinder's bounding sphere;
 //! 3. full domain at `spacing * coarse_ratio`: the full run's own resolution error.
 //!
+//! The runs are interleaved coupling step by coupling step and each step is timed
+//! alone, so a machine load that varies over the case falls on each run alike.
+//!
 //! Reported: the particles stepped (`stepped_fraction`: fluid particle-steps of run 2
 //! over those of run 1 at the same step count, i.e. the mean active fraction), the wall
 //! time of runs 1 and 2 and the saving, the drag coefficient `C_D = F_D / (rho U^2 D W /
@@ -27,11 +30,11 @@
 //! between two resolutions. The target, within 2 % of the full run, is reported
 //! beside it (`drag_error`). No check on wall time (load dependent: reported).
 //!
-//! Measured (docs/validation-fsi.md): at the default 6 kernel supports 48 % of the
-//! particle-steps, drag +1.6 % against a resolution error of 6.1 % (pass), rms force
-//! difference 3.0 %; 2 and 4 supports cost 11 % and 6.6 %. The error is the sound and
-//! free-surface waves the frozen region reflects, which cross this tank within the run:
-//! over 0.8 s instead of 0.6 s it is two to three times larger at the same radius.
+//! Measured (docs/validation-fsi.md): at the default 6 kernel supports 47 % of the
+//! particle-steps and 55 % of the wall time, drag +1.45 % against a resolution error of
+//! 6.7 % (pass), rms force difference 2.7 %; 2 and 4 supports cost 19 % and 6.6 %. The
+//! error is the sound and free-surface waves the frozen region reflects, which cross
+//! this tank within the run: over 0.8 s it is 4.8 % at 6 supports.
 
 use std::time::Instant;
 
@@ -91,7 +94,7 @@ impl Default for ActiveDomainParams {
             nu: 1e-4,
             active_supports: 6.0,
             coarse_ratio: 1.25,
-            t_end: 0.6,
+            t_end: 0.5,
             coupling_step: 2e-3,
             window: 0.5,
             rho_water: 1000.0,
@@ -171,6 +174,8 @@ struct Run {
     substeps: u64,
     /// Fluid particles.
     n_fluid: usize,
+    /// The fluid's phase times (neighbour search, density, forces, integration), s.
+    phases: [f64; 4],
     wall: f64,
 }
 
@@ -192,59 +197,93 @@ fn towed_params(p: &ActiveDomainParams, spacing: f64, active: bool) -> TowedPara
     }
 }
 
-fn simulate(
-    tp: &TowedParams,
-    p: &ActiveDomainParams,
-    ctx: &RunContext,
-    done: &mut u64,
-    total: u64,
-) -> anyhow::Result<Run> {
-    let solver = chrono_ccp::Psor::new(SolverSettings::default());
-    let mut scene = towed(tp, Box::new(solver))?;
-    let n = (p.t_end / p.coupling_step).round().max(1.0) as u64;
-    let from = ((1.0 - p.window) * n as f64) as u64;
-    let start = Instant::now();
-    let mut run = Run {
-        fx: Vec::new(),
-        t: Vec::new(),
-        cd: 0.0,
-        eta: [0.0; 2],
-        fluid_steps: 0,
-        substeps: 0,
-        n_fluid: scene.fluid().sph().num_fluid(),
-        wall: 0.0,
-    };
-    let mut cnt = [0usize; 2];
-    for i in 1..=n {
-        scene.step(p.coupling_step)?;
-        if i > from {
-            let f = scene.force().x;
-            run.fx.push(f);
-            run.t.push(scene.system.time());
-            run.cd += scene.drag_coefficient(f);
+/// One run in progress: its scene and what it accumulates.
+struct Runner {
+    scene: chrono_fsi::towed::TowedScene,
+    run: Run,
+    cnt: [usize; 2],
+}
+
+impl Runner {
+    fn new(tp: &TowedParams) -> anyhow::Result<Self> {
+        let solver = chrono_ccp::Psor::new(SolverSettings::default());
+        let scene = towed(tp, Box::new(solver))?;
+        let n_fluid = scene.fluid().sph().num_fluid();
+        Ok(Self {
+            scene,
+            run: Run {
+                fx: Vec::new(),
+                t: Vec::new(),
+                cd: 0.0,
+                eta: [0.0; 2],
+                fluid_steps: 0,
+                substeps: 0,
+                n_fluid,
+                phases: [0.0; 4],
+                wall: 0.0,
+            },
+            cnt: [0; 2],
+        })
+    }
+
+    /// One coupling step (timed alone: the read-outs are not); `record`: in the window.
+    fn step(&mut self, p: &ActiveDomainParams, record: bool) -> anyhow::Result<()> {
+        let start = Instant::now();
+        self.scene.step(p.coupling_step)?;
+        self.run.wall += start.elapsed().as_secs_f64();
+        if record {
+            let f = self.scene.force().x;
+            self.run.fx.push(f);
+            self.run.t.push(self.scene.system.time());
+            self.run.cd += self.scene.drag_coefficient(f);
             for (k, dx) in [0.0, -p.diameter].into_iter().enumerate() {
-                if let Some(e) = scene.surface_elevation(dx)? {
-                    run.eta[k] += e;
-                    cnt[k] += 1;
+                if let Some(e) = self.scene.surface_elevation(dx)? {
+                    self.run.eta[k] += e;
+                    self.cnt[k] += 1;
                 }
             }
         }
-        *done += 1;
-        ctx.progress_steps(*done, total);
+        Ok(())
     }
-    run.wall = start.elapsed().as_secs_f64();
-    run.cd /= run.fx.len().max(1) as f64;
-    for k in 0..2 {
-        run.eta[k] = if cnt[k] > 0 {
-            run.eta[k] / cnt[k] as f64
-        } else {
-            f64::NAN
-        };
+
+    fn finish(mut self) -> Run {
+        self.run.cd /= self.run.fx.len().max(1) as f64;
+        for k in 0..2 {
+            self.run.eta[k] = if self.cnt[k] > 0 {
+                self.run.eta[k] / self.cnt[k] as f64
+            } else {
+                f64::NAN
+            };
+        }
+        let sph = self.scene.fluid().sph();
+        self.run.fluid_steps = sph.stats().fluid_steps;
+        self.run.substeps = sph.steps();
+        let t = sph.timings();
+        self.run.phases = [t.neighbor_search, t.density, t.forces, t.integration];
+        self.run
     }
-    let sph = scene.fluid().sph();
-    run.fluid_steps = sph.stats().fluid_steps;
-    run.substeps = sph.steps();
-    Ok(run)
+}
+
+/// The runs of `setups`, interleaved coupling step by coupling step so a varying machine
+/// load falls on each alike (their wall times are compared).
+fn simulate(
+    setups: &[TowedParams],
+    p: &ActiveDomainParams,
+    ctx: &RunContext,
+) -> anyhow::Result<Vec<Run>> {
+    let mut runners = setups
+        .iter()
+        .map(Runner::new)
+        .collect::<anyhow::Result<Vec<_>>>()?;
+    let n = (p.t_end / p.coupling_step).round().max(1.0) as u64;
+    let from = ((1.0 - p.window) * n as f64) as u64;
+    for i in 1..=n {
+        for r in &mut runners {
+            r.step(p, i > from)?;
+        }
+        ctx.progress_steps(i, n);
+    }
+    Ok(runners.into_iter().map(Runner::finish).collect())
 }
 
 fn run(p: &ActiveDomainParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
@@ -305,13 +344,7 @@ fn run(p: &ActiveDomainParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
             )
         })?;
     }
-    let n = (p.t_end / p.coupling_step).round().max(1.0) as u64;
-    let total = setups.len() as u64 * n;
-    let mut done = 0;
-    let mut runs = Vec::new();
-    for s in &setups {
-        runs.push(simulate(s, p, ctx, &mut done, total)?);
-    }
+    let mut runs = simulate(&setups, p, ctx)?;
     let coarse = (runs.len() > 2).then(|| runs.pop()).flatten();
     let act = runs.pop().expect("active run");
     let full = runs.pop().expect("full run");
@@ -356,7 +389,16 @@ fn run(p: &ActiveDomainParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         .metric("wall_full_s", full.wall)
         .metric("wall_active_s", act.wall)
         .metric("wall_saving", 1.0 - act.wall / full.wall)
-        .metric("substeps_full", full.substeps as f64)
+        .metric("fluid_phases_full_s", full.phases.iter().sum())
+        .metric("fluid_phases_active_s", act.phases.iter().sum());
+    for (k, name) in ["neighbors", "density", "forces", "integration"]
+        .iter()
+        .enumerate()
+    {
+        out.metric(format!("{name}_full_s"), full.phases[k])
+            .metric(format!("{name}_active_s"), act.phases[k]);
+    }
+    out.metric("substeps_full", full.substeps as f64)
         .metric("substeps_active", act.substeps as f64)
         .metric("fluid_particles", full.n_fluid as f64)
         .metric("elevation_above_full", full.eta[0])
