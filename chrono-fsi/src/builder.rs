@@ -45,6 +45,8 @@ struct PendingBody {
     pose: Isometry3<f64>,
     shapes: Vec<BodyShape>,
     local_markers: Vec<[f64; 3]>,
+    /// A fixed body: not a source of the active domain.
+    fixed: bool,
 }
 
 /// Builds an [`SphFluid`]: SPH settings, tanks ([`sph`](Self::sph)), fluid blocks
@@ -173,6 +175,7 @@ impl FsiBuilder {
             pose: b.pose(),
             shapes,
             local_markers: local,
+            fixed: b.motion() == chrono_core::BodyMotion::Fixed,
         });
         Ok(n)
     }
@@ -245,6 +248,11 @@ impl FsiBuilder {
             c.carrier = self.sph.add_point_markers(&c.x, base + k as u16)?;
         }
         let mut sph = self.sph.build()?;
+        // the active domain follows the bodies that move (dynamic or kinematic) and the
+        // cables
+        for (b, c) in self.bodies.iter().zip(&coupled) {
+            sph.set_carrier_source(c.carrier, !b.fixed)?;
+        }
         for c in &cables {
             // the markers move with the cable's initial velocity from t = 0
             sph.set_point_motion(c.carrier, 0.0, &c.x, &c.v)?;

@@ -12,6 +12,9 @@
 //!   `fsi-flexible-beam`);
 //! - [`sphere_settling`]: a free sphere settling in a triply periodic cell, the mean
 //!   pressure gradient as compensating body forces (the scene of `fsi-sphere-settling`);
+//! - [`towed`]: a cylinder towed through a long tank, with or without the fluid's active
+//!   domain ([`chrono_sph::ActiveDomain`]: only the fluid near the moving bodies is
+//!   stepped; the scene of `fsi-active-domain`);
 //! - [`FsiBuilder`]: tanks, fluid blocks carved around the bodies, the bodies' markers
 //!   (bad input, e.g. a body thinner than the kernel support, is an error naming the body);
 //! - [`SphFluid`]: the item. [`System::step(h)`](chrono_core::System::step) advances it to
@@ -20,7 +23,7 @@
 //!   limit: [`fluid`]).
 //!
 //! Not yet: shell and tetrahedral mesh markers, constraint fluids (chrono-cfluid),
-//! ellipsoid, convex-hull and triangle-mesh markers, active domains.
+//! ellipsoid, convex-hull and triangle-mesh markers.
 //!
 //! ```
 //! use chrono_ccp::Psor;
@@ -73,6 +76,7 @@ pub mod scene;
 pub mod sphere_settling;
 #[cfg(test)]
 mod tests;
+pub mod towed;
 
 pub use builder::FsiBuilder;
 pub use error::{FsiError, Result};

@@ -52,6 +52,7 @@ use crate::carrier::NO_CARRIER;
 use crate::data::{Deriv, FLUID, ParticleData, WALL};
 use crate::eos::Tait;
 use crate::settings::{DensityDiffusion, NoSlip};
+use crate::system::active::{ACT_NEXT, ACT_NOW, LISTED};
 
 /// Everything the passes read besides the particle arrays.
 pub(crate) struct PassCtx<'a> {
@@ -80,6 +81,24 @@ pub(crate) struct PassCtx<'a> {
     pub inv_c2: f64,
     /// The no-slip extrapolation.
     pub no_slip: NoSlip,
+    /// The active domain's flags of each particle
+    /// ([`crate::system::active`]; `None`: every particle is evaluated): fluid particles
+    /// are evaluated when active now or next, wall markers when listed, and the Shepard
+    /// filter touches the fluid active now.
+    pub eval: Option<&'a [u8]>,
+}
+
+impl PassCtx<'_> {
+    /// Whether fluid particle `a` is evaluated (active now or at the end of the step).
+    #[inline(always)]
+    pub fn evaluates_fluid(&self, a: usize) -> bool {
+        self.eval.is_none_or(|e| e[a] & (ACT_NOW | ACT_NEXT) != 0)
+    }
+    /// Whether wall marker `w` is evaluated (listed).
+    #[inline(always)]
+    pub fn evaluates_wall(&self, w: usize) -> bool {
+        self.eval.is_none_or(|e| e[w] & LISTED != 0)
+    }
 }
 
 /// What a pair loop reads of a neighbour, packed in one record: one bounds-checked load
@@ -220,7 +239,7 @@ pub(crate) fn wall_extrapolation(
     {
         let d = &*d;
         bc.par_iter_mut().enumerate().for_each(|(w, out)| {
-            if d.kind[w] != WALL {
+            if d.kind[w] != WALL || !c.evaluates_wall(w) {
                 return;
             }
             let pw = nb[w].pos();
@@ -305,8 +324,10 @@ pub(crate) fn wall_extrapolation(
         d.kind.par_iter(),
     )
         .into_par_iter()
-        .for_each(|(p, rho, m, v, b, &k)| {
-            if k == WALL {
+        .enumerate()
+        .for_each(|(w, (p, rho, m, v, b, &k))| {
+            // unlisted markers of the active domain hold their values
+            if k == WALL && c.evaluates_wall(w) {
                 *p = b[0];
                 *rho = b[1];
                 *m = b[1] * vol;
@@ -454,7 +475,8 @@ pub(crate) fn shepard(d: &mut ParticleData, c: &PassCtx<'_>, out: &mut Vec<f64>)
     {
         let d = &*d;
         out.par_iter_mut().enumerate().for_each(|(a, o)| {
-            if d.kind[a] != FLUID {
+            // frozen particles keep their density bit for bit
+            if d.kind[a] != FLUID || c.eval.is_some_and(|e| e[a] & ACT_NOW == 0) {
                 *o = d.rho[a];
                 return;
             }

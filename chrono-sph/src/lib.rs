@@ -20,6 +20,8 @@
 //! - [`carrier`]: wall markers carried by a [`RigidMotion`] set from outside (a body of a
 //!   multibody system, chrono-fsi), the force, torque and impulse of the fluid on them,
 //!   and [`SphSystem::advance_exactly`], which ends exactly at a given time;
+//! - [`system::active`]: the active domain ([`ActiveDomain`], off by default): only the
+//!   fluid near moving carriers is stepped, the rest frozen but still seen as neighbours;
 //! - [`scene`]: ready-made scenes on the quasi-2D slab tank: the dam break or still
 //!   water ([`scene::slab_tank`]) and the sloshing tank ([`scene::sloshing`]);
 //! - probes ([`SphSystem::pressure_at`], [`SphSystem::free_surface_height`],
@@ -53,6 +55,8 @@
 //! assert!(sys.stats().max_speed < 0.1);
 //! ```
 
+#[cfg(test)]
+mod active_tests;
 pub mod analytic;
 pub mod builder;
 pub mod carrier;
@@ -76,5 +80,5 @@ pub use data::{Deriv, Kind, ParticleData};
 pub use eos::{Tait, sound_speed_for};
 pub use error::{Result, SphError};
 pub use motion::{Kinematics, WallMotion};
-pub use settings::{DensityDiffusion, MachPolicy, NoSlip, SphSettings};
+pub use settings::{ActiveDomain, DensityDiffusion, MachPolicy, NoSlip, SphSettings};
 pub use system::{SphStats, SphSystem, Timings};

@@ -461,7 +461,8 @@ fn continuity_one<S: Simd, const KER: u8, const DIFF: u8>(
     seq: &mut [u32],
     len: &mut u32,
 ) {
-    if !pa.fluid() {
+    // frozen particles of the active domain: no row, nothing evaluated
+    if !pa.fluid() || !c.evaluates_fluid(a) {
         out.drho = 0.0;
         out.xsph = [0.0; 3];
         *len = 0;

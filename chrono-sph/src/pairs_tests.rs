@@ -85,6 +85,7 @@ fn ctx<'a>(
         diffusion_coef: 2.0 * 0.1 * kernel.h() * eos.sound_speed,
         inv_c2: 1.0 / (eos.sound_speed * eos.sound_speed),
         no_slip: NoSlip::Linear,
+        eval: None,
     }
 }
 

@@ -42,7 +42,10 @@ use crate::motion::WallMotion;
 use crate::pairs;
 use crate::settings::{DensityDiffusion, MachPolicy, SphSettings};
 
+pub mod active;
 mod carriers;
+
+use active::{ACT_NOW, ALL, LISTED};
 
 /// Running statistics of the last step.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -59,6 +62,11 @@ pub struct SphStats {
     pub neighbor_entries: usize,
     /// Neighbour-list builds so far.
     pub list_builds: u64,
+    /// Fluid particles active (stepped) in the next step: all of them unless the active
+    /// domain is on ([`SphSettings::active_domain`]).
+    pub active_fluid: usize,
+    /// Fluid particle-steps taken so far (the sum over steps of the particles stepped).
+    pub fluid_steps: u64,
 }
 
 /// Accumulated wall time of the phases of [`SphSystem::step`], s.
@@ -108,6 +116,17 @@ pub struct SphSystem {
     point_carriers: Vec<PointCarrier>,
     /// Scratch: the fluid's force on each carrier marker, N.
     marker_f: Vec<[f64; 3]>,
+    /// Active-domain flags of each particle ([`active`]; every flag when it is off).
+    act: Vec<u8>,
+    act_scratch: Vec<u8>,
+    /// Whether each rigid / point carrier is a source of the active domain.
+    carrier_source: Vec<bool>,
+    point_source: Vec<bool>,
+    /// The largest body-frame marker offset of each rigid carrier, m.
+    carrier_radius: Vec<f64>,
+    /// The sources' bounding spheres `[cx, cy, cz, r]` now and at the last list build.
+    sources: Vec<[f64; 4]>,
+    list_sources: Vec<[f64; 4]>,
 }
 
 impl SphSystem {
@@ -133,7 +152,9 @@ impl SphSystem {
         let grid =
             CellGrid::new(GridConfig::bounded(radius, lo, hi).with_periodic(settings.periodic))?;
         let n_fluid = data.kind.iter().filter(|&&k| k == FLUID).count();
-        Ok(Self {
+        let n = data.len();
+        let (nc, np) = (carriers.len(), point_carriers.len());
+        let mut sys = Self {
             settings,
             kernel,
             eos,
@@ -157,7 +178,16 @@ impl SphSystem {
             carriers,
             point_carriers,
             marker_f: Vec::new(),
-        })
+            act: vec![ALL; n],
+            act_scratch: Vec::new(),
+            carrier_source: vec![true; nc],
+            point_source: vec![true; np],
+            carrier_radius: Vec::new(),
+            sources: Vec::new(),
+            list_sources: Vec::new(),
+        };
+        sys.carrier_radius = sys.carrier_radii();
+        Ok(sys)
     }
 
     /// The settings.
@@ -321,7 +351,7 @@ impl SphSystem {
     /// at the current positions; skipped while the Verlet list is still valid.
     fn neighbor_search(&mut self) -> Result<()> {
         let t0 = Instant::now();
-        if !self.list_is_stale() {
+        if !self.list_is_stale() && !self.activity_needs_rebuild() {
             self.timings.neighbor_search += t0.elapsed().as_secs_f64();
             return Ok(());
         }
@@ -332,20 +362,39 @@ impl SphSystem {
         let every = self.settings.reorder_every as u64;
         if every > 0 && (self.steps == 0 || self.steps >= self.last_reorder + every) {
             self.data.permute(self.grid.order());
+            chrono_core::particles::permute(
+                self.grid.order(),
+                &mut self.act,
+                &mut self.act_scratch,
+            );
             self.grid.reordered();
             self.last_reorder = self.steps;
         }
+        self.mark_listed();
         {
             let d = &self.data;
             let kind = &d.kind;
             // wall markers keep only their fluid neighbours: no pass reads wall-wall
             // entries (the wall extrapolation sums over fluid neighbours only)
-            self.grid.neighbor_list_filtered(
-                [&d.x, &d.y, &d.z],
-                self.list_radius,
-                &mut self.list,
-                |i, j| kind[i] == FLUID || kind[j] == FLUID,
-            )?;
+            let keep = |i: usize, j: usize| kind[i] == FLUID || kind[j] == FLUID;
+            if self.active_on() {
+                // the active domain: rows for the listed particles only
+                let act = &self.act;
+                self.grid.neighbor_list_rows(
+                    [&d.x, &d.y, &d.z],
+                    self.list_radius,
+                    &mut self.list,
+                    |i| act[i] & LISTED != 0,
+                    keep,
+                )?;
+            } else {
+                self.grid.neighbor_list_filtered(
+                    [&d.x, &d.y, &d.z],
+                    self.list_radius,
+                    &mut self.list,
+                    keep,
+                )?;
+            }
             self.x_ref.resize(d.len(), [0.0; 3]);
             self.x_ref
                 .par_iter_mut()
@@ -363,7 +412,7 @@ impl SphSystem {
     /// when due, the equation of state and the wall extrapolation.
     pub(crate) fn density_update(&mut self, dt: f64) {
         let t0 = Instant::now();
-        let ctx = make_ctx(
+        let mut ctx = make_ctx(
             &self.settings,
             &self.kernel,
             &self.eos,
@@ -372,18 +421,25 @@ impl SphSystem {
             &self.motion,
             self.time,
         );
+        let active = self.settings.active_domain.is_some();
+        if active {
+            ctx.eval = Some(&self.act);
+        }
         let mut deriv = std::mem::take(&mut self.data.deriv);
         interact::pack(&self.data, PackVelocity::Prescribed, &mut self.packed);
         pairs::continuity_pass(&self.packed, &ctx, &mut deriv, &mut self.support, true);
         self.data.deriv = deriv;
         if dt > 0.0 {
             let d = &mut self.data;
+            let act = &self.act;
+            // the particles that did the step's first half (A_n, see `active`)
             d.rho
                 .par_iter_mut()
                 .zip(d.deriv.par_iter())
                 .zip(d.kind.par_iter())
-                .for_each(|((rho, dv), &k)| {
-                    if k == FLUID {
+                .enumerate()
+                .for_each(|(i, ((rho, dv), &k))| {
+                    if k == FLUID && act[i] & ACT_NOW != 0 {
                         *rho += dt * dv.drho;
                     }
                 });
@@ -403,7 +459,7 @@ impl SphSystem {
     /// The force pass at the current state.
     fn force_update(&mut self) {
         let t0 = Instant::now();
-        let ctx = make_ctx(
+        let mut ctx = make_ctx(
             &self.settings,
             &self.kernel,
             &self.eos,
@@ -412,6 +468,9 @@ impl SphSystem {
             &self.motion,
             self.time,
         );
+        if self.settings.active_domain.is_some() {
+            ctx.eval = Some(&self.act);
+        }
         let mut deriv = std::mem::take(&mut self.data.deriv);
         interact::pack(&self.data, PackVelocity::NoSlip, &mut self.packed);
         // the positions are those of the continuity pass: its kept neighbours hold
@@ -438,10 +497,11 @@ impl SphSystem {
             d.vz.par_iter_mut(),
             d.deriv.par_iter(),
             d.kind.par_iter(),
+            self.act.par_iter(),
         )
             .into_par_iter()
-            .for_each(|(vx, vy, vz, dv, &kind)| {
-                if kind == FLUID {
+            .for_each(|(vx, vy, vz, dv, &kind, &act)| {
+                if kind == FLUID && act & ACT_NOW != 0 {
                     *vx = (*vx + half * dv.acc[0]) * damp;
                     *vy = (*vy + half * dv.acc[1]) * damp;
                     *vz = (*vz + half * dv.acc[2]) * damp;
@@ -457,7 +517,10 @@ impl SphSystem {
         if self.initialized {
             return Ok(());
         }
+        self.check_active_domain()?;
         self.move_walls(self.time);
+        self.update_activity();
+        self.stats.active_fluid = self.promote_activity();
         self.neighbor_search()?;
         // the density diffusion reads the pressures of the initial densities
         interact::fluid_pressure(&mut self.data, &self.eos);
@@ -535,12 +598,12 @@ impl SphSystem {
                 d.vx.par_iter(),
                 d.vy.par_iter(),
                 d.vz.par_iter(),
-                d.deriv.par_iter(),
-                d.kind.par_iter(),
+                (d.deriv.par_iter(), d.kind.par_iter()),
+                self.act.par_iter(),
             )
                 .into_par_iter()
-                .for_each(|(x, y, z, vx, vy, vz, dv, &kind)| {
-                    if kind != FLUID {
+                .for_each(|(x, y, z, vx, vy, vz, (dv, &kind), &act)| {
+                    if kind != FLUID || act & ACT_NOW == 0 {
                         return;
                     }
                     *x += dt * (vx + dv.xsph[0]);
@@ -554,6 +617,7 @@ impl SphSystem {
         self.time = t_new.unwrap_or(self.time + dt);
         self.steps += 1;
         self.move_walls(self.time);
+        self.update_activity();
         self.timings.integration += t0.elapsed().as_secs_f64();
         self.neighbor_search()?;
         self.density_update(dt);
@@ -562,6 +626,8 @@ impl SphSystem {
         let t1 = Instant::now();
         self.kick(half);
         self.kick_carriers(half);
+        self.stats.fluid_steps += self.stats.active_fluid as u64;
+        self.stats.active_fluid = self.promote_activity();
         self.check_and_set_dt()?;
         self.timings.integration += t1.elapsed().as_secs_f64();
         Ok(())
@@ -591,10 +657,12 @@ impl SphSystem {
                 a
             }
         };
+        let act = &self.act;
         let (bad, (v2, iv), (a2, _)) = (0..d.len())
             .into_par_iter()
             .map(|i| {
-                if d.kind[i] != FLUID {
+                // frozen particles: held state, stale derivatives (see `active`)
+                if d.kind[i] != FLUID || act[i] & ACT_NOW == 0 {
                     return (usize::MAX, (0.0, i), (0.0, i));
                 }
                 let v2 = d.vx[i] * d.vx[i] + d.vy[i] * d.vy[i] + d.vz[i] * d.vz[i];
@@ -732,5 +800,6 @@ fn make_ctx<'a>(
         },
         inv_c2: 1.0 / (s.sound_speed * s.sound_speed),
         no_slip: s.no_slip,
+        eval: None,
     }
 }

@@ -581,6 +581,25 @@ impl CellGrid {
         list: &mut NeighborList,
         keep: K,
     ) -> Result<()> {
+        self.neighbor_list_rows(pos, radius, list, |_| true, keep)
+    }
+
+    /// [`neighbor_list_filtered`](Self::neighbor_list_filtered) for the rows `i` with
+    /// `row(i)` only: the other rows are left empty without visiting their cells (e.g.
+    /// the frozen particles of an SPH active domain, which no pass evaluates). `row` and
+    /// `keep` are called from several threads.
+    pub fn neighbor_list_rows<R, K>(
+        &self,
+        pos: Positions<'_>,
+        radius: f64,
+        list: &mut NeighborList,
+        row: R,
+        keep: K,
+    ) -> Result<()>
+    where
+        R: Fn(usize) -> bool + Sync,
+        K: Fn(usize, usize) -> bool + Sync,
+    {
         self.check_radius(radius)?;
         let n = self.len();
         if pos[0].len() != n {
@@ -605,6 +624,10 @@ impl CellGrid {
                 for (k, count) in counts.iter_mut().enumerate() {
                     let i = b * BLOCK + k;
                     let before = buf.len();
+                    if !row(i) {
+                        *count = 0;
+                        continue;
+                    }
                     let p = [pos[0][i], pos[1][i], pos[2][i]];
                     let cell = self.unlinear(self.cell_of[i] as usize);
                     self.visit(pos, p, cell, radius, i, |j, _, _| {

@@ -88,6 +88,7 @@ pub fn all_cases() -> Vec<Box<dyn Case>> {
         sph::dam_break::case(),
         sph::sloshing::case(),
         fsi::floating_body::case(),
+        fsi::active_domain::case(),
         fsi::flexible_beam::case(),
         fsi::cylinder_array::case(),
         fsi::sphere_settling::case(),

@@ -1,5 +1,6 @@
 //! Fluid–solid interaction cases (chrono-fsi).
 
+pub mod active_domain;
 pub mod cylinder_array;
 pub mod flexible_beam;
 pub mod floating_body;
