@@ -1,7 +1,7 @@
 //! A rigid wheel driven at fixed slip on MPM sand, in plane strain: the single-wheel test
 //! of terramechanics (Wong, "Theory of Ground Vehicles", 4th ed., Wiley 2008, ch. 2).
 //!
-//! The wheel is a cylinder of radius `R` along `y` ([`Shape::Cylinder`]) across the slab
+//! The wheel is a cylinder of radius `R` along `y` ([`crate::rigid::Shape::Cylinder`]) across the slab
 //! of the soil bin ([`crate::soil_bin`]; a wheel of width `b` represented by a slab of
 //! thickness `dx`, every force scaled by `b / dx`), in two-way frictional contact with the
 //! sand: Coulomb slip at the grid nodes inside it ([`Contact::Slip`], friction

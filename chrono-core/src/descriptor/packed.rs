@@ -14,7 +14,11 @@ const ONE_BODY: u32 = u32::MAX;
 /// Marks a row used through the problem (not packed).
 const UNPACKED: u32 = u32::MAX - 1;
 
-/// Rows of one problem in packed form (see the [module documentation](self)); valid for the
+/// Rows of one problem in packed form, for a solver that applies the same rows many times
+/// in one solve (the Schur solver's joint rows): a row on one or two rigid bodies keeps its
+/// 6 or 12 coefficients and `M^-1` columns side by side with the bodies' dof offsets; any
+/// other row is used through the problem. The same sums in the same order as
+/// [`CcpProblem::row_dot`] and [`CcpProblem::row_add_minv`], so the same bits. Valid for the
 /// problem they were [`pack`](PackedRows::pack)ed from until it is assembled again.
 #[derive(Debug, Clone, Default)]
 pub struct PackedRows {

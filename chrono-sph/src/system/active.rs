@@ -1,4 +1,4 @@
-//! The active domain of an [`SphSystem`](super::SphSystem) (set by
+//! The active domain of an [`SphSystem`] (set by
 //! [`SphSettings::active_domain`](crate::SphSettings::active_domain)): only the fluid near
 //! the moving bodies is stepped.
 //!
