@@ -5,11 +5,15 @@
 //!
 //! Run: `cargo run --release -p chrono-ccp --example ball_study -- [H] [K] [cap]`
 
-use chrono_ccp::{Apgd, CcpSolver, SolveStats, SolverSettings};
+#[path = "common/hooked.rs"]
+mod hooked;
+
+use chrono_ccp::{Apgd, CcpSolver, SolverSettings};
 use chrono_core::descriptor::CcpProblem;
 use chrono_core::granular::{BallDrop, ImpactBed};
 use chrono_core::system::ContactMethod;
 use chrono_core::{ContactMaterial, System, SystemSettings};
+use hooked::Hooked;
 
 fn set(tol: f64, it: usize) -> SolverSettings {
     SolverSettings {
@@ -17,13 +21,6 @@ fn set(tol: f64, it: usize) -> SolverSettings {
         max_iterations: it,
         record_history: false,
     }
-}
-
-struct Study {
-    apgd: Apgd,
-    ball_solves: usize,
-    at: usize,
-    active: bool,
 }
 
 fn study(p: &CcpProblem, warm: &[f64], cap: usize) {
@@ -100,32 +97,6 @@ fn heaviest(p: &CcpProblem) -> usize {
     at
 }
 
-impl CcpSolver for Study {
-    fn name(&self) -> &'static str {
-        "study"
-    }
-    fn settings(&self) -> &SolverSettings {
-        self.apgd.settings()
-    }
-    fn settings_mut(&mut self) -> &mut SolverSettings {
-        self.apgd.settings_mut()
-    }
-    fn solve(&mut self, p: &CcpProblem, gamma: &mut [f64]) -> SolveStats {
-        if self.active && p.n_rows() > 0 {
-            let ball_off = heaviest(p);
-            let touches = (0..p.n_rows()).any(|j| p.row_entries(j).any(|e| e.1 == ball_off))
-                && mass_of(p, ball_off) > 100.0 * 2500.0 * 0.005f64.powi(3);
-            if touches {
-                self.ball_solves += 1;
-                if self.ball_solves == self.at {
-                    study(p, gamma, self.apgd.settings().max_iterations);
-                }
-            }
-        }
-        self.apgd.solve(p, gamma)
-    }
-}
-
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let a: Vec<String> = std::env::args().skip(1).collect();
     let height: f64 = a.first().map_or(Ok(0.5), |s| s.parse())?;
@@ -148,11 +119,25 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         bed.h = h;
     }
     println!("settled: {} grains", settled.grains.len());
-    let solver = Study {
+    // Study the `at`-th solve with a row on the ball (the heaviest block, over 100 grain
+    // masses).
+    let mut ball_solves = 0;
+    let solver = Hooked {
         apgd: Apgd::new(set(1e-4, cap)),
-        ball_solves: 0,
-        at,
-        active: true,
+        hook: move |p: &CcpProblem, warm: &[f64]| {
+            if p.n_rows() == 0 {
+                return;
+            }
+            let ball_off = heaviest(p);
+            let touches = (0..p.n_rows()).any(|j| p.row_entries(j).any(|e| e.1 == ball_off))
+                && mass_of(p, ball_off) > 100.0 * 2500.0 * 0.005f64.powi(3);
+            if touches {
+                ball_solves += 1;
+                if ball_solves == at {
+                    study(p, warm, cap);
+                }
+            }
+        },
     };
     let mut sys = System::new(settings, Box::new(solver))?;
     let drop = BallDrop {

@@ -370,17 +370,13 @@ pub fn floating(
         Isometry3::identity(),
         Default::default(),
     ))?;
-    let mut fsi = FsiBuilder::new(settings)?;
-    fsi.add_fluid_box([0.0; 3], [len, width, level], Some(level))?;
-    fsi.sph().add_tank(
-        [0.0; 3],
-        [len, width, top],
-        wall_layers(p.h_over_dp),
-        SLAB_SIDES,
-        0,
+    let fluid = add_slab_tank(
+        &mut system,
+        settings,
+        body,
+        [len, width, level, top],
+        p.h_over_dp,
     )?;
-    fsi.add_body(&system, body)?;
-    let fluid = system.add_item(Box::new(fsi.build("water", 10)?));
     Ok(FloatingScene {
         system,
         body,
@@ -388,6 +384,31 @@ pub fn floating(
         tank: [len, width],
         draft_archimedes: draft,
     })
+}
+
+/// The water of a slab scene as an item of `system`: the box `[0, len] x [0, width]` filled
+/// to `level` (m), its marker walls (floor and the slab's sides, open above `top`) and
+/// `body`'s markers; `dims = [len, width, level, top]`, `h_over_dp` the kernel's
+/// smoothing length over the spacing. Shared by the floating and the towed scenes.
+pub(crate) fn add_slab_tank(
+    system: &mut System,
+    settings: SphSettings,
+    body: BodyHandle,
+    dims: [f64; 4],
+    h_over_dp: f64,
+) -> Result<ItemHandle> {
+    let [len, width, level, top] = dims;
+    let mut fsi = FsiBuilder::new(settings)?;
+    fsi.add_fluid_box([0.0; 3], [len, width, level], Some(level))?;
+    fsi.sph().add_tank(
+        [0.0; 3],
+        [len, width, top],
+        wall_layers(h_over_dp),
+        SLAB_SIDES,
+        0,
+    )?;
+    fsi.add_body(system, body)?;
+    Ok(system.add_item(Box::new(fsi.build("water", 10)?)))
 }
 
 #[cfg(test)]

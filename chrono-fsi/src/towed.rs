@@ -17,13 +17,13 @@
 
 use chrono_core::item::ItemHandle;
 use chrono_core::math::{GRAVITY_MAGNITUDE, Isometry3, Vector3};
-use chrono_core::particles::lattice::{SLAB_SIDES, slab_layers, wall_layers};
+use chrono_core::particles::lattice::slab_layers;
 use chrono_core::{BodyHandle, RigidBodyBuilder, Shape, System, SystemSettings};
 use chrono_sph::{ActiveDomain, SphSettings};
 
-use crate::builder::FsiBuilder;
 use crate::error::{FsiError, Result};
 use crate::fluid::SphFluid;
+use crate::scene::add_slab_tank;
 
 /// Parameters of [`towed`] (SI).
 #[derive(Debug, Clone, PartialEq)]
@@ -283,17 +283,13 @@ pub fn towed(
             .position(start)
             .collider(shape, Isometry3::identity(), Default::default()),
     )?;
-    let mut fsi = FsiBuilder::new(settings)?;
-    fsi.add_fluid_box([0.0; 3], [len, width, level], Some(level))?;
-    fsi.sph().add_tank(
-        [0.0; 3],
-        [len, width, top],
-        wall_layers(p.h_over_dp),
-        SLAB_SIDES,
-        0,
+    let fluid = add_slab_tank(
+        &mut system,
+        settings,
+        body,
+        [len, width, level, top],
+        p.h_over_dp,
     )?;
-    fsi.add_body(&system, body)?;
-    let fluid = system.add_item(Box::new(fsi.build("water", 10)?));
     Ok(TowedScene {
         system,
         body,

@@ -10,6 +10,8 @@
 //! the warm start of solve `STUDY_STEP` the error study of docs/performance.md, "is the
 //! pour's slow error a smooth (coarse) mode?")).
 
+#[path = "../common/hooked.rs"]
+mod hooked;
 mod two_level;
 
 use chrono_ccp::{Apgd, BarzilaiBorwein, CcpSolver, Psor, SolverSettings};
@@ -18,6 +20,7 @@ use chrono_core::granular::{GrainBed, Region, add_box_container};
 use chrono_core::math::Vector3;
 use chrono_core::system::ContactMethod;
 use chrono_core::{ContactMaterial, System, SystemSettings};
+use hooked::Hooked;
 use two_level::TwoLevel;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -47,14 +50,22 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 .unwrap_or(10);
             Box::new(TwoLevel::new(settings, k))
         }
-        "study" => Box::new(Study {
-            apgd: Apgd::new(settings.clone()),
-            step: 0,
-            at: std::env::var("STUDY_STEP")
+        "study" => {
+            let at: usize = std::env::var("STUDY_STEP")
                 .ok()
                 .and_then(|s| s.parse().ok())
-                .unwrap_or(100),
-        }),
+                .unwrap_or(100);
+            let mut step = 0;
+            Box::new(Hooked {
+                apgd: Apgd::new(settings.clone()),
+                hook: move |p: &chrono_core::descriptor::CcpProblem, warm: &[f64]| {
+                    step += 1;
+                    if step == at {
+                        study(p, warm);
+                    }
+                },
+            })
+        }
         _ => Box::new(Apgd::new(settings)),
     };
     let sys_settings = SystemSettings {
@@ -229,35 +240,5 @@ fn study(p: &chrono_core::descriptor::CcpProblem, warm: &[f64]) {
                 (s.objective - fstar) / fstar.abs()
             );
         }
-    }
-}
-
-/// APGD that runs [`study`] on the warm start of solve number `at`.
-struct Study {
-    apgd: Apgd,
-    step: usize,
-    at: usize,
-}
-
-impl CcpSolver for Study {
-    fn name(&self) -> &'static str {
-        "study"
-    }
-    fn settings(&self) -> &SolverSettings {
-        self.apgd.settings()
-    }
-    fn settings_mut(&mut self) -> &mut SolverSettings {
-        self.apgd.settings_mut()
-    }
-    fn solve(
-        &mut self,
-        problem: &chrono_core::descriptor::CcpProblem,
-        gamma: &mut [f64],
-    ) -> chrono_ccp::SolveStats {
-        self.step += 1;
-        if self.step == self.at {
-            study(problem, gamma);
-        }
-        self.apgd.solve(problem, gamma)
     }
 }

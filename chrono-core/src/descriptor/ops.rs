@@ -165,13 +165,7 @@ impl CcpProblem {
         out: &mut [f64],
         shift: Option<&[f64]>,
     ) {
-        assert_eq!(gamma.len(), self.n_rows, "gamma has the wrong length");
-        assert_eq!(out.len(), self.n_rows, "out has the wrong length");
-        assert_eq!(
-            work.v.len(),
-            self.ndof(),
-            "work is not sized for this problem"
-        );
+        self.check_rows_from_velocity(gamma, work, out);
         self.rows_from(gamma, &work.v, &work.w, out, shift);
     }
 
@@ -190,6 +184,13 @@ impl CcpProblem {
         out: &mut [f64],
         shift: Option<&[f64]>,
     ) {
+        self.check_rows_from_velocity(gamma, work, out);
+        let skip = self.sections.bilateral.clone();
+        self.rows_from_skipping(gamma, &work.v, &work.w, out, shift, skip);
+    }
+
+    /// The lengths the `rows_from_velocity` variants need (panics naming the wrong one).
+    fn check_rows_from_velocity(&self, gamma: &[f64], work: &CcpWork, out: &[f64]) {
         assert_eq!(gamma.len(), self.n_rows, "gamma has the wrong length");
         assert_eq!(out.len(), self.n_rows, "out has the wrong length");
         assert_eq!(
@@ -197,8 +198,6 @@ impl CcpProblem {
             self.ndof(),
             "work is not sized for this problem"
         );
-        let skip = self.sections.bilateral.clone();
-        self.rows_from_skipping(gamma, &work.v, &work.w, out, shift, skip);
     }
 
     /// `out = D'(v, w) + E g + shift`: the row half of [`product`](Self::product).
