@@ -83,5 +83,15 @@ impl FsiError {
     }
 }
 
+/// `Ok` if `value` is finite and positive, else an [`FsiError::InvalidParameter`] naming
+/// `field` (the scenes' parameter checks).
+pub(crate) fn check_positive(field: &str, value: f64) -> Result<()> {
+    if value.is_finite() && value > 0.0 {
+        Ok(())
+    } else {
+        Err(FsiError::invalid(field, value, "must be finite and > 0"))
+    }
+}
+
 /// Result alias of chrono-fsi.
 pub type Result<T> = std::result::Result<T, FsiError>;

@@ -16,7 +16,7 @@ use chrono_core::{BodyHandle, RigidBodyBuilder, Shape, System, SystemSettings};
 use chrono_sph::SphSettings;
 
 use crate::builder::FsiBuilder;
-use crate::error::{FsiError, Result};
+use crate::error::{FsiError, Result, check_positive};
 use crate::fluid::SphFluid;
 
 /// The floating body's shape.
@@ -93,13 +93,7 @@ impl Default for FloatingParams {
 impl FloatingParams {
     /// Checks every field (the error names it).
     pub fn validate(&self) -> Result<()> {
-        let pos = |f: &str, v: f64| {
-            if v.is_finite() && v > 0.0 {
-                Ok(())
-            } else {
-                Err(FsiError::invalid(f, v, "must be finite and > 0"))
-            }
-        };
+        let pos = check_positive;
         pos("body_density", self.body_density)?;
         pos("body_size", self.body_size)?;
         pos("depth", self.depth)?;

@@ -5,7 +5,7 @@
 //! `U(t) = U (3 s^2 - 2 s^3)`, `s = min(t / ramp, 1)` (a C1 ramp: an impulsive start
 //! would send a pressure pulse `rho c_s U` through the weakly compressible fluid).
 //!
-//! The fluid is WCSPH with BCE markers in the cylinder ([`FsiBuilder`]); with
+//! The fluid is WCSPH with BCE markers in the cylinder ([`FsiBuilder`](crate::FsiBuilder)); with
 //! [`TowedParams::active_supports`] set it runs with an active domain
 //! ([`chrono_sph::ActiveDomain`]) of that many kernel supports around the cylinder, so
 //! the same scene runs with and without it.
@@ -21,7 +21,7 @@ use chrono_core::particles::lattice::slab_layers;
 use chrono_core::{BodyHandle, RigidBodyBuilder, Shape, System, SystemSettings};
 use chrono_sph::{ActiveDomain, SphSettings};
 
-use crate::error::{FsiError, Result};
+use crate::error::{FsiError, Result, check_positive};
 use crate::fluid::SphFluid;
 use crate::scene::add_slab_tank;
 
@@ -80,13 +80,7 @@ impl Default for TowedParams {
 impl TowedParams {
     /// Checks every field (the error names it).
     pub fn validate(&self) -> Result<()> {
-        let pos = |f: &str, v: f64| {
-            if v.is_finite() && v > 0.0 {
-                Ok(())
-            } else {
-                Err(FsiError::invalid(f, v, "must be finite and > 0"))
-            }
-        };
+        let pos = check_positive;
         pos("diameter", self.diameter)?;
         pos("speed", self.speed)?;
         pos("ramp", self.ramp)?;
