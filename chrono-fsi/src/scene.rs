@@ -308,19 +308,15 @@ pub fn floating(
     let top = level + s + 4.0 * dp;
     let draft = archimedes_draft(p.shape, s, p.body_density / p.rho0);
     let sys_settings = SystemSettings::default();
-    let gz = sys_settings.gravity;
-    let settings = SphSettings {
-        spacing: dp,
-        h_over_dp: p.h_over_dp,
-        rho0: p.rho0,
-        sound_speed: p.mach_factor * (g * p.depth).sqrt(),
-        viscosity: p.rho0 * p.nu,
-        gravity: [gz.x, gz.y, gz.z],
-        domain_lower: [0.0; 3],
-        domain_upper: [len, width, top],
-        periodic: [false, true, false],
-        ..SphSettings::default()
-    };
+    let settings = slab_water(
+        &sys_settings,
+        dp,
+        p.h_over_dp,
+        p.rho0,
+        p.mach_factor * (g * p.depth).sqrt(),
+        p.nu,
+        [len, width, top],
+    );
     let mut system = System::new(sys_settings, solver)?;
     // the body along y spans the slab (one period) exactly
     let (shape, rot) = match p.shape {
@@ -378,6 +374,34 @@ pub fn floating(
         tank: [len, width],
         draft_archimedes: draft,
     })
+}
+
+/// The fluid settings of a slab scene (periodic along y, walls elsewhere): spacing `dp`
+/// (m), `h_over_dp`, rest density `rho0` (kg/m^3), sound speed (m/s), kinematic viscosity
+/// `nu` (m^2/s; the dynamic one is `rho0 nu`), the domain `[0, len] x [0, width] x [0, top]`
+/// and the system's gravity. Shared by the floating and the towed scenes.
+pub(crate) fn slab_water(
+    system: &SystemSettings,
+    dp: f64,
+    h_over_dp: f64,
+    rho0: f64,
+    sound_speed: f64,
+    nu: f64,
+    [len, width, top]: [f64; 3],
+) -> SphSettings {
+    let gz = system.gravity;
+    SphSettings {
+        spacing: dp,
+        h_over_dp,
+        rho0,
+        sound_speed,
+        viscosity: rho0 * nu,
+        gravity: [gz.x, gz.y, gz.z],
+        domain_lower: [0.0; 3],
+        domain_upper: [len, width, top],
+        periodic: [false, true, false],
+        ..SphSettings::default()
+    }
 }
 
 /// The water of a slab scene as an item of `system`: the box `[0, len] x [0, width]` filled

@@ -23,7 +23,7 @@ use chrono_sph::{ActiveDomain, SphSettings};
 
 use crate::error::{FsiError, Result, check_positive};
 use crate::fluid::SphFluid;
-use crate::scene::add_slab_tank;
+use crate::scene::{add_slab_tank, slab_water};
 
 /// Parameters of [`towed`] (SI).
 #[derive(Debug, Clone, PartialEq)]
@@ -244,19 +244,15 @@ pub fn towed(
     let level = (p.depth / dp + 1e-6).floor() * dp;
     let top = level + 0.5 * p.depth.max(d) + 4.0 * dp;
     let sys_settings = SystemSettings::default();
-    let gz = sys_settings.gravity;
-    let mut settings = SphSettings {
-        spacing: dp,
-        h_over_dp: p.h_over_dp,
-        rho0: p.rho0,
-        sound_speed: p.mach_factor * (g * p.depth).sqrt(),
-        viscosity: p.rho0 * p.nu,
-        gravity: [gz.x, gz.y, gz.z],
-        domain_lower: [0.0; 3],
-        domain_upper: [len, width, top],
-        periodic: [false, true, false],
-        ..SphSettings::default()
-    };
+    let mut settings = slab_water(
+        &sys_settings,
+        dp,
+        p.h_over_dp,
+        p.rho0,
+        p.mach_factor * (g * p.depth).sqrt(),
+        p.nu,
+        [len, width, top],
+    );
     if let Some(n) = p.active_supports {
         settings.active_domain = Some(ActiveDomain::from_supports(&settings, n));
     }

@@ -25,7 +25,7 @@
 use nalgebra::Vector3;
 
 use crate::body::{MpmBody, MpmSettings};
-use crate::error::{Result, invalid, positive};
+use crate::error::{Result, at_least, invalid, positive};
 use crate::grid::{GridSpec, Wall};
 use crate::material::Material;
 use crate::rigid::{Contact, RigidBody, push_down, speed_ramp};
@@ -90,13 +90,12 @@ impl Compaction {
         positive("compaction.density", spec.density)?;
         positive("compaction.strain_rate", spec.strain_rate)?;
         positive("compaction.cfl", spec.cfl)?;
-        if !(spec.ramp_time.is_finite() && spec.ramp_time >= 0.0) {
-            return Err(invalid(
-                "compaction.ramp_time",
-                spec.ramp_time,
-                "must be finite and >= 0",
-            ));
-        }
+        at_least(
+            "compaction.ramp_time",
+            spec.ramp_time,
+            0.0,
+            "must be finite and >= 0",
+        )?;
         if !(spec.final_strain > 0.0 && spec.final_strain < 0.9) {
             return Err(invalid(
                 "compaction.final_strain",

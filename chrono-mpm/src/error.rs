@@ -92,3 +92,12 @@ pub(crate) fn positive(field: &str, v: f64) -> Result<f64> {
         Err(invalid(field, v, "must be finite and > 0"))
     }
 }
+
+/// `Ok(v)` when `v` is finite and `>= min`, else an error naming `field` with `reason`.
+pub(crate) fn at_least(field: &str, v: f64, min: f64, reason: &str) -> Result<f64> {
+    if v.is_finite() && v >= min {
+        Ok(v)
+    } else {
+        Err(invalid(field, v, reason))
+    }
+}

@@ -30,7 +30,7 @@
 use nalgebra::Vector3;
 
 use crate::body::{MpmBody, MpmSettings};
-use crate::error::{Result, invalid, positive};
+use crate::error::{Result, at_least, invalid, positive};
 use crate::grid::{GridSpec, Wall};
 use crate::material::{DruckerPrager, Material, VonMises};
 use crate::rigid::{Contact, RigidBody, push_down, speed_ramp};
@@ -131,27 +131,24 @@ impl Footing {
         positive("footing.density", spec.density)?;
         positive("footing.speed", spec.speed)?;
         positive("footing.cfl", spec.cfl)?;
-        if !(spec.ramp_time.is_finite() && spec.ramp_time >= 0.0) {
-            return Err(invalid(
-                "footing.ramp_time",
-                spec.ramp_time,
-                "must be finite and >= 0",
-            ));
-        }
-        if !(spec.domain_width >= 1.0 && spec.domain_width.is_finite()) {
-            return Err(invalid(
-                "footing.domain_width",
-                spec.domain_width,
-                "must be >= 1 (footing widths)",
-            ));
-        }
-        if !(spec.domain_depth >= 0.5 && spec.domain_depth.is_finite()) {
-            return Err(invalid(
-                "footing.domain_depth",
-                spec.domain_depth,
-                "must be >= 0.5 (footing widths)",
-            ));
-        }
+        at_least(
+            "footing.ramp_time",
+            spec.ramp_time,
+            0.0,
+            "must be finite and >= 0",
+        )?;
+        at_least(
+            "footing.domain_width",
+            spec.domain_width,
+            1.0,
+            "must be >= 1 (footing widths)",
+        )?;
+        at_least(
+            "footing.domain_depth",
+            spec.domain_depth,
+            0.5,
+            "must be >= 0.5 (footing widths)",
+        )?;
         if !(spec.final_settlement > 0.0 && spec.final_settlement < 0.5 * spec.domain_depth) {
             return Err(invalid(
                 "footing.final_settlement",

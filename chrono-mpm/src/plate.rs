@@ -30,7 +30,7 @@
 use nalgebra::Vector3;
 
 use crate::body::MpmBody;
-use crate::error::{Result, invalid, positive};
+use crate::error::{Result, at_least, invalid, positive};
 use crate::rigid::{Contact, RigidBody, push_down, speed_ramp};
 use crate::soil_bin::{SoilSpec, surface};
 
@@ -80,13 +80,12 @@ impl Plate {
         let b = positive("plate.plate_width", spec.plate_width)?;
         let dx = positive("plate.dx", spec.dx)?;
         positive("plate.speed", spec.speed)?;
-        if !(spec.ramp_time.is_finite() && spec.ramp_time >= 0.0) {
-            return Err(invalid(
-                "plate.ramp_time",
-                spec.ramp_time,
-                "must be finite and >= 0",
-            ));
-        }
+        at_least(
+            "plate.ramp_time",
+            spec.ramp_time,
+            0.0,
+            "must be finite and >= 0",
+        )?;
         if 0.5 * b < dx {
             return Err(invalid(
                 "plate.plate_width",
@@ -94,20 +93,18 @@ impl Plate {
                 "must span at least two cells (half-width >= dx)",
             ));
         }
-        if !(spec.domain_width >= 1.0 && spec.domain_width.is_finite()) {
-            return Err(invalid(
-                "plate.domain_width",
-                spec.domain_width,
-                "must be >= 1 (plate widths)",
-            ));
-        }
-        if !(spec.domain_depth >= 0.5 && spec.domain_depth.is_finite()) {
-            return Err(invalid(
-                "plate.domain_depth",
-                spec.domain_depth,
-                "must be >= 0.5 (plate widths)",
-            ));
-        }
+        at_least(
+            "plate.domain_width",
+            spec.domain_width,
+            1.0,
+            "must be >= 1 (plate widths)",
+        )?;
+        at_least(
+            "plate.domain_depth",
+            spec.domain_depth,
+            0.5,
+            "must be >= 0.5 (plate widths)",
+        )?;
         let depth = spec.domain_depth * b;
         if !(spec.final_sinkage > 0.0 && spec.final_sinkage < 0.5 * depth) {
             return Err(invalid(

@@ -42,7 +42,7 @@
 use nalgebra::Vector3;
 
 use crate::body::MpmBody;
-use crate::error::{Result, invalid, positive};
+use crate::error::{Result, at_least, invalid, positive};
 use crate::rigid::{Contact, RigidBody, speed_ramp};
 use crate::soil_bin::{SoilSpec, surface};
 
@@ -167,9 +167,7 @@ impl Wheel {
         if !(spec.slip.is_finite() && (-1.0..=1.0).contains(&spec.slip)) {
             return Err(invalid("wheel.slip", spec.slip, "must lie in [-1, 1]"));
         }
-        if !(spec.load.is_finite() && spec.load >= 0.0) {
-            return Err(invalid("wheel.load", spec.load, "must be finite and >= 0"));
-        }
+        at_least("wheel.load", spec.load, 0.0, "must be finite and >= 0")?;
         let mass = match spec.wheel_mass {
             Some(m) => positive("wheel.wheel_mass", m)?,
             None => {
@@ -208,13 +206,12 @@ impl Wheel {
                 "must lie in [0, 1]",
             ));
         }
-        if !(spec.soil_depth.is_finite() && spec.soil_depth >= 0.5) {
-            return Err(invalid(
-                "wheel.soil_depth",
-                spec.soil_depth,
-                "must be >= 0.5 (radii)",
-            ));
-        }
+        at_least(
+            "wheel.soil_depth",
+            spec.soil_depth,
+            0.5,
+            "must be >= 0.5 (radii)",
+        )?;
         for (name, v) in [
             ("wheel.load_time", spec.load_time),
             ("wheel.ramp_time", spec.ramp_time),
