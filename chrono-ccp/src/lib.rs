@@ -116,6 +116,7 @@ pub mod cg;
 mod dense;
 pub mod error;
 pub mod jacobi;
+pub mod local_direct;
 pub mod minres;
 pub mod psor;
 pub mod schur;
@@ -132,13 +133,14 @@ pub use cg::{Cg, KrylovOptions, NotBilateral, check_bilateral, relative_residual
 pub use chrono_core::descriptor::{CcpSolver, IterationRecord, SolveStats, SolverSettings};
 pub use error::CcpError;
 pub use jacobi::{Jacobi, JacobiOptions};
+pub use local_direct::{LocalDirect, LocalDirectOptions};
 pub use minres::Minres;
 pub use psor::{Psor, PsorOptions, TripletStep};
 pub use schur::Schur;
 pub use two_phase::TwoPhase;
 
 /// The names accepted by [`by_name`]: the CCP solvers, then the bilateral-only ones.
-pub const SOLVER_NAMES: [&str; 11] = [
+pub const SOLVER_NAMES: [&str; 12] = [
     "jacobi",
     "psor",
     "psor-sym",
@@ -148,6 +150,7 @@ pub const SOLVER_NAMES: [&str; 11] = [
     "two-phase",
     "schur",
     "admm",
+    "local-direct",
     "cg",
     "minres",
 ];
@@ -166,6 +169,7 @@ pub fn by_name(name: &str, settings: SolverSettings) -> Result<Box<dyn CcpSolver
         "two-phase" => Box::new(TwoPhase::new(settings)),
         "schur" => Box::new(Schur::new(settings)),
         "admm" => Box::new(Admm::new(settings)),
+        "local-direct" => Box::new(LocalDirect::new(settings)),
         "cg" => Box::new(Cg::new(settings)),
         "minres" => Box::new(Minres::new(settings)),
         other => {

@@ -8,6 +8,7 @@ mod bilateral;
 mod cone;
 mod coulomb;
 mod determinism;
+mod local_direct;
 mod parallel_psor;
 mod pendulum;
 mod problem_file;

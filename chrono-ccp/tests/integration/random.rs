@@ -13,7 +13,7 @@ const SOLVE_TOL: f64 = 1e-11;
 const CHECK_TOL: f64 = 1e-9;
 
 /// The CCP solvers (CG and MINRES only take bilateral problems: see `bilateral.rs`).
-const SOLVERS: [&str; 9] = [
+const SOLVERS: [&str; 10] = [
     "jacobi",
     "psor",
     "psor-sym",
@@ -23,6 +23,7 @@ const SOLVERS: [&str; 9] = [
     "two-phase",
     "schur",
     "admm",
+    "local-direct",
 ];
 
 fn settings() -> SolverSettings {

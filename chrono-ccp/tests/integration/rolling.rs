@@ -9,7 +9,7 @@ use chrono_core::descriptor::{CcpProblem, ConstraintRows, MassOperator, RowEntry
 use chrono_core::math::GRAVITY;
 use chrono_core::math::Matrix3;
 
-const SOLVERS: [&str; 8] = [
+const SOLVERS: [&str; 9] = [
     "jacobi",
     "psor",
     "psor-sym",
@@ -18,6 +18,7 @@ const SOLVERS: [&str; 8] = [
     "two-phase",
     "schur",
     "admm",
+    "local-direct",
 ];
 const M: f64 = 2.0;
 const R: f64 = 0.1;

@@ -541,8 +541,56 @@ impl CcpProblem {
         }
         let mut rows = ConstraintRows::new();
         self.push_rows(range.clone(), &mut rows);
+        self.assemble_with_held(&rows, |i| range.contains(&i), gamma, out)
+    }
+
+    /// Assemble into `out` the sub-problem of the rows `rows` (strictly increasing, whole
+    /// cone blocks; any subset, not only a contiguous range) with the other rows' impulses
+    /// held at `gamma`, as [`subproblem`](Self::subproblem). The sub-problem's row `k` is
+    /// this problem's row `rows[k]` (the groups keep their order). Errors name a list that
+    /// is not increasing, out of range, or cuts a friction triplet or rolling contact.
+    pub fn subproblem_rows(
+        &self,
+        rows: &[usize],
+        gamma: &[f64],
+        out: &mut CcpProblem,
+    ) -> Result<()> {
+        let mut member = vec![false; self.n_rows];
+        let mut sub = ConstraintRows::new();
+        let mut k = 0;
+        while k < rows.len() {
+            let i = rows[k];
+            let bad = |why: &str| {
+                Err(ChronoError::invalid(
+                    format!("subproblem rows[{k}]"),
+                    i,
+                    why.to_string(),
+                ))
+            };
+            if i >= self.n_rows || (k > 0 && i <= rows[k - 1]) {
+                return bad("rows must be increasing and below the row count");
+            }
+            let (start, len) = self.sections.block_of(i);
+            if start != i || rows.len() < k + len || rows[k + len - 1] != i + len - 1 {
+                return bad("must not cut a friction triplet or rolling contact");
+            }
+            self.push_rows(i..i + len, &mut sub);
+            member[i..i + len].fill(true);
+            k += len;
+        }
+        self.assemble_with_held(&sub, |i| member[i], gamma, out)
+    }
+
+    /// Assemble `rows` with the momentum `k + D_O g_O` of the rows `O` not `inside`.
+    fn assemble_with_held(
+        &self,
+        rows: &ConstraintRows,
+        inside: impl Fn(usize) -> bool,
+        gamma: &[f64],
+        out: &mut CcpProblem,
+    ) -> Result<()> {
         let mut dv = vec![0.0; self.ndof()];
-        for i in (0..self.n_rows).filter(|i| !range.contains(i)) {
+        for i in (0..self.n_rows).filter(|&i| !inside(i)) {
             if gamma[i] != 0.0 {
                 for e in self.row_ptr[i] as usize..self.row_ptr[i + 1] as usize {
                     let (c0, c1) = (self.ent_coef[e] as usize, self.ent_coef[e + 1] as usize);
@@ -554,6 +602,6 @@ impl CcpProblem {
             }
         }
         let k: Vec<f64> = self.k.iter().zip(&dv).map(|(a, b)| a + b).collect();
-        out.assemble(&self.vars, &rows, &k)
+        out.assemble(&self.vars, rows, &k)
     }
 }

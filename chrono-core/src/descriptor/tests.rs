@@ -253,6 +253,45 @@ fn subproblem_holds_the_other_rows_fixed() {
 }
 
 #[test]
+fn subproblem_of_a_row_list_keeps_n_and_holds_the_rest() {
+    let (p, n, _, _) = sample();
+    let g: Vec<f64> = (0..12).map(|i| 0.1 * (i as f64 + 1.0)).collect();
+    // Bilateral row 0 and the rolling contact 6..12: not contiguous.
+    let rows: Vec<usize> = [0].into_iter().chain(6..12).collect();
+    let mut sub = CcpProblem::new();
+    p.subproblem_rows(&rows, &g, &mut sub).unwrap();
+    assert_eq!(sub.n_rows(), rows.len());
+    assert_eq!(sub.sections().bilateral, 0..1);
+    assert_eq!(sub.sections().rolling, 1..7);
+    for (a, &i) in rows.iter().enumerate() {
+        for (b, &j) in rows.iter().enumerate() {
+            assert!(
+                (sub.n_entry(a, b) - p.n_entry(i, j)).abs() < 1e-12,
+                "N[{i},{j}]"
+            );
+        }
+        let held: f64 = (0..12)
+            .filter(|j| !rows.contains(j))
+            .map(|j| n[(i, j)] * g[j])
+            .sum();
+        assert!((sub.r()[a] - (p.r()[i] + held)).abs() < 1e-12, "row {i}");
+    }
+    // A contiguous list gives the range's sub-problem bit for bit.
+    let mut by_range = CcpProblem::new();
+    p.subproblem(3..6, &g, &mut by_range).unwrap();
+    p.subproblem_rows(&[3, 4, 5], &g, &mut sub).unwrap();
+    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    assert_eq!(bits(sub.r()), bits(by_range.r()));
+    for bad in [&[3, 4][..], &[4, 5, 6], &[1, 0], &[12]] {
+        let e = p
+            .subproblem_rows(bad, &g, &mut sub)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("subproblem rows"), "{e}");
+    }
+}
+
+#[test]
 fn bad_rows_are_errors_naming_the_field() {
     let mut vars = Variables::new();
     let a = vars.add(MassOperator::particle(1.0).unwrap());

@@ -31,7 +31,6 @@
 
 use std::time::Instant;
 
-use chrono_ccp::{Schur, SolverSettings};
 use chrono_core::math::Isometry3;
 use chrono_core::{System, SystemSettings};
 use chrono_vehicle::driver::{PidGains, SpeedController, TractionControl};
@@ -44,7 +43,7 @@ use chrono_vehicle::{DriverInputs, WheeledVehicle};
 use serde::{Deserialize, Serialize};
 
 use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series};
-use crate::cases::rigid::{VtkFrames, n_steps};
+use crate::cases::rigid::{VtkFrames, make_solver, n_steps};
 use crate::params::{CaseParams, ParamCase, ParamInfo};
 
 /// Parameters of `hmmwv-granular`.
@@ -98,6 +97,10 @@ pub struct GranularParams {
     pub tolerance: f64,
     /// Iteration cap of the solver.
     pub max_iterations: usize,
+    /// CCP solver by name (`chrono_ccp::SOLVER_NAMES`): `schur` (joints by direct
+    /// elimination, contacts by APGD) or `local-direct` (the rows around the heavy bodies
+    /// by ADMM, the rest by APGD: the NSC heavy-on-light path).
+    pub solver: String,
 }
 
 impl Default for GranularParams {
@@ -124,6 +127,7 @@ impl Default for GranularParams {
             compliance: 0.0,
             tolerance: 1e-3,
             max_iterations: 60,
+            solver: "schur".into(),
         }
     }
 }
@@ -175,6 +179,11 @@ impl CaseParams for GranularParams {
         ),
         ParamInfo::new("tolerance", "m/s", "solver tolerance"),
         ParamInfo::new("max_iterations", "-", "solver iteration cap"),
+        ParamInfo::new(
+            "solver",
+            "-",
+            "CCP solver: schur | local-direct | any of chrono_ccp::SOLVER_NAMES",
+        ),
     ];
     fn apply_mode(&mut self, mode: Mode) {
         // The default run drives the quick course too (~120 s), for its 20-minute budget
@@ -206,16 +215,12 @@ fn run(p: &GranularParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
             "parameter `{name}` must be finite and >= 0, got {value}"
         );
     }
-    let settings = SolverSettings {
-        tolerance: p.tolerance,
-        max_iterations: p.max_iterations,
-        record_history: false,
-    };
     let sys_settings = SystemSettings {
         contact_method: method,
         ..SystemSettings::default()
     };
-    let mut sys = System::new(sys_settings, Box::new(Schur::new(settings)))?;
+    let solver = make_solver(&p.solver, p.tolerance, p.max_iterations)?;
+    let mut sys = System::new(sys_settings, solver)?;
     let mut data = hmmwv_data_with(TireKind::Rigid)?;
     if p.diff_lock_torque > 0.0 {
         lock_differentials(&mut data, p.diff_lock_torque)?;
