@@ -313,7 +313,11 @@ mod tests {
         for c in 0..ncols {
             op.apply_inverse(&rhs[c * n..(c + 1) * n], &mut y);
             for i in 0..n {
-                assert_eq!(y[i].to_bits(), cols[c * n + i].to_bits(), "column {c}, row {i}");
+                assert_eq!(
+                    y[i].to_bits(),
+                    cols[c * n + i].to_bits(),
+                    "column {c}, row {i}"
+                );
             }
         }
     }

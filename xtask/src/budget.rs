@@ -81,6 +81,8 @@ pub const BUDGETS: &[Budget] = &[
     b("fea-shell-pressure", 1.0, 1.0),
     b("fea-bend-45", 1.0, 1.0),
     b("fea-tire-drop", 6.0, 6.0),
+    b("fea-tire-static", 12.0, 2.0),
+    b("fea-tire-rolling", 12.0, 6.0),
     b("mpm-elastic-bar", 9.0, 1.0),
     b("mpm-snow", 6.0, 4.0),
     b("mpm-footing", 15.0, 8.0),
