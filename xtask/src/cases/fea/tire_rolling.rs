@@ -37,7 +37,9 @@
 //! `damping` (`beta`, default 0.005 s, a quarter of `fea-tire-drop`'s) is kept small on
 //! purpose: `R = beta K` with the tangent `K` of the inflated (prestressed) carcass does
 //! not vanish on a rigid rotation (`Q(R q) = R Q(q)` gives `K (w x q) = w x Q`, and `Q`
-//! balances the pressure load at equilibrium), so it brakes the spinning tire. Measured
+//! balances the pressure load at equilibrium), so it brakes the spinning tire: by hand a
+//! torque of `beta omega` x 15 kN m for this tire (205 N m at the default and 2.7 rad/s,
+//! `docs/validation-fea.md`; the wheel is braked, not quite free). Measured
 //! on the quick mesh: `beta` = 0.02 s makes the wheel skid (`v / omega` = 0.43 m against
 //! 0.36 m), 0.005 s and 0.002 s give 0.3587 and 0.3579 m. Without damping the iteration
 //! matrix loses definiteness (the compressed carcass' tangent) at `h` = 4 ms.
