@@ -83,6 +83,7 @@ pub mod tet_dynamics;
 pub mod tet_mesh;
 pub mod tire_mesh;
 pub mod tire_mount;
+pub mod tire_static;
 pub mod vtk;
 
 pub use beam_mesh::BeamMesh;
@@ -107,3 +108,4 @@ pub use tet_dynamics::TetItem;
 pub use tet_mesh::TetMesh;
 pub use tire_mesh::{TireGeometry, TireMesh};
 pub use tire_mount::{BeadMount, InflatedTire, mount_on_rim};
+pub use tire_static::{StaticPress, TireOnGround, check_fits_rim};

@@ -109,6 +109,8 @@ pub fn all_cases() -> Vec<Box<dyn Case>> {
         fea::shell_pressure::case(),
         fea::bend45::case(),
         fea::tire_drop::case(),
+        fea::tire_static::case(),
+        fea::tire_rolling::case(),
         mpm::elastic_bar::case(),
         mpm::snow::case(),
         mpm::footing::case(),

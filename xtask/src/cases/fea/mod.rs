@@ -16,7 +16,11 @@
 //! - `fea-shell-pressure`: an ANCF shell sphere under internal follower pressure against
 //!   the membrane solution;
 //! - `fea-tire-drop`: a pressurized ANCF shell tire on a rigid rim dropped on rigid
-//!   ground comes to rest: static deflection against the membrane estimate.
+//!   ground comes to rest: static deflection against the membrane estimate;
+//! - `fea-tire-static`: the tire pressed statically on rigid ground: load–deflection at
+//!   several pressures, trends and mesh convergence;
+//! - `fea-tire-rolling`: the tire rolling freely under load: effective rolling radius
+//!   against `(2 r_0 + r_s) / 3`.
 
 pub mod bend45;
 pub mod cantilever;
@@ -27,6 +31,8 @@ pub mod shell_pressure;
 pub mod tet_cantilever;
 pub mod tet_patch;
 pub mod tire_drop;
+pub mod tire_rolling;
+pub mod tire_static;
 
 use serde::{Deserialize, Serialize};
 
