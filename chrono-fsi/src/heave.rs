@@ -314,6 +314,8 @@ pub struct HeaveParams {
     /// Monaghan's artificial viscosity `alpha` (a kinematic viscosity
     /// `~ alpha c_s h / 10`: Hulme's fluid is inviscid, see the module docs).
     pub artificial_viscosity: f64,
+    /// XSPH coefficient of the fluid (see the module docs: it slows the short waves).
+    pub xsph: f64,
 }
 
 impl Default for HeaveParams {
@@ -329,6 +331,7 @@ impl Default for HeaveParams {
             nu: 1e-6,
             mach_factor: 10.0,
             artificial_viscosity: 0.0,
+            xsph: 0.0,
         }
     }
 }
@@ -349,6 +352,7 @@ impl HeaveParams {
             offset: self.offset * self.radius,
             mach_factor: self.mach_factor,
             artificial_viscosity: self.artificial_viscosity,
+            xsph: self.xsph,
             ..FloatingParams::default()
         }
     }

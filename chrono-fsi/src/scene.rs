@@ -73,6 +73,9 @@ pub struct FloatingParams {
     /// ([`SphSettings::artificial_viscosity`]; it acts as a kinematic viscosity
     /// `~ alpha c_s h / 10`).
     pub artificial_viscosity: f64,
+    /// XSPH coefficient of the fluid ([`SphSettings::xsph`]: particles drift with their
+    /// velocity plus this fraction of the kernel-averaged velocity difference).
+    pub xsph: f64,
 }
 
 impl Default for FloatingParams {
@@ -91,6 +94,7 @@ impl Default for FloatingParams {
             offset: 0.01,
             mach_factor: 10.0,
             artificial_viscosity: SphSettings::default().artificial_viscosity,
+            xsph: SphSettings::default().xsph,
         }
     }
 }
@@ -112,6 +116,9 @@ impl FloatingParams {
                 self.artificial_viscosity,
                 "must be finite and >= 0",
             ));
+        }
+        if !(self.xsph.is_finite() && (0.0..=1.0).contains(&self.xsph)) {
+            return Err(FsiError::invalid("xsph", self.xsph, "must be in [0, 1]"));
         }
         if !(self.nu.is_finite() && self.nu >= 0.0) {
             return Err(FsiError::invalid("nu", self.nu, "must be finite and >= 0"));
@@ -330,6 +337,7 @@ pub fn floating(
         [len, width, top],
     );
     settings.artificial_viscosity = p.artificial_viscosity;
+    settings.xsph = p.xsph;
     let mut system = System::new(sys_settings, solver)?;
     // the body along y spans the slab (one period) exactly
     let (shape, rot) = match p.shape {

@@ -68,6 +68,8 @@ pub struct SphereHeaveParams {
     pub viscosity: f64,
     /// Monaghan's artificial viscosity `alpha` of the fluid.
     pub artificial_viscosity: f64,
+    /// XSPH coefficient of the fluid.
+    pub xsph: f64,
     /// Number of extra runs at spacings `spacing * 1.25^k` (reported).
     pub sweep: u32,
 }
@@ -90,6 +92,7 @@ impl Default for SphereHeaveParams {
             rho_water: 1000.0,
             viscosity: 1e-6,
             artificial_viscosity: 0.0,
+            xsph: 0.0,
             sweep: 0,
         }
     }
@@ -128,6 +131,7 @@ impl CaseParams for SphereHeaveParams {
             "-",
             "Monaghan alpha (a viscosity ~ alpha c_s h / 10)",
         ),
+        ParamInfo::new("xsph", "-", "XSPH coefficient of the fluid"),
         ParamInfo::new("sweep", "-", "extra runs at spacing * 1.25^k (reported)"),
     ];
     fn apply_mode(&mut self, mode: Mode) {
@@ -171,6 +175,7 @@ fn run_once(p: &SphereHeaveParams, spacing: f64, ctx: &RunContext) -> anyhow::Re
         mach_factor: p.mach_factor,
         nu: p.viscosity,
         artificial_viscosity: p.artificial_viscosity,
+        xsph: p.xsph,
     };
     let solver = chrono_ccp::Psor::new(SolverSettings::default());
     let mut scene = sphere_heave(&hp, Box::new(solver))?;
@@ -196,11 +201,7 @@ fn run_once(p: &SphereHeaveParams, spacing: f64, ctx: &RunContext) -> anyhow::Re
     }
     let (mut t, mut z) = (vec![0.0], vec![scene.heave()?]);
     let weight = scene.scene.system.body(scene.scene.body)?.mass() * GRAVITY_MAGNITUDE;
-    let stiffness_ratio = if nf > 0 {
-        (weight - fz / nf as f64) / z[0] / scene.stiffness()
-    } else {
-        f64::NAN
-    };
+    let net_force = if nf > 0 { weight - fz / nf as f64 } else { f64::NAN };
     let mut series = Series::new(["t", "heave", "heave_hulme"]);
     let reference = hemisphere_heave(p.sphere_radius, GRAVITY_MAGNITUDE).ok();
     let z0 = z[0];
@@ -233,6 +234,9 @@ fn run_once(p: &SphereHeaveParams, spacing: f64, ctx: &RunContext) -> anyhow::Re
         anyhow::anyhow!("fsi-sphere-heave: no oscillation to fit in the record (spacing {spacing} m)")
     })?;
     let omega = std::f64::consts::TAU / period_scale;
+    // the held offset from the fluid's own equilibrium (the fitted mean; the sphere
+    // floats slightly off Archimedes' position at a finite spacing)
+    let stiffness_ratio = net_force / (z[0] - fit.mean) / scene.stiffness();
     Ok(RunResult {
         period: fit.period,
         stiffness_ratio,
