@@ -23,8 +23,16 @@
 //! a wall is a mirror image), filled to its centre's level. The sphere is held at its
 //! offset while the fluid settles ([`HeaveScene::hold`]), then released
 //! ([`HeaveScene::step`]). The radiated waves of the natural frequency come back from the
-//! nearest image after `2 L omega / g` (the deep-water group velocity `g / (2 omega)`
-//! over the distance `L`, [`HeaveScene::return_time`]); the record is read before that.
+//! nearest image after `2 (L - 2 a) omega / g` (the deep-water group velocity
+//! `g / (2 omega)` over the gap between the two surfaces, [`HeaveScene::return_time`]);
+//! the record is read before that.
+//!
+//! Numerics that matter here (measured, docs/validation-fsi.md): Hulme's fluid is
+//! inviscid, so [`HeaveParams`] sets no artificial viscosity, and no XSPH: XSPH moves the
+//! particles with a kernel-averaged velocity, which slows the free surface on the scale
+//! of the radiated waves (12-24 spacings long) and of the sphere's near field and acts
+//! as extra added mass (the period at 4 spacings per diameter +16 % with XSPH 0.5,
+//! +8.5 % without).
 
 use chrono_core::descriptor::CcpSolver;
 use chrono_core::math::{GRAVITY_MAGNITUDE, Vector3};
@@ -441,11 +449,13 @@ impl HeaveScene {
     }
 
     /// Time (s, after the release) at which waves of angular frequency `omega` (rad/s)
-    /// radiated by the nearest image (at the tank side `L`: the periodic neighbour along
-    /// y, the mirror image in an end wall) reach the sphere at the deep-water group
-    /// velocity `g / (2 omega)`: `2 L omega / g`.
+    /// radiated by the nearest image (its centre at the tank side `L`: the periodic
+    /// neighbour along y, the mirror image in an end wall) reach the sphere at the
+    /// deep-water group velocity `g / (2 omega)`, counted from surface to surface:
+    /// `2 (L - 2 a) omega / g`.
     pub fn return_time(&self, omega: f64) -> f64 {
-        2.0 * self.scene.tank[0].min(self.scene.tank[1]) * omega / GRAVITY_MAGNITUDE
+        let gap = self.scene.tank[0].min(self.scene.tank[1]) - self.params.body_size;
+        2.0 * gap * omega / GRAVITY_MAGNITUDE
     }
 
     fn fluid_damping(&mut self, rate: f64) -> Result<()> {
@@ -505,7 +515,10 @@ mod tests {
             let m = 2.0 / 3.0 * pi * rho * a * a * a;
             let (mu, nu) = hulme_heave_coefficients(e.omega * e.omega * a / g).unwrap();
             let lhs = e.omega * e.omega * m * (1.0 + mu);
-            assert!((lhs / (rho * g * pi * a * a) - 1.0).abs() < 1e-12, "{a} {g}");
+            assert!(
+                (lhs / (rho * g * pi * a * a) - 1.0).abs() < 1e-12,
+                "{a} {g}"
+            );
             assert!((e.nu - nu).abs() < 1e-12);
             // the table's neighbourhood: K a between 1.0 and 1.2, mu about 0.42
             assert!(e.ka > 1.0 && e.ka < 1.2 && (e.mu - 0.422).abs() < 0.002);
