@@ -190,6 +190,15 @@ pub fn fit_damped_oscillation(t: &[f64], z: &[f64]) -> Option<DampedFit> {
     if span.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
         return None;
     }
+    // a flat record (to round-off) has no oscillation to fit
+    let (lo, hi) = z[..n]
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
+            (a.min(v), b.max(v))
+        });
+    if !(hi - lo > 1e-12 * hi.abs().max(lo.abs())) {
+        return None;
+    }
     let w_lo = 0.25 * std::f64::consts::PI / span;
     let w_hi = std::f64::consts::PI * (n - 1) as f64 / span;
     let residual = |w: f64, s: f64| -> Option<(f64, [f64; 3])> {
