@@ -196,7 +196,8 @@ pub fn fit_damped_oscillation(t: &[f64], z: &[f64]) -> Option<DampedFit> {
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
             (a.min(v), b.max(v))
         });
-    if !(hi - lo > 1e-12 * hi.abs().max(lo.abs())) {
+    let range = hi - lo;
+    if range.is_nan() || range <= 1e-12 * hi.abs().max(lo.abs()) {
         return None;
     }
     let w_lo = 0.25 * std::f64::consts::PI / span;
