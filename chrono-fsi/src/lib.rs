@@ -12,6 +12,8 @@
 //!   `fsi-flexible-beam`);
 //! - [`sphere_settling`]: a free sphere settling in a triply periodic cell, the mean
 //!   pressure gradient as compensating body forces (the scene of `fsi-sphere-settling`);
+//! - [`heave`]: a floating hemisphere's free heave against Hulme's (1982) added mass
+//!   and damping (the scene of `fsi-sphere-heave`);
 //! - [`towed`]: a cylinder towed through a long tank, with or without the fluid's active
 //!   domain ([`chrono_sph::ActiveDomain`]: only the fluid near the moving bodies is
 //!   stepped; the scene of `fsi-active-domain`);
@@ -70,6 +72,7 @@ mod cable_tests;
 pub mod cylinder_array;
 pub mod error;
 pub mod fluid;
+pub mod heave;
 pub mod markers;
 mod periodic;
 pub mod scene;

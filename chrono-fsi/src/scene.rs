@@ -69,6 +69,13 @@ pub struct FloatingParams {
     pub offset: f64,
     /// Sound speed over `sqrt(g depth)`.
     pub mach_factor: f64,
+    /// Monaghan's artificial viscosity `alpha` of the fluid
+    /// ([`SphSettings::artificial_viscosity`]; it acts as a kinematic viscosity
+    /// `~ alpha c_s h / 10`).
+    pub artificial_viscosity: f64,
+    /// XSPH coefficient of the fluid ([`SphSettings::xsph`]: particles drift with their
+    /// velocity plus this fraction of the kernel-averaged velocity difference).
+    pub xsph: f64,
 }
 
 impl Default for FloatingParams {
@@ -86,6 +93,8 @@ impl Default for FloatingParams {
             nu: 1e-6,
             offset: 0.01,
             mach_factor: 10.0,
+            artificial_viscosity: SphSettings::default().artificial_viscosity,
+            xsph: SphSettings::default().xsph,
         }
     }
 }
@@ -101,6 +110,16 @@ impl FloatingParams {
         pos("h_over_dp", self.h_over_dp)?;
         pos("rho0", self.rho0)?;
         pos("mach_factor", self.mach_factor)?;
+        if !(self.artificial_viscosity.is_finite() && self.artificial_viscosity >= 0.0) {
+            return Err(FsiError::invalid(
+                "artificial_viscosity",
+                self.artificial_viscosity,
+                "must be finite and >= 0",
+            ));
+        }
+        if !(self.xsph.is_finite() && (0.0..=1.0).contains(&self.xsph)) {
+            return Err(FsiError::invalid("xsph", self.xsph, "must be in [0, 1]"));
+        }
         if !(self.nu.is_finite() && self.nu >= 0.0) {
             return Err(FsiError::invalid("nu", self.nu, "must be finite and >= 0"));
         }
@@ -308,7 +327,7 @@ pub fn floating(
     let top = level + s + 4.0 * dp;
     let draft = archimedes_draft(p.shape, s, p.body_density / p.rho0);
     let sys_settings = SystemSettings::default();
-    let settings = slab_water(
+    let mut settings = slab_water(
         &sys_settings,
         dp,
         p.h_over_dp,
@@ -317,6 +336,8 @@ pub fn floating(
         p.nu,
         [len, width, top],
     );
+    settings.artificial_viscosity = p.artificial_viscosity;
+    settings.xsph = p.xsph;
     let mut system = System::new(sys_settings, solver)?;
     // the body along y spans the slab (one period) exactly
     let (shape, rot) = match p.shape {

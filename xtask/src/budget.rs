@@ -63,6 +63,7 @@ pub const BUDGETS: &[Budget] = &[
     b("fsi-flexible-beam", 15.0, 8.0),
     b("fsi-cylinder-array", 15.0, 8.0),
     b("fsi-sphere-settling", 4.0, 2.0),
+    b("fsi-sphere-heave", 15.0, 10.0),
     b("fsi-active-domain", 16.0, 10.0),
     b("cfluid-incompressibility", 34.0, 16.0),
     b("cfluid-dam-break", 25.0, 14.0),

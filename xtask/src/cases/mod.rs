@@ -92,6 +92,7 @@ pub fn all_cases() -> Vec<Box<dyn Case>> {
         fsi::flexible_beam::case(),
         fsi::cylinder_array::case(),
         fsi::sphere_settling::case(),
+        fsi::sphere_heave::case(),
         cfluid::incompressibility::case(),
         cfluid::dam_break::case(),
         cfluid::floating_box::case(),

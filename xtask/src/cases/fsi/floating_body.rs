@@ -33,8 +33,8 @@
 //! (docs/validation-fsi.md). `draft_pressure` (reported) reads the level from the far
 //! fluid's pressure instead (`FloatingScene::draft_pressure`).
 //!
-//! Not yet: the sphere's heave period against Hulme (1982) (needs the added-mass table
-//! and a 3-D tank ten diameters long, a `--full` set-up), and `fluid = cfluid` (an error).
+//! The sphere's heave period against Hulme (1982) is the case `fsi-sphere-heave`
+//! (`sphere_heave.rs`). Not yet: `fluid = cfluid` (an error).
 
 use std::time::Instant;
 

@@ -4,4 +4,5 @@ pub mod active_domain;
 pub mod cylinder_array;
 pub mod flexible_beam;
 pub mod floating_body;
+pub mod sphere_heave;
 pub mod sphere_settling;
