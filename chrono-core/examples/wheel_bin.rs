@@ -4,66 +4,47 @@
 
 use chrono_ccp::{Apgd, SolverSettings};
 use chrono_core::granular::WheelBin;
-use chrono_core::system::ContactMethod;
-use chrono_core::{ContactMaterial, System, SystemSettings};
+use chrono_core::{ContactMaterial, ContactMethod, System, SystemSettings};
 
 fn main() -> chrono_core::Result<()> {
-    let arg = |i: usize, default: f64| {
+    let arg = |i, v: f64| {
         std::env::args()
             .nth(i)
             .and_then(|a| a.parse().ok())
-            .unwrap_or(default)
+            .unwrap_or(v)
     };
-    // Glass beads of the shear box (mu 0.18, E reduced to 4e7 Pa), a 0.25 m wheel of
-    // 0.15 m under 400 N, a bed of 1500 kg/m^3.
+    // The glass beads of the shear box (mu 0.18); a 0.25 m wheel, 0.15 m wide, 400 N, on a
+    // bed of 1500 kg/m^3, rim friction tan 30 deg, a slab 3 d thick.
     let beads = ContactMaterial::smc(4e7, 0.22, 0.87, 0.18);
+    let d = arg(1, 0.04);
     let spec = WheelBin {
         rim_friction: 30f64.to_radians().tan(),
-        slab_thickness: arg(3, 4.0) * arg(1, 0.025),
-        ..WheelBin::new(0.25, 0.15, 400.0, arg(2, 0.2), arg(1, 0.025), 1500.0, beads)
+        slab_thickness: 3.0 * d,
+        ..WheelBin::new(0.25, 0.15, 400.0, arg(2, 0.2), d, 1500.0, beads)
     };
     let system = |v: f64| {
-        let mut settings = SystemSettings {
+        let mut s = SystemSettings {
             contact_method: ContactMethod::Smc,
-            ..SystemSettings::default()
+            ..Default::default()
         };
-        settings.smc.characteristic_velocity = v;
-        System::new(settings, Box::new(Apgd::new(SolverSettings::default())))
+        s.smc.characteristic_velocity = v; // the rim speed bounds the run's impacts
+        System::new(s, Box::new(Apgd::new(SolverSettings::default())))
     };
-    let t = std::time::Instant::now();
     let bed = spec.prepare(&mut system(1.0)?)?;
-    println!(
-        "{} grains settled in {:.2} s (wall {:.1} s), solid fraction {:.3}, grain density {:.0}",
-        bed.grains.len(),
-        bed.time,
-        t.elapsed().as_secs_f64(),
-        bed.solid_fraction,
-        bed.grain_density
-    );
-    let t = std::time::Instant::now();
     let run = spec.run(&mut system(spec.rim_speed)?, &bed, |_| {})?;
+    let (w, r) = (spec.load, spec.wheel_radius);
     println!(
-        "bed depth {:.3} m (roughness {:.4}), bulk density {:.0} kg/m^3, h {:.2e} s, {} steps, wall {:.1} s",
-        run.surface,
-        run.roughness,
-        run.bulk_density,
-        run.h,
-        run.steps,
-        t.elapsed().as_secs_f64()
+        "{} grains, solid fraction {:.3}, bulk density {:.0} kg/m^3",
+        run.grains, bed.solid_fraction, run.bulk_density
     );
     println!(
-        "static sinkage {:.4} m; sinkage {:.4} m, DP/W {:.3}, T/(W R) {:.3}, F_z/W {:.3}",
+        "static sinkage {:.4} m; at slip {}: sinkage {:.4} m, DP/W {:.3}, T/(W R) {:.3}, F_z/W {:.3}",
         run.static_sinkage,
+        spec.slip,
         run.sinkage,
-        run.drawbar_pull / spec.load,
-        run.torque / (spec.load * spec.wheel_radius),
-        run.vertical_force / spec.load
+        run.drawbar_pull / w,
+        run.torque / (w * r),
+        run.vertical_force / w
     );
-    for s in run.samples.iter().step_by(10) {
-        println!(
-            "t {:.3} x {:.3} z {:.4} DP {:.1} T {:.1} Fz {:.1}",
-            s.t, s.travel, s.sinkage, s.drawbar_pull, s.torque, s.vertical_force
-        );
-    }
     Ok(())
 }

@@ -192,11 +192,12 @@ impl WheelBin {
                 format!("must be at least two grain diameters ({})", 2.0 * d),
             ));
         }
-        if !(self.soil_depth.is_finite() && self.soil_depth >= 4.0 * d) {
+        // The density band leaves 2 d at the floor and at the surface: at least 2 d of it.
+        if !(self.soil_depth.is_finite() && self.soil_depth >= 6.0 * d) {
             return Err(ChronoError::invalid(
                 "wheel_bin.soil_depth",
                 self.soil_depth,
-                format!("must be at least four grain diameters ({})", 4.0 * d),
+                format!("must be at least six grain diameters ({})", 6.0 * d),
             ));
         }
         if self.wheel_radius < 2.0 * d {

@@ -14,22 +14,23 @@ fn smc_system(d: f64) -> System {
     System::new(settings, Box::new(Apgd::new(SolverSettings::default()))).unwrap()
 }
 
-/// A 0.1 m wheel of 0.06 m under 60 N on grains of 2 cm (R/d = 5), a slab 3 d thick and
-/// 4 d deep, held at rest under the load.
+/// A 0.1 m wheel of 0.06 m under 10 N (a mean pressure of a few kPa on its contact,
+/// below the shallow bed's bearing capacity `0.5 gamma B N_gamma`) on grains of 2 cm
+/// (R/d = 5), a slab 3 d thick and 8 d deep, the load ramped over 0.2 s and held 0.4 s.
 fn small(bulk_density: f64) -> WheelBin {
     let d = 0.02;
     WheelBin {
         slab_thickness: 3.0 * d,
-        soil_depth: 4.0 * d,
-        load_time: 0.1,
-        hold_time: 0.1,
+        soil_depth: 8.0 * d,
+        load_time: 0.2,
+        hold_time: 0.4,
         ramp_time: 0.0,
         rim_travel: 0.0,
         rim_friction: 0.5,
         ..WheelBin::new(
             0.1,
             0.06,
-            60.0,
+            10.0,
             0.2,
             d,
             bulk_density,
