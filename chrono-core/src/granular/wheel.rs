@@ -581,7 +581,7 @@ impl WheelBin {
                     vertical_force: sum.force.z / sum.time * scale,
                 });
                 sum = Sums::default();
-                progress(tk / t_end);
+                progress((tk / t_end).min(1.0));
             }
         }
         let span = window.time.max(f64::MIN_POSITIVE);
