@@ -12,6 +12,8 @@
 //!   angle of repose ([`HeapSlot`], [`Heap`]);
 //! - [`impact`]: a ball dropped into a settled bed, and its penetration ([`ImpactBed`],
 //!   [`BallDrop`]);
+//! - [`wheel`]: a rigid wheel driven at fixed slip on a granular slab, its sinkage,
+//!   drawbar pull and torque ([`WheelBin`], [`WheelRun`]);
 //! - [`probe`]: measurements on a bed (surface height, bulk density, heap flank angles,
 //!   grain forces on a body, penetration).
 //!
@@ -29,6 +31,7 @@ pub mod probe;
 pub mod shear_box;
 pub mod shear_test;
 pub mod silo;
+pub mod wheel;
 
 /// The seeded generator, re-exported from its old place ([`crate::rng::Rng`]).
 pub use crate::rng::Rng;
@@ -39,6 +42,7 @@ pub use impact::{BallDrop, ImpactBed, Penetration};
 pub use shear_box::{ShearBox, ShearBoxBodies};
 pub use shear_test::{ShearRun, ShearTest};
 pub use silo::{Recycler, Silo, SiloBodies};
+pub use wheel::{PreparedBed, WheelBin, WheelRun};
 
 use nalgebra::{Isometry3, Vector3};
 

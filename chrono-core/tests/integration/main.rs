@@ -7,6 +7,7 @@ mod contact_friction;
 mod force_elements;
 mod granular_rolling_bed;
 mod granular_scenes;
+mod granular_wheel;
 mod handles;
 mod joints;
 mod nsc_rolling;

@@ -19,15 +19,28 @@
 //! force over the window equals the load within `equilibrium_tolerance`: Newton's second
 //! law for a wheel whose height has stopped changing; it fails when the window is not
 //! steady). `slip_sweep` (`--full`: 0, 0.1, 0.4) adds wheel runs at those slips,
-//! reported. The DEM side (the same wheel on chrono-core's granular terrain) is not built
-//! yet: `dem_sinkage` and `dem_drawbar_pull` are not reported.
+//! reported.
+//!
+//! DEM side (`dem`, on by default, off in `--quick`): the same wheel (radius, width, load,
+//! slip, rim speed, rim friction `tan(delta)`) on a granular slab by SMC
+//! (`chrono_core::granular::wheel`): grains about the MPM cell in size, a slab `dem_slab`
+//! grain diameters thick between frictionless walls (plane strain, as the MPM slab), the
+//! bed's bulk density set to the sand's. The grains are those of `granular-shear` (glass
+//! beads, `mu` 0.18), whose bulk friction its shear box measures (peak 27.6–29.0 degrees,
+//! residual 23.3–23.8 degrees by SMC, `docs/validation-granular.md`) against the sand's
+//! `friction_angle_deg`. Reported side by side (`dem_*`, their ratios to the MPM values,
+//! `dem.csv`), not checked: no published result ties the two.
 
+use chrono_core::granular::{PreparedBed, WheelBin, WheelRun};
+use chrono_core::math::Vector3;
+use chrono_core::{ContactMaterial, ContactMethod, SystemSettings};
 use chrono_mpm::plate::{Bekker, Plate, PlateSample, PlateSpec};
 use chrono_mpm::soil_bin::SoilSpec;
 use chrono_mpm::wheel::{Wheel, WheelSpec};
 use serde::{Deserialize, Serialize};
 
 use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series};
+use crate::cases::granular::make_system;
 use crate::params::{CaseParams, ParamCase, ParamInfo};
 
 /// Parameters of `mpm-wheel`.
@@ -91,6 +104,26 @@ pub struct WheelParams {
     pub equilibrium_tolerance: f64,
     /// More wheel runs at these slips (reported: sinkage, DP/W, T/(W R) per slip).
     pub slip_sweep: Vec<f64>,
+    /// Run the same wheel on a granular bed by DEM (SMC) beside the MPM one.
+    pub dem: bool,
+    /// DEM: largest grain diameter `d`, m.
+    pub dem_grain_diameter: f64,
+    /// DEM: smallest over largest grain diameter.
+    pub dem_size_ratio: f64,
+    /// DEM: slab thickness across the travel, in `d` (frictionless side walls).
+    pub dem_slab: f64,
+    /// DEM: grain Young's modulus (SMC Hertz), Pa.
+    pub dem_young: f64,
+    /// DEM: grain Poisson's ratio.
+    pub dem_poisson: f64,
+    /// DEM: restitution.
+    pub dem_restitution: f64,
+    /// DEM: grain–grain sliding friction.
+    pub dem_mu: f64,
+    /// DEM: rolling friction coefficient.
+    pub dem_rolling_friction: f64,
+    /// DEM: seed of the packing.
+    pub dem_seed: u64,
 }
 
 impl Default for WheelParams {
@@ -127,6 +160,20 @@ impl Default for WheelParams {
             fit_from: 0.25,
             equilibrium_tolerance: 0.05,
             slip_sweep: Vec::new(),
+            dem: true,
+            // R / d = 6.25, b / d = 3.75, about the MPM cell (R / 8 = 0.031 m): the budget's
+            // size (0.035 and 0.03 m move the sinkage by < 5 %, docs/mpm.md).
+            dem_grain_diameter: 0.04,
+            dem_size_ratio: 0.8,
+            dem_slab: 3.0,
+            // The glass beads of `granular-shear` (Fleischmann's parameters after Härtl
+            // and Ooi 2008), whose bulk friction that case measures.
+            dem_young: 4e7,
+            dem_poisson: 0.22,
+            dem_restitution: 0.87,
+            dem_mu: 0.18,
+            dem_rolling_friction: 0.0,
+            dem_seed: 1,
         }
     }
 }
@@ -198,6 +245,36 @@ impl CaseParams for WheelParams {
             "-",
             "more wheel runs at these slips, reported (--full: 0, 0.1, 0.4)",
         ),
+        ParamInfo::new(
+            "dem",
+            "-",
+            "also the same wheel on a DEM (SMC) granular slab, reported side by side (--quick: off)",
+        ),
+        ParamInfo::new(
+            "dem_grain_diameter",
+            "m",
+            "DEM largest grain diameter d (--full: 0.02)",
+        ),
+        ParamInfo::new(
+            "dem_size_ratio",
+            "-",
+            "DEM smallest over largest grain diameter",
+        ),
+        ParamInfo::new(
+            "dem_slab",
+            "d",
+            "DEM slab thickness across the travel (frictionless side walls)",
+        ),
+        ParamInfo::new("dem_young", "Pa", "DEM grain Young's modulus (SMC Hertz)"),
+        ParamInfo::new("dem_poisson", "-", "DEM grain Poisson's ratio"),
+        ParamInfo::new("dem_restitution", "-", "DEM restitution"),
+        ParamInfo::new("dem_mu", "-", "DEM grain-grain sliding friction"),
+        ParamInfo::new(
+            "dem_rolling_friction",
+            "-",
+            "DEM rolling friction coefficient",
+        ),
+        ParamInfo::new("dem_seed", "-", "DEM seed of the packing"),
     ];
 
     fn apply_mode(&mut self, mode: Mode) {
@@ -205,11 +282,14 @@ impl CaseParams for WheelParams {
             Mode::Quick => {
                 self.rim_travel = 1.5;
                 self.plate_final_sinkage = 0.06;
+                // The DEM side alone takes longer than the quick budget.
+                self.dem = false;
             }
             Mode::Default => {}
             Mode::Full => {
                 self.cells = 16;
                 self.slip_sweep = vec![0.0, 0.1, 0.4];
+                self.dem_grain_diameter = 0.02;
             }
         }
     }
@@ -258,16 +338,18 @@ fn run(p: &WheelParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         average_fraction: p.average_fraction,
     };
     let runs = 1 + p.slip_sweep.len();
+    // The MPM runs' share of the progress (the DEM side takes the rest).
+    let part = if p.dem { 0.5 } else { 1.0 };
     let share = 0.6 / runs as f64;
     let mut wheel = Wheel::new(spec(p.slip))?;
     let dx = wheel.body.spec().dx;
     let markers = wheel.body.markers.len();
-    let r = wheel.run(|x| ctx.progress(share * x))?;
+    let r = wheel.run(|x| ctx.progress(part * share * x))?;
     let mut steps = r.steps;
     let mut sweep = Vec::with_capacity(p.slip_sweep.len());
     for (k, &slip) in p.slip_sweep.iter().enumerate() {
         let mut w = Wheel::new(spec(slip))?;
-        let q = w.run(|x| ctx.progress(share * (k as f64 + 1.0 + x)))?;
+        let q = w.run(|x| ctx.progress(part * share * (k as f64 + 1.0 + x)))?;
         steps += q.steps;
         sweep.push((slip, q));
     }
@@ -287,7 +369,7 @@ fn run(p: &WheelParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
             speed: p.plate_speed,
             ramp_time: 0.05,
         })?;
-        let s = plate.run(40, |x| ctx.progress(0.6 + 0.2 * (k as f64 + x)))?;
+        let s = plate.run(40, |x| ctx.progress(part * (0.6 + 0.2 * (k as f64 + x))))?;
         steps += plate.body.steps();
         curves.push((b, s));
     }
@@ -350,7 +432,7 @@ fn run(p: &WheelParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         r.vertical_force / p.load
     ));
     ctx.note(format!(
-        "Bekker fit (plates {} and {} m, z in [{:.3}, {:.3}] m): k_c {:.4e} N/m^(n+1), k_phi {:.4e} N/m^(n+2), n {:.3} (rms ln p {:.3}); Wong's z0 {:.4} m against the wheel's {:.4} m. DEM side: not built.",
+        "Bekker fit (plates {} and {} m, z in [{:.3}, {:.3}] m): k_c {:.4e} N/m^(n+1), k_phi {:.4e} N/m^(n+2), n {:.3} (rms ln p {:.3}); Wong's z0 {:.4} m against the wheel's {:.4} m.",
         p.plate_width_small,
         p.plate_width_large,
         p.fit_from * zf,
@@ -362,6 +444,11 @@ fn run(p: &WheelParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         z_bekker,
         r.sinkage
     ));
+    if p.dem {
+        let dem = run_dem(p, delta, |x| ctx.progress(part + (1.0 - part) * x))?;
+        steps += dem.run.steps + dem.settle_steps;
+        report_dem(p, &dem, &r, &mut out, ctx)?;
+    }
     let mut series = Series::new([
         "travel_over_r",
         "sinkage_over_r",
@@ -407,12 +494,160 @@ fn run(p: &WheelParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     Ok(out)
 }
 
+/// The DEM side's results.
+struct DemSide {
+    spec: WheelBin,
+    bed: PreparedBed,
+    run: WheelRun,
+    settle_steps: u64,
+    wall: f64,
+}
+
+/// The same wheel (radius, width, load, slip, rim speed, rim friction `tan(delta)`) on a
+/// DEM slab of the bulk density of the MPM sand (`chrono_core::granular::wheel`), SMC.
+fn run_dem(
+    p: &WheelParams,
+    delta_deg: f64,
+    mut progress: impl FnMut(f64),
+) -> anyhow::Result<DemSide> {
+    let start = std::time::Instant::now();
+    let d = p.dem_grain_diameter;
+    let material = ContactMaterial::smc(p.dem_young, p.dem_poisson, p.dem_restitution, p.dem_mu)
+        .with_rolling_friction(p.dem_rolling_friction);
+    let spec = WheelBin {
+        rim_speed: p.rim_speed,
+        rim_friction: delta_deg.to_radians().tan(),
+        size_ratio: p.dem_size_ratio,
+        slab_thickness: p.dem_slab * d,
+        soil_depth: p.soil_depth * p.wheel_radius,
+        load_time: p.load_time,
+        ramp_time: p.ramp_time,
+        rim_travel: p.rim_travel,
+        average_fraction: p.average_fraction,
+        seed: p.dem_seed,
+        ..WheelBin::new(
+            p.wheel_radius,
+            p.wheel_width,
+            p.load,
+            p.slip,
+            d,
+            p.density,
+            material,
+        )
+    };
+    let gravity = Vector3::new(0.0, 0.0, -p.gravity);
+    let system = |v: f64| {
+        let mut settings = SystemSettings {
+            gravity,
+            envelope: 0.05 * d,
+            ..SystemSettings::default()
+        };
+        // The fastest contact of the run is a grain struck by the rim at its speed; the
+        // pour's grains land at about 1 m/s.
+        settings.smc.characteristic_velocity = v;
+        make_system(ContactMethod::Smc, settings, 1e-6, 50)
+    };
+    let bed = spec.prepare(&mut system(1.0)?)?;
+    progress(0.25);
+    let run = spec.run(&mut system(p.rim_speed)?, &bed, |x| {
+        progress(0.25 + 0.75 * x)
+    })?;
+    Ok(DemSide {
+        spec,
+        settle_steps: bed.steps,
+        bed,
+        run,
+        wall: start.elapsed().as_secs_f64(),
+    })
+}
+
+/// The DEM side's metrics and notes, and `dem.csv` (its samples).
+fn report_dem(
+    p: &WheelParams,
+    dem: &DemSide,
+    mpm: &chrono_mpm::wheel::WheelResult,
+    out: &mut CaseOutput,
+    ctx: &RunContext,
+) -> anyhow::Result<()> {
+    let q = &dem.run;
+    let wr = p.load * p.wheel_radius;
+    out.metric("dem_sinkage", q.sinkage);
+    out.metric("dem_static_sinkage", q.static_sinkage);
+    out.metric("dem_drawbar_pull", q.drawbar_pull);
+    out.metric("dem_torque", q.torque);
+    out.metric("dem_drawbar_pull_ratio", q.drawbar_pull / p.load);
+    out.metric("dem_torque_ratio", q.torque / wr);
+    out.metric("dem_vertical_force_ratio", q.vertical_force / p.load);
+    out.metric("dem_over_mpm_sinkage", q.sinkage / mpm.sinkage);
+    out.metric(
+        "dem_over_mpm_static_sinkage",
+        q.static_sinkage / mpm.static_sinkage,
+    );
+    out.metric(
+        "dem_over_mpm_drawbar_pull",
+        q.drawbar_pull / mpm.drawbar_pull,
+    );
+    out.metric("dem_over_mpm_torque", q.torque / mpm.torque);
+    out.metric("dem_bulk_density", q.bulk_density);
+    out.metric("dem_solid_fraction", dem.bed.solid_fraction);
+    out.metric("dem_grains", q.grains as f64);
+    out.metric("dem_grain_over_width", p.dem_grain_diameter / p.wheel_width);
+    out.metric("dem_wall_s", dem.wall);
+    ctx.note(format!(
+        "DEM (SMC): {} grains of {:.3} m (d/b {:.2}, R/d {:.1}; slab {:.3} m), grain density {:.0} kg/m^3 for a bulk density of {:.0} (solid fraction {:.3}), bed {:.3} m deep (roughness {:.4} m); h {:.2e} s, {} + {} steps, {:.1} s wall. Slip {}: sinkage {:.4} m (static {:.4}), DP {:.1} N (DP/W {:.3}), T {:.2} N m (T/(W R) {:.3}), F_z/W {:.3}; DEM/MPM: sinkage {:.2}, DP {:.2}, T {:.2}. Grains of granular-shear (mu {}, rolling {}): its SMC shear box measured 27.6-29.0 deg peak, 23.3-23.8 deg residual at mu 0.18 without rolling friction (docs/validation-granular.md), against the sand's {} deg.",
+        q.grains,
+        p.dem_grain_diameter,
+        p.dem_grain_diameter / p.wheel_width,
+        p.wheel_radius / p.dem_grain_diameter,
+        dem.spec.slab_thickness,
+        dem.bed.grain_density,
+        q.bulk_density,
+        dem.bed.solid_fraction,
+        q.surface,
+        q.roughness,
+        q.h,
+        dem.settle_steps,
+        q.steps,
+        dem.wall,
+        p.slip,
+        q.sinkage,
+        q.static_sinkage,
+        q.drawbar_pull,
+        q.drawbar_pull / p.load,
+        q.torque,
+        q.torque / wr,
+        q.vertical_force / p.load,
+        q.sinkage / mpm.sinkage,
+        q.drawbar_pull / mpm.drawbar_pull,
+        q.torque / mpm.torque,
+        p.dem_mu,
+        p.dem_rolling_friction,
+        p.friction_angle_deg,
+    ));
+    let mut csv = String::from(
+        "t,travel_over_r,sinkage_over_r,drawbar_pull_over_w,torque_over_wr,vertical_force_over_w\n",
+    );
+    for s in &q.samples {
+        csv.push_str(&format!(
+            "{},{},{},{},{},{}\n",
+            s.t,
+            s.travel / p.wheel_radius,
+            s.sinkage / p.wheel_radius,
+            s.drawbar_pull / p.load,
+            s.torque / wr,
+            s.vertical_force / p.load
+        ));
+    }
+    std::fs::write(ctx.out_file("dem.csv"), csv)?;
+    Ok(())
+}
+
 /// The case.
 pub fn case() -> Box<dyn Case> {
     ParamCase::<WheelParams>::boxed(
         "mpm-wheel",
         "mpm",
-        "Rigid wheel at fixed slip under a vertical load on Drucker-Prager sand (plane strain, two-way frictional contact): steady sinkage, drawbar pull and torque reported beside Bekker's rigid-wheel sinkage from plate tests on the same sand (Wong eq. 2.64); checked: the steady vertical equilibrium. DEM side not built yet.",
+        "Rigid wheel at fixed slip under a vertical load on Drucker-Prager sand (plane strain, two-way frictional contact): steady sinkage, drawbar pull and torque reported beside Bekker's rigid-wheel sinkage from plate tests on the same sand (Wong eq. 2.64) and the same wheel on a DEM (SMC) granular slab of the same bulk density (reported side by side); checked: the steady vertical equilibrium.",
         run,
     )
 }
