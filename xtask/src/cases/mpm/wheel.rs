@@ -285,7 +285,11 @@ impl CaseParams for WheelParams {
                 // The DEM side alone takes longer than the quick budget.
                 self.dem = false;
             }
-            Mode::Default => {}
+            // The DEM side (~12 s idle) does not fit the main command's plan either: it
+            // reports under `--full` or `--set dem=true`.
+            Mode::Default => {
+                self.dem = false;
+            }
             Mode::Full => {
                 self.cells = 16;
                 self.slip_sweep = vec![0.0, 0.1, 0.4];
