@@ -21,7 +21,8 @@
 //! - **far** `F`: the other contacts.
 //!
 //! and solved by block Gauss–Seidel on the CCP (each block's sub-problem is the CCP of its
-//! rows with the other block's impulses held, [`CcpProblem::subproblem_rows`]):
+//! rows with the other block's impulses held, on the bodies its rows touch:
+//! [`HeldSubproblem`], assembled once per solve, its momentum updated per sweep):
 //!
 //! ```text
 //! repeat:  g_L <- ADMM( N_LL g_L + r_L + N_LF g_F )      (direct: insensitive to M / m)
@@ -41,7 +42,8 @@
 //! sweep, and the local ADMM products scaled by the local block's share of the rows.
 
 use chrono_core::descriptor::{
-    BlockId, CcpProblem, CcpSolver, CcpWork, MassOperator, SolveStats, SolverSettings,
+    BlockId, CcpProblem, CcpSolver, CcpWork, HeldSubproblem, MassOperator, SolveStats,
+    SolverSettings,
 };
 use serde::{Deserialize, Serialize};
 
@@ -88,7 +90,9 @@ pub struct LocalDirect {
     far_solver: Apgd,
     local: Vec<usize>,
     far: Vec<usize>,
-    sub: CcpProblem,
+    /// The two blocks' sub-problems, assembled once per solve and updated per sweep.
+    sub_local: HeldSubproblem,
+    sub_far: HeldSubproblem,
     g_sub: Vec<f64>,
     grad: Vec<f64>,
     work: CcpWork,
@@ -111,7 +115,8 @@ impl LocalDirect {
             options: LocalDirectOptions::default(),
             local: Vec::new(),
             far: Vec::new(),
-            sub: CcpProblem::new(),
+            sub_local: HeldSubproblem::new(),
+            sub_far: HeldSubproblem::new(),
             g_sub: Vec::new(),
             grad: Vec::new(),
             work: CcpWork::default(),
@@ -253,18 +258,32 @@ impl LocalDirect {
         }
     }
 
-    /// Solve the sub-problem of `rows` with the others held, from and into `gamma`.
+    /// Solve the sub-problem of one block with the other held, from and into `gamma`: the
+    /// block's rows are assembled on the first sweep (on the bodies they touch only) and
+    /// afterwards only their momentum is updated for the other block's new impulses.
     fn solve_block(
         &mut self,
         p: &CcpProblem,
         local: bool,
+        first: bool,
         cap: usize,
         gamma: &mut [f64],
-    ) -> SolveStats {
-        let rows = if local { &self.local } else { &self.far };
-        if let Err(e) = p.subproblem_rows(rows, gamma, &mut self.sub) {
-            // The partition is made of whole cone blocks in order: this cannot fail.
-            unreachable!("local-direct partition: {e}");
+    ) -> Option<SolveStats> {
+        let (rows, sub) = if local {
+            (&self.local, &mut self.sub_local)
+        } else {
+            (&self.far, &mut self.sub_far)
+        };
+        let built = if first {
+            sub.build(p, rows, gamma)
+        } else {
+            sub.update(p, gamma)
+        };
+        if built.is_err() {
+            // The partition is made of whole cone blocks in order, so only a momentum the
+            // masses cannot take (impulses gone non-finite) fails: stop the sweeps, the
+            // final residual reports it.
+            return None;
         }
         self.g_sub.clear();
         self.g_sub.extend(rows.iter().map(|&r| gamma[r]));
@@ -276,11 +295,11 @@ impl LocalDirect {
         let st = solver.settings_mut();
         st.max_iterations = cap;
         st.tolerance = 0.5 * self.settings.tolerance;
-        let stats = solver.solve(&self.sub, &mut self.g_sub);
+        let stats = solver.solve(sub.problem(), &mut self.g_sub);
         for (&r, &x) in rows.iter().zip(&self.g_sub) {
             gamma[r] = x;
         }
-        stats
+        Some(stats)
     }
 }
 
@@ -308,7 +327,11 @@ impl CcpSolver for LocalDirect {
             (self.settings.max_iterations, 0, 0, 0);
         self.grad.resize(m, 0.0);
         loop {
-            let st = self.solve_block(problem, true, self.options.local_iterations, gamma);
+            let cap = self.options.local_iterations;
+            let Some(st) = self.solve_block(problem, true, sweeps == 0, cap, gamma) else {
+                problem.gradient(gamma, &mut self.grad, &mut self.work);
+                break;
+            };
             local_n += st.apply_n;
             sweeps += 1;
             problem.gradient(gamma, &mut self.grad, &mut self.work);
@@ -318,7 +341,10 @@ impl CcpSolver for LocalDirect {
                 break;
             }
             let cap = self.options.far_iterations.min(far_left);
-            let st = self.solve_block(problem, false, cap, gamma);
+            let Some(st) = self.solve_block(problem, false, sweeps == 1, cap, gamma) else {
+                problem.gradient(gamma, &mut self.grad, &mut self.work);
+                break;
+            };
             far_left -= st.iterations.min(far_left).max(1);
             apply_n += st.apply_n;
         }

@@ -179,7 +179,36 @@ impl CcpProblem {
         self.build_transpose(nblocks);
         self.build_diagonal();
         self.build_matrix_free(rows);
+        self.set_free_velocity()
+    }
 
+    /// Replace the momentum `k` of an assembled problem (same variables and rows) and
+    /// recompute what depends on it, `v_free = M^-1 k` and `r = b + D' v_free`: bit for bit
+    /// what [`assemble`](Self::assemble) with this `k` gives, without rebuilding the rows.
+    pub fn set_momentum(&mut self, k: &[f64]) -> Result<()> {
+        if k.len() != self.vars.ndof() {
+            return Err(ChronoError::invalid(
+                "k.len()",
+                k.len(),
+                format!("must equal ndof = {}", self.vars.ndof()),
+            ));
+        }
+        if let Some(i) = k.iter().position(|x| !x.is_finite()) {
+            return Err(ChronoError::invalid(
+                format!("k[{i}]"),
+                k[i],
+                "must be finite",
+            ));
+        }
+        self.k.clear();
+        self.k.extend_from_slice(k);
+        self.set_free_velocity()
+    }
+
+    /// `v_free = M^-1 k` and `r = b + D' v_free` from the stored `k`.
+    fn set_free_velocity(&mut self) -> Result<()> {
+        let vars = &self.vars;
+        let k = &self.k;
         self.v_free.clear();
         self.v_free.resize(vars.ndof(), 0.0);
         vars.apply_inverse(k, &mut self.v_free);

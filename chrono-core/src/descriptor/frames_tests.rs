@@ -279,3 +279,56 @@ fn frames_survive_a_problem_file_bit_for_bit() {
         assert_eq!(bits(&a), bits(&b), "{name}");
     }
 }
+
+/// The held sub-problem of every other contact: its variables compacted to the bodies its
+/// rows touch, the sphere frames kept (renumbered), `N_RR x` and `r_R + N_RO g_O` equal to
+/// the dense reference (to 1e-12 of the sum of the terms' magnitudes), an update equal to a
+/// fresh build bit for bit, bad row lists and `gamma` lengths named.
+#[test]
+fn held_subproblem_compacts_keeps_frames_and_updates_bit_for_bit() {
+    let (p, nn, _) = scene(5, 30, 40);
+    let m = p.n_rows();
+    let fr = p.sections().friction.clone();
+    let rows: Vec<usize> = fr.clone().step_by(6).flat_map(|i| i..i + 3).collect();
+    let g: Vec<f64> = (0..m)
+        .map(|i| 0.1 * (i as f64 * 0.37).sin().abs())
+        .collect();
+    let mut h = HeldSubproblem::new();
+    h.build(&p, &rows, &g).unwrap();
+    let sub = h.problem();
+    assert_eq!(h.rows(), &rows[..]);
+    assert!(sub.variables().len() < p.variables().len());
+    assert!(sub.n_matrix_free() > 0, "frames lost");
+    let x: Vec<f64> = (0..rows.len()).map(|j| (j as f64 * 0.9).cos()).collect();
+    let mut y = vec![0.0; rows.len()];
+    sub.apply_n(&x, &mut y, &mut CcpWork::for_problem(sub));
+    for (a, &i) in rows.iter().enumerate() {
+        let terms: Vec<f64> = rows
+            .iter()
+            .enumerate()
+            .map(|(b, &j)| nn[(i, j)] * x[b])
+            .collect();
+        let bound = 1e-12 * terms.iter().map(|t| t.abs()).sum::<f64>().max(1e-300);
+        assert!(
+            (y[a] - terms.iter().sum::<f64>()).abs() <= bound,
+            "N x row {i}"
+        );
+        let held: Vec<f64> = (0..m)
+            .filter(|j| !rows.contains(j))
+            .map(|j| nn[(i, j)] * g[j])
+            .collect();
+        let expect = p.r()[i] + held.iter().sum::<f64>();
+        let bound = 1e-12 * (p.r()[i].abs() + held.iter().map(|t| t.abs()).sum::<f64>());
+        assert!((sub.r()[a] - expect).abs() <= bound, "r row {i}");
+    }
+    let g2: Vec<f64> = g.iter().map(|v| 2.0 * v + 0.01).collect();
+    h.update(&p, &g2).unwrap();
+    let mut fresh = HeldSubproblem::new();
+    fresh.build(&p, &rows, &g2).unwrap();
+    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    assert_eq!(bits(h.problem().r()), bits(fresh.problem().r()));
+    let e = h.build(&p, &rows[1..], &g).unwrap_err().to_string();
+    assert!(e.contains("subproblem rows"), "{e}");
+    let e = h.build(&p, &rows, &g[1..]).unwrap_err().to_string();
+    assert!(e.contains("gamma.len()"), "{e}");
+}

@@ -26,6 +26,7 @@ mod frames;
 mod frames_simd;
 #[cfg(test)]
 mod frames_tests;
+mod held;
 mod n_plan;
 mod ops;
 mod packed;
@@ -43,6 +44,7 @@ pub use cone::{
 };
 pub use coupled::{CoupledMass, DenseMass, dense_matrix};
 pub use file::{FrameData, ProblemFile, ProblemFormat};
+pub use held::HeldSubproblem;
 pub use n_plan::NEntryPlan;
 pub use ops::UNIT_ROWS;
 pub use packed::PackedRows;

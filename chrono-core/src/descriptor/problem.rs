@@ -439,6 +439,16 @@ impl CcpProblem {
         }
     }
 
+    /// Row `i`'s entries: each block and its `D` coefficients.
+    pub(super) fn row_entries_raw(&self, i: usize) -> impl Iterator<Item = (u32, &[f64])> + '_ {
+        (self.row_ptr[i] as usize..self.row_ptr[i + 1] as usize).map(|e| {
+            (
+                self.ent_block[e],
+                &self.coefs[self.ent_coef[e] as usize..self.ent_coef[e + 1] as usize],
+            )
+        })
+    }
+
     /// Rebuild the rows this problem was assembled from (same groups, order, entries, `b`,
     /// `eps`, bounds and friction coefficients), e.g. to save it ([`super::ProblemFile`]) or
     /// to assemble a sub-problem. `assemble(variables(), &rows, momentum())` reproduces this
@@ -451,10 +461,22 @@ impl CcpProblem {
 
     /// Push the rows `range` (whole cone blocks) into `rows`, in their groups.
     pub(super) fn push_rows(&self, range: Range<usize>, rows: &mut ConstraintRows) {
+        self.push_rows_mapped(range, None, rows);
+    }
+
+    /// [`push_rows`](Self::push_rows) with the variable blocks renumbered by `map` (parent
+    /// block -> new block; every block the rows touch must be mapped).
+    pub(super) fn push_rows_mapped(
+        &self,
+        range: Range<usize>,
+        map: Option<&[u32]>,
+        rows: &mut ConstraintRows,
+    ) {
+        let block = |b: u32| BlockId(map.map_or(b, |m| m[b as usize]));
         let entries = |i: usize| -> Vec<super::RowEntry<'_>> {
             (self.row_ptr[i] as usize..self.row_ptr[i + 1] as usize)
                 .map(|e| super::RowEntry {
-                    block: BlockId(self.ent_block[e]),
+                    block: block(self.ent_block[e]),
                     coefs: &self.coefs[self.ent_coef[e] as usize..self.ent_coef[e + 1] as usize],
                 })
                 .collect()
@@ -483,7 +505,11 @@ impl CcpProblem {
                 );
                 let frames = &self.mf.frames;
                 if let Ok(f) = frames.binary_search_by_key(&(k as u32), |&(t, _)| t) {
-                    rows.set_contact_frame(id, frames[f].1);
+                    let mut frame = frames[f].1;
+                    for b in frame.blocks.iter_mut().flatten() {
+                        *b = block(b.0);
+                    }
+                    rows.set_contact_frame(id, frame);
                 }
                 i += 3;
             } else if s.rolling_per_body.contains(&i) {
@@ -557,6 +583,17 @@ impl CcpProblem {
     ) -> Result<()> {
         let mut member = vec![false; self.n_rows];
         let mut sub = ConstraintRows::new();
+        for (i, len) in self.whole_blocks(rows)? {
+            self.push_rows(i..i + len, &mut sub);
+            member[i..i + len].fill(true);
+        }
+        self.assemble_with_held(&sub, |i| member[i], gamma, out)
+    }
+
+    /// The cone blocks `(first row, length)` of `rows` (strictly increasing, whole cone
+    /// blocks), or an error naming the first entry that breaks that.
+    pub(super) fn whole_blocks(&self, rows: &[usize]) -> Result<Vec<(usize, usize)>> {
+        let mut out = Vec::new();
         let mut k = 0;
         while k < rows.len() {
             let i = rows[k];
@@ -574,11 +611,10 @@ impl CcpProblem {
             if start != i || rows.len() < k + len || rows[k + len - 1] != i + len - 1 {
                 return bad("must not cut a friction triplet or rolling contact");
             }
-            self.push_rows(i..i + len, &mut sub);
-            member[i..i + len].fill(true);
+            out.push((i, len));
             k += len;
         }
-        self.assemble_with_held(&sub, |i| member[i], gamma, out)
+        Ok(out)
     }
 
     /// Assemble `rows` with the momentum `k + D_O g_O` of the rows `O` not `inside`.
