@@ -82,9 +82,11 @@ impl CcpProblem {
             for e in self.row_ptr[i] as usize..self.row_ptr[i + 1] as usize {
                 for f in self.row_ptr[j] as usize..self.row_ptr[j + 1] as usize {
                     if self.ent_block[e] == self.ent_block[f] {
-                        let c0 = self.ent_coef[e];
-                        let len = self.ent_coef[e + 1] - c0;
-                        plan.pairs.push([c0, self.ent_coef[f], len]);
+                        // Only `D_i`'s non-zero span (`n_entry` sums the same products).
+                        let (c0, c1) = self.nonzero_span(e);
+                        let lo = c0 as u32 - self.ent_coef[e];
+                        let len = (c1 - c0) as u32;
+                        plan.pairs.push([c0 as u32, self.ent_coef[f] + lo, len]);
                     }
                 }
             }
