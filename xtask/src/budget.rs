@@ -81,7 +81,7 @@ pub const BUDGETS: &[Budget] = &[
     b("fea-shell-cantilever", 1.0, 1.0),
     b("fea-shell-pressure", 1.0, 1.0),
     b("fea-bend-45", 1.0, 1.0),
-    b("fea-tire-drop", 6.0, 6.0),
+    b("fea-tire-drop", 4.0, 4.0),
     b("fea-tire-static", 5.0, 2.0),
     b("fea-tire-rolling", 12.0, 4.0),
     b("mpm-elastic-bar", 9.0, 1.0),

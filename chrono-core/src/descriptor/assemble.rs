@@ -8,7 +8,7 @@ use rayon::prelude::*;
 
 use super::problem::{CcpProblem, GROUP_ORDER, Sections, group_name};
 use super::rows::{ConstraintRows, PER_BODY_ROWS, RowGroup};
-use super::variables::{BlockId, Variables};
+use super::variables::{BlockId, MassOperator, Variables};
 use crate::error::{ChronoError, Result};
 
 /// Below this many rows the assembly's row-wise loops run on the calling thread.
@@ -47,6 +47,7 @@ impl CcpProblem {
         ] {
             v.clear();
         }
+        self.ent_span.clear();
         for v in [
             &mut self.coefs,
             &mut self.minv,
@@ -103,6 +104,7 @@ impl CcpProblem {
                     self.ent_block.push(blk as u32);
                     self.ent_off.push(vars.offset(BlockId(blk as u32)) as u32);
                     self.ent_coef.push(self.coefs.len() as u32);
+                    self.ent_span.push(nonzero_span(c));
                     self.coefs.extend_from_slice(c);
                 }
                 self.row_ptr.push(self.ent_block.len() as u32);
@@ -232,19 +234,29 @@ impl CcpProblem {
         Ok(())
     }
 
-    /// `M^-1 D` entry by entry (`minv`, laid out like `coefs`), in parallel over chunks of
-    /// entries for large problems (each entry on its own: the same bits for any thread
-    /// count).
+    /// `M^-1 D` (`minv`, laid out like `coefs`). Entries on diagonal blocks (particles,
+    /// bodies) one by one, in parallel over chunks of entries for large problems (each
+    /// entry on its own: the same bits for any thread count). Entries on a coupled block
+    /// (an implicit mesh, `H^-1 D_i` through a factorization) are gathered per block into
+    /// the columns of one right-hand side and solved together
+    /// ([`CoupledMass::apply_inverse_columns`](super::CoupledMass::apply_inverse_columns)): one sweep over the factor per batch of
+    /// columns instead of one per row, the same values column by column.
     fn fill_minv(&mut self) {
         const ENTRIES: usize = 2048;
         let mut minv = std::mem::take(&mut self.minv);
         minv.clear();
         minv.resize(self.coefs.len(), 0.0);
         let n_ent = self.ent_block.len();
+        let coupled = |e: usize| {
+            matches!(
+                self.vars.mass(BlockId(self.ent_block[e])),
+                MassOperator::Coupled(_)
+            )
+        };
         let chunk = |e0: usize, out: &mut [f64]| {
             let e1 = (e0 + ENTRIES).min(n_ent);
             let base = self.ent_coef[e0] as usize;
-            for e in e0..e1 {
+            for e in (e0..e1).filter(|&e| !coupled(e)) {
                 let (c0, c1) = (self.ent_coef[e] as usize, self.ent_coef[e + 1] as usize);
                 (self.vars.mass(BlockId(self.ent_block[e])))
                     .apply_inverse(&self.coefs[c0..c1], &mut out[c0 - base..c1 - base]);
@@ -263,6 +275,36 @@ impl CcpProblem {
             parts.into_par_iter().for_each(|(e0, out)| chunk(e0, out));
         } else {
             parts.into_iter().for_each(|(e0, out)| chunk(e0, out));
+        }
+        // The coupled blocks' entries, per block in entry order, in batches of columns
+        // (bounded scratch: `COLUMNS ndof` values).
+        const COLUMNS: usize = 64;
+        let mut by_block: Vec<(u32, Vec<usize>)> = Vec::new();
+        for e in (0..n_ent).filter(|&e| coupled(e)) {
+            let b = self.ent_block[e];
+            match by_block.iter_mut().find(|(blk, _)| *blk == b) {
+                Some((_, list)) => list.push(e),
+                None => by_block.push((b, vec![e])),
+            }
+        }
+        let mut columns = Vec::new();
+        for (b, list) in &by_block {
+            let MassOperator::Coupled(op) = self.vars.mass(BlockId(*b)) else {
+                continue;
+            };
+            let n = op.ndof();
+            for batch in list.chunks(COLUMNS) {
+                columns.clear();
+                for &e in batch {
+                    let c0 = self.ent_coef[e] as usize;
+                    columns.extend_from_slice(&self.coefs[c0..c0 + n]);
+                }
+                op.apply_inverse_columns(&mut columns, batch.len());
+                for (&e, col) in batch.iter().zip(columns.chunks_exact(n)) {
+                    let c0 = self.ent_coef[e] as usize;
+                    minv[c0..c0 + n].copy_from_slice(col);
+                }
+            }
         }
         self.minv = minv;
     }
@@ -340,7 +382,7 @@ impl CcpProblem {
         let one = |(i, d): (usize, &mut f64)| {
             let mut x = self.eps[i];
             for e in self.row_ptr[i] as usize..self.row_ptr[i + 1] as usize {
-                let (c0, c1) = (self.ent_coef[e] as usize, self.ent_coef[e + 1] as usize);
+                let (c0, c1) = self.nonzero_span(e);
                 for (c, m) in self.coefs[c0..c1].iter().zip(&self.minv[c0..c1]) {
                     x += c * m;
                 }
@@ -398,5 +440,21 @@ impl CcpProblem {
             }
         }
         self.cone_blocks = blocks;
+    }
+}
+
+/// `[lo, hi)`: the span of `c` outside which every coefficient is zero (`[0, 0]` if all
+/// are); the whole range for up to 6 coefficients (a body's or a particle's block, summed
+/// unrolled). See [`CcpProblem::nonzero_span`].
+fn nonzero_span(c: &[f64]) -> [u32; 2] {
+    if c.len() <= 6 {
+        return [0, c.len() as u32];
+    }
+    match c.iter().position(|&x| x != 0.0) {
+        Some(lo) => {
+            let hi = c.iter().rposition(|&x| x != 0.0).map_or(lo, |h| h + 1);
+            [lo as u32, hi as u32]
+        }
+        None => [0, 0],
     }
 }

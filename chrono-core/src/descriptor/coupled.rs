@@ -36,6 +36,21 @@ pub trait CoupledMass: std::fmt::Debug + Send + Sync {
 
     /// `out = H^-1 x` (both of length `ndof`).
     fn apply_inverse(&self, x: &[f64], out: &mut [f64]);
+
+    /// `X <- H^-1 X` for the `ncols` columns of `x` (column-major, `ndof` values each):
+    /// the `M^-1 D` of many rows on one block at once (the descriptor's assembly). Each
+    /// column must come out as [`apply_inverse`](Self::apply_inverse) would give it to
+    /// round-off. The default solves column by column; a factorization that can solve
+    /// several right-hand sides in one sweep (reading its factor once per sweep, not once
+    /// per column) overrides it.
+    fn apply_inverse_columns(&self, x: &mut [f64], ncols: usize) {
+        let n = self.ndof();
+        let mut col = vec![0.0; n];
+        for c in x.chunks_exact_mut(n).take(ncols) {
+            self.apply_inverse(c, &mut col);
+            c.copy_from_slice(&col);
+        }
+    }
 }
 
 /// A dense symmetric positive definite mass matrix factorized once by Cholesky

@@ -13,10 +13,14 @@ use crate::error::{ChronoError, Result};
 /// every call; a plan finds them once ([`CcpProblem::plan_n_entries`]) and
 /// [`CcpProblem::fill_n_entries`] then only multiplies, in the same order, so the values
 /// are bit-identical to `n_entry`'s. The plan remembers the layout it was made from (the
-/// entries of the rows it names: their blocks and where their coefficients are stored);
+/// entries of the rows it names: their blocks, where their coefficients are stored and the
+/// span of `D_i` outside which all are zero, which the products are limited to);
 /// `fill_n_entries` checks it (a pass over those rows' entries) and plans again if it
 /// changed, so a plan is never stale: the joint rows of a mechanism keep their layout from
-/// one step to the next and are planned once.
+/// one step to the next and are planned once. (The span is part of the layout because it
+/// moves with the coefficients: a mesh node's row whose slope coefficients are zero in the
+/// reference pose gains non-zeros once the mesh turns; a plan that kept the old span would
+/// drop those products.)
 #[derive(Debug, Clone, Default)]
 pub struct NEntryPlan {
     /// The rows `(i, j)` of each entry.
@@ -28,8 +32,9 @@ pub struct NEntryPlan {
     pairs: Vec<[u32; 3]>,
     /// The layout planned on: each row named (row, first entry, end of its entries) ...
     layout_rows: Vec<[u32; 3]>,
-    /// ... and each of their entries (block, first coefficient, end of its coefficients).
-    layout_entries: Vec<[u32; 3]>,
+    /// ... and each of their entries (block, first coefficient, end of its coefficients,
+    /// first and end of its non-zero span).
+    layout_entries: Vec<[u32; 5]>,
 }
 
 impl NEntryPlan {
@@ -82,9 +87,11 @@ impl CcpProblem {
             for e in self.row_ptr[i] as usize..self.row_ptr[i + 1] as usize {
                 for f in self.row_ptr[j] as usize..self.row_ptr[j + 1] as usize {
                     if self.ent_block[e] == self.ent_block[f] {
-                        let c0 = self.ent_coef[e];
-                        let len = self.ent_coef[e + 1] - c0;
-                        plan.pairs.push([c0, self.ent_coef[f], len]);
+                        // Only `D_i`'s non-zero span (`n_entry` sums the same products).
+                        let (c0, c1) = self.nonzero_span(e);
+                        let lo = c0 as u32 - self.ent_coef[e];
+                        let len = (c1 - c0) as u32;
+                        plan.pairs.push([c0 as u32, self.ent_coef[f] + lo, len]);
                     }
                 }
             }
@@ -99,8 +106,7 @@ impl CcpProblem {
             let (e0, e1) = (self.row_ptr[i as usize], self.row_ptr[i as usize + 1]);
             plan.layout_rows.push([i, e0, e1]);
             for e in e0 as usize..e1 as usize {
-                let c = [self.ent_block[e], self.ent_coef[e], self.ent_coef[e + 1]];
-                plan.layout_entries.push(c);
+                plan.layout_entries.push(self.entry_layout(e));
             }
         }
     }
@@ -114,13 +120,25 @@ impl CcpProblem {
                 return false;
             }
             for e in e0 as usize..e1 as usize {
-                let now = [self.ent_block[e], self.ent_coef[e], self.ent_coef[e + 1]];
-                if seen.next() != Some(&now) {
+                if seen.next() != Some(&self.entry_layout(e)) {
                     return false;
                 }
             }
         }
         true
+    }
+
+    /// What a plan depends on of entry `e`: its block, its coefficients' range and their
+    /// non-zero span.
+    fn entry_layout(&self, e: usize) -> [u32; 5] {
+        let [lo, hi] = self.ent_span[e];
+        [
+            self.ent_block[e],
+            self.ent_coef[e],
+            self.ent_coef[e + 1],
+            lo,
+            hi,
+        ]
     }
 
     /// The planned entries of `N` into `out` (one per planned position, in the plan's

@@ -116,6 +116,9 @@ pub struct CcpProblem {
     pub(super) ent_off: Vec<u32>,
     /// Start of each entry's coefficients, with a final sentinel (len = entries + 1).
     pub(super) ent_coef: Vec<u32>,
+    /// The span of each entry's coefficients outside which all are zero, relative to its
+    /// first: `[lo, hi)` (see [`nonzero_span`](Self::nonzero_span)).
+    pub(super) ent_span: Vec<[u32; 2]>,
     pub(super) coefs: Vec<f64>,
     pub(super) minv: Vec<f64>,
     // By block: entries of block b are tr_ptr[b]..tr_ptr[b+1] (row order), their M^-1 D
@@ -347,6 +350,19 @@ impl CcpProblem {
         })
     }
 
+    /// The coefficients of entry `e` that may be non-zero, `coefs[a..b]` (absolute
+    /// positions). A row on a coupled block (an implicit mesh node's contact or
+    /// attachment) has a few non-zero coefficients among the block's thousands of dof;
+    /// the products over `D_i` (`n_entry`, `row_dot`, `diag(N)`) skip the zeros outside
+    /// the span, which changes no sum (`s + 0 b = s` for finite `b`). Entries of up to 6
+    /// coefficients keep their whole range (their unrolled loops).
+    #[inline]
+    pub(super) fn nonzero_span(&self, e: usize) -> (usize, usize) {
+        let c0 = self.ent_coef[e] as usize;
+        let [lo, hi] = self.ent_span[e];
+        (c0 + lo as usize, c0 + hi as usize)
+    }
+
     /// The entry `N_ij = D_i'M^-1 D_j + eps_i delta_ij` (sparse: sums over the blocks both
     /// rows touch).
     pub fn n_entry(&self, i: usize, j: usize) -> f64 {
@@ -354,8 +370,8 @@ impl CcpProblem {
         for e in self.row_ptr[i] as usize..self.row_ptr[i + 1] as usize {
             for f in self.row_ptr[j] as usize..self.row_ptr[j + 1] as usize {
                 if self.ent_block[e] == self.ent_block[f] {
-                    let (c0, c1) = (self.ent_coef[e] as usize, self.ent_coef[e + 1] as usize);
-                    let m0 = self.ent_coef[f] as usize;
+                    let (c0, c1) = self.nonzero_span(e);
+                    let m0 = self.ent_coef[f] as usize + (c0 - self.ent_coef[e] as usize);
                     for (a, b) in self.coefs[c0..c1].iter().zip(&self.minv[m0..]) {
                         s += a * b;
                     }
@@ -410,8 +426,9 @@ impl CcpProblem {
                 }
                 continue;
             }
-            let x = &v[off..off + (c1 - c0)];
-            for (c, x) in self.coefs[c0..c1].iter().zip(x) {
+            let (a0, a1) = self.nonzero_span(e);
+            let x = &v[off + (a0 - c0)..off + (a1 - c0)];
+            for (c, x) in self.coefs[a0..a1].iter().zip(x) {
                 s += c * x;
             }
         }

@@ -451,3 +451,184 @@ fn scalar_blocks_in_the_problem_and_in_files() {
         assert_eq!(q.r()[0].to_bits(), prob.r()[0].to_bits(), "{ext}");
     }
 }
+
+/// The rows of [`spans_and_batches`]: 70 rows on a 12-dof coupled block `A` (more than one
+/// batch of columns of `H^-1 D`), each also on one of two rigid bodies, every seventh on a
+/// second coupled block `B` (9 dof). `A`'s coefficients are sparse with the span at the
+/// start, at the end, a single one, none (an empty span) or two with zeros between.
+/// With `turned`, the single and the empty ones move (the same layout, other spans: a
+/// mesh node's row after the mesh turned).
+fn span_rows(turned: bool) -> Vec<Vec<(usize, Vec<f64>)>> {
+    let val = |k: usize, p: usize| 0.5 + ((k * 7 + p * 3) as f64 * 0.37).sin().abs();
+    (0..70)
+        .map(|k| {
+            let mut a = vec![0.0; 12];
+            let at: Vec<usize> = match (k % 5, turned) {
+                (0, _) => vec![0, 1, 2],
+                (1, _) => vec![9, 10, 11],
+                (2, false) => vec![k % 12],
+                (2, true) => vec![(k + 5) % 12],
+                (3, false) => vec![],
+                (3, true) => vec![11],
+                _ => vec![3, 7],
+            };
+            for p in at {
+                a[p] = val(k, p);
+            }
+            let sign = if k % 3 == 0 { -1.0 } else { 1.0 };
+            let body: Vec<f64> = (0..6).map(|p| sign * val(k + 100, p)).collect();
+            let mut row = vec![(0, a), (2 + k % 2, body)];
+            if k % 7 == 0 {
+                let mut b = vec![0.0; 9];
+                b[k % 9] = val(k + 200, 0);
+                row.push((1, b));
+            }
+            row
+        })
+        .collect()
+}
+
+/// Problem of [`span_rows`]: blocks `A`, `B` (coupled), two rigid bodies; rows 0..35
+/// bilateral, the rest unilateral with compliance (assembled in push order). Returns the
+/// problem and the dense `D`.
+fn span_problem(turned: bool) -> (CcpProblem, DMatrix<f64>) {
+    use std::sync::Arc;
+    let spd = |n: usize, s: f64| {
+        DMatrix::from_fn(n, n, |i, j| {
+            if i == j {
+                s + i as f64
+            } else {
+                0.4 / (1.0 + (i as f64 - j as f64).abs())
+            }
+        })
+    };
+    let mut vars = Variables::new();
+    let mut blocks = vec![
+        vars.add(MassOperator::coupled(Arc::new(DenseMass::new(spd(12, 3.0)).unwrap())).unwrap()),
+        vars.add(MassOperator::coupled(Arc::new(DenseMass::new(spd(9, 2.0)).unwrap())).unwrap()),
+    ];
+    let j = Matrix3::new(0.4, 0.02, 0.0, 0.02, 0.3, 0.01, 0.0, 0.01, 0.5);
+    blocks.push(vars.add(MassOperator::rigid_body(2.0, j).unwrap()));
+    blocks.push(vars.add(MassOperator::rigid_body(1.5, j * 2.0).unwrap()));
+    let spec = span_rows(turned);
+    let mut rows = ConstraintRows::new();
+    let mut d = DMatrix::zeros(spec.len(), vars.ndof());
+    for (i, row) in spec.iter().enumerate() {
+        let e: Vec<RowEntry<'_>> = (row.iter())
+            .map(|(b, c)| RowEntry {
+                block: blocks[*b],
+                coefs: c,
+            })
+            .collect();
+        if i < 35 {
+            rows.push_bilateral(&e, 0.01 * i as f64, 0.0);
+        } else {
+            rows.push_unilateral(&e, -0.02, 1e-3 * (i % 4) as f64);
+        }
+        for (b, c) in row {
+            let off = vars.offset(blocks[*b]);
+            for (jj, v) in c.iter().enumerate() {
+                d[(i, off + jj)] += v;
+            }
+        }
+    }
+    let k: Vec<f64> = (0..vars.ndof()).map(|i| (i as f64 * 0.7).cos()).collect();
+    let mut prob = CcpProblem::new();
+    prob.assemble(&vars, &rows, &k).unwrap();
+    (prob, d)
+}
+
+/// The assembly's shortcuts on coupled blocks are bit-neutral: `H^-1 D_i` solved in
+/// batches of columns, and the sums over `D_i` (`n_entry`, `diag(N)`, `row_dot`, planned
+/// entries of `N`) limited to the non-zero span of each entry.
+///
+/// - Bit for bit (tolerance 0): each coupled entry's `M^-1 D_i` against a one-column solve
+///   of its own coefficients; `n_entry` and `diag` against the same sums over every
+///   coefficient (the skipped products are exact zeros, `s + 0 b = s`); planned entries
+///   against `n_entry`, also with a plan made on the problem before its spans moved (the
+///   layout is the same, only where the non-zeros sit changed).
+/// - Against the dense definition `N = D M^-1 D' + E`, `r = b + D M^-1 k`, `N g`: to
+///   `1e-12 max(1, |x|)`, the round-off of sums of at most 27 products of O(1) numbers
+///   taken in another order (about 1e-15 each); a dropped product is O(0.1).
+#[test]
+fn spans_and_batches_are_bit_neutral_on_coupled_blocks() {
+    let bits = |x: f64| x.to_bits();
+    let (before, _) = span_problem(false);
+    let n_rows = before.n_rows();
+    let positions: Vec<(usize, usize)> = (0..n_rows)
+        .flat_map(|i| (0..n_rows).map(move |j| (i, j)))
+        .collect();
+    let mut plan = NEntryPlan::default();
+    before
+        .plan_n_entries(positions.iter().copied(), &mut plan)
+        .unwrap();
+    let mut planned = vec![0.0; plan.len()];
+    for turned in [false, true] {
+        let (prob, d) = span_problem(turned);
+        let vars = prob.variables();
+        let ndof = prob.ndof();
+        // M^-1 D: each coupled entry's column as one solve gives it.
+        for i in 0..n_rows {
+            for (blk, _, c, m) in prob.row_entries(i) {
+                if let MassOperator::Coupled(op) = vars.mass(blk) {
+                    let mut y = vec![0.0; c.len()];
+                    op.apply_inverse(c, &mut y);
+                    let same = y.iter().zip(m).all(|(a, b)| bits(*a) == bits(*b));
+                    assert!(same, "turned {turned}: M^-1 D of row {i}, block {blk:?}");
+                }
+            }
+        }
+        // Every coefficient, in n_entry's order.
+        let full = |i: usize, j: usize| {
+            let mut s = if i == j { prob.eps()[i] } else { 0.0 };
+            for (bi, _, c, _) in prob.row_entries(i) {
+                for (bj, _, _, m) in prob.row_entries(j) {
+                    if bi == bj {
+                        for (a, b) in c.iter().zip(m) {
+                            s += a * b;
+                        }
+                    }
+                }
+            }
+            s
+        };
+        // The dense definition.
+        let mut minv = DMatrix::zeros(ndof, ndof);
+        let mut e = vec![0.0; ndof];
+        let mut col = vec![0.0; ndof];
+        for jj in 0..ndof {
+            e[jj] = 1.0;
+            vars.apply_inverse(&e, &mut col);
+            e[jj] = 0.0;
+            minv.column_mut(jj).copy_from_slice(&col);
+        }
+        let dense_n = &d * &minv * d.transpose()
+            + DMatrix::from_diagonal(&DVector::from_column_slice(prob.eps()));
+        let close = |x: f64, want: f64| (x - want).abs() <= 1e-12 * want.abs().max(1.0);
+        prob.fill_n_entries(&mut plan, &mut planned).unwrap();
+        for (&(i, j), &p) in positions.iter().zip(&planned) {
+            let n = prob.n_entry(i, j);
+            assert_eq!(bits(n), bits(full(i, j)), "turned {turned}: N[{i},{j}]");
+            assert_eq!(bits(p), bits(n), "turned {turned}: planned N[{i},{j}]");
+            assert!(
+                close(n, dense_n[(i, j)]),
+                "turned {turned}: N[{i},{j}] {n} vs dense {}",
+                dense_n[(i, j)]
+            );
+        }
+        for i in 0..n_rows {
+            assert_eq!(bits(prob.diag()[i]), bits(full(i, i)), "diag {i}");
+        }
+        let v_free = &minv * DVector::from_column_slice(prob.momentum());
+        let r_dense = DVector::from_column_slice(prob.b()) + &d * &v_free;
+        let g: Vec<f64> = (0..n_rows).map(|i| (i as f64 * 0.53).sin()).collect();
+        let mut out = vec![0.0; n_rows];
+        let mut work = CcpWork::for_problem(&prob);
+        prob.apply_n(&g, &mut out, &mut work);
+        let ng = &dense_n * DVector::from_column_slice(&g);
+        for i in 0..n_rows {
+            assert!(close(prob.r()[i], r_dense[i]), "turned {turned}: r[{i}]");
+            assert!(close(out[i], ng[i]), "turned {turned}: (N g)[{i}]");
+        }
+    }
+}
