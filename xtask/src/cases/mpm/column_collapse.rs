@@ -34,8 +34,8 @@
 //! still grows under refinement, so the checks are reported, not enforced (`check` =
 //! false), like `mpm-snow`'s.
 
-use chrono_mpm::FBar;
 use chrono_mpm::column::{Column, ColumnResult, ColumnSpec};
+use chrono_mpm::{FBar, MuI};
 use serde::{Deserialize, Serialize};
 
 use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series};
@@ -89,6 +89,11 @@ pub struct ColumnParams {
     pub f_bar: String,
     /// The FLIP fraction of the marker velocity update (`MpmBody::set_flip`; 0: APIC).
     pub flip: f64,
+    /// Grain diameter of the `mu(I)` friction, m (`chrono_mpm::MuI`, Jop et al. 2006's
+    /// other constants); 0: rate-independent.
+    pub grain_diameter: f64,
+    /// Start from the geostatic state instead of stress-free.
+    pub geostatic: bool,
 }
 
 impl Default for ColumnParams {
@@ -116,6 +121,8 @@ impl Default for ColumnParams {
             check: false,
             f_bar: "off".into(),
             flip: 0.99,
+            grain_diameter: 0.0,
+            geostatic: false,
         }
     }
 }
@@ -187,6 +194,16 @@ impl CaseParams for ColumnParams {
             "flip",
             "-",
             "FLIP fraction of the marker velocity update (0: APIC, whose loss per step makes the runout depend on the step count)",
+        ),
+        ParamInfo::new(
+            "grain_diameter",
+            "m",
+            "grain diameter of the mu(I) friction (Jop et al. 2006's delta_mu 0.26, I0 0.279, rho_s 2450); 0: rate-independent",
+        ),
+        ParamInfo::new(
+            "geostatic",
+            "-",
+            "start from the geostatic (K0) state instead of stress-free",
         ),
     ];
 
@@ -302,6 +319,11 @@ fn spec(p: &ColumnParams, a: f64, f_bar: FBar) -> ColumnSpec {
         max_time: p.max_time,
         f_bar,
         flip: p.flip,
+        geostatic: p.geostatic,
+        mu_i: (p.grain_diameter > 0.0).then(|| MuI {
+            grain_diameter: p.grain_diameter,
+            ..MuI::jop_2006()
+        }),
     }
 }
 
