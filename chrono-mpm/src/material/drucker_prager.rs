@@ -224,7 +224,7 @@ impl DruckerPrager {
         let tr_tau = bulk3 * tr;
         let p = -tr_tau / 3.0;
         let k0 = self.kappa - self.alpha * tr_tau;
-        if p <= 0.0 || self.alpha == 0.0 || !(dt > 0.0) {
+        if p <= 0.0 || self.alpha == 0.0 || dt.is_nan() || dt <= 0.0 {
             return self.return_strain(eps);
         }
         let s_norm = 2.0 * el.mu * dev.norm();
