@@ -1,7 +1,7 @@
 //! A granular column collapsing on a rough floor in a slab (`chrono_mpm::column`): prints
 //! the runout and final height against time and at rest.
 //!
-//! `cargo run --release -p chrono-mpm --example column [aspect_ratio [friction_angle_deg [cells_length [markers_per_cell [young [floor_friction_angle_deg (-1 sticky) [f_bar (0 off, 1 increment) [cfl [cohesion [associated (0 or 1) [flip]]]]]]]]]]]`
+//! `cargo run --release -p chrono-mpm --example column [aspect_ratio [friction_angle_deg [cells_length [markers_per_cell [young [floor_friction_angle_deg (-1 sticky) [f_bar (0 off, 1 increment) [cfl [cohesion [associated (0 or 1) [flip [geostatic (0 or 1) [grain_diameter (mu(I), 0 off)]]]]]]]]]]]]]`
 
 use chrono_mpm::column::{Column, ColumnSpec};
 
@@ -23,6 +23,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         cohesion: arg(9, 0.0)?,
         associated_flow: arg(10, 0.0)? > 0.0,
         flip: arg(11, 0.0)?,
+        geostatic: arg(12, 0.0)? > 0.0,
+        mu_i: match arg(13, 0.0)? {
+            d if d > 0.0 => Some(chrono_mpm::MuI {
+                grain_diameter: d,
+                ..chrono_mpm::MuI::jop_2006()
+            }),
+            _ => None,
+        },
         floor_friction_angle_deg: match arg(6, arg(2, 30.0)?)? {
             f if f < 0.0 => None,
             f => Some(f),

@@ -30,7 +30,7 @@ use crate::body::{MpmBody, MpmSettings};
 use crate::error::{Result, invalid, positive};
 use crate::fbar::FBar;
 use crate::grid::{GridSpec, Wall};
-use crate::material::{DruckerPrager, Material};
+use crate::material::{DruckerPrager, Material, MuI};
 use crate::rigid::{Contact, RigidBody};
 
 /// Grid cells below the floor (the nodes a marker's stencil reaches there, and one more).
@@ -78,6 +78,12 @@ pub struct ColumnSpec {
     pub f_bar: FBar,
     /// The FLIP fraction of the velocity update ([`MpmBody::set_flip`]; 0: APIC).
     pub flip: f64,
+    /// Start from the geostatic state (every marker at the stress of a laterally confined
+    /// elastic column under its own weight, as [`crate::soil_bin`]) instead of stress-free.
+    pub geostatic: bool,
+    /// The rate-dependent friction of the sand ([`DruckerPrager::with_mu_i`]); `None`:
+    /// rate-independent.
+    pub mu_i: Option<MuI>,
 }
 
 impl Default for ColumnSpec {
@@ -102,6 +108,8 @@ impl Default for ColumnSpec {
             max_time: 30.0,
             f_bar: FBar::Off,
             flip: 0.0,
+            geostatic: false,
+            mu_i: None,
         }
     }
 }
@@ -200,6 +208,9 @@ impl Column {
         if spec.associated_flow {
             dp = dp.associated();
         }
+        if let Some(mi) = spec.mu_i {
+            dp = dp.with_mu_i(mi)?;
+        }
         let sand = Material::DruckerPrager(dp);
         let dx = l0 / spec.cells_length as f64;
         let h0 = a * l0;
@@ -230,11 +241,19 @@ impl Column {
         let mut body = MpmBody::new(grid, sand, settings)?;
         body.set_flip(spec.flip)?;
         let vol = d * d * dx;
+        let top = mz as f64 * d;
+        let stiffness = dp.elastic.lambda + 2.0 * dp.elastic.mu;
         for i in 0..mx {
             for k in 0..mz {
                 let x = Vector3::new((i as f64 + 0.5) * d, 0.5 * dx, (k as f64 + 0.5) * d);
-                body.markers
+                let p = body
+                    .markers
                     .push(spec.density * vol, vol, x, Vector3::zeros())?;
+                if spec.geostatic {
+                    let eps = -spec.density * g * (top - x.z) / stiffness;
+                    body.markers.fe[p] =
+                        nalgebra::Matrix3::from_diagonal(&Vector3::new(1.0, 1.0, eps.exp()));
+                }
             }
         }
         let contact = match spec.floor_friction_angle_deg {

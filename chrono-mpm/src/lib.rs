@@ -58,5 +58,7 @@ pub use error::{MpmError, Result};
 pub use fbar::FBar;
 pub use grid::{GridSpec, SparseGrid, Wall};
 pub use markers::Markers;
-pub use material::{DruckerPrager, Elasticity, FixedCorotated, Material, SnowHardening, VonMises};
+pub use material::{
+    DruckerPrager, Elasticity, FixedCorotated, Material, MuI, SnowHardening, VonMises,
+};
 pub use rigid::{Contact, RigidBody, Shape};

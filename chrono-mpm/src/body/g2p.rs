@@ -23,7 +23,7 @@ impl MpmBody {
             self.vol_dj
                 .extend((0..mk.len()).map(|p| [mk.fe[p].determinant(), mk.fp[p].determinant()]));
         }
-        self.project();
+        self.project(dt);
         if mode == FBar::PlasticIncrement {
             self.f_bar_plastic();
         }
@@ -173,7 +173,7 @@ impl MpmBody {
     }
 
     /// `F_E <- return_mapping(dF_p F_E)` (`F_P` takes what the return gives up).
-    fn project(&mut self) {
+    fn project(&mut self, dt: f64) {
         let mat = self.material;
         let mk = &mut self.markers;
         mk.fe
@@ -185,7 +185,7 @@ impl MpmBody {
             .for_each(|(((fe, fp), df), status)| {
                 if *status == 0 {
                     let fe_trial = df * *fe;
-                    match mat.project(&fe_trial, fp) {
+                    match mat.project_step(&fe_trial, fp, dt) {
                         Some((fe1, fp1)) => {
                             *fe = fe1;
                             *fp = fp1;

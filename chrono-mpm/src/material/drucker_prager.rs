@@ -39,6 +39,46 @@ pub struct DruckerPrager {
     /// flow (Klar's, the default), `alpha` the associated one
     /// ([`DruckerPrager::associated`]).
     pub dilatancy: f64,
+    /// The rate dependence of the friction (`mu(I)`, [`DruckerPrager::with_mu_i`]); `None`:
+    /// rate-independent.
+    pub mu_i: Option<MuI>,
+}
+
+/// The `mu(I)` rheology of dense granular flow (GDR MiDi, Eur. Phys. J. E 14, 2004; Jop,
+/// Forterre & Pouliquen, Nature 441, 2006):
+///
+/// ```text
+/// mu(I) = mu_s + (mu_2 - mu_s) I / (I0 + I),   I = gamma_dot d / sqrt(p / rho_s)
+/// ```
+///
+/// with `gamma_dot = sqrt(2 D:D)` the shear rate (1/s), `d` the grain diameter (m), `p`
+/// the pressure (Pa) and `rho_s` the grains' density (kg/m^3). Here `mu_s` is the
+/// quasi-static friction of the cone (the plane-strain `sin(phi)`, see
+/// [`DruckerPrager::with_mu_i`]) and `mu_2 - mu_s` is [`MuI::delta_mu`]. Jop et al.'s
+/// glass beads: `mu_2 - mu_s` = 0.26, `I0` = 0.279, `d` = 0.53 mm, `rho_s` = 2450.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MuI {
+    /// `mu_2 - mu_s`, -, >= 0.
+    pub delta_mu: f64,
+    /// `I0`, -, > 0.
+    pub i0: f64,
+    /// Grain diameter `d`, m, > 0.
+    pub grain_diameter: f64,
+    /// Grain density `rho_s`, kg/m^3, > 0.
+    pub grain_density: f64,
+}
+
+impl MuI {
+    /// Jop, Forterre & Pouliquen (2006)'s glass beads (`delta_mu` 0.26, `I0` 0.279,
+    /// `d` 0.53 mm, `rho_s` 2450 kg/m^3).
+    pub fn jop_2006() -> Self {
+        Self {
+            delta_mu: 0.26,
+            i0: 0.279,
+            grain_diameter: 0.53e-3,
+            grain_density: 2450.0,
+        }
+    }
 }
 
 impl DruckerPrager {
@@ -76,6 +116,7 @@ impl DruckerPrager {
             alpha: 2.0 * (2.0f64 / 3.0).sqrt() * sin / (3.0 - sin),
             kappa: 2.0 * 6.0f64.sqrt() * cohesion * cos / (3.0 - sin),
             dilatancy: 0.0,
+            mu_i: None,
         })
     }
 
@@ -123,6 +164,98 @@ impl DruckerPrager {
     pub fn associated(mut self) -> Self {
         self.dilatancy = self.alpha;
         self
+    }
+
+    /// The same cone with a rate-dependent friction ([`MuI`]): the admissible deviator at
+    /// pressure `p` grows from the cone's `|s| = kappa + 3 alpha p` (the quasi-static
+    /// `mu_s`) by `3 alpha p (mu(I) - mu_s) / mu_s`, with `I` from the plastic shear rate
+    /// of the step. Non-dilatant flow only. Errors name the field (`material.mu_i.*`).
+    pub fn with_mu_i(mut self, mu_i: MuI) -> Result<Self> {
+        let check = |name: &str, v: f64, zero_ok: bool| {
+            if v.is_finite() && (v > 0.0 || (zero_ok && v == 0.0)) {
+                Ok(())
+            } else {
+                Err(invalid(
+                    &format!("material.mu_i.{name}"),
+                    v,
+                    if zero_ok {
+                        "must be finite and >= 0"
+                    } else {
+                        "must be finite and > 0"
+                    },
+                ))
+            }
+        };
+        check("delta_mu", mu_i.delta_mu, true)?;
+        check("i0", mu_i.i0, false)?;
+        check("grain_diameter", mu_i.grain_diameter, false)?;
+        check("grain_density", mu_i.grain_density, false)?;
+        if self.dilatancy != 0.0 {
+            return Err(invalid(
+                "material.mu_i",
+                "associated flow",
+                "mu(I) is implemented for the non-dilatant flow only",
+            ));
+        }
+        self.mu_i = Some(mu_i);
+        Ok(self)
+    }
+
+    /// The returned principal Hencky strains of trial strains `eps` over a step of `dt`
+    /// seconds: [`DruckerPrager::return_strain`] when rate-independent; with [`MuI`] the
+    /// radial return whose plastic deviatoric increment `Delta = |dev eps_p|` solves
+    ///
+    /// ```text
+    /// |s_trial| - 2 mu_e Delta = k0 + B I / (I0 + I),   I = c Delta,
+    /// k0 = kappa + 3 alpha p,   B = 3 alpha p delta_mu / mu_s,
+    /// c = sqrt(2) d / (dt sqrt(p / rho_s))
+    /// ```
+    ///
+    /// (`gamma_dot = sqrt(2) Delta / dt`; `mu_e` the shear modulus), a quadratic in
+    /// `Delta` with one positive root (Dunatunga & Kamrin, J. Fluid Mech. 779, 2015,
+    /// return the same rheology in their explicit MPM step).
+    pub fn return_strain_rate(&self, eps: &Vector3<f64>, dt: f64) -> Vector3<f64> {
+        let Some(mi) = self.mu_i else {
+            return self.return_strain(eps);
+        };
+        let el = &self.elastic;
+        let (dev, tr) = split(eps);
+        let bulk3 = 3.0 * el.lambda + 2.0 * el.mu;
+        let tr_tau = bulk3 * tr;
+        let p = -tr_tau / 3.0;
+        let k0 = self.kappa - self.alpha * tr_tau;
+        if p <= 0.0 || self.alpha == 0.0 || dt.is_nan() || dt <= 0.0 {
+            return self.return_strain(eps);
+        }
+        let s_norm = 2.0 * el.mu * dev.norm();
+        let a = s_norm - k0;
+        if a <= 0.0 {
+            return *eps;
+        }
+        let mu_s = 1.5 * self.alpha * 2.0f64.sqrt(); // sin(phi) of the plane-strain cone
+        let b = 3.0 * self.alpha * p * mi.delta_mu / mu_s;
+        let c = 2.0f64.sqrt() * mi.grain_diameter / (dt * (p / mi.grain_density).sqrt());
+        let g2 = 2.0 * el.mu;
+        // (a - g2 D)(I0 + c D) = b c D  ->  g2 c D^2 + (g2 I0 + (b - a) c) D - a I0 = 0.
+        let qb = g2 * mi.i0 + (b - a) * c;
+        let disc = (qb * qb + 4.0 * g2 * c * a * mi.i0).sqrt();
+        let delta = if qb >= 0.0 {
+            2.0 * a * mi.i0 / (qb + disc)
+        } else {
+            (disc - qb) / (2.0 * g2 * c)
+        };
+        dev * (1.0 - g2 * delta / s_norm) + Vector3::repeat(tr / 3.0)
+    }
+
+    /// The return mapping over a step of `dt` seconds (the rate-dependent friction's;
+    /// [`DruckerPrager::project`] when rate-independent).
+    pub fn project_step(
+        &self,
+        fe_trial: &Matrix3<f64>,
+        fp: &Matrix3<f64>,
+        dt: f64,
+    ) -> Option<(Matrix3<f64>, Matrix3<f64>)> {
+        super::hencky::project(fe_trial, fp, |eps| self.return_strain_rate(eps, dt))
     }
 
     /// The yield function `f(tau)` of principal Kirchhoff stresses, Pa (<= 0 admissible).
@@ -279,5 +412,77 @@ mod tests {
         assert!(e.to_string().contains("material.cohesion"), "{e}");
         let e = DruckerPrager::new(-1e6, 0.3, 30.0, 0.0).unwrap_err();
         assert!(e.to_string().contains("material.young"), "{e}");
+    }
+
+    #[test]
+    fn mu_i_return_holds_the_rheology_at_the_step_rate() {
+        // Trial states in plane-strain simple shear under pressure: after the return the
+        // deviator is |s| = sqrt(2) p mu(I) (the plane-strain cone, `t = mu p`), with
+        // I = gamma_dot d / sqrt(p / rho_s) from the step's plastic shear rate
+        // gamma_dot = sqrt(2) |dev eps_p| / dt; mu -> mu_s = sin(phi) for slow steps and
+        // the rate-independent return when I is negligible; the trace is kept.
+        let base = DruckerPrager::plane_strain(2e6, 0.3, 30.0, 0.0).unwrap();
+        let mi = MuI::jop_2006();
+        let m = base.with_mu_i(mi).unwrap();
+        let g2 = 2.0 * m.elastic.mu;
+        let bulk3 = 3.0 * m.elastic.lambda + 2.0 * m.elastic.mu;
+        for (vol, shear, dt) in [
+            (-1e-3, 5e-3, 1e-4),
+            (-2e-4, 1e-3, 1e-5),
+            (-1e-3, 2e-2, 1e-3),
+        ] {
+            let eps = Vector3::new(vol / 3.0 + shear, vol / 3.0, vol / 3.0 - shear);
+            let out = m.return_strain_rate(&eps, dt);
+            let (dev0, tr0) = split(&eps);
+            let (dev1, tr1) = split(&out);
+            assert!((tr1 - tr0).abs() < 1e-15, "trace {tr0} -> {tr1}");
+            let p = -bulk3 * tr0 / 3.0;
+            let delta = dev0.norm() - dev1.norm();
+            assert!(delta > 0.0, "no plastic flow: {eps:?}");
+            let i = 2.0f64.sqrt() * delta / dt * mi.grain_diameter / (p / mi.grain_density).sqrt();
+            let mu = 0.5 + mi.delta_mu * i / (mi.i0 + i);
+            let s = g2 * dev1.norm();
+            assert!(
+                (s - 2.0f64.sqrt() * p * mu).abs() < 1e-9 * s,
+                "I {i}: |s| {s} vs sqrt(2) p mu(I) {}",
+                2.0f64.sqrt() * p * mu
+            );
+            // Slow: the rate-independent cone.
+            let slow = m.return_strain_rate(&eps, 1e6);
+            let ri = base.return_strain(&eps);
+            assert!((slow - ri).norm() < 1e-9 * eps.norm(), "{slow:?} vs {ri:?}");
+        }
+        // Inside the cone: unchanged.
+        let e = Vector3::new(-1e-3, -1e-3, -1e-3);
+        assert_eq!(m.return_strain_rate(&e, 1e-4), e);
+        // Bad parameters name the field.
+        for (bad, field) in [
+            (MuI { i0: 0.0, ..mi }, "material.mu_i.i0"),
+            (
+                MuI {
+                    delta_mu: -1.0,
+                    ..mi
+                },
+                "material.mu_i.delta_mu",
+            ),
+            (
+                MuI {
+                    grain_diameter: f64::NAN,
+                    ..mi
+                },
+                "material.mu_i.grain_diameter",
+            ),
+            (
+                MuI {
+                    grain_density: 0.0,
+                    ..mi
+                },
+                "material.mu_i.grain_density",
+            ),
+        ] {
+            let e = base.with_mu_i(bad).unwrap_err().to_string();
+            assert!(e.contains(field), "{e}");
+        }
+        assert!(base.associated().with_mu_i(mi).is_err());
     }
 }

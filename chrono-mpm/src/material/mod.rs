@@ -20,7 +20,7 @@ pub mod von_mises;
 use nalgebra::Matrix3;
 
 pub use corotated::{FixedCorotated, SnowHardening};
-pub use drucker_prager::DruckerPrager;
+pub use drucker_prager::{DruckerPrager, MuI};
 pub use svd::SignedSvd;
 pub use von_mises::VonMises;
 
@@ -110,6 +110,21 @@ impl Material {
             Material::Corotated(m) => m.project(fe_trial, fp),
             Material::DruckerPrager(m) => m.project(fe_trial, fp),
             Material::VonMises(m) => m.project(fe_trial, fp),
+        }
+    }
+
+    /// The return mapping over a step of `dt` seconds: [`Material::project`], with the
+    /// rate-dependent friction of a Drucker–Prager sand with [`MuI`].
+    #[inline]
+    pub fn project_step(
+        &self,
+        fe_trial: &Matrix3<f64>,
+        fp: &Matrix3<f64>,
+        dt: f64,
+    ) -> Option<(Matrix3<f64>, Matrix3<f64>)> {
+        match self {
+            Material::DruckerPrager(m) if m.mu_i.is_some() => m.project_step(fe_trial, fp, dt),
+            _ => self.project(fe_trial, fp),
         }
     }
 
