@@ -210,7 +210,7 @@ impl CoupledMass for SparseSpd {
     }
 
     /// `X <- H^-1 X` for `ncols` columns. A simplicial factor (the meshes' usual case:
-    /// sparse columns) solves [`SOLVE_COLUMNS`] per faer sweep: the factor is read once
+    /// sparse columns) solves `SOLVE_COLUMNS` (16) per faer sweep: the factor is read once
     /// per sweep instead of once per column, and each column gets the same operations in
     /// the same order as in [`apply_inverse`](CoupledMass::apply_inverse) (the same bits,
     /// tested). A supernodal factor (dense blocks) solves column by column: its updates
