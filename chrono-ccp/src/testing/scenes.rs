@@ -146,6 +146,77 @@ pub fn heavy_stack(steps: usize) -> chrono_core::Result<(CcpProblem, Vec<f64>)> 
     Ok((sys.last_problem().clone(), sys.last_gamma().to_vec()))
 }
 
+/// A heavy box on a granular bed: `n x n x layers` spheres of radius [`PILE_RADIUS`]
+/// (density 2500 kg/m^3) in simple cubic stacking (touching) on a fixed half-space, and a
+/// box covering the middle `cover x cover` columns resting on the top layer, with mass
+/// `ratio` times a sphere's; friction 0.5, h 10 ms. Stepped `steps` times by ADMM (the
+/// problem is small: a direct solve), then the last step's problem and ADMM's answer.
+/// The box's load goes down its columns to the ground: the heavy-on-light case of a wheel
+/// on a shallow bed.
+pub fn heavy_on_bed(
+    n: usize,
+    layers: usize,
+    cover: usize,
+    ratio: f64,
+    steps: usize,
+) -> chrono_core::Result<(CcpProblem, Vec<f64>)> {
+    if cover > n || n == 0 || layers == 0 {
+        return Err(ChronoError::invalid(
+            "heavy_on_bed cover",
+            cover,
+            format!("must be at most n = {n} (n, layers >= 1)"),
+        ));
+    }
+    let settings = SolverSettings {
+        tolerance: 1e-9,
+        max_iterations: 5000,
+        record_history: false,
+    };
+    let mut sys = System::new(SystemSettings::default(), by_name("admm", settings)?)?;
+    let mat = ContactMaterial::with_friction(0.5);
+    sys.add_body(RigidBodyBuilder::fixed().collider(
+        Shape::HalfSpace {
+            normal: Vector3::z(),
+        },
+        Isometry3::identity(),
+        mat,
+    ))?;
+    let r = PILE_RADIUS;
+    let ball = Shape::Sphere { radius: r };
+    let density = 2500.0;
+    let offset = (n as f64 - 1.0) * r;
+    for k in 0..layers {
+        for i in 0..n {
+            for j in 0..n {
+                sys.add_body(
+                    RigidBodyBuilder::dynamic()
+                        .mass_from_shape(&ball, density)?
+                        .position(Vector3::new(
+                            2.0 * r * i as f64 - offset,
+                            2.0 * r * j as f64 - offset,
+                            r + 2.0 * r * k as f64,
+                        ))
+                        .collider(ball.clone(), Isometry3::identity(), mat),
+                )?;
+            }
+        }
+    }
+    let sphere_mass = density * 4.0 / 3.0 * std::f64::consts::PI * r.powi(3);
+    let half = Vector3::new(cover as f64 * r, cover as f64 * r, r);
+    let lid = Shape::Box { half_extents: half };
+    let lid_density = ratio * sphere_mass / (8.0 * half.x * half.y * half.z);
+    sys.add_body(
+        RigidBodyBuilder::dynamic()
+            .mass_from_shape(&lid, lid_density)?
+            .position(Vector3::new(0.0, 0.0, 2.0 * r * layers as f64 + r))
+            .collider(lid, Isometry3::identity(), mat),
+    )?;
+    for _ in 0..steps.max(1) {
+        sys.step(0.01)?;
+    }
+    Ok((sys.last_problem().clone(), sys.last_gamma().to_vec()))
+}
+
 /// A particle net of about `rows` bilateral rows: `n x n` particles (mass 0.5–2 kg),
 /// distance rows between neighbours, the corners pinned in z and one corner in x and y,
 /// small stabilization terms, gravity over one step of 10 ms. Symmetric positive definite,
