@@ -6,6 +6,22 @@
 //! Per attachment and axis `d`, one bilateral row on the node's position coordinate and, for
 //! a body target, the body's point Jacobian: `C_d = x_d - p_d` (node minus target point),
 //! `D' v + C_d / h = 0` with the target's known velocity (a kinematic body's) on the right.
+//!
+//! ## The body's lever arm: at the end of the step
+//!
+//! The mesh's force enters its step linearized to the end of the step,
+//! `F(q) - h K_T v+ ~ F(q + h v+)`. For an equivariant internal force (elastic, follower
+//! pressure) a rigid turn of the mesh turns that force with it: `K_T (w x q) = w x G`,
+//! `G = Q - F_p`, so over a step the reaction the mesh sends through a row turns by
+//! `h omega` with the body. Taken on the body with its start-of-step arm `p - x`, that
+//! turned force has a lever arm the body does not see, and the pair (node, body) injects
+//! the torque `h^2 sum_b (omega x a_b) x G_b` per step: a prestressed mesh on a spinning
+//! body (an inflated tire on its rim: bead reactions of some 10 kN) spins itself up
+//! exponentially at a rate proportional to `h` (issue 27: rim 10 -> 50 rad/s in 0.3 s at
+//! h = 2 ms). The body's side of a row is therefore taken at the end-of-step point
+//! `p + h omega x (p - x)` (and a director target at `a + h omega x a`), with the body's
+//! known `omega`: the pair's torque then cancels the turn to `O(h^2)` per step, and the
+//! constraint value `C` still uses the start point (the drift correction is unchanged).
 
 use chrono_core::Bodies;
 use chrono_core::body::{BodyHandle, RigidBody};
@@ -68,7 +84,10 @@ pub(crate) fn push_attachment_rows(
             AttachTarget::Body { body, local } => {
                 let b = ctx.body(body, format_args!("attachment {ai}"))?;
                 let p = (b.pose() * Point3::from(local)).coords;
-                let known = b.contact_jacobian(&p, &dirs, &mut |id, r| {
+                // The body's side at the end of the step (module docs): its arm turned by
+                // `h omega`, the turn the mesh's linearized force already carries.
+                let p_end = p + ctx.h * b.angular_velocity().cross(&(p - b.position()));
+                let known = b.contact_jacobian(&p_end, &dirs, &mut |id, r| {
                     let mut c = [[0.0; 6]; 3];
                     let len = r[0].len().min(6);
                     for k in 0..3 {
@@ -148,7 +167,9 @@ pub(crate) fn push_director_rows(
             e_c[c] = 1.0;
             let (mut known, mut body_entry) = (0.0, None);
             if let Some(b) = body {
-                let j = b.angular_jacobian(&a.cross(&e_c));
+                // `a` turned by `h omega`: the end of the step, as for the positions.
+                let a_end = a + ctx.h * b.angular_velocity().cross(&a);
+                let j = b.angular_jacobian(&a_end.cross(&e_c));
                 match b.block() {
                     Some(id) => body_entry = Some((id, j.map(|x| -x))),
                     None => known = b.jacobian_times_velocity(&j),

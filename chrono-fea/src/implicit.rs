@@ -278,6 +278,24 @@ impl ImplicitBlock {
         p
     }
 
+    /// Angular momentum about the origin `sum_n q_n x (M v)_n` over the 3-vectors of
+    /// coordinates `[3k, 3k + 3)` (positions and directors alike: each rotates as a
+    /// vector under a rigid rotation, so each carries `q x p`), kg m^2/s. Supported
+    /// coordinates carry no momentum.
+    pub fn angular_momentum(&self) -> Vector3<f64> {
+        let mut mv = vec![0.0; self.free_global.len()];
+        self.mass_times_velocity(&mut mv);
+        let mut p = vec![0.0; self.q.len()];
+        for (f, &g) in self.free_global.iter().enumerate() {
+            p[g] = mv[f];
+        }
+        let mut l = Vector3::zeros();
+        for (q, p) in self.q.chunks_exact(3).zip(p.chunks_exact(3)) {
+            l += Vector3::new(q[0], q[1], q[2]).cross(&Vector3::new(p[0], p[1], p[2]));
+        }
+        l
+    }
+
     /// Set the velocity of coordinates `first .. first + values.len()` (`what` names
     /// them in errors); a non-zero value on a supported coordinate is an error.
     pub fn set_velocity(&mut self, first: usize, values: &[f64], what: &str) -> Result<()> {

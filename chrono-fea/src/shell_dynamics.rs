@@ -272,6 +272,14 @@ impl ShellItem {
         self.core.momentum(|g| (g % 6 < 3).then_some(g % 6))
     }
 
+    /// Angular momentum about the origin, `sum_n r_n x p_r,n + d_n x p_d,n` with
+    /// `p = M v` (consistent mass; the director's momentum carries the `z^2` moment of
+    /// the thickness), kg m^2/s: conserved with that of the bodies when no external
+    /// torque acts (the follower pressure of a closed volume is internal).
+    pub fn angular_momentum(&self) -> Vector3<f64> {
+        self.core.angular_momentum()
+    }
+
     /// Strain energy of the current configuration, J.
     pub fn strain_energy(&self) -> f64 {
         self.mesh.strain_energy()
