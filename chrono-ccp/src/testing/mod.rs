@@ -40,7 +40,6 @@ mod structured;
 pub use check::{check_complementarity, dense_n, gradient, objective, residual};
 pub use random::{lattice, random_problem};
 pub use scenes::{
-    PILE_RADIUS, bilateral_net, granular_pile, heavy_on_bed, heavy_stack, pyramid_base_for,
-    pyramid_contacts,
+    PILE_RADIUS, bilateral_net, granular_pile, heavy_stack, pyramid_base_for, pyramid_contacts,
 };
 pub use structured::{box_stack, box_stack_ratio, particle_on_ground, rigid_coefs};
