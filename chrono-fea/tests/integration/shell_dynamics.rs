@@ -370,11 +370,12 @@ fn strip_clamped_by_director_rows_matches_the_supported_static_solution() {
     }
 }
 
-/// The free spinning inflated tire of the tests below: rim `(omega, L_y total)` per step.
-fn spin_diag(h: f64, beta: f64, steps: usize, mount: chrono_fea::BeadMount) -> Vec<(f64, f64)> {
-    use chrono_ccp::Schur;
-    use chrono_core::joint::{JointBuilder, JointKind};
-    use chrono_fea::{InflatedTire, TireGeometry, TireMesh, mount_on_rim};
+/// The 16 x 4 carcass (ring radius 0.28 m, section 0.08 m, 4 mm, E 1e8 Pa) of the spin
+/// tests, inflated to 1.5 bar with `mount` beads.
+fn small_inflated_tire(
+    mount: chrono_fea::BeadMount,
+) -> (chrono_fea::TireMesh, chrono_fea::InflatedTire) {
+    use chrono_fea::{InflatedTire, TireGeometry, TireMesh};
     let geometry = TireGeometry {
         centre: Vector3::zeros(),
         ring_radius: 0.28,
@@ -387,6 +388,15 @@ fn spin_diag(h: f64, beta: f64, steps: usize, mount: chrono_fea::BeadMount) -> V
     let material = ShellMaterial::isotropic(1.0e8, 0.3, 1100.0).unwrap();
     let tire = TireMesh::new(geometry, material).unwrap();
     let inflated = InflatedTire::new(&tire, 1.5e5, mount, 4).unwrap();
+    (tire, inflated)
+}
+
+/// The free spinning inflated tire of the tests below: rim `(omega, L_y total)` per step.
+fn spin_diag(h: f64, beta: f64, steps: usize, mount: chrono_fea::BeadMount) -> Vec<(f64, f64)> {
+    use chrono_ccp::Schur;
+    use chrono_core::joint::{JointBuilder, JointKind};
+    use chrono_fea::mount_on_rim;
+    let (tire, inflated) = small_inflated_tire(mount);
     let mut sys = system(Vector3::zeros());
     sys.set_solver(Box::new(Schur::new(SolverSettings {
         tolerance: 1e-12,
@@ -473,19 +483,7 @@ fn free_spinning_inflated_tire_keeps_its_angular_momentum() {
 /// force with zero torque), not zero: the bead reactions turn with the carcass.
 #[test]
 fn inflated_carcass_pressure_is_torque_free_and_its_tangent_turns_the_bead_reactions() {
-    use chrono_fea::{BeadMount, InflatedTire, TireGeometry, TireMesh};
-    let geometry = TireGeometry {
-        centre: Vector3::zeros(),
-        ring_radius: 0.28,
-        section_radius: 0.08,
-        bead_angle: 135f64.to_radians(),
-        n_around: 16,
-        n_across: 4,
-        thickness: 0.004,
-    };
-    let material = ShellMaterial::isotropic(1.0e8, 0.3, 1100.0).unwrap();
-    let tire = TireMesh::new(geometry, material).unwrap();
-    let inflated = InflatedTire::new(&tire, 1.5e5, BeadMount::Hinged, 4).unwrap();
+    let (_, inflated) = small_inflated_tire(chrono_fea::BeadMount::Hinged);
     let mesh = inflated.lifted(0.0).unwrap();
     let q = mesh.coordinates();
     let w = Vector3::y();
