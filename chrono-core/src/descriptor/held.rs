@@ -33,6 +33,9 @@ pub struct HeldSubproblem {
     /// Rows outside the set that touch one of its blocks.
     coupling: Vec<usize>,
     k: Vec<f64>,
+    /// Scratch kept across builds (no allocation per step once sized).
+    member: Vec<bool>,
+    sub_rows: ConstraintRows,
     problem: CcpProblem,
 }
 
@@ -59,9 +62,10 @@ impl HeldSubproblem {
         self.rows.extend_from_slice(rows);
         self.map.clear();
         self.map.resize(vars.len(), u32::MAX);
-        let mut member = vec![false; parent.n_rows()];
+        self.member.clear();
+        self.member.resize(parent.n_rows(), false);
         for &i in rows {
-            member[i] = true;
+            self.member[i] = true;
             for b in parent.row_blocks(i) {
                 self.map[b.0 as usize] = 0;
             }
@@ -76,21 +80,19 @@ impl HeldSubproblem {
             }
         }
         self.coupling.clear();
+        let (member, map) = (&self.member, &self.map);
         self.coupling.extend((0..parent.n_rows()).filter(|&i| {
-            !member[i]
-                && parent
-                    .row_blocks(i)
-                    .any(|b| self.map[b.0 as usize] != u32::MAX)
+            !member[i] && parent.row_blocks(i).any(|b| map[b.0 as usize] != u32::MAX)
         }));
-        let mut sub_rows = ConstraintRows::new();
+        self.sub_rows.clear();
         for (i, len) in blocks {
-            parent.push_rows_mapped(i..i + len, Some(&self.map), &mut sub_rows);
+            parent.push_rows_mapped(i..i + len, Some(&self.map), &mut self.sub_rows);
         }
         self.offsets.clear();
         self.offsets
             .extend((0..self.blocks.len()).map(|b| sub_vars.offset(BlockId(b as u32))));
         self.held_momentum(parent, gamma);
-        self.problem.assemble(&sub_vars, &sub_rows, &self.k)
+        self.problem.assemble(&sub_vars, &self.sub_rows, &self.k)
     }
 
     /// Recompute the momentum for new held impulses `gamma` (the parent's full vector; the
