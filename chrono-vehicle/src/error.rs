@@ -26,6 +26,9 @@ pub enum VehicleError {
     /// An error of the multibody system (a bad body, a diverging step ...).
     #[error(transparent)]
     Core(#[from] chrono_core::ChronoError),
+    /// An error of a finite-element part (the ANCF tire's mesh, inflation or mount).
+    #[error(transparent)]
+    Fea(#[from] chrono_fea::FeaError),
 }
 
 /// Result alias of chrono-vehicle.

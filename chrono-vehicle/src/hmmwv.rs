@@ -12,7 +12,7 @@ use serde::{Deserialize, Serialize};
 use crate::aero::AeroDragData;
 use crate::error::Result;
 use crate::powertrain::PowertrainParams;
-use crate::tire::{TMeasyParams, Tire};
+use crate::tire::{AncfTireData, TMeasyParams, Tire};
 use crate::vehicle::VehicleData;
 
 /// The HMMWV description as shipped (`chrono-vehicle/data/hmmwv.json`), rigid tires.
@@ -57,6 +57,9 @@ pub enum TireKind {
     /// The TMeasy handling tire with the parameters guessed from the 37x12.5x16.5 size and
     /// its rated load ([`TMeasyParams::hmmwv`]).
     Handling,
+    /// The ANCF shell tire: a pressurized deformable carcass of the HMMWV tire's size
+    /// ([`AncfTireData::hmmwv`]).
+    Ancf,
 }
 
 /// The HMMWV description, parsed and checked (rigid tires).
@@ -72,8 +75,10 @@ pub fn hmmwv_data_with(tire: TireKind) -> Result<VehicleData> {
 /// The HMMWV description with the given tire and powertrain.
 pub fn hmmwv_data_variant(tire: TireKind, powertrain: PowertrainKind) -> Result<VehicleData> {
     let mut d = hmmwv_data()?;
-    if tire == TireKind::Handling {
-        d.wheel.tire = Tire::TMeasy(TMeasyParams::hmmwv());
+    match tire {
+        TireKind::Rigid => {}
+        TireKind::Handling => d.wheel.tire = Tire::TMeasy(TMeasyParams::hmmwv()),
+        TireKind::Ancf => d.wheel.tire = Tire::Ancf(AncfTireData::hmmwv()),
     }
     if powertrain == PowertrainKind::M998 {
         d = with_powertrain_overlay(

@@ -141,22 +141,18 @@ pub fn mean_wheel_surface_speed(
 }
 
 /// The mean sinkage of the wheels into a bed whose surface is at height `surface` (m):
-/// the surface minus the lowest point of each tire (spindle height minus `radius`),
-/// averaged over the wheels, m.
+/// the surface minus the lowest point of each tire (spindle height minus `radius`; an
+/// ANCF tire's lowest tread point, [`WheeledVehicle::tire_bottom`]), averaged over the
+/// wheels, m.
 pub fn mean_sinkage(
     sys: &System,
     vehicle: &WheeledVehicle,
     surface: f64,
     radius: f64,
 ) -> Result<f64> {
-    let sink = vehicle
-        .wheels()
-        .iter()
-        .map(|w| {
-            sys.body(w.spindle)
-                .map(|b| surface - (b.position().z - radius))
-        })
-        .collect::<std::result::Result<Vec<f64>, _>>()?;
+    let sink = (0..vehicle.wheels().len())
+        .map(|i| vehicle.tire_bottom(sys, i, radius).map(|z| surface - z))
+        .collect::<Result<Vec<f64>>>()?;
     Ok(sink.iter().sum::<f64>() / sink.len() as f64)
 }
 

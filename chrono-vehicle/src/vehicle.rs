@@ -8,6 +8,7 @@ use std::sync::Arc;
 use chrono_core::force::ForceHandle;
 use chrono_core::math::{Isometry3, Point3, Vector3};
 use chrono_core::{BodyHandle, RigidBodyBuilder, System};
+use chrono_fea::{NodeId, ShellItem};
 use serde::{Deserialize, Serialize};
 
 use crate::aero::{AeroDrag, AeroDragData};
@@ -86,6 +87,16 @@ impl WheelData {
         MassData {
             mass: self.rim.mass + self.tire.mass(),
             inertia: [0, 1, 2].map(|i| self.rim.inertia[i] + ti[i]),
+        }
+    }
+
+    /// What the wheel (spindle) body carries: the rim, plus the tire unless the tire is an
+    /// ANCF carcass with its own mass.
+    pub fn spindle_mass(&self) -> MassData {
+        if self.tire.on_spindle() {
+            self.total_mass()
+        } else {
+            self.rim
         }
     }
 }
@@ -201,8 +212,10 @@ pub struct WheelHandles {
     pub axle: usize,
     /// 0 left, 1 right.
     pub side: usize,
-    /// The handling tire's force element (`None` for a rigid tire).
+    /// The handling tire's force element (`None` for a rigid or ANCF tire).
     pub tire: Option<ForceHandle>,
+    /// The ANCF tire's shell item (`None` for a rigid or handling tire).
+    pub shell: Option<chrono_core::item::ItemHandle>,
 }
 
 /// A wheeled vehicle in a [`System`].
@@ -253,11 +266,16 @@ impl WheeledVehicle {
         let steering = PitmanArm::build(sys, "steering", &data.steering, chassis, pose)?;
         let w = &data.wheel;
         let mount = WheelMount {
-            mass: w.total_mass(),
+            mass: w.spindle_mass(),
             collider: match &w.tire {
                 Tire::Rigid(t) => Some(t.collider()?),
-                Tire::TMeasy(_) => None,
+                Tire::TMeasy(_) | Tire::Ancf(_) => None,
             },
+        };
+        // One inflation serves the four wheels.
+        let ancf = match &w.tire {
+            Tire::Ancf(a) => Some(a.inflate()?),
+            _ => None,
         };
         let mut suspensions = Vec::new();
         let mut wheels = Vec::new();
@@ -274,11 +292,16 @@ impl WheeledVehicle {
                 &mount,
             )?;
             for (side, ws) in s.sides.iter().enumerate() {
+                let name = format!("{}.{}.{}.tire", data.name, a.name, ["left", "right"][side]);
+                let shell = match &ancf {
+                    Some(model) => Some(model.mount(sys, &name, ws.spindle)?),
+                    None => None,
+                };
                 let tire = match &w.tire {
-                    Tire::Rigid(_) => None,
+                    Tire::Rigid(_) | Tire::Ancf(_) => None,
                     Tire::TMeasy(p) => {
                         let t = TMeasyTire::new(
-                            format!("{}.{}.{}.tire", data.name, a.name, ["left", "right"][side]),
+                            name,
                             ws.spindle,
                             Vector3::y(),
                             p.clone(),
@@ -292,6 +315,7 @@ impl WheeledVehicle {
                     axle: i,
                     side,
                     tire,
+                    shell,
                 });
             }
             suspensions.push(s);
@@ -386,9 +410,26 @@ impl WheeledVehicle {
     /// The force (N, world) of the terrain on each tire in the last step of size `h`, ordered
     /// like [`wheels`](Self::wheels). A handling tire reports its own force (normal,
     /// longitudinal and lateral); a rigid tire the contact impulses of the last CCP on its
-    /// spindle over `h` (NSC), or the penalty forces (SMC).
+    /// spindle over `h` (NSC), or the penalty forces (SMC); an ANCF tire the contact
+    /// impulses of the last CCP on its node spheres over `h`.
     pub fn tire_forces(&self, sys: &System, h: f64) -> Vec<Vector3<f64>> {
         let mut out = self.rigid_tire_forces(sys, h);
+        if self.wheels.iter().any(|w| w.shell.is_some()) {
+            let (problem, gamma) = (sys.last_problem(), sys.last_gamma());
+            for c in sys.proxy_contacts() {
+                let Some(i) = (self.wheels.iter())
+                    .position(|w| w.shell.is_some_and(|s| s.index() == c.point.item))
+                else {
+                    continue;
+                };
+                let k = problem.row_index(c.row);
+                if k + 2 >= gamma.len() {
+                    continue;
+                }
+                // The proxy is side B: the rows' impulse acts on the tire.
+                out[i] += (c.normal() * gamma[k] + c.u * gamma[k + 1] + c.w * gamma[k + 2]) / h;
+            }
+        }
         for (i, w) in self.wheels.iter().enumerate() {
             if let Some(t) = w.tire.and_then(|t| sys.force_element::<TMeasyTire>(t)) {
                 let o = t.output();
@@ -397,6 +438,27 @@ impl WheeledVehicle {
             }
         }
         out
+    }
+
+    /// The height of the lowest point of wheel `i`'s tire, m: the spindle's height minus
+    /// `radius` for a rigid or handling tire, the lowest node of an ANCF carcass minus half
+    /// its thickness (the tread's outer face) for an ANCF tire.
+    pub fn tire_bottom(&self, sys: &System, i: usize, radius: f64) -> Result<f64> {
+        let w = self.wheels.get(i).ok_or_else(|| {
+            VehicleError::invalid("wheel", i, format!("{} wheels", self.wheels.len()))
+        })?;
+        match (w.shell, &self.data.wheel.tire) {
+            (Some(shell), Tire::Ancf(a)) => {
+                let item = sys.item::<ShellItem>(shell).ok_or_else(|| {
+                    VehicleError::invalid("wheels.shell", shell, "not an ANCF tire item")
+                })?;
+                let low = (item.mesh().nodes().iter())
+                    .map(|n| n.position.z)
+                    .fold(f64::INFINITY, f64::min);
+                Ok(low - 0.5 * a.thickness)
+            }
+            _ => Ok(sys.body(w.spindle)?.position().z - radius),
+        }
     }
 
     fn rigid_tire_forces(&self, sys: &System, h: f64) -> Vec<Vector3<f64>> {
@@ -474,6 +536,23 @@ impl WheeledVehicle {
         }
         for wh in &self.wheels {
             sys.body_mut(wh.spindle)?.set_angular_velocity(axle * w)?;
+            if let Some(shell) = wh.shell {
+                // The carcass moves rigidly with its spindle: v + w x (r - x), d' = w x d.
+                let (x, v) = {
+                    let b = sys.body(wh.spindle)?;
+                    (b.position(), b.linear_velocity())
+                };
+                let omega = axle * w;
+                let item = sys.item_mut::<ShellItem>(shell).ok_or_else(|| {
+                    VehicleError::invalid("wheels.shell", shell, "not an ANCF tire item")
+                })?;
+                let nodes: Vec<_> = (item.mesh().nodes().iter())
+                    .map(|n| (n.position, n.slope))
+                    .collect();
+                for (k, (r, d)) in nodes.into_iter().enumerate() {
+                    item.set_node_velocity(NodeId(k), v + omega.cross(&(r - x)), omega.cross(&d))?;
+                }
+            }
         }
         let [front_ds, rear_ds] = self.driveline.driveshafts();
         let (w_front, w_rear) = (w / p.front_conical_ratio, w / p.rear_conical_ratio);

@@ -1,14 +1,18 @@
-//! Tires: a rigid tire (a cylinder collider, contact through the ordinary contact rows)
-//! and the TMeasy handling tire (a force element computing the contact forces from the
-//! slips, see [`TMeasyTire`]).
+//! Tires: a rigid tire (a cylinder collider, contact through the ordinary contact rows),
+//! the TMeasy handling tire (a force element computing the contact forces from the
+//! slips, see [`TMeasyTire`]) and the ANCF shell tire (a pressurized deformable carcass
+//! mounted on the spindle, its own implicit block in the CCP, see [`ancf`]).
 //!
-//! A [`Tire`] is the serde description (`{"type": "Rigid", ...}` or
-//! `{"type": "TMeasy", ...}`); the vehicle attaches it to a wheel (spindle) body whose spin
+//! A [`Tire`] is the serde description (`{"type": "Rigid", ...}`,
+//! `{"type": "TMeasy", ...}` or `{"type": "ANCF", ...}`); the vehicle attaches it to a wheel (spindle) body whose spin
 //! axis is the body's local **Y** axis (the [`Shape::Cylinder`] axis), pointing left in the
 //! vehicle frame.
 
+pub mod ancf;
 mod tmeasy;
 mod tmeasy_params;
+
+pub use ancf::{AncfTireData, AncfTireModel};
 
 pub use tmeasy::{TMeasyTire, TireOutput};
 pub use tmeasy_params::{
@@ -31,6 +35,9 @@ pub enum Tire {
     Rigid(RigidTire),
     /// The TMeasy handling tire (forces from slips).
     TMeasy(TMeasyParams),
+    /// The ANCF shell tire (a pressurized deformable carcass on the spindle).
+    #[serde(rename = "ANCF")]
+    Ancf(AncfTireData),
 }
 
 // By hand rather than derived: serde's internally tagged enums buffer the content and lose
@@ -44,7 +51,7 @@ impl<'de> Deserialize<'de> for Tire {
             Some(serde_json::Value::String(t)) => t,
             Some(other) => {
                 return Err(D::Error::custom(format!(
-                    "at `type`: expected \"Rigid\" or \"TMeasy\", found {other}"
+                    "at `type`: expected \"Rigid\", \"TMeasy\" or \"ANCF\", found {other}"
                 )));
             }
             None => return Err(D::Error::missing_field("type")),
@@ -58,8 +65,9 @@ impl<'de> Deserialize<'de> for Tire {
         match tag.as_str() {
             "Rigid" => variant(map).map(Tire::Rigid),
             "TMeasy" => variant(map).map(Tire::TMeasy),
+            "ANCF" => variant(map).map(Tire::Ancf),
             _ => Err(D::Error::custom(format!(
-                "at `type`: unknown tire type `{tag}`, expected `Rigid` or `TMeasy`"
+                "at `type`: unknown tire type `{tag}`, expected `Rigid`, `TMeasy` or `ANCF`"
             ))),
         }
     }
@@ -71,31 +79,43 @@ impl Tire {
         match self {
             Tire::Rigid(t) => t.validate(),
             Tire::TMeasy(p) => p.validate(),
+            Tire::Ancf(a) => a.validate(),
         }
     }
 
-    /// Unloaded radius, m.
+    /// Unloaded radius, m (the ANCF tire's before inflation).
     pub fn radius(&self) -> f64 {
         match self {
             Tire::Rigid(t) => t.radius,
             Tire::TMeasy(p) => p.radius,
+            Tire::Ancf(a) => a.radius,
         }
     }
 
-    /// Tire mass, kg (added to the wheel body by the vehicle).
+    /// Tire mass, kg (a part of the vehicle's mass: on the wheel body for a rigid or
+    /// handling tire, in the carcass' own nodes for an ANCF tire).
     pub fn mass(&self) -> f64 {
         match self {
             Tire::Rigid(t) => t.mass,
             Tire::TMeasy(p) => p.mass,
+            Tire::Ancf(a) => a.mass,
         }
     }
 
+    /// True if the tire's mass rides on the wheel body (rigid and handling tires); an ANCF
+    /// carcass carries its own.
+    pub fn on_spindle(&self) -> bool {
+        !matches!(self, Tire::Ancf(_))
+    }
+
     /// Principal moments of inertia of the tire about its center (wheel frame, spin axis
-    /// Y), kg m^2.
+    /// Y) that the wheel body carries, kg m^2 (zero for an ANCF tire, whose carcass carries
+    /// its own).
     pub fn inertia(&self) -> Vector3<f64> {
         let i = match self {
             Tire::Rigid(t) => t.inertia,
             Tire::TMeasy(p) => p.inertia,
+            Tire::Ancf(_) => [0.0; 3],
         };
         Vector3::new(i[0], i[1], i[2])
     }

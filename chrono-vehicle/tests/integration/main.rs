@@ -2,6 +2,7 @@
 //! (one link instead of one per file: the cold CI build links each test binary).
 //! Run one topic with `cargo test -p chrono-vehicle --test integration <module>::`.
 
+mod ancf_tire;
 mod driveline_four_wd;
 mod driveline_powertrain;
 mod driveline_shafts;

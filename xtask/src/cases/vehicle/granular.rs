@@ -101,6 +101,9 @@ pub struct GranularParams {
     /// elimination, contacts by APGD) or `local-direct` (the rows around the heavy bodies
     /// by ADMM, the rest by APGD: the NSC heavy-on-light path).
     pub solver: String,
+    /// Tire model: `rigid` (cylinders) or `ancf` (the pressurized shell carcass; NSC only:
+    /// the SMC stepper does not take items' collision proxies).
+    pub tire: TireKind,
 }
 
 impl Default for GranularParams {
@@ -128,6 +131,7 @@ impl Default for GranularParams {
             tolerance: 1e-3,
             max_iterations: 60,
             solver: "schur".into(),
+            tire: TireKind::Rigid,
         }
     }
 }
@@ -184,6 +188,11 @@ impl CaseParams for GranularParams {
             "-",
             "CCP solver: schur | local-direct | any of chrono_ccp::SOLVER_NAMES",
         ),
+        ParamInfo::new(
+            "tire",
+            "-",
+            "tire model: rigid | ancf (ancf needs method = nsc)",
+        ),
     ];
     fn apply_mode(&mut self, mode: Mode) {
         // The default run drives the quick course too (~120 s), for its 20-minute budget
@@ -221,7 +230,15 @@ fn run(p: &GranularParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     };
     let solver = make_solver(&p.solver, p.tolerance, p.max_iterations)?;
     let mut sys = System::new(sys_settings, solver)?;
-    let mut data = hmmwv_data_with(TireKind::Rigid)?;
+    anyhow::ensure!(
+        p.tire != TireKind::Handling,
+        "parameter `tire` = handling: the handling tire reads a height map, not grains (use rigid or ancf)"
+    );
+    anyhow::ensure!(
+        !(p.tire == TireKind::Ancf && method == chrono_core::ContactMethod::Smc),
+        "parameter `tire` = ancf needs `method` = nsc: the SMC stepper does not take the carcass' node spheres"
+    );
+    let mut data = hmmwv_data_with(p.tire)?;
     if p.diff_lock_torque > 0.0 {
         lock_differentials(&mut data, p.diff_lock_torque)?;
     }

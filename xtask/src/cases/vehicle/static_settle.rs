@@ -49,7 +49,7 @@ impl CaseParams for StaticParams {
     const INFO: &'static [ParamInfo] = &[
         ParamInfo::new("h", "s", "time step"),
         ParamInfo::new("t_end", "s", "simulated time"),
-        ParamInfo::new("tire", "-", "tire model: rigid | handling"),
+        ParamInfo::new("tire", "-", "tire model: rigid | handling | ancf"),
         ParamInfo::new("mu", "-", "tire-ground friction coefficient"),
         ParamInfo::new(
             "solver",
