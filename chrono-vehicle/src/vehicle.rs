@@ -461,6 +461,59 @@ impl WheeledVehicle {
         }
     }
 
+    /// True if the point `p` (world, m) lies inside wheel `i`'s ANCF carcass: in the
+    /// spindle's frame, inside the section that the carcass' mid surface and the rim line
+    /// (bead to bead) enclose at `p`'s angle about the axle, the section interpolated
+    /// linearly between the two rings of nodes around `p` (a point-in-polygon test in the
+    /// radius–axial plane, so it follows the carcass as it deforms). Always false for a
+    /// rigid or handling tire. A grain centre inside a carcass has passed through it
+    /// (node-sphere contact holds a grain at the nodes only).
+    pub fn inside_ancf_tire(&self, sys: &System, i: usize, p: &Vector3<f64>) -> Result<bool> {
+        let w = self.wheels.get(i).ok_or_else(|| {
+            VehicleError::invalid("wheel", i, format!("{} wheels", self.wheels.len()))
+        })?;
+        let (Some(shell), Tire::Ancf(a)) = (w.shell, &self.data.wheel.tire) else {
+            return Ok(false);
+        };
+        let item = sys
+            .item::<ShellItem>(shell)
+            .ok_or_else(|| VehicleError::invalid("wheels.shell", shell, "not an ANCF tire item"))?;
+        let pose = sys.body(w.spindle)?.pose();
+        // (angle about the axle, radius from it, axial position) in the spindle frame.
+        let polar = |x: &Vector3<f64>| {
+            let l = pose.inverse_transform_vector(&(x - pose.translation.vector));
+            (l.z.atan2(l.x), l.x.hypot(l.z), l.y)
+        };
+        let (theta, rho, y) = polar(p);
+        let (n_around, n_across) = (a.n_around, a.n_across);
+        let nodes = item.mesh().nodes();
+        let step = std::f64::consts::TAU / n_around as f64;
+        let u = theta.rem_euclid(std::f64::consts::TAU) / step;
+        let i0 = (u.floor() as usize) % n_around;
+        let i1 = (i0 + 1) % n_around;
+        let t = u - u.floor();
+        let section: Vec<(f64, f64)> = (0..=n_across)
+            .map(|j| {
+                let (_, r0, y0) = polar(&nodes[i0 * (n_across + 1) + j].position);
+                let (_, r1, y1) = polar(&nodes[i1 * (n_across + 1) + j].position);
+                ((1.0 - t) * r0 + t * r1, (1.0 - t) * y0 + t * y1)
+            })
+            .collect();
+        // Ray casting along +radius over the closed polygon (the last edge: the rim line).
+        let mut inside = false;
+        for k in 0..section.len() {
+            let (ra, ya) = section[k];
+            let (rb, yb) = section[(k + 1) % section.len()];
+            if (ya > y) != (yb > y) {
+                let r_cross = ra + (y - ya) / (yb - ya) * (rb - ra);
+                if rho < r_cross {
+                    inside = !inside;
+                }
+            }
+        }
+        Ok(inside)
+    }
+
     fn rigid_tire_forces(&self, sys: &System, h: f64) -> Vec<Vector3<f64>> {
         let mut out = vec![Vector3::zeros(); self.wheels.len()];
         let index = |owner: u32| {

@@ -153,3 +153,38 @@ fn bad_ancf_tire_data_names_the_field() {
         .to_string();
     assert!(e.contains("ancf_tire.pressure"), "{e}");
 }
+
+#[test]
+fn inside_ancf_tire_tells_the_cavity_from_the_outside() {
+    let mut data = hmmwv_data_with(TireKind::Ancf).unwrap();
+    data.wheel.tire = Tire::Ancf(coarse());
+    let (sys, v) = hmmwv_on_flat(&data);
+    let g = coarse().geometry(Vector3::zeros()).unwrap();
+    let r_mid = g.ring_radius + g.section_radius;
+    for (i, w) in v.wheels().iter().enumerate() {
+        let x = sys.body(w.spindle).unwrap().position();
+        // Down, forward, and between two rings of nodes (15 degrees off a ring).
+        let a = 15f64.to_radians();
+        for dir in [
+            Vector3::new(0.0, 0.0, -1.0),
+            Vector3::new(1.0, 0.0, 0.0),
+            Vector3::new(a.cos(), 0.0, -a.sin()),
+        ] {
+            let inside = |q: Vector3<f64>| v.inside_ancf_tire(&sys, i, &q).unwrap();
+            // The section's centre; just inside and outside the tread's mid surface (the
+            // chord between rings lies up to 1.4 cm inside the circle at 12 around).
+            assert!(inside(x + dir * g.ring_radius));
+            assert!(inside(x + dir * (r_mid - 0.03)));
+            assert!(!inside(x + dir * (r_mid + 0.01)));
+            // Beside the sidewall, outside; the hub (inside the rim), outside.
+            let out = Vector3::new(0.0, g.section_radius + 0.02, 0.0);
+            assert!(!inside(x + dir * g.ring_radius + out));
+            assert!(!inside(x + dir * g.ring_radius - out));
+            assert!(!inside(x + dir * (0.5 * g.bead_radius())));
+        }
+        assert!(
+            !v.inside_ancf_tire(&sys, i, &(x + Vector3::new(0.0, 0.0, -3.0)))
+                .unwrap()
+        );
+    }
+}

@@ -1,5 +1,9 @@
 //! `hmmwv-granular`: the speed controller holds 2 m/s on a moving granular patch.
 //!
+//! `tire = ancf` mounts the pressurized ANCF shell tires (NSC only); it adds the check
+//! `grains_inside_tires` = 0 (no grain centre ever on the inner side of a carcass, counted
+//! every 50 steps): node-sphere contact holds a grain only at the nodes.
+//!
 //! A bed of spherical grains (`chrono_vehicle::terrain::GranularPatch`) settles in a box
 //! under the vehicle; the HMMWV (rigid tires; the suspension joints and the driveline
 //! shafts are CCP rows solved by the Schur solver) drives `distance` m straight ahead while
@@ -322,6 +326,8 @@ fn run(p: &GranularParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     let wall0 = Instant::now();
     let mut steps = 0;
     let mut distance = 0.0;
+    // ANCF tires: grains whose centre got inside a carcass, counted every 50 steps.
+    let mut inside_max = 0usize;
     for i in 1..=n_max {
         let st = v.state(&sys)?;
         patch.advance(&mut sys, st.position.x)?;
@@ -352,6 +358,9 @@ fn run(p: &GranularParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         if distance > 0.5 * p.distance {
             sum_sink += sink;
             n_sink += 1;
+        }
+        if p.tire == TireKind::Ancf && i % 50 == 0 {
+            inside_max = inside_max.max(grains_inside_tires(&sys, &v, &patch)?);
         }
         if i % 10 == 0 {
             series.push(&[
@@ -391,6 +400,9 @@ fn run(p: &GranularParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
             f64::NAN
         },
     );
+    if p.tire == TireKind::Ancf {
+        out.check(Check::below("grains_inside_tires", inside_max as f64, 0.5));
+    }
     out.metric("grains", patch.grains().len() as f64);
     out.metric("relocations", patch.relocations() as f64);
     out.metric("wall_s", wall);
@@ -414,4 +426,27 @@ pub fn case() -> Box<dyn Case> {
         "HMMWV holding 2 m/s with a speed controller on a moving granular patch (SMC grains by default): mean speed within 10 %, grains bounded over the distance.",
         run,
     )
+}
+
+/// Grains whose centre lies inside an ANCF carcass
+/// ([`WheeledVehicle::inside_ancf_tire`]), counted over the grains near each spindle.
+fn grains_inside_tires(
+    sys: &System,
+    v: &WheeledVehicle,
+    patch: &GranularPatch,
+) -> anyhow::Result<usize> {
+    let near = 1.1 * v.data().wheel.tire.radius();
+    let mut count = 0;
+    for &g in patch.grains() {
+        let c = sys.body(g)?.position();
+        for (i, w) in v.wheels().iter().enumerate() {
+            if (sys.body(w.spindle)?.position() - c).norm() < near
+                && v.inside_ancf_tire(sys, i, &c)?
+            {
+                count += 1;
+                break;
+            }
+        }
+    }
+    Ok(count)
 }

@@ -4,8 +4,10 @@
 //! 0.5 % (the tires carry everything; a joint or contact force leaking elsewhere would show
 //! here), and the vehicle comes to rest (`settle_time`: the last time the chassis' vertical
 //! speed exceeded 1 mm/s, before the end of the run). Metrics: the ride height (chassis
-//! reference above the ground), the front and rear axle loads, the joint drift, and the
-//! real-time factor (simulated over wall time).
+//! reference above the ground), the tires' loaded radius (spindle over the lowest tread
+//! point), the front and rear axle loads, the joint drift, and the real-time factor
+//! (simulated over wall time). `tire = ancf` runs the pressurized shell tires (their
+//! carcass' stiffness and damping slow the settling: `h = 4e-3` s keeps it affordable).
 
 use std::time::Instant;
 
@@ -100,6 +102,14 @@ fn run(p: &StaticParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     out.check(Check::relative("wheel_load_sum_error", sum, weight, 5e-3));
     out.check(Check::below("settle_time", settle_time, p.t_end - 0.5));
     out.metric("ride_height", st.position.z);
+    // Spindle height over the tire's lowest tread point: the loaded radius (the rigid
+    // tire's radius; an ANCF carcass' deflected one).
+    let radius = scene.data.wheel.tire.radius();
+    let mut loaded = 0.0;
+    for (i, w) in v.wheels().iter().enumerate() {
+        loaded += sys.body(w.spindle)?.position().z - v.tire_bottom(sys, i, radius)?;
+    }
+    out.metric("tire_loaded_radius", loaded / v.wheels().len() as f64);
     out.metric("front_axle_load", forces[0].z + forces[1].z);
     out.metric("rear_axle_load", forces[2].z + forces[3].z);
     out.metric("max_joint_violation", max_violation);
