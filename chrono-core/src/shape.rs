@@ -51,6 +51,14 @@ pub enum Shape {
         /// Radius (m), > 0.
         radius: f64,
     },
+    /// A solid ellipsoid centered at the local origin, `(x/a)^2 + (y/b)^2 + (z/c)^2 <= 1`
+    /// with the semi-axes `(a, b, c)` along local X, Y, Z. Parry has no ellipsoid: the
+    /// collision world gives parry a support-map shape (GJK / EPA, one contact point per
+    /// pair), see the `collision::ellipsoid` module.
+    Ellipsoid {
+        /// Semi-axes `(a, b, c)` along local X, Y, Z (m), each finite and > 0.
+        semi_axes: Vector3<f64>,
+    },
     /// The convex hull of a point cloud (at least 4 points, not all coplanar).
     ConvexHull {
         /// The points (m, local frame); interior points are allowed and ignored.
@@ -96,11 +104,14 @@ impl Shape {
     /// Curvature radius of the surface (m), used for the effective radius of a contact
     /// (Hertz's `R`, the rolling-friction lever arm): spheres, capsules and cylinders their
     /// radius; flat or unknown shapes (boxes, hulls, meshes, height fields, planes)
-    /// `f64::INFINITY`.
+    /// `f64::INFINITY`. An ellipsoid's curvature varies over its surface (principal radii
+    /// from `min^2/max` to `max^2/min` of its semi-axes): it is given the radius of the
+    /// sphere of equal volume, `(a b c)^(1/3)`, exact when `a = b = c`.
     pub fn curvature_radius(&self) -> f64 {
         match self {
             Shape::Sphere { radius } | Shape::Capsule { radius, .. } => *radius,
             Shape::Cylinder { radius, .. } => *radius,
+            Shape::Ellipsoid { semi_axes: e } => (e.x * e.y * e.z).cbrt(),
             _ => f64::INFINITY,
         }
     }
@@ -112,6 +123,7 @@ impl Shape {
             Shape::Box { .. } => "box",
             Shape::Capsule { .. } => "capsule",
             Shape::Cylinder { .. } => "cylinder",
+            Shape::Ellipsoid { .. } => "ellipsoid",
             Shape::ConvexHull { .. } => "convex hull",
             Shape::TriMesh { .. } => "trimesh",
             Shape::HeightField { .. } => "heightfield",
@@ -135,6 +147,9 @@ impl Shape {
             }
             Shape::Box { half_extents } => {
                 check_positive_vec(&format!("{field}.half_extents"), half_extents)?;
+            }
+            Shape::Ellipsoid { semi_axes } => {
+                check_positive_vec(&format!("{field}.semi_axes"), semi_axes)?;
             }
             Shape::Capsule {
                 half_length,
@@ -199,14 +214,15 @@ impl Shape {
         Ok(())
     }
 
-    /// The volume (m^3) of a closed solid: `Some` for sphere, box, capsule, cylinder and
-    /// convex hull; `None` for meshes (possibly open), height fields and half-spaces.
+    /// The volume (m^3) of a closed solid: `Some` for sphere, box, capsule, cylinder,
+    /// ellipsoid (`4/3 pi a b c`) and convex hull; `None` for meshes (possibly open), height fields and half-spaces.
     /// The shape is assumed valid ([`Shape::validate`]); an invalid hull gives `None`.
     pub fn volume(&self) -> Option<f64> {
         use std::f64::consts::PI;
         match self {
             Shape::Sphere { radius: r } => Some(4.0 / 3.0 * PI * r.powi(3)),
             Shape::Box { half_extents: e } => Some(8.0 * e.x * e.y * e.z),
+            Shape::Ellipsoid { semi_axes: e } => Some(4.0 / 3.0 * PI * e.x * e.y * e.z),
             Shape::Capsule {
                 half_length: h,
                 radius: r,
@@ -224,7 +240,8 @@ impl Shape {
     /// origin), in the local frame: `(Ixx, Iyy, Izz) / m` for a homogeneous solid.
     /// Multiply by the mass (`density * volume`) to get the body inertia.
     ///
-    /// `Some` for sphere, box, capsule and cylinder (their local axes are principal);
+    /// `Some` for sphere, box, capsule, cylinder and ellipsoid (their local axes are
+    /// principal; ellipsoid: `((b^2 + c^2), (a^2 + c^2), (a^2 + b^2)) / 5`);
     /// `None` for the other shapes (their centroid is not the local origin in general).
     pub fn unit_inertia(&self) -> Option<Vector3<f64>> {
         match self {
@@ -232,6 +249,10 @@ impl Shape {
             Shape::Box { half_extents: e } => {
                 let (x2, y2, z2) = (e.x * e.x, e.y * e.y, e.z * e.z);
                 Some(Vector3::new(y2 + z2, x2 + z2, x2 + y2) / 3.0)
+            }
+            Shape::Ellipsoid { semi_axes: e } => {
+                let (x2, y2, z2) = (e.x * e.x, e.y * e.y, e.z * e.z);
+                Some(Vector3::new(y2 + z2, x2 + z2, x2 + y2) / 5.0)
             }
             Shape::Cylinder {
                 half_length: h,
@@ -261,13 +282,36 @@ impl Shape {
 
     /// A triangle mesh of the boundary, in the local frame (for visualization).
     ///
-    /// `subdivisions` (>= 3) sets the angular resolution of spheres, capsules and
-    /// cylinders (parry's `to_trimesh`). A half-space becomes a square of side
+    /// `subdivisions` (>= 3) sets the angular resolution of spheres, ellipsoids, capsules
+    /// and cylinders (parry's `to_trimesh`). A half-space becomes a square of side
     /// `half_space_size` (m) centered at the local origin, in its plane, facing along the
     /// normal. Triangle meshes are returned as they are; height fields are split into two
     /// triangles per cell.
     pub fn to_trimesh(&self, subdivisions: u32, half_space_size: f64) -> Result<TriangleMesh> {
         crate::collision::mesh::triangulate(self, subdivisions, half_space_size)
+    }
+}
+
+/// The point of the surface of the ellipsoid `(x/a)^2 + (y/b)^2 + (z/c)^2 = 1`
+/// (`semi_axes = (a, b, c)`, m, each > 0) closest to the point `p` of its local frame, for
+/// `p` inside or outside (on the medial set, one of the closest points). The root of
+/// `sum_i (e_i p_i / (t + e_i^2))^2 = 1` by bisection, the points on a symmetry plane
+/// apart (D. Eberly, "Distance from a point to an ellipse, an ellipsoid, or a
+/// hyperellipsoid", Geometric Tools, 2013). Exact to round-off.
+pub fn ellipsoid_closest_point(semi_axes: &Vector3<f64>, p: &Vector3<f64>) -> Vector3<f64> {
+    use crate::collision::convert::{vec_from_glam, vec_to_glam};
+    let e = crate::collision::ellipsoid::Ellipsoid::new(vec_to_glam(semi_axes));
+    vec_from_glam(e.closest_surface_point(vec_to_glam(p)))
+}
+
+/// Signed distance (m, negative inside) of the local point `p` to the surface of the
+/// ellipsoid with `semi_axes`, through [`ellipsoid_closest_point`].
+pub fn ellipsoid_signed_distance(semi_axes: &Vector3<f64>, p: &Vector3<f64>) -> f64 {
+    let d = (p - ellipsoid_closest_point(semi_axes, p)).norm();
+    if p.component_div(semi_axes).norm_squared() < 1.0 {
+        -d
+    } else {
+        d
     }
 }
 
@@ -464,6 +508,10 @@ mod tests {
                 field(6, Vector3::new(1.0, -1.0, 1.0)),
                 &["collider.shape.scale", "-1"],
             ),
+            (
+                ellipsoid(0.1, 0.0, 0.2),
+                &["collider.shape.semi_axes", "[0.1, 0, 0.2]"],
+            ),
         ];
         for (shape, needles) in cases {
             let e = shape.validate("collider.shape").unwrap_err().to_string();
@@ -538,5 +586,46 @@ mod tests {
             "{got:?}"
         );
         assert!(plane(Vector3::z()).unit_inertia().is_none());
+    }
+
+    fn ellipsoid(a: f64, b: f64, c: f64) -> Shape {
+        Shape::Ellipsoid {
+            semi_axes: Vector3::new(a, b, c),
+        }
+    }
+
+    #[test]
+    fn ellipsoid_mass_properties() {
+        // Volume 4/3 pi a b c; inertia per unit mass (b^2 + c^2) / 5 etc.
+        let (a, b, c) = (0.3, 0.2, 0.1);
+        let s = ellipsoid(a, b, c);
+        let v = s.volume().unwrap();
+        assert!((v - 4.0 / 3.0 * PI * 0.006).abs() < 1e-15, "{v}");
+        let i = s.unit_inertia().unwrap();
+        let want = Vector3::new(0.05, 0.1, 0.13) / 5.0;
+        assert!((i - want).norm() < 1e-15, "{i:?}");
+        // a = b = c is the sphere, to round-off.
+        let (e, r) = (ellipsoid(0.7, 0.7, 0.7), sphere(0.7));
+        assert!((e.volume().unwrap() - r.volume().unwrap()).abs() < 1e-14);
+        assert!((e.unit_inertia().unwrap() - r.unit_inertia().unwrap()).norm() < 1e-15);
+        assert_eq!(e.curvature_radius(), 0.7);
+        // Parry's mass properties of the collision shape agree (density 2).
+        let p = crate::collision::convert::to_parry(&s, "s").unwrap().shape;
+        let mp = p.mass_properties(2.0);
+        assert!((mp.mass() - 2.0 * v).abs() < 1e-14);
+        let ip = mp.principal_inertia();
+        let ip = Vector3::new(ip.x, ip.y, ip.z);
+        assert!((ip - i * 2.0 * v).norm() < 1e-15, "{ip:?}");
+        // The bounding box is the semi-axes.
+        let bb = p.compute_local_aabb();
+        assert_eq!(bb.maxs.to_array(), [a, b, c]);
+        assert_eq!(bb.mins.to_array(), [-a, -b, -c]);
+        // Its visualization mesh lies on the surface.
+        let (verts, tris) = s.to_trimesh(12, 1.0).unwrap();
+        assert!(!tris.is_empty());
+        for p in verts {
+            let q = p.component_div(&Vector3::new(a, b, c)).norm();
+            assert!((q - 1.0).abs() < 1e-12, "{p:?}");
+        }
     }
 }

@@ -288,6 +288,10 @@ fn open_axes(s: &SphSettings, b: &RigidBody, shape: &Shape, local: &Isometry3<f6
 pub fn signed_distance(shape: &Shape, p: [f64; 3], open: [bool; 3]) -> f64 {
     match shape {
         Shape::Sphere { radius } => (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt() - radius,
+        Shape::Ellipsoid { semi_axes } => chrono_core::shape::ellipsoid_signed_distance(
+            semi_axes,
+            &chrono_core::math::Vector3::new(p[0], p[1], p[2]),
+        ),
         Shape::Box { half_extents } => {
             let q: Vec<f64> = (0..3)
                 .map(|i| {

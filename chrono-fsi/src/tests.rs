@@ -68,12 +68,19 @@ fn total_momentum(sys: &System, b: BodyHandle, item: ItemHandle) -> Vector3<f64>
 /// the reactions of the kicks the fluid gets).
 #[test]
 fn momentum_of_fluid_and_body_is_conserved_in_a_periodic_box() {
-    // the sphere over 1000 sub-steps, the box (corners, rotation) over 300
+    // the sphere over 1000 sub-steps, the box (corners, rotation) and the ellipsoid
+    // (rotation) over 300
     for (shape, substeps) in [
         (Shape::Sphere { radius: 0.07 }, 1000),
         (
             Shape::Box {
                 half_extents: Vector3::new(0.08, 0.05, 0.06),
+            },
+            300,
+        ),
+        (
+            Shape::Ellipsoid {
+                semi_axes: Vector3::new(0.09, 0.06, 0.05),
             },
             300,
         ),
@@ -186,6 +193,24 @@ fn bad_bodies_are_errors_naming_the_body_and_value() {
         "{e}"
     );
     assert!(e.to_string().contains("0.06"), "{e}");
+    // an ellipsoid: its smallest semi-axis decides (2 x 0.025 m < 2 h), then resolution
+    let (sys, b) = one_body(Shape::Ellipsoid {
+        semi_axes: Vector3::new(0.2, 0.025, 0.1),
+    });
+    let e = tank_builder(dp).add_body(&sys, b).unwrap_err();
+    assert!(
+        matches!(e, FsiError::BodyThinnerThanSupport { ref body, ref shape, thickness, .. } if body == "hull" && shape == "ellipsoid" && (thickness - 0.05).abs() < 1e-12),
+        "{e}"
+    );
+    let (sys, b) = one_body(Shape::Ellipsoid {
+        semi_axes: Vector3::new(0.2, 0.035, 0.1),
+    });
+    let e = tank_builder(dp).add_body(&sys, b).unwrap_err();
+    assert!(
+        matches!(e, FsiError::Unresolved { ref body, ref shape, .. } if body == "hull" && shape == "ellipsoid"),
+        "{e}"
+    );
+    assert!(e.to_string().contains("0.07"), "{e}");
     // a shape without marker generation
     let (sys, b) = one_body(Shape::Capsule {
         half_length: 0.1,

@@ -62,6 +62,9 @@ pub(crate) fn to_parry(shape: &Shape, field: &str) -> Result<ParryShape> {
     let s = match shape {
         Shape::Sphere { radius } => SharedShape::ball(*radius),
         Shape::Box { half_extents: e } => SharedShape::cuboid(e.x, e.y, e.z),
+        Shape::Ellipsoid { semi_axes } => {
+            SharedShape::new(super::ellipsoid::Ellipsoid::new(vec_to_glam(semi_axes)))
+        }
         Shape::Capsule {
             half_length,
             radius,
@@ -104,13 +107,19 @@ pub(crate) fn to_parry(shape: &Shape, field: &str) -> Result<ParryShape> {
     Ok(ParryShape { shape: s, offset })
 }
 
-/// Triangulate a sphere, box, capsule, cylinder or convex hull with parry's `to_trimesh`.
+/// Triangulate a sphere, box, ellipsoid, capsule, cylinder or convex hull with parry's `to_trimesh`.
 pub(crate) fn parry_trimesh(shape: &Shape, subdivisions: u32) -> Result<TriangleMesh> {
     let (v, i) = match shape {
         Shape::Sphere { radius } => {
             Ball::new(*radius).to_trimesh(subdivisions, subdivisions.div_ceil(2))
         }
         Shape::Box { half_extents } => Cuboid::new(vec_to_glam(half_extents)).to_trimesh(),
+        Shape::Ellipsoid { semi_axes } => {
+            // The unit sphere's mesh stretched along the axes.
+            let (v, i) = Ball::new(1.0).to_trimesh(subdivisions, subdivisions.div_ceil(2));
+            let e = vec_to_glam(semi_axes);
+            (v.into_iter().map(|p| p * e).collect(), i)
+        }
         Shape::Capsule {
             half_length,
             radius,

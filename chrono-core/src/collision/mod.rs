@@ -23,6 +23,8 @@
 //! - `broad_phase`: sort-and-sweep of bounding boxes, half-spaces kept apart.
 //! - `sphere_grid`: the uniform cell grid for scenes with many spheres (grains): sphere
 //!   pairs found and computed on the grid, spheres against other shapes by grid queries.
+//! - `ellipsoid`: the ellipsoid as a custom parry shape (support map, one-point feature
+//!   map, exact point projection and ray cast), parry having none.
 //! - `narrow_phase`: per-pair persistent state, analytic sphere fast paths, parry manifolds.
 //! - `world`: [`CollisionWorld`] and [`Collider`].
 //! - `removal`: removing owners in place (swap-remove of bodies).
@@ -32,6 +34,7 @@
 mod broad_phase;
 mod contact;
 pub(crate) mod convert;
+pub(crate) mod ellipsoid;
 pub(crate) mod mesh;
 mod narrow_phase;
 mod proxy;

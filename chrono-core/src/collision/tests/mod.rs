@@ -1,6 +1,7 @@
 //! Tests of the collision world (broad-phase tests live in `broad_phase`).
 //!
-//! `pairs`: contact conventions shape pair by shape pair; `scenes`: filtering, errors and
+//! `pairs`: contact conventions shape pair by shape pair; `ellipsoid`: the ellipsoid against
+//! every convex shape, a mesh and a plane, checked against analytic support points; `scenes`: filtering, errors and
 //! determinism of `CollisionWorld::detect`.
 
 use super::*;
@@ -8,6 +9,7 @@ use crate::material::ContactMaterial;
 use crate::math::{Isometry3, Vector3};
 use crate::shape::Shape;
 
+mod ellipsoid;
 mod grid;
 mod pairs;
 mod removal;
