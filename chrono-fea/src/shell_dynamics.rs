@@ -98,6 +98,8 @@ pub struct ShellItem {
     damping: f64,
     /// Radius of the contact spheres, m (`None`: no contact).
     contact_radius: Option<f64>,
+    /// Contact through the element faces (two triangles each) instead of the nodes.
+    contact_faces: bool,
     contact_material: ContactMaterial,
     /// Director attachments `(node, target)`.
     directors: Vec<(usize, DirectorTarget)>,
@@ -128,6 +130,7 @@ impl ShellItem {
             core,
             damping: 0.0,
             contact_radius: None,
+            contact_faces: false,
             contact_material: ContactMaterial::default(),
             directors: Vec::new(),
             director_rows: Vec::new(),
@@ -200,6 +203,31 @@ impl ShellItem {
         self.contact_radius = Some(radius);
         self.contact_material = material;
         Ok(())
+    }
+
+    /// Make every element's mid surface a contact surface: two triangles per element
+    /// (nodes `(0, 1, 2)` and `(0, 2, 3)`), each swept by a sphere of `radius` (m, finite
+    /// and > 0; `t / 2` puts the contact surface at the shell's faces), with the surface
+    /// material `material`. A contact at the point `p` of a triangle acts on its three
+    /// nodes with the barycentric weights of `p` (`r(p) = sum w_k r_k`: the force and
+    /// the velocity use the same weights, so the virtual work is consistent). Unlike the
+    /// node spheres of [`set_contact_spheres`](Self::set_contact_spheres) the surface has
+    /// no gaps: a body smaller than the element cannot pass between the nodes. The
+    /// triangles are flat, so a curved element's surface is cut by up to its sagitta.
+    pub fn set_contact_faces(&mut self, radius: f64, material: ContactMaterial) -> Result<()> {
+        self.set_contact_spheres(radius, material)?;
+        self.contact_faces = true;
+        Ok(())
+    }
+
+    /// The three node indices of face proxy `id` (`2 e` and `2 e + 1` of element `e`).
+    fn face_nodes(&self, id: usize) -> Option<[usize; 3]> {
+        let n = self.mesh.elements().get(id / 2)?.nodes;
+        Some(if id % 2 == 0 {
+            [n[0], n[1], n[2]]
+        } else {
+            [n[0], n[2], n[3]]
+        })
     }
 
     /// Radius of the contact spheres, m (`None`: contact off).
@@ -352,6 +380,22 @@ impl PhysicsItem for ShellItem {
         let Some(radius) = self.contact_radius else {
             return;
         };
+        if self.contact_faces {
+            let nodes = self.mesh.nodes();
+            for id in 0..2 * self.mesh.elements().len() {
+                if let Some(f) = self.face_nodes(id) {
+                    out.push(CollisionProxy {
+                        shape: ProxyShape::Triangle {
+                            vertices: f.map(|k| nodes[k].position),
+                            thickness: radius,
+                        },
+                        material: self.contact_material,
+                        id: id as u32,
+                    });
+                }
+            }
+            return;
+        }
         for (n, node) in self.mesh.nodes().iter().enumerate() {
             out.push(CollisionProxy {
                 shape: ProxyShape::Sphere {
@@ -368,10 +412,19 @@ impl PhysicsItem for ShellItem {
     fn proxy_jacobian(
         &self,
         proxy: u32,
-        _p: &Vector3<f64>,
+        p: &Vector3<f64>,
         dirs: &[Vector3<f64>; 3],
         entry: &mut dyn FnMut(BlockId, [&[f64]; 3]),
     ) -> [f64; 3] {
+        if self.contact_faces {
+            if let Some(f) = self.face_nodes(proxy as usize) {
+                let nodes = self.mesh.nodes();
+                let w = barycentric(f.map(|k| nodes[k].position), p);
+                let weights = [(6 * f[0], w[0]), (6 * f[1], w[1]), (6 * f[2], w[2])];
+                self.core.point_jacobian(&weights, dirs, entry);
+            }
+            return [0.0; 3];
+        }
         let node = proxy as usize;
         if node < self.mesh.nodes().len() {
             self.core.point_jacobian(&[(6 * node, 1.0)], dirs, entry);
@@ -428,4 +481,22 @@ impl PhysicsItem for ShellItem {
         }
         Ok(())
     }
+}
+
+/// Barycentric weights of the point of triangle `t` nearest to `p` (the weights of the
+/// plane projection, clamped to the triangle and renormalized; a degenerate triangle gives
+/// equal weights).
+fn barycentric(t: [Vector3<f64>; 3], p: &Vector3<f64>) -> [f64; 3] {
+    let (e1, e2, d) = (t[1] - t[0], t[2] - t[0], p - t[0]);
+    let (a, b, c) = (e1.dot(&e1), e1.dot(&e2), e2.dot(&e2));
+    let (r1, r2) = (d.dot(&e1), d.dot(&e2));
+    let det = a * c - b * b;
+    if det <= 1e-300 || !det.is_finite() {
+        return [1.0 / 3.0; 3];
+    }
+    let u = (c * r1 - b * r2) / det;
+    let v = (a * r2 - b * r1) / det;
+    let w = [(1.0 - u - v).max(0.0), u.max(0.0), v.max(0.0)];
+    let sum = w[0] + w[1] + w[2];
+    [w[0] / sum, w[1] / sum, w[2] / sum]
 }

@@ -466,8 +466,7 @@ impl WheeledVehicle {
     /// (bead to bead) enclose at `p`'s angle about the axle, the section interpolated
     /// linearly between the two rings of nodes around `p` (a point-in-polygon test in the
     /// radius–axial plane, so it follows the carcass as it deforms). Always false for a
-    /// rigid or handling tire. A grain centre inside a carcass has passed through it
-    /// (node-sphere contact holds a grain at the nodes only).
+    /// rigid or handling tire. A grain centre inside a carcass has passed through it.
     pub fn inside_ancf_tire(&self, sys: &System, i: usize, p: &Vector3<f64>) -> Result<bool> {
         let w = self.wheels.get(i).ok_or_else(|| {
             VehicleError::invalid("wheel", i, format!("{} wheels", self.wheels.len()))

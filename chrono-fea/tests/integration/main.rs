@@ -6,6 +6,7 @@ mod contact;
 mod dynamics;
 mod fea;
 mod shell;
+mod shell_contact;
 mod shell_dynamics;
 mod slope_attach;
 mod tet;

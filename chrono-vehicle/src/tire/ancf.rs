@@ -237,7 +237,9 @@ impl AncfTireModel {
     /// Mount a copy of the inflated tire on the spindle body `spindle` of `sys` (its axle
     /// the body's local `Y` axis through its centre of mass, at its current pose) and add
     /// it to `sys` as an item named `name`: every bead node tied to the spindle as the
-    /// data's `bead` says, node spheres of radius `t / 2` against the body colliders.
+    /// data's `bead` says, its element faces (triangles swept by `t / 2`,
+    /// [`ShellItem::set_contact_faces`]) against the body colliders: a grain smaller than an
+    /// element cannot pass between the nodes.
     pub fn mount(&self, sys: &mut System, name: &str, spindle: BodyHandle) -> Result<ItemHandle> {
         let pose: Isometry3<f64> = sys.body(spindle)?.pose();
         let mut q = self.inflated.inflated.coordinates();
@@ -253,7 +255,7 @@ impl AncfTireModel {
         mesh.set_coordinates(&q)?;
         let mut item = ShellItem::new(name, mesh)?;
         item.set_damping(self.data.damping)?;
-        item.set_contact_spheres(0.5 * self.data.thickness, self.data.material())?;
+        item.set_contact_faces(0.5 * self.data.thickness, self.data.material())?;
         let inflated = &self.inflated.inflated;
         for &n in self.tire.beads.iter().flatten() {
             let node = inflated.node(n)?;

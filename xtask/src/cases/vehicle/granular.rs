@@ -2,7 +2,7 @@
 //!
 //! `tire = ancf` mounts the pressurized ANCF shell tires (NSC only); it adds the check
 //! `grains_inside_tires` = 0 (no grain centre ever on the inner side of a carcass, counted
-//! every 50 steps): node-sphere contact holds a grain only at the nodes.
+//! every 50 steps; the carcass touches the grains with its element faces).
 //!
 //! A bed of spherical grains (`chrono_vehicle::terrain::GranularPatch`) settles in a box
 //! under the vehicle; the HMMWV (rigid tires; the suspension joints and the driveline
