@@ -283,6 +283,7 @@ fn the_right_hand_side_follows_the_surface_mode() {
         );
         assert_eq!(g.eps[0], eps);
     }
-    assert!((compliance(1e-9, 1000.0, 1e-3, 1.0) - 1e-3).abs() < 1e-15);
+    // kappa rho_0 / (h^2 m) = 1e-9 * 1000 / (1e-6 * 2)
+    assert!((compliance(1e-9, 1000.0, 1e-3, 2.0) - 0.5).abs() < 1e-12);
     assert!(SurfaceMode::parse("sideways").is_err());
 }
