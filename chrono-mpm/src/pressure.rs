@@ -1,0 +1,537 @@
+//! The split's pressure (`docs/mpm.md`, "The split"): the volumetric part of the stress as
+//! constraint-fluid density rows on the markers, one CCP per step solved by chrono-ccp's
+//! APGD, while MPM carries the deviatoric stress only (Stomakhin et al., "Augmented MPM for
+//! phase-change and varied materials", ACM TOG 33(4), 2014, split the stress this way; the
+//! rows are H. Mazhar's constraint fluid, PhD thesis, UW-Madison 2016, the seed's
+//! "Split Pressure and Shear").
+//!
+//! Each marker `p` is a 3-dof block of its own mass `m_p`; its row is the density
+//! constraint of [`chrono_core::density_rows`] (the same code as chrono-cfluid's),
+//!
+//! ```text
+//! C_p = rho_p / rho_0 - 1,   rho_p = m_k W(0) + sum_q m_k W(|x_p - x_q|)
+//! M (v - v*) = D gamma,   D_p' v - min(C_p / dt, max_rate) + eps_p gamma_p = 0   (or >= 0)
+//! eps_p = kappa rho_0 / (dt^2 m_p),   kappa = 1 / K
+//! ```
+//!
+//! with `v*` the markers' velocities after G2P (deviatoric stress, gravity, walls), `m_k`
+//! the kernel mass of the marker lattice (spacing `dp`; [`lattice_mass`]) so that the
+//! initial lattice is at `C = 0`, and the fixed wall markers (no variables; lattice layers
+//! beyond the grid's walls) in the sums. A row with `C_p < 0` (a free surface, a marker
+//! pulled apart) is unilateral ([`SurfaceMode::OneSided`]): the material never pulls at
+//! the rows' side (a soil, a mud); the wall markers have unilateral rows of their own.
+//! The marker pressure is read from the impulses with the lattice's gradient
+//! normalization ([`PressureRows::pressure`]).
+
+use chrono_core::density_rows::{
+    DensityField, RowBuf, SurfaceMode, compliance, lattice_mass, push_density_row,
+};
+use chrono_core::descriptor::{
+    BlockId, CcpProblem, CcpSolver, ConstraintRows, MassOperator, RowEntry, RowId, SolverSettings,
+    Variables,
+};
+use chrono_core::particles::{CellGrid, GridConfig, Kernel, KernelKind, NeighborList};
+
+use rayon::prelude::*;
+
+use crate::error::{MpmError, Result, invalid, positive};
+use crate::markers::Markers;
+
+/// Settings of the split's pressure rows.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PressureSettings {
+    /// Rest density `rho_0` of the markers, kg/m^3 (every marker's `mass / volume0`).
+    pub rest_density: f64,
+    /// Spacing `dp` of the markers' initial lattice, m (`dx / 2` for 2 markers per cell).
+    pub spacing: f64,
+    /// Smoothing length over spacing, `h_k / dp` (kernel support `2 h_k`; Wendland C2).
+    pub h_over_dp: f64,
+    /// Kernel dimension: 3, or 2 for a plane-strain slab one marker layer thick (the sums
+    /// in the slab's plane).
+    pub dim: u32,
+    /// Compressibility `kappa = 1 / K`, 1/Pa (`>= 0`): the rows' compliance, the bulk
+    /// modulus of the material (`K = lambda + 2 mu / 3` reproduces plain MPM's volumetric
+    /// elasticity to first order); 0 is incompressible.
+    pub compressibility: f64,
+    /// Largest stabilization rate `C / dt` of a compressed marker, 1/s (`> 0`).
+    pub max_recovery_rate: f64,
+    /// APGD's tolerance on the rows' velocity residual, m/s (`> 0`).
+    pub tolerance: f64,
+    /// APGD's iteration limit per step (`>= 1`).
+    pub max_iterations: usize,
+    /// The last step's impulses times this factor start the solver, in `[0, 1]`.
+    pub warm_start_factor: f64,
+}
+
+impl Default for PressureSettings {
+    fn default() -> Self {
+        Self {
+            rest_density: 1000.0,
+            spacing: 0.05,
+            h_over_dp: 1.2,
+            dim: 3,
+            compressibility: 0.0,
+            max_recovery_rate: 1e3,
+            tolerance: 1e-6,
+            max_iterations: 500,
+            warm_start_factor: 1.0,
+        }
+    }
+}
+
+impl PressureSettings {
+    /// Checks every field; the error names it.
+    pub fn validate(&self) -> Result<()> {
+        positive("pressure.rest_density", self.rest_density)?;
+        positive("pressure.spacing", self.spacing)?;
+        positive("pressure.h_over_dp", self.h_over_dp)?;
+        if !(0.8..=3.0).contains(&self.h_over_dp) {
+            return Err(invalid(
+                "pressure.h_over_dp",
+                self.h_over_dp,
+                "must be in [0.8, 3]",
+            ));
+        }
+        if !(self.dim == 2 || self.dim == 3) {
+            return Err(invalid("pressure.dim", self.dim, "must be 2 or 3"));
+        }
+        if !(self.compressibility.is_finite() && self.compressibility >= 0.0) {
+            return Err(invalid(
+                "pressure.compressibility",
+                self.compressibility,
+                "must be finite and >= 0",
+            ));
+        }
+        positive("pressure.max_recovery_rate", self.max_recovery_rate)?;
+        positive("pressure.tolerance", self.tolerance)?;
+        if self.max_iterations == 0 {
+            return Err(invalid("pressure.max_iterations", 0, "must be >= 1"));
+        }
+        if !(0.0..=1.0).contains(&self.warm_start_factor) {
+            return Err(invalid(
+                "pressure.warm_start_factor",
+                self.warm_start_factor,
+                "must be in [0, 1]",
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// The pressure rows of an MPM body in the split mode (see the module documentation).
+#[derive(Clone, Debug)]
+pub struct PressureRows {
+    settings: PressureSettings,
+    kernel: Kernel,
+    /// Kernel mass `m_k` of the marker lattice, kg (kg/m with the 2-D kernel).
+    kernel_mass: f64,
+    /// `-(m_k / rho_0) a`, the lattice's gradient normalization (see [`Self::pressure`]).
+    gradient_scale: f64,
+    /// Wall markers (fixed, in the sums), m.
+    walls: [Vec<f64>; 3],
+    pos: [Vec<f64>; 3],
+    grid: CellGrid,
+    nbrs: NeighborList,
+    bufs: Vec<RowBuf>,
+    rho: Vec<f64>,
+    ids: Vec<RowId>,
+    /// Row buffers, densities (kg/m^3) and impulses (N m s) of the wall markers, and the
+    /// wall markers that have a row this step.
+    wall_bufs: Vec<RowBuf>,
+    wall_rho: Vec<f64>,
+    wall_gamma: Vec<f64>,
+    wall_ids: Vec<(u32, RowId)>,
+    /// Each marker's row impulse of the last step, N m s.
+    gamma: Vec<f64>,
+    /// Each marker's pressure of the last step, Pa.
+    pressure: Vec<f64>,
+    vars: Variables,
+    rows: ConstraintRows,
+    problem: CcpProblem,
+    solver: chrono_ccp::Apgd,
+    k: Vec<f64>,
+    v: Vec<f64>,
+    gamma_all: Vec<f64>,
+    /// Each marker's velocity change by the rows at the last step, m/s.
+    dv: Vec<[f64; 3]>,
+    /// Iterations and residual (m/s) of the last solve.
+    last: (usize, f64),
+}
+
+impl PressureRows {
+    /// Rows with `settings` for markers inside the region `[lower, upper]` (m; the
+    /// neighbour grid's box, markers outside still work, slower), with fixed wall markers
+    /// at `walls` (m; on the markers' lattice beyond the grid's walls, at least
+    /// `chrono_core::particles::lattice::wall_layers(h_over_dp)` layers). Errors name the
+    /// field.
+    pub fn new(
+        settings: PressureSettings,
+        lower: [f64; 3],
+        upper: [f64; 3],
+        walls: &[[f64; 3]],
+    ) -> Result<Self> {
+        settings.validate()?;
+        for (i, w) in walls.iter().enumerate() {
+            if !w.iter().all(|c| c.is_finite()) {
+                return Err(invalid(
+                    &format!("pressure.walls[{i}]"),
+                    format!("{w:?}"),
+                    "must be finite",
+                ));
+            }
+        }
+        let h_k = settings.h_over_dp * settings.spacing;
+        let kernel = Kernel::new(KernelKind::WendlandC2, h_k, settings.dim)?;
+        let kernel_mass = lattice_mass(&kernel, settings.spacing, settings.rest_density);
+        let grid = CellGrid::new(GridConfig::bounded(kernel.support(), lower, upper))?;
+        let a = lattice_gradient_moment(&kernel, settings.spacing);
+        Ok(Self {
+            settings,
+            kernel,
+            kernel_mass,
+            gradient_scale: -kernel_mass / settings.rest_density * a,
+            walls: std::array::from_fn(|a| walls.iter().map(|w| w[a]).collect()),
+            pos: Default::default(),
+            grid,
+            nbrs: NeighborList::new(),
+            bufs: Vec::new(),
+            rho: Vec::new(),
+            ids: Vec::new(),
+            wall_bufs: vec![RowBuf::default(); walls.len()],
+            wall_rho: vec![settings.rest_density; walls.len()],
+            wall_gamma: vec![0.0; walls.len()],
+            wall_ids: Vec::new(),
+            gamma: Vec::new(),
+            pressure: Vec::new(),
+            vars: Variables::new(),
+            rows: ConstraintRows::new(),
+            problem: CcpProblem::new(),
+            solver: chrono_ccp::Apgd::new(SolverSettings {
+                tolerance: settings.tolerance,
+                max_iterations: settings.max_iterations,
+                ..SolverSettings::default()
+            }),
+            k: Vec::new(),
+            v: Vec::new(),
+            gamma_all: Vec::new(),
+            dv: Vec::new(),
+            last: (0, 0.0),
+        })
+    }
+
+    /// The settings.
+    pub fn settings(&self) -> &PressureSettings {
+        &self.settings
+    }
+
+    /// Each marker's pressure of the last step, Pa (positive in compression):
+    /// `p_p = gamma_p (m_k / rho_0) |a| / (V_p dt)`, with `a = (1/dim) sum_j F(r_j) r_j^2`
+    /// over the marker lattice (`F = W'/r`) and `V_p` the marker's volume. With it the rows'
+    /// impulses on a lattice under a linear pressure field are exactly `-V_p grad p dt`
+    /// (the row coefficients are `(m_k/rho_0) F x`, and `sum_j F x_j x_j' = a I` on the
+    /// lattice), so `p` is the pressure that balances the markers' weight; it differs from
+    /// chrono-cfluid's `gamma rho_0 / (dt m_k)` by the lattice's two normalizations,
+    /// `(m_k / rho_0)^2 |a| / V` (1 for the continuous kernel).
+    pub fn pressure(&self) -> &[f64] {
+        &self.pressure
+    }
+
+    /// Each marker's density of the last step (at the step's start), kg/m^3.
+    pub fn density(&self) -> &[f64] {
+        &self.rho
+    }
+
+    /// The largest compression `max_p C_p` at the last step's start (0 when none).
+    pub fn max_compression(&self) -> f64 {
+        let r0 = self.settings.rest_density;
+        self.rho.iter().fold(0.0, |m, r| m.max(r / r0 - 1.0))
+    }
+
+    /// APGD's iterations and residual (m/s) at the last step.
+    pub fn last_solve(&self) -> (usize, f64) {
+        self.last
+    }
+
+    /// Checks the markers against the settings: every `mass / volume0` is the rest density
+    /// (to 1e-9). The error names the marker.
+    pub fn check_markers(&self, markers: &Markers) -> Result<()> {
+        let r0 = self.settings.rest_density;
+        for p in 0..markers.len() {
+            let rho = markers.mass[p] / markers.volume0[p];
+            if (rho / r0 - 1.0).abs() > 1e-9 {
+                return Err(invalid(
+                    &format!("marker[{p}].mass / volume0"),
+                    rho,
+                    &format!("must equal pressure.rest_density = {r0} kg/m^3"),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// The rows' solve of one step `dt` (s): the markers' velocities `markers.v` (`v*` of
+    /// G2P) become `v* + M^-1 D gamma`. `step` names the step in an error (a non-finite
+    /// density or velocity).
+    pub fn solve(&mut self, markers: &mut Markers, dt: f64, step: u64, time: f64) -> Result<()> {
+        let n = markers.len();
+        let s = self.settings;
+        for a in 0..3 {
+            self.pos[a].clear();
+            self.pos[a].extend(markers.x.iter().map(|x| x[a]));
+            self.pos[a].extend_from_slice(&self.walls[a]);
+        }
+        let pos = [&self.pos[0][..], &self.pos[1][..], &self.pos[2][..]];
+        self.grid.build(pos)?;
+        self.grid
+            .neighbor_list(pos, self.kernel.support(), &mut self.nbrs)?;
+        self.bufs.resize(n, RowBuf::default());
+        self.rho.resize(n, 0.0);
+        let field = DensityField {
+            kernel: &self.kernel,
+            mass: self.kernel_mass,
+            rho_0: s.rest_density,
+            grid: &self.grid,
+            pos,
+            nbrs: &self.nbrs,
+            n_free: n,
+            n_static: self.pos[0].len(),
+            marker_owner: &[],
+            body_origin: &[],
+        };
+        field.densities(&mut self.rho);
+        field.rows(&mut self.bufs);
+        field.wall_rows(&mut self.wall_bufs, &mut self.wall_rho);
+        if let Some(p) = self.rho.iter().position(|r| !r.is_finite()) {
+            return Err(MpmError::Diverged {
+                marker: p,
+                step,
+                time,
+                what: "non-finite density in the pressure rows".into(),
+            });
+        }
+
+        self.vars.clear();
+        self.k.clear();
+        let mut first = None;
+        for p in 0..n {
+            let id = self.vars.add(MassOperator::particle(markers.mass[p])?);
+            first.get_or_insert(id);
+            let mv = markers.v[p] * markers.mass[p];
+            self.k.extend_from_slice(&[mv[0], mv[1], mv[2]]);
+        }
+        let Some(first) = first else {
+            return Ok(());
+        };
+        self.rows.clear();
+        self.ids.clear();
+        let mut entries: Vec<RowEntry> = Vec::new();
+        for p in 0..n {
+            let buf = &self.bufs[p];
+            entries.clear();
+            for (j, &q) in buf.particles.iter().enumerate() {
+                entries.push(RowEntry {
+                    block: BlockId(first.0 + q),
+                    coefs: &buf.coefs[3 * j..3 * j + 3],
+                });
+            }
+            let c = self.rho[p] / s.rest_density - 1.0;
+            let eps = compliance(s.compressibility, s.rest_density, dt, markers.mass[p]);
+            let id = push_density_row(
+                &mut self.rows,
+                &entries,
+                c,
+                dt,
+                eps,
+                0.0,
+                SurfaceMode::OneSided,
+                s.max_recovery_rate,
+            );
+            self.ids.push(id);
+        }
+        // The wall markers' own rows (chrono-cfluid's `wall_marker_rows`), unilateral: a
+        // wall pushes with a pressure of its own, so the pair forces across it are
+        // `g_i + g_k` as inside; without them the first layer carries twice the
+        // hydrostatic pressure and the layers above alternate.
+        self.wall_ids.clear();
+        let m_ref = markers.mass.iter().sum::<f64>() / n as f64;
+        let eps = compliance(s.compressibility, s.rest_density, dt, m_ref);
+        for (k, buf) in self.wall_bufs.iter().enumerate() {
+            if buf.particles.is_empty() {
+                continue;
+            }
+            entries.clear();
+            for (j, &q) in buf.particles.iter().enumerate() {
+                entries.push(RowEntry {
+                    block: BlockId(first.0 + q),
+                    coefs: &buf.coefs[3 * j..3 * j + 3],
+                });
+            }
+            let c = self.wall_rho[k] / s.rest_density - 1.0;
+            let id = push_density_row(
+                &mut self.rows,
+                &entries,
+                c,
+                dt,
+                eps,
+                0.0,
+                SurfaceMode::Unilateral,
+                s.max_recovery_rate,
+            );
+            self.wall_ids.push((k as u32, id));
+        }
+        drop(entries);
+        self.problem.assemble(&self.vars, &self.rows, &self.k)?;
+        self.gamma_all.clear();
+        self.gamma_all.resize(self.problem.n_rows(), 0.0);
+        if self.gamma.len() == n {
+            for (id, g) in self.ids.iter().zip(&self.gamma) {
+                self.gamma_all[self.problem.row_index(*id)] = s.warm_start_factor * g;
+            }
+        }
+        for (k, id) in &self.wall_ids {
+            self.gamma_all[self.problem.row_index(*id)] =
+                s.warm_start_factor * self.wall_gamma[*k as usize];
+        }
+        let stats = self.solver.solve(&self.problem, &mut self.gamma_all);
+        self.last = (stats.iterations, stats.residual);
+        self.v.resize(3 * n, 0.0);
+        self.problem.velocities(&self.gamma_all, &mut self.v);
+        let off = self.vars.offset(first);
+        self.dv.clear();
+        for p in 0..n {
+            let v = &self.v[off + 3 * p..off + 3 * p + 3];
+            if !v.iter().all(|x| x.is_finite()) {
+                return Err(MpmError::Diverged {
+                    marker: p,
+                    step,
+                    time,
+                    what: "non-finite velocity after the pressure rows".into(),
+                });
+            }
+            let new = nalgebra::Vector3::new(v[0], v[1], v[2]);
+            let d = new - markers.v[p];
+            self.dv.push([d[0], d[1], d[2]]);
+            markers.v[p] = new;
+        }
+        self.gamma.clear();
+        self.gamma.extend(
+            self.ids
+                .iter()
+                .map(|id| self.gamma_all[self.problem.row_index(*id)]),
+        );
+        self.wall_gamma.fill(0.0);
+        for (k, id) in &self.wall_ids {
+            self.wall_gamma[*k as usize] = self.gamma_all[self.problem.row_index(*id)];
+        }
+        self.pressure.clear();
+        let scale = self.gradient_scale / dt;
+        self.pressure
+            .extend((0..n).map(|p| self.gamma[p] * scale / markers.volume0[p]));
+        Ok(())
+    }
+
+    /// Adds the rows' share of the step's velocity-gradient increment to each marker's
+    /// `df` (`I + dt grad v` of G2P, from the grid velocity before the rows): `dt G_p` with
+    /// the SPH gradient of the rows' velocity change `dv` (the wall markers' is 0),
+    ///
+    /// ```text
+    /// G_p = sum_q (m_k / rho_0) (dv_q - dv_p) (grad_p W_pq)',   grad_p W_pq = F(r_pq) x_pq
+    /// ```
+    ///
+    /// exact for a linear field on a full support. Without it `F_E` would follow the grid's
+    /// velocity before the pressure, and at rest under gravity keep compressing next to a
+    /// floor (the grid's `g dt` above a node held at 0, removed by the rows every step).
+    /// Call after [`solve`](Self::solve), before the positions move.
+    pub fn add_velocity_gradient(&self, dt: f64, df: &mut [nalgebra::Matrix3<f64>]) {
+        let n = self.dv.len();
+        let v = self.kernel_mass / self.settings.rest_density;
+        let grid = &self.grid;
+        let pos = &self.pos;
+        let (kernel, nbrs, dv) = (&self.kernel, &self.nbrs, &self.dv);
+        df[..n].par_iter_mut().enumerate().for_each(|(p, df)| {
+            let xp = [pos[0][p], pos[1][p], pos[2][p]];
+            let mut g = nalgebra::Matrix3::zeros();
+            for &q in nbrs.neighbors(p) {
+                let q = q as usize;
+                let d = grid.displacement(xp, [pos[0][q], pos[1][q], pos[2][q]]);
+                let r = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+                let f = v * kernel.grad_factor(r);
+                let dq = if q < n { dv[q] } else { [0.0; 3] };
+                for a in 0..3 {
+                    for b in 0..3 {
+                        g[(a, b)] += (dq[a] - dv[p][a]) * f * d[b];
+                    }
+                }
+            }
+            *df += g * dt;
+        });
+    }
+}
+
+/// `a = (1/dim) sum_j F(r_j) r_j^2` over the lattice of spacing `dp` without its centre
+/// (`F = W'(r)/r`, [`Kernel::grad_factor`]; in the plane of a 2-D kernel), 1/m^dim: the
+/// lattice's `sum_j F x_j x_j' = a I`. For the continuous kernel `a dp^dim = -1`.
+pub fn lattice_gradient_moment(kernel: &Kernel, dp: f64) -> f64 {
+    let reach = (kernel.support() / dp).ceil() as i64;
+    let dim = kernel.dim();
+    let ks = if dim == 3 { -reach..=reach } else { 0..=0 };
+    let js = if dim >= 2 { -reach..=reach } else { 0..=0 };
+    let mut sum = 0.0;
+    for k in ks {
+        for j in js.clone() {
+            for i in -reach..=reach {
+                if i == 0 && j == 0 && k == 0 {
+                    continue;
+                }
+                let r = dp * ((i * i + j * j + k * k) as f64).sqrt();
+                sum += kernel.grad_factor(r) * r * r;
+            }
+        }
+    }
+    sum / f64::from(dim)
+}
+
+/// Fixed wall markers of a plane-strain slab (the plane `y = y`, the 2-D kernel) on the
+/// lattice of spacing `dp`: `layers` layers beyond the walls of the box `[x0, x1] x [z0, z1]`
+/// (m): the floor `z < z0` (when `floor`) and the sides `x < x0`, `x > x1` (when `sides`)
+/// up to `z1`, the corners filled. The inner layer lies `dp / 2` from the wall, as the
+/// material's first layer does. Use at least
+/// `chrono_core::particles::lattice::wall_layers(h_over_dp)` layers. Errors name the field.
+pub fn slab_wall_markers(
+    x: [f64; 2],
+    z: [f64; 2],
+    y: f64,
+    dp: f64,
+    layers: usize,
+    floor: bool,
+    sides: bool,
+) -> Result<Vec<[f64; 3]>> {
+    positive("walls.dp", dp)?;
+    if !(x[1] > x[0] && z[1] > z[0]) {
+        return Err(invalid(
+            "walls.x / walls.z",
+            format!("{x:?}, {z:?}"),
+            "each must be an increasing pair",
+        ));
+    }
+    let nx = ((x[1] - x[0]) / dp + 1e-9).floor() as i64;
+    let nz = ((z[1] - z[0]) / dp + 1e-9).floor() as i64;
+    let l = layers as i64;
+    let mut out = Vec::new();
+    let x_lo = if sides { -l } else { 0 };
+    let x_hi = if sides { nx + l } else { nx };
+    for k in -l..nz {
+        for i in x_lo..x_hi {
+            let in_floor = k < 0;
+            let in_side = i < 0 || i >= nx;
+            if (in_floor && floor) || (!in_floor && in_side && sides) {
+                out.push([
+                    x[0] + (i as f64 + 0.5) * dp,
+                    y,
+                    z[0] + (k as f64 + 0.5) * dp,
+                ]);
+            }
+        }
+    }
+    Ok(out)
+}
