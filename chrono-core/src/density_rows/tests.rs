@@ -45,7 +45,7 @@ fn cloud() -> Cloud {
     }
     let n_static = pts.len();
     let mut owner = Vec::new();
-    for (b, x0) in [(0u32, 3.0 * DP), (1, -1.0 * DP)] {
+    for (b, x0) in [(0u32, 3.0 * DP), (1, -DP)] {
         for z in 1..4 {
             pts.push([x0 + 0.03 * b as f64, DP, z as f64 * DP + 0.02]);
             owner.push(b);
