@@ -231,6 +231,12 @@ impl MpmBody {
         Ok(())
     }
 
+    /// The split's pressure rows, if set, for attaching rigid-body markers
+    /// ([`PressureRows::attach_rigid`]).
+    pub fn pressure_rows_mut(&mut self) -> Option<&mut PressureRows> {
+        self.pressure.as_deref_mut()
+    }
+
     /// The split's pressure rows, if set ([`MpmBody::set_pressure_rows`]).
     pub fn pressure_rows(&self) -> Option<&PressureRows> {
         self.pressure.as_deref()

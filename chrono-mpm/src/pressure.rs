@@ -36,6 +36,7 @@ use rayon::prelude::*;
 
 use crate::error::{MpmError, Result, invalid, positive};
 use crate::markers::Markers;
+use crate::rigid::RigidBody;
 
 /// Settings of the split's pressure rows.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -141,6 +142,15 @@ pub struct PressureRows {
     wall_rho: Vec<f64>,
     wall_gamma: Vec<f64>,
     wall_ids: Vec<(u32, RowId)>,
+    /// Markers attached to rigid bodies: offsets from the centre (m), the body's index,
+    /// each body's centre at the step (m), and their rows as the walls'.
+    body_local: Vec<[f64; 3]>,
+    body_owner: Vec<u32>,
+    body_origin: Vec<[f64; 3]>,
+    marker_bufs: Vec<RowBuf>,
+    marker_rho: Vec<f64>,
+    marker_gamma: Vec<f64>,
+    marker_ids: Vec<(u32, RowId)>,
     /// Each marker's row impulse of the last step, N m s.
     gamma: Vec<f64>,
     /// Each marker's pressure of the last step, Pa.
@@ -201,6 +211,13 @@ impl PressureRows {
             wall_rho: vec![settings.rest_density; walls.len()],
             wall_gamma: vec![0.0; walls.len()],
             wall_ids: Vec::new(),
+            body_local: Vec::new(),
+            body_owner: Vec::new(),
+            body_origin: Vec::new(),
+            marker_bufs: Vec::new(),
+            marker_rho: Vec::new(),
+            marker_gamma: Vec::new(),
+            marker_ids: Vec::new(),
             gamma: Vec::new(),
             pressure: Vec::new(),
             vars: Variables::new(),
@@ -269,17 +286,68 @@ impl PressureRows {
         Ok(())
     }
 
+    /// Attaches markers fixed to rigid body `rigid` (its index in `MpmBody::rigid`) at the
+    /// offsets `local` from its centre (m; e.g. [`box_slab_markers`]): they enter the sums
+    /// at the body's position, move at its surface velocity (known: kinematic bodies), have
+    /// unilateral rows of their own, and the rows' impulses on them are added to the
+    /// body's reaction ([`RigidBody::impulse`](crate::rigid::RigidBody::impulse)). Errors
+    /// name the field.
+    pub fn attach_rigid(&mut self, rigid: usize, local: &[[f64; 3]]) -> Result<()> {
+        for (i, w) in local.iter().enumerate() {
+            if !w.iter().all(|c| c.is_finite()) {
+                return Err(invalid(
+                    &format!("pressure.rigid_markers[{i}]"),
+                    format!("{w:?}"),
+                    "must be finite",
+                ));
+            }
+        }
+        for l in local {
+            self.body_local.push(*l);
+            self.body_owner.push(rigid as u32);
+            self.marker_bufs.push(RowBuf::default());
+            self.marker_rho.push(self.settings.rest_density);
+            self.marker_gamma.push(0.0);
+        }
+        Ok(())
+    }
+
     /// The rows' solve of one step `dt` (s): the markers' velocities `markers.v` (`v*` of
-    /// G2P) become `v* + M^-1 D gamma`. `step` names the step in an error (a non-finite
-    /// density or velocity).
-    pub fn solve(&mut self, markers: &mut Markers, dt: f64, step: u64, time: f64) -> Result<()> {
+    /// G2P) become `v* + M^-1 D gamma`; the rows' impulses on the attached rigid bodies are
+    /// added to their reactions. `step` names the step in an error (a non-finite density
+    /// or velocity, a body marker on a body that does not exist).
+    pub fn solve(
+        &mut self,
+        markers: &mut Markers,
+        rigid: &mut [RigidBody],
+        dt: f64,
+        step: u64,
+        time: f64,
+    ) -> Result<()> {
         let n = markers.len();
         let s = self.settings;
+        if let Some(&o) = self.body_owner.iter().find(|&&o| o as usize >= rigid.len()) {
+            return Err(invalid(
+                "pressure.attach_rigid.rigid",
+                o,
+                "no such rigid body on the MPM body",
+            ));
+        }
+        self.body_origin.clear();
+        self.body_origin.extend(
+            rigid
+                .iter()
+                .map(|r| [r.position.x, r.position.y, r.position.z]),
+        );
         for a in 0..3 {
             self.pos[a].clear();
             self.pos[a].extend(markers.x.iter().map(|x| x[a]));
             self.pos[a].extend_from_slice(&self.walls[a]);
+            for (l, &o) in self.body_local.iter().zip(&self.body_owner) {
+                self.pos[a].push(self.body_origin[o as usize][a] + l[a]);
+            }
         }
+        let n_static = n + self.walls[0].len();
         let pos = [&self.pos[0][..], &self.pos[1][..], &self.pos[2][..]];
         self.grid.build(pos)?;
         self.grid
@@ -294,13 +362,14 @@ impl PressureRows {
             pos,
             nbrs: &self.nbrs,
             n_free: n,
-            n_static: self.pos[0].len(),
-            marker_owner: &[],
-            body_origin: &[],
+            n_static,
+            marker_owner: &self.body_owner,
+            body_origin: &self.body_origin,
         };
         field.densities(&mut self.rho);
         field.rows(&mut self.bufs);
         field.wall_rows(&mut self.wall_bufs, &mut self.wall_rho);
+        field.marker_rows(&mut self.marker_bufs, &mut self.marker_rho);
         if let Some(p) = self.rho.iter().position(|r| !r.is_finite()) {
             return Err(MpmError::Diverged {
                 marker: p,
@@ -322,6 +391,17 @@ impl PressureRows {
         let Some(first) = first else {
             return Ok(());
         };
+        // `D' v` of a body block: the body's known surface velocity (kinematic bodies).
+        let known = |bodies: &[(u32, [f64; 6])]| -> f64 {
+            let mut k = 0.0;
+            for (slot, c) in bodies {
+                let r = &rigid[*slot as usize];
+                for a in 0..3 {
+                    k += c[a] * r.velocity[a] + c[3 + a] * r.angular_velocity[a];
+                }
+            }
+            k
+        };
         self.rows.clear();
         self.ids.clear();
         let mut entries: Vec<RowEntry> = Vec::new();
@@ -342,55 +422,66 @@ impl PressureRows {
                 c,
                 dt,
                 eps,
-                0.0,
+                known(&buf.bodies),
                 SurfaceMode::OneSided,
                 s.max_recovery_rate,
             );
             self.ids.push(id);
         }
-        // The wall markers' own rows (chrono-cfluid's `wall_marker_rows`), unilateral: a
-        // wall pushes with a pressure of its own, so the pair forces across it are
-        // `g_i + g_k` as inside; without them the first layer carries twice the
-        // hydrostatic pressure and the layers above alternate.
-        self.wall_ids.clear();
+        // The wall markers' and the body markers' own rows (chrono-cfluid's
+        // `wall_marker_rows`, `body_marker_rows`), unilateral: a wall or a body pushes with
+        // a pressure of its own, so the pair forces across it are `g_i + g_k` as inside;
+        // without them the first layer carries twice the hydrostatic pressure and the
+        // layers above alternate.
         let m_ref = markers.mass.iter().sum::<f64>() / n as f64;
         let eps = compliance(s.compressibility, s.rest_density, dt, m_ref);
-        for (k, buf) in self.wall_bufs.iter().enumerate() {
-            if buf.particles.is_empty() {
-                continue;
+        for (bufs, rho, ids) in [
+            (&self.wall_bufs, &self.wall_rho, &mut self.wall_ids),
+            (&self.marker_bufs, &self.marker_rho, &mut self.marker_ids),
+        ] {
+            ids.clear();
+            for (k, buf) in bufs.iter().enumerate() {
+                if buf.particles.is_empty() {
+                    continue;
+                }
+                entries.clear();
+                for (j, &q) in buf.particles.iter().enumerate() {
+                    entries.push(RowEntry {
+                        block: BlockId(first.0 + q),
+                        coefs: &buf.coefs[3 * j..3 * j + 3],
+                    });
+                }
+                let c = rho[k] / s.rest_density - 1.0;
+                let id = push_density_row(
+                    &mut self.rows,
+                    &entries,
+                    c,
+                    dt,
+                    eps,
+                    known(&buf.bodies),
+                    SurfaceMode::Unilateral,
+                    s.max_recovery_rate,
+                );
+                ids.push((k as u32, id));
             }
-            entries.clear();
-            for (j, &q) in buf.particles.iter().enumerate() {
-                entries.push(RowEntry {
-                    block: BlockId(first.0 + q),
-                    coefs: &buf.coefs[3 * j..3 * j + 3],
-                });
-            }
-            let c = self.wall_rho[k] / s.rest_density - 1.0;
-            let id = push_density_row(
-                &mut self.rows,
-                &entries,
-                c,
-                dt,
-                eps,
-                0.0,
-                SurfaceMode::Unilateral,
-                s.max_recovery_rate,
-            );
-            self.wall_ids.push((k as u32, id));
         }
         drop(entries);
         self.problem.assemble(&self.vars, &self.rows, &self.k)?;
         self.gamma_all.clear();
         self.gamma_all.resize(self.problem.n_rows(), 0.0);
+        let f = s.warm_start_factor;
         if self.gamma.len() == n {
             for (id, g) in self.ids.iter().zip(&self.gamma) {
-                self.gamma_all[self.problem.row_index(*id)] = s.warm_start_factor * g;
+                self.gamma_all[self.problem.row_index(*id)] = f * g;
             }
         }
-        for (k, id) in &self.wall_ids {
-            self.gamma_all[self.problem.row_index(*id)] =
-                s.warm_start_factor * self.wall_gamma[*k as usize];
+        for (ids, gamma) in [
+            (&self.wall_ids, &self.wall_gamma),
+            (&self.marker_ids, &self.marker_gamma),
+        ] {
+            for (k, id) in ids {
+                self.gamma_all[self.problem.row_index(*id)] = f * gamma[*k as usize];
+            }
         }
         let stats = self.solver.solve(&self.problem, &mut self.gamma_all);
         self.last = (stats.iterations, stats.residual);
@@ -413,15 +504,47 @@ impl PressureRows {
             self.dv.push([d[0], d[1], d[2]]);
             markers.v[p] = new;
         }
+        let gamma_all = &self.gamma_all;
+        let problem = &self.problem;
         self.gamma.clear();
-        self.gamma.extend(
-            self.ids
-                .iter()
-                .map(|id| self.gamma_all[self.problem.row_index(*id)]),
-        );
-        self.wall_gamma.fill(0.0);
-        for (k, id) in &self.wall_ids {
-            self.wall_gamma[*k as usize] = self.gamma_all[self.problem.row_index(*id)];
+        self.gamma
+            .extend(self.ids.iter().map(|id| gamma_all[problem.row_index(*id)]));
+        for (ids, gamma) in [
+            (&self.wall_ids, &mut self.wall_gamma),
+            (&self.marker_ids, &mut self.marker_gamma),
+        ] {
+            gamma.fill(0.0);
+            for (k, id) in ids {
+                gamma[*k as usize] = gamma_all[problem.row_index(*id)];
+            }
+        }
+        // The rows' impulses on the bodies, `g_i [lin; ang]_b` (about the body's centre):
+        // the body gives the material the opposite.
+        if !self.body_owner.is_empty() {
+            let mut push_body = |bodies: &[(u32, [f64; 6])], g: f64| {
+                for (slot, c) in bodies {
+                    let r = &mut rigid[*slot as usize];
+                    let lin = nalgebra::Vector3::new(c[0], c[1], c[2]) * g;
+                    let ang = nalgebra::Vector3::new(c[3], c[4], c[5]) * g;
+                    r.impulse -= lin;
+                    r.total_impulse -= lin;
+                    r.angular_impulse -= ang;
+                    r.total_angular_impulse -= ang;
+                }
+            };
+            for (p, buf) in self.bufs.iter().enumerate() {
+                push_body(&buf.bodies, self.gamma[p]);
+            }
+            for (bufs, gamma) in [
+                (&self.wall_bufs, &self.wall_gamma),
+                (&self.marker_bufs, &self.marker_gamma),
+            ] {
+                for (buf, g) in bufs.iter().zip(gamma.iter()) {
+                    if *g != 0.0 {
+                        push_body(&buf.bodies, *g);
+                    }
+                }
+            }
         }
         self.pressure.clear();
         let scale = self.gradient_scale / dt;
@@ -529,6 +652,38 @@ pub fn slab_wall_markers(
                     x[0] + (i as f64 + 0.5) * dp,
                     y,
                     z[0] + (k as f64 + 0.5) * dp,
+                ]);
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// Markers of a rigid box in a plane-strain slab (offsets from the box's centre, m, in the
+/// plane `y = y_offset` relative to the centre): the lattice points `-half + (i + 1/2) dp`
+/// of the box's `x`–`z` section within `layers` lattice layers of its faces (with
+/// `half[0] = half width`, `half[2] = half height`), for
+/// [`PressureRows::attach_rigid`]. Errors name the field.
+pub fn box_slab_markers(
+    half: [f64; 3],
+    y_offset: f64,
+    dp: f64,
+    layers: usize,
+) -> Result<Vec<[f64; 3]>> {
+    positive("rigid_markers.dp", dp)?;
+    positive("rigid_markers.half[0]", half[0])?;
+    positive("rigid_markers.half[2]", half[2])?;
+    let nx = ((2.0 * half[0]) / dp + 1e-9).floor() as usize;
+    let nz = ((2.0 * half[2]) / dp + 1e-9).floor() as usize;
+    let mut out = Vec::new();
+    for i in 0..nx {
+        for k in 0..nz {
+            let edge = i.min(nx - 1 - i).min(k.min(nz - 1 - k));
+            if edge < layers {
+                out.push([
+                    -half[0] + (i as f64 + 0.5) * dp,
+                    y_offset,
+                    -half[2] + (k as f64 + 0.5) * dp,
                 ]);
             }
         }

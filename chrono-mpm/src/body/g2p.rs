@@ -16,7 +16,13 @@ impl MpmBody {
         if let Some(rows) = self.pressure.as_mut().filter(|_| dt > 0.0) {
             // the split: the pressure rows correct the markers' velocities (and the step's
             // velocity gradient) before F_E is updated and the markers move
-            rows.solve(&mut self.markers, dt, self.steps, self.time)?;
+            rows.solve(
+                &mut self.markers,
+                &mut self.rigid,
+                dt,
+                self.steps,
+                self.time,
+            )?;
             rows.add_velocity_gradient(dt, &mut self.df);
         }
         let mode = self.settings.f_bar;

@@ -74,6 +74,9 @@ pub struct FootingParams {
     pub poisson_locking: f64,
     /// F-bar of the main run: off, increment or total (`chrono_mpm::fbar`).
     pub f_bar: String,
+    /// The main run's pressure: `stress` (plain MPM) or `rows` (the split,
+    /// `chrono_mpm::pressure`).
+    pub pressure: String,
 }
 
 impl Default for FootingParams {
@@ -97,6 +100,7 @@ impl Default for FootingParams {
             tolerance: 0.1,
             poisson_locking: 0.0,
             f_bar: "off".into(),
+            pressure: "stress".into(),
         }
     }
 }
@@ -144,6 +148,11 @@ impl CaseParams for FootingParams {
             "f_bar",
             "-",
             "F-bar of the main run: off, increment or total (chrono_mpm::fbar)",
+        ),
+        ParamInfo::new(
+            "pressure",
+            "-",
+            "the main run's pressure: stress (plain MPM) or rows (the split: deviatoric stress by MPM, pressure by density rows on the markers; docs/mpm.md)",
         ),
     ];
 
@@ -206,6 +215,11 @@ fn run(p: &FootingParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     let f_bar: FBar = p.f_bar.parse()?;
     let share = if p.poisson_locking > 0.0 { 0.2 } else { 1.0 };
     let mut f = Footing::new(spec(p, p.poisson, f_bar))?;
+    match p.pressure.as_str() {
+        "stress" => {}
+        "rows" => f.use_pressure_rows()?,
+        other => anyhow::bail!("pressure = {other:?}: must be `stress` or `rows`"),
+    }
     let samples = f.run(50, |x| ctx.progress(share * x))?;
     let prandtl = f.spec().prandtl_pressure();
     let (q, ke) = plateau(p, &samples)?;
