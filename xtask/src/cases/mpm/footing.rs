@@ -20,6 +20,10 @@
 //! 430 s).
 //! `--quick` stops at 0.08 B. `f_bar` sets the main run's F-bar (off by default: with
 //! F-bar the nu 0.3 soil reads 0.952 q_u, `docs/mpm.md`).
+//! `pressure = rows` runs the main run as the seed's split (deviatoric stress by MPM,
+//! pressure by density rows on the markers, `chrono_mpm::pressure`): 0.927 q_u at 4 cells,
+//! 0.964 at 8, 0.919 at nu 0.49 without F-bar (no locking); plain MPM is the faster of the
+//! two for the same error (`docs/mpm.md`, "The split: status").
 //!
 //! Friction (`friction_angle_deg` > 0): Drucker–Prager matched to Mohr–Coulomb in plane
 //! strain (`DruckerPrager::plane_strain`) against Prandtl–Reissner's `c N_c` for a
