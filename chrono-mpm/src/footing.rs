@@ -249,8 +249,9 @@ impl Footing {
     /// wall markers beyond the floor and the two sides (the symmetry plane `x = 0` is a
     /// slip wall like the far side) and the footing's markers (its half `x > 0`, within
     /// `wall_layers` of its faces) moving with it; the rows' impulses on them add to the
-    /// footing's reaction. Call before [`Footing::run`].
-    pub fn use_pressure_rows(&mut self) -> Result<()> {
+    /// footing's reaction. `tolerance` is APGD's on the rows' velocity residual, m/s
+    /// ([`PressureSettings::tolerance`]). Call before [`Footing::run`].
+    pub fn use_pressure_rows(&mut self, tolerance: f64) -> Result<()> {
         let spec = self.spec;
         let grid = *self.body.spec();
         let dx = grid.dx;
@@ -261,6 +262,7 @@ impl Footing {
             spacing: d,
             dim: 2,
             compressibility: 1.0 / bulk,
+            tolerance,
             ..PressureSettings::default()
         };
         let layers = chrono_core::particles::lattice::wall_layers(settings.h_over_dp);

@@ -81,6 +81,8 @@ pub struct FootingParams {
     /// The main run's pressure: `stress` (plain MPM) or `rows` (the split,
     /// `chrono_mpm::pressure`).
     pub pressure: String,
+    /// APGD's tolerance on the rows' velocity residual with `pressure = rows`, m/s.
+    pub rows_tolerance: f64,
 }
 
 impl Default for FootingParams {
@@ -105,6 +107,7 @@ impl Default for FootingParams {
             poisson_locking: 0.0,
             f_bar: "off".into(),
             pressure: "stress".into(),
+            rows_tolerance: 1e-6,
         }
     }
 }
@@ -157,6 +160,11 @@ impl CaseParams for FootingParams {
             "pressure",
             "-",
             "the main run's pressure: stress (plain MPM) or rows (the split: deviatoric stress by MPM, pressure by density rows on the markers; docs/mpm.md)",
+        ),
+        ParamInfo::new(
+            "rows_tolerance",
+            "m/s",
+            "APGD's tolerance on the rows' velocity residual with pressure = rows",
         ),
     ];
 
@@ -221,7 +229,7 @@ fn run(p: &FootingParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     let mut f = Footing::new(spec(p, p.poisson, f_bar))?;
     match p.pressure.as_str() {
         "stress" => {}
-        "rows" => f.use_pressure_rows()?,
+        "rows" => f.use_pressure_rows(p.rows_tolerance)?,
         other => anyhow::bail!("pressure = {other:?}: must be `stress` or `rows`"),
     }
     let samples = f.run(50, |x| ctx.progress(share * x))?;
