@@ -25,6 +25,8 @@
 //! - [`plate`]: plate sinkage on it and Bekker's pressure–sinkage law fitted to two widths;
 //! - [`wheel`]: a rigid wheel driven at fixed slip under a vertical load, two-way
 //!   (sinkage, drawbar pull, torque);
+//! - [`pressure`]: the split's pressure, density rows on the markers (chrono-core's
+//!   `density_rows`) solved by APGD, with wall and rigid-body markers;
 //! - [`bar`]: the axially vibrating elastic bar, a scene for validation;
 //! - [`vtk`]: VTP frames of the markers (stress, `J_E`, `J_P`, plastic strain).
 //!
