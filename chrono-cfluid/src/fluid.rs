@@ -12,7 +12,9 @@ use chrono_core::material::ContactMaterial;
 use chrono_core::math::{Point3, Vector3};
 use chrono_core::particles::{CellGrid, GridConfig, Kernel, NeighborList};
 
-use crate::density::{Field, RowBuf};
+use chrono_core::density_rows::{DensityField, RowBuf, compliance};
+
+use crate::density::FluidField;
 use crate::geometry::lattice_mass;
 use crate::settings::CfluidSettings;
 use crate::surface::SupportModel;
@@ -314,15 +316,15 @@ impl ConstraintFluid {
         Ok(())
     }
 
-    fn field(&self) -> Field<'_> {
-        Field {
+    fn field(&self) -> DensityField<'_> {
+        DensityField {
             kernel: &self.kernel,
             mass: self.kernel_mass,
             rho_0: self.settings.rest_density,
             grid: &self.grid,
             pos: [&self.pos[0], &self.pos[1], &self.pos[2]],
             nbrs: &self.nbrs,
-            n_fluid: self.n_fluid,
+            n_free: self.n_fluid,
             n_static: self.n_static,
             marker_owner: &self.marker_owner,
             body_origin: &self.body_origin,
@@ -421,7 +423,7 @@ impl ConstraintFluid {
         let s = &self.settings;
         // with the inertial mass, a fluid without bodies solves the same problem as with
         // `m = m_k`, scaled (impulses by `m / m_k`): the mass does not change its motion
-        let eps = s.compressibility * s.rest_density / (h * h * self.mass);
+        let eps = compliance(s.compressibility, s.rest_density, h, self.mass);
         let mut entries = recycle(std::mem::take(&mut self.entries));
         self.row_ids.clear();
         let push = PushRow {

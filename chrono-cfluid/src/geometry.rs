@@ -2,7 +2,6 @@
 //! makes a full lattice sum to the rest density.
 
 use chrono_core::error::{ChronoError, Result, check_positive};
-use chrono_core::particles::Kernel;
 use chrono_core::particles::lattice::{Fit, Lattice, Tank};
 
 /// The cell centres `lower + (i + 1/2) dp` of the lattice filling the box
@@ -30,25 +29,7 @@ pub fn tank_markers(
     Ok(walls.into_iter().map(|w| w.position).collect())
 }
 
-/// The kernel mass `m_k = rho_0 / sum_j W(|x_j|)` over the infinite cubic lattice of
-/// spacing `dp` (self term included), kg: a particle whose support is full of lattice
-/// neighbours then has exactly `rho_i = rho_0`, so the initial lattice starts at rest with
-/// `C_i = 0` instead of the few-percent error of `m = rho_0 dp^3` with a truncated kernel.
-/// It is the mass of the density sums only; a particle's inertial mass is `rho_0 dp^3`
-/// ([`ConstraintFluid`](crate::ConstraintFluid), "Two masses").
-pub fn lattice_mass(kernel: &Kernel, dp: f64, rho_0: f64) -> f64 {
-    let reach = (kernel.support() / dp).ceil() as i64;
-    let mut sum = 0.0;
-    for k in -reach..=reach {
-        for j in -reach..=reach {
-            for i in -reach..=reach {
-                let r = dp * ((i * i + j * j + k * k) as f64).sqrt();
-                sum += kernel.w(r);
-            }
-        }
-    }
-    rho_0 / sum
-}
+pub use chrono_core::density_rows::lattice_mass;
 
 /// Markers of a rigid box in its own frame (centred on the body origin, m): the lattice
 /// points `-half + (i + 1/2) dp` inside the box `[-half, half]` that lie within `layers`

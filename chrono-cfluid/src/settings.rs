@@ -5,47 +5,7 @@ use chrono_core::error::{ChronoError, Result, check_non_negative, check_positive
 use chrono_core::particles::KernelKind;
 use serde::{Deserialize, Serialize};
 
-/// How the density row of a particle treats a density deficit (`rho_i < rho_0`, a
-/// free-surface or splashing particle, whose kernel support is not full).
-///
-/// With the row written as `c_i = -grad C_i . v - C_i / h + eps g_i` (so that `g_i >= 0`
-/// is a pressure impulse that pushes neighbours apart), the choices are:
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
-#[serde(rename_all = "snake_case")]
-pub enum SurfaceMode {
-    /// The default. A particle with `C_i >= 0` has a bilateral row (`c_i = 0`: the
-    /// density returns to `rho_0` within the step, tension allowed while compressed);
-    /// a particle with `C_i < 0` has a **unilateral** row, `0 <= g_i ⊥ c_i >= 0`: its
-    /// density may grow back up to `rho_0` but not beyond, and it never pulls (a
-    /// free-surface particle is free to leave, the fluid does not contract into a blob).
-    #[default]
-    OneSided,
-    /// Every row unilateral (`g_i >= 0` everywhere): pressure is never negative, the fluid
-    /// never holds tension, even while compressed (a purely repulsive constraint, the
-    /// position-based-fluids view with clamped pressure).
-    Unilateral,
-    /// Every row bilateral with `C_i` clamped at 0 (`b_i = -max(C_i, 0) / h`). The deficit
-    /// is not pulled back, but the row still holds the density *rate* at zero, so a
-    /// free-surface particle cannot separate from its neighbours (it resists tearing
-    /// apart, a spurious tension). Kept for comparison with Chrono's bilateral rows.
-    Clamped,
-}
-
-impl SurfaceMode {
-    /// Parses `one_sided`, `unilateral` or `clamped`.
-    pub fn parse(name: &str) -> Result<Self> {
-        match name {
-            "one_sided" => Ok(Self::OneSided),
-            "unilateral" => Ok(Self::Unilateral),
-            "clamped" => Ok(Self::Clamped),
-            other => Err(ChronoError::invalid(
-                "surface",
-                other,
-                "must be `one_sided`, `unilateral` or `clamped`",
-            )),
-        }
-    }
-}
+pub use chrono_core::density_rows::SurfaceMode;
 
 /// Settings of a [`ConstraintFluid`](crate::ConstraintFluid). SI units.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

@@ -19,6 +19,7 @@ pub mod body;
 pub mod collision;
 pub mod contact;
 pub mod curve;
+pub mod density_rows;
 pub mod descriptor;
 pub mod error;
 pub mod force;

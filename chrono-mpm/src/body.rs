@@ -32,6 +32,7 @@ use crate::fold;
 use crate::grid::{BLOCK, BLOCK3, GHOST, GridSpec, SparseGrid, Wall, key, unkey};
 use crate::markers::Markers;
 use crate::material::Material;
+use crate::pressure::{PressureRows, PressureSettings};
 use crate::rigid::RigidBody;
 
 mod g2p;
@@ -117,6 +118,8 @@ pub struct MpmBody {
     nodal_dj: Vec<[f64; 2]>,
     /// The FLIP fraction of the marker velocity update ([`MpmBody::set_flip`]).
     flip: f64,
+    /// The split's pressure rows ([`MpmBody::set_pressure_rows`]); `None`: plain MPM.
+    pressure: Option<Box<PressureRows>>,
     steps: u64,
     time: f64,
 }
@@ -163,6 +166,7 @@ impl MpmBody {
             vol_dj: Vec::new(),
             nodal_dj: Vec::new(),
             flip: 0.0,
+            pressure: None,
             steps: 0,
             time: 0.0,
         })
@@ -209,6 +213,35 @@ impl MpmBody {
         Ok(())
     }
 
+    /// Switches to the split (`pressure = rows`, `docs/mpm.md` "The split"): from the next
+    /// step MPM carries the deviatoric Kirchhoff stress only, `tau - tr(tau)/3 I`, and the
+    /// pressure comes from density rows on the markers ([`crate::pressure`]) with the fixed
+    /// wall markers `walls` (m), solved after G2P and before the positions move. The
+    /// time-step limit is then the shear wave's, `c = sqrt(4 mu / (3 rho))`. Errors name
+    /// the field (settings, a marker whose `mass / volume0` is not the rest density).
+    pub fn set_pressure_rows(
+        &mut self,
+        settings: PressureSettings,
+        walls: &[[f64; 3]],
+    ) -> Result<()> {
+        let (lo, hi) = self.spec.admissible();
+        let rows = PressureRows::new(settings, lo, hi, walls)?;
+        rows.check_markers(&self.markers)?;
+        self.pressure = Some(Box::new(rows));
+        Ok(())
+    }
+
+    /// The split's pressure rows, if set, for attaching rigid-body markers
+    /// ([`PressureRows::attach_rigid`]).
+    pub fn pressure_rows_mut(&mut self) -> Option<&mut PressureRows> {
+        self.pressure.as_deref_mut()
+    }
+
+    /// The split's pressure rows, if set ([`MpmBody::set_pressure_rows`]).
+    pub fn pressure_rows(&self) -> Option<&PressureRows> {
+        self.pressure.as_deref()
+    }
+
     /// The sparse grid of the last step (active blocks, node masses).
     pub fn grid(&self) -> &SparseGrid {
         &self.grid
@@ -225,7 +258,8 @@ impl MpmBody {
     }
 
     /// The explicit time-step limit `cfl dx / (c + |v|max)`, s, with `c` the largest
-    /// P-wave speed `sqrt((lambda + 2 mu) / rho0)` over the markers (hardening included).
+    /// P-wave speed `sqrt((lambda + 2 mu) / rho0)` over the markers (hardening included),
+    /// or in the split the deviatoric one, `sqrt(4 mu / (3 rho0))`.
     pub fn stable_dt(&self) -> f64 {
         self.settings.cfl * self.spec.dx / self.wave_speed()
     }
@@ -235,6 +269,7 @@ impl MpmBody {
         let mk = &self.markers;
         let mat = &self.material;
         let hardens = mat.hardens();
+        let split = self.pressure.is_some();
         let id = Matrix3::identity();
         // max is exact and order-free: the same for any thread count.
         (0..mk.len())
@@ -242,10 +277,11 @@ impl MpmBody {
             .with_min_len(MARKERS_PER_TASK)
             .map(|p| {
                 let rho = mk.mass[p] / mk.volume0[p];
-                let m = if hardens {
-                    mat.p_modulus(&mk.fp[p])
+                let fp = if hardens { &mk.fp[p] } else { &id };
+                let m = if split {
+                    4.0 / 3.0 * mat.shear_modulus(fp)
                 } else {
-                    mat.p_modulus(&id)
+                    mat.p_modulus(fp)
                 };
                 (m / rho).sqrt() + mk.v[p].norm()
             })
@@ -337,6 +373,7 @@ impl MpmBody {
 
         // Per-marker data in sorted order.
         let mat = self.material;
+        let split = self.pressure.is_some();
         self.scratch.clear();
         self.scratch.resize(n, P2gMarker::default());
         let sorted = &self.grid.sorted;
@@ -348,7 +385,14 @@ impl MpmBody {
                 let p = sorted[s].1 as usize;
                 let st = Stencil::new(mk.x[p].into(), origin, dx);
                 let m = mk.mass[p];
-                let tau = mat.kirchhoff(&mk.fe[p], &mk.fp[p]);
+                let mut tau = mat.kirchhoff(&mk.fe[p], &mk.fp[p]);
+                if split {
+                    // the split: the volumetric part is the pressure rows'
+                    let mean = tau.trace() / 3.0;
+                    for a in 0..3 {
+                        tau[(a, a)] -= mean;
+                    }
+                }
                 let a = tau * (-dt * mk.volume0[p]);
                 let mc = mk.c[p] * m;
                 *d = P2gMarker {

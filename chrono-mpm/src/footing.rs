@@ -33,6 +33,7 @@ use crate::body::{MpmBody, MpmSettings};
 use crate::error::{Result, at_least, invalid, positive};
 use crate::grid::{GridSpec, Wall};
 use crate::material::{DruckerPrager, Material, VonMises};
+use crate::pressure::{PressureSettings, box_slab_markers, slab_wall_markers};
 use crate::rigid::{Contact, RigidBody, push_down, speed_ramp};
 
 /// Parameters of the footing problem.
@@ -240,6 +241,48 @@ impl Footing {
     /// The parameters.
     pub fn spec(&self) -> &FootingSpec {
         &self.spec
+    }
+
+    /// Switches the soil to the split (`pressure = rows`, `docs/mpm.md` "The split"): the
+    /// deviatoric stress by MPM, the pressure by density rows on the markers with the
+    /// soil's bulk modulus as their compliance (`kappa = 1 / K`, `K = E / (3 (1 - 2 nu))`),
+    /// wall markers beyond the floor and the two sides (the symmetry plane `x = 0` is a
+    /// slip wall like the far side) and the footing's markers (its half `x > 0`, within
+    /// `wall_layers` of its faces) moving with it; the rows' impulses on them add to the
+    /// footing's reaction. `tolerance` is APGD's on the rows' velocity residual, m/s
+    /// ([`PressureSettings::tolerance`]). Call before [`Footing::run`].
+    pub fn use_pressure_rows(&mut self, tolerance: f64) -> Result<()> {
+        let spec = self.spec;
+        let grid = *self.body.spec();
+        let dx = grid.dx;
+        let d = dx / spec.markers_per_cell as f64;
+        let bulk = spec.young / (3.0 * (1.0 - 2.0 * spec.poisson));
+        let settings = PressureSettings {
+            rest_density: spec.density,
+            spacing: d,
+            dim: 2,
+            compressibility: 1.0 / bulk,
+            tolerance,
+            ..PressureSettings::default()
+        };
+        let layers = chrono_core::particles::lattice::wall_layers(settings.h_over_dp);
+        let width = grid.cells[0] as f64 * dx;
+        let top = grid.cells[2] as f64 * dx;
+        let walls = slab_wall_markers([0.0, width], [0.0, top], 0.5 * dx, d, layers, true, true)?;
+        self.body.set_pressure_rows(settings, &walls)?;
+        let footing = &self.body.rigid[0];
+        let half = match footing.shape {
+            crate::rigid::Shape::Box { half } => half,
+            _ => return Err(invalid("footing.shape", "not a box", "must be a box")),
+        };
+        let local: Vec<[f64; 3]> = box_slab_markers([half[0], half[1], half[2]], 0.0, d, layers)?
+            .into_iter()
+            .filter(|l| footing.position.x + l[0] > 0.0)
+            .collect();
+        if let Some(rows) = self.body.pressure_rows_mut() {
+            rows.attach_rigid(0, &local)?;
+        }
+        Ok(())
     }
 
     /// The settlement of the footing, m.

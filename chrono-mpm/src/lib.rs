@@ -25,12 +25,16 @@
 //! - [`plate`]: plate sinkage on it and Bekker's pressure–sinkage law fitted to two widths;
 //! - [`wheel`]: a rigid wheel driven at fixed slip under a vertical load, two-way
 //!   (sinkage, drawbar pull, torque);
+//! - [`pressure`]: the split's pressure, density rows on the markers (chrono-core's
+//!   `density_rows`) solved by APGD, with wall and rigid-body markers;
 //! - [`bar`]: the axially vibrating elastic bar, a scene for validation;
 //! - [`vtk`]: VTP frames of the markers (stress, `J_E`, `J_P`, plastic strain).
 //!
-//! This is the plain MPM mode (the full stress by MPM). The seed's split (shear by MPM,
-//! pressure by constraint-fluid density rows in the one CCP, Stomakhin et al., "Augmented
-//! MPM for phase-change and varied materials", ACM TOG 2014) comes later.
+//! Two modes: plain MPM (the full stress by MPM, the default) and the seed's split
+//! ([`MpmBody::set_pressure_rows`]; [`pressure`]): the deviatoric stress by MPM, the
+//! pressure by constraint-fluid density rows on the markers (chrono-core's
+//! `density_rows`, shared with chrono-cfluid), solved by chrono-ccp's APGD (Stomakhin et
+//! al., "Augmented MPM for phase-change and varied materials", ACM TOG 2014).
 
 pub mod bar;
 pub mod body;
@@ -45,11 +49,14 @@ pub mod grid;
 pub mod markers;
 pub mod material;
 pub mod plate;
+pub mod pressure;
 pub mod rigid;
 pub mod soil_bin;
 pub mod vtk;
 pub mod wheel;
 
+#[cfg(test)]
+mod split_tests;
 #[cfg(test)]
 mod tests;
 
@@ -61,4 +68,5 @@ pub use markers::Markers;
 pub use material::{
     DruckerPrager, Elasticity, FixedCorotated, Material, MuI, SnowHardening, VonMises,
 };
+pub use pressure::{PressureRows, PressureSettings};
 pub use rigid::{Contact, RigidBody, Shape};

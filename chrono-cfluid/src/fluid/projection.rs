@@ -4,6 +4,7 @@
 //! until the largest compression is at most `position_tolerance`.
 
 use super::ConstraintFluid;
+use crate::density::FluidField;
 use chrono_core::error::Result;
 
 impl ConstraintFluid {

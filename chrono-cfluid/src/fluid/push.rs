@@ -7,8 +7,9 @@ use chrono_core::body::{BodyHandle, RigidBody};
 use chrono_core::descriptor::{BlockId, ConstraintRows, RowEntry, RowId};
 use chrono_core::math::Vector3;
 
-use crate::density::RowBuf;
-use crate::settings::{CfluidSettings, SurfaceMode};
+use chrono_core::density_rows::{RowBuf, SurfaceMode, push_density_row};
+
+use crate::settings::CfluidSettings;
 
 /// What pushing one density row needs: the fluid's first block, the system's bodies and
 /// the attached slots, the settings, the step and the compliance.
@@ -71,20 +72,16 @@ impl PushRow<'_> {
         } else {
             s.surface
         };
-        let id = match surface {
-            SurfaceMode::OneSided if c < 0.0 => rows.push_unilateral(entries, known - c / h, eps),
-            SurfaceMode::OneSided => {
-                rows.push_bilateral(entries, known - (c / h).min(s.max_recovery_rate), eps)
-            }
-            SurfaceMode::Unilateral => {
-                rows.push_unilateral(entries, known - (c / h).min(s.max_recovery_rate), eps)
-            }
-            SurfaceMode::Clamped => rows.push_bilateral(
-                entries,
-                known - (c.max(0.0) / h).min(s.max_recovery_rate),
-                eps,
-            ),
-        };
+        let id = push_density_row(
+            rows,
+            entries,
+            c,
+            h,
+            eps,
+            known,
+            surface,
+            s.max_recovery_rate,
+        );
         entries.clear();
         id
     }

@@ -13,6 +13,18 @@ impl MpmBody {
         self.g2p_velocity(dt);
         self.status.clear();
         self.status.resize(self.markers.len(), 0);
+        if let Some(rows) = self.pressure.as_mut().filter(|_| dt > 0.0) {
+            // the split: the pressure rows correct the markers' velocities (and the step's
+            // velocity gradient) before F_E is updated and the markers move
+            rows.solve(
+                &mut self.markers,
+                &mut self.rigid,
+                dt,
+                self.steps,
+                self.time,
+            )?;
+            rows.add_velocity_gradient(dt, &mut self.df);
+        }
         let mode = self.settings.f_bar;
         if matches!(mode, FBar::Increment | FBar::Total) {
             self.f_bar_increments(mode);

@@ -137,6 +137,15 @@ impl Material {
         }
     }
 
+    /// The current shear modulus `mu`, Pa (with hardening), for the split's time-step limit.
+    pub fn shear_modulus(&self, fp: &Matrix3<f64>) -> f64 {
+        match self {
+            Material::Corotated(m) => m.lame(fp).0,
+            Material::DruckerPrager(m) => m.elastic.mu,
+            Material::VonMises(m) => m.elastic.mu,
+        }
+    }
+
     /// Whether the stress depends on `F_P` (hardening), so the wave speed has to be
     /// evaluated per marker.
     pub fn hardens(&self) -> bool {

@@ -1,0 +1,692 @@
+//! The split's pressure (`docs/mpm.md`, "The split"): the volumetric part of the stress as
+//! constraint-fluid density rows on the markers, one CCP per step solved by chrono-ccp's
+//! APGD, while MPM carries the deviatoric stress only (Stomakhin et al., "Augmented MPM for
+//! phase-change and varied materials", ACM TOG 33(4), 2014, split the stress this way; the
+//! rows are H. Mazhar's constraint fluid, PhD thesis, UW-Madison 2016, the seed's
+//! "Split Pressure and Shear").
+//!
+//! Each marker `p` is a 3-dof block of its own mass `m_p`; its row is the density
+//! constraint of [`chrono_core::density_rows`] (the same code as chrono-cfluid's),
+//!
+//! ```text
+//! C_p = rho_p / rho_0 - 1,   rho_p = m_k W(0) + sum_q m_k W(|x_p - x_q|)
+//! M (v - v*) = D gamma,   D_p' v - min(C_p / dt, max_rate) + eps_p gamma_p = 0   (or >= 0)
+//! eps_p = kappa rho_0 / (dt^2 m_p),   kappa = 1 / K
+//! ```
+//!
+//! with `v*` the markers' velocities after G2P (deviatoric stress, gravity, walls), `m_k`
+//! the kernel mass of the marker lattice (spacing `dp`; [`lattice_mass`]) so that the
+//! initial lattice is at `C = 0`, and the fixed wall markers (no variables; lattice layers
+//! beyond the grid's walls) in the sums. A row with `C_p < 0` (a free surface, a marker
+//! pulled apart) is unilateral ([`SurfaceMode::OneSided`]): the material never pulls at
+//! the rows' side (a soil, a mud); the wall markers have unilateral rows of their own.
+//! The marker pressure is read from the impulses with the lattice's gradient
+//! normalization ([`PressureRows::pressure`]).
+
+use chrono_core::density_rows::{
+    DensityField, RowBuf, SurfaceMode, compliance, lattice_mass, push_density_row,
+};
+use chrono_core::descriptor::{
+    BlockId, CcpProblem, CcpSolver, ConstraintRows, MassOperator, RowEntry, RowId, SolverSettings,
+    Variables,
+};
+use chrono_core::particles::{CellGrid, GridConfig, Kernel, KernelKind, NeighborList};
+
+use rayon::prelude::*;
+
+use crate::error::{MpmError, Result, invalid, positive};
+use crate::markers::Markers;
+use crate::rigid::RigidBody;
+
+/// Settings of the split's pressure rows.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PressureSettings {
+    /// Rest density `rho_0` of the markers, kg/m^3 (every marker's `mass / volume0`).
+    pub rest_density: f64,
+    /// Spacing `dp` of the markers' initial lattice, m (`dx / 2` for 2 markers per cell).
+    pub spacing: f64,
+    /// Smoothing length over spacing, `h_k / dp` (kernel support `2 h_k`; Wendland C2).
+    pub h_over_dp: f64,
+    /// Kernel dimension: 3, or 2 for a plane-strain slab one marker layer thick (the sums
+    /// in the slab's plane).
+    pub dim: u32,
+    /// Compressibility `kappa = 1 / K`, 1/Pa (`>= 0`): the rows' compliance, the bulk
+    /// modulus of the material (`K = lambda + 2 mu / 3` reproduces plain MPM's volumetric
+    /// elasticity to first order); 0 is incompressible.
+    pub compressibility: f64,
+    /// Largest stabilization rate `C / dt` of a compressed marker, 1/s (`> 0`).
+    pub max_recovery_rate: f64,
+    /// APGD's tolerance on the rows' velocity residual, m/s (`> 0`).
+    pub tolerance: f64,
+    /// APGD's iteration limit per step (`>= 1`).
+    pub max_iterations: usize,
+    /// The last step's impulses times this factor start the solver, in `[0, 1]`.
+    pub warm_start_factor: f64,
+}
+
+impl Default for PressureSettings {
+    fn default() -> Self {
+        Self {
+            rest_density: 1000.0,
+            spacing: 0.05,
+            h_over_dp: 1.2,
+            dim: 3,
+            compressibility: 0.0,
+            max_recovery_rate: 1e3,
+            tolerance: 1e-6,
+            max_iterations: 500,
+            warm_start_factor: 1.0,
+        }
+    }
+}
+
+impl PressureSettings {
+    /// Checks every field; the error names it.
+    pub fn validate(&self) -> Result<()> {
+        positive("pressure.rest_density", self.rest_density)?;
+        positive("pressure.spacing", self.spacing)?;
+        positive("pressure.h_over_dp", self.h_over_dp)?;
+        if !(0.8..=3.0).contains(&self.h_over_dp) {
+            return Err(invalid(
+                "pressure.h_over_dp",
+                self.h_over_dp,
+                "must be in [0.8, 3]",
+            ));
+        }
+        if !(self.dim == 2 || self.dim == 3) {
+            return Err(invalid("pressure.dim", self.dim, "must be 2 or 3"));
+        }
+        if !(self.compressibility.is_finite() && self.compressibility >= 0.0) {
+            return Err(invalid(
+                "pressure.compressibility",
+                self.compressibility,
+                "must be finite and >= 0",
+            ));
+        }
+        positive("pressure.max_recovery_rate", self.max_recovery_rate)?;
+        positive("pressure.tolerance", self.tolerance)?;
+        if self.max_iterations == 0 {
+            return Err(invalid("pressure.max_iterations", 0, "must be >= 1"));
+        }
+        if !(0.0..=1.0).contains(&self.warm_start_factor) {
+            return Err(invalid(
+                "pressure.warm_start_factor",
+                self.warm_start_factor,
+                "must be in [0, 1]",
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// The pressure rows of an MPM body in the split mode (see the module documentation).
+#[derive(Clone, Debug)]
+pub struct PressureRows {
+    settings: PressureSettings,
+    kernel: Kernel,
+    /// Kernel mass `m_k` of the marker lattice, kg (kg/m with the 2-D kernel).
+    kernel_mass: f64,
+    /// `-(m_k / rho_0) a`, the lattice's gradient normalization (see [`Self::pressure`]).
+    gradient_scale: f64,
+    /// Wall markers (fixed, in the sums), m.
+    walls: [Vec<f64>; 3],
+    pos: [Vec<f64>; 3],
+    grid: CellGrid,
+    nbrs: NeighborList,
+    bufs: Vec<RowBuf>,
+    rho: Vec<f64>,
+    ids: Vec<RowId>,
+    /// Row buffers, densities (kg/m^3) and impulses (N m s) of the wall markers, and the
+    /// wall markers that have a row this step.
+    wall_bufs: Vec<RowBuf>,
+    wall_rho: Vec<f64>,
+    wall_gamma: Vec<f64>,
+    wall_ids: Vec<(u32, RowId)>,
+    /// Markers attached to rigid bodies: offsets from the centre (m), the body's index,
+    /// each body's centre at the step (m), and their rows as the walls'.
+    body_local: Vec<[f64; 3]>,
+    body_owner: Vec<u32>,
+    body_origin: Vec<[f64; 3]>,
+    marker_bufs: Vec<RowBuf>,
+    marker_rho: Vec<f64>,
+    marker_gamma: Vec<f64>,
+    marker_ids: Vec<(u32, RowId)>,
+    /// Each marker's row impulse of the last step, N m s.
+    gamma: Vec<f64>,
+    /// Each marker's pressure of the last step, Pa.
+    pressure: Vec<f64>,
+    vars: Variables,
+    rows: ConstraintRows,
+    problem: CcpProblem,
+    solver: chrono_ccp::Apgd,
+    k: Vec<f64>,
+    v: Vec<f64>,
+    gamma_all: Vec<f64>,
+    /// Each marker's velocity change by the rows at the last step, m/s.
+    dv: Vec<[f64; 3]>,
+    /// Iterations and residual (m/s) of the last solve.
+    last: (usize, f64),
+}
+
+impl PressureRows {
+    /// Rows with `settings` for markers inside the region `[lower, upper]` (m; the
+    /// neighbour grid's box, markers outside still work, slower), with fixed wall markers
+    /// at `walls` (m; on the markers' lattice beyond the grid's walls, at least
+    /// `chrono_core::particles::lattice::wall_layers(h_over_dp)` layers). Errors name the
+    /// field.
+    pub fn new(
+        settings: PressureSettings,
+        lower: [f64; 3],
+        upper: [f64; 3],
+        walls: &[[f64; 3]],
+    ) -> Result<Self> {
+        settings.validate()?;
+        for (i, w) in walls.iter().enumerate() {
+            if !w.iter().all(|c| c.is_finite()) {
+                return Err(invalid(
+                    &format!("pressure.walls[{i}]"),
+                    format!("{w:?}"),
+                    "must be finite",
+                ));
+            }
+        }
+        let h_k = settings.h_over_dp * settings.spacing;
+        let kernel = Kernel::new(KernelKind::WendlandC2, h_k, settings.dim)?;
+        let kernel_mass = lattice_mass(&kernel, settings.spacing, settings.rest_density);
+        let grid = CellGrid::new(GridConfig::bounded(kernel.support(), lower, upper))?;
+        let a = lattice_gradient_moment(&kernel, settings.spacing);
+        Ok(Self {
+            settings,
+            kernel,
+            kernel_mass,
+            gradient_scale: -kernel_mass / settings.rest_density * a,
+            walls: std::array::from_fn(|a| walls.iter().map(|w| w[a]).collect()),
+            pos: Default::default(),
+            grid,
+            nbrs: NeighborList::new(),
+            bufs: Vec::new(),
+            rho: Vec::new(),
+            ids: Vec::new(),
+            wall_bufs: vec![RowBuf::default(); walls.len()],
+            wall_rho: vec![settings.rest_density; walls.len()],
+            wall_gamma: vec![0.0; walls.len()],
+            wall_ids: Vec::new(),
+            body_local: Vec::new(),
+            body_owner: Vec::new(),
+            body_origin: Vec::new(),
+            marker_bufs: Vec::new(),
+            marker_rho: Vec::new(),
+            marker_gamma: Vec::new(),
+            marker_ids: Vec::new(),
+            gamma: Vec::new(),
+            pressure: Vec::new(),
+            vars: Variables::new(),
+            rows: ConstraintRows::new(),
+            problem: CcpProblem::new(),
+            solver: chrono_ccp::Apgd::new(SolverSettings {
+                tolerance: settings.tolerance,
+                max_iterations: settings.max_iterations,
+                ..SolverSettings::default()
+            }),
+            k: Vec::new(),
+            v: Vec::new(),
+            gamma_all: Vec::new(),
+            dv: Vec::new(),
+            last: (0, 0.0),
+        })
+    }
+
+    /// The settings.
+    pub fn settings(&self) -> &PressureSettings {
+        &self.settings
+    }
+
+    /// Each marker's pressure of the last step, Pa (positive in compression):
+    /// `p_p = gamma_p (m_k / rho_0) |a| / (V_p dt)`, with `a = (1/dim) sum_j F(r_j) r_j^2`
+    /// over the marker lattice (`F = W'/r`) and `V_p` the marker's volume. With it the rows'
+    /// impulses on a lattice under a linear pressure field are exactly `-V_p grad p dt`
+    /// (the row coefficients are `(m_k/rho_0) F x`, and `sum_j F x_j x_j' = a I` on the
+    /// lattice), so `p` is the pressure that balances the markers' weight; it differs from
+    /// chrono-cfluid's `gamma rho_0 / (dt m_k)` by the lattice's two normalizations,
+    /// `(m_k / rho_0)^2 |a| / V` (1 for the continuous kernel).
+    pub fn pressure(&self) -> &[f64] {
+        &self.pressure
+    }
+
+    /// Each marker's density of the last step (at the step's start), kg/m^3.
+    pub fn density(&self) -> &[f64] {
+        &self.rho
+    }
+
+    /// The largest compression `max_p C_p` at the last step's start (0 when none).
+    pub fn max_compression(&self) -> f64 {
+        let r0 = self.settings.rest_density;
+        self.rho.iter().fold(0.0, |m, r| m.max(r / r0 - 1.0))
+    }
+
+    /// APGD's iterations and residual (m/s) at the last step.
+    pub fn last_solve(&self) -> (usize, f64) {
+        self.last
+    }
+
+    /// Checks the markers against the settings: every `mass / volume0` is the rest density
+    /// (to 1e-9). The error names the marker.
+    pub fn check_markers(&self, markers: &Markers) -> Result<()> {
+        let r0 = self.settings.rest_density;
+        for p in 0..markers.len() {
+            let rho = markers.mass[p] / markers.volume0[p];
+            if (rho / r0 - 1.0).abs() > 1e-9 {
+                return Err(invalid(
+                    &format!("marker[{p}].mass / volume0"),
+                    rho,
+                    &format!("must equal pressure.rest_density = {r0} kg/m^3"),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// Attaches markers fixed to rigid body `rigid` (its index in `MpmBody::rigid`) at the
+    /// offsets `local` from its centre (m; e.g. [`box_slab_markers`]): they enter the sums
+    /// at the body's position, move at its surface velocity (known: kinematic bodies), have
+    /// unilateral rows of their own, and the rows' impulses on them are added to the
+    /// body's reaction ([`RigidBody::impulse`](crate::rigid::RigidBody::impulse)). Errors
+    /// name the field.
+    pub fn attach_rigid(&mut self, rigid: usize, local: &[[f64; 3]]) -> Result<()> {
+        for (i, w) in local.iter().enumerate() {
+            if !w.iter().all(|c| c.is_finite()) {
+                return Err(invalid(
+                    &format!("pressure.rigid_markers[{i}]"),
+                    format!("{w:?}"),
+                    "must be finite",
+                ));
+            }
+        }
+        for l in local {
+            self.body_local.push(*l);
+            self.body_owner.push(rigid as u32);
+            self.marker_bufs.push(RowBuf::default());
+            self.marker_rho.push(self.settings.rest_density);
+            self.marker_gamma.push(0.0);
+        }
+        Ok(())
+    }
+
+    /// The rows' solve of one step `dt` (s): the markers' velocities `markers.v` (`v*` of
+    /// G2P) become `v* + M^-1 D gamma`; the rows' impulses on the attached rigid bodies are
+    /// added to their reactions. `step` names the step in an error (a non-finite density
+    /// or velocity, a body marker on a body that does not exist).
+    pub fn solve(
+        &mut self,
+        markers: &mut Markers,
+        rigid: &mut [RigidBody],
+        dt: f64,
+        step: u64,
+        time: f64,
+    ) -> Result<()> {
+        let n = markers.len();
+        let s = self.settings;
+        if let Some(&o) = self.body_owner.iter().find(|&&o| o as usize >= rigid.len()) {
+            return Err(invalid(
+                "pressure.attach_rigid.rigid",
+                o,
+                "no such rigid body on the MPM body",
+            ));
+        }
+        self.body_origin.clear();
+        self.body_origin.extend(
+            rigid
+                .iter()
+                .map(|r| [r.position.x, r.position.y, r.position.z]),
+        );
+        for a in 0..3 {
+            self.pos[a].clear();
+            self.pos[a].extend(markers.x.iter().map(|x| x[a]));
+            self.pos[a].extend_from_slice(&self.walls[a]);
+            for (l, &o) in self.body_local.iter().zip(&self.body_owner) {
+                self.pos[a].push(self.body_origin[o as usize][a] + l[a]);
+            }
+        }
+        let n_static = n + self.walls[0].len();
+        let pos = [&self.pos[0][..], &self.pos[1][..], &self.pos[2][..]];
+        self.grid.build(pos)?;
+        self.grid
+            .neighbor_list(pos, self.kernel.support(), &mut self.nbrs)?;
+        self.bufs.resize(n, RowBuf::default());
+        self.rho.resize(n, 0.0);
+        let field = DensityField {
+            kernel: &self.kernel,
+            mass: self.kernel_mass,
+            rho_0: s.rest_density,
+            grid: &self.grid,
+            pos,
+            nbrs: &self.nbrs,
+            n_free: n,
+            n_static,
+            marker_owner: &self.body_owner,
+            body_origin: &self.body_origin,
+        };
+        field.densities(&mut self.rho);
+        field.rows(&mut self.bufs);
+        field.wall_rows(&mut self.wall_bufs, &mut self.wall_rho);
+        field.marker_rows(&mut self.marker_bufs, &mut self.marker_rho);
+        if let Some(p) = self.rho.iter().position(|r| !r.is_finite()) {
+            return Err(MpmError::Diverged {
+                marker: p,
+                step,
+                time,
+                what: "non-finite density in the pressure rows".into(),
+            });
+        }
+
+        self.vars.clear();
+        self.k.clear();
+        let mut first = None;
+        for p in 0..n {
+            let id = self.vars.add(MassOperator::particle(markers.mass[p])?);
+            first.get_or_insert(id);
+            let mv = markers.v[p] * markers.mass[p];
+            self.k.extend_from_slice(&[mv[0], mv[1], mv[2]]);
+        }
+        let Some(first) = first else {
+            return Ok(());
+        };
+        // `D' v` of a body block: the body's known surface velocity (kinematic bodies).
+        let known = |bodies: &[(u32, [f64; 6])]| -> f64 {
+            let mut k = 0.0;
+            for (slot, c) in bodies {
+                let r = &rigid[*slot as usize];
+                for a in 0..3 {
+                    k += c[a] * r.velocity[a] + c[3 + a] * r.angular_velocity[a];
+                }
+            }
+            k
+        };
+        self.rows.clear();
+        self.ids.clear();
+        let mut entries: Vec<RowEntry> = Vec::new();
+        for p in 0..n {
+            let buf = &self.bufs[p];
+            entries.clear();
+            for (j, &q) in buf.particles.iter().enumerate() {
+                entries.push(RowEntry {
+                    block: BlockId(first.0 + q),
+                    coefs: &buf.coefs[3 * j..3 * j + 3],
+                });
+            }
+            let c = self.rho[p] / s.rest_density - 1.0;
+            let eps = compliance(s.compressibility, s.rest_density, dt, markers.mass[p]);
+            let id = push_density_row(
+                &mut self.rows,
+                &entries,
+                c,
+                dt,
+                eps,
+                known(&buf.bodies),
+                SurfaceMode::OneSided,
+                s.max_recovery_rate,
+            );
+            self.ids.push(id);
+        }
+        // The wall markers' and the body markers' own rows (chrono-cfluid's
+        // `wall_marker_rows`, `body_marker_rows`), unilateral: a wall or a body pushes with
+        // a pressure of its own, so the pair forces across it are `g_i + g_k` as inside;
+        // without them the first layer carries twice the hydrostatic pressure and the
+        // layers above alternate.
+        let m_ref = markers.mass.iter().sum::<f64>() / n as f64;
+        let eps = compliance(s.compressibility, s.rest_density, dt, m_ref);
+        for (bufs, rho, ids) in [
+            (&self.wall_bufs, &self.wall_rho, &mut self.wall_ids),
+            (&self.marker_bufs, &self.marker_rho, &mut self.marker_ids),
+        ] {
+            ids.clear();
+            for (k, buf) in bufs.iter().enumerate() {
+                if buf.particles.is_empty() {
+                    continue;
+                }
+                entries.clear();
+                for (j, &q) in buf.particles.iter().enumerate() {
+                    entries.push(RowEntry {
+                        block: BlockId(first.0 + q),
+                        coefs: &buf.coefs[3 * j..3 * j + 3],
+                    });
+                }
+                let c = rho[k] / s.rest_density - 1.0;
+                let id = push_density_row(
+                    &mut self.rows,
+                    &entries,
+                    c,
+                    dt,
+                    eps,
+                    known(&buf.bodies),
+                    SurfaceMode::Unilateral,
+                    s.max_recovery_rate,
+                );
+                ids.push((k as u32, id));
+            }
+        }
+        drop(entries);
+        self.problem.assemble(&self.vars, &self.rows, &self.k)?;
+        self.gamma_all.clear();
+        self.gamma_all.resize(self.problem.n_rows(), 0.0);
+        let f = s.warm_start_factor;
+        if self.gamma.len() == n {
+            for (id, g) in self.ids.iter().zip(&self.gamma) {
+                self.gamma_all[self.problem.row_index(*id)] = f * g;
+            }
+        }
+        for (ids, gamma) in [
+            (&self.wall_ids, &self.wall_gamma),
+            (&self.marker_ids, &self.marker_gamma),
+        ] {
+            for (k, id) in ids {
+                self.gamma_all[self.problem.row_index(*id)] = f * gamma[*k as usize];
+            }
+        }
+        let stats = self.solver.solve(&self.problem, &mut self.gamma_all);
+        self.last = (stats.iterations, stats.residual);
+        self.v.resize(3 * n, 0.0);
+        self.problem.velocities(&self.gamma_all, &mut self.v);
+        let off = self.vars.offset(first);
+        self.dv.clear();
+        for p in 0..n {
+            let v = &self.v[off + 3 * p..off + 3 * p + 3];
+            if !v.iter().all(|x| x.is_finite()) {
+                return Err(MpmError::Diverged {
+                    marker: p,
+                    step,
+                    time,
+                    what: "non-finite velocity after the pressure rows".into(),
+                });
+            }
+            let new = nalgebra::Vector3::new(v[0], v[1], v[2]);
+            let d = new - markers.v[p];
+            self.dv.push([d[0], d[1], d[2]]);
+            markers.v[p] = new;
+        }
+        let gamma_all = &self.gamma_all;
+        let problem = &self.problem;
+        self.gamma.clear();
+        self.gamma
+            .extend(self.ids.iter().map(|id| gamma_all[problem.row_index(*id)]));
+        for (ids, gamma) in [
+            (&self.wall_ids, &mut self.wall_gamma),
+            (&self.marker_ids, &mut self.marker_gamma),
+        ] {
+            gamma.fill(0.0);
+            for (k, id) in ids {
+                gamma[*k as usize] = gamma_all[problem.row_index(*id)];
+            }
+        }
+        // The rows' impulses on the bodies, `g_i [lin; ang]_b` (about the body's centre):
+        // the body gives the material the opposite.
+        if !self.body_owner.is_empty() {
+            let mut push_body = |bodies: &[(u32, [f64; 6])], g: f64| {
+                for (slot, c) in bodies {
+                    let r = &mut rigid[*slot as usize];
+                    let lin = nalgebra::Vector3::new(c[0], c[1], c[2]) * g;
+                    let ang = nalgebra::Vector3::new(c[3], c[4], c[5]) * g;
+                    r.impulse -= lin;
+                    r.total_impulse -= lin;
+                    r.angular_impulse -= ang;
+                    r.total_angular_impulse -= ang;
+                }
+            };
+            for (p, buf) in self.bufs.iter().enumerate() {
+                push_body(&buf.bodies, self.gamma[p]);
+            }
+            for (bufs, gamma) in [
+                (&self.wall_bufs, &self.wall_gamma),
+                (&self.marker_bufs, &self.marker_gamma),
+            ] {
+                for (buf, g) in bufs.iter().zip(gamma.iter()) {
+                    if *g != 0.0 {
+                        push_body(&buf.bodies, *g);
+                    }
+                }
+            }
+        }
+        self.pressure.clear();
+        let scale = self.gradient_scale / dt;
+        self.pressure
+            .extend((0..n).map(|p| self.gamma[p] * scale / markers.volume0[p]));
+        Ok(())
+    }
+
+    /// Adds the rows' share of the step's velocity-gradient increment to each marker's
+    /// `df` (`I + dt grad v` of G2P, from the grid velocity before the rows): `dt G_p` with
+    /// the SPH gradient of the rows' velocity change `dv` (the wall markers' is 0),
+    ///
+    /// ```text
+    /// G_p = sum_q (m_k / rho_0) (dv_q - dv_p) (grad_p W_pq)',   grad_p W_pq = F(r_pq) x_pq
+    /// ```
+    ///
+    /// exact for a linear field on a full support. Without it `F_E` would follow the grid's
+    /// velocity before the pressure, and at rest under gravity keep compressing next to a
+    /// floor (the grid's `g dt` above a node held at 0, removed by the rows every step).
+    /// Call after [`solve`](Self::solve), before the positions move.
+    pub fn add_velocity_gradient(&self, dt: f64, df: &mut [nalgebra::Matrix3<f64>]) {
+        let n = self.dv.len();
+        let v = self.kernel_mass / self.settings.rest_density;
+        let grid = &self.grid;
+        let pos = &self.pos;
+        let (kernel, nbrs, dv) = (&self.kernel, &self.nbrs, &self.dv);
+        df[..n].par_iter_mut().enumerate().for_each(|(p, df)| {
+            let xp = [pos[0][p], pos[1][p], pos[2][p]];
+            let mut g = nalgebra::Matrix3::zeros();
+            for &q in nbrs.neighbors(p) {
+                let q = q as usize;
+                let d = grid.displacement(xp, [pos[0][q], pos[1][q], pos[2][q]]);
+                let r = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+                let f = v * kernel.grad_factor(r);
+                let dq = if q < n { dv[q] } else { [0.0; 3] };
+                for a in 0..3 {
+                    for b in 0..3 {
+                        g[(a, b)] += (dq[a] - dv[p][a]) * f * d[b];
+                    }
+                }
+            }
+            *df += g * dt;
+        });
+    }
+}
+
+/// `a = (1/dim) sum_j F(r_j) r_j^2` over the lattice of spacing `dp` without its centre
+/// (`F = W'(r)/r`, [`Kernel::grad_factor`]; in the plane of a 2-D kernel), 1/m^dim: the
+/// lattice's `sum_j F x_j x_j' = a I`. For the continuous kernel `a dp^dim = -1`.
+pub fn lattice_gradient_moment(kernel: &Kernel, dp: f64) -> f64 {
+    let reach = (kernel.support() / dp).ceil() as i64;
+    let dim = kernel.dim();
+    let ks = if dim == 3 { -reach..=reach } else { 0..=0 };
+    let js = if dim >= 2 { -reach..=reach } else { 0..=0 };
+    let mut sum = 0.0;
+    for k in ks {
+        for j in js.clone() {
+            for i in -reach..=reach {
+                if i == 0 && j == 0 && k == 0 {
+                    continue;
+                }
+                let r = dp * ((i * i + j * j + k * k) as f64).sqrt();
+                sum += kernel.grad_factor(r) * r * r;
+            }
+        }
+    }
+    sum / f64::from(dim)
+}
+
+/// Fixed wall markers of a plane-strain slab (the plane `y = y`, the 2-D kernel) on the
+/// lattice of spacing `dp`: `layers` layers beyond the walls of the box `[x0, x1] x [z0, z1]`
+/// (m): the floor `z < z0` (when `floor`) and the sides `x < x0`, `x > x1` (when `sides`)
+/// up to `z1`, the corners filled. The inner layer lies `dp / 2` from the wall, as the
+/// material's first layer does. Use at least
+/// `chrono_core::particles::lattice::wall_layers(h_over_dp)` layers. Errors name the field.
+pub fn slab_wall_markers(
+    x: [f64; 2],
+    z: [f64; 2],
+    y: f64,
+    dp: f64,
+    layers: usize,
+    floor: bool,
+    sides: bool,
+) -> Result<Vec<[f64; 3]>> {
+    positive("walls.dp", dp)?;
+    if !(x[1] > x[0] && z[1] > z[0]) {
+        return Err(invalid(
+            "walls.x / walls.z",
+            format!("{x:?}, {z:?}"),
+            "each must be an increasing pair",
+        ));
+    }
+    let nx = ((x[1] - x[0]) / dp + 1e-9).floor() as i64;
+    let nz = ((z[1] - z[0]) / dp + 1e-9).floor() as i64;
+    let l = layers as i64;
+    let mut out = Vec::new();
+    let x_lo = if sides { -l } else { 0 };
+    let x_hi = if sides { nx + l } else { nx };
+    for k in -l..nz {
+        for i in x_lo..x_hi {
+            let in_floor = k < 0;
+            let in_side = i < 0 || i >= nx;
+            if (in_floor && floor) || (!in_floor && in_side && sides) {
+                out.push([
+                    x[0] + (i as f64 + 0.5) * dp,
+                    y,
+                    z[0] + (k as f64 + 0.5) * dp,
+                ]);
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// Markers of a rigid box in a plane-strain slab (offsets from the box's centre, m, in the
+/// plane `y = y_offset` relative to the centre): the lattice points `-half + (i + 1/2) dp`
+/// of the box's `x`–`z` section within `layers` lattice layers of its faces (with
+/// `half[0] = half width`, `half[2] = half height`), for
+/// [`PressureRows::attach_rigid`]. Errors name the field.
+pub fn box_slab_markers(
+    half: [f64; 3],
+    y_offset: f64,
+    dp: f64,
+    layers: usize,
+) -> Result<Vec<[f64; 3]>> {
+    positive("rigid_markers.dp", dp)?;
+    positive("rigid_markers.half[0]", half[0])?;
+    positive("rigid_markers.half[2]", half[2])?;
+    let nx = ((2.0 * half[0]) / dp + 1e-9).floor() as usize;
+    let nz = ((2.0 * half[2]) / dp + 1e-9).floor() as usize;
+    let mut out = Vec::new();
+    for i in 0..nx {
+        for k in 0..nz {
+            let edge = i.min(nx - 1 - i).min(k.min(nz - 1 - k));
+            if edge < layers {
+                out.push([
+                    -half[0] + (i as f64 + 0.5) * dp,
+                    y_offset,
+                    -half[2] + (k as f64 + 0.5) * dp,
+                ]);
+            }
+        }
+    }
+    Ok(out)
+}
