@@ -62,6 +62,9 @@ pub struct AccelParams {
     pub drag_scale: f64,
     /// Tire rolling resistance coefficient `f_r` (handling tire; negative = the data's).
     pub rolling_resistance: f64,
+    /// Stiffness-proportional damping `beta` of the ANCF tire's carcass, s (negative = the
+    /// data's).
+    pub tire_damping: f64,
 }
 
 impl Default for AccelParams {
@@ -79,6 +82,7 @@ impl Default for AccelParams {
             tolerance: 0.15,
             drag_scale: 1.0,
             rolling_resistance: -1.0,
+            tire_damping: -1.0,
         }
     }
 }
@@ -120,6 +124,11 @@ impl CaseParams for AccelParams {
             "rolling_resistance",
             "-",
             "handling tire's rolling resistance f_r (negative: the data's)",
+        ),
+        ParamInfo::new(
+            "tire_damping",
+            "s",
+            "ANCF tire's stiffness damping beta (negative: the data's)",
         ),
     ];
     fn apply_mode(&mut self, mode: Mode) {
@@ -282,6 +291,16 @@ fn vehicle_data(p: &AccelParams) -> anyhow::Result<chrono_vehicle::VehicleData> 
             _ => anyhow::bail!(
                 "parameter `rolling_resistance` = {} applies to the handling tire, got tire `{:?}`",
                 p.rolling_resistance,
+                p.tire
+            ),
+        }
+    }
+    if p.tire_damping >= 0.0 {
+        match &mut data.wheel.tire {
+            chrono_vehicle::tire::Tire::Ancf(t) => t.damping = p.tire_damping,
+            _ => anyhow::bail!(
+                "parameter `tire_damping` = {} applies to the ANCF tire, got tire `{:?}`",
+                p.tire_damping,
                 p.tire
             ),
         }
