@@ -223,7 +223,7 @@ impl ShellItem {
     /// The three node indices of face proxy `id` (`2 e` and `2 e + 1` of element `e`).
     fn face_nodes(&self, id: usize) -> Option<[usize; 3]> {
         let n = self.mesh.elements().get(id / 2)?.nodes;
-        Some(if id % 2 == 0 {
+        Some(if id.is_multiple_of(2) {
             [n[0], n[1], n[2]]
         } else {
             [n[0], n[2], n[3]]
