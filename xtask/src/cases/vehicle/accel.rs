@@ -295,16 +295,7 @@ fn vehicle_data(p: &AccelParams) -> anyhow::Result<chrono_vehicle::VehicleData> 
             ),
         }
     }
-    if p.tire_damping >= 0.0 {
-        match &mut data.wheel.tire {
-            chrono_vehicle::tire::Tire::Ancf(t) => t.damping = p.tire_damping,
-            _ => anyhow::bail!(
-                "parameter `tire_damping` = {} applies to the ANCF tire, got tire `{:?}`",
-                p.tire_damping,
-                p.tire
-            ),
-        }
-    }
+    super::scene::set_tire_damping(&mut data, p.tire_damping)?;
     Ok(data)
 }
 

@@ -108,6 +108,9 @@ pub struct GranularParams {
     /// Tire model: `rigid` (cylinders) or `ancf` (the pressurized shell carcass; NSC only:
     /// the SMC stepper does not take items' collision proxies).
     pub tire: TireKind,
+    /// Stiffness-proportional damping `beta` of the ANCF tire's carcass, s (negative = the
+    /// data's).
+    pub tire_damping: f64,
 }
 
 impl Default for GranularParams {
@@ -136,6 +139,7 @@ impl Default for GranularParams {
             max_iterations: 60,
             solver: "schur".into(),
             tire: TireKind::Rigid,
+            tire_damping: -1.0,
         }
     }
 }
@@ -197,6 +201,11 @@ impl CaseParams for GranularParams {
             "-",
             "tire model: rigid | ancf (ancf needs method = nsc)",
         ),
+        ParamInfo::new(
+            "tire_damping",
+            "s",
+            "ANCF tire's stiffness damping beta (negative: the data's)",
+        ),
     ];
     fn apply_mode(&mut self, mode: Mode) {
         // The default run drives the quick course too (~120 s), for its 20-minute budget
@@ -243,6 +252,7 @@ fn run(p: &GranularParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         "parameter `tire` = ancf needs `method` = nsc: the SMC stepper does not take the carcass' node spheres"
     );
     let mut data = hmmwv_data_with(p.tire)?;
+    super::scene::set_tire_damping(&mut data, p.tire_damping)?;
     if p.diff_lock_torque > 0.0 {
         lock_differentials(&mut data, p.diff_lock_torque)?;
     }

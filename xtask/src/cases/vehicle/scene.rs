@@ -3,8 +3,10 @@
 //! Schur solver by default: joints by a direct factorization, contacts by APGD on their
 //! Schur complement).
 
+use chrono_vehicle::VehicleData;
 use chrono_vehicle::hmmwv::{PowertrainKind, TireKind, hmmwv_data_variant};
 use chrono_vehicle::scene::FlatScene;
+use chrono_vehicle::tire::Tire;
 
 use crate::cases::rigid::make_solver;
 
@@ -17,7 +19,35 @@ pub fn hmmwv_flat(
     solver: &str,
 ) -> anyhow::Result<FlatScene> {
     let data = hmmwv_data_variant(tire, powertrain)?;
+    hmmwv_flat_with(data, mu, solver)
+}
+
+/// [`hmmwv_flat`] for a description already edited.
+pub fn hmmwv_flat_with(data: VehicleData, mu: f64, solver: &str) -> anyhow::Result<FlatScene> {
     Ok(FlatScene::new(data, mu, make_solver(solver, 1e-8, 500)?)?)
+}
+
+/// The parameter `tire_damping` (s): the ANCF carcass' stiffness damping `beta` when `>= 0`
+/// (negative: the data's); an error naming it for another tire.
+pub fn set_tire_damping(data: &mut VehicleData, beta: f64) -> anyhow::Result<()> {
+    if beta < 0.0 {
+        return Ok(());
+    }
+    anyhow::ensure!(
+        beta.is_finite(),
+        "parameter `tire_damping` must be finite, got {beta}"
+    );
+    match &mut data.wheel.tire {
+        Tire::Ancf(t) => t.damping = beta,
+        other => anyhow::bail!(
+            "parameter `tire_damping` = {beta} applies to the ANCF tire, got a {} tire",
+            match other {
+                Tire::Rigid(_) => "rigid",
+                _ => "handling",
+            }
+        ),
+    }
+    Ok(())
 }
 
 /// The mean front-wheel steer angle at full left input of that HMMWV (rad), for a path

@@ -13,9 +13,9 @@ use std::time::Instant;
 
 use serde::{Deserialize, Serialize};
 
-use chrono_vehicle::hmmwv::{PowertrainKind, TireKind};
+use chrono_vehicle::hmmwv::{PowertrainKind, TireKind, hmmwv_data_variant};
 
-use super::scene::hmmwv_flat;
+use super::scene::hmmwv_flat_with;
 use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series};
 use crate::cases::rigid::{VtkFrames, n_steps};
 use crate::params::{CaseParams, ParamCase, ParamInfo};
@@ -33,6 +33,9 @@ pub struct StaticParams {
     pub mu: f64,
     /// CCP solver.
     pub solver: String,
+    /// Stiffness-proportional damping `beta` of the ANCF tire's carcass, s (negative = the
+    /// data's).
+    pub tire_damping: f64,
 }
 
 impl Default for StaticParams {
@@ -43,6 +46,7 @@ impl Default for StaticParams {
             tire: TireKind::Rigid,
             mu: 0.9,
             solver: "schur".into(),
+            tire_damping: -1.0,
         }
     }
 }
@@ -58,6 +62,11 @@ impl CaseParams for StaticParams {
             "-",
             "CCP solver (schur handles the suspension joints directly)",
         ),
+        ParamInfo::new(
+            "tire_damping",
+            "s",
+            "ANCF tire's stiffness damping beta (negative: the data's)",
+        ),
     ];
     fn apply_mode(&mut self, mode: Mode) {
         if mode == Mode::Quick {
@@ -71,7 +80,9 @@ const SETTLED_SPEED: f64 = 1e-3;
 
 fn run(p: &StaticParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     let n = n_steps(p.h, p.t_end)?;
-    let mut scene = hmmwv_flat(p.tire, PowertrainKind::Chrono, p.mu, &p.solver)?;
+    let mut data = hmmwv_data_variant(p.tire, PowertrainKind::Chrono)?;
+    super::scene::set_tire_damping(&mut data, p.tire_damping)?;
+    let mut scene = hmmwv_flat_with(data, p.mu, &p.solver)?;
     let (sys, v) = (&mut scene.sys, &mut scene.vehicle);
     let mut series = Series::new(["t", "ride_height", "vz", "load_sum", "weight"]);
     let weight = scene.data.total_mass() * sys.settings().gravity.norm();
