@@ -107,5 +107,5 @@ pub use tet_box::{BoxFaces, BoxMesh, HexSplit};
 pub use tet_dynamics::TetItem;
 pub use tet_mesh::TetMesh;
 pub use tire_mesh::{TireGeometry, TireMesh};
-pub use tire_mount::{BeadMount, InflatedTire, mount_on_rim};
+pub use tire_mount::{BeadMount, InflatedTire, mount_on_rim, mount_on_rim_at};
 pub use tire_static::{StaticPress, TireOnGround, check_fits_rim};

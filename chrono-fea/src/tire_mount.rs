@@ -7,7 +7,7 @@
 //! tire's load and the inflation pressure's bead forces.
 
 use chrono_core::BodyHandle;
-use nalgebra::Vector3;
+use nalgebra::{Isometry3, Point3, Vector3};
 
 use crate::AttachTarget;
 use crate::error::{Result, positive};
@@ -88,9 +88,19 @@ impl InflatedTire {
     /// The pressurized mesh at the inflated shape raised by `lift` m along `Z`: ready for
     /// a [`ShellItem`] (reference configuration undeformed, current one inflated).
     pub fn lifted(&self, lift: f64) -> Result<ShellMesh> {
+        self.placed(&Isometry3::translation(0.0, 0.0, lift))
+    }
+
+    /// The pressurized mesh at the inflated shape moved rigidly by `pose` (positions
+    /// `R r + x`, directors `R d`; the stress-free reference stays where it was: the shell's
+    /// strains do not change under a rigid motion).
+    pub fn placed(&self, pose: &Isometry3<f64>) -> Result<ShellMesh> {
         let mut q = self.inflated.coordinates();
-        for k in 0..self.mesh.nodes().len() {
-            q[6 * k + 2] += lift;
+        for node in q.chunks_exact_mut(6) {
+            let r = pose.transform_point(&Point3::new(node[0], node[1], node[2]));
+            let d = pose.transform_vector(&Vector3::new(node[3], node[4], node[5]));
+            node[..3].copy_from_slice(r.coords.as_slice());
+            node[3..].copy_from_slice(d.as_slice());
         }
         let mut mesh = self.mesh.clone();
         mesh.set_coordinates(&q)?;
@@ -116,6 +126,25 @@ pub fn mount_on_rim(
     rim_at: Vector3<f64>,
     mount: BeadMount,
 ) -> Result<()> {
+    mount_on_rim_at(
+        item,
+        beads,
+        rim,
+        &Isometry3::translation(rim_at.x, rim_at.y, rim_at.z),
+        mount,
+    )
+}
+
+/// [`mount_on_rim`] for a rim body whose frame (centre of mass and axes) is at `rim_pose`
+/// (world): each bead node's position, and for clamped beads its director, taken into the
+/// rim's frame.
+pub fn mount_on_rim_at(
+    item: &mut ShellItem,
+    beads: &[Vec<NodeId>],
+    rim: BodyHandle,
+    rim_pose: &Isometry3<f64>,
+    mount: BeadMount,
+) -> Result<()> {
     for ring in beads {
         for &n in ring {
             let node = *item.mesh().node(n)?;
@@ -123,7 +152,9 @@ pub fn mount_on_rim(
                 n,
                 AttachTarget::Body {
                     body: rim,
-                    local: node.position - rim_at,
+                    local: rim_pose
+                        .inverse_transform_point(&Point3::from(node.position))
+                        .coords,
                 },
             )?;
             if mount == BeadMount::Clamped {
@@ -131,7 +162,7 @@ pub fn mount_on_rim(
                     n,
                     DirectorTarget::Body {
                         body: rim,
-                        local: node.slope,
+                        local: rim_pose.inverse_transform_vector(&node.slope),
                     },
                 )?;
             }

@@ -36,8 +36,7 @@ use chrono_core::item::ItemHandle;
 use chrono_core::math::{Isometry3, Vector3};
 use chrono_core::{ContactMaterial, System};
 use chrono_fea::{
-    AttachTarget, BeadMount, DirectorTarget, InflatedTire, ShellItem, ShellMaterial, TireGeometry,
-    TireMesh,
+    BeadMount, InflatedTire, ShellItem, ShellMaterial, TireGeometry, TireMesh, mount_on_rim_at,
 };
 use serde::{Deserialize, Serialize};
 
@@ -242,40 +241,10 @@ impl AncfTireModel {
     /// element cannot pass between the nodes.
     pub fn mount(&self, sys: &mut System, name: &str, spindle: BodyHandle) -> Result<ItemHandle> {
         let pose: Isometry3<f64> = sys.body(spindle)?.pose();
-        let mut q = self.inflated.inflated.coordinates();
-        for k in 0..q.len() / 6 {
-            let r = Vector3::new(q[6 * k], q[6 * k + 1], q[6 * k + 2]);
-            let d = Vector3::new(q[6 * k + 3], q[6 * k + 4], q[6 * k + 5]);
-            let r = pose.rotation * r + pose.translation.vector;
-            let d = pose.rotation * d;
-            q[6 * k..6 * k + 3].copy_from_slice(r.as_slice());
-            q[6 * k + 3..6 * k + 6].copy_from_slice(d.as_slice());
-        }
-        let mut mesh = self.inflated.mesh.clone();
-        mesh.set_coordinates(&q)?;
-        let mut item = ShellItem::new(name, mesh)?;
+        let mut item = ShellItem::new(name, self.inflated.placed(&pose)?)?;
         item.set_damping(self.data.damping)?;
         item.set_contact_faces(0.5 * self.data.thickness, self.data.material())?;
-        let inflated = &self.inflated.inflated;
-        for &n in self.tire.beads.iter().flatten() {
-            let node = inflated.node(n)?;
-            item.attach(
-                n,
-                AttachTarget::Body {
-                    body: spindle,
-                    local: node.position,
-                },
-            )?;
-            if self.data.bead == BeadMount::Clamped {
-                item.attach_director(
-                    n,
-                    DirectorTarget::Body {
-                        body: spindle,
-                        local: node.slope,
-                    },
-                )?;
-            }
-        }
+        mount_on_rim_at(&mut item, &self.tire.beads, spindle, &pose, self.data.bead)?;
         Ok(sys.add_item(Box::new(item)))
     }
 }
