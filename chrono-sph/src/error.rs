@@ -60,6 +60,15 @@ pub enum SphError {
         /// The limit.
         limit: f64,
     },
+    /// Another rank of a distributed run failed or disagreed ([`crate::distributed`]):
+    /// this rank stops instead of waiting for it.
+    #[error("rank {rank}: {reason}")]
+    Rank {
+        /// The rank that failed.
+        rank: usize,
+        /// What happened there.
+        reason: String,
+    },
     /// An error from chrono-core (grid, kernel, i/o).
     #[error(transparent)]
     Core(#[from] ChronoError),

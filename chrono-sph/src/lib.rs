@@ -22,6 +22,8 @@
 //!   and [`SphSystem::advance_exactly`], which ends exactly at a given time;
 //! - [`system::active`]: the active domain ([`ActiveDomain`], off by default): only the
 //!   fluid near moving carriers is stepped, the rest frozen but still seen as neighbours;
+//! - [`distributed`]: domain decomposition over ranks (slabs, ghosts, migration), with
+//!   in-process ranks ([`LocalTransport`]) or MPI (cargo feature `mpi`);
 //! - [`scene`]: ready-made scenes on the quasi-2D slab tank: the dam break or still
 //!   water ([`scene::slab_tank`]) and the sloshing tank ([`scene::sloshing`]);
 //! - probes ([`SphSystem::pressure_at`], [`SphSystem::free_surface_height`],
@@ -61,6 +63,7 @@ pub mod analytic;
 pub mod builder;
 pub mod carrier;
 pub mod data;
+pub mod distributed;
 pub mod eos;
 pub mod error;
 mod interact;
@@ -77,8 +80,10 @@ mod tests;
 pub use builder::{SphBuilder, TankSides};
 pub use carrier::RigidMotion;
 pub use data::{Deriv, Kind, ParticleData};
+pub use distributed::{DistributedSettings, LocalTransport, Slabs, Transport};
 pub use eos::{Tait, sound_speed_for};
 pub use error::{Result, SphError};
 pub use motion::{Kinematics, WallMotion};
 pub use settings::{ActiveDomain, DensityDiffusion, MachPolicy, NoSlip, SphSettings};
+pub use system::halo::{GlobalSummary, HaloStats};
 pub use system::{SphStats, SphSystem, Timings};

@@ -35,6 +35,7 @@ use rayon::prelude::*;
 
 use crate::carrier::{Carrier, NO_CARRIER, PointCarrier};
 use crate::data::{FLUID, ParticleData, WALL};
+use crate::distributed::{Refresh, Transport};
 use crate::eos::Tait;
 use crate::error::{Result, SphError};
 use crate::interact::{self, PackVelocity, PassCtx};
@@ -45,6 +46,7 @@ use crate::settings::{DensityDiffusion, MachPolicy, SphSettings};
 mod access;
 pub mod active;
 mod carriers;
+pub mod halo;
 
 use active::{ACT_NOW, ALL, LISTED};
 
@@ -128,6 +130,9 @@ pub struct SphSystem {
     /// The sources' bounding spheres `[cx, cy, cz, r]` now and at the last list build.
     sources: Vec<[f64; 4]>,
     list_sources: Vec<[f64; 4]>,
+    /// This rank's part of a decomposition ([`crate::distributed`]; `None`: the whole
+    /// scene in this process).
+    dist: Option<Box<halo::DistState>>,
 }
 
 impl SphSystem {
@@ -186,6 +191,7 @@ impl SphSystem {
             carrier_radius: Vec::new(),
             sources: Vec::new(),
             list_sources: Vec::new(),
+            dist: None,
         };
         sys.carrier_radius = sys.carrier_radii();
         Ok(sys)
@@ -248,11 +254,21 @@ impl SphSystem {
 
     /// Grid build, re-sort by cell when due, CSR neighbour list (radius `2 h (1 + skin)`)
     /// at the current positions; skipped while the Verlet list is still valid.
-    fn neighbor_search(&mut self) -> Result<()> {
+    fn neighbor_search(&mut self, mut net: Option<&mut (dyn Transport + 'static)>) -> Result<()> {
         let t0 = Instant::now();
-        if !self.list_is_stale() && !self.activity_needs_rebuild() {
+        let mut stale = self.list_is_stale() || self.activity_needs_rebuild();
+        if let Some(t) = net.as_deref_mut() {
+            // a global decision: every rank rebuilds (ghosts and migration) together
+            let mut v = [stale as u8 as f64];
+            t.all_max(&mut v)?;
+            stale = v[0] > 0.0;
+        }
+        if !stale {
             self.timings.neighbor_search += t0.elapsed().as_secs_f64();
             return Ok(());
+        }
+        if let Some(t) = net {
+            self.halo_rebuild(t)?;
         }
         {
             let d = &self.data;
@@ -266,6 +282,13 @@ impl SphSystem {
                 &mut self.act,
                 &mut self.act_scratch,
             );
+            if let Some(st) = self.dist.as_mut() {
+                chrono_core::particles::permute(
+                    self.grid.order(),
+                    &mut st.owner,
+                    &mut st.owner_scratch,
+                );
+            }
             self.grid.reordered();
             self.last_reorder = self.steps;
         }
@@ -276,7 +299,7 @@ impl SphSystem {
             // wall markers keep only their fluid neighbours: no pass reads wall-wall
             // entries (the wall extrapolation sums over fluid neighbours only)
             let keep = |i: usize, j: usize| kind[i] == FLUID || kind[j] == FLUID;
-            if self.active_on() {
+            if self.active_on() || self.distributed() {
                 // the active domain: rows for the listed particles only
                 let act = &self.act;
                 self.grid.neighbor_list_rows(
@@ -300,6 +323,7 @@ impl SphSystem {
                 .enumerate()
                 .for_each(|(i, r)| *r = [d.x[i], d.y[i], d.z[i]]);
         }
+        self.halo_index();
         self.stats.neighbor_entries = self.list.total();
         self.stats.list_builds += 1;
         self.timings.neighbor_search += t0.elapsed().as_secs_f64();
@@ -309,7 +333,20 @@ impl SphSystem {
     /// Density work at the current positions: continuity (+ XSPH) with the current
     /// velocities and `rho += dt d rho/dt` (skipped when `dt = 0`), the Shepard filter
     /// when due, the equation of state and the wall extrapolation.
+    #[cfg(test)]
     pub(crate) fn density_update(&mut self, dt: f64) {
+        self.density_update_on(dt, None)
+            .expect("no transport: nothing can fail");
+    }
+
+    /// [`density_update`](Self::density_update) with the ghosts refreshed from their
+    /// owners after the density increment (and the Shepard filter) and after the wall
+    /// extrapolation.
+    fn density_update_on(
+        &mut self,
+        dt: f64,
+        mut net: Option<&mut (dyn Transport + 'static)>,
+    ) -> Result<()> {
         let t0 = Instant::now();
         let mut ctx = make_ctx(
             &self.settings,
@@ -320,7 +357,7 @@ impl SphSystem {
             &self.motion,
             self.time,
         );
-        let active = self.settings.active_domain.is_some();
+        let active = self.settings.active_domain.is_some() || self.dist.is_some();
         if active {
             ctx.eval = Some(&self.act);
         }
@@ -344,15 +381,27 @@ impl SphSystem {
                 });
         }
         let every = self.settings.shepard_every as u64;
-        if every > 0 && self.steps > 0 && self.steps.is_multiple_of(every) {
+        let shepard = every > 0 && self.steps > 0 && self.steps.is_multiple_of(every);
+        if let Some(t) = net.as_deref_mut() {
+            // ctx borrows the grid and list only: the data are free
+            Self::refresh(&mut self.dist, &mut self.data, Refresh::Density, t)?;
+        }
+        if shepard {
             let mut out = std::mem::take(&mut self.data.rho_half);
             interact::shepard(&mut self.data, &ctx, &mut out);
             self.data.rho_half = out;
+            if let Some(t) = net.as_deref_mut() {
+                Self::refresh(&mut self.dist, &mut self.data, Refresh::Density, t)?;
+            }
         }
         interact::fluid_pressure(&mut self.data, &self.eos);
         // the records of the continuity pass: same positions, fluid velocities and kinds
         interact::wall_extrapolation(&mut self.data, &self.packed, &ctx, &mut self.bc);
+        if let Some(t) = net {
+            Self::refresh(&mut self.dist, &mut self.data, Refresh::Wall, t)?;
+        }
         self.timings.density += t0.elapsed().as_secs_f64();
+        Ok(())
     }
 
     /// The force pass at the current state.
@@ -367,7 +416,7 @@ impl SphSystem {
             &self.motion,
             self.time,
         );
-        if self.settings.active_domain.is_some() {
+        if self.settings.active_domain.is_some() || self.dist.is_some() {
             ctx.eval = Some(&self.act);
         }
         let mut deriv = std::mem::take(&mut self.data.deriv);
@@ -413,6 +462,13 @@ impl SphSystem {
     /// the next `dt`), so [`ParticleData::deriv`](crate::ParticleData::deriv) can be
     /// inspected; [`step`](Self::step) calls it once, and later calls do nothing.
     pub fn initialize(&mut self) -> Result<()> {
+        self.initialize_on(None)
+    }
+
+    /// [`initialize`](Self::initialize) of a distributed system (or of a whole one with
+    /// `None`).
+    pub fn initialize_on(&mut self, mut net: Option<&mut (dyn Transport + 'static)>) -> Result<()> {
+        self.check_net(&net)?;
         if self.initialized {
             return Ok(());
         }
@@ -420,13 +476,14 @@ impl SphSystem {
         self.move_walls(self.time);
         self.update_activity();
         self.stats.active_fluid = self.promote_activity();
-        self.neighbor_search()?;
+        self.neighbor_search(net.as_deref_mut())?;
         // the density diffusion reads the pressures of the initial densities
         interact::fluid_pressure(&mut self.data, &self.eos);
-        self.density_update(0.0);
+        self.density_update_on(0.0, net.as_deref_mut())?;
         self.force_update();
         self.carrier_loads();
-        self.check_and_set_dt()?;
+        self.check_and_set_dt(net)?;
+        self.stats.active_fluid = self.promote_activity();
         self.initialized = true;
         Ok(())
     }
@@ -435,7 +492,17 @@ impl SphSystem {
     pub fn step(&mut self) -> Result<f64> {
         self.initialize()?;
         let dt = self.dt;
-        self.step_by(dt, None)?;
+        self.step_by(dt, None, None)?;
+        Ok(dt)
+    }
+
+    /// Advances one time step of this rank's part of a distributed system
+    /// ([`distribute`](Self::distribute)); every rank calls it with its transport, and
+    /// all take the same step size (returned, s).
+    pub fn step_on(&mut self, net: &mut (dyn Transport + 'static)) -> Result<f64> {
+        self.initialize_on(Some(&mut *net))?;
+        let dt = self.dt;
+        self.step_by(dt, None, Some(net))?;
         Ok(dt)
     }
 
@@ -459,11 +526,11 @@ impl SphSystem {
             let rest = t_end - self.time;
             let dt = self.dt;
             if dt >= rest {
-                self.step_by(rest, Some(t_end))?;
+                self.step_by(rest, Some(t_end), None)?;
             } else if 2.0 * dt > rest {
-                self.step_by(0.5 * rest, None)?;
+                self.step_by(0.5 * rest, None, None)?;
             } else {
-                self.step_by(dt, None)?;
+                self.step_by(dt, None, None)?;
             }
             n += 1;
         }
@@ -472,7 +539,13 @@ impl SphSystem {
 
     /// One kick-drift-kick step of size `dt`; the clock ends at `t_new` if given (the
     /// last step of [`advance_exactly`](Self::advance_exactly)), else at `time + dt`.
-    fn step_by(&mut self, dt: f64, t_new: Option<f64>) -> Result<()> {
+    fn step_by(
+        &mut self,
+        dt: f64,
+        t_new: Option<f64>,
+        mut net: Option<&mut (dyn Transport + 'static)>,
+    ) -> Result<()> {
+        self.check_net(&net)?;
         let t0 = Instant::now();
         let half = 0.5 * dt;
         let (lo, hi, per) = (
@@ -517,9 +590,12 @@ impl SphSystem {
         self.steps += 1;
         self.move_walls(self.time);
         self.update_activity();
+        if let Some(t) = net.as_deref_mut() {
+            Self::refresh(&mut self.dist, &mut self.data, Refresh::Kinematic, t)?;
+        }
         self.timings.integration += t0.elapsed().as_secs_f64();
-        self.neighbor_search()?;
-        self.density_update(dt);
+        self.neighbor_search(net.as_deref_mut())?;
+        self.density_update_on(dt, net.as_deref_mut())?;
         self.force_update();
         self.carrier_loads();
         let t1 = Instant::now();
@@ -527,7 +603,7 @@ impl SphSystem {
         self.kick_carriers(half);
         self.stats.fluid_steps += self.stats.active_fluid as u64;
         self.stats.active_fluid = self.promote_activity();
-        self.check_and_set_dt()?;
+        self.check_and_set_dt(net)?;
         self.timings.integration += t1.elapsed().as_secs_f64();
         Ok(())
     }
@@ -546,7 +622,7 @@ impl SphSystem {
     }
 
     /// Checks the fluid state (finite, below the speed limits) and sets the next `dt`.
-    fn check_and_set_dt(&mut self) -> Result<()> {
+    fn check_and_set_dt(&mut self, net: Option<&mut (dyn Transport + 'static)>) -> Result<()> {
         let d = &self.data;
         // (value, slot) maxima with the lowest slot on ties: deterministic.
         let pick = |a: (f64, usize), b: (f64, usize)| {
@@ -579,6 +655,49 @@ impl SphSystem {
                 || (usize::MAX, (0.0, usize::MAX), (0.0, usize::MAX)),
                 |x, y| (x.0.min(y.0), pick(x.1, y.1), pick(x.2, y.2)),
             );
+        let (mut v2, mut a2) = (v2, a2);
+        if let Some(t) = net {
+            // one reduction: the failing rank (+1, 0 = none), the fastest speed and the
+            // largest acceleration, so every rank takes the same dt
+            let me = t.rank();
+            let mut g = [
+                if bad != usize::MAX {
+                    (me + 1) as f64
+                } else {
+                    0.0
+                },
+                v2,
+                a2,
+            ];
+            t.all_max(&mut g)?;
+            if g[0] > 0.0 && bad == usize::MAX {
+                return Err(SphError::Rank {
+                    rank: g[0] as usize - 1,
+                    reason: format!("a particle turned non-finite at step {}", self.steps),
+                });
+            }
+            let c2 = self.settings.sound_speed * self.settings.sound_speed;
+            let limit = self.settings.mach_limit * self.settings.mach_limit;
+            let fails = g[1] / c2 > 1.0
+                || (g[1] / c2 > limit && matches!(self.settings.mach_policy, MachPolicy::Error));
+            if fails {
+                // the stop is global: the rank of the fastest particle names it
+                let mut who = [if v2 == g[1] { (me + 1) as f64 } else { 0.0 }];
+                t.all_max(&mut who)?;
+                if who[0] as usize != me + 1 {
+                    return Err(SphError::Rank {
+                        rank: who[0] as usize - 1,
+                        reason: format!(
+                            "its particle reached {:.4e} m/s at step {} (sound speed {} m/s)",
+                            g[1].sqrt(),
+                            self.steps,
+                            self.settings.sound_speed
+                        ),
+                    });
+                }
+            }
+            (v2, a2) = (g[1], g[2]);
+        }
         if bad != usize::MAX {
             let what = if !(d.x[bad].is_finite() && d.y[bad].is_finite() && d.z[bad].is_finite()) {
                 "position"
