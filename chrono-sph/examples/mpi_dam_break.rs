@@ -14,7 +14,9 @@
 //! (rank 0 writes the series), `--compare FILE` (rank 0 checks the particle counts
 //! exactly and the time step, kinetic energy and front within `--tol`, default 1e-9
 //! relative; exit status 1 on a mismatch), `--rebalance K` (cuts moved every K list
-//! builds, 0 = never). Each rank prints its decomposition counters at the end. A rank
+//! builds, 0 = never), `--vtk DIR` (each rank writes its particles every `--vtk-every`
+//! steps, 50, as `dam_<step>_r<rank>.vtp`; rank 0 writes `dam.pvd` listing each frame's
+//! rank files as its parts). Each rank prints its decomposition counters at the end. A rank
 //! whose step fails prints the error and exits with status 1 (mpirun then stops the
 //! others).
 
@@ -39,6 +41,8 @@ struct Args {
     compare: Option<String>,
     tol: f64,
     rebalance: u32,
+    vtk: Option<String>,
+    vtk_every: usize,
 }
 
 fn args() -> Args {
@@ -53,6 +57,8 @@ fn args() -> Args {
         compare: None,
         tol: 1e-9,
         rebalance: DistributedSettings::default().rebalance_every,
+        vtk: None,
+        vtk_every: 50,
     };
     let v: Vec<String> = std::env::args().skip(1).collect();
     let mut i = 0;
@@ -88,6 +94,8 @@ fn args() -> Args {
             "--spacing" => r.spacing = num(val(i), "--spacing"),
             "--out" => r.out = Some(val(i)),
             "--compare" => r.compare = Some(val(i)),
+            "--vtk" => r.vtk = Some(val(i)),
+            "--vtk-every" => r.vtk_every = (num(val(i), "--vtk-every") as usize).max(1),
             "--tol" => r.tol = num(val(i), "--tol"),
             "--rebalance" => r.rebalance = num(val(i), "--rebalance") as u32,
             "--whole" => {
@@ -195,6 +203,10 @@ fn main() {
             .unwrap_or_else(|e| fail(rank, e));
     }
     let mut lines = vec!["step,t,dt,fluid,particles,kinetic_energy,front_x,top_z".to_string()];
+    if let Some(dir) = &a.vtk {
+        std::fs::create_dir_all(dir).unwrap_or_else(|e| fail(rank, format!("{dir}: {e}")));
+    }
+    let mut frames: Vec<(f64, String)> = Vec::new();
     let mut t0 = Instant::now();
     let mut fluid_steps = 0u64;
     for k in 0..a.warmup + a.steps {
@@ -217,6 +229,29 @@ fn main() {
         };
         fluid_steps += g.fluid as u64;
         lines.push(row(k, sys.time(), dt, &g));
+        if let Some(dir) = &a.vtk
+            && (k + 1) % a.vtk_every == 0
+        {
+            let name = format!("dam_{:05}_r{rank}.vtp", k + 1);
+            sys.write_vtk(std::path::Path::new(dir).join(&name), true)
+                .unwrap_or_else(|e| fail(rank, e));
+            frames.push((sys.time(), name));
+        }
+    }
+    if let Some(dir) = &a.vtk
+        && rank == 0
+    {
+        // every rank wrote its part of each frame under the same names
+        let parts: Vec<(f64, usize, String)> = frames
+            .iter()
+            .flat_map(|(t, name)| {
+                (0..size).map(move |r| (*t, r, name.replace("_r0.vtp", &format!("_r{r}.vtp"))))
+            })
+            .collect();
+        let refs: Vec<(f64, usize, &str)> =
+            parts.iter().map(|(t, r, n)| (*t, *r, n.as_str())).collect();
+        chrono_core::io::write_pvd_parts(std::path::Path::new(dir).join("dam.pvd"), &refs)
+            .unwrap_or_else(|e| fail(rank, e));
     }
     let wall = t0.elapsed().as_secs_f64();
     if let Some(s) = sys.halo_stats() {

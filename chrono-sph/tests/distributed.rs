@@ -217,3 +217,60 @@ fn bad_decompositions_are_named() {
         .to_string();
     assert!(e.contains("rank"), "{e}");
 }
+
+/// Each rank's VTK frame holds the particles it owns: the parts add up to the whole
+/// scene, each id once.
+#[test]
+fn rank_frames_are_parts_of_the_whole() {
+    let dir = std::env::temp_dir().join(format!("chrono_sph_rank_vtk_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let total = scene().len();
+    let files: Vec<std::path::PathBuf> = std::thread::scope(|s| {
+        let hs: Vec<_> = LocalTransport::ranks(3)
+            .into_iter()
+            .map(|mut t| {
+                let dir = dir.clone();
+                s.spawn(move || {
+                    let mut sys = scene();
+                    sys.distribute(t.rank(), t.size(), DistributedSettings::default())
+                        .unwrap();
+                    for _ in 0..20 {
+                        sys.step_on(&mut t).unwrap();
+                    }
+                    let f = dir.join(format!("f_r{}.vtp", t.rank()));
+                    sys.write_vtk(&f, true).unwrap();
+                    f
+                })
+            })
+            .collect();
+        hs.into_iter().map(|h| h.join().unwrap()).collect()
+    });
+    let mut ids = Vec::new();
+    for f in &files {
+        let text = std::fs::read_to_string(f).unwrap();
+        let at = text.find("Name=\"id\"").expect("id array");
+        let body = &text[at..];
+        let start = body.find('>').unwrap() + 1;
+        let end = body.find("</DataArray>").unwrap();
+        ids.extend(
+            body[start..end]
+                .split_whitespace()
+                .map(|v| v.parse::<f64>().unwrap() as u64),
+        );
+        assert!(
+            text.contains("Name=\"rank\""),
+            "no rank field in {}",
+            f.display()
+        );
+    }
+    let n = ids.len();
+    ids.sort_unstable();
+    ids.dedup();
+    assert_eq!(
+        (n, ids.len()),
+        (total, total),
+        "parts {n}, distinct {}, whole {total}",
+        ids.len()
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}

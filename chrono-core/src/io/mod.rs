@@ -2,7 +2,7 @@
 //!
 //! - [`csv`]: [`CsvWriter`] for a time series written row by row, [`write_csv`] one-shot.
 //! - [`vtk`]: `.vtp` PolyData of rigid shapes ([`write_shapes_vtp`]) and of particles
-//!   ([`write_points_vtp`]), and the `.pvd` collection ([`write_pvd`]) that lets ParaView
+//!   ([`write_points_vtp`]), and the `.pvd` collection ([`write_pvd`], in parts: [`write_pvd_parts`]) that lets ParaView
 //!   play a series of frames.
 //! - [`bodies`]: frames of every body's colliders, [`write_bodies_vtp`].
 //! - [`grains`]: frames of grains (positions, radii, velocities), [`write_grains_vtp`].
@@ -21,7 +21,8 @@ pub use csv::{CsvWriter, write_csv};
 pub use frames::{Every, FrameSeries};
 pub use grains::write_grains_vtp;
 pub use vtk::{
-    ShapeMeshOptions, write_points_vtp, write_pvd, write_shapes_vtp, write_shapes_vtp_with,
+    ShapeMeshOptions, write_points_vtp, write_pvd, write_pvd_parts, write_shapes_vtp,
+    write_shapes_vtp_with,
 };
 
 use std::path::Path;

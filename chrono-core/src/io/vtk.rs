@@ -259,6 +259,29 @@ pub fn write_pvd(path: impl AsRef<Path>, frames: &[(f64, &str)]) -> Result<()> {
     x.finish(path.as_ref())
 }
 
+/// Write a ParaView collection of frames in parts: each `(time (s), part, file name)` is
+/// one piece of a frame (a distributed run's rank files: ParaView shows the parts of a
+/// time step together); file names are relative to the `.pvd` file's directory.
+pub fn write_pvd_parts(path: impl AsRef<Path>, frames: &[(f64, usize, &str)]) -> Result<()> {
+    let mut x = Xml::new("Collection");
+    for (k, (t, part, file)) in frames.iter().enumerate() {
+        if !t.is_finite() {
+            return Err(ChronoError::invalid(
+                format!("frames[{k}].time"),
+                t,
+                "must be finite",
+            ));
+        }
+        let mut time = String::new();
+        fmt_f64(*t, &mut time);
+        x.s.push_str(&format!(
+            "    <DataSet timestep=\"{time}\" group=\"\" part=\"{part}\" file=\"{}\"/>\n",
+            escape(file)
+        ));
+    }
+    x.finish(path.as_ref())
+}
+
 /// Escape text for an XML attribute.
 fn escape(s: &str) -> String {
     s.replace('&', "&amp;")
@@ -489,5 +512,19 @@ mod tests {
         let text = std::fs::read_to_string(&pvd).unwrap();
         assert_eq!(text.matches("<DataSet ").count(), 2);
         assert!(text.contains("timestep=\"0.01\"") && text.contains("file=\"f_0001.vtp\""));
+
+        let pvd = temp("parts.pvd");
+        write_pvd_parts(
+            &pvd,
+            &[(0.0, 0, "f_0000_r0.vtp"), (0.0, 1, "f_0000_r1.vtp")],
+        )
+        .unwrap();
+        let text = std::fs::read_to_string(&pvd).unwrap();
+        assert_eq!(text.matches("<DataSet ").count(), 2);
+        assert!(text.contains("part=\"1\" file=\"f_0000_r1.vtp\""), "{text}");
+        let e = write_pvd_parts(&pvd, &[(f64::NAN, 0, "a.vtp")])
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("frames[0].time"), "{e}");
     }
 }

@@ -149,6 +149,11 @@ impl SphSystem {
             .is_none_or(|d| d.owner[i] as usize == d.rank)
     }
 
+    /// This rank (`None` without a decomposition).
+    pub fn rank(&self) -> Option<usize> {
+        self.dist.as_ref().map(|d| d.rank)
+    }
+
     /// This rank's decomposition counters (`None` without a decomposition).
     pub fn halo_stats(&self) -> Option<HaloStats> {
         self.dist.as_ref().map(|d| {
