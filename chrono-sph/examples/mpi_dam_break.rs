@@ -169,6 +169,44 @@ fn scene(dp: f64) -> SphSystem {
     })
 }
 
+/// A transport that times its collectives (the communication share of the step).
+#[derive(Debug)]
+struct Timed<T: Transport> {
+    inner: T,
+    seconds: f64,
+    calls: u64,
+}
+
+impl<T: Transport> Transport for Timed<T> {
+    fn rank(&self) -> usize {
+        self.inner.rank()
+    }
+    fn size(&self) -> usize {
+        self.inner.size()
+    }
+    fn all_to_all(&mut self, send: &[Vec<f64>], recv: &mut [Vec<f64>]) -> chrono_sph::Result<()> {
+        let t = Instant::now();
+        let r = self.inner.all_to_all(send, recv);
+        self.seconds += t.elapsed().as_secs_f64();
+        self.calls += 1;
+        r
+    }
+    fn all_max(&mut self, v: &mut [f64]) -> chrono_sph::Result<()> {
+        let t = Instant::now();
+        let r = self.inner.all_max(v);
+        self.seconds += t.elapsed().as_secs_f64();
+        self.calls += 1;
+        r
+    }
+    fn all_sum(&mut self, v: &mut [f64]) -> chrono_sph::Result<()> {
+        let t = Instant::now();
+        let r = self.inner.all_sum(v);
+        self.seconds += t.elapsed().as_secs_f64();
+        self.calls += 1;
+        r
+    }
+}
+
 fn row(k: usize, t: f64, dt: f64, g: &GlobalSummary) -> String {
     format!(
         "{k},{t:.17e},{dt:.17e},{},{},{:.17e},{:.17e},{:.17e}",
@@ -184,7 +222,11 @@ fn fail(rank: usize, e: impl std::fmt::Display) -> ! {
 fn main() {
     let a = args();
     let universe = mpi::initialize().unwrap_or_else(|| fail(0, "MPI was already initialized"));
-    let mut net = MpiTransport::new(universe.world());
+    let mut net = Timed {
+        inner: MpiTransport::new(universe.world()),
+        seconds: 0.0,
+        calls: 0,
+    };
     let (rank, size) = (net.rank(), net.size());
     if a.whole && size > 1 {
         fail(rank, "--whole runs one process: start it without mpirun -n");
@@ -213,6 +255,7 @@ fn main() {
         if k == a.warmup {
             t0 = Instant::now();
             fluid_steps = 0;
+            (net.seconds, net.calls) = (0.0, 0);
         }
         let (dt, g) = if a.whole {
             let dt = sys.step().unwrap_or_else(|e| fail(rank, e));
@@ -256,14 +299,17 @@ fn main() {
     let wall = t0.elapsed().as_secs_f64();
     if let Some(s) = sys.halo_stats() {
         eprintln!(
-            "rank {rank} of {size}: owned {}, ghosts {}, list builds {}, rebalances {}, migrated in {}, values sent {} ({:.1} kB per step)",
+            "rank {rank} of {size}: collectives {:.3} s in {} calls over the timed steps ({:.1} % of {wall:.3} s); owned {}, ghosts {}, list builds {}, rebalances {}, migrated in {}, values sent {} ({:.1} kB per step)",
+            net.seconds,
+            net.calls,
+            100.0 * net.seconds / wall,
             s.owned,
             s.ghosts,
             s.builds,
             s.rebalances,
             s.migrated_in,
             s.values_sent,
-            s.values_sent as f64 * 8.0 / 1e3 / a.steps as f64
+            s.values_sent as f64 * 8.0 / 1e3 / (a.warmup + a.steps) as f64
         );
     }
     if rank != 0 {

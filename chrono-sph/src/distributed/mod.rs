@@ -2,14 +2,15 @@
 //! (ranks): slabs along one axis, halo (ghost) layers, migration, global reductions.
 //!
 //! **Decomposition.** The domain is cut along one non-periodic axis into `R` slabs
-//! `[b_r, b_{r+1})` (`b_0 = -inf`, `b_R = +inf`), chosen so each rank owns about the
-//! same number of particles (fluid and wall markers counted alike): the initial cut
-//! points are the `k N / R` quantiles of the particles' coordinates along the axis,
+//! `[b_r, b_{r+1})` (`b_0 = -inf`, `b_R = +inf`), chosen so each rank has about the
+//! same work (a fluid particle weighs 1, a wall marker
+//! [`DistributedSettings::wall_weight`]): the initial cut points are the `k W / R`
+//! weighted quantiles of the particles' coordinates along the axis,
 //! placed half-way between two distinct coordinates ([`Slabs::balanced`]); every
 //! [`DistributedSettings::rebalance_every`] neighbour-list builds the cuts move to the
-//! quantiles of the current positions (a histogram summed over the ranks). A slab
-//! narrower than the halo width is an error naming the rank count: more ranks than the
-//! scene has slabs.
+//! quantiles of the current positions (a histogram summed over the ranks). No slab is
+//! narrower than the halo width (balanced cuts closer than that are moved apart); a
+//! scene too short for that many slabs is an error naming the rank count.
 //!
 //! **Ownership, ghosts and migration.** A rank steps only the particles it owns; copies
 //! of the other ranks' particles within the halo width `w` of its slab (`w` = the
@@ -88,6 +89,10 @@ pub struct DistributedSettings {
     pub rebalance_every: u32,
     /// Bins of the histogram the rebalancing reads (per slab axis extent).
     pub histogram_bins: usize,
+    /// The work of a wall marker against a fluid particle's, for the balance: a wall
+    /// marker is in the grid and extrapolates its pressure once per step; a fluid
+    /// particle does the continuity and force passes.
+    pub wall_weight: f64,
 }
 
 impl Default for DistributedSettings {
@@ -96,6 +101,7 @@ impl Default for DistributedSettings {
             axis: 0,
             rebalance_every: 8,
             histogram_bins: 4096,
+            wall_weight: 0.25,
         }
     }
 }
@@ -109,13 +115,12 @@ pub struct Slabs {
 }
 
 impl Slabs {
-    /// Cuts at the `k N / R` quantiles of `coords`, half-way between two distinct
-    /// values; errors when a slab would be narrower than `width` (m) or when there are
-    /// fewer particles than ranks.
-    pub fn balanced(coords: &[f64], ranks: usize, width: f64) -> Result<Self> {
-        let mut s: Vec<f64> = coords.to_vec();
-        s.sort_by(f64::total_cmp);
-        let n = s.len();
+    /// Cuts at the `k W / R` quantiles of the weights `weights` of the particles at
+    /// `coords` (`W` the total weight), half-way between two distinct coordinates; errors
+    /// when a slab would be narrower than `width` (m) or when there are fewer particles
+    /// than ranks.
+    pub fn balanced(coords: &[f64], weights: &[f64], ranks: usize, width: f64) -> Result<Self> {
+        let n = coords.len();
         if ranks == 0 || n < ranks {
             return Err(SphError::invalid(
                 "ranks",
@@ -123,22 +128,30 @@ impl Slabs {
                 format!("must be between 1 and the particle count {n}"),
             ));
         }
+        let mut order: Vec<usize> = (0..n).collect();
+        order.sort_by(|&a, &b| coords[a].total_cmp(&coords[b]));
+        let s: Vec<f64> = order.iter().map(|&i| coords[i]).collect();
+        let total: f64 = weights.iter().sum();
         let mut cuts = Vec::with_capacity(ranks - 1);
+        let (mut run, mut j) = (0.0, 0);
         for k in 1..ranks {
-            let i = k * n / ranks;
-            // the next distinct value at or after the quantile: a lattice plane is not cut
-            let mut j = i.max(1);
-            while j < n && s[j] == s[j - 1] {
+            let target = total * k as f64 / ranks as f64;
+            while j < n && run + weights[order[j]] <= target {
+                run += weights[order[j]];
                 j += 1;
             }
-            let c = if j < n {
-                0.5 * (s[j - 1] + s[j])
+            // the next distinct value: a lattice plane is not cut
+            let mut m = j.max(1);
+            while m < n && s[m] == s[m - 1] {
+                m += 1;
+            }
+            cuts.push(if m < n {
+                0.5 * (s[m - 1] + s[m])
             } else {
                 s[n - 1]
-            };
-            cuts.push(c);
+            });
         }
-        let slabs = Self { cuts };
+        let mut slabs = Self { cuts };
         slabs.check(ranks, width, s[0], s[n - 1])?;
         Ok(slabs)
     }
@@ -168,29 +181,37 @@ impl Slabs {
         while cuts.len() < ranks.saturating_sub(1) {
             cuts.push(hi);
         }
-        let slabs = Self { cuts };
+        let mut slabs = Self { cuts };
         slabs.check(ranks, width, lo, hi)?;
         Ok(slabs)
     }
 
-    /// Every interior slab at least `width` wide, and the end slabs at least `width`
-    /// from the particles' extent `[lo, hi]`.
-    fn check(&self, ranks: usize, width: f64, lo: f64, hi: f64) -> Result<()> {
-        let mut edges = vec![lo];
-        edges.extend_from_slice(&self.cuts);
-        edges.push(hi);
-        for (r, e) in edges.windows(2).enumerate() {
-            let wide = e[1] - e[0] >= width;
-            if !wide {
-                return Err(SphError::invalid(
-                    "ranks",
-                    ranks,
-                    format!(
-                        "more ranks than slabs: slab {r} would be {:.4e} m wide, less than the halo width {width:.4e} m",
-                        e[1] - e[0]
-                    ),
-                ));
-            }
+    /// Every slab at least `width` wide over the particles' extent `[lo, hi]`: cuts that
+    /// balance the work but leave a thinner slab are moved apart (forward, then back from
+    /// `hi`); an error when the extent holds fewer than `ranks` slabs of that width.
+    fn check(&mut self, ranks: usize, width: f64, lo: f64, hi: f64) -> Result<()> {
+        let fits = hi - lo >= ranks as f64 * width;
+        if !fits {
+            return Err(SphError::invalid(
+                "ranks",
+                ranks,
+                format!(
+                    "more ranks than slabs: the particles span {:.4e} m along the axis, {} slabs of the halo width {width:.4e} m do not fit",
+                    hi - lo,
+                    ranks
+                ),
+            ));
+        }
+        let n = self.cuts.len();
+        let mut prev = lo;
+        for c in self.cuts.iter_mut() {
+            *c = c.max(prev + width);
+            prev = *c;
+        }
+        let mut next = hi;
+        for k in (0..n).rev() {
+            self.cuts[k] = self.cuts[k].min(next - width);
+            next = self.cuts[k];
         }
         Ok(())
     }

@@ -4,7 +4,7 @@ use super::*;
 fn balanced_cuts_split_the_count_and_do_not_cut_a_plane() {
     // 10 planes of 10 particles at x = 0.1 k
     let coords: Vec<f64> = (0..100).map(|i| 0.1 * (i / 10) as f64).collect();
-    let s = Slabs::balanced(&coords, 4, 0.15).unwrap();
+    let s = Slabs::balanced(&coords, &[1.0; 100], 4, 0.15).unwrap();
     assert_eq!(s.cuts.len(), 3);
     let mut n = [0usize; 4];
     for &c in &coords {
@@ -23,14 +23,36 @@ fn balanced_cuts_split_the_count_and_do_not_cut_a_plane() {
 }
 
 #[test]
+fn weights_move_the_cut() {
+    // 50 light particles left of 1, 50 heavy right of 1: the cut moves right of the
+    // middle so each side carries half the weight
+    let coords: Vec<f64> = (0..100).map(|i| 0.02 * i as f64).collect();
+    let w: Vec<f64> = (0..100).map(|i| if i < 50 { 0.25 } else { 1.0 }).collect();
+    let s = Slabs::balanced(&coords, &w, 2, 0.01).unwrap();
+    let left: f64 = coords
+        .iter()
+        .zip(&w)
+        .filter(|(c, _)| s.owner(**c) == 0)
+        .map(|(_, w)| w)
+        .sum();
+    assert!(
+        (left - 31.25).abs() <= 1.0,
+        "left weight {left} of 62.5, cut {:?}",
+        s.cuts
+    );
+}
+
+#[test]
 fn too_many_ranks_is_an_error_naming_them() {
     let coords: Vec<f64> = (0..100).map(|i| 0.01 * i as f64).collect();
-    let e = Slabs::balanced(&coords, 8, 0.3).unwrap_err().to_string();
+    let e = Slabs::balanced(&coords, &[1.0; 100], 8, 0.3)
+        .unwrap_err()
+        .to_string();
     assert!(
         e.contains("ranks") && e.contains("more ranks than slabs"),
         "{e}"
     );
-    let e = Slabs::balanced(&coords[..3], 4, 0.0)
+    let e = Slabs::balanced(&coords[..3], &[1.0; 3], 4, 0.0)
         .unwrap_err()
         .to_string();
     assert!(e.contains("ranks"), "{e}");

@@ -54,7 +54,7 @@ impl SphSystem {
     /// Cuts this rank's part out of the whole scene: call it on every rank after
     /// building the same scene, before the first step, with the rank and rank count of
     /// the transport that will step it ([`step_on`](Self::step_on)). The slabs balance
-    /// the particle count ([`Slabs::balanced`]).
+    /// the work ([`Slabs::balanced`], [`DistributedSettings::wall_weight`]).
     ///
     /// Errors, each naming the field: a periodic or unknown `axis`, more ranks than the
     /// scene has slabs (a slab narrower than the halo width), rigid or point marker
@@ -118,7 +118,15 @@ impl SphSystem {
         let axis = settings.axis;
         let width = self.list_radius;
         let coords = self.axis_coords(axis);
-        let slabs = Slabs::balanced(&coords, size, width)?;
+        if !(settings.wall_weight.is_finite() && settings.wall_weight >= 0.0) {
+            return Err(SphError::invalid(
+                "distributed.wall_weight",
+                settings.wall_weight,
+                "must be finite and >= 0",
+            ));
+        }
+        let weights = self.weights(settings.wall_weight);
+        let slabs = Slabs::balanced(&coords, &weights, size, width)?;
         let keep: Vec<bool> = coords.iter().map(|&c| slabs.owner(c) == rank).collect();
         compact_data(&mut self.data, &keep);
         self.act = vec![ALL; self.data.len()];
@@ -167,6 +175,15 @@ impl SphSystem {
     /// The slab cut points of the decomposition (`None` without one).
     pub fn slabs(&self) -> Option<&Slabs> {
         self.dist.as_ref().map(|d| &d.slabs)
+    }
+
+    /// The balance weight of every particle: 1 for fluid, `wall` for wall markers.
+    fn weights(&self, wall: f64) -> Vec<f64> {
+        self.data
+            .kind
+            .iter()
+            .map(|&k| if k == FLUID { 1.0 } else { wall })
+            .collect()
     }
 
     /// The coordinate of every particle along `axis`.
