@@ -14,7 +14,8 @@
 //! (rank 0 writes the series), `--compare FILE` (rank 0 checks the particle counts
 //! exactly and the time step, kinetic energy and front within `--tol`, default 1e-9
 //! relative; exit status 1 on a mismatch), `--rebalance K` (cuts moved every K list
-//! builds, 0 = never), `--vtk DIR` (each rank writes its particles every `--vtk-every`
+//! builds, 0 = never), `--wall-weight W` (a wall marker's work against a fluid
+//! particle's in the balance), `--vtk DIR` (each rank writes its particles every `--vtk-every`
 //! steps, 50, as `dam_<step>_r<rank>.vtp`; rank 0 writes `dam.pvd` listing each frame's
 //! rank files as its parts). Each rank prints its decomposition counters at the end. A rank
 //! whose step fails prints the error and exits with status 1 (mpirun then stops the
@@ -43,6 +44,7 @@ struct Args {
     rebalance: u32,
     vtk: Option<String>,
     vtk_every: usize,
+    wall_weight: f64,
 }
 
 fn args() -> Args {
@@ -59,6 +61,7 @@ fn args() -> Args {
         rebalance: DistributedSettings::default().rebalance_every,
         vtk: None,
         vtk_every: 50,
+        wall_weight: DistributedSettings::default().wall_weight,
     };
     let v: Vec<String> = std::env::args().skip(1).collect();
     let mut i = 0;
@@ -98,6 +101,7 @@ fn args() -> Args {
             "--vtk-every" => r.vtk_every = (num(val(i), "--vtk-every") as usize).max(1),
             "--tol" => r.tol = num(val(i), "--tol"),
             "--rebalance" => r.rebalance = num(val(i), "--rebalance") as u32,
+            "--wall-weight" => r.wall_weight = num(val(i), "--wall-weight"),
             "--whole" => {
                 r.whole = true;
                 i += 1;
@@ -239,6 +243,7 @@ fn main() {
     if !a.whole {
         let settings = DistributedSettings {
             rebalance_every: a.rebalance,
+            wall_weight: a.wall_weight,
             ..Default::default()
         };
         sys.distribute(rank, size, settings)

@@ -328,13 +328,14 @@ impl SphSystem {
         let bins = st.settings.histogram_bins;
         let mut hist = vec![0.0; bins];
         let db = (hi - lo) / bins as f64;
-        for &c in &coords {
+        let weights = self.weights(st.settings.wall_weight);
+        for (&c, &w) in coords.iter().zip(&weights) {
             let b = if db > 0.0 {
                 ((c - lo) / db) as usize
             } else {
                 0
             };
-            hist[b.min(bins - 1)] += 1.0;
+            hist[b.min(bins - 1)] += w;
         }
         net.all_sum(&mut hist)?;
         match Slabs::from_histogram(&hist, lo, hi, st.size, st.width) {
