@@ -258,6 +258,7 @@ fn main() {
     let mut fluid_steps = 0u64;
     for k in 0..a.warmup + a.steps {
         if k == a.warmup {
+            sys.reset_timings();
             t0 = Instant::now();
             fluid_steps = 0;
             (net.seconds, net.calls) = (0.0, 0);
@@ -302,6 +303,11 @@ fn main() {
             .unwrap_or_else(|e| fail(rank, e));
     }
     let wall = t0.elapsed().as_secs_f64();
+    let tm = sys.timings();
+    eprintln!(
+        "rank {rank}: neighbour search {:.3} s, density {:.3} s, forces {:.3} s, integration {:.3} s",
+        tm.neighbor_search, tm.density, tm.forces, tm.integration
+    );
     if let Some(s) = sys.halo_stats() {
         eprintln!(
             "rank {rank} of {size}: collectives {:.3} s in {} calls over the timed steps ({:.1} % of {wall:.3} s); owned {}, ghosts {}, list builds {}, rebalances {}, migrated in {}, values sent {} ({:.1} kB per step)",

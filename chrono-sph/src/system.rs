@@ -484,6 +484,11 @@ impl SphSystem {
         self.carrier_loads();
         self.check_and_set_dt(net)?;
         self.stats.active_fluid = self.promote_activity();
+        if self.dist.is_some() {
+            // a rebuild at the first step: the cuts move to the work measured by this
+            // evaluation's list (see `crate::distributed`)
+            self.x_ref.clear();
+        }
         self.initialized = true;
         Ok(())
     }

@@ -10,7 +10,11 @@
 //! [`DistributedSettings::rebalance_every`] neighbour-list builds the cuts move to the
 //! quantiles of the current positions (a histogram summed over the ranks). No slab is
 //! narrower than the halo width (balanced cuts closer than that are moved apart); a
-//! scene too short for that many slabs is an error naming the rank count.
+//! scene too short for that many slabs is an error naming the rank count. From the
+//! first rebuild on, the weight of a particle is its work in the last step, one plus
+//! its neighbour entries (times the wall weight for a wall marker; one far from the
+//! fluid has no entry), so the first
+//! rebuild after the start and every `rebalance_every`-th one balance the measured work.
 //!
 //! **Ownership, ghosts and migration.** A rank steps only the particles it owns; copies
 //! of the other ranks' particles within the halo width `w` of its slab (`w` = the

@@ -239,14 +239,34 @@ impl SphSystem {
     fn halo_rebuild_with(&mut self, st: &mut DistState, net: &mut dyn Transport) -> Result<()> {
         let me = st.rank as u32;
         let axis = st.settings.axis;
+        // the work of each owned particle from the last list (before its slots move):
+        // 1 plus its neighbour entries, times the wall weight for a wall marker (a wall
+        // marker far from the fluid costs little, one near it extrapolates once per step)
+        let every = st.settings.rebalance_every as u64;
+        let due =
+            every > 0 && (st.builds == 1 || (st.builds > 0 && st.builds.is_multiple_of(every)));
+        let work: Vec<f64> = if due && self.list.len() == self.data.len() {
+            (0..self.data.len())
+                .filter(|&i| st.owner[i] == me)
+                .map(|i| {
+                    let k = if self.data.kind[i] == FLUID {
+                        1.0
+                    } else {
+                        st.settings.wall_weight
+                    };
+                    k * (1.0 + self.list.neighbors(i).len() as f64)
+                })
+                .collect()
+        } else {
+            Vec::new()
+        };
         // 1. the owned particles only
         let keep: Vec<bool> = st.owner.iter().map(|&o| o == me).collect();
         compact_data(&mut self.data, &keep);
         compact(&mut self.act, &keep);
-        // 2. the cuts at the current quantiles, when due
-        let every = st.settings.rebalance_every as u64;
-        if every > 0 && st.builds > 0 && st.builds.is_multiple_of(every) {
-            let new = self.rebalanced(st, net)?;
+        // 2. the cuts at the current quantiles of the work, when due
+        if due {
+            let new = self.rebalanced(st, &work, net)?;
             if new != st.slabs {
                 st.stats.rebalances += 1;
             }
@@ -313,9 +333,10 @@ impl SphSystem {
         Ok(())
     }
 
-    /// The cuts at the quantiles of the current positions: a histogram over the global
-    /// extent summed over the ranks.
-    fn rebalanced(&self, st: &DistState, net: &mut dyn Transport) -> Result<Slabs> {
+    /// The cuts at the quantiles of the current positions weighted by `work` (one value
+    /// per owned particle; empty: the kind weights): a histogram over the global extent
+    /// summed over the ranks.
+    fn rebalanced(&self, st: &DistState, work: &[f64], net: &mut dyn Transport) -> Result<Slabs> {
         let coords = self.axis_coords(st.settings.axis);
         let (lo, hi) = coords
             .iter()
@@ -328,7 +349,11 @@ impl SphSystem {
         let bins = st.settings.histogram_bins;
         let mut hist = vec![0.0; bins];
         let db = (hi - lo) / bins as f64;
-        let weights = self.weights(st.settings.wall_weight);
+        let weights = if work.len() == coords.len() {
+            work.to_vec()
+        } else {
+            self.weights(st.settings.wall_weight)
+        };
         for (&c, &w) in coords.iter().zip(&weights) {
             let b = if db > 0.0 {
                 ((c - lo) / db) as usize
