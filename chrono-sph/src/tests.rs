@@ -342,3 +342,60 @@ fn carrier_at_rest_is_a_fixed_wall() {
     assert_eq!(b.time(), t_end);
     assert!(b.advance_exactly(t_end - 1e-3).is_err());
 }
+
+/// A rank whose particle turns non-finite stops with the particle named; the other
+/// ranks stop at the same step with an error naming that rank (no hang).
+#[test]
+fn a_failing_rank_is_named_by_the_others() {
+    use crate::distributed::{DistributedSettings, LocalTransport, Transport};
+    let build = || {
+        let tank =
+            chrono_core::particles::lattice::SlabTank::dam_break(0.02, 1.3, [0.4, 0.2], 0.8, 0.25);
+        let settings = SphSettings {
+            sound_speed: 20.0,
+            ..SphSettings::default()
+        };
+        crate::scene::slab_tank(settings, &tank).unwrap()
+    };
+    let errors: Vec<String> = std::thread::scope(|s| {
+        let hs: Vec<_> = LocalTransport::ranks(2)
+            .into_iter()
+            .map(|mut t| {
+                s.spawn(move || {
+                    let mut sys = build();
+                    sys.distribute(t.rank(), t.size(), DistributedSettings::default())
+                        .unwrap();
+                    for k in 0..20 {
+                        if k == 5 && t.rank() == 0 {
+                            // the owned fluid particle farthest from the cuts: its NaN
+                            // reaches no other rank within the step
+                            let cuts = sys.slabs().unwrap().cuts.clone();
+                            let gap = |x: f64| {
+                                cuts.iter()
+                                    .map(|c| (x - c).abs())
+                                    .fold(f64::INFINITY, f64::min)
+                            };
+                            let i = (0..sys.data.len())
+                                .filter(|&i| sys.data.kind[i] == FLUID && sys.is_owned(i))
+                                .max_by(|&a, &b| gap(sys.data.x[a]).total_cmp(&gap(sys.data.x[b])))
+                                .unwrap();
+                            assert!(
+                                gap(sys.data.x[i]) > 3.0 * sys.kernel.support(),
+                                "slab too thin for the test: {} m from a cut, cuts {cuts:?}",
+                                gap(sys.data.x[i])
+                            );
+                            sys.data.vx[i] = f64::NAN;
+                        }
+                        if let Err(e) = sys.step_on(&mut t) {
+                            return format!("step {k}: {e}");
+                        }
+                    }
+                    "finished".to_string()
+                })
+            })
+            .collect();
+        hs.into_iter().map(|h| h.join().unwrap()).collect()
+    });
+    assert!(errors[0].starts_with("step 5: non-finite"), "{errors:?}");
+    assert!(errors[1].starts_with("step 5: rank 0:"), "{errors:?}");
+}

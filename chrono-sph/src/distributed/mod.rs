@@ -83,6 +83,33 @@ pub trait Transport: std::fmt::Debug {
     fn all_sum(&mut self, v: &mut [f64]) -> Result<()>;
 }
 
+/// The rank count a process launcher (`mpirun`, `srun`) set for this process, from the
+/// environment (`OMPI_COMM_WORLD_SIZE` of Open MPI, `PMI_SIZE` of MPICH and Slurm);
+/// `None` when not launched as one of several ranks.
+pub fn launched_ranks() -> Option<usize> {
+    ["OMPI_COMM_WORLD_SIZE", "PMI_SIZE"]
+        .iter()
+        .filter_map(|k| std::env::var(k).ok()?.parse::<usize>().ok())
+        .find(|&n| n > 1)
+}
+
+/// An error when this process was started as one of several MPI ranks but `program`
+/// does not step over ranks (built without the `mpi` feature, or a program that has no
+/// distributed mode): every rank would run the whole scene on its own. Call it first in
+/// such a program.
+pub fn require_single_process(program: &str) -> Result<()> {
+    match launched_ranks() {
+        Some(n) => Err(SphError::invalid(
+            "ranks",
+            n,
+            format!(
+                "{program} was started as one of {n} MPI ranks but runs whole scenes in one process (no MPI support here: build chrono-sph's example `mpi_dam_break` with `--features mpi` to run over ranks)"
+            ),
+        )),
+        None => Ok(()),
+    }
+}
+
 /// Settings of a decomposition.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct DistributedSettings {

@@ -121,3 +121,13 @@ fn a_rank_that_leaves_fails_the_others_collective() {
     let e = t.all_max(&mut [1.0]).unwrap_err().to_string();
     assert!(e.contains("rank 1"), "{e}");
 }
+
+#[test]
+fn a_launch_by_mpirun_is_seen() {
+    // the variables are read, not set: a test cannot safely set the environment of a
+    // threaded process; without a launcher there is no rank count
+    if std::env::var("OMPI_COMM_WORLD_SIZE").is_err() && std::env::var("PMI_SIZE").is_err() {
+        assert_eq!(launched_ranks(), None);
+        assert!(require_single_process("test").is_ok());
+    }
+}
