@@ -23,6 +23,11 @@
 //! branches of a fit inside its transition band). Reported: the final height ratio
 //! against Lube's fit.
 //!
+//! `pressure = rows` runs every column by the seed's split (deviatoric stress by MPM,
+//! pressure by density rows on the markers, the Drucker–Prager cone at the rows'
+//! pressure, the floor's friction on the rows' normal impulse; `Column::use_pressure_rows`)
+//! with the same material; `docs/mpm.md` ("The split: status") compares it with plain MPM.
+//!
 //! `method = nsc` (the same column by granular DEM with the friction angle from the
 //! shear-box measurement of the DEM material) is not implemented yet: an error naming
 //! the field.
