@@ -1,7 +1,7 @@
 //! A granular column collapsing on a rough floor in a slab (`chrono_mpm::column`): prints
 //! the runout and final height against time and at rest.
 //!
-//! `cargo run --release -p chrono-mpm --example column [aspect_ratio [friction_angle_deg [cells_length [markers_per_cell [young [floor_friction_angle_deg (-1 sticky) [f_bar (0 off, 1 increment) [cfl [cohesion [associated (0 or 1) [flip [geostatic (0 or 1) [grain_diameter (mu(I), 0 off)]]]]]]]]]]]]]`
+//! `cargo run --release -p chrono-mpm --example column [aspect_ratio [friction_angle_deg [cells_length [markers_per_cell [young [floor_friction_angle_deg (-1 sticky) [f_bar (0 off, 1 increment) [cfl [cohesion [associated (0 or 1) [flip [geostatic (0 or 1) [grain_diameter (mu(I), 0 off) [split (0 plain, 1 pressure rows)]]]]]]]]]]]]]]`
 
 use chrono_mpm::column::{Column, ColumnSpec};
 
@@ -43,6 +43,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         ..d
     };
     let mut c = Column::new(spec)?;
+    if arg(14, 0.0)? > 0.0 {
+        c.use_pressure_rows(1e-6)?;
+    }
     let start = std::time::Instant::now();
     let r = c.run(|_| {})?;
     let (l0, h0) = (spec.column_length, c.initial_height());

@@ -218,12 +218,24 @@ impl MpmBody {
     /// pressure comes from density rows on the markers ([`crate::pressure`]) with the fixed
     /// wall markers `walls` (m), solved after G2P and before the positions move. The
     /// time-step limit is then the shear wave's, `c = sqrt(4 mu / (3 rho))`. Errors name
-    /// the field (settings, a marker whose `mass / volume0` is not the rest density).
+    /// the field (settings, a marker whose `mass / volume0` is not the rest density, a
+    /// dilatant Drucker–Prager flow, whose plastic volume change the rows' fixed rest
+    /// density cannot follow). A Drucker–Prager sand's yield surface then takes the rows'
+    /// pressure ([`crate::material::DruckerPrager::return_strain_at_pressure`]).
     pub fn set_pressure_rows(
         &mut self,
         settings: PressureSettings,
         walls: &[[f64; 3]],
     ) -> Result<()> {
+        if let Material::DruckerPrager(m) = &self.material
+            && m.dilatancy != 0.0
+        {
+            return Err(invalid(
+                "material.dilatancy",
+                m.dilatancy,
+                "must be 0 in the split (pressure = rows): the rows' rest density is fixed",
+            ));
+        }
         let (lo, hi) = self.spec.admissible();
         let rows = PressureRows::new(settings, lo, hi, walls)?;
         rows.check_markers(&self.markers)?;

@@ -31,6 +31,7 @@ use crate::error::{Result, invalid, positive};
 use crate::fbar::FBar;
 use crate::grid::{GridSpec, Wall};
 use crate::material::{DruckerPrager, Material, MuI};
+use crate::pressure::{PressureSettings, slab_wall_markers};
 use crate::rigid::{Contact, RigidBody};
 
 /// Grid cells below the floor (the nodes a marker's stencil reaches there, and one more).
@@ -287,6 +288,54 @@ impl Column {
             spacing: d,
             mass0,
         })
+    }
+
+    /// Switches the sand to the split (`pressure = rows`, `docs/mpm.md` "The split"): MPM
+    /// carries the deviatoric stress, density rows on the markers the pressure, with the
+    /// sand's bulk modulus as their compliance (`kappa = 1 / K`, `K = E / (3 (1 - 2 nu))`,
+    /// the same volumetric stiffness as plain MPM) and the Drucker–Prager cone evaluated
+    /// at the rows' pressure. Fixed wall markers
+    /// (`chrono_core::particles::lattice::wall_layers` layers on the markers' lattice)
+    /// lie beyond the floor `z < 0` over the grid's length and beyond the back wall
+    /// `x < 0` up to the grid's top; the far end and the top stay open. The floor's
+    /// Coulomb contact stays on the grid, and its friction also acts on the rows' normal
+    /// impulse of the floor's markers ([`crate::pressure::PressureRows::set_wall_friction`]).
+    /// `tolerance` is APGD's on the rows' velocity
+    /// residual, m/s ([`PressureSettings::tolerance`]). Call before [`Column::run`].
+    /// Errors name the field (a dilatant flow: `material.dilatancy`).
+    pub fn use_pressure_rows(&mut self, tolerance: f64) -> Result<()> {
+        let spec = self.spec;
+        let grid = *self.body.spec();
+        let dx = grid.dx;
+        let d = self.spacing;
+        let bulk = spec.young / (3.0 * (1.0 - 2.0 * spec.poisson));
+        let settings = PressureSettings {
+            rest_density: spec.density,
+            spacing: d,
+            dim: 2,
+            compressibility: 1.0 / bulk,
+            tolerance,
+            ..PressureSettings::default()
+        };
+        let layers = chrono_core::particles::lattice::wall_layers(settings.h_over_dp);
+        let length = grid.cells[0] as f64 * dx;
+        let top = grid.origin[2] + grid.cells[2] as f64 * dx;
+        // the floor and both sides of the box, then the far side dropped (open)
+        let walls: Vec<[f64; 3]> =
+            slab_wall_markers([0.0, length], [0.0, top], 0.5 * dx, d, layers, true, true)?
+                .into_iter()
+                .filter(|w| w[0] < length)
+                .collect();
+        self.body.set_pressure_rows(settings, &walls)?;
+        // The floor's Coulomb friction takes the rows' normal impulse too (the grid's
+        // contact sees only the gravity and the deviatoric stress of the nodes on it); a
+        // sticky floor needs no normal force.
+        if let Some(f) = spec.floor_friction_angle_deg
+            && let Some(rows) = self.body.pressure_rows_mut()
+        {
+            rows.set_wall_friction(f.to_radians().tan(), [0.0, 0.0, 1.0], |w| w[2] < 0.0)?;
+        }
+        Ok(())
     }
 
     /// The parameters.

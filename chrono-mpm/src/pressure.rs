@@ -142,6 +142,10 @@ pub struct PressureRows {
     wall_rho: Vec<f64>,
     wall_gamma: Vec<f64>,
     wall_ids: Vec<(u32, RowId)>,
+    /// Coulomb friction coefficient (-) and unit normal (into the material) of each wall
+    /// marker ([`PressureRows::set_wall_friction`]; 0: frictionless).
+    wall_friction: Vec<f64>,
+    wall_normal: Vec<[f64; 3]>,
     /// Markers attached to rigid bodies: offsets from the centre (m), the body's index,
     /// each body's centre at the step (m), and their rows as the walls'.
     body_local: Vec<[f64; 3]>,
@@ -155,6 +159,8 @@ pub struct PressureRows {
     gamma: Vec<f64>,
     /// Each marker's pressure of the last step, Pa.
     pressure: Vec<f64>,
+    /// Its kernel average, Pa ([`PressureRows::smoothed_pressure`]).
+    smoothed: Vec<f64>,
     vars: Variables,
     rows: ConstraintRows,
     problem: CcpProblem,
@@ -211,6 +217,8 @@ impl PressureRows {
             wall_rho: vec![settings.rest_density; walls.len()],
             wall_gamma: vec![0.0; walls.len()],
             wall_ids: Vec::new(),
+            wall_friction: vec![0.0; walls.len()],
+            wall_normal: vec![[0.0; 3]; walls.len()],
             body_local: Vec::new(),
             body_owner: Vec::new(),
             body_origin: Vec::new(),
@@ -220,6 +228,7 @@ impl PressureRows {
             marker_ids: Vec::new(),
             gamma: Vec::new(),
             pressure: Vec::new(),
+            smoothed: Vec::new(),
             vars: Variables::new(),
             rows: ConstraintRows::new(),
             problem: CcpProblem::new(),
@@ -253,6 +262,19 @@ impl PressureRows {
         &self.pressure
     }
 
+    /// Each marker's pressure of the last step averaged over its kernel support, Pa:
+    /// `pbar_p = sum_q W_pq p_q / sum_q W_pq` over the marker itself, its neighbours and
+    /// the wall markers (their rows' pressure, read as the markers'). The markers' own
+    /// pressures carry a staircase on the lattice (pairs of layers share a value, `rho g
+    /// dp / 2` either side of the hydrostatic line; `docs/mpm.md`), a mode the rows do
+    /// not see; a pressure-dependent yield surface evaluated with it is weaker in the low
+    /// layers, and a sand layer on a gentle slope creeps there. The average removes that
+    /// mode (exact for a linear field on a full support) and is what the Drucker–Prager
+    /// return takes.
+    pub fn smoothed_pressure(&self) -> &[f64] {
+        &self.smoothed
+    }
+
     /// Each marker's density of the last step (at the step's start), kg/m^3.
     pub fn density(&self) -> &[f64] {
         &self.rho
@@ -284,6 +306,97 @@ impl PressureRows {
             }
         }
         Ok(())
+    }
+
+    /// Coulomb friction `friction` (>= 0, -) on the wall markers that `select` picks by
+    /// their position (m), whose wall has the unit normal `normal` (into the material).
+    /// The rows' normal impulse of those markers on a marker `p` (the pair impulses
+    /// `J_pw = -(m_k/rho_0) F(r_pw) x_pw (g_p + g_w)`, `x_pw = x_p - x_w`, of its own row
+    /// and the wall markers') then also brakes its tangential velocity relative to the
+    /// (still) wall, after the rows' solve: `|v_t| <- max(|v_t| - friction J_n / m_p, 0)`,
+    /// `J_n = sum_w max(J_pw . n, 0)`. In the split the pressure that presses the material
+    /// on a wall is the rows', not the grid's (whose contact sees the gravity and the
+    /// deviatoric stress only): without this a Coulomb wall of the grid holds back only a
+    /// fraction of the material's weight. Errors name the field.
+    pub fn set_wall_friction(
+        &mut self,
+        friction: f64,
+        normal: [f64; 3],
+        select: impl Fn(&[f64; 3]) -> bool,
+    ) -> Result<()> {
+        if !(friction.is_finite() && friction >= 0.0) {
+            return Err(invalid(
+                "pressure.wall_friction",
+                friction,
+                "must be finite and >= 0",
+            ));
+        }
+        let len = normal.iter().map(|c| c * c).sum::<f64>().sqrt();
+        if !(len.is_finite() && len > 0.0) {
+            return Err(invalid(
+                "pressure.wall_normal",
+                format!("{normal:?}"),
+                "must be a finite non-zero vector",
+            ));
+        }
+        let n = normal.map(|c| c / len);
+        for k in 0..self.walls[0].len() {
+            let x = [self.walls[0][k], self.walls[1][k], self.walls[2][k]];
+            if select(&x) {
+                self.wall_friction[k] = friction;
+                self.wall_normal[k] = n;
+            }
+        }
+        Ok(())
+    }
+
+    /// The walls' Coulomb friction after the rows' solve ([`Self::set_wall_friction`]):
+    /// brakes the markers' tangential velocities and adds the change to `self.dv`.
+    fn wall_friction(&mut self, markers: &mut Markers) {
+        let n = markers.len();
+        let s = self.kernel_mass / self.settings.rest_density;
+        for p in 0..n {
+            let xp = [self.pos[0][p], self.pos[1][p], self.pos[2][p]];
+            let mut cap = 0.0;
+            let mut normal = nalgebra::Vector3::zeros();
+            for &q in self.nbrs.neighbors(p) {
+                let q = q as usize;
+                if !(n..n + self.wall_friction.len()).contains(&q) {
+                    continue;
+                }
+                let w = q - n;
+                let mu = self.wall_friction[w];
+                if mu == 0.0 {
+                    continue;
+                }
+                let d = self
+                    .grid
+                    .displacement(xp, [self.pos[0][q], self.pos[1][q], self.pos[2][q]]);
+                let r = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+                let f = -s * self.kernel.grad_factor(r) * (self.gamma[p] + self.wall_gamma[w]);
+                let nw = nalgebra::Vector3::from(self.wall_normal[w]);
+                let jn = f * (d[0] * nw[0] + d[1] * nw[1] + d[2] * nw[2]);
+                if jn > 0.0 {
+                    cap += mu * jn;
+                    normal += nw * jn;
+                }
+            }
+            if cap <= 0.0 {
+                continue;
+            }
+            let nrm = normal.normalize();
+            let v = markers.v[p];
+            let vt = v - nrm * v.dot(&nrm);
+            let t = vt.norm();
+            if t == 0.0 {
+                continue;
+            }
+            let dv = -vt * (cap / markers.mass[p]).min(t) / t;
+            markers.v[p] += dv;
+            for a in 0..3 {
+                self.dv[p][a] += dv[a];
+            }
+        }
     }
 
     /// Attaches markers fixed to rigid body `rigid` (its index in `MpmBody::rigid`) at the
@@ -518,6 +631,9 @@ impl PressureRows {
                 gamma[*k as usize] = gamma_all[problem.row_index(*id)];
             }
         }
+        if self.wall_friction.iter().any(|&f| f > 0.0) {
+            self.wall_friction(markers);
+        }
         // The rows' impulses on the bodies, `g_i [lin; ang]_b` (about the body's centre):
         // the body gives the material the opposite.
         if !self.body_owner.is_empty() {
@@ -550,7 +666,41 @@ impl PressureRows {
         let scale = self.gradient_scale / dt;
         self.pressure
             .extend((0..n).map(|p| self.gamma[p] * scale / markers.volume0[p]));
+        self.smooth_pressure(scale / (markers.volume0.iter().sum::<f64>() / n as f64));
         Ok(())
+    }
+
+    /// [`Self::smoothed_pressure`]; `wall_scale` turns a wall marker's impulse into its
+    /// pressure (the markers' mean volume, Pa / (N m s)).
+    fn smooth_pressure(&mut self, wall_scale: f64) {
+        let n = self.pressure.len();
+        let n_walls = self.wall_gamma.len();
+        let (kernel, nbrs, grid, pos) = (&self.kernel, &self.nbrs, &self.grid, &self.pos);
+        let (pressure, wall_gamma) = (&self.pressure, &self.wall_gamma);
+        self.smoothed.resize(n, 0.0);
+        self.smoothed
+            .par_iter_mut()
+            .enumerate()
+            .for_each(|(p, out)| {
+                let xp = [pos[0][p], pos[1][p], pos[2][p]];
+                let w0 = kernel.w(0.0);
+                let (mut num, mut den) = (w0 * pressure[p], w0);
+                for &q in nbrs.neighbors(p) {
+                    let q = q as usize;
+                    let pq = if q < n {
+                        pressure[q]
+                    } else if q < n + n_walls {
+                        wall_gamma[q - n] * wall_scale
+                    } else {
+                        continue;
+                    };
+                    let d = grid.displacement(xp, [pos[0][q], pos[1][q], pos[2][q]]);
+                    let w = kernel.w((d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt());
+                    num += w * pq;
+                    den += w;
+                }
+                *out = num / den;
+            });
     }
 
     /// Adds the rows' share of the step's velocity-gradient increment to each marker's

@@ -527,10 +527,30 @@ fn sliding_block(cells: usize, rows: usize, mu: f64, theta_deg: f64, v0: f64) ->
         FixedCorotated::elastic(2e6, 0.3).unwrap().into(),
         0.0,
         0.08,
+        false,
     )
 }
 
-fn sliding_layer(
+/// Markers of a plane-strain slab one layer thick (`y = dx / 2`) filling `[0, l] x [0, h]`
+/// at spacing `dx / 2` in `x` and `z`, density `rho`, velocity `v`.
+pub(crate) fn slab_layer(body: &mut MpmBody, l: f64, h: f64, dx: f64, rho: f64, v: Vector3<f64>) {
+    let d = 0.5 * dx;
+    let vol = d * d * dx;
+    let (mx, mz) = ((l / d).round() as usize, (h / d).round() as usize);
+    for i in 0..mx {
+        for k in 0..mz {
+            let x = Vector3::new((i as f64 + 0.5) * d, 0.5 * dx, (k as f64 + 0.5) * d);
+            body.markers.push(rho * vol, vol, x, v).unwrap();
+        }
+    }
+}
+
+/// A layer `l` long and `rows` marker rows high launched at `v0` down a floor of Coulomb
+/// friction `mu` tilted `theta_deg`: (the centre's travel, the Coulomb distance), m.
+/// `split`: the pressure by density rows (`crate::pressure`), floor markers below `z = 0`
+/// with the floor's friction on the rows' normal impulse.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn sliding_layer(
     cells: usize,
     rows: usize,
     mu: f64,
@@ -539,6 +559,7 @@ fn sliding_layer(
     mat: Material,
     flip: f64,
     l: f64,
+    split: bool,
 ) -> (f64, f64) {
     let g = 9.81;
     let dx = 0.04 / cells as f64;
@@ -565,15 +586,48 @@ fn sliding_layer(
     )
     .unwrap();
     body.set_flip(flip).unwrap();
-    body.markers
-        .fill_box(
-            Vector3::zeros(),
-            Vector3::new(l, dx, h),
+    if split {
+        // one marker layer across the slab (the rows' 2-D kernel)
+        slab_layer(&mut body, l, h, dx, 1500.0, Vector3::new(v0, 0.0, 0.0));
+    } else {
+        body.markers
+            .fill_box(
+                Vector3::zeros(),
+                Vector3::new(l, dx, h),
+                0.5 * dx,
+                1500.0,
+                |_| Vector3::new(v0, 0.0, 0.0),
+            )
+            .unwrap();
+    }
+    if split {
+        let d = 0.5 * dx;
+        let id = Matrix3::identity();
+        let bulk = mat.p_modulus(&id) - 4.0 / 3.0 * mat.shear_modulus(&id);
+        let rows = PressureSettings {
+            rest_density: 1500.0,
+            spacing: d,
+            dim: 2,
+            compressibility: 1.0 / bulk,
+            ..PressureSettings::default()
+        };
+        let x0 = spec.origin[0];
+        let walls = crate::pressure::slab_wall_markers(
+            [x0, x0 + nx as f64 * dx],
+            [0.0, 1.0],
             0.5 * dx,
-            1500.0,
-            |_| Vector3::new(v0, 0.0, 0.0),
+            d,
+            chrono_core::particles::lattice::wall_layers(rows.h_over_dp),
+            true,
+            false,
         )
         .unwrap();
+        body.set_pressure_rows(rows, &walls).unwrap();
+        body.pressure_rows_mut()
+            .unwrap()
+            .set_wall_friction(mu, [0.0, 0.0, 1.0], |w| w[2] < 0.0)
+            .unwrap();
+    }
     let half = [(nx + 20) as f64 * dx, 4.0 * dx, 4.0 * below];
     body.rigid.push(
         RigidBody::new_box(
@@ -636,7 +690,7 @@ fn sand_layer_on_a_rough_floor_stops_at_the_non_dilatant_basal_friction() {
     let exact = v0 * v0 / (2.0 * 9.81 * 30f64.to_radians().sin());
     let ratio = |cells: usize| {
         let mu = 30f64.to_radians().tan();
-        sliding_layer(cells, cells, mu, 0.0, v0, dp.into(), 0.99, 0.4).0 / exact
+        sliding_layer(cells, cells, mu, 0.0, v0, dp.into(), 0.99, 0.4, false).0 / exact
     };
     let (r4, r8) = (ratio(4), ratio(8));
     assert!((r4 - 1.0).abs() < 0.08, "4 cells: {r4}");

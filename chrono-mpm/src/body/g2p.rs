@@ -184,20 +184,35 @@ impl MpmBody {
             });
     }
 
-    /// `F_E <- return_mapping(dF_p F_E)` (`F_P` takes what the return gives up).
+    /// `F_E <- return_mapping(dF_p F_E)` (`F_P` takes what the return gives up). In the
+    /// split the yield surface takes this step's pressure of the rows (solved just before,
+    /// from the velocities this `dF` integrates: the order G2P, rows, `dF`, return; its
+    /// kernel average, `PressureRows::smoothed_pressure`), not the trace of `F_E`, which
+    /// carries no stress there.
     fn project(&mut self, dt: f64) {
         let mat = self.material;
+        let rows_p = self.pressure.as_deref().map(|r| r.smoothed_pressure());
         let mk = &mut self.markers;
         mk.fe
             .par_iter_mut()
             .zip(mk.fp.par_iter_mut())
             .zip(self.df.par_iter())
             .zip(self.status.par_iter_mut())
+            .enumerate()
             .with_min_len(MARKERS_PER_TASK)
-            .for_each(|(((fe, fp), df), status)| {
+            .for_each(|(p, (((fe, fp), df), status))| {
                 if *status == 0 {
                     let fe_trial = df * *fe;
-                    match mat.project_step(&fe_trial, fp, dt) {
+                    let projected = match rows_p.map(|r| r.get(p)) {
+                        Some(Some(&pressure)) => {
+                            mat.project_at_pressure(&fe_trial, fp, pressure, dt)
+                        }
+                        // the split before its first solve (a transfer of `dt = 0`): no
+                        // deformation, and no pressure to return at
+                        Some(None) => Some((fe_trial, *fp)),
+                        None => mat.project_step(&fe_trial, fp, dt),
+                    };
+                    match projected {
                         Some((fe1, fp1)) => {
                             *fe = fe1;
                             *fp = fp1;

@@ -232,19 +232,86 @@ impl DruckerPrager {
         if a <= 0.0 {
             return *eps;
         }
+        let g2 = 2.0 * el.mu;
+        let delta = self.mu_i_plastic_strain(&mi, a, p, dt);
+        dev * (1.0 - g2 * delta / s_norm) + Vector3::repeat(tr / 3.0)
+    }
+
+    /// The plastic deviatoric increment `Delta` of the `mu(I)` return (see
+    /// [`DruckerPrager::return_strain_rate`]) for the excess `a = |s_trial| - k0 > 0` (Pa)
+    /// at the Kirchhoff pressure `p > 0` (Pa) over `dt > 0` seconds.
+    fn mu_i_plastic_strain(&self, mi: &MuI, a: f64, p: f64, dt: f64) -> f64 {
         let mu_s = 1.5 * self.alpha * 2.0f64.sqrt(); // sin(phi) of the plane-strain cone
         let b = 3.0 * self.alpha * p * mi.delta_mu / mu_s;
         let c = 2.0f64.sqrt() * mi.grain_diameter / (dt * (p / mi.grain_density).sqrt());
-        let g2 = 2.0 * el.mu;
+        let g2 = 2.0 * self.elastic.mu;
         // (a - g2 D)(I0 + c D) = b c D  ->  g2 c D^2 + (g2 I0 + (b - a) c) D - a I0 = 0.
         let qb = g2 * mi.i0 + (b - a) * c;
         let disc = (qb * qb + 4.0 * g2 * c * a * mi.i0).sqrt();
-        let delta = if qb >= 0.0 {
+        if qb >= 0.0 {
             2.0 * a * mi.i0 / (qb + disc)
         } else {
             (disc - qb) / (2.0 * g2 * c)
+        }
+    }
+
+    /// The split's return (`docs/mpm.md`, "The split"): the cone evaluated at the pressure
+    /// `pressure` of the density rows (Pa, compression positive; the Cauchy pressure of
+    /// [`crate::pressure::PressureRows::pressure`]) instead of the trace of the trial
+    /// strain, which in the split carries no stress. With the Kirchhoff pressure
+    /// `p = J max(pressure, 0)`, `J = exp(tr eps)`,
+    ///
+    /// ```text
+    /// |s| <= k(p) = kappa + 3 alpha p      (the cone |s| + alpha tr(tau) <= kappa at tr(tau) = -3 p)
+    /// ```
+    ///
+    /// and a trial deviator beyond it is scaled back radially onto it (`mu(I)`: the rate
+    /// dependent `k` of [`DruckerPrager::return_strain_rate`]); the trace of `eps` is kept
+    /// (the volume is the rows'). A row that holds no pressure (a slack surface row, a
+    /// marker in tension) gives `p = 0`: cohesionless sand has no shear strength there
+    /// (`s = 0`, the apex). Non-dilatant flow only (a dilatant flow would change the
+    /// rows' rest volume; [`crate::MpmBody::set_pressure_rows`] refuses it).
+    pub fn return_strain_at_pressure(
+        &self,
+        eps: &Vector3<f64>,
+        pressure: f64,
+        dt: f64,
+    ) -> Vector3<f64> {
+        let (dev, tr) = split(eps);
+        let p = if pressure > 0.0 {
+            pressure * tr.exp()
+        } else {
+            0.0
         };
-        dev * (1.0 - g2 * delta / s_norm) + Vector3::repeat(tr / 3.0)
+        let g2 = 2.0 * self.elastic.mu;
+        let s_norm = g2 * dev.norm();
+        let k0 = self.kappa + 3.0 * self.alpha * p;
+        if s_norm <= k0 {
+            return *eps;
+        }
+        let keep = match self.mu_i {
+            Some(mi) if p > 0.0 && self.alpha > 0.0 && dt > 0.0 => {
+                let delta = self.mu_i_plastic_strain(&mi, s_norm - k0, p, dt);
+                1.0 - g2 * delta / s_norm
+            }
+            _ => k0 / s_norm,
+        };
+        dev * keep + Vector3::repeat(tr / 3.0)
+    }
+
+    /// The split's return mapping of `(F_E trial, F_P)` at the rows' pressure (Pa; see
+    /// [`DruckerPrager::return_strain_at_pressure`]) over `dt` seconds; `None` for a
+    /// degenerate state.
+    pub fn project_at_pressure(
+        &self,
+        fe_trial: &Matrix3<f64>,
+        fp: &Matrix3<f64>,
+        pressure: f64,
+        dt: f64,
+    ) -> Option<(Matrix3<f64>, Matrix3<f64>)> {
+        super::hencky::project(fe_trial, fp, |eps| {
+            self.return_strain_at_pressure(eps, pressure, dt)
+        })
     }
 
     /// The return mapping over a step of `dt` seconds (the rate-dependent friction's;
@@ -359,6 +426,121 @@ mod tests {
             check(&m, a, e)?;
             check(&m.associated(), a, e)?;
         }
+    }
+
+    /// The split's return at the rows' pressure `pressure` (Pa) of a random trial state:
+    /// on or inside `|s| <= kappa + 3 alpha J max(p, 0)`, on it after a plastic step, the
+    /// trace kept, `F_E F_P` kept, idempotent at the same pressure.
+    fn check_at_pressure(
+        m: &DruckerPrager,
+        a: [f64; 6],
+        e: [f64; 3],
+        pressure: f64,
+    ) -> std::result::Result<(), TestCaseError> {
+        let r1 = Rotation3::from_euler_angles(a[0], a[1], a[2]).into_inner();
+        let r2 = Rotation3::from_euler_angles(a[3], a[4], a[5]).into_inner();
+        let fe = r1 * Matrix3::from_diagonal(&Vector3::from(e).map(f64::exp)) * r2;
+        let fp = Matrix3::identity();
+        let (fe1, fp1) = m.project_at_pressure(&fe, &fp, pressure, 1e-4).unwrap();
+        let eps0 = Vector3::from(e);
+        let eps1 = strains(&SignedSvd::new(&fe1).unwrap().s).unwrap();
+        let (dev0, tr0) = split(&eps0);
+        let (dev1, tr1) = split(&eps1);
+        let g2 = 2.0 * m.elastic.mu;
+        let k = m.kappa + 3.0 * m.alpha * pressure.max(0.0) * tr0.exp();
+        let scale = m.elastic.young * (1e-3 + eps0.norm()) + k;
+        prop_assert!((tr1 - tr0).abs() < 1e-12, "trace {tr0} -> {tr1}");
+        let s1 = g2 * dev1.norm();
+        prop_assert!(s1 <= k + 1e-9 * scale, "|s| {s1} > k {k}");
+        if g2 * dev0.norm() > k + 1e-9 * scale {
+            prop_assert!(
+                (s1 - k).abs() <= 1e-9 * scale,
+                "plastic but |s| {s1}, k {k}"
+            );
+            // radial: the deviator keeps its direction (principal values compared in
+            // order: the SVD may order the axes differently)
+            if k > 1e-9 * scale {
+                let sorted = |v: &Vector3<f64>| {
+                    let mut a = [v[0], v[1], v[2]];
+                    a.sort_by(f64::total_cmp);
+                    Vector3::from(a)
+                };
+                let (d0, d1) = (sorted(&dev0), sorted(&dev1));
+                let cos = d0.dot(&d1) / (d0.norm() * d1.norm());
+                prop_assert!(cos > 1.0 - 1e-9, "not radial: cos {cos}");
+            }
+        } else {
+            prop_assert!(fe1 == fe && fp1 == fp, "elastic step changed the state");
+        }
+        prop_assert!((fe1 * fp1 - fe * fp).norm() < 1e-9);
+        let (fe2, fp2) = m.project_at_pressure(&fe1, &fp1, pressure, 1e-4).unwrap();
+        prop_assert!((fe2 - fe1).norm() < 1e-10, "not idempotent");
+        prop_assert!((fp2 - fp1).norm() < 1e-10);
+        Ok(())
+    }
+
+    proptest! {
+        #[test]
+        fn split_return_at_the_rows_pressure_lands_on_or_inside_and_is_idempotent(
+            a in prop::array::uniform6(-3.0f64..3.0),
+            e in prop::array::uniform3(-0.05f64..0.05),
+            phi in 0.0f64..50.0,
+            c in 0.0f64..2e3,
+            pressure in -2e4f64..2e5,
+            plane in any::<bool>(),
+        ) {
+            let c = if phi == 0.0 { c + 1.0 } else { c };
+            let m = if plane {
+                DruckerPrager::plane_strain(1e6, 0.3, phi, c).unwrap()
+            } else {
+                DruckerPrager::new(1e6, 0.3, phi, c).unwrap()
+            };
+            check_at_pressure(&m, a, e, pressure)?;
+            // mu(I): at least the quasi-static cone (the rate only adds strength)
+            if phi > 1.0 {
+                let mi = m.with_mu_i(MuI::jop_2006()).unwrap();
+                let eps = Vector3::from(e);
+                let out = mi.return_strain_at_pressure(&eps, pressure, 1e-4);
+                let ri = m.return_strain_at_pressure(&eps, pressure, 1e-4);
+                prop_assert!(split(&out).0.norm() >= split(&ri).0.norm() - 1e-15);
+                prop_assert!(split(&out).0.norm() <= split(&eps).0.norm() + 1e-15);
+            }
+        }
+    }
+
+    #[test]
+    fn split_return_is_the_plain_return_at_the_strains_own_pressure() {
+        // Given the pressure the trial strain's trace carries in plain MPM (Cauchy
+        // p = -(3 lambda + 2 mu) tr(eps) / (3 J), J = exp tr(eps)), the split's return is
+        // the plain one wherever that does not go to the apex; with no pressure the
+        // cohesionless sand keeps no deviator (the apex in the deviatoric plane) and keeps
+        // its trace.
+        let m = DruckerPrager::plane_strain(2e6, 0.3, 30.0, 0.0).unwrap();
+        let bulk3 = 3.0 * m.elastic.lambda + 2.0 * m.elastic.mu;
+        let mut checked = 0;
+        for (vol, shear) in [(-1e-3, 5e-3), (-2e-3, 1e-4), (-5e-4, 2e-2), (-1e-2, 3e-3)] {
+            let eps = Vector3::new(
+                vol / 3.0 + shear,
+                vol / 3.0 - 0.3 * shear,
+                vol / 3.0 - 0.7 * shear,
+            );
+            let p = -bulk3 * eps.sum() / 3.0 / eps.sum().exp();
+            let split_ret = m.return_strain_at_pressure(&eps, p, 1e-4);
+            let plain = m.return_strain(&eps);
+            assert!(
+                (split_ret - plain).norm() < 1e-15,
+                "{split_ret:?} vs {plain:?}"
+            );
+            if plain != eps {
+                checked += 1;
+            }
+            let none = m.return_strain_at_pressure(&eps, 0.0, 1e-4);
+            assert!(split(&none).0.norm() < 1e-18, "{none:?}");
+            assert!((none.sum() - eps.sum()).abs() < 1e-18);
+            let tension = m.return_strain_at_pressure(&eps, -1e3, 1e-4);
+            assert_eq!(tension, none);
+        }
+        assert!(checked >= 2, "{checked} plastic cases");
     }
 
     #[test]

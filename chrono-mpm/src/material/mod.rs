@@ -128,6 +128,24 @@ impl Material {
         }
     }
 
+    /// The split's return mapping over a step of `dt` seconds with the density rows'
+    /// pressure `pressure` (Pa, compression positive): a Drucker–Prager sand's cone is
+    /// evaluated at it ([`DruckerPrager::project_at_pressure`]); the other models'
+    /// yield does not depend on the pressure ([`Material::project_step`]).
+    #[inline]
+    pub fn project_at_pressure(
+        &self,
+        fe_trial: &Matrix3<f64>,
+        fp: &Matrix3<f64>,
+        pressure: f64,
+        dt: f64,
+    ) -> Option<(Matrix3<f64>, Matrix3<f64>)> {
+        match self {
+            Material::DruckerPrager(m) => m.project_at_pressure(fe_trial, fp, pressure, dt),
+            _ => self.project_step(fe_trial, fp, dt),
+        }
+    }
+
     /// The current P-wave modulus, Pa (with hardening), for the explicit time-step limit.
     pub fn p_modulus(&self, fp: &Matrix3<f64>) -> f64 {
         match self {

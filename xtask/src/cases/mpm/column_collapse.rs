@@ -23,6 +23,11 @@
 //! branches of a fit inside its transition band). Reported: the final height ratio
 //! against Lube's fit.
 //!
+//! `pressure = rows` runs every column by the seed's split (deviatoric stress by MPM,
+//! pressure by density rows on the markers, the Drucker–Prager cone at the rows'
+//! pressure, the floor's friction on the rows' normal impulse; `Column::use_pressure_rows`)
+//! with the same material; `docs/mpm.md` ("The split: status") compares it with plain MPM.
+//!
 //! `method = nsc` (the same column by granular DEM with the friction angle from the
 //! shear-box measurement of the DEM material) is not implemented yet: an error naming
 //! the field.
@@ -100,6 +105,12 @@ pub struct ColumnParams {
     pub grain_diameter: f64,
     /// Start from the geostatic state instead of stress-free.
     pub geostatic: bool,
+    /// The pressure: `stress` (plain MPM) or `rows` (the split: deviatoric stress by MPM,
+    /// pressure by density rows on the markers, `chrono_mpm::pressure`, the cone at the
+    /// rows' pressure).
+    pub pressure: String,
+    /// APGD's tolerance on the rows' velocity residual with `pressure = rows`, m/s.
+    pub rows_tolerance: f64,
 }
 
 impl Default for ColumnParams {
@@ -129,6 +140,8 @@ impl Default for ColumnParams {
             flip: 0.99,
             grain_diameter: 0.0,
             geostatic: false,
+            pressure: "stress".into(),
+            rows_tolerance: 1e-6,
         }
     }
 }
@@ -210,6 +223,16 @@ impl CaseParams for ColumnParams {
             "geostatic",
             "-",
             "start from the geostatic (K0) state instead of stress-free",
+        ),
+        ParamInfo::new(
+            "pressure",
+            "-",
+            "stress (plain MPM) or rows (the split: deviatoric stress by MPM, pressure by density rows on the markers, the Drucker-Prager cone at the rows' pressure; docs/mpm.md)",
+        ),
+        ParamInfo::new(
+            "rows_tolerance",
+            "m/s",
+            "APGD's tolerance on the rows' velocity residual with pressure = rows",
         ),
     ];
 
@@ -360,9 +383,21 @@ fn run(p: &ColumnParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     }
     ratios.sort_by(f64::total_cmp);
     ratios.dedup();
+    let split = match p.pressure.as_str() {
+        "stress" => false,
+        "rows" => true,
+        other => anyhow::bail!("parameter `pressure` = {other:?}: must be `stress` or `rows`"),
+    };
+    let build = |a: f64| -> anyhow::Result<Column> {
+        let mut c = Column::new(spec(p, a, f_bar))?;
+        if split {
+            c.use_pressure_rows(p.rows_tolerance)?;
+        }
+        Ok(c)
+    };
     // Check every spec before the first run (bad input fails at once, naming the field).
     for &a in &ratios {
-        Column::new(spec(p, a, f_bar))?;
+        build(a)?;
     }
     // The work of a run grows about as the markers times the steps, a^1.5 above a = 1.
     let weight = |a: f64| a.max(1.0).powf(1.5);
@@ -372,21 +407,23 @@ fn run(p: &ColumnParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     let mut out = CaseOutput::new();
     let mut steps = 0;
     for &a in &ratios {
-        let mut c = Column::new(spec(p, a, f_bar))?;
+        let mut c = build(a)?;
         let w = weight(a) / total;
+        let wall = std::time::Instant::now();
         let r = c.run(|x| ctx.progress(done + w * x))?;
         done += w;
         steps += r.steps;
         let (lo, hi) = envelope(a);
         ctx.note(format!(
-            "a = {a}: runout ratio {:.3} (envelope [{lo:.3}, {hi:.3}]), final height ratio {:.3} (Lube {:.3}), {} at t = {:.2} sqrt(H0/g); {} markers, {} steps",
+            "a = {a}: runout ratio {:.3} (envelope [{lo:.3}, {hi:.3}]), final height ratio {:.3} (Lube {:.3}), {} at t = {:.2} sqrt(H0/g); {} markers, {} steps, {:.2} s wall",
             r.runout_ratio,
             r.final_height_ratio,
             lube_height_ratio(a),
             if r.at_rest { "at rest" } else { "NOT at rest" },
             r.time / c.time_scale(),
             c.body.markers.len(),
-            r.steps
+            r.steps,
+            wall.elapsed().as_secs_f64()
         ));
         anyhow::ensure!(
             r.at_rest,
