@@ -76,6 +76,30 @@ pub trait Transport: std::fmt::Debug {
     /// Sends `send[q]` to every rank `q` and fills `recv[q]` with what rank `q` sent to
     /// this one (`send.len() == recv.len() == size`; the own entry travels too).
     fn all_to_all(&mut self, send: &[Vec<f64>], recv: &mut [Vec<f64>]) -> Result<()>;
+    /// [`all_to_all`](Self::all_to_all) when this rank knows how many values each rank
+    /// sends it (`counts[q]`): a transport may then skip exchanging the counts. A rank
+    /// that sends another count is an error (default: the plain exchange, then the
+    /// check).
+    fn all_to_all_sized(
+        &mut self,
+        send: &[Vec<f64>],
+        recv: &mut [Vec<f64>],
+        counts: &[usize],
+    ) -> Result<()> {
+        self.all_to_all(send, recv)?;
+        for (q, (r, &c)) in recv.iter().zip(counts).enumerate() {
+            if r.len() != c {
+                return Err(SphError::Rank {
+                    rank: q,
+                    reason: format!(
+                        "sent {} values where {c} were expected: the halo lists disagree",
+                        r.len()
+                    ),
+                });
+            }
+        }
+        Ok(())
+    }
     /// Element-wise maximum over the ranks, in place.
     fn all_max(&mut self, v: &mut [f64]) -> Result<()>;
     /// Element-wise sum over the ranks, in place, added in rank order (so the result

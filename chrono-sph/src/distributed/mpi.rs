@@ -28,6 +28,7 @@ pub struct MpiTransport {
     rdispl: Vec<i32>,
     sflat: Vec<f64>,
     rflat: Vec<f64>,
+    scratch: Vec<f64>,
 }
 
 impl std::fmt::Debug for MpiTransport {
@@ -52,6 +53,7 @@ impl MpiTransport {
             rdispl: Vec::new(),
             sflat: Vec::new(),
             rflat: Vec::new(),
+            scratch: Vec::new(),
         }
     }
 }
@@ -66,25 +68,9 @@ fn count(len: usize) -> Result<i32> {
     })
 }
 
-impl Transport for MpiTransport {
-    fn rank(&self) -> usize {
-        self.comm.rank() as usize
-    }
-
-    fn size(&self) -> usize {
-        self.comm.size() as usize
-    }
-
-    fn all_to_all(&mut self, send: &[Vec<f64>], recv: &mut [Vec<f64>]) -> Result<()> {
-        let n = self.size();
-        self.counts.clear();
-        for s in send {
-            self.counts.push(count(s.len())?);
-        }
-        self.rcounts.clear();
-        self.rcounts.resize(n, 0);
-        self.comm
-            .all_to_all_into(&self.counts[..], &mut self.rcounts[..]);
+impl MpiTransport {
+    /// `MPI_Alltoallv` of `send` with the counts in `counts` / `rcounts`.
+    fn exchange(&mut self, send: &[Vec<f64>], recv: &mut [Vec<f64>]) -> Result<()> {
         let displ = |c: &[i32], d: &mut Vec<i32>| {
             d.clear();
             let mut a = 0;
@@ -114,23 +100,66 @@ impl Transport for MpiTransport {
         }
         Ok(())
     }
+}
+
+impl Transport for MpiTransport {
+    fn rank(&self) -> usize {
+        self.comm.rank() as usize
+    }
+
+    fn size(&self) -> usize {
+        self.comm.size() as usize
+    }
+
+    fn all_to_all(&mut self, send: &[Vec<f64>], recv: &mut [Vec<f64>]) -> Result<()> {
+        let n = self.size();
+        self.counts.clear();
+        for s in send {
+            self.counts.push(count(s.len())?);
+        }
+        self.rcounts.clear();
+        self.rcounts.resize(n, 0);
+        self.comm
+            .all_to_all_into(&self.counts[..], &mut self.rcounts[..]);
+        self.exchange(send, recv)
+    }
+
+    fn all_to_all_sized(
+        &mut self,
+        send: &[Vec<f64>],
+        recv: &mut [Vec<f64>],
+        counts: &[usize],
+    ) -> Result<()> {
+        // the counts are known on both sides: one collective, not two
+        self.counts.clear();
+        for s in send {
+            self.counts.push(count(s.len())?);
+        }
+        self.rcounts.clear();
+        for &c in counts {
+            self.rcounts.push(count(c)?);
+        }
+        self.exchange(send, recv)
+    }
 
     fn all_max(&mut self, v: &mut [f64]) -> Result<()> {
-        let local = v.to_vec();
+        self.scratch.clear();
+        self.scratch.extend_from_slice(v);
         self.comm
-            .all_reduce_into(&local[..], v, SystemOperation::max());
+            .all_reduce_into(&self.scratch[..], v, SystemOperation::max());
         Ok(())
     }
 
     fn all_sum(&mut self, v: &mut [f64]) -> Result<()> {
         let n = self.size();
-        let mut all = vec![0.0; v.len() * n];
-        self.comm.all_gather_into(&v[..], &mut all[..]);
         let m = v.len();
+        self.scratch.clear();
+        self.scratch.resize(m * n, 0.0);
+        self.comm.all_gather_into(&v[..], &mut self.scratch[..]);
         for (i, x) in v.iter_mut().enumerate() {
-            let mut acc = all[i];
+            let mut acc = self.scratch[i];
             for q in 1..n {
-                acc += all[q * m + i];
+                acc += self.scratch[q * m + i];
             }
             *x = acc;
         }

@@ -29,6 +29,8 @@ pub(crate) struct DistState {
     recv: Vec<Vec<u32>>,
     sbuf: Vec<Vec<f64>>,
     rbuf: Vec<Vec<f64>>,
+    /// Scratch: the values expected from each rank.
+    counts: Vec<usize>,
     builds: u64,
     stats: HaloStats,
 }
@@ -143,6 +145,7 @@ impl SphSystem {
             recv: vec![Vec::new(); size],
             sbuf: vec![Vec::new(); size],
             rbuf: vec![Vec::new(); size],
+            counts: Vec::with_capacity(size),
             builds: 0,
             stats: HaloStats::default(),
         }));
@@ -428,18 +431,10 @@ impl SphSystem {
             }
         }
         st.stats.values_sent += sent(&st.sbuf, st.rank);
-        net.all_to_all(&st.sbuf, &mut st.rbuf)?;
+        st.counts.clear();
+        st.counts.extend(st.recv.iter().map(|r| r.len() * n));
+        net.all_to_all_sized(&st.sbuf, &mut st.rbuf, &st.counts)?;
         for (q, b) in st.rbuf.iter().enumerate() {
-            if b.len() != st.recv[q].len() * n {
-                return Err(SphError::Rank {
-                    rank: q,
-                    reason: format!(
-                        "sent {} values for {} ghosts of {n} fields: the halo lists disagree",
-                        b.len(),
-                        st.recv[q].len()
-                    ),
-                });
-            }
             for (rec, &i) in b.chunks_exact(n).zip(&st.recv[q]) {
                 kind.unpack(data, i as usize, rec);
             }
