@@ -58,7 +58,7 @@ use chrono_core::System;
 use chrono_core::descriptor::CcpSolver;
 use chrono_core::item::ItemHandle;
 use chrono_core::math::{Isometry3, UnitQuaternion, Vector3};
-use chrono_core::particles::lattice::wall_layers;
+use chrono_core::particles::lattice::{slab_layers, wall_layers};
 use chrono_core::shape::ellipsoid_signed_distance;
 use chrono_core::{BodyHandle, RigidBodyBuilder, Shape, SystemSettings};
 use chrono_fea::{BeamMaterial, CableItem, CableMesh, CableQuadrature, NodeId};
@@ -261,13 +261,6 @@ impl ChannelParams {
         if self.beam_elements == 0 {
             return Err(FsiError::invalid("beam_elements", 0, "must be >= 1"));
         }
-        if self.ellipsoids + self.beams == 0 {
-            return Err(FsiError::invalid(
-                "ellipsoids",
-                0,
-                "the channel needs at least one ellipsoid or beam",
-            ));
-        }
         if let Some(n) = self.active_supports
             && !(n.is_finite() && n >= 1.0)
         {
@@ -288,14 +281,13 @@ impl ChannelParams {
                 ));
             }
         }
-        if self.length < 2.0 * support {
+        // the period holds two neighbour-list radii (chrono-sph's minimum image)
+        let period = slab_layers(self.h_over_dp) as f64 * self.spacing;
+        if self.length < period - 1e-9 * self.spacing {
             return Err(FsiError::invalid(
                 "length",
                 self.length,
-                format!(
-                    "must be at least 2 kernel supports ({} m) for the periodic images",
-                    2.0 * support
-                ),
+                format!("must be at least two neighbour-list radii ({period} m) for the periodic images"),
             ));
         }
         if self.beams > 0 && self.beam_length > self.height - support {

@@ -23,9 +23,10 @@ use std::f64::consts::PI;
 
 use crate::error::{FsiError, Result};
 
-/// Terms of the series kept at most (odd `i` up to `2 N - 1`); the terms fall as `i^-3`
-/// for the velocity (alternating) and `i^-5` for the mean, so `N = 200` leaves `1e-13`.
-const TERMS: usize = 200;
+/// Terms of the series kept (odd `i` up to `2 N - 1`); the velocity's terms fall as
+/// `i^-3` with alternating signs, so `N = 400` truncates at about `16 / (pi^3 (2N)^3)`
+/// = `1e-9` of `G a^2 / mu`; the mean's fall as `i^-5` (`1e-16`).
+const TERMS: usize = 400;
 
 /// `cosh(x) / cosh(xm)` for `|x| <= xm` without overflow.
 fn cosh_ratio(x: f64, xm: f64) -> f64 {
@@ -123,7 +124,7 @@ mod tests {
             duct_velocity(1.0, 0.5, 0.5, 0.2, 0.1).unwrap(),
             duct_velocity(1.0, 0.5, 0.5, 0.1, 0.2).unwrap(),
         );
-        assert!((u1 - u2).abs() < 1e-14);
+        assert!((u1 - u2).abs() < 1e-9 * 0.25, "{u1} {u2}");
         assert!(duct_velocity(1.0, 0.5, 0.5, 0.5 - 1e-12, 0.0).unwrap().abs() < 1e-10);
     }
 
@@ -147,7 +148,7 @@ mod tests {
         let k_wide = duct_mean_coefficient(1.0, 1e3).unwrap();
         assert!((k_wide - 1.0 / 3.0).abs() < 1e-3, "{k_wide}");
         let u0 = duct_velocity(1.0, 1.0, 1e3, 0.0, 0.0).unwrap();
-        assert!((u0 - 0.5).abs() < 1e-9, "{u0}");
+        assert!((u0 - 0.5).abs() < 1e-8, "{u0}");
         // the same duct turned: same mean, same profile transposed
         let k_t = duct_mean_coefficient(hz, hy).unwrap();
         assert_eq!(k, k_t);

@@ -72,6 +72,8 @@ pub mod builder;
 pub mod cable;
 pub mod channel;
 #[cfg(test)]
+mod channel_tests;
+#[cfg(test)]
 mod cable_tests;
 pub mod cylinder_array;
 pub mod duct;
