@@ -287,7 +287,9 @@ impl ChannelParams {
             return Err(FsiError::invalid(
                 "length",
                 self.length,
-                format!("must be at least two neighbour-list radii ({period} m) for the periodic images"),
+                format!(
+                    "must be at least two neighbour-list radii ({period} m) for the periodic images"
+                ),
             ));
         }
         if self.beams > 0 && self.beam_length > self.height - support {
@@ -420,13 +422,21 @@ impl ChannelScene {
         let mut beams = Vec::new();
         for k in 0..f.num_cables() {
             let mesh = f.cable(k).expect("beam").mesh();
-            let (mut lo, mut hi) = (Vector3::repeat(f64::INFINITY), Vector3::repeat(-f64::INFINITY));
+            let (mut lo, mut hi) = (
+                Vector3::repeat(f64::INFINITY),
+                Vector3::repeat(-f64::INFINITY),
+            );
             for n in mesh.nodes() {
                 lo = lo.inf(&n.position);
                 hi = hi.sup(&n.position);
             }
             let pad = 0.5 * p.beam_diameter + p.beam_length / p.beam_elements as f64;
-            beams.push((mesh, node_uses(mesh), lo.add_scalar(-pad), hi.add_scalar(pad)));
+            beams.push((
+                mesh,
+                node_uses(mesh),
+                lo.add_scalar(-pad),
+                hi.add_scalar(pad),
+            ));
         }
         for i in 0..d.len() {
             if d.kind[i] != chrono_sph::data::FLUID {
@@ -538,9 +548,8 @@ impl SplitMix {
         );
         let s = (1.0 - cz * cz).max(0.0).sqrt();
         let axis = Vector3::new(s * phi.cos(), s * phi.sin(), cz);
-        let tilt = UnitQuaternion::rotation_between(&Vector3::z(), &axis).unwrap_or_else(|| {
-            UnitQuaternion::from_axis_angle(&Vector3::x_axis(), PI)
-        });
+        let tilt = UnitQuaternion::rotation_between(&Vector3::z(), &axis)
+            .unwrap_or_else(|| UnitQuaternion::from_axis_angle(&Vector3::x_axis(), PI));
         tilt * UnitQuaternion::from_axis_angle(&Vector3::z_axis(), spin)
     }
 }
@@ -608,8 +617,7 @@ pub fn place_ellipsoids(
         let clear_beams = roots.iter().all(|b| {
             let mut dx = c.x - b.x;
             dx -= p.length * (dx / p.length).round();
-            c.z - r >= p.beam_length + gap
-                || (dx * dx + (c.y - b.y).powi(2)).sqrt() >= r + rb + gap
+            c.z - r >= p.beam_length + gap || (dx * dx + (c.y - b.y).powi(2)).sqrt() >= r + rb + gap
         });
         if clear_bodies && clear_beams {
             out.push((c, q));
@@ -642,9 +650,11 @@ pub fn channel(p: &ChannelParams, solver: Box<dyn CcpSolver>) -> Result<ChannelS
     // fluid passing a body is faster than the duct's centre line: 1.5 U at a sphere's
     // equator in potential flow, the margin taken on the largest speed (measured: the
     // duct's own maximum as the speed gave Mach warnings at the limit 0.1)
-    let scale = p
-        .equatorial_diameter()
-        .min(if p.beams > 0 { p.beam_diameter } else { f64::INFINITY });
+    let scale = p.equatorial_diameter().min(if p.beams > 0 {
+        p.beam_diameter
+    } else {
+        f64::INFINITY
+    });
     let cs = sound_speed_for(SPEED_UP * u_max, scale, f, nu, 0.01)?;
     let mut settings = SphSettings {
         spacing: dp,
@@ -678,12 +688,18 @@ pub fn channel(p: &ChannelParams, solver: Box<dyn CcpSolver>) -> Result<ChannelS
     // walls are markers; these keep a body that reaches a wall from passing it)
     let t = p.width.max(p.height);
     for (k, (c, half)) in [
-        (Vector3::new(0.5 * p.length, hy, -0.5 * t), Vector3::new(p.length, hy + t, 0.5 * t)),
+        (
+            Vector3::new(0.5 * p.length, hy, -0.5 * t),
+            Vector3::new(p.length, hy + t, 0.5 * t),
+        ),
         (
             Vector3::new(0.5 * p.length, hy, p.height + 0.5 * t),
             Vector3::new(p.length, hy + t, 0.5 * t),
         ),
-        (Vector3::new(0.5 * p.length, -0.5 * t, hz), Vector3::new(p.length, 0.5 * t, hz + t)),
+        (
+            Vector3::new(0.5 * p.length, -0.5 * t, hz),
+            Vector3::new(p.length, 0.5 * t, hz + t),
+        ),
         (
             Vector3::new(0.5 * p.length, p.width + 0.5 * t, hz),
             Vector3::new(p.length, 0.5 * t, hz + t),

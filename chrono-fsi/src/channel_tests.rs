@@ -50,7 +50,9 @@ fn bodies_do_not_overlap_and_are_resolved() {
         // which solid the marker belongs to: the one it is inside of
         let inside_bodies = poses
             .iter()
-            .filter(|q| ellipsoid_signed_distance(&e, &q.inverse_transform_point(&x.into()).coords) < 0.0)
+            .filter(|q| {
+                ellipsoid_signed_distance(&e, &q.inverse_transform_point(&x.into()).coords) < 0.0
+            })
             .count();
         let inside_beams = (meshes.iter().zip(&uses))
             .filter(|(m, u)| cable_distance(m, u, &x) < 0.0)
@@ -62,7 +64,10 @@ fn bodies_do_not_overlap_and_are_resolved() {
         body_markers += inside_bodies;
         checked += 1;
     }
-    assert!(body_markers > 100 * p.ellipsoids, "{body_markers} of {checked}");
+    assert!(
+        body_markers > 100 * p.ellipsoids,
+        "{body_markers} of {checked}"
+    );
     let inside = s.fluid_inside(0.0).unwrap();
     assert_eq!(inside.total(), 0, "{inside:?}");
     assert_eq!(s.bodies_outside().unwrap(), 0);
@@ -95,14 +100,62 @@ fn bad_input_names_the_field() {
         assert!(e.contains(field), "{field}: {e}");
     };
     let d = ChannelParams::default;
-    check(ChannelParams { width: f64::NAN, ..d() }, "width");
-    check(ChannelParams { viscosity: -1.0, ..d() }, "viscosity");
-    check(ChannelParams { semi_axes: [0.0225, 0.0, 0.03], ..d() }, "semi_axes[1]");
-    check(ChannelParams { ellipsoids: 60, ..d() }, "ellipsoids");
-    check(ChannelParams { coupling_step: 0.05, ..d() }, "coupling_step");
-    check(ChannelParams { beam_length: 0.17, ..d() }, "beam_length");
-    check(ChannelParams { height: 0.05, ..d() }, "height");
-    check(ChannelParams { active_supports: Some(0.5), ..d() }, "active_supports");
+    check(
+        ChannelParams {
+            width: f64::NAN,
+            ..d()
+        },
+        "width",
+    );
+    check(
+        ChannelParams {
+            viscosity: -1.0,
+            ..d()
+        },
+        "viscosity",
+    );
+    check(
+        ChannelParams {
+            semi_axes: [0.0225, 0.0, 0.03],
+            ..d()
+        },
+        "semi_axes[1]",
+    );
+    check(
+        ChannelParams {
+            ellipsoids: 60,
+            ..d()
+        },
+        "ellipsoids",
+    );
+    check(
+        ChannelParams {
+            coupling_step: 0.05,
+            ..d()
+        },
+        "coupling_step",
+    );
+    check(
+        ChannelParams {
+            beam_length: 0.17,
+            ..d()
+        },
+        "beam_length",
+    );
+    check(
+        ChannelParams {
+            height: 0.05,
+            ..d()
+        },
+        "height",
+    );
+    check(
+        ChannelParams {
+            active_supports: Some(0.5),
+            ..d()
+        },
+        "active_supports",
+    );
 }
 
 /// The empty duct (`W = H = 0.09 m`), started on the laminar profile of the body force

@@ -125,7 +125,12 @@ mod tests {
             duct_velocity(1.0, 0.5, 0.5, 0.1, 0.2).unwrap(),
         );
         assert!((u1 - u2).abs() < 1e-9 * 0.25, "{u1} {u2}");
-        assert!(duct_velocity(1.0, 0.5, 0.5, 0.5 - 1e-12, 0.0).unwrap().abs() < 1e-10);
+        assert!(
+            duct_velocity(1.0, 0.5, 0.5, 0.5 - 1e-12, 0.0)
+                .unwrap()
+                .abs()
+                < 1e-10
+        );
     }
 
     /// The mean of the profile (midpoint rule) equals the mean formula; a wide duct tends

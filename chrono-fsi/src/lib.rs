@@ -70,11 +70,11 @@
 pub mod beam_flow;
 pub mod builder;
 pub mod cable;
+#[cfg(test)]
+mod cable_tests;
 pub mod channel;
 #[cfg(test)]
 mod channel_tests;
-#[cfg(test)]
-mod cable_tests;
 pub mod cylinder_array;
 pub mod duct;
 pub mod error;

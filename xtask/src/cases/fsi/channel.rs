@@ -257,7 +257,12 @@ fn run(p: &ChannelCaseParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     let (mut re_sum, mut re_n) = (0.0, 0usize);
     let (mut tip_sum, mut tip_sq, mut tip_max, mut tip_n) = (0.0, 0.0, 0.0f64, 0usize);
     let mut u_sum = 0.0;
-    let mut series = Series::new(["t", "tip_deflection_max", "mean_velocity", "particle_reynolds"]);
+    let mut series = Series::new([
+        "t",
+        "tip_deflection_max",
+        "mean_velocity",
+        "particle_reynolds",
+    ]);
     for i in 1..=n {
         if let Some(t) = twin.as_mut() {
             t.step(p.coupling_step)?;
@@ -317,38 +322,48 @@ fn run(p: &ChannelCaseParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     out.check(Check::below("coupling_share", coupling, 0.25));
     let tip_n = tip_n.max(1) as f64;
     let u_mean = u_sum / windowed;
-    out.metric("particle_steps_per_s", sph.stats().fluid_steps as f64 / step)
-        .metric(
-            "particle_reynolds",
-            if re_n > 0 { re_sum / re_n as f64 } else { f64::NAN },
-        )
-        .metric("particle_reynolds_nominal", sp.particle_reynolds())
-        .metric("tip_deflection_mean", tip_sum / tip_n)
-        .metric("tip_deflection_rms", (tip_sq / tip_n).sqrt())
-        .metric("tip_deflection_max", tip_max)
-        .metric("fluid_below_surface", below_max as f64)
-        .metric("mean_velocity", u_mean)
-        .metric("reynolds_nominal", sp.reynolds())
-        .metric("reynolds", u_mean * sp.height / nu)
-        .metric("cauchy", sp.cauchy())
-        .metric("solid_fraction", sp.solid_fraction())
-        .metric("body_force", scene.body_force)
-        .metric("sound_speed", scene.sound_speed)
-        .metric("fluid_particles", sph.num_fluid() as f64)
-        .metric(
-            "active_fraction",
-            sph.stats().fluid_steps as f64 / (f.substeps() as f64 * sph.num_fluid() as f64),
-        )
-        .metric("substeps_per_step", f.substeps() as f64 / n as f64)
-        .metric("step_wall_s", step)
-        .metric("fluid_advance_s", f.advance_wall_time())
-        .metric("marker_s", markers);
+    out.metric(
+        "particle_steps_per_s",
+        sph.stats().fluid_steps as f64 / step,
+    )
+    .metric(
+        "particle_reynolds",
+        if re_n > 0 {
+            re_sum / re_n as f64
+        } else {
+            f64::NAN
+        },
+    )
+    .metric("particle_reynolds_nominal", sp.particle_reynolds())
+    .metric("tip_deflection_mean", tip_sum / tip_n)
+    .metric("tip_deflection_rms", (tip_sq / tip_n).sqrt())
+    .metric("tip_deflection_max", tip_max)
+    .metric("fluid_below_surface", below_max as f64)
+    .metric("mean_velocity", u_mean)
+    .metric("reynolds_nominal", sp.reynolds())
+    .metric("reynolds", u_mean * sp.height / nu)
+    .metric("cauchy", sp.cauchy())
+    .metric("solid_fraction", sp.solid_fraction())
+    .metric("body_force", scene.body_force)
+    .metric("sound_speed", scene.sound_speed)
+    .metric("fluid_particles", sph.num_fluid() as f64)
+    .metric(
+        "active_fraction",
+        sph.stats().fluid_steps as f64 / (f.substeps() as f64 * sph.num_fluid() as f64),
+    )
+    .metric("substeps_per_step", f.substeps() as f64 / n as f64)
+    .metric("step_wall_s", step)
+    .metric("fluid_advance_s", f.advance_wall_time())
+    .metric("marker_s", markers);
     if let Some(t) = &twin {
         let ft = t.fluid();
         let l = sp.length;
         let mut traj = 0.0f64;
         for ((&a, &b), d) in scene.bodies.iter().zip(&t.bodies).zip(&travel) {
-            let (xa, xb) = (scene.system.body(a)?.position(), t.system.body(b)?.position());
+            let (xa, xb) = (
+                scene.system.body(a)?.position(),
+                t.system.body(b)?.position(),
+            );
             let mut r = xa - xb;
             r.x -= l * (r.x / l).round();
             traj = traj.max(r.norm() / d.max(f64::MIN_POSITIVE));
@@ -368,7 +383,10 @@ fn run(p: &ChannelCaseParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         .metric("active_wall_saving", 1.0 - step / t.step_time)
         .metric("full_step_wall_s", t.step_time)
         .metric("active_trajectory_difference", traj)
-        .metric("active_tip_difference", dtip / tip_full.max(f64::MIN_POSITIVE));
+        .metric(
+            "active_tip_difference",
+            dtip / tip_full.max(f64::MIN_POSITIVE),
+        );
     }
     out.series = series;
     out.plot = PlotSpec::new(
