@@ -48,7 +48,7 @@
 //! for _ in 0..10 {
 //!     scene.step(p.coupling_step).unwrap();
 //! }
-//! assert_eq!(scene.fluid_inside(0.5 * p.spacing).unwrap(), 0);
+//! assert_eq!(scene.fluid_inside(0.5 * p.spacing).unwrap().total(), 0);
 //! ```
 
 use std::f64::consts::PI;
