@@ -35,9 +35,9 @@
 //!
 //! **Placement.** Beams on a regular grid over the floor, rooted at `z = 0`, standing
 //! along z, the root node clamped (position and slope); ellipsoids at random centres and
-//! orientations (a seeded generator), accepted when their bounding spheres keep one
-//! spacing from each other, from the walls and from the beams' cylinders, and clear of the
-//! periodic seam (so the fluid is carved exactly). Each body and beam is resolved by the
+//! orientations (a seeded generator), accepted when their bounding spheres keep half the
+//! smallest semi-axis ([`placement_gap`]: at least a spacing) from each other, from the
+//! walls and from the beams' cylinders, and clear of the periodic seam (so the fluid is carved exactly). Each body and beam is resolved by the
 //! fluid spacing or the builder errors ([`FsiBuilder`], [`crate::cable`]).
 //!
 //! ```no_run
@@ -575,6 +575,14 @@ pub fn beam_roots(p: &ChannelParams) -> Vec<Vector3<f64>> {
         .collect()
 }
 
+/// The clearance (m) the placement keeps between the ellipsoids' bounding spheres, and
+/// from the walls and the beams: half the smallest semi-axis, which is at least one
+/// spacing whenever the ellipsoid is resolved (4 spacings across), and does not depend
+/// on the spacing, so a resolution sweep keeps the same bodies.
+pub fn placement_gap(p: &ChannelParams) -> f64 {
+    0.5 * p.semi_axes.iter().copied().fold(f64::INFINITY, f64::min)
+}
+
 /// The ellipsoids' centres and orientations (see the [module docs](self)); an error
 /// naming `ellipsoids` when they do not fit.
 pub fn place_ellipsoids(
@@ -582,7 +590,7 @@ pub fn place_ellipsoids(
     roots: &[Vector3<f64>],
 ) -> Result<Vec<(Vector3<f64>, UnitQuaternion<f64>)>> {
     let r = p.semi_axes.iter().copied().fold(0.0, f64::max);
-    let gap = p.spacing;
+    let gap = placement_gap(p);
     let (lo, hi) = (
         Vector3::new(r, r + gap, r + gap),
         Vector3::new(p.length - r, p.width - r - gap, p.height - r - gap),
@@ -628,7 +636,7 @@ pub fn place_ellipsoids(
             "ellipsoids",
             p.ellipsoids,
             format!(
-                "only {} fit without overlap after {attempts} random tries (bounding spheres a spacing apart, clear of the beams)",
+                "only {} fit without overlap after {attempts} random tries (bounding spheres {gap} m apart, clear of the beams)",
                 out.len()
             ),
         ));

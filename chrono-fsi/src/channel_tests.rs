@@ -4,14 +4,14 @@ use chrono_core::math::Vector3;
 use chrono_core::shape::ellipsoid_signed_distance;
 
 use crate::cable::{cable_distance, node_uses};
-use crate::channel::{ChannelParams, channel};
+use crate::channel::{ChannelParams, channel, placement_gap};
 use crate::duct::{duct_mean_coefficient, duct_velocity};
 
 fn solver() -> Box<chrono_ccp::Psor> {
     Box::new(chrono_ccp::Psor::new(Default::default()))
 }
 
-/// The default scene: bounding spheres a spacing apart and clear of the beams (the
+/// The default scene: bounding spheres [`placement_gap`] (at least a spacing) apart and clear of the beams (the
 /// placement's contract), no marker of a body inside another body or a beam, no beam
 /// marker inside a body, no fluid inside a solid, every body inside the channel.
 #[test]
@@ -22,18 +22,20 @@ fn bodies_do_not_overlap_and_are_resolved() {
     assert_eq!(s.roots.len(), p.beams);
     let e = Vector3::from(p.semi_axes);
     let r = e.max();
+    let gap = placement_gap(&p);
+    assert!(gap >= p.spacing);
     let poses: Vec<_> = (s.bodies.iter())
         .map(|&b| s.system.body(b).unwrap().pose())
         .collect();
     for (i, a) in poses.iter().enumerate() {
         for b in &poses[i + 1..] {
             let d = (a.translation.vector - b.translation.vector).norm();
-            assert!(d >= 2.0 * r + p.spacing - 1e-12, "{d}");
+            assert!(d >= 2.0 * r + gap - 1e-12, "{d}");
         }
         // inside the cross-section with a spacing to spare
         let c = a.translation.vector;
-        assert!(c.y - r >= p.spacing - 1e-12 && c.y + r <= p.width - p.spacing + 1e-12);
-        assert!(c.z - r >= p.spacing - 1e-12 && c.z + r <= p.height - p.spacing + 1e-12);
+        assert!(c.y - r >= gap - 1e-12 && c.y + r <= p.width - gap + 1e-12);
+        assert!(c.z - r >= gap - 1e-12 && c.z + r <= p.height - gap + 1e-12);
     }
     let f = s.fluid();
     let d = f.sph().data();
