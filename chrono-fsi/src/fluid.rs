@@ -152,6 +152,11 @@ pub struct SphFluid {
     pub(crate) cables: Vec<CoupledCable>,
     last_substeps: u64,
     substeps: u64,
+    /// Wall time inside [`SphSystem::advance_exactly`] so far, s.
+    advance_time: f64,
+    /// Wall time of the item's explicit phase so far (marker placement, the fluid's
+    /// advance, impulse gathering and the cables' nodal loads), s.
+    explicit_time: f64,
 }
 
 impl SphFluid {
@@ -168,6 +173,8 @@ impl SphFluid {
             cables,
             last_substeps: 0,
             substeps: 0,
+            advance_time: 0.0,
+            explicit_time: 0.0,
         }
     }
 
@@ -189,6 +196,22 @@ impl SphFluid {
     /// Fluid sub-steps so far.
     pub fn substeps(&self) -> u64 {
         self.substeps
+    }
+
+    /// Wall time (s) spent so far in the fluid's own advance
+    /// ([`SphSystem::advance_exactly`], the markers' motion and force gathering at each
+    /// sub-step included: [`chrono_sph::Timings::markers`]).
+    pub fn advance_wall_time(&self) -> f64 {
+        self.advance_time
+    }
+
+    /// Wall time (s) spent so far in the item's explicit phase: placing the bodies' and
+    /// cables' markers for the step, the fluid's advance
+    /// ([`advance_wall_time`](Self::advance_wall_time)), and turning the markers'
+    /// impulses into body loads and the cables' nodal loads. The difference to the
+    /// advance is the coupling's own work at each multibody step.
+    pub fn explicit_wall_time(&self) -> f64 {
+        self.explicit_time
     }
 
     /// Number of markers on `body` (0 if the body is not coupled).
@@ -242,28 +265,8 @@ impl SphFluid {
         self.cables.get(k).map(|c| c.load.as_slice())
     }
 
-    fn domain_error(&self, e: chrono_sph::SphError) -> ChronoError {
-        self_domain_error(&self.name, e)
-    }
-}
-
-fn self_domain_error(name: &str, e: chrono_sph::SphError) -> ChronoError {
-    ChronoError::Domain {
-        domain: format!("chrono-sph (item \"{name}\")"),
-        source: chrono_core::error::DomainError(std::sync::Arc::new(e)),
-    }
-}
-
-impl PhysicsItem for SphFluid {
-    fn name(&self) -> &str {
-        &self.name
-    }
-
-    fn exchanges_body_loads(&self) -> bool {
-        true
-    }
-
-    fn advance_explicit(
+    /// The explicit phase (see the [module docs](self)).
+    fn advance_coupled(
         &mut self,
         ctx: &StepContext,
         bodies: &Bodies,
@@ -329,10 +332,10 @@ impl PhysicsItem for SphFluid {
                 })?;
         }
         let t_end = ctx.time + ctx.h;
-        let n = self
-            .sph
-            .advance_exactly(t_end)
-            .map_err(|e| self.domain_error(e))?;
+        let t_adv = std::time::Instant::now();
+        let n = self.sph.advance_exactly(t_end);
+        self.advance_time += t_adv.elapsed().as_secs_f64();
+        let n = n.map_err(|e| self.domain_error(e))?;
         self.last_substeps = n;
         self.substeps += n;
         let inv_h = 1.0 / ctx.h;
@@ -366,6 +369,39 @@ impl PhysicsItem for SphFluid {
             }
         }
         Ok(())
+    }
+
+    fn domain_error(&self, e: chrono_sph::SphError) -> ChronoError {
+        self_domain_error(&self.name, e)
+    }
+}
+
+fn self_domain_error(name: &str, e: chrono_sph::SphError) -> ChronoError {
+    ChronoError::Domain {
+        domain: format!("chrono-sph (item \"{name}\")"),
+        source: chrono_core::error::DomainError(std::sync::Arc::new(e)),
+    }
+}
+
+impl PhysicsItem for SphFluid {
+    fn name(&self) -> &str {
+        &self.name
+    }
+
+    fn exchanges_body_loads(&self) -> bool {
+        true
+    }
+
+    fn advance_explicit(
+        &mut self,
+        ctx: &StepContext,
+        bodies: &Bodies,
+        loads: &mut BodyLoads,
+    ) -> chrono_core::Result<()> {
+        let t0 = std::time::Instant::now();
+        let r = self.advance_coupled(ctx, bodies, loads);
+        self.explicit_time += t0.elapsed().as_secs_f64();
+        r
     }
 
     /// The cables' `M + h R + h^2 K` (see [`CableItem`]).

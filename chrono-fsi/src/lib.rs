@@ -14,6 +14,9 @@
 //!   pressure gradient as compensating body forces (the scene of `fsi-sphere-settling`);
 //! - [`heave`]: a floating hemisphere's free heave against Hulme's (1982) added mass
 //!   and damping (the scene of `fsi-sphere-heave`);
+//! - [`channel`]: free ellipsoids and ANCF beams anchored to the floor in a periodic duct
+//!   flow (the seed's channel scene, `fsi-channel`), with the laminar duct solution
+//!   ([`duct`]) for its driving body force;
 //! - [`towed`]: a cylinder towed through a long tank, with or without the fluid's active
 //!   domain ([`chrono_sph::ActiveDomain`]: only the fluid near the moving bodies is
 //!   stepped; the scene of `fsi-active-domain`);
@@ -69,7 +72,11 @@ pub mod builder;
 pub mod cable;
 #[cfg(test)]
 mod cable_tests;
+pub mod channel;
+#[cfg(test)]
+mod channel_tests;
 pub mod cylinder_array;
+pub mod duct;
 pub mod error;
 pub mod fluid;
 pub mod heave;

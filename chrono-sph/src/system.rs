@@ -84,6 +84,10 @@ pub struct Timings {
     pub forces: f64,
     /// Kicks, drift, wall motion, checks and the time step.
     pub integration: f64,
+    /// Marker carriers (coupled bodies and meshes): placing their markers at each step
+    /// and gathering the fluid's force on them (counted here, not in `forces` or
+    /// `integration`).
+    pub markers: f64,
 }
 
 /// An explicit weakly compressible SPH system (see the [module docs](self)). Build one
@@ -203,7 +207,9 @@ impl SphSystem {
     fn move_walls(&mut self, t: f64) {
         self.move_tank_walls(t);
         if !self.carriers.is_empty() || !self.point_carriers.is_empty() {
+            let t0 = Instant::now();
             self.move_carriers(t);
+            self.timings.markers += t0.elapsed().as_secs_f64();
         }
     }
 

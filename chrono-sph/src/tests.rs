@@ -399,3 +399,27 @@ fn a_failing_rank_is_named_by_the_others() {
     assert!(errors[0].starts_with("step 5: non-finite"), "{errors:?}");
     assert!(errors[1].starts_with("step 5: rank 0:"), "{errors:?}");
 }
+
+/// `set_fluid_velocity` sets every fluid particle from the field and no wall marker; a
+/// field that is not finite somewhere is an error naming the particle.
+#[test]
+fn fluid_velocity_field_sets_the_fluid_only() {
+    let mut sys = tank(settings(DensityDiffusion::default()), 6, true);
+    sys.set_fluid_velocity(|x| [x[2], 0.0, -x[0]]).unwrap();
+    let d = sys.data();
+    let mut n = 0;
+    for i in 0..d.len() {
+        if d.kind[i] == FLUID {
+            assert_eq!((d.vx[i], d.vy[i], d.vz[i]), (d.z[i], 0.0, -d.x[i]));
+            n += 1;
+        } else {
+            assert_eq!((d.vx[i], d.vy[i], d.vz[i]), (0.0, 0.0, 0.0));
+        }
+    }
+    assert_eq!(n, sys.num_fluid());
+    let e = sys
+        .set_fluid_velocity(|x| [if x[2] > 0.1 { f64::NAN } else { 0.0 }, 0.0, 0.0])
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("fluid velocity of particle"), "{e}");
+}

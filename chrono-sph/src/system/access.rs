@@ -107,6 +107,31 @@ impl SphSystem {
         v
     }
 
+    /// Sets the velocity of every fluid particle from the field `velocity(x)` (m/s, `x`
+    /// the particle's position, m), e.g. a developed laminar profile at the start. An
+    /// error names the particle and the value when the field is not finite there.
+    pub fn set_fluid_velocity(
+        &mut self,
+        velocity: impl Fn([f64; 3]) -> [f64; 3],
+    ) -> crate::error::Result<()> {
+        let d = &mut self.data;
+        for i in 0..d.len() {
+            if d.kind[i] != crate::data::FLUID {
+                continue;
+            }
+            let v = velocity([d.x[i], d.y[i], d.z[i]]);
+            if !v.iter().all(|c| c.is_finite()) {
+                return Err(crate::error::SphError::invalid(
+                    format!("fluid velocity of particle {}", d.id[i]),
+                    format!("{v:?}"),
+                    "must be finite",
+                ));
+            }
+            (d.vx[i], d.vy[i], d.vz[i]) = (v[0], v[1], v[2]);
+        }
+        Ok(())
+    }
+
     /// Resets the phase timings to zero.
     pub fn reset_timings(&mut self) {
         self.timings = Timings::default();

@@ -286,6 +286,6 @@ impl SphSystem {
             c.load[0] += f;
             c.load[1] += r.cross(&f);
         }
-        self.timings.forces += t0.elapsed().as_secs_f64();
+        self.timings.markers += t0.elapsed().as_secs_f64();
     }
 }

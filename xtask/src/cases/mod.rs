@@ -93,6 +93,7 @@ pub fn all_cases() -> Vec<Box<dyn Case>> {
         fsi::cylinder_array::case(),
         fsi::sphere_settling::case(),
         fsi::sphere_heave::case(),
+        fsi::channel::case(),
         cfluid::incompressibility::case(),
         cfluid::dam_break::case(),
         cfluid::floating_box::case(),

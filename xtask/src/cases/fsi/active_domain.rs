@@ -259,7 +259,14 @@ impl Runner {
         self.run.fluid_steps = sph.stats().fluid_steps;
         self.run.substeps = sph.steps();
         let t = sph.timings();
-        self.run.phases = [t.neighbor_search, t.density, t.forces, t.integration];
+        // the markers' placement and force gathering (chrono-sph's `markers` phase since
+        // fsi-channel) counted with the forces
+        self.run.phases = [
+            t.neighbor_search,
+            t.density,
+            t.forces + t.markers,
+            t.integration,
+        ];
         self.run
     }
 }

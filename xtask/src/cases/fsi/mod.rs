@@ -1,6 +1,7 @@
 //! Fluid–solid interaction cases (chrono-fsi).
 
 pub mod active_domain;
+pub mod channel;
 pub mod cylinder_array;
 pub mod flexible_beam;
 pub mod floating_body;
