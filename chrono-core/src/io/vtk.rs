@@ -240,23 +240,8 @@ pub fn write_cells_vtu(path: impl AsRef<Path>, grid: &CellGrid<'_>) -> Result<()
 /// Write a ParaView collection: each `(time (s), file name)` is one frame; file names are
 /// relative to the `.pvd` file's directory.
 pub fn write_pvd(path: impl AsRef<Path>, frames: &[(f64, &str)]) -> Result<()> {
-    let mut x = Xml::new("Collection");
-    for (k, (t, file)) in frames.iter().enumerate() {
-        if !t.is_finite() {
-            return Err(ChronoError::invalid(
-                format!("frames[{k}].time"),
-                t,
-                "must be finite",
-            ));
-        }
-        let mut time = String::new();
-        fmt_f64(*t, &mut time);
-        x.s.push_str(&format!(
-            "    <DataSet timestep=\"{time}\" group=\"\" part=\"0\" file=\"{}\"/>\n",
-            escape(file)
-        ));
-    }
-    x.finish(path.as_ref())
+    let parts: Vec<(f64, usize, &str)> = frames.iter().map(|&(t, f)| (t, 0, f)).collect();
+    write_pvd_parts(path, &parts)
 }
 
 /// Write a ParaView collection of frames in parts: each `(time (s), part, file name)` is
