@@ -31,6 +31,11 @@ pub(crate) struct DistState {
     rbuf: Vec<Vec<f64>>,
     /// Scratch: the values expected from each rank.
     counts: Vec<usize>,
+    /// Scratch of the rebuild (kept: no allocation once grown).
+    keep: Vec<bool>,
+    work: Vec<f64>,
+    hist: Vec<f64>,
+    pairs: Vec<(u32, u32)>,
     builds: u64,
     stats: HaloStats,
 }
@@ -146,6 +151,10 @@ impl SphSystem {
             sbuf: vec![Vec::new(); size],
             rbuf: vec![Vec::new(); size],
             counts: Vec::with_capacity(size),
+            keep: Vec::new(),
+            work: Vec::new(),
+            hist: Vec::new(),
+            pairs: Vec::new(),
             builds: 0,
             stats: HaloStats::default(),
         }));
@@ -248,47 +257,46 @@ impl SphSystem {
         let every = st.settings.rebalance_every as u64;
         let due =
             every > 0 && (st.builds == 1 || (st.builds > 0 && st.builds.is_multiple_of(every)));
-        let work: Vec<f64> = if due && self.list.len() == self.data.len() {
-            (0..self.data.len())
-                .filter(|&i| st.owner[i] == me)
-                .map(|i| {
+        st.work.clear();
+        if due && self.list.len() == self.data.len() {
+            for i in 0..self.data.len() {
+                if st.owner[i] == me {
                     let k = if self.data.kind[i] == FLUID {
                         1.0
                     } else {
                         st.settings.wall_weight
                     };
-                    k * (1.0 + self.list.neighbors(i).len() as f64)
-                })
-                .collect()
-        } else {
-            Vec::new()
-        };
+                    st.work
+                        .push(k * (1.0 + self.list.neighbors(i).len() as f64));
+                }
+            }
+        }
         // 1. the owned particles only
-        let keep: Vec<bool> = st.owner.iter().map(|&o| o == me).collect();
-        compact_data(&mut self.data, &keep);
-        compact(&mut self.act, &keep);
+        st.keep.clear();
+        st.keep.extend(st.owner.iter().map(|&o| o == me));
+        compact_data(&mut self.data, &st.keep);
+        compact(&mut self.act, &st.keep);
         // 2. the cuts at the current quantiles of the work, when due
         if due {
-            let new = self.rebalanced(st, &work, net)?;
+            let new = self.rebalanced(st, net)?;
             if new != st.slabs {
                 st.stats.rebalances += 1;
             }
             st.slabs = new;
         }
         // 3. migration
-        let coords = self.axis_coords(axis);
         for b in st.sbuf.iter_mut() {
             b.clear();
         }
-        let mut stay = vec![true; coords.len()];
-        for (i, &c) in coords.iter().enumerate() {
-            let o = st.slabs.owner(c);
+        st.keep.clear();
+        for i in 0..self.data.len() {
+            let o = st.slabs.owner(axis_of(&self.data, axis, i));
+            st.keep.push(o == st.rank);
             if o != st.rank {
                 pack_state(&self.data, i, &mut st.sbuf[o]);
-                stay[i] = false;
             }
         }
-        compact_data(&mut self.data, &stay);
+        compact_data(&mut self.data, &st.keep);
         st.stats.values_sent += sent(&st.sbuf, st.rank);
         net.all_to_all(&st.sbuf, &mut st.rbuf)?;
         for (q, b) in st.rbuf.iter().enumerate() {
@@ -300,11 +308,11 @@ impl SphSystem {
         }
         let n_owned = self.data.len();
         // 4. ghosts: every owned particle within the halo width of another slab
-        let coords = self.axis_coords(axis);
         for b in st.sbuf.iter_mut() {
             b.clear();
         }
-        for (i, &c) in coords.iter().enumerate() {
+        for i in 0..n_owned {
+            let c = axis_of(&self.data, axis, i);
             for q in 0..st.size {
                 if q != st.rank && st.slabs.near(q, c, st.width) {
                     pack_state(&self.data, i, &mut st.sbuf[q]);
@@ -339,34 +347,39 @@ impl SphSystem {
     /// The cuts at the quantiles of the current positions weighted by `work` (one value
     /// per owned particle; empty: the kind weights): a histogram over the global extent
     /// summed over the ranks.
-    fn rebalanced(&self, st: &DistState, work: &[f64], net: &mut dyn Transport) -> Result<Slabs> {
-        let coords = self.axis_coords(st.settings.axis);
-        let (lo, hi) = coords
-            .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &c| {
-                (a.min(c), b.max(c))
-            });
+    fn rebalanced(&self, st: &mut DistState, net: &mut dyn Transport) -> Result<Slabs> {
+        let d = &self.data;
+        let axis = st.settings.axis;
+        let (lo, hi) = (0..d.len()).fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), i| {
+            let c = axis_of(d, axis, i);
+            (a.min(c), b.max(c))
+        });
         let mut ext = [-lo, hi];
         net.all_max(&mut ext)?;
         let (lo, hi) = (-ext[0], ext[1]);
         let bins = st.settings.histogram_bins;
-        let mut hist = vec![0.0; bins];
+        st.hist.clear();
+        st.hist.resize(bins, 0.0);
         let db = (hi - lo) / bins as f64;
-        let weights = if work.len() == coords.len() {
-            work.to_vec()
-        } else {
-            self.weights(st.settings.wall_weight)
-        };
-        for (&c, &w) in coords.iter().zip(&weights) {
+        let measured = st.work.len() == d.len();
+        for i in 0..d.len() {
+            let c = axis_of(d, axis, i);
+            let w = if measured {
+                st.work[i]
+            } else if d.kind[i] == FLUID {
+                1.0
+            } else {
+                st.settings.wall_weight
+            };
             let b = if db > 0.0 {
                 ((c - lo) / db) as usize
             } else {
                 0
             };
-            hist[b.min(bins - 1)] += w;
+            st.hist[b.min(bins - 1)] += w;
         }
-        net.all_sum(&mut hist)?;
-        match Slabs::from_histogram(&hist, lo, hi, st.size, st.width) {
+        net.all_sum(&mut st.hist)?;
+        match Slabs::from_histogram(&st.hist, lo, hi, st.size, st.width) {
             Ok(s) => Ok(s),
             // the particles gathered into fewer slabs than ranks: keep the current cuts
             Err(_) => Ok(st.slabs.clone()),
@@ -386,7 +399,7 @@ impl SphSystem {
             _ => &d.z,
         };
         let me = st.rank as u32;
-        let mut pairs: Vec<(u32, u32)> = Vec::new();
+        let pairs = &mut st.pairs;
         for q in 0..st.size {
             pairs.clear();
             if q != st.rank {
@@ -445,6 +458,16 @@ impl SphSystem {
     /// Whether a decomposition is on.
     pub(super) fn distributed(&self) -> bool {
         self.dist.is_some()
+    }
+}
+
+/// The coordinate of slot `i` along `axis`.
+#[inline]
+fn axis_of(d: &crate::data::ParticleData, axis: usize, i: usize) -> f64 {
+    match axis {
+        0 => d.x[i],
+        1 => d.y[i],
+        _ => d.z[i],
     }
 }
 
