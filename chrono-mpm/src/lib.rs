@@ -51,6 +51,7 @@ pub mod material;
 pub mod plate;
 pub mod pressure;
 pub mod rigid;
+pub mod row_markers;
 pub mod soil_bin;
 pub mod vtk;
 pub mod wheel;
