@@ -68,7 +68,7 @@ pub fn placement_gap(p: &ChannelParams) -> f64 {
     0.5 * p.semi_axes.iter().copied().fold(f64::INFINITY, f64::min)
 }
 
-/// The ellipsoids' centres and orientations (see the [module docs](self)); an error
+/// The ellipsoids' centres and orientations (see the [channel module docs](crate::channel)); an error
 /// naming `ellipsoids` when they do not fit.
 pub fn place_ellipsoids(
     p: &ChannelParams,
