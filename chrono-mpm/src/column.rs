@@ -308,15 +308,13 @@ impl Column {
         let grid = *self.body.spec();
         let dx = grid.dx;
         let d = self.spacing;
-        let bulk = spec.young / (3.0 * (1.0 - 2.0 * spec.poisson));
-        let settings = PressureSettings {
-            rest_density: spec.density,
-            spacing: d,
-            dim: 2,
-            compressibility: 1.0 / bulk,
+        let settings = PressureSettings::plane_strain_soil(
+            spec.density,
+            spec.young,
+            spec.poisson,
+            d,
             tolerance,
-            ..PressureSettings::default()
-        };
+        );
         let layers = chrono_core::particles::lattice::wall_layers(settings.h_over_dp);
         let length = grid.cells[0] as f64 * dx;
         let top = grid.origin[2] + grid.cells[2] as f64 * dx;

@@ -256,15 +256,13 @@ impl Footing {
         let grid = *self.body.spec();
         let dx = grid.dx;
         let d = dx / spec.markers_per_cell as f64;
-        let bulk = spec.young / (3.0 * (1.0 - 2.0 * spec.poisson));
-        let settings = PressureSettings {
-            rest_density: spec.density,
-            spacing: d,
-            dim: 2,
-            compressibility: 1.0 / bulk,
+        let settings = PressureSettings::plane_strain_soil(
+            spec.density,
+            spec.young,
+            spec.poisson,
+            d,
             tolerance,
-            ..PressureSettings::default()
-        };
+        );
         let layers = chrono_core::particles::lattice::wall_layers(settings.h_over_dp);
         let width = grid.cells[0] as f64 * dx;
         let top = grid.cells[2] as f64 * dx;

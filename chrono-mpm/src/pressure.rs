@@ -82,6 +82,28 @@ impl Default for PressureSettings {
 }
 
 impl PressureSettings {
+    /// Plane-strain rows (`dim` 2) for a soil of density `density` (kg/m^3) whose bulk
+    /// modulus `K = E / (3 (1 - 2 nu))` (Pa; `young`, `poisson`) is the rows' compliance
+    /// `kappa = 1 / K`, so the rows carry the volumetric elasticity plain MPM would; the
+    /// marker spacing `spacing` (m) and APGD's `tolerance` (m/s), the rest the defaults.
+    pub fn plane_strain_soil(
+        density: f64,
+        young: f64,
+        poisson: f64,
+        spacing: f64,
+        tolerance: f64,
+    ) -> Self {
+        let bulk = young / (3.0 * (1.0 - 2.0 * poisson));
+        Self {
+            rest_density: density,
+            spacing,
+            dim: 2,
+            compressibility: 1.0 / bulk,
+            tolerance,
+            ..Self::default()
+        }
+    }
+
     /// Checks every field; the error names it.
     pub fn validate(&self) -> Result<()> {
         positive("pressure.rest_density", self.rest_density)?;

@@ -306,7 +306,7 @@ impl SphSystem {
             // wall markers keep only their fluid neighbours: no pass reads wall-wall
             // entries (the wall extrapolation sums over fluid neighbours only)
             let keep = |i: usize, j: usize| kind[i] == FLUID || kind[j] == FLUID;
-            if self.active_on() || self.distributed() {
+            if self.masked() {
                 // the active domain: rows for the listed particles only
                 let act = &self.act;
                 self.grid.neighbor_list_rows(
@@ -364,7 +364,7 @@ impl SphSystem {
             &self.motion,
             self.time,
         );
-        let active = self.settings.active_domain.is_some() || self.dist.is_some();
+        let active = self.masked();
         if active {
             ctx.eval = Some(&self.act);
         }
@@ -423,7 +423,7 @@ impl SphSystem {
             &self.motion,
             self.time,
         );
-        if self.settings.active_domain.is_some() || self.dist.is_some() {
+        if self.masked() {
             ctx.eval = Some(&self.act);
         }
         let mut deriv = std::mem::take(&mut self.data.deriv);

@@ -455,9 +455,10 @@ impl SphSystem {
         Ok(())
     }
 
-    /// Whether a decomposition is on.
-    pub(super) fn distributed(&self) -> bool {
-        self.dist.is_some()
+    /// Whether the passes read the activity flags: with the active domain (frozen
+    /// particles) or a decomposition (ghosts carry no flag).
+    pub(super) fn masked(&self) -> bool {
+        self.settings.active_domain.is_some() || self.dist.is_some()
     }
 }
 
