@@ -86,6 +86,15 @@ pub enum ChronoError {
         /// Which quantity and its value against the limit.
         what: String,
     },
+    /// Another rank of a distributed run failed or disagreed ([`crate::distributed`]):
+    /// this rank stops instead of waiting for it.
+    #[error("rank {rank}: {reason}")]
+    Rank {
+        /// The rank that failed.
+        rank: usize,
+        /// What happened there.
+        reason: String,
+    },
     /// The collision library could not handle a pair of shapes.
     #[error("collision between {a} and {b} is not supported: {reason}")]
     Collision {

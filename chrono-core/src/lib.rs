@@ -21,6 +21,7 @@ pub mod contact;
 pub mod curve;
 pub mod density_rows;
 pub mod descriptor;
+pub mod distributed;
 pub mod error;
 pub mod force;
 pub mod granular;

@@ -188,21 +188,21 @@ impl<T: Transport> Transport for Timed<T> {
     fn size(&self) -> usize {
         self.inner.size()
     }
-    fn all_to_all(&mut self, send: &[Vec<f64>], recv: &mut [Vec<f64>]) -> chrono_sph::Result<()> {
+    fn all_to_all(&mut self, send: &[Vec<f64>], recv: &mut [Vec<f64>]) -> chrono_core::Result<()> {
         let t = Instant::now();
         let r = self.inner.all_to_all(send, recv);
         self.seconds += t.elapsed().as_secs_f64();
         self.calls += 1;
         r
     }
-    fn all_max(&mut self, v: &mut [f64]) -> chrono_sph::Result<()> {
+    fn all_max(&mut self, v: &mut [f64]) -> chrono_core::Result<()> {
         let t = Instant::now();
         let r = self.inner.all_max(v);
         self.seconds += t.elapsed().as_secs_f64();
         self.calls += 1;
         r
     }
-    fn all_sum(&mut self, v: &mut [f64]) -> chrono_sph::Result<()> {
+    fn all_sum(&mut self, v: &mut [f64]) -> chrono_core::Result<()> {
         let t = Instant::now();
         let r = self.inner.all_sum(v);
         self.seconds += t.elapsed().as_secs_f64();

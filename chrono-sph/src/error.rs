@@ -71,7 +71,17 @@ pub enum SphError {
     },
     /// An error from chrono-core (grid, kernel, i/o).
     #[error(transparent)]
-    Core(#[from] ChronoError),
+    Core(ChronoError),
+}
+
+impl From<ChronoError> for SphError {
+    /// A failed rank stays [`SphError::Rank`] (the transports live in chrono-core).
+    fn from(e: ChronoError) -> Self {
+        match e {
+            ChronoError::Rank { rank, reason } => SphError::Rank { rank, reason },
+            e => SphError::Core(e),
+        }
+    }
 }
 
 /// Result alias of chrono-sph.

@@ -71,6 +71,27 @@ impl SmcState {
         self.touched_all = false;
     }
 
+    /// The tangential history: each persistent contact's key and displacement `xi` (m,
+    /// world), in key order (for moving contacts between systems: a distributed run).
+    pub(crate) fn history(&self) -> impl Iterator<Item = (ContactKey, Vector3<f64>)> + '_ {
+        self.history.iter().map(|e| (e.key, e.xi))
+    }
+
+    /// Adds history entries (keys not already present, each once; the caller maps the
+    /// colliders) and restores the key order.
+    pub(crate) fn import_history(
+        &mut self,
+        entries: impl IntoIterator<Item = (ContactKey, Vector3<f64>)>,
+    ) {
+        self.history
+            .extend(
+                entries
+                    .into_iter()
+                    .map(|(key, xi)| HistoryEntry { key, index: 0, xi }),
+            );
+        self.history.sort_by_key(|e| (e.key, e.index));
+    }
+
     /// After a body removal: follow the collider renumbering `map` in the tangential
     /// history (entries of removed colliders dropped, see [`ContactKey::remap`]) and forget
     /// the per-body and per-collider caches (rebuilt on the next step).

@@ -4,6 +4,7 @@
 
 mod common;
 mod contact_friction;
+mod distributed_granular;
 mod ellipsoid;
 mod force_elements;
 mod granular_rolling_bed;

@@ -3,7 +3,7 @@
 use std::sync::{Arc, Condvar, Mutex};
 
 use super::Transport;
-use crate::error::{Result, SphError};
+use crate::error::{ChronoError, Result};
 
 #[derive(Debug, Default)]
 struct Gate {
@@ -26,7 +26,7 @@ struct Shared {
 
 /// In-process ranks: each rank is a [`LocalTransport`] used by its own thread. A rank
 /// whose transport is dropped while the others still run makes their next collective
-/// fail with [`SphError::Rank`] naming it (no hang).
+/// fail with [`ChronoError::Rank`] naming it (no hang).
 #[derive(Debug)]
 pub struct LocalTransport {
     rank: usize,
@@ -76,8 +76,8 @@ impl LocalTransport {
     }
 }
 
-fn left(rank: usize) -> SphError {
-    SphError::Rank {
+fn left(rank: usize) -> ChronoError {
+    ChronoError::Rank {
         rank,
         reason: "left the run before the others (its transport was dropped)".into(),
     }

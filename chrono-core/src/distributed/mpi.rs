@@ -7,14 +7,14 @@ use mpi::topology::SimpleCommunicator;
 use mpi::traits::*;
 
 use super::Transport;
-use crate::error::{Result, SphError};
+use crate::error::{ChronoError, Result};
 
 /// The ranks of an MPI communicator. Build it from the world of
 /// `mpi::initialize()` (keep the universe alive for the run):
 ///
 /// ```no_run
 /// let universe = mpi::initialize().expect("MPI");
-/// let mut t = chrono_sph::distributed::MpiTransport::new(universe.world());
+/// let mut t = chrono_core::distributed::MpiTransport::new(universe.world());
 /// ```
 ///
 /// All-to-all: the counts by `MPI_Alltoall`, then the values by `MPI_Alltoallv`; max by
@@ -60,7 +60,7 @@ impl MpiTransport {
 
 fn count(len: usize) -> Result<i32> {
     i32::try_from(len).map_err(|_| {
-        SphError::invalid(
+        ChronoError::invalid(
             "message",
             len,
             "more than i32::MAX values in one MPI message",
