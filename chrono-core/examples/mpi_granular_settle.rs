@@ -227,7 +227,7 @@ fn main() {
             }
             for c in [1, 3, 4] {
                 let d = (x[c] - y[c]).abs() / y[c].abs().max(f64::MIN_POSITIVE);
-                if !(d <= a.tol) {
+                if d.is_nan() || d > a.tol {
                     fail(
                         me,
                         format!(

@@ -555,7 +555,7 @@ impl GrainRanks {
             .map(|k| self.system.bodies.as_slice()[self.base_bodies + k].position[axis])
             .collect();
         let every = self.settings.rebalance_every as u64;
-        if every > 0 && self.stats.rebuilds % every == 0 {
+        if every > 0 && self.stats.rebuilds.is_multiple_of(every) {
             self.rebalance(&coords, me, t)?;
         }
         let mut out: Vec<Vec<f64>> = vec![Vec::new(); n];

@@ -39,7 +39,7 @@
 //! **Global decisions** are reductions: the Verlet criterion (any rank), the time step
 //! (the fastest speed and the largest acceleration over the ranks, so every rank takes
 //! the same `dt`, the one a single process would take), and a failure: a rank whose
-//! particle turned non-finite reports it, the others stop with [`SphError::Rank`]
+//! particle turned non-finite reports it, the others stop with [`SphError::Rank`](crate::SphError::Rank)
 //! naming that rank; no rank waits for one that left.
 //!
 //! **What equals a single process.** Every particle sees the same neighbours with the
