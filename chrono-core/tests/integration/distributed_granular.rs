@@ -136,6 +136,28 @@ fn two_to_four_ranks_reproduce_one_process() {
 }
 
 #[test]
+fn horizontal_slabs_reproduce_one_process_while_grains_fall_through_them() {
+    // cut along z: the falling grains migrate down through the cuts
+    let (n, steps) = (600, 200);
+    let reference = whole(n, steps);
+    let settings = GrainRankSettings {
+        axis: 2,
+        skin_radii: 0.05,
+        rebalance_every: 3,
+        ..GrainRankSettings::default()
+    };
+    let (run, stats) = ranks(n, steps, 3, settings);
+    let worst = compare(&reference, &run);
+    let migrated: u64 = stats.iter().map(|s| s.migrated_in).sum();
+    eprintln!(
+        "3 ranks along z: worst relative difference {worst:.3e}, {} rebuilds, {migrated} migrations",
+        stats[0].rebuilds
+    );
+    assert!(worst <= 1e-9, "{worst:e}");
+    assert!(migrated > 0, "{stats:?}");
+}
+
+#[test]
 fn bad_input_is_named() {
     let one = || LocalTransport::ranks(1).pop().unwrap();
     // NSC
