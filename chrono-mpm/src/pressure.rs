@@ -37,7 +37,19 @@ use rayon::prelude::*;
 use crate::error::{MpmError, Result, invalid, positive};
 use crate::markers::Markers;
 use crate::rigid::RigidBody;
+use crate::timings::lap;
 pub use crate::row_markers::{box_slab_markers, lattice_gradient_moment, slab_wall_markers};
+
+/// The norm over the rows in which [`PressureSettings::tolerance`] is read.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum RowsNorm {
+    /// The root mean square of the rows' projected residual (chrono-ccp's common residual).
+    #[default]
+    Rms,
+    /// The Euclidean norm over all rows (Chrono::Multicore's APGD, `ChSolverMulticoreAPGD`:
+    /// the seed's tolerances), `sqrt(n)` times the RMS for `n` rows.
+    L2,
+}
 
 /// Settings of the split's pressure rows.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -57,8 +69,14 @@ pub struct PressureSettings {
     pub compressibility: f64,
     /// Largest stabilization rate `C / dt` of a compressed marker, 1/s (`> 0`).
     pub max_recovery_rate: f64,
-    /// APGD's tolerance on the rows' velocity residual, m/s (`> 0`).
+    /// APGD's tolerance on the rows' velocity residual, 1/s (`> 0`; the rows' constraint
+    /// velocity `D' v` is a rate of relative density), read by `tolerance_norm`.
     pub tolerance: f64,
+    /// How `tolerance` is read: chrono-ccp's RMS over the rows (the default) or
+    /// Chrono::Multicore's Euclidean norm over all rows (the seed's tolerances,
+    /// `docs/validation-cfluid.md`), for which the solver is given `tolerance / sqrt(n)`
+    /// with `n` the step's rows.
+    pub tolerance_norm: RowsNorm,
     /// APGD's iteration limit per step (`>= 1`).
     pub max_iterations: usize,
     /// The last step's impulses times this factor start the solver, in `[0, 1]`.
@@ -75,6 +93,7 @@ impl Default for PressureSettings {
             compressibility: 0.0,
             max_recovery_rate: 1e3,
             tolerance: 1e-6,
+            tolerance_norm: RowsNorm::Rms,
             max_iterations: 500,
             warm_start_factor: 1.0,
         }
@@ -195,6 +214,9 @@ pub struct PressureRows {
     dv: Vec<[f64; 3]>,
     /// Iterations and residual (m/s) of the last solve.
     last: (usize, f64),
+    /// Wall time, s, of the assembly, the solve and what follows it, summed over steps
+    /// ([`MpmBody::timings`](crate::MpmBody::timings)).
+    pub(crate) timing: [f64; 3],
 }
 
 impl PressureRows {
@@ -265,6 +287,7 @@ impl PressureRows {
             gamma_all: Vec::new(),
             dv: Vec::new(),
             last: (0, 0.0),
+            timing: [0.0; 3],
         })
     }
 
@@ -309,9 +332,26 @@ impl PressureRows {
         self.rho.iter().fold(0.0, |m, r| m.max(r / r0 - 1.0))
     }
 
-    /// APGD's iterations and residual (m/s) at the last step.
+    /// APGD's iterations and residual (RMS, 1/s) at the last step.
     pub fn last_solve(&self) -> (usize, f64) {
         self.last
+    }
+
+    /// The tolerance APGD was given at the last step (RMS, 1/s): `tolerance`, or
+    /// `tolerance / sqrt(n)` under [`RowsNorm::L2`].
+    pub fn solver_tolerance(&self) -> f64 {
+        self.solver.settings().tolerance
+    }
+
+    /// The fixed wall markers.
+    pub fn wall_marker_count(&self) -> usize {
+        self.walls[0].len()
+    }
+
+    /// The rows of the last step's CCP (the markers' and the wall and body markers' with
+    /// neighbours).
+    pub fn rows(&self) -> usize {
+        self.problem.n_rows()
     }
 
     /// Checks the markers against the settings: every `mass / volume0` is the rest density
@@ -460,6 +500,7 @@ impl PressureRows {
         step: u64,
         time: f64,
     ) -> Result<()> {
+        let mut t = std::time::Instant::now();
         let n = markers.len();
         let s = self.settings;
         if let Some(&o) = self.body_owner.iter().find(|&&o| o as usize >= rigid.len()) {
@@ -619,8 +660,15 @@ impl PressureRows {
                 self.gamma_all[self.problem.row_index(*id)] = f * gamma[*k as usize];
             }
         }
+        if s.tolerance_norm == RowsNorm::L2 {
+            // Chrono's Euclidean stop over this step's rows, as chrono-ccp's RMS
+            self.solver.settings_mut().tolerance =
+                s.tolerance / (self.problem.n_rows().max(1) as f64).sqrt();
+        }
+        lap(&mut t, &mut self.timing[0]);
         let stats = self.solver.solve(&self.problem, &mut self.gamma_all);
         self.last = (stats.iterations, stats.residual);
+        lap(&mut t, &mut self.timing[1]);
         self.v.resize(3 * n, 0.0);
         self.problem.velocities(&self.gamma_all, &mut self.v);
         let off = self.vars.offset(first);
@@ -690,6 +738,7 @@ impl PressureRows {
         self.pressure
             .extend((0..n).map(|p| self.gamma[p] * scale / markers.volume0[p]));
         self.smooth_pressure(scale / (markers.volume0.iter().sum::<f64>() / n as f64));
+        lap(&mut t, &mut self.timing[2]);
         Ok(())
     }
 
