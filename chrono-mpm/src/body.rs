@@ -264,7 +264,8 @@ impl MpmBody {
     pub fn timings(&self) -> StepTimings {
         let mut t = self.timings;
         if let Some(rows) = &self.pressure {
-            let [a, s, p] = rows.timing;
+            let [a, s, p, nb] = rows.timing;
+            t.rows_neighbours += nb;
             t.rows_assembly += a;
             t.rows_solve += s;
             t.rows_post += p;
@@ -276,7 +277,7 @@ impl MpmBody {
     pub fn reset_timings(&mut self) {
         self.timings = StepTimings::default();
         if let Some(rows) = &mut self.pressure {
-            rows.timing = [0.0; 3];
+            rows.timing = [0.0; 4];
         }
     }
 

@@ -214,9 +214,9 @@ pub struct PressureRows {
     dv: Vec<[f64; 3]>,
     /// Iterations and residual (m/s) of the last solve.
     last: (usize, f64),
-    /// Wall time, s, of the assembly, the solve and what follows it, summed over steps
-    /// ([`MpmBody::timings`](crate::MpmBody::timings)).
-    pub(crate) timing: [f64; 3],
+    /// Wall time, s, of the assembly, the solve, what follows it and the neighbour search,
+    /// summed over steps ([`MpmBody::timings`](crate::MpmBody::timings)).
+    pub(crate) timing: [f64; 4],
 }
 
 impl PressureRows {
@@ -287,7 +287,7 @@ impl PressureRows {
             gamma_all: Vec::new(),
             dv: Vec::new(),
             last: (0, 0.0),
-            timing: [0.0; 3],
+            timing: [0.0; 4],
         })
     }
 
@@ -529,6 +529,7 @@ impl PressureRows {
         self.grid.build(pos)?;
         self.grid
             .neighbor_list(pos, self.kernel.support(), &mut self.nbrs)?;
+        lap(&mut t, &mut self.timing[3]);
         self.bufs.resize(n, RowBuf::default());
         self.rho.resize(n, 0.0);
         let field = DensityField {

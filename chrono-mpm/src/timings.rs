@@ -15,8 +15,11 @@ pub struct StepTimings {
     pub grid_update: f64,
     /// Grid to particle: the markers' velocity, affine matrix and `dF`, s.
     pub g2p: f64,
-    /// The split's rows, assembly: the neighbour grid and list, densities, row
-    /// coefficients, the variables and the CCP's assembly, the warm start, s.
+    /// The split's rows, neighbour search: the cell grid of the markers and wall markers
+    /// and the neighbour list, s.
+    pub rows_neighbours: f64,
+    /// The split's rows, assembly: densities, row coefficients, the variables and the
+    /// CCP's assembly, the warm start, s.
     pub rows_assembly: f64,
     /// The split's rows, solve: APGD, s.
     pub rows_solve: f64,
@@ -35,6 +38,7 @@ impl StepTimings {
         self.p2g
             + self.grid_update
             + self.g2p
+            + self.rows_neighbours
             + self.rows_assembly
             + self.rows_solve
             + self.rows_post

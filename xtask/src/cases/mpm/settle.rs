@@ -233,6 +233,7 @@ fn run(p: &SettleBenchParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         .metric("share_grid_update", tm.grid_update / total)
         .metric("share_g2p", tm.g2p / total)
         .metric("share_constitutive", tm.constitutive / total)
+        .metric("share_rows_neighbours", tm.rows_neighbours / total)
         .metric("share_rows_assembly", tm.rows_assembly / total)
         .metric("share_rows_solve", tm.rows_solve / total)
         .metric("share_rows_post", tm.rows_post / total)
