@@ -15,8 +15,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let (max, mean) = bed.compression_pct();
         if k % 20 == 0 {
             println!(
-                "step {k}: compression max {max:.4} % mean {mean:.5} %, {} iterations",
-                rows.last_solve().0
+                "step {k}: compression max {max:.4} % mean {mean:.5} %, {} iterations, \
+                 sigma_zz {:.1} Pa",
+                rows.last_solve().0,
+                bed.mean_vertical_stress()
             );
         }
     }

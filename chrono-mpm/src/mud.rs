@@ -72,6 +72,10 @@ pub struct MudSpec {
     pub tolerance_norm: RowsNorm,
     /// APGD's iteration limit per step.
     pub max_iterations: usize,
+    /// The markers' volume ratio `J` from the rows' density
+    /// ([`PressureSettings::volume_from_rows`]; off in [`MudSpec::seed`]: without it `J`
+    /// drifts next to the walls, with it the rows' pressure grows faster, `docs/mpm.md`).
+    pub volume_from_rows: bool,
 }
 
 impl MudSpec {
@@ -94,6 +98,7 @@ impl MudSpec {
             tolerance: 0.1,
             tolerance_norm: RowsNorm::L2,
             max_iterations: 1000,
+            volume_from_rows: false,
         }
     }
 
@@ -207,6 +212,7 @@ impl MudBed {
             tolerance: spec.tolerance,
             tolerance_norm: spec.tolerance_norm,
             max_iterations: spec.max_iterations,
+            volume_from_rows: spec.volume_from_rows,
             ..PressureSettings::default()
         };
         rows.validate()?;

@@ -27,6 +27,7 @@ impl MpmBody {
             )?;
             t = Instant::now();
             rows.add_velocity_gradient(dt, &mut self.df);
+            rows.match_volume(&self.markers, &mut self.df);
             lap(&mut t, &mut rows.timing[2]);
         }
         let mode = self.settings.f_bar;

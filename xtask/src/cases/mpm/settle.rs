@@ -75,6 +75,8 @@ pub struct SettleBenchParams {
     pub aspect: f64,
     /// The mud's extent in x over the box's (1: a bed; less: a slumping block).
     pub block_fraction: f64,
+    /// The markers' volume ratio from the rows' density (`PressureSettings::volume_from_rows`).
+    pub volume_from_rows: bool,
 }
 
 impl Default for SettleBenchParams {
@@ -100,6 +102,7 @@ impl Default for SettleBenchParams {
             markers_per_cell: s.markers_per_cell,
             aspect: s.aspect,
             block_fraction: s.block_fraction,
+            volume_from_rows: s.volume_from_rows,
         }
     }
 }
@@ -133,6 +136,11 @@ impl CaseParams for SettleBenchParams {
             "-",
             "mud extent in x over the box's (1: bed at rest; < 1: a block slumping)",
         ),
+        ParamInfo::new(
+            "volume_from_rows",
+            "-",
+            "markers' J set to the rows' rho_0 / rho each step (default false)",
+        ),
     ];
     fn apply_mode(&mut self, mode: Mode) {
         if mode == Mode::Quick {
@@ -163,6 +171,7 @@ fn run(p: &SettleBenchParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
             ToleranceNorm::Rms => RowsNorm::Rms,
         },
         max_iterations: p.max_iterations,
+        volume_from_rows: p.volume_from_rows,
     };
     let t_build = Instant::now();
     let mut bed = MudBed::new(spec)?;
