@@ -535,8 +535,28 @@ impl PressureRows {
         let n_static = n + self.walls[0].len();
         let pos = [&self.pos[0][..], &self.pos[1][..], &self.pos[2][..]];
         self.grid.build(pos)?;
-        self.grid
-            .neighbor_list(pos, self.kernel.support(), &mut self.nbrs)?;
+        // A wall marker farther than the support from the box around the markers has no
+        // free neighbour, so no row: its list is left empty (it still appears in the
+        // markers' lists). The rows and densities that are used are the same bits.
+        let support = self.kernel.support();
+        let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+        for x in &markers.x {
+            for a in 0..3 {
+                lo[a] = lo[a].min(x[a]);
+                hi[a] = hi[a].max(x[a]);
+            }
+        }
+        let reach = support * (1.0 + 1e-9);
+        let near = |i: usize| {
+            (0..3).all(|a| pos[a][i] >= lo[a] - reach && pos[a][i] <= hi[a] + reach)
+        };
+        self.grid.neighbor_list_rows(
+            pos,
+            support,
+            &mut self.nbrs,
+            |i| i < n || i >= n_static || near(i),
+            |_, _| true,
+        )?;
         lap(&mut t, &mut self.timing[3]);
         self.bufs.resize(n, RowBuf::default());
         self.rho.resize(n, 0.0);

@@ -150,6 +150,18 @@ impl CaseParams for SettleBenchParams {
     }
 }
 
+/// This process's CPU time (user + system, all threads), s, from `/proc/self/stat`
+/// (Linux; `None` elsewhere). At 100 ticks/s: 10 ms resolution.
+fn process_cpu_s() -> Option<f64> {
+    let stat = std::fs::read_to_string("/proc/self/stat").ok()?;
+    // the fields after the command name (which is in parentheses and may hold spaces)
+    let rest = &stat[stat.rfind(')')? + 2..];
+    let f: Vec<&str> = rest.split_whitespace().collect();
+    // utime, stime: fields 14 and 15 of proc(5), i.e. 11 and 12 after the name
+    let ticks: f64 = f.get(11)?.parse::<f64>().ok()? + f.get(12)?.parse::<f64>().ok()?;
+    Some(ticks / 100.0)
+}
+
 fn run(p: &SettleBenchParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     anyhow::ensure!(p.steps > 0, "parameter `steps` must be > 0, got 0");
     let spec = MudSpec {
@@ -184,6 +196,7 @@ fn run(p: &SettleBenchParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     let (mut it_sum, mut it_max, mut at_limit) = (0usize, 0usize, 0u64);
     let (mut err_sum, mut err_max, mut mean_sum, mut n_window) = (0.0, 0.0f64, 0.0, 0u32);
     let mut rows_sum = 0usize;
+    let cpu0 = process_cpu_s();
     let start = Instant::now();
     for k in 0..p.steps {
         bed.step(p.dt)?;
@@ -206,6 +219,7 @@ fn run(p: &SettleBenchParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         ctx.progress_steps(k + 1, p.steps);
     }
     let total = start.elapsed().as_secs_f64();
+    let cpu = cpu0.zip(process_cpu_s()).map(|(a, b)| b - a);
     let tm = bed.body.timings();
     let rows = bed.body.pressure_rows().expect("the bed is in the split");
     let n = bed.body.markers.len() as f64;
@@ -251,6 +265,14 @@ fn run(p: &SettleBenchParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
             "ns_per_row_iteration",
             tm.rows_solve / (it_sum.max(1) as f64 * rows_sum as f64 / steps) * 1e9,
         );
+    if let Some(cpu) = cpu.filter(|c| *c > 0.0) {
+        // the load-independent figure: marker-steps per CPU second of all threads, and
+        // twice it, the rate two idle cores would give at perfect parallel scaling (an
+        // upper bound)
+        out.metric("cpu_s", cpu)
+            .metric("marker_steps_per_cpu_s", n * steps / cpu)
+            .metric("marker_steps_per_s_2_cores_bound", 2.0 * n * steps / cpu);
+    }
     out.steps = p.steps;
     Ok(out)
 }
