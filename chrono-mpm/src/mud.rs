@@ -176,11 +176,8 @@ impl MudBed {
         let [cx, cy, cz] = spec.cells()?;
         let dp = spec.spacing();
         let dx = spec.markers_per_cell as f64 * dp;
-        let material = Material::Corotated(FixedCorotated::snow(
-            spec.young,
-            spec.poisson,
-            spec.snow,
-        )?);
+        let material =
+            Material::Corotated(FixedCorotated::snow(spec.young, spec.poisson, spec.snow)?);
         let grid = GridSpec::new([0.0; 3], [cx, cy, cz + ROOM_CELLS], dx)?
             .with_walls(0, Wall::Separating, Wall::Separating)
             .with_walls(1, Wall::Separating, Wall::Separating)
@@ -193,9 +190,8 @@ impl MudBed {
         let (lx, ly) = (cx as f64 * dx, cy as f64 * dx);
         let depth = cz as f64 * dx;
         // whole marker columns in x for the block
-        let nx_block = ((spec.block_fraction * (cx * spec.markers_per_cell) as f64).round()
-            as usize)
-            .max(1);
+        let nx_block =
+            ((spec.block_fraction * (cx * spec.markers_per_cell) as f64).round() as usize).max(1);
         body.markers.fill_box(
             Vector3::zeros(),
             Vector3::new(nx_block as f64 * dp, ly, depth),

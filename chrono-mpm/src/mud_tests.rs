@@ -13,16 +13,58 @@ fn bad_mud_input_names_the_field() {
     for (spec, field) in [
         (MudSpec { markers: 0, ..s }, "mud.markers"),
         (MudSpec { markers: 100, ..s }, "mud.markers"),
-        (MudSpec { marker_mass: -1.0, ..s }, "mud.marker_mass"),
-        (MudSpec { density: f64::NAN, ..s }, "mud.density"),
-        (MudSpec { markers_per_cell: 0, ..s }, "mud.markers_per_cell"),
+        (
+            MudSpec {
+                marker_mass: -1.0,
+                ..s
+            },
+            "mud.marker_mass",
+        ),
+        (
+            MudSpec {
+                density: f64::NAN,
+                ..s
+            },
+            "mud.density",
+        ),
+        (
+            MudSpec {
+                markers_per_cell: 0,
+                ..s
+            },
+            "mud.markers_per_cell",
+        ),
         (MudSpec { aspect: 0.0, ..s }, "mud.aspect"),
-        (MudSpec { block_fraction: 1.5, ..s }, "mud.block_fraction"),
+        (
+            MudSpec {
+                block_fraction: 1.5,
+                ..s
+            },
+            "mud.block_fraction",
+        ),
         (MudSpec { gravity: 0.0, ..s }, "mud.gravity"),
         // a kernel that does not reach the neighbours
-        (MudSpec { h_over_dp: 0.5, ..s }, "pressure.h_over_dp"),
-        (MudSpec { tolerance: 0.0, ..s }, "pressure.tolerance"),
-        (MudSpec { max_iterations: 0, ..s }, "pressure.max_iterations"),
+        (
+            MudSpec {
+                h_over_dp: 0.5,
+                ..s
+            },
+            "pressure.h_over_dp",
+        ),
+        (
+            MudSpec {
+                tolerance: 0.0,
+                ..s
+            },
+            "pressure.tolerance",
+        ),
+        (
+            MudSpec {
+                max_iterations: 0,
+                ..s
+            },
+            "pressure.max_iterations",
+        ),
         (MudSpec { poisson: 0.5, ..s }, "material.poisson"),
     ] {
         let e = err(spec);

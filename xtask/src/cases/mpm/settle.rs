@@ -21,8 +21,8 @@
 use std::time::Instant;
 
 use chrono_mpm::RowsNorm;
-use chrono_mpm::mud::{MudBed, MudSpec};
 use chrono_mpm::material::SnowHardening;
+use chrono_mpm::mud::{MudBed, MudSpec};
 use serde::{Deserialize, Serialize};
 
 use crate::case::{Case, CaseOutput, Mode, RunContext};
@@ -113,7 +113,11 @@ impl CaseParams for SettleBenchParams {
         ParamInfo::new("dt", "s", "time step (the seed's 1e-3)"),
         ParamInfo::new("warmup_steps", "-", "untimed steps first"),
         ParamInfo::new("steps", "-", "timed steps"),
-        ParamInfo::new("tolerance", "1/s", "rows' solver tolerance (the seed's 1e-1)"),
+        ParamInfo::new(
+            "tolerance",
+            "1/s",
+            "rows' solver tolerance (the seed's 1e-1)",
+        ),
         ParamInfo::new(
             "tolerance_norm",
             "-",
@@ -128,7 +132,11 @@ impl CaseParams for SettleBenchParams {
         ParamInfo::new("theta_s", "-", "critical stretch (the seed's 2.5e-2)"),
         ParamInfo::new("xi", "-", "hardening coefficient (Stomakhin 2013's 10)"),
         ParamInfo::new("h_over_dp", "-", "rows' smoothing length over spacing"),
-        ParamInfo::new("compressibility", "1/Pa", "rows' compliance (0: incompressible)"),
+        ParamInfo::new(
+            "compressibility",
+            "1/Pa",
+            "rows' compliance (0: incompressible)",
+        ),
         ParamInfo::new("markers_per_cell", "-", "markers per grid cell and axis"),
         ParamInfo::new("aspect", "-", "bed width over depth (x and y)"),
         ParamInfo::new(
@@ -250,7 +258,10 @@ fn run(p: &SettleBenchParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         .metric("density_error_max_pct", err_max)
         .metric("mean_compression_pct", mean_sum / f64::from(n_window))
         .metric("seed_density_error_pct", SEED_DENSITY_ERROR_PCT)
-        .metric("mean_sigma_zz_over_hydrostatic", -bed.mean_vertical_stress() / hydro)
+        .metric(
+            "mean_sigma_zz_over_hydrostatic",
+            -bed.mean_vertical_stress() / hydro,
+        )
         .metric("kinetic_energy", bed.body.kinetic_energy())
         .metric("share_p2g", tm.p2g / total)
         .metric("share_grid_update", tm.grid_update / total)
