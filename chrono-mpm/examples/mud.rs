@@ -1,19 +1,20 @@
 //! The seed's mud bed settling in a box by the split (`chrono_mpm::mud`): prints the
 //! density error, the solver's iterations and the vertical stress against `rho g H / 2`.
 //!
-//! `cargo run --release -p chrono-mpm --example mud [markers [steps]]`
+//! `cargo run --release -p chrono-mpm --example mud [markers [steps [dt]]]`
 
 use chrono_mpm::mud::{MudBed, MudSpec};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let arg = |i: usize, d: usize| std::env::args().nth(i).map_or(Ok(d), |s| s.parse());
     let mut bed = MudBed::new(MudSpec::seed(arg(1, 4000)?))?;
+    let dt: f64 = std::env::args().nth(3).map_or(Ok(1e-3), |s| s.parse())?;
     let start = std::time::Instant::now();
     for k in 1..=arg(2, 200)? {
-        bed.step(1e-3)?;
+        bed.step(dt)?;
         let rows = bed.body.pressure_rows().ok_or("no rows")?;
         let (max, mean) = bed.compression_pct();
-        if k % 20 == 0 {
+        if k % 50 == 0 {
             println!(
                 "step {k}: compression max {max:.4} % mean {mean:.5} %, {} iterations, \
                  sigma_zz {:.1} Pa",

@@ -34,7 +34,7 @@ use chrono_core::particles::{CellGrid, GridConfig, Kernel, KernelKind, NeighborL
 
 use rayon::prelude::*;
 
-use crate::error::{MpmError, Result, invalid, positive};
+use crate::error::{MpmError, Result, invalid};
 use crate::markers::Markers;
 use crate::rigid::RigidBody;
 pub use crate::row_markers::{box_slab_markers, lattice_gradient_moment, slab_wall_markers};
