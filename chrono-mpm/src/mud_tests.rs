@@ -125,8 +125,9 @@ fn mud_bed_carries_its_weight_at_the_seeds_tolerance() {
 }
 
 /// Not met (issue 25, `docs/mpm.md` "The mud bench"): held longer, the bed does not stay
-/// in equilibrium: the rows' pressure and MPM's deviator grow against each other next to
-/// the walls (at 864 markers the mean `sigma_zz` is 1.34 x the weight's at 0.2 s, the
+/// in equilibrium: the rows' pressure and MPM's deviator grow against each other (a
+/// growing mode of the split's coupling at rest; a purely elastic bed grows without
+/// bound) (at 864 markers the mean `sigma_zz` is 1.34 x the weight's at 0.2 s, the
 /// snow hardening then raises the shear wave speed until 1 ms exceeds the explicit limit
 /// at 0.36 s). Kept as the reproducer: `cargo test --release -p chrono-mpm --lib
 /// mud_bed_stays -- --ignored`.
