@@ -34,6 +34,8 @@ use crate::markers::Markers;
 use crate::material::Material;
 use crate::pressure::{PressureRows, PressureSettings};
 use crate::rigid::RigidBody;
+use crate::timings::{StepTimings, lap};
+use std::time::Instant;
 
 mod g2p;
 mod rigid_update;
@@ -120,6 +122,8 @@ pub struct MpmBody {
     flip: f64,
     /// The split's pressure rows ([`MpmBody::set_pressure_rows`]); `None`: plain MPM.
     pressure: Option<Box<PressureRows>>,
+    /// Wall time of the step's parts ([`MpmBody::timings`]).
+    timings: StepTimings,
     steps: u64,
     time: f64,
 }
@@ -167,6 +171,7 @@ impl MpmBody {
             nodal_dj: Vec::new(),
             flip: 0.0,
             pressure: None,
+            timings: StepTimings::default(),
             steps: 0,
             time: 0.0,
         })
@@ -254,6 +259,28 @@ impl MpmBody {
         self.pressure.as_deref()
     }
 
+    /// Wall time of the parts of the steps since the last [`MpmBody::reset_timings`]
+    /// (the split's rows in three parts; zero there in plain MPM).
+    pub fn timings(&self) -> StepTimings {
+        let mut t = self.timings;
+        if let Some(rows) = &self.pressure {
+            let [a, s, p, nb] = rows.timing;
+            t.rows_neighbours += nb;
+            t.rows_assembly += a;
+            t.rows_solve += s;
+            t.rows_post += p;
+        }
+        t
+    }
+
+    /// Zeroes the [`MpmBody::timings`] (e.g. after a warm-up).
+    pub fn reset_timings(&mut self) {
+        self.timings = StepTimings::default();
+        if let Some(rows) = &mut self.pressure {
+            rows.timing = [0.0; 4];
+        }
+    }
+
     /// The sparse grid of the last step (active blocks, node masses).
     pub fn grid(&self) -> &SparseGrid {
         &self.grid
@@ -326,8 +353,11 @@ impl MpmBody {
         for (k, r) in self.rigid.iter().enumerate() {
             r.check(k)?;
         }
+        let mut t = Instant::now();
         self.p2g(dt);
+        lap(&mut t, &mut self.timings.p2g);
         self.grid_update(dt);
+        lap(&mut t, &mut self.timings.grid_update);
         self.g2p(dt)?;
         for r in &mut self.rigid {
             r.position += r.velocity * dt;

@@ -21,6 +21,7 @@
 //! - [`footing`]: a rigid strip footing pushed into cohesive soil (Prandtl's problem);
 //! - [`column`](mod@column): a granular column collapsing on a rough floor (Lube et al. 2005,
 //!   Lajeunesse et al. 2005);
+//! - [`mud`]: the seed's mud bed in a box by the split (the mud bench, issue 25);
 //! - [`soil_bin`]: a sand layer under gravity in its geostatic state (plane strain);
 //! - [`plate`]: plate sinkage on it and Bekker's pressure–sinkage law fitted to two widths;
 //! - [`wheel`]: a rigid wheel driven at fixed slip under a vertical load, two-way
@@ -28,6 +29,7 @@
 //! - [`pressure`]: the split's pressure, density rows on the markers (chrono-core's
 //!   `density_rows`) solved by APGD, with wall and rigid-body markers;
 //! - [`bar`]: the axially vibrating elastic bar, a scene for validation;
+//! - [`timings`]: wall time of the parts of a step (benches);
 //! - [`vtk`]: VTP frames of the markers (stress, `J_E`, `J_P`, plastic strain).
 //!
 //! Two modes: plain MPM (the full stress by MPM, the default) and the seed's split
@@ -48,14 +50,18 @@ pub mod footing;
 pub mod grid;
 pub mod markers;
 pub mod material;
+pub mod mud;
 pub mod plate;
 pub mod pressure;
 pub mod rigid;
 pub mod row_markers;
 pub mod soil_bin;
+pub mod timings;
 pub mod vtk;
 pub mod wheel;
 
+#[cfg(test)]
+mod mud_tests;
 #[cfg(test)]
 mod split_tests;
 #[cfg(test)]
@@ -69,5 +75,6 @@ pub use markers::Markers;
 pub use material::{
     DruckerPrager, Elasticity, FixedCorotated, Material, MuI, SnowHardening, VonMises,
 };
-pub use pressure::{PressureRows, PressureSettings};
+pub use pressure::{PressureRows, PressureSettings, RowsNorm};
 pub use rigid::{Contact, RigidBody, Shape};
+pub use timings::StepTimings;

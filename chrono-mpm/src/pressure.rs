@@ -34,113 +34,14 @@ use chrono_core::particles::{CellGrid, GridConfig, Kernel, KernelKind, NeighborL
 
 use rayon::prelude::*;
 
-use crate::error::{MpmError, Result, invalid, positive};
+use crate::error::{MpmError, Result, invalid};
 use crate::markers::Markers;
 use crate::rigid::RigidBody;
 pub use crate::row_markers::{box_slab_markers, lattice_gradient_moment, slab_wall_markers};
+use crate::timings::lap;
 
-/// Settings of the split's pressure rows.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct PressureSettings {
-    /// Rest density `rho_0` of the markers, kg/m^3 (every marker's `mass / volume0`).
-    pub rest_density: f64,
-    /// Spacing `dp` of the markers' initial lattice, m (`dx / 2` for 2 markers per cell).
-    pub spacing: f64,
-    /// Smoothing length over spacing, `h_k / dp` (kernel support `2 h_k`; Wendland C2).
-    pub h_over_dp: f64,
-    /// Kernel dimension: 3, or 2 for a plane-strain slab one marker layer thick (the sums
-    /// in the slab's plane).
-    pub dim: u32,
-    /// Compressibility `kappa = 1 / K`, 1/Pa (`>= 0`): the rows' compliance, the bulk
-    /// modulus of the material (`K = lambda + 2 mu / 3` reproduces plain MPM's volumetric
-    /// elasticity to first order); 0 is incompressible.
-    pub compressibility: f64,
-    /// Largest stabilization rate `C / dt` of a compressed marker, 1/s (`> 0`).
-    pub max_recovery_rate: f64,
-    /// APGD's tolerance on the rows' velocity residual, m/s (`> 0`).
-    pub tolerance: f64,
-    /// APGD's iteration limit per step (`>= 1`).
-    pub max_iterations: usize,
-    /// The last step's impulses times this factor start the solver, in `[0, 1]`.
-    pub warm_start_factor: f64,
-}
-
-impl Default for PressureSettings {
-    fn default() -> Self {
-        Self {
-            rest_density: 1000.0,
-            spacing: 0.05,
-            h_over_dp: 1.2,
-            dim: 3,
-            compressibility: 0.0,
-            max_recovery_rate: 1e3,
-            tolerance: 1e-6,
-            max_iterations: 500,
-            warm_start_factor: 1.0,
-        }
-    }
-}
-
-impl PressureSettings {
-    /// Plane-strain rows (`dim` 2) for a soil of density `density` (kg/m^3) whose bulk
-    /// modulus `K = E / (3 (1 - 2 nu))` (Pa; `young`, `poisson`) is the rows' compliance
-    /// `kappa = 1 / K`, so the rows carry the volumetric elasticity plain MPM would; the
-    /// marker spacing `spacing` (m) and APGD's `tolerance` (m/s), the rest the defaults.
-    pub fn plane_strain_soil(
-        density: f64,
-        young: f64,
-        poisson: f64,
-        spacing: f64,
-        tolerance: f64,
-    ) -> Self {
-        let bulk = young / (3.0 * (1.0 - 2.0 * poisson));
-        Self {
-            rest_density: density,
-            spacing,
-            dim: 2,
-            compressibility: 1.0 / bulk,
-            tolerance,
-            ..Self::default()
-        }
-    }
-
-    /// Checks every field; the error names it.
-    pub fn validate(&self) -> Result<()> {
-        positive("pressure.rest_density", self.rest_density)?;
-        positive("pressure.spacing", self.spacing)?;
-        positive("pressure.h_over_dp", self.h_over_dp)?;
-        if !(0.8..=3.0).contains(&self.h_over_dp) {
-            return Err(invalid(
-                "pressure.h_over_dp",
-                self.h_over_dp,
-                "must be in [0.8, 3]",
-            ));
-        }
-        if !(self.dim == 2 || self.dim == 3) {
-            return Err(invalid("pressure.dim", self.dim, "must be 2 or 3"));
-        }
-        if !(self.compressibility.is_finite() && self.compressibility >= 0.0) {
-            return Err(invalid(
-                "pressure.compressibility",
-                self.compressibility,
-                "must be finite and >= 0",
-            ));
-        }
-        positive("pressure.max_recovery_rate", self.max_recovery_rate)?;
-        positive("pressure.tolerance", self.tolerance)?;
-        if self.max_iterations == 0 {
-            return Err(invalid("pressure.max_iterations", 0, "must be >= 1"));
-        }
-        if !(0.0..=1.0).contains(&self.warm_start_factor) {
-            return Err(invalid(
-                "pressure.warm_start_factor",
-                self.warm_start_factor,
-                "must be in [0, 1]",
-            ));
-        }
-        Ok(())
-    }
-}
+mod settings;
+pub use settings::{PressureSettings, RowsNorm};
 
 /// The pressure rows of an MPM body in the split mode (see the module documentation).
 #[derive(Clone, Debug)]
@@ -195,6 +96,9 @@ pub struct PressureRows {
     dv: Vec<[f64; 3]>,
     /// Iterations and residual (m/s) of the last solve.
     last: (usize, f64),
+    /// Wall time, s, of the assembly, the solve, what follows it and the neighbour search,
+    /// summed over steps ([`MpmBody::timings`](crate::MpmBody::timings)).
+    pub(crate) timing: [f64; 4],
 }
 
 impl PressureRows {
@@ -265,6 +169,7 @@ impl PressureRows {
             gamma_all: Vec::new(),
             dv: Vec::new(),
             last: (0, 0.0),
+            timing: [0.0; 4],
         })
     }
 
@@ -309,9 +214,26 @@ impl PressureRows {
         self.rho.iter().fold(0.0, |m, r| m.max(r / r0 - 1.0))
     }
 
-    /// APGD's iterations and residual (m/s) at the last step.
+    /// APGD's iterations and residual (RMS, 1/s) at the last step.
     pub fn last_solve(&self) -> (usize, f64) {
         self.last
+    }
+
+    /// The tolerance APGD was given at the last step (RMS, 1/s): `tolerance`, or
+    /// `tolerance / sqrt(n)` under [`RowsNorm::L2`].
+    pub fn solver_tolerance(&self) -> f64 {
+        self.solver.settings().tolerance
+    }
+
+    /// The fixed wall markers.
+    pub fn wall_marker_count(&self) -> usize {
+        self.walls[0].len()
+    }
+
+    /// The rows of the last step's CCP (the markers' and the wall and body markers' with
+    /// neighbours).
+    pub fn rows(&self) -> usize {
+        self.problem.n_rows()
     }
 
     /// Checks the markers against the settings: every `mass / volume0` is the rest density
@@ -460,6 +382,7 @@ impl PressureRows {
         step: u64,
         time: f64,
     ) -> Result<()> {
+        let mut t = std::time::Instant::now();
         let n = markers.len();
         let s = self.settings;
         if let Some(&o) = self.body_owner.iter().find(|&&o| o as usize >= rigid.len()) {
@@ -486,8 +409,28 @@ impl PressureRows {
         let n_static = n + self.walls[0].len();
         let pos = [&self.pos[0][..], &self.pos[1][..], &self.pos[2][..]];
         self.grid.build(pos)?;
-        self.grid
-            .neighbor_list(pos, self.kernel.support(), &mut self.nbrs)?;
+        // A wall marker farther than the support from the box around the markers has no
+        // free neighbour, so no row: its list is left empty (it still appears in the
+        // markers' lists). The rows and densities that are used are the same bits.
+        let support = self.kernel.support();
+        let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+        for x in &markers.x {
+            for a in 0..3 {
+                lo[a] = lo[a].min(x[a]);
+                hi[a] = hi[a].max(x[a]);
+            }
+        }
+        let reach = support * (1.0 + 1e-9);
+        let near =
+            |i: usize| (0..3).all(|a| pos[a][i] >= lo[a] - reach && pos[a][i] <= hi[a] + reach);
+        self.grid.neighbor_list_rows(
+            pos,
+            support,
+            &mut self.nbrs,
+            |i| i < n || i >= n_static || near(i),
+            |_, _| true,
+        )?;
+        lap(&mut t, &mut self.timing[3]);
         self.bufs.resize(n, RowBuf::default());
         self.rho.resize(n, 0.0);
         let field = DensityField {
@@ -619,8 +562,15 @@ impl PressureRows {
                 self.gamma_all[self.problem.row_index(*id)] = f * gamma[*k as usize];
             }
         }
+        if s.tolerance_norm == RowsNorm::L2 {
+            // Chrono's Euclidean stop over this step's rows, as chrono-ccp's RMS
+            self.solver.settings_mut().tolerance =
+                s.tolerance / (self.problem.n_rows().max(1) as f64).sqrt();
+        }
+        lap(&mut t, &mut self.timing[0]);
         let stats = self.solver.solve(&self.problem, &mut self.gamma_all);
         self.last = (stats.iterations, stats.residual);
+        lap(&mut t, &mut self.timing[1]);
         self.v.resize(3 * n, 0.0);
         self.problem.velocities(&self.gamma_all, &mut self.v);
         let off = self.vars.offset(first);
@@ -690,6 +640,7 @@ impl PressureRows {
         self.pressure
             .extend((0..n).map(|p| self.gamma[p] * scale / markers.volume0[p]));
         self.smooth_pressure(scale / (markers.volume0.iter().sum::<f64>() / n as f64));
+        lap(&mut t, &mut self.timing[2]);
         Ok(())
     }
 
@@ -723,6 +674,32 @@ impl PressureRows {
                     den += w;
                 }
                 *out = num / den;
+            });
+    }
+
+    /// Scales each marker's increment `dF_p` (after [`Self::add_velocity_gradient`]) so
+    /// that the trial `J = det(dF_p F_E F_P)` is the rows' volume ratio at the step's
+    /// start, `rho_0 / rho_p`: `dF_p <- (J_rows / J_trial)^(1/3) dF_p`, an isotropic
+    /// factor, so the deviatoric part of the increment is kept (as F-bar with the rows'
+    /// density as the volume measure). Only with
+    /// [`PressureSettings::volume_from_rows`]; a non-positive `J_trial` is left for the
+    /// return mapping to report.
+    pub fn match_volume(&self, markers: &Markers, df: &mut [nalgebra::Matrix3<f64>]) {
+        if !self.settings.volume_from_rows {
+            return;
+        }
+        let r0 = self.settings.rest_density;
+        let rho = &self.rho;
+        df[..rho.len()]
+            .par_iter_mut()
+            .enumerate()
+            .for_each(|(p, df)| {
+                let j =
+                    df.determinant() * markers.fe[p].determinant() * markers.fp[p].determinant();
+                let target = r0 / rho[p];
+                if j > 0.0 && target.is_finite() && target > 0.0 {
+                    *df *= (target / j).cbrt();
+                }
             });
     }
 

@@ -360,7 +360,13 @@ impl CcpProblem {
             let (minv, ent_coef, tr_ent) = (&self.minv, &self.ent_coef, &tr_ent);
             let copy = |(k, out): (usize, &mut [f64])| {
                 let src = ent_coef[tr_ent[t0 + k] as usize] as usize;
-                out.copy_from_slice(&minv[src..src + out.len()]);
+                // a particle's 3 values as one fixed-size move (not a library call per
+                // entry: density rows have ~60 entries a row)
+                if let Ok(o) = <&mut [f64; 3]>::try_from(&mut *out) {
+                    *o = minv[src..src + 3].try_into().expect("3");
+                } else {
+                    out.copy_from_slice(&minv[src..src + out.len()]);
+                }
             };
             let slots = &mut self.tr_minv[c0..c1];
             if par {

@@ -67,6 +67,18 @@ impl CcpProblem {
                 }
                 return;
             }
+            if let Ok(out) = <&mut [f64; 3]>::try_from(&mut *out) {
+                // A particle (density rows, MPM markers): fixed-size columns, the same
+                // sums in the same order as below.
+                for (&t, col) in self.tr_row[t0..t1].iter().zip(c.chunks_exact(3)) {
+                    let g = gamma[t as usize];
+                    let col: &[f64; 3] = col.try_into().expect("3");
+                    for k in 0..3 {
+                        out[k] += g * col[k];
+                    }
+                }
+                return;
+            }
             for (t, col) in (t0..t1).zip(c.chunks_exact(nd)) {
                 let g = gamma[self.tr_row[t] as usize];
                 for (o, x) in out.iter_mut().zip(col) {

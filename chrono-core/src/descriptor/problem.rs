@@ -426,6 +426,17 @@ impl CcpProblem {
                 }
                 continue;
             }
+            // A particle's 3 dof with no zero span trimmed off (density rows, MPM
+            // markers): unrolled, the same sums in the same order as below.
+            if c1 - c0 == 3
+                && self.ent_span[e] == [0, 3]
+                && let (Some(c), Some(x)) = (self.coefs.get(c0..c0 + 3), v.get(off..off + 3))
+            {
+                s += c[0] * x[0];
+                s += c[1] * x[1];
+                s += c[2] * x[2];
+                continue;
+            }
             let (a0, a1) = self.nonzero_span(e);
             let x = &v[off + (a0 - c0)..off + (a1 - c0)];
             for (c, x) in self.coefs[a0..a1].iter().zip(x) {

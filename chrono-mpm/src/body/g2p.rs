@@ -10,9 +10,11 @@ impl MpmBody {
     /// Grid to particle: velocity, affine matrix, deformation gradient (with the F-bar
     /// average when set, then the return mapping) and position.
     pub(crate) fn g2p(&mut self, dt: f64) -> Result<()> {
+        let mut t = Instant::now();
         self.g2p_velocity(dt);
         self.status.clear();
         self.status.resize(self.markers.len(), 0);
+        lap(&mut t, &mut self.timings.g2p);
         if let Some(rows) = self.pressure.as_mut().filter(|_| dt > 0.0) {
             // the split: the pressure rows correct the markers' velocities (and the step's
             // velocity gradient) before F_E is updated and the markers move
@@ -23,7 +25,10 @@ impl MpmBody {
                 self.steps,
                 self.time,
             )?;
+            t = Instant::now();
             rows.add_velocity_gradient(dt, &mut self.df);
+            rows.match_volume(&self.markers, &mut self.df);
+            lap(&mut t, &mut rows.timing[2]);
         }
         let mode = self.settings.f_bar;
         if matches!(mode, FBar::Increment | FBar::Total) {
@@ -39,8 +44,11 @@ impl MpmBody {
         if mode == FBar::PlasticIncrement {
             self.f_bar_plastic();
         }
+        lap(&mut t, &mut self.timings.constitutive);
         self.advect(dt);
-        self.check_status()
+        let r = self.check_status();
+        lap(&mut t, &mut self.timings.advect);
+        r
     }
 
     /// `v_p = sum_i w_ip v_i`, `C_p = 4/dx^2 sum_i w_ip v_i (x_i - x_p)^T` and the increment

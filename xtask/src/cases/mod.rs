@@ -140,6 +140,7 @@ pub fn all_benches() -> Vec<Box<dyn Case>> {
         granular::settle::bench(),
         ccp::apply_n::case(),
         sph::bench::bench(),
+        mpm::settle::bench(),
         // Only with `--features rapier` (`cargo xtask-rapier`): the default build does not
         // compile rapier.
         #[cfg(feature = "rapier")]
