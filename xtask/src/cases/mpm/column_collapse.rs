@@ -231,7 +231,7 @@ impl CaseParams for ColumnParams {
         ),
         ParamInfo::new(
             "rows_tolerance",
-            "m/s",
+            "1/s",
             "APGD's tolerance on the rows' velocity residual with pressure = rows",
         ),
     ];

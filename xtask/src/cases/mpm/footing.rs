@@ -163,7 +163,7 @@ impl CaseParams for FootingParams {
         ),
         ParamInfo::new(
             "rows_tolerance",
-            "m/s",
+            "1/s",
             "APGD's tolerance on the rows' velocity residual with pressure = rows",
         ),
     ];
