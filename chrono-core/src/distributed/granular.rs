@@ -137,6 +137,8 @@ pub struct GrainRankStats {
 
 /// One rank of a distributed SMC granular system (see the module docs).
 pub struct GrainRanks {
+    /// This rank.
+    me: usize,
     settings: GrainRankSettings,
     slabs: Slabs,
     system: System,
@@ -367,6 +369,7 @@ impl GrainRanks {
         let handles: Vec<BodyHandle> = whole.bodies.handles().skip(base_bodies).collect();
         let n = t.size();
         let mut ranks = Self {
+            me,
             settings,
             slabs,
             system: {
@@ -414,15 +417,20 @@ impl GrainRanks {
         self.stats
     }
 
+    /// This rank, `0..size`.
+    pub fn rank(&self) -> usize {
+        self.me
+    }
+
     /// Whether local grain `k` (grain order) is owned here.
-    fn owns(&self, k: usize, me: usize) -> bool {
-        self.owner[k] == me
+    fn owns(&self, k: usize) -> bool {
+        self.owner[k] == self.me
     }
 
     /// The grains this rank owns: `(global id, body)`, in grain order.
-    pub fn owned(&self, me: usize) -> impl Iterator<Item = (u64, &RigidBody)> + '_ {
+    pub fn owned(&self) -> impl Iterator<Item = (u64, &RigidBody)> + '_ {
         (0..self.ids.len())
-            .filter(move |&k| self.owns(k, me))
+            .filter(move |&k| self.owns(k))
             .map(move |k| {
                 let b = &self.system.bodies.as_slice()[self.base_bodies + k];
                 (self.ids[k], b)
@@ -433,9 +441,9 @@ impl GrainRanks {
     /// other ranks' ghost copies see the change after the next step's refresh, so their
     /// contacts with it use the old state for that step: change grains before the first
     /// step (or accept one step's lag).
-    pub fn grain_mut(&mut self, id: u64, me: usize) -> Option<&mut RigidBody> {
+    pub fn grain_mut(&mut self, id: u64) -> Option<&mut RigidBody> {
         let k = self.ids.binary_search(&id).ok()?;
-        if !self.owns(k, me) {
+        if !self.owns(k) {
             return None;
         }
         self.system.body_mut(self.handles[k]).ok()
@@ -443,15 +451,15 @@ impl GrainRanks {
 
     /// Sums over every rank's owned grains (a collective).
     pub fn summary(&self, t: &mut dyn Transport) -> Result<GrainSummary> {
-        let me = t.rank();
         let mut ke = 0.0;
         let mut count = 0usize;
         let mut top = f64::NEG_INFINITY;
-        for (_, b) in self.owned(me) {
+        for (_, b) in self.owned() {
             ke += b.kinetic_energy();
             count += 1;
-            let r = grain_sphere(b).map_or(0.0, |s| s.0);
-            top = top.max(b.position.z + r);
+            let (r, pose, _) = grain_sphere(b).expect("a grain");
+            let centre = b.position + b.rotation * pose.translation.vector;
+            top = top.max(centre.z + r);
         }
         let mut sums = [count as f64, ke];
         t.all_sum(&mut sums)?;
@@ -469,6 +477,17 @@ impl GrainRanks {
     /// grain moved half the skin.
     pub fn step(&mut self, h: f64, t: &mut dyn Transport) -> Result<StepReport> {
         let me = t.rank();
+        if me != self.me || t.size() != self.send.len() {
+            return Err(ChronoError::invalid(
+                "transport",
+                format!("rank {me} of {}", t.size()),
+                format!(
+                    "not the transport this rank was built with (rank {} of {})",
+                    self.me,
+                    self.send.len()
+                ),
+            ));
+        }
         let step = self.system.step_count;
         let result = self.system.step(h);
         let axis = self.settings.axis;
@@ -556,13 +575,13 @@ impl GrainRanks {
             .collect();
         let every = self.settings.rebalance_every as u64;
         if every > 0 && self.stats.rebuilds.is_multiple_of(every) {
-            self.rebalance(&coords, me, t)?;
+            self.rebalance(&coords, t)?;
         }
         let mut out: Vec<Vec<f64>> = vec![Vec::new(); n];
         let mut hist: Vec<Vec<f64>> = vec![Vec::new(); n];
         let bodies = self.system.bodies.as_slice();
         for (k, &c) in coords.iter().enumerate() {
-            if !self.owns(k, me) {
+            if !self.owns(k) {
                 continue;
             }
             let owner = self.slabs.owner(c);
@@ -578,7 +597,7 @@ impl GrainRanks {
         let local = |c: u32| -> Option<usize> { (c as usize).checked_sub(base) };
         for (key, xi) in self.system.smc.history() {
             let (a, b) = (local(key.collider_a), local(key.collider_b));
-            let mine = [a, b].iter().flatten().any(|&k| self.owns(k, me));
+            let mine = [a, b].iter().flatten().any(|&k| self.owns(k));
             if !mine {
                 continue;
             }
@@ -610,7 +629,7 @@ impl GrainRanks {
         t.all_to_all(&out, &mut recs)?;
         t.all_to_all(&hist, &mut hrecv)?;
         let before: Vec<u64> = (0..self.ids.len())
-            .filter(|&k| self.owns(k, me))
+            .filter(|&k| self.owns(k))
             .map(|k| self.ids[k])
             .collect();
         // drop the grains (the last first: no body moves), then add the new set
@@ -618,7 +637,7 @@ impl GrainRanks {
         self.system.remove_bodies(&tail)?;
         self.install(me, &recs, &hrecv)?;
         self.stats.migrated_in += (0..self.ids.len())
-            .filter(|&k| self.owns(k, me) && before.binary_search(&self.ids[k]).is_err())
+            .filter(|&k| self.owns(k) && before.binary_search(&self.ids[k]).is_err())
             .count() as u64;
         self.check_count(t)?;
         self.stats.rebuild_seconds += t0.elapsed().as_secs_f64();
@@ -626,9 +645,9 @@ impl GrainRanks {
     }
 
     /// Cuts at the quantiles of the owned grains' coordinates (a collective).
-    fn rebalance(&mut self, coords: &[f64], me: usize, t: &mut dyn Transport) -> Result<()> {
+    fn rebalance(&mut self, coords: &[f64], t: &mut dyn Transport) -> Result<()> {
         let owned: Vec<f64> = (0..coords.len())
-            .filter(|&k| self.owns(k, me))
+            .filter(|&k| self.owns(k))
             .map(|k| coords[k])
             .collect();
         let mut ext = [f64::NEG_INFINITY, f64::NEG_INFINITY];

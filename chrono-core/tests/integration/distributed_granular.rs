@@ -72,9 +72,9 @@ fn ranks(
                         g.step(h, &mut t).unwrap();
                         hist.push(g.summary(&mut t).unwrap());
                     }
-                    let me = t.rank();
+                    assert_eq!(g.rank(), t.rank());
                     let end: Vec<_> = g
-                        .owned(me)
+                        .owned()
                         .map(|(id, b)| (id, b.position(), b.linear_velocity()))
                         .collect();
                     (hist, end, g.stats())
@@ -213,6 +213,12 @@ fn bad_input_is_named() {
     .unwrap_err()
     .to_string();
     assert!(e.contains("skin_radii"), "{e}");
+    // stepped with another decomposition's transport
+    let (sys, h) = scene(50, ContactMethod::Smc);
+    let mut g = GrainRanks::new(sys, GrainRankSettings::default(), &mut one()).unwrap();
+    let mut other = LocalTransport::ranks(2).swap_remove(0);
+    let e = g.step(h, &mut other).unwrap_err().to_string();
+    assert!(e.contains("transport"), "{e}");
 }
 
 #[test]
@@ -227,8 +233,8 @@ fn a_failing_rank_is_named_by_the_others() {
                     let me = t.rank();
                     for k in 0..20 {
                         if k == 5 && me == 1 {
-                            let id = g.owned(me).next().unwrap().0;
-                            g.grain_mut(id, me)
+                            let id = g.owned().next().unwrap().0;
+                            g.grain_mut(id)
                                 .unwrap()
                                 .set_linear_velocity(Vector3::new(1e9, 0.0, 0.0))
                                 .unwrap();
