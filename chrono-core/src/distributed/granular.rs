@@ -335,16 +335,15 @@ impl GrainRanks {
             .collect();
         let slabs = Slabs::balanced(&coords, &vec![1.0; total], t.size(), halo)?;
         let me = t.rank();
-        // this rank's grains: records straight from the whole scene
+        // this rank's grains (owned and ghosts): records straight from the whole scene
+        let keep: Vec<bool> = coords.iter().map(|&c| slabs.near(me, c, halo)).collect();
         let mut records = Vec::new();
         for (g, b) in bodies[base_bodies..].iter().enumerate() {
-            let c = b.position[settings.axis];
-            if slabs.near(me, c, halo) {
-                push_record(&mut records, g as u64, slabs.owner(c), b);
+            if keep[g] {
+                push_record(&mut records, g as u64, slabs.owner(coords[g]), b);
             }
         }
         // the whole scene's history among the grains this rank keeps
-        let keep: Vec<bool> = coords.iter().map(|&c| slabs.near(me, c, halo)).collect();
         let history: Vec<f64> = whole
             .smc
             .history()

@@ -24,6 +24,17 @@ fn scene(n: usize, method: ContactMethod) -> (System, f64) {
     .unwrap()
 }
 
+/// Runs `f` on `r` in-process ranks (one thread each), results in rank order.
+fn on_ranks<T: Send>(r: usize, f: impl Fn(LocalTransport) -> T + Sync) -> Vec<T> {
+    std::thread::scope(|s| {
+        let hs: Vec<_> = LocalTransport::ranks(r)
+            .into_iter()
+            .map(|t| s.spawn(|| f(t)))
+            .collect();
+        hs.into_iter().map(|h| h.join().unwrap()).collect()
+    })
+}
+
 /// Per step the summary; at the end `(id, position, velocity)` of every grain.
 type Run = (Vec<GrainSummary>, Vec<(u64, Vector3<f64>, Vector3<f64>)>);
 
@@ -60,28 +71,20 @@ fn ranks(
     r: usize,
     settings: GrainRankSettings,
 ) -> (Run, Vec<chrono_core::distributed::granular::GrainRankStats>) {
-    let out: Vec<_> = std::thread::scope(|s| {
-        let hs: Vec<_> = LocalTransport::ranks(r)
-            .into_iter()
-            .map(|mut t| {
-                s.spawn(move || {
-                    let (sys, h) = scene(n, ContactMethod::Smc);
-                    let mut g = GrainRanks::new(sys, settings, &mut t).unwrap();
-                    let mut hist = Vec::new();
-                    for _ in 0..steps {
-                        g.step(h, &mut t).unwrap();
-                        hist.push(g.summary(&mut t).unwrap());
-                    }
-                    assert_eq!(g.rank(), t.rank());
-                    let end: Vec<_> = g
-                        .owned()
-                        .map(|(id, b)| (id, b.position(), b.linear_velocity()))
-                        .collect();
-                    (hist, end, g.stats())
-                })
-            })
+    let out = on_ranks(r, |mut t| {
+        let (sys, h) = scene(n, ContactMethod::Smc);
+        let mut g = GrainRanks::new(sys, settings, &mut t).unwrap();
+        let mut hist = Vec::new();
+        for _ in 0..steps {
+            g.step(h, &mut t).unwrap();
+            hist.push(g.summary(&mut t).unwrap());
+        }
+        assert_eq!(g.rank(), t.rank());
+        let end: Vec<_> = g
+            .owned()
+            .map(|(id, b)| (id, b.position(), b.linear_velocity()))
             .collect();
-        hs.into_iter().map(|h| h.join().unwrap()).collect()
+        (hist, end, g.stats())
     });
     let hist = out[0].0.clone();
     for o in &out[1..] {
@@ -185,19 +188,11 @@ fn bad_input_is_named() {
         .to_string();
     assert!(e.contains("plank") && e.contains("cut"), "{e}");
     // more ranks than slabs: 30 ranks on a box 24 grains long
-    let errs: Vec<String> = std::thread::scope(|s| {
-        let hs: Vec<_> = LocalTransport::ranks(30)
-            .into_iter()
-            .map(|mut t| {
-                s.spawn(move || {
-                    let (sys, _) = scene(50, ContactMethod::Smc);
-                    GrainRanks::new(sys, GrainRankSettings::default(), &mut t)
-                        .unwrap_err()
-                        .to_string()
-                })
-            })
-            .collect();
-        hs.into_iter().map(|h| h.join().unwrap()).collect()
+    let errs = on_ranks(30, |mut t| {
+        let (sys, _) = scene(50, ContactMethod::Smc);
+        GrainRanks::new(sys, GrainRankSettings::default(), &mut t)
+            .unwrap_err()
+            .to_string()
     });
     assert!(errs.iter().all(|e| e.contains("ranks")), "{errs:?}");
     // settings
@@ -223,31 +218,23 @@ fn bad_input_is_named() {
 
 #[test]
 fn a_failing_rank_is_named_by_the_others() {
-    let errs: Vec<String> = std::thread::scope(|s| {
-        let hs: Vec<_> = LocalTransport::ranks(3)
-            .into_iter()
-            .map(|mut t| {
-                s.spawn(move || {
-                    let (sys, h) = scene(300, ContactMethod::Smc);
-                    let mut g = GrainRanks::new(sys, GrainRankSettings::default(), &mut t).unwrap();
-                    let me = t.rank();
-                    for k in 0..20 {
-                        if k == 5 && me == 1 {
-                            let id = g.owned().next().unwrap().0;
-                            g.grain_mut(id)
-                                .unwrap()
-                                .set_linear_velocity(Vector3::new(1e9, 0.0, 0.0))
-                                .unwrap();
-                        }
-                        if let Err(e) = g.step(h, &mut t) {
-                            return format!("rank {me}: {e}");
-                        }
-                    }
-                    format!("rank {me}: no error")
-                })
-            })
-            .collect();
-        hs.into_iter().map(|h| h.join().unwrap()).collect()
+    let errs = on_ranks(3, |mut t| {
+        let (sys, h) = scene(300, ContactMethod::Smc);
+        let mut g = GrainRanks::new(sys, GrainRankSettings::default(), &mut t).unwrap();
+        let me = t.rank();
+        for k in 0..20 {
+            if k == 5 && me == 1 {
+                let id = g.owned().next().unwrap().0;
+                g.grain_mut(id)
+                    .unwrap()
+                    .set_linear_velocity(Vector3::new(1e9, 0.0, 0.0))
+                    .unwrap();
+            }
+            if let Err(e) = g.step(h, &mut t) {
+                return format!("rank {me}: {e}");
+            }
+        }
+        format!("rank {me}: no error")
     });
     assert!(errs[1].contains("grain"), "{errs:?}");
     for e in [&errs[0], &errs[2]] {
