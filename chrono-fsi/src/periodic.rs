@@ -53,6 +53,8 @@ impl DrivenCell {
             domain_lower: [0.0; 3],
             domain_upper: self.cell,
             periodic: [true; 3],
+            // no free surface: the gauge pressure is negative downstream of a body
+            clamp_wall_pressure: false,
             ..SphSettings::default()
         };
         let sys_settings = SystemSettings {

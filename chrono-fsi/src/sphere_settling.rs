@@ -25,8 +25,8 @@
 //! hydrostatic part has no periodic counterpart): the sphere gets `F_s` as an applied
 //! force, the fluid a body force `b = -F_s / m_f` per unit mass (`m_f` the fluid's actual
 //! mass after carving). Gravity in the fluid would be wrong here: the markers' pressure is
-//! extrapolated from the fluid with the fluid's gravity (Adami et al. 2012), and the fluid
-//! would be given a gradient it does not have (measured before this form: the error grew
+//! extrapolated from the fluid with the fluid's body acceleration (Adami et al. 2012), and
+//! the fluid would be given a gradient it does not have (measured before this form: the error grew
 //! as the density ratio fell, +14 % at 3 to +22 % at 0.5, `D / dp = 8`). The markers'
 //! pressure is not clamped at zero either: a periodic cell has no free surface, and its
 //! gauge pressure is negative on one side of the sphere.

@@ -13,7 +13,8 @@
 //!
 //! `v_m` is the marker velocity of the continuity equation and of the no-slip
 //! extrapolation (Adami, Hu and Adams 2012, `v_w = 2 v_m - v~_f`: carrier markers have no
-//! wall normal), `a_m` enters the pressure extrapolation `p_w = ... + (g - a_m) . ...`.
+//! wall normal), `a_m` enters the pressure extrapolation `p_w = ... + (b - a_m) . ...`
+//! (`b` the fluid's body acceleration).
 //!
 //! The force on a carrier is the sum over its markers `w` of the reactions of the fluid
 //! pair terms, `F = - sum_w sum_f m_f a_fw` with `a_fw` the pressure and viscous

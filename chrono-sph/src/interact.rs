@@ -30,14 +30,15 @@
 //! marker `w` with fluid neighbours `f`:
 //!
 //! ```text
-//! p_w   = (sum_f p_f W_wf + (g - a_w) . sum_f rho_f x_wf W_wf) / sum_f W_wf
+//! p_w   = (sum_f p_f W_wf + (b - a_w) . sum_f rho_f x_wf W_wf) / sum_f W_wf
 //! rho_w = rho(p_w)      (inverse Tait),   m_w = rho_w dp^3 (fixed marker volume)
 //! v~_f  = sum_f v_f W_wf / sum_f W_wf,   d~_f = sum_f d_f W_wf / sum_f W_wf
 //! v_w   = v_prescribed - (d_w / max(d~_f, 0.2 h)) (v~_f - v_prescribed)   (NoSlip::Linear)
 //! v_w   = 2 v_prescribed - v~_f                                          (NoSlip::Adami)
 //! ```
 //!
-//! (`d_w`: the marker's depth behind the wall surface, `d_f = n . (x_f - x_w) - d_w` the
+//! (`b`: the fluid's body acceleration, gravity plus the settings' body force; `d_w`: the
+//! marker's depth behind the wall surface, `d_f = n . (x_f - x_w) - d_w` the
 //! fluid neighbour's distance in front of it, `n` the inward wall normal); `v_w` enters the
 //! viscous term only.
 //!
@@ -218,7 +219,10 @@ pub(crate) fn fluid_pressure(d: &mut ParticleData, eos: &Tait) {
 }
 
 /// Wall-marker pressure, density and no-slip velocity extrapolated from the fluid
-/// (Adami et al. 2012). `bc` is scratch (one `[p, rho, vx, vy, vz]` per particle). `nb`:
+/// (Adami et al. 2012, eq. 27): `p_w = (sum_f p_f W_wf + (b - a_w) . sum_f rho_f
+/// (x_w - x_f) W_wf) / sum_f W_wf`, with `b` the fluid's whole body acceleration (gravity
+/// plus the settings' body force, m/s^2) and `a_w` the wall's acceleration: the normal
+/// momentum balance at a no-penetration wall, `dp/dn = rho (b - a_w) . n`. `bc` is scratch (one `[p, rho, vx, vy, vz]` per particle). `nb`:
 /// records packed since the last move (positions, fluid velocities and kinds are read
 /// from them, one bounds-checked load per neighbour; the densities and pressures, updated
 /// since, from the arrays).
@@ -230,10 +234,14 @@ pub(crate) fn wall_extrapolation(
 ) {
     let n = d.len();
     bc.resize(n, [0.0; 5]);
+    // the body force too, not gravity alone: a fluid driven by a body force presses on
+    // the walls across its flow (docs/validation-fsi.md, "The markers' pressure and the
+    // driving body force")
+    let b = c.accel;
     let g_minus_a = [
-        c.gravity[0] - c.wall_acc[0],
-        c.gravity[1] - c.wall_acc[1],
-        c.gravity[2] - c.wall_acc[2],
+        b[0] - c.wall_acc[0],
+        b[1] - c.wall_acc[1],
+        b[2] - c.wall_acc[2],
     ];
     let support2 = c.kernel.support() * c.kernel.support();
     {
@@ -250,11 +258,7 @@ pub(crate) fn wall_extrapolation(
                 let a = d.wall_a[w];
                 (
                     [d.vx[w], d.vy[w], d.vz[w]],
-                    [
-                        c.gravity[0] - a[0],
-                        c.gravity[1] - a[1],
-                        c.gravity[2] - a[2],
-                    ],
+                    [b[0] - a[0], b[1] - a[1], b[2] - a[2]],
                 )
             } else {
                 (c.wall_vel, g_minus_a)
