@@ -73,6 +73,9 @@ mod pairs;
 mod probes;
 pub mod scene;
 pub mod settings;
+mod shifting;
+#[cfg(test)]
+mod shifting_tests;
 pub mod system;
 #[cfg(test)]
 mod tests;
@@ -84,6 +87,6 @@ pub use distributed::{DistributedSettings, LocalTransport, Slabs, Transport};
 pub use eos::{Tait, sound_speed_for};
 pub use error::{Result, SphError};
 pub use motion::{Kinematics, WallMotion};
-pub use settings::{ActiveDomain, DensityDiffusion, MachPolicy, NoSlip, SphSettings};
+pub use settings::{ActiveDomain, DensityDiffusion, MachPolicy, NoSlip, Shifting, SphSettings};
 pub use system::halo::{GlobalSummary, HaloStats};
 pub use system::{SphStats, SphSystem, Timings};

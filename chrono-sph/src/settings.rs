@@ -116,6 +116,22 @@ pub struct ActiveDomain {
     pub margin: f64,
 }
 
+/// Fickian particle shifting after each step ([`crate::shifting`]: `dr = -A h |v| dt
+/// grad C`, Lind et al. 2012 in the form of Skillen et al. 2013). For fluid without a
+/// free surface (periodic cells, closed ducts): it keeps the particle order that a long
+/// shear flow destroys.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Shifting {
+    /// The coefficient `A` (dimensionless, > 0; 2 in Skillen et al. 2013).
+    pub coefficient: f64,
+}
+
+impl Default for Shifting {
+    fn default() -> Self {
+        Self { coefficient: 2.0 }
+    }
+}
+
 impl ActiveDomain {
     /// `radius = supports` kernel supports (`2 h` each) of `settings`, `margin` one support.
     pub fn from_supports(settings: &SphSettings, supports: f64) -> Self {
@@ -221,6 +237,9 @@ pub struct SphSettings {
     /// default) steps every particle.
     #[serde(default)]
     pub active_domain: Option<ActiveDomain>,
+    /// Particle shifting after each step ([`Shifting`]); `None` (the default): none.
+    #[serde(default)]
+    pub shifting: Option<Shifting>,
 }
 
 impl Default for SphSettings {
@@ -255,6 +274,7 @@ impl Default for SphSettings {
             mach_limit: 0.1,
             mach_policy: MachPolicy::Warn,
             active_domain: None,
+            shifting: None,
         }
     }
 }
@@ -327,6 +347,15 @@ impl SphSettings {
                     "must be finite and >= 0",
                 ));
             }
+        }
+        if let Some(sh) = &self.shifting
+            && !(sh.coefficient.is_finite() && sh.coefficient > 0.0)
+        {
+            return Err(SphError::invalid(
+                "settings.shifting.coefficient",
+                sh.coefficient,
+                "must be finite and > 0",
+            ));
         }
         finite3("settings.gravity", self.gravity)?;
         finite3("settings.body_force", self.body_force)?;

@@ -138,6 +138,8 @@ pub struct SphSystem {
     /// This rank's part of a decomposition ([`crate::distributed`]; `None`: the whole
     /// scene in this process).
     dist: Option<Box<halo::DistState>>,
+    /// Scratch: the particle shifts of a step, m ([`crate::shifting`]).
+    shift: Vec<[f64; 3]>,
 }
 
 impl SphSystem {
@@ -197,6 +199,7 @@ impl SphSystem {
             sources: Vec::new(),
             list_sources: Vec::new(),
             dist: None,
+            shift: Vec::new(),
         };
         sys.carrier_radius = sys.carrier_radii();
         Ok(sys)
@@ -558,6 +561,13 @@ impl SphSystem {
         mut net: Option<&mut (dyn Transport + 'static)>,
     ) -> Result<()> {
         self.check_net(&net)?;
+        if self.settings.shifting.is_some() && net.is_some() {
+            return Err(SphError::invalid(
+                "settings.shifting",
+                "on",
+                "particle shifting does not run over ranks yet",
+            ));
+        }
         let t0 = Instant::now();
         let half = 0.5 * dt;
         let (lo, hi, per) = (
@@ -613,11 +623,49 @@ impl SphSystem {
         let t1 = Instant::now();
         self.kick(half);
         self.kick_carriers(half);
+        if let Some(sh) = self.settings.shifting {
+            self.shift_particles(sh.coefficient, dt, wrap);
+        }
         self.stats.fluid_steps += self.stats.active_fluid as u64;
         self.stats.active_fluid = self.promote_activity();
         self.check_and_set_dt(net)?;
         self.timings.integration += t1.elapsed().as_secs_f64();
         Ok(())
+    }
+
+    /// Moves the stepped fluid particles by their shifts ([`crate::shifting`]) at the
+    /// end of a step of length `dt`; `wrap` maps a coordinate back into a periodic axis.
+    fn shift_particles(
+        &mut self,
+        coefficient: f64,
+        dt: f64,
+        wrap: impl Fn(&mut f64, usize) + Sync,
+    ) {
+        let mut out = std::mem::take(&mut self.shift);
+        {
+            let mut ctx = self.pass_ctx();
+            if self.masked() {
+                ctx.eval = Some(&self.act);
+            }
+            crate::shifting::shifts(&self.data, &ctx, coefficient, dt, &mut out);
+        }
+        let d = &mut self.data;
+        (
+            d.x.par_iter_mut(),
+            d.y.par_iter_mut(),
+            d.z.par_iter_mut(),
+            out.par_iter(),
+        )
+            .into_par_iter()
+            .for_each(|(x, y, z, s)| {
+                *x += s[0];
+                *y += s[1];
+                *z += s[2];
+                wrap(x, 0);
+                wrap(y, 1);
+                wrap(z, 2);
+            });
+        self.shift = out;
     }
 
     /// The pass context for the current time (probes and filters).

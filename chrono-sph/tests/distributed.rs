@@ -189,6 +189,22 @@ fn stepping_a_distributed_system_without_its_transport_is_an_error() {
 }
 
 #[test]
+fn particle_shifting_over_ranks_is_refused_by_name() {
+    let mut t = LocalTransport::ranks(1).pop().unwrap();
+    let settings = SphSettings {
+        sound_speed: 20.0,
+        shifting: Some(chrono_sph::Shifting::default()),
+        ..SphSettings::default()
+    };
+    let tank = SlabTank::dam_break(0.01, 1.3, [0.1, 0.2], 0.4, 0.25);
+    let mut sys = chrono_sph::scene::slab_tank(settings, &tank).unwrap();
+    sys.distribute(0, 1, DistributedSettings::default())
+        .unwrap();
+    let e = sys.step_on(&mut t).unwrap_err().to_string();
+    assert!(e.contains("settings.shifting"), "{e}");
+}
+
+#[test]
 fn bad_decompositions_are_named() {
     let mut sys = scene();
     let e = sys

@@ -67,6 +67,9 @@ pub struct CylinderArrayCaseParams {
     pub window: f64,
     /// Extra runs at `1.5^k` times the spacing, `k = 1..=sweep` (error against resolution).
     pub sweep: u32,
+    /// Particle shifting coefficient `A` (0: none).
+    #[serde(default)]
+    pub shifting: f64,
 }
 
 impl Default for CylinderArrayCaseParams {
@@ -84,6 +87,7 @@ impl Default for CylinderArrayCaseParams {
             coupling_step: 2e-3,
             window: 0.25,
             sweep: 0,
+            shifting: c.shifting,
         }
     }
 }
@@ -112,6 +116,11 @@ impl CaseParams for CylinderArrayCaseParams {
             "sweep",
             "-",
             "coarser runs at 1.5^k the spacing, k = 1..=sweep",
+        ),
+        ParamInfo::new(
+            "shifting",
+            "-",
+            "particle shifting coefficient A (dr = -A h |v| dt grad C), 0 = none",
         ),
     ];
     fn apply_mode(&mut self, mode: Mode) {
@@ -148,6 +157,7 @@ fn run_once(p: &CylinderArrayCaseParams, spacing: f64) -> anyhow::Result<RunResu
         body_force: p.body_force,
         spacing,
         h_over_dp: p.h_over_dp,
+        shifting: p.shifting,
     };
     let solver = chrono_ccp::Psor::new(SolverSettings::default());
     let mut scene = cylinder_array(&cp, Box::new(solver))?;
