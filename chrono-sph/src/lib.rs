@@ -73,7 +73,7 @@ mod pairs;
 mod probes;
 pub mod scene;
 pub mod settings;
-mod shifting;
+pub mod shifting;
 #[cfg(test)]
 mod shifting_tests;
 pub mod system;
