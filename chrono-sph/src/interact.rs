@@ -222,8 +222,8 @@ pub(crate) fn fluid_pressure(d: &mut ParticleData, eos: &Tait) {
 /// (Adami et al. 2012, eq. 27): `p_w = (sum_f p_f W_wf + (b - a_w) . sum_f rho_f
 /// (x_w - x_f) W_wf) / sum_f W_wf`, with `b` the fluid's whole body acceleration (gravity
 /// plus the settings' body force, m/s^2) and `a_w` the wall's acceleration: the normal
-/// momentum balance at a no-penetration wall, `dp/dn = rho (b - a_w) . n`. `bc` is scratch (one `[p, rho, vx, vy, vz]` per particle). `nb`:
-/// records packed since the last move (positions, fluid velocities and kinds are read
+/// momentum balance at a no-penetration wall, `dp/dn = rho (b - a_w) . n`. `bc` is
+/// scratch (one `[p, rho, vx, vy, vz]` per particle). `nb`: records packed since the last move (positions, fluid velocities and kinds are read
 /// from them, one bounds-checked load per neighbour; the densities and pressures, updated
 /// since, from the arrays).
 pub(crate) fn wall_extrapolation(
@@ -238,7 +238,7 @@ pub(crate) fn wall_extrapolation(
     // the walls across its flow (docs/validation-fsi.md, "The markers' pressure and the
     // driving body force")
     let b = c.accel;
-    let g_minus_a = [
+    let b_minus_a = [
         b[0] - c.wall_acc[0],
         b[1] - c.wall_acc[1],
         b[2] - c.wall_acc[2],
@@ -254,14 +254,14 @@ pub(crate) fn wall_extrapolation(
             // carrier markers: their own rigid velocity and acceleration; tank walls: the
             // wall motion's (unchanged arithmetic)
             let carried = d.carrier[w] != NO_CARRIER;
-            let (vw, g_minus_a) = if carried {
+            let (vw, b_minus_a) = if carried {
                 let a = d.wall_a[w];
                 (
                     [d.vx[w], d.vy[w], d.vz[w]],
                     [b[0] - a[0], b[1] - a[1], b[2] - a[2]],
                 )
             } else {
-                (c.wall_vel, g_minus_a)
+                (c.wall_vel, b_minus_a)
             };
             let (mut sw, mut sp, mut sr) = (0.0, 0.0, [0.0; 3]);
             let mut sv = [0.0; 3];
@@ -296,7 +296,7 @@ pub(crate) fn wall_extrapolation(
             }
             if sw > 0.0 {
                 let mut p =
-                    (sp + g_minus_a[0] * sr[0] + g_minus_a[1] * sr[1] + g_minus_a[2] * sr[2]) / sw;
+                    (sp + b_minus_a[0] * sr[0] + b_minus_a[1] * sr[1] + b_minus_a[2] * sr[2]) / sw;
                 if c.clamp_wall_pressure {
                     p = p.max(0.0);
                 }

@@ -13,8 +13,8 @@
 //! dr_a     = -A h |v_a| dt grad C_a                       (m)
 //! ```
 //!
-//! `A` dimensionless ([`Shifting::coefficient`](crate::Shifting::coefficient), 2 in Skillen et al.), `h` the smoothing
-//! length, `dt` the step. The shift is a diffusion of positions with `D = A h |v| dt`: it
+//! `A` dimensionless ([`Shifting::coefficient`](crate::Shifting::coefficient), 2 in
+//! Skillen et al.), `h` the smoothing length, `dt` the step. The shift is a diffusion of positions with `D = A h |v| dt`: it
 //! acts only where the fluid moves, at a rate independent of the step. Density, velocity
 //! and the rest of the state are not corrected for the displacement (a first-order term
 //! `dr . grad`, small at `|dr| << h`). Meant for fluid without a free surface: at a

@@ -658,6 +658,10 @@ impl SphSystem {
         )
             .into_par_iter()
             .for_each(|(x, y, z, s)| {
+                // walls and frozen particles have no shift: leave their bits alone
+                if *s == [0.0; 3] {
+                    return;
+                }
                 *x += s[0];
                 *y += s[1];
                 *z += s[2];
