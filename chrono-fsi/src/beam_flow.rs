@@ -210,7 +210,7 @@ pub fn beam_in_flow(p: &BeamFlowParams, solver: Box<dyn CcpSolver>) -> Result<Be
         body_force: p.body_force,
         v_max: 2.0 * p.speed_estimate,
         diameter: p.diameter,
-        shifting: 0.0,
+        shifting: None,
     }
     .build(solver)?;
     let root = Vector3::new(0.5 * px, 0.5 * px, 0.5 * (lz - p.length));

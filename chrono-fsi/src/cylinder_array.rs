@@ -37,7 +37,7 @@ use chrono_core::item::ItemHandle;
 use chrono_core::math::{Isometry3, Vector3};
 use chrono_core::particles::lattice::slab_layers;
 use chrono_core::{BodyHandle, RigidBodyBuilder, Shape, System};
-use chrono_sph::SphSettings;
+use chrono_sph::{ShiftForm, Shifting, SphSettings};
 
 use crate::error::{FsiError, Result};
 use crate::periodic::DrivenCell;
@@ -97,10 +97,13 @@ pub struct CylinderArrayParams {
     pub spacing: f64,
     /// Smoothing length over spacing `h / dp`.
     pub h_over_dp: f64,
-    /// Particle shifting coefficient `A` ([`chrono_sph::Shifting`], `>= 0`; 0: none, the
-    /// default). Without it the particle order decays in a long run and the array's
-    /// resistance creeps up (docs/validation-fsi.md).
+    /// Particle shifting coefficient `A` ([`chrono_sph::Shifting`], `>= 0`; 0: none).
+    /// Default 4 with [`ShiftForm::DeltaPlus`] (Sun et al. 2017's published form): without
+    /// shifting the particle order decays in a long run and the array's resistance creeps
+    /// up (docs/validation-fsi.md, "The drift is lost particle order").
     pub shifting: f64,
+    /// The shifting's form ([`ShiftForm`]; used when `shifting > 0`).
+    pub shift_form: ShiftForm,
 }
 
 impl Default for CylinderArrayParams {
@@ -115,7 +118,8 @@ impl Default for CylinderArrayParams {
             body_force: 0.05,
             spacing: 0.0025,
             h_over_dp: SphSettings::default().h_over_dp,
-            shifting: 0.0,
+            shifting: Shifting::delta_plus().coefficient,
+            shift_form: ShiftForm::DeltaPlus,
         }
     }
 }
@@ -247,7 +251,10 @@ pub fn cylinder_array(
         body_force: p.body_force,
         v_max: 2.0 * u / (1.0 - c),
         diameter: p.diameter,
-        shifting: p.shifting,
+        shifting: (p.shifting > 0.0).then_some(Shifting {
+            coefficient: p.shifting,
+            form: p.shift_form,
+        }),
     }
     .build(solver)?;
     let shape = Shape::Cylinder {

@@ -28,8 +28,8 @@ pub(crate) struct DrivenCell {
     pub v_max: f64,
     /// The obstacle's diameter `D` (the length scale of the flow), m.
     pub diameter: f64,
-    /// Particle shifting coefficient `A` ([`chrono_sph::Shifting`]); 0: none.
-    pub shifting: f64,
+    /// Particle shifting ([`chrono_sph::Shifting`]); `None`: none.
+    pub shifting: Option<chrono_sph::Shifting>,
 }
 
 impl DrivenCell {
@@ -57,9 +57,7 @@ impl DrivenCell {
             periodic: [true; 3],
             // no free surface: the gauge pressure is negative downstream of a body
             clamp_wall_pressure: false,
-            shifting: (self.shifting > 0.0).then_some(chrono_sph::Shifting {
-                coefficient: self.shifting,
-            }),
+            shifting: self.shifting,
             ..SphSettings::default()
         };
         let sys_settings = SystemSettings {

@@ -87,6 +87,12 @@ pub(crate) struct PassCtx<'a> {
     /// are evaluated when active now or next, wall markers when listed, and the Shepard
     /// filter touches the fluid active now.
     pub eval: Option<&'a [u8]>,
+    /// The force pass also sums the particle-concentration gradient of the shifting
+    /// ([`crate::shifting`]): 0 no, 1 `sum_b V_b grad W_ab`, 2 with the anti-clumping
+    /// weight `1 + R (W_ab / W(dp))^4`.
+    pub shift: u8,
+    /// `1 / W(dp)`, m^3: the kernel's inverse value at one spacing (for `shift = 2`).
+    pub inv_w_dp: f64,
 }
 
 impl PassCtx<'_> {

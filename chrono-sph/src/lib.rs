@@ -87,6 +87,8 @@ pub use distributed::{DistributedSettings, LocalTransport, Slabs, Transport};
 pub use eos::{Tait, sound_speed_for};
 pub use error::{Result, SphError};
 pub use motion::{Kinematics, WallMotion};
-pub use settings::{ActiveDomain, DensityDiffusion, MachPolicy, NoSlip, Shifting, SphSettings};
+pub use settings::{
+    ActiveDomain, DensityDiffusion, MachPolicy, NoSlip, ShiftForm, Shifting, SphSettings,
+};
 pub use system::halo::{GlobalSummary, HaloStats};
 pub use system::{SphStats, SphSystem, Timings};

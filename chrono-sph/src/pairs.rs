@@ -354,60 +354,6 @@ fn kernel_wf<S: Simd, const KER: u8>(
     }
 }
 
-/// Which of the two passes.
-#[derive(Clone, Copy, PartialEq, Eq)]
-enum Pass {
-    Continuity,
-    Force,
-}
-
-/// One rayon task: the pass over the particles `first..first + out.len()`; `seq` and
-/// `len` are their part of the [`Support`] (written by the continuity pass, read by the
-/// force pass), `seq` starting at `base(first)`.
-struct TaskOp<'a, 'b, const KER: u8, const DIFF: u8, const AV: bool> {
-    c: &'a PassCtx<'b>,
-    nb: &'a [Packed],
-    first: usize,
-    out: &'a mut [Deriv],
-    seq: &'a mut [u32],
-    len: &'a mut [u32],
-    pass: Pass,
-}
-
-impl<const KER: u8, const DIFF: u8, const AV: bool> WithSimd for TaskOp<'_, '_, KER, DIFF, AV> {
-    type Output = ();
-
-    #[inline(always)]
-    fn with_simd<S: Simd>(self, s: S) -> Self::Output {
-        let TaskOp {
-            c,
-            nb,
-            first,
-            out,
-            seq,
-            len,
-            pass,
-        } = self;
-        let support2 = c.kernel.support() * c.kernel.support();
-        let kc = KConst::new(c);
-        let mut tile = Tile::new();
-        let b0 = base(c, first);
-        for (i, (o, l)) in out.iter_mut().zip(len.iter_mut()).enumerate() {
-            let a = first + i;
-            let pa = &nb[a];
-            let sq = &mut seq[base(c, a) - b0..base(c, a + 1) - b0];
-            match pass {
-                Pass::Continuity => continuity_one::<S, KER, DIFF>(
-                    s, c, nb, pa, a, kc, support2, &mut tile, o, sq, l,
-                ),
-                Pass::Force => {
-                    force_one::<S, KER, AV>(s, c, pa, kc, &mut tile, o, nb, &sq[..*l as usize])
-                }
-            }
-        }
-    }
-}
-
 /// Start of particle `a`'s kept sequence in [`Support::seq`]: its list offset plus
 /// [`PAD`] per earlier particle (the padding of a particle's last, partial tile can
 /// exceed its list by up to `lanes - 1` entries; full tiles never do).
@@ -569,13 +515,23 @@ fn force_one<S: Simd, const KER: u8, const AV: bool>(
     kc: KConst,
     t: &mut Tile,
     out: &mut Deriv,
+    shift: Option<&mut [f64; 3]>,
     nb: &[Packed],
     seq: &[u32],
 ) {
     if !pa.fluid() {
         out.acc = [0.0; 3];
+        if let Some(g) = shift {
+            *g = [0.0; 3];
+        }
         return;
     }
+    // the shifting's concentration gradient: same pairs, positions and volumes
+    let sh = if shift.is_some() { c.shift } else { 0 };
+    let mut gc = [s.splat_f64s(0.0); 3];
+    let clump = s.splat_f64s(crate::shifting::CLUMP_R);
+    let inv_w_dp = s.splat_f64s(c.inv_w_dp);
+    let one = s.splat_f64s(1.0);
     // the body force enters lane 0 first, as the reference starts its sum with it
     let mut acc = [
         s.partial_load_f64s(&[c.accel[0]]),
@@ -613,9 +569,21 @@ fn force_one<S: Simd, const KER: u8, const AV: bool>(
             let ids = &chunk[j..j + lanes];
             let [xb, yb, zb, _] = columns(s, nb, ids, |r| &r.pos_p);
             let [vxb, vyb, vzb, rho_b] = columns(s, nb, ids, |r| &r.vel_rho);
-            let [pr2_b, mb, _, _] = columns(s, nb, ids, |r| &r.pr2_m_vol_fl);
+            let [pr2_b, mb, vb, _] = columns(s, nb, ids, |r| &r.pr2_m_vol_fl);
             let (x, r2) = separation(s, c, &pos_a, xb, yb, zb, t, j);
-            let (_, fk) = kernel_wf::<S, KER>(s, kc, s.sqrt_f64s(r2), false);
+            let (wk, fk) = kernel_wf::<S, KER>(s, kc, s.sqrt_f64s(r2), sh == 2);
+            if sh != 0 {
+                // grad C += V_b (1 + R (W_ab / W(dp))^4) F x_ab
+                let mut f = s.mul_f64s(vb, fk);
+                if sh == 2 {
+                    let q = s.mul_f64s(wk, inv_w_dp);
+                    let q2 = s.mul_f64s(q, q);
+                    f = s.mul_f64s(f, s.mul_add_e_f64s(clump, s.mul_f64s(q2, q2), one));
+                }
+                for k in 0..3 {
+                    gc[k] = s.mul_add_e_f64s(f, x[k], gc[k]);
+                }
+            }
             let vv = [
                 s.sub_f64s(va[0], vxb),
                 s.sub_f64s(va[1], vyb),
@@ -656,135 +624,22 @@ fn force_one<S: Simd, const KER: u8, const AV: bool>(
         s.reduce_sum_f64s(acc[1]),
         s.reduce_sum_f64s(acc[2]),
     ];
-}
-
-/// Runs `pass` over every particle with the SIMD level `arch` picks.
-fn run<const KER: u8, const DIFF: u8, const AV: bool>(
-    arch: Option<Arch>,
-    nb: &[Packed],
-    c: &PassCtx<'_>,
-    deriv: &mut [Deriv],
-    sup: &mut Support,
-    pass: Pass,
-) {
-    let n = deriv.len();
-    debug_assert_eq!(c.list.len(), n);
-    if pass == Pass::Continuity {
-        sup.seq.resize(base(c, n), 0);
-        sup.len.resize(n, 0);
-    }
-    debug_assert!(sup.seq.len() == base(c, n) && sup.len.len() == n);
-    split::<KER, DIFF, AV>(arch, nb, c, 0, deriv, &mut sup.seq, &mut sup.len, pass);
-}
-
-/// The particles `first..first + out.len()` in [`CHUNK`]-particle tasks, split in
-/// halves with `rayon::join` (each half takes its own part of the [`Support`] buffers:
-/// disjoint, no allocation).
-#[allow(clippy::too_many_arguments)]
-fn split<const KER: u8, const DIFF: u8, const AV: bool>(
-    arch: Option<Arch>,
-    nb: &[Packed],
-    c: &PassCtx<'_>,
-    first: usize,
-    out: &mut [Deriv],
-    seq: &mut [u32],
-    len: &mut [u32],
-    pass: Pass,
-) {
-    let n = out.len();
-    if n <= CHUNK {
-        let op = TaskOp::<KER, DIFF, AV> {
-            c,
-            nb,
-            first,
-            out,
-            seq,
-            len,
-            pass,
-        };
-        match arch {
-            Some(arch) => arch.dispatch(op),
-            None => op.with_simd(pulp::Scalar::new()),
-        }
-        return;
-    }
-    let mid = (n / CHUNK / 2).max(1) * CHUNK;
-    let (o0, o1) = out.split_at_mut(mid);
-    let (s0, s1) = seq.split_at_mut(base(c, first + mid) - base(c, first));
-    let (l0, l1) = len.split_at_mut(mid);
-    rayon::join(
-        || split::<KER, DIFF, AV>(arch, nb, c, first, o0, s0, l0, pass),
-        || split::<KER, DIFF, AV>(arch, nb, c, first + mid, o1, s1, l1, pass),
-    );
-}
-
-/// Picks the monomorphized pass for the context's kernel, diffusion and artificial
-/// viscosity.
-fn select(
-    arch: Option<Arch>,
-    nb: &[Packed],
-    c: &PassCtx<'_>,
-    deriv: &mut [Deriv],
-    sup: &mut Support,
-    pass: Pass,
-) {
-    let av = c.alpha > 0.0;
-    macro_rules! go {
-        ($ker:expr) => {
-            match (c.diffusion, av) {
-                (DensityDiffusion::None, false) => {
-                    run::<$ker, DIFF_NONE, false>(arch, nb, c, deriv, sup, pass)
-                }
-                (DensityDiffusion::None, true) => {
-                    run::<$ker, DIFF_NONE, true>(arch, nb, c, deriv, sup, pass)
-                }
-                (DensityDiffusion::MolteniColagrossi, false) => {
-                    run::<$ker, DIFF_MC, false>(arch, nb, c, deriv, sup, pass)
-                }
-                (DensityDiffusion::MolteniColagrossi, true) => {
-                    run::<$ker, DIFF_MC, true>(arch, nb, c, deriv, sup, pass)
-                }
-                (DensityDiffusion::Fourtakas, false) => {
-                    run::<$ker, DIFF_FOURTAKAS, false>(arch, nb, c, deriv, sup, pass)
-                }
-                (DensityDiffusion::Fourtakas, true) => {
-                    run::<$ker, DIFF_FOURTAKAS, true>(arch, nb, c, deriv, sup, pass)
-                }
-            }
+    if let Some(g) = shift {
+        *g = if sh == 0 {
+            [0.0; 3]
+        } else {
+            [
+                s.reduce_sum_f64s(gc[0]),
+                s.reduce_sum_f64s(gc[1]),
+                s.reduce_sum_f64s(gc[2]),
+            ]
         };
     }
-    match c.kernel.kind() {
-        KernelKind::WendlandC2 => go!(WENDLAND),
-        KernelKind::CubicSpline => go!(CUBIC),
-    }
 }
 
-/// The continuity pass (see [`interact::continuity_pass`](crate::interact)), specialized
-/// and SIMD; `simd = false` runs the one-lane path (the reference arithmetic). Records
-/// each fluid particle's in-support neighbours in `sup` for [`force_pass`].
-pub(crate) fn continuity_pass(
-    nb: &[Packed],
-    c: &PassCtx<'_>,
-    deriv: &mut [Deriv],
-    sup: &mut Support,
-    simd: bool,
-) {
-    select(simd.then(Arch::new), nb, c, deriv, sup, Pass::Continuity);
-}
-
-/// The force pass (see [`interact::force_pass`](crate::interact)), specialized and SIMD;
-/// `simd = false` runs the one-lane path. `sup`: recorded by [`continuity_pass`] at the
-/// same positions and list, with the same `simd` (the padding depends on the lane
-/// count); the records `nb` may differ in everything but the positions.
-pub(crate) fn force_pass(
-    nb: &[Packed],
-    c: &PassCtx<'_>,
-    deriv: &mut [Deriv],
-    sup: &mut Support,
-    simd: bool,
-) {
-    select(simd.then(Arch::new), nb, c, deriv, sup, Pass::Force);
-}
+#[path = "pairs_tasks.rs"]
+mod tasks;
+pub(crate) use tasks::{continuity_pass, force_pass};
 
 #[cfg(test)]
 #[path = "pairs_tests.rs"]

@@ -86,6 +86,8 @@ fn ctx<'a>(
         inv_c2: 1.0 / (eos.sound_speed * eos.sound_speed),
         no_slip: NoSlip::Linear,
         eval: None,
+        shift: 0,
+        inv_w_dp: 1.0 / kernel.w(0.01),
     }
 }
 
@@ -110,7 +112,7 @@ fn both(c: &PassCtx<'_>, nb: &[Packed], simd: bool) -> (Vec<f64>, Vec<f64>) {
     continuity_pass(nb, c, &mut f, &mut sup, simd);
     // the kept sequences hold every in-support entry (and padding only)
     assert!(sup.total() >= in_support(c, nb));
-    force_pass(nb, c, &mut f, &mut sup, simd);
+    force_pass(nb, c, &mut f, &mut [], &mut sup, simd);
     (flat(&r), flat(&f))
 }
 
@@ -138,6 +140,38 @@ fn diffusion(k: u8) -> DensityDiffusion {
         1 => DensityDiffusion::MolteniColagrossi,
         _ => DensityDiffusion::Fourtakas,
     }
+}
+
+/// The shifting's concentration gradient of each fluid particle by a plain loop over the
+/// list (`grad C_a = sum_b V_b (1 + f_ab) F_ab x_ab`, [`crate::shifting`]), the reference
+/// of the force pass's sums.
+fn reference_gradients(c: &PassCtx<'_>, nb: &[Packed], delta_plus: bool) -> Vec<[f64; 3]> {
+    let s2 = c.kernel.support() * c.kernel.support();
+    (0..nb.len())
+        .map(|a| {
+            let mut g = [0.0; 3];
+            if !nb[a].fluid() {
+                return g;
+            }
+            for &b in c.list.neighbors(a) {
+                let x = c.grid.displacement(nb[a].pos(), nb[b as usize].pos());
+                let r2 = x[0] * x[0] + x[1] * x[1] + x[2] * x[2];
+                if r2 >= s2 {
+                    continue;
+                }
+                let r = r2.sqrt();
+                let mut f = nb[b as usize].pr2_m_vol_fl[2] * c.kernel.grad_factor(r);
+                if delta_plus {
+                    let q = c.kernel.w(r) * c.inv_w_dp;
+                    f *= 1.0 + crate::shifting::CLUMP_R * (q * q) * (q * q);
+                }
+                for k in 0..3 {
+                    g[k] += f * x[k];
+                }
+            }
+            g
+        })
+        .collect()
 }
 
 proptest! {
@@ -185,6 +219,39 @@ proptest! {
             let tol = 1e-12 * scale[i % 7];
             prop_assert!((a - b).abs() <= tol,
                 "entry {i}: reference {a:e}, simd {b:e}, tolerance {tol:e}");
+        }
+    }
+
+    /// The shifting's concentration gradients summed in the force pass (both forms, both
+    /// paths) match a plain loop to rounding, and leave the accelerations bit for bit.
+    #[test]
+    fn force_pass_sums_the_shifting_gradient(
+        seed in any::<u64>(), n in 2usize..400, cubic in any::<bool>(),
+        delta_plus in any::<bool>(), simd in any::<bool>(), periodic in any::<bool>(),
+    ) {
+        let cl = cloud(seed, n, periodic);
+        let kind = if cubic { KernelKind::CubicSpline } else { KernelKind::WendlandC2 };
+        let kernel = Kernel::new(kind, 1.0, 3).unwrap();
+        let eos = Tait::new(1000.0, 7.0, 20.0).unwrap();
+        let mut c = ctx(&cl, &kernel, &eos, DensityDiffusion::None, 0.0);
+        let (_, plain) = both(&c, &cl.nb, simd);
+        c.shift = if delta_plus { 2 } else { 1 };
+        let mut f = vec![Deriv::default(); cl.nb.len()];
+        let mut g = vec![[f64::NAN; 3]; cl.nb.len()];
+        let mut sup = Support::default();
+        continuity_pass(&cl.nb, &c, &mut f, &mut sup, simd);
+        force_pass(&cl.nb, &c, &mut f, &mut g, &mut sup, simd);
+        let shifted = flat(&f);
+        for (i, (a, b)) in plain.iter().zip(&shifted).enumerate() {
+            prop_assert!(a.to_bits() == b.to_bits(), "entry {i}: {a:e} without, {b:e} with");
+        }
+        let r = reference_gradients(&c, &cl.nb, delta_plus);
+        let scale = r.iter().flatten().fold(0.0f64, |m, v| m.max(v.abs()));
+        for (a, (ra, ga)) in r.iter().zip(&g).enumerate() {
+            for k in 0..3 {
+                prop_assert!((ra[k] - ga[k]).abs() <= 1e-12 * scale,
+                    "particle {a} axis {k}: reference {:e}, pass {:e}", ra[k], ga[k]);
+            }
         }
     }
 }

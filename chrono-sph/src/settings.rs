@@ -116,19 +116,55 @@ pub struct ActiveDomain {
     pub margin: f64,
 }
 
-/// Fickian particle shifting after each step ([`crate::shifting`]: `dr = -A h |v| dt
-/// grad C`, Lind et al. 2012 in the form of Skillen et al. 2013). For fluid without a
-/// free surface (periodic cells, closed ducts): it keeps the particle order that a long
-/// shear flow destroys.
+/// Particle shifting after each step ([`crate::shifting`]): a Fickian diffusion of the
+/// positions down the gradient of the particle concentration, `dr = -D grad C`. For fluid
+/// without a free surface (periodic cells, closed ducts): it keeps the particle order that
+/// a long shear flow destroys.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Shifting {
-    /// The coefficient `A` (dimensionless, > 0; 2 in Skillen et al. 2013).
+    /// The coefficient `A` (dimensionless, > 0): 2 for [`ShiftForm::LocalSpeed`] (Skillen
+    /// et al. 2013), 4 for [`ShiftForm::DeltaPlus`] (Sun et al. 2017).
     pub coefficient: f64,
+    /// Which velocity scales the diffusion, and the anti-clumping term.
+    #[serde(default)]
+    pub form: ShiftForm,
+}
+
+/// The form of a [`Shifting`] step of length `dt` (`h` the smoothing length).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ShiftForm {
+    /// `D = A h |v_a| dt`, each particle by its own speed (Lind et al. 2012, J. Comput.
+    /// Phys. 231:1499, in the step-size form of Skillen et al. 2013, Comput. Methods Appl.
+    /// Mech. Engrg. 265:163; `A` = 2 there). Where the flow is slow (creeping flow,
+    /// stagnation regions) it shifts little, while the shear still disorders the particles.
+    #[default]
+    LocalSpeed,
+    /// `D = A h U_max dt` with `U_max` the fluid's largest speed at the step, and the
+    /// concentration gradient weighted against clumping, `sum_b V_b (1 + R (W_ab /
+    /// W(dp))^n) grad W_ab` with `R = 0.2`, `n = 4`: the particle shifting of the
+    /// delta-plus-SPH scheme (Sun, Colagrossi, Marrone and Zhang 2017, Comput. Methods Appl.
+    /// Mech. Engrg. 315:25-49), whose shift per step `CFL Ma (2h)^2 grad C` is this with
+    /// `A = 4` at their step `dt = CFL h / c_0` (`Ma = U_max / c_0`).
+    DeltaPlus,
+}
+
+impl Shifting {
+    /// Sun et al.'s (2017) delta-plus-SPH shifting: [`ShiftForm::DeltaPlus`], `A = 4`.
+    pub fn delta_plus() -> Self {
+        Self {
+            coefficient: 4.0,
+            form: ShiftForm::DeltaPlus,
+        }
+    }
 }
 
 impl Default for Shifting {
     fn default() -> Self {
-        Self { coefficient: 2.0 }
+        Self {
+            coefficient: 2.0,
+            form: ShiftForm::LocalSpeed,
+        }
     }
 }
 

@@ -140,6 +140,9 @@ pub struct SphSystem {
     dist: Option<Box<halo::DistState>>,
     /// Scratch: the particle shifts of a step, m ([`crate::shifting`]).
     shift: Vec<[f64; 3]>,
+    /// The force pass's concentration gradients for the shifting, 1/m (empty without
+    /// shifting).
+    shift_grad: Vec<[f64; 3]>,
 }
 
 impl SphSystem {
@@ -200,6 +203,7 @@ impl SphSystem {
             list_sources: Vec::new(),
             dist: None,
             shift: Vec::new(),
+            shift_grad: Vec::new(),
         };
         sys.carrier_radius = sys.carrier_radii();
         Ok(sys)
@@ -430,10 +434,24 @@ impl SphSystem {
             ctx.eval = Some(&self.act);
         }
         let mut deriv = std::mem::take(&mut self.data.deriv);
+        let mut grad = std::mem::take(&mut self.shift_grad);
+        if self.settings.shifting.is_some() {
+            grad.resize(deriv.len(), [0.0; 3]);
+        } else {
+            grad.clear();
+        }
         interact::pack(&self.data, PackVelocity::NoSlip, &mut self.packed);
         // the positions are those of the continuity pass: its kept neighbours hold
-        pairs::force_pass(&self.packed, &ctx, &mut deriv, &mut self.support, true);
+        pairs::force_pass(
+            &self.packed,
+            &ctx,
+            &mut deriv,
+            &mut grad,
+            &mut self.support,
+            true,
+        );
         self.data.deriv = deriv;
+        self.shift_grad = grad;
         self.timings.forces += t0.elapsed().as_secs_f64();
     }
 
@@ -624,7 +642,7 @@ impl SphSystem {
         self.kick(half);
         self.kick_carriers(half);
         if let Some(sh) = self.settings.shifting {
-            self.shift_particles(sh.coefficient, dt, wrap);
+            self.shift_particles(sh, dt, wrap);
         }
         self.stats.fluid_steps += self.stats.active_fluid as u64;
         self.stats.active_fluid = self.promote_activity();
@@ -637,18 +655,21 @@ impl SphSystem {
     /// end of a step of length `dt`; `wrap` maps a coordinate back into a periodic axis.
     fn shift_particles(
         &mut self,
-        coefficient: f64,
+        shifting: crate::Shifting,
         dt: f64,
         wrap: impl Fn(&mut f64, usize) + Sync,
     ) {
         let mut out = std::mem::take(&mut self.shift);
-        {
-            let mut ctx = self.pass_ctx();
-            if self.masked() {
-                ctx.eval = Some(&self.act);
-            }
-            crate::shifting::shifts(&self.data, &ctx, coefficient, dt, &mut out);
-        }
+        let eval = self.masked().then_some(&self.act[..]);
+        crate::shifting::shifts(
+            &self.data,
+            eval,
+            shifting,
+            self.kernel.h(),
+            dt,
+            &self.shift_grad,
+            &mut out,
+        );
         let d = &mut self.data;
         (
             d.x.par_iter_mut(),
@@ -737,5 +758,11 @@ fn make_ctx<'a>(
         inv_c2: 1.0 / (s.sound_speed * s.sound_speed),
         no_slip: s.no_slip,
         eval: None,
+        shift: match s.shifting {
+            None => 0,
+            Some(sh) if sh.form == crate::ShiftForm::LocalSpeed => 1,
+            Some(_) => 2,
+        },
+        inv_w_dp: 1.0 / kernel.w(s.spacing),
     }
 }
