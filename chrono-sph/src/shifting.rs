@@ -13,7 +13,7 @@
 //! dr_a     = -D_a grad C_a                                           (m)
 //! ```
 //!
-//! in one of two forms ([`ShiftForm`](crate::ShiftForm)), `h` the smoothing length, `dt`
+//! in one of two forms ([`ShiftForm`]), `h` the smoothing length, `dt`
 //! the step, `A` the [coefficient](crate::Shifting::coefficient):
 //!
 //! - `LocalSpeed` (Skillen, Lind, Stansby and Rogers 2013): `D_a = A h |v_a| dt`,

@@ -101,7 +101,8 @@ pub struct CylinderArrayCaseParams {
     #[serde(default)]
     pub shift_form: ShiftForm,
     /// Further solid fractions, each run at the spacing that resolves it
-    /// ([`resolving_spacing`]) and checked like the main run (`--full`: 0.05, 0.2, 0.4).
+    /// (a whole number of spacings across `D`, at least 12, and at least 19 across the gap)
+    /// and checked like the main run (`--full`: 0.05, 0.2, 0.4).
     #[serde(default)]
     pub more_fractions: Vec<f64>,
 }
