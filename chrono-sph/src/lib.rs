@@ -60,6 +60,8 @@
 #[cfg(test)]
 mod active_tests;
 pub mod analytic;
+#[cfg(test)]
+mod belt_tests;
 pub mod builder;
 pub mod carrier;
 pub mod data;
@@ -71,6 +73,8 @@ pub mod motion;
 mod output;
 mod pairs;
 mod probes;
+#[cfg(test)]
+mod rotation_tests;
 pub mod scene;
 pub mod settings;
 pub mod shifting;
@@ -87,6 +91,8 @@ pub use distributed::{DistributedSettings, LocalTransport, Slabs, Transport};
 pub use eos::{Tait, sound_speed_for};
 pub use error::{Result, SphError};
 pub use motion::{Kinematics, WallMotion};
-pub use settings::{ActiveDomain, DensityDiffusion, MachPolicy, NoSlip, Shifting, SphSettings};
+pub use settings::{
+    ActiveDomain, DensityDiffusion, MachPolicy, NoSlip, Shifting, SphSettings, WallBelt,
+};
 pub use system::halo::{GlobalSummary, HaloStats};
 pub use system::{SphStats, SphSystem, Timings};

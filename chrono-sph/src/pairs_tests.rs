@@ -86,6 +86,8 @@ fn ctx<'a>(
         inv_c2: 1.0 / (eos.sound_speed * eos.sound_speed),
         no_slip: NoSlip::Linear,
         eval: None,
+        belts: &[],
+        carrier_omega: &[],
     }
 }
 
