@@ -344,10 +344,11 @@ impl JefferyParams {
                 format!("must be at least {MIN_GAP_MAJOR_AXES} major axes"),
             ));
         }
-        // the periodic images must not touch: a kernel support between neighbours
+        // the periodic images must not touch: a kernel support between neighbours (the
+        // body turns in the x-z plane, so along x it reaches its largest diameter)
         let support = 2.0 * self.h_over_dp * self.spacing;
         for (f, v, extent) in [
-            ("length", self.length, 2.0 * self.semi_axes().x),
+            ("length", self.length, 2.0 * self.semi_axis),
             ("width", self.width, 2.0 * self.semi_axes().y),
         ] {
             if v * 2.0 * self.semi_axis < extent + support {
