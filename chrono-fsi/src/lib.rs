@@ -17,6 +17,9 @@
 //! - [`channel`]: free ellipsoids and ANCF beams anchored to the floor in a periodic duct
 //!   flow (the seed's channel scene, `fsi-channel`), with the laminar duct solution
 //!   ([`duct`]) for its driving body force;
+//! - [`jeffery`]: a neutrally buoyant spheroid in simple shear between two moving-belt
+//!   walls against Jeffery's (1922) orbit, with the orbit fit (the scene of
+//!   `fsi-jeffery`);
 //! - [`towed`]: a cylinder towed through a long tank, with or without the fluid's active
 //!   domain ([`chrono_sph::ActiveDomain`]: only the fluid near the moving bodies is
 //!   stepped; the scene of `fsi-active-domain`);
@@ -80,6 +83,9 @@ pub mod duct;
 pub mod error;
 pub mod fluid;
 pub mod heave;
+pub mod jeffery;
+#[cfg(test)]
+mod jeffery_tests;
 pub mod markers;
 mod periodic;
 pub mod scene;

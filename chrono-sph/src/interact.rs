@@ -49,7 +49,7 @@
 use chrono_core::particles::{CellGrid, Kernel, NeighborList};
 use rayon::prelude::*;
 
-use crate::carrier::NO_CARRIER;
+use crate::carrier::{NO_CARRIER, POINT_CARRIER};
 use crate::data::{Deriv, FLUID, ParticleData, WALL};
 use crate::eos::Tait;
 use crate::settings::{DensityDiffusion, NoSlip};
@@ -93,6 +93,10 @@ pub(crate) struct PassCtx<'a> {
     pub shift: u8,
     /// `1 / W(dp)`, m^3: the kernel's inverse value at one spacing (for `shift = 2`).
     pub inv_w_dp: f64,
+    /// The belt velocity of each wall group ([`crate::WallBelt`]; empty: none), m/s.
+    pub belts: &'a [[f64; 3]],
+    /// The angular velocity of each rigid carrier (world), rad/s.
+    pub carrier_omega: &'a [[f64; 3]],
 }
 
 impl PassCtx<'_> {
@@ -260,6 +264,16 @@ pub(crate) fn wall_extrapolation(
             // carrier markers: their own rigid velocity and acceleration; tank walls: the
             // wall motion's (unchanged arithmetic)
             let carried = d.carrier[w] != NO_CARRIER;
+            // a rotating rigid carrier: its velocity field is not uniform over the
+            // kernel (see `rigid_omega` below)
+            let omega = if carried && d.carrier[w] & POINT_CARRIER == 0 {
+                c.carrier_omega
+                    .get(d.carrier[w] as usize)
+                    .copied()
+                    .filter(|o| *o != [0.0; 3])
+            } else {
+                None
+            };
             let (vw, b_minus_a) = if carried {
                 let a = d.wall_a[w];
                 (
@@ -267,13 +281,17 @@ pub(crate) fn wall_extrapolation(
                     [b[0] - a[0], b[1] - a[1], b[2] - a[2]],
                 )
             } else {
-                (c.wall_vel, b_minus_a)
+                (
+                    crate::system::belt_velocity(c.belts, d.group[w], c.wall_vel),
+                    b_minus_a,
+                )
             };
             let (mut sw, mut sp, mut sr) = (0.0, 0.0, [0.0; 3]);
             let mut sv = [0.0; 3];
             let n = d.wall_normal[w];
             let linear = c.no_slip == NoSlip::Linear && n != [0.0; 3];
             let mut sd = 0.0;
+            let mut sx = [0.0; 3];
             let depth = d.wall_depth[w];
             for &f in c.list.neighbors(w) {
                 let f = f as usize;
@@ -299,6 +317,9 @@ pub(crate) fn wall_extrapolation(
                 sv[2] += vf[2] * wk;
                 // distance of f in front of the wall surface (x = x_w - x_f)
                 sd += (-(n[0] * x[0] + n[1] * x[1] + n[2] * x[2]) - depth) * wk;
+                sx[0] += x[0] * wk;
+                sx[1] += x[1] * wk;
+                sx[2] += x[2] * wk;
             }
             if sw > 0.0 {
                 let mut p =
@@ -312,13 +333,23 @@ pub(crate) fn wall_extrapolation(
                 } else {
                     1.0
                 };
-                *out = [
-                    p,
-                    c.eos.density(p),
+                let mut v = [
                     vw[0] - ratio * (sv[0] / sw - vw[0]),
                     vw[1] - ratio * (sv[1] / sw - vw[1]),
                     vw[2] - ratio * (sv[2] / sw - vw[2]),
                 ];
+                if let Some(o) = omega {
+                    // mirror the fluid's velocity relative to the body's rigid field:
+                    // v~_f is the fluid at the kernel-averaged point x~_f, where the body
+                    // moves with v_m + w x (x~_f - x_w), not v_m; the plain mirror would
+                    // make the markers of a co-rotating body lag by w x (x~_f - x_w)
+                    // (about w dp) and drive a torque-free body to spin too fast
+                    let r = [-sx[0] / sw, -sx[1] / sw, -sx[2] / sw]; // x~_f - x_w
+                    v[0] += o[1] * r[2] - o[2] * r[1];
+                    v[1] += o[2] * r[0] - o[0] * r[2];
+                    v[2] += o[0] * r[1] - o[1] * r[0];
+                }
+                *out = [p, c.eos.density(p), v[0], v[1], v[2]];
             } else {
                 *out = [0.0, c.eos.rho0, vw[0], vw[1], vw[2]];
             }
@@ -388,6 +419,25 @@ pub(crate) fn pair_accel(c: &PassCtx<'_>, pa: &Packed, pb: &Packed, support2: f6
         coef * x[1] + visc * vv[1],
         coef * x[2] + visc * vv[2],
     ]
+}
+
+/// The Morris viscous factor of a pair and its displacement: `(x_ab, k)` with the pair's
+/// viscous acceleration `k v_ab`, `k = m_b 2 mu F_ab / rho_ab^2` (see [`pair_accel`]);
+/// `k = 0` outside the support.
+#[inline(always)]
+pub(crate) fn pair_visc(
+    c: &PassCtx<'_>,
+    pa: &Packed,
+    pb: &Packed,
+    support2: f64,
+) -> ([f64; 3], f64) {
+    let (x, r2) = separation(c, pa, pb);
+    if r2 >= support2 {
+        return (x, 0.0);
+    }
+    let fk = c.kernel.grad_factor(r2.sqrt());
+    let rho_ab = 0.5 * (pa.rho() + pb.rho());
+    (x, pb.mass() * 2.0 * c.mu * fk / (rho_ab * rho_ab))
 }
 
 /// The reference (scalar, one neighbour at a time) continuity pass, which the

@@ -60,6 +60,8 @@
 #[cfg(test)]
 mod active_tests;
 pub mod analytic;
+#[cfg(test)]
+mod belt_tests;
 pub mod builder;
 pub mod carrier;
 pub mod data;
@@ -71,6 +73,8 @@ pub mod motion;
 mod output;
 mod pairs;
 mod probes;
+#[cfg(test)]
+mod rotation_tests;
 pub mod scene;
 pub mod settings;
 pub mod shifting;
@@ -88,7 +92,7 @@ pub use eos::{Tait, sound_speed_for};
 pub use error::{Result, SphError};
 pub use motion::{Kinematics, WallMotion};
 pub use settings::{
-    ActiveDomain, DensityDiffusion, MachPolicy, NoSlip, ShiftForm, Shifting, SphSettings,
+    ActiveDomain, DensityDiffusion, MachPolicy, NoSlip, ShiftForm, Shifting, SphSettings, WallBelt,
 };
 pub use system::halo::{GlobalSummary, HaloStats};
 pub use system::{SphStats, SphSystem, Timings};

@@ -88,6 +88,8 @@ fn ctx<'a>(
         eval: None,
         shift: 0,
         inv_w_dp: 1.0 / kernel.w(0.01),
+        belts: &[],
+        carrier_omega: &[],
     }
 }
 

@@ -168,6 +168,27 @@ impl Default for Shifting {
     }
 }
 
+/// A tank wall that moves along itself ("moving belt"): the markers of wall group `group`
+/// keep their positions but carry the velocity `velocity` (m/s, added to the tank's
+/// [`WallMotion`](crate::WallMotion) velocity) in the continuity equation and in the
+/// no-slip extrapolation, `v_w = v_wall - (d_w / d~_f) (v~_f - v_wall)`
+/// ([`NoSlip::Linear`]). A plane wall translating along a periodic direction of its own
+/// plane is invariant under the translation, so a wall at rest carrying the tangential
+/// velocity is the same boundary as the moving wall, without markers that travel and
+/// wrap: two such walls at `+U` and `-U` make plane Couette flow,
+/// `u(z) = U (2 z / H - 1)` between walls at `z = 0` and `z = H`, wall shear stress
+/// `tau = mu 2 U / H` (e.g. Batchelor 1967, *An Introduction to Fluid Dynamics*, sec. 4.2).
+/// The velocity must be tangential to the group's walls (checked when the system is
+/// built: an error names the group). Rigid and point carriers' markers are not affected.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct WallBelt {
+    /// The wall group (e.g. `group_base + face` of
+    /// [`SphBuilder::add_tank`](crate::SphBuilder::add_tank)).
+    pub group: u16,
+    /// The tangential velocity of the wall, m/s.
+    pub velocity: [f64; 3],
+}
+
 impl ActiveDomain {
     /// `radius = supports` kernel supports (`2 h` each) of `settings`, `margin` one support.
     pub fn from_supports(settings: &SphSettings, supports: f64) -> Self {
@@ -276,6 +297,9 @@ pub struct SphSettings {
     /// Particle shifting after each step ([`Shifting`]); `None` (the default): none.
     #[serde(default)]
     pub shifting: Option<Shifting>,
+    /// Tank walls that move along themselves ([`WallBelt`]); empty (the default): none.
+    #[serde(default)]
+    pub wall_belts: Vec<WallBelt>,
 }
 
 impl Default for SphSettings {
@@ -311,6 +335,7 @@ impl Default for SphSettings {
             mach_policy: MachPolicy::Warn,
             active_domain: None,
             shifting: None,
+            wall_belts: Vec::new(),
         }
     }
 }
@@ -392,6 +417,16 @@ impl SphSettings {
                 sh.coefficient,
                 "must be finite and > 0",
             ));
+        }
+        for (k, b) in self.wall_belts.iter().enumerate() {
+            finite3(&format!("settings.wall_belts[{k}].velocity"), b.velocity)?;
+            if self.wall_belts[..k].iter().any(|o| o.group == b.group) {
+                return Err(SphError::invalid(
+                    format!("settings.wall_belts[{k}].group"),
+                    b.group,
+                    "a group has one belt velocity",
+                ));
+            }
         }
         finite3("settings.gravity", self.gravity)?;
         finite3("settings.body_force", self.body_force)?;

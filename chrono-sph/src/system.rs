@@ -45,11 +45,14 @@ use crate::settings::{DensityDiffusion, SphSettings};
 
 mod access;
 pub mod active;
+mod belts;
 mod carriers;
 mod checks;
 pub mod halo;
 
 use active::{ACT_NOW, ALL, LISTED};
+use belts::belt_table;
+pub(crate) use belts::belt_velocity;
 
 /// Running statistics of the last step.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -124,6 +127,9 @@ pub struct SphSystem {
     point_carriers: Vec<PointCarrier>,
     /// Scratch: the fluid's force on each carrier marker, N.
     marker_f: Vec<[f64; 3]>,
+    /// Scratch: the part of `marker_f` that a rigid co-rotation of the fluid with the
+    /// marker's carrier would give (see `carrier_loads`), N.
+    marker_g: Vec<[f64; 3]>,
     /// Active-domain flags of each particle ([`active`]; every flag when it is off).
     act: Vec<u8>,
     act_scratch: Vec<u8>,
@@ -143,6 +149,12 @@ pub struct SphSystem {
     /// The force pass's concentration gradients for the shifting, 1/m (empty without
     /// shifting).
     shift_grad: Vec<[f64; 3]>,
+    /// The belt velocity of each wall group ([`crate::WallBelt`], indexed by group; empty
+    /// without belts), m/s.
+    belts: Vec<[f64; 3]>,
+    /// The angular velocity of each rigid carrier (world, rad/s) over the current
+    /// interval, for the no-slip extrapolation of its markers.
+    carrier_omega: Vec<[f64; 3]>,
 }
 
 impl SphSystem {
@@ -169,6 +181,7 @@ impl SphSystem {
             CellGrid::new(GridConfig::bounded(radius, lo, hi).with_periodic(settings.periodic))?;
         let n_fluid = data.kind.iter().filter(|&&k| k == FLUID).count();
         let n = data.len();
+        let belts = belt_table(&settings, &data)?;
         let (nc, np) = (carriers.len(), point_carriers.len());
         let mut sys = Self {
             settings,
@@ -194,6 +207,7 @@ impl SphSystem {
             carriers,
             point_carriers,
             marker_f: Vec::new(),
+            marker_g: Vec::new(),
             act: vec![ALL; n],
             act_scratch: Vec::new(),
             carrier_source: vec![true; nc],
@@ -204,6 +218,8 @@ impl SphSystem {
             dist: None,
             shift: Vec::new(),
             shift_grad: Vec::new(),
+            belts,
+            carrier_omega: Vec::new(),
         };
         sys.carrier_radius = sys.carrier_radii();
         Ok(sys)
@@ -226,6 +242,7 @@ impl SphSystem {
         if matches!(self.motion, WallMotion::Fixed) && self.steps > 0 {
             return;
         }
+        let belts = &self.belts;
         let d = &mut self.data;
         (
             d.x.par_iter_mut(),
@@ -235,17 +252,20 @@ impl SphSystem {
             d.vy.par_iter_mut(),
             d.vz.par_iter_mut(),
             d.anchor.par_iter().zip(d.carrier.par_iter()),
-            d.kind.par_iter(),
+            d.kind.par_iter().zip(d.group.par_iter()),
         )
             .into_par_iter()
-            .for_each(|(x, y, z, vx, vy, vz, (a, &c), &kind)| {
+            .for_each(|(x, y, z, vx, vy, vz, (a, &c), (&kind, &g))| {
                 if kind == WALL && c == NO_CARRIER {
                     *x = a[0] + k.disp[0];
                     *y = a[1] + k.disp[1];
                     *z = a[2] + k.disp[2];
-                    *vx = k.vel[0];
-                    *vy = k.vel[1];
-                    *vz = k.vel[2];
+                    // a belt keeps its place and carries its tangential velocity (the
+                    // continuity equation sees it)
+                    let v = belt_velocity(belts, g, k.vel);
+                    *vx = v[0];
+                    *vy = v[1];
+                    *vz = v[2];
                 }
             });
     }
@@ -370,6 +390,8 @@ impl SphSystem {
             &self.list,
             &self.motion,
             self.time,
+            &self.belts,
+            &self.carrier_omega,
         );
         let active = self.masked();
         if active {
@@ -429,6 +451,8 @@ impl SphSystem {
             &self.list,
             &self.motion,
             self.time,
+            &self.belts,
+            &self.carrier_omega,
         );
         if self.masked() {
             ctx.eval = Some(&self.act);
@@ -703,6 +727,8 @@ impl SphSystem {
             &self.list,
             &self.motion,
             self.time,
+            &self.belts,
+            &self.carrier_omega,
         )
     }
 
@@ -720,6 +746,7 @@ impl SphSystem {
 }
 
 /// The pass context from the system's parts (split borrows: `data` stays free).
+#[allow(clippy::too_many_arguments)]
 fn make_ctx<'a>(
     s: &SphSettings,
     kernel: &'a Kernel,
@@ -728,6 +755,8 @@ fn make_ctx<'a>(
     list: &'a NeighborList,
     motion: &WallMotion,
     time: f64,
+    belts: &'a [[f64; 3]],
+    carrier_omega: &'a [[f64; 3]],
 ) -> PassCtx<'a> {
     let kin = motion.at(time);
     PassCtx {
@@ -764,5 +793,7 @@ fn make_ctx<'a>(
             Some(_) => 2,
         },
         inv_w_dp: 1.0 / kernel.w(s.spacing),
+        belts,
+        carrier_omega,
     }
 }

@@ -66,6 +66,7 @@ pub const BUDGETS: &[Budget] = &[
     b("fsi-sphere-heave", 6.0, 6.0),
     b("fsi-active-domain", 16.0, 10.0),
     b("fsi-channel", 15.0, 10.0),
+    b("fsi-jeffery", 12.0, 8.0),
     b("cfluid-incompressibility", 34.0, 16.0),
     b("cfluid-dam-break", 25.0, 14.0),
     b("cfluid-floating-box", 51.0, 51.0),

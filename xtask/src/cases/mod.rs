@@ -94,6 +94,7 @@ pub fn all_cases() -> Vec<Box<dyn Case>> {
         fsi::sphere_settling::case(),
         fsi::sphere_heave::case(),
         fsi::channel::case(),
+        fsi::jeffery::case(),
         cfluid::incompressibility::case(),
         cfluid::dam_break::case(),
         cfluid::floating_box::case(),

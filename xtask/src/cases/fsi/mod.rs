@@ -5,5 +5,6 @@ pub mod channel;
 pub mod cylinder_array;
 pub mod flexible_beam;
 pub mod floating_body;
+pub mod jeffery;
 pub mod sphere_heave;
 pub mod sphere_settling;
