@@ -39,7 +39,7 @@ use chrono_core::particles::lattice::slab_layers;
 use chrono_core::{BodyHandle, RigidBodyBuilder, Shape, System};
 use chrono_sph::{ShiftForm, Shifting, SphSettings};
 
-use crate::error::{FsiError, Result};
+use crate::error::{FsiError, Result, check_positive};
 use crate::periodic::DrivenCell;
 use crate::{FsiBuilder, SphFluid};
 
@@ -139,9 +139,7 @@ impl CylinderArrayParams {
             ("spacing", self.spacing),
             ("h_over_dp", self.h_over_dp),
         ] {
-            if !(v.is_finite() && v > 0.0) {
-                return Err(FsiError::invalid(f, v, "must be finite and > 0"));
-            }
+            check_positive(f, v)?;
         }
         if !(self.shifting.is_finite() && self.shifting >= 0.0) {
             return Err(FsiError::invalid(

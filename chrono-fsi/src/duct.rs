@@ -21,7 +21,7 @@
 
 use std::f64::consts::PI;
 
-use crate::error::{FsiError, Result};
+use crate::error::{FsiError, Result, check_positive};
 
 /// Terms of the series kept (odd `i` up to `2 N - 1`); the velocity's terms fall as
 /// `i^-3` with alternating signs, so `N = 400` truncates at about `16 / (pi^3 (2N)^3)`
@@ -97,9 +97,7 @@ pub fn body_force_for_mean_velocity(
     half_z: f64,
 ) -> Result<f64> {
     for (f, v) in [("mean_velocity", mean_velocity), ("rho", rho), ("mu", mu)] {
-        if !(v.is_finite() && v > 0.0) {
-            return Err(FsiError::invalid(f, v, "must be finite and > 0"));
-        }
+        check_positive(f, v)?;
     }
     let a = half_y.min(half_z);
     let k = duct_mean_coefficient(half_y, half_z)?;

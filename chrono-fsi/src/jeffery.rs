@@ -59,7 +59,7 @@ use chrono_core::particles::lattice::wall_layers;
 use chrono_core::{BodyHandle, RigidBodyBuilder, Shape, System, SystemSettings};
 use chrono_sph::{SphSettings, WallBelt, sound_speed_for};
 
-use crate::error::{FsiError, Result};
+use crate::error::{FsiError, Result, check_positive};
 use crate::{FsiBuilder, SphFluid};
 
 /// The smallest wall gap, in major axes (the spheroid's largest diameter), the scene
@@ -149,9 +149,7 @@ pub fn fit_jeffery_orbit(
         ("period_guess", period_guess),
         ("aspect_ratio", aspect_ratio),
     ] {
-        if !(v.is_finite() && v > 0.0) {
-            return Err(FsiError::invalid(f, v, "must be finite and > 0"));
-        }
+        check_positive(f, v)?;
     }
     let (lo, hi) = theta
         .iter()
@@ -333,9 +331,7 @@ impl JefferyParams {
             ("spacing", self.spacing),
             ("h_over_dp", self.h_over_dp),
         ] {
-            if !(v.is_finite() && v > 0.0) {
-                return Err(FsiError::invalid(f, v, "must be finite and > 0"));
-            }
+            check_positive(f, v)?;
         }
         if !(self.gap.is_finite() && self.gap >= MIN_GAP_MAJOR_AXES - 1e-12) {
             return Err(FsiError::invalid(

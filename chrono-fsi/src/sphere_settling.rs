@@ -72,7 +72,7 @@ use chrono_core::math::{GRAVITY, Isometry3, Vector3};
 use chrono_core::{BodyHandle, RigidBodyBuilder, Shape, System, SystemSettings};
 use chrono_sph::{SphSettings, sound_speed_for};
 
-use crate::error::{FsiError, Result};
+use crate::error::{FsiError, Result, check_positive};
 use crate::{FsiBuilder, SphFluid};
 
 /// Zick & Homsy (1982, "Stokes flow through periodic arrays of spheres", J. Fluid Mech.
@@ -190,9 +190,7 @@ impl SphereSettlingParams {
             ("spacing", self.spacing),
             ("h_over_dp", self.h_over_dp),
         ] {
-            if !(v.is_finite() && v > 0.0) {
-                return Err(FsiError::invalid(f, v, "must be finite and > 0"));
-            }
+            check_positive(f, v)?;
         }
         if (self.density_ratio - 1.0).abs() < 1e-6 {
             return Err(FsiError::invalid(
