@@ -92,29 +92,45 @@ impl Tile {
     }
 
     /// Periodic grids: compacts the in-support entries of `list` (at most [`TILE`])
-    /// around `pa` (slot `a`) with their displacements (only positions are read). Pads
+    /// around `pa` (slot `a`) with their displacements (only positions are read), `lanes`
+    /// entries at a time ([`periodic_images`]: the bits of `CellGrid::displacement`). Pads
     /// to a multiple of `lanes` with `a` itself (zero displacement); returns the padded
     /// count.
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
-    fn compact(
+    fn compact<S: Simd>(
         &mut self,
+        s: S,
         c: &PassCtx<'_>,
         nb: &[Packed],
         pa: &Packed,
+        pos_a: &[S::f64s; 3],
         a: u32,
         list: &[u32],
         support2: f64,
-        lanes: usize,
     ) -> usize {
         debug_assert!(list.len() <= TILE);
-        let pos = pa.pos();
+        let lanes = S::F64_LANES;
         let mut k = 0usize;
-        for &b in list {
-            let pb = &nb[b as usize];
-            let d = c.grid.displacement(pos, pb.pos());
+        let whole = list.len() / lanes * lanes;
+        let mut g = Group::default();
+        for ids in list[..whole].chunks_exact(lanes) {
+            periodic_images(s, c, nb, pa, pos_a, ids, &mut g);
+            for (j, &b) in ids.iter().enumerate() {
+                // k < TILE: the mask only tells the compiler so (no bounds checks)
+                let i = k & (TILE - 1);
+                self.idx[i] = b;
+                self.x[i] = g.x[j];
+                self.y[i] = g.y[j];
+                self.z[i] = g.z[j];
+                self.r2[i] = g.r2[j];
+                k += (g.r2[j] < support2) as usize;
+            }
+        }
+        let pos = pa.pos();
+        for &b in &list[whole..] {
+            let d = c.grid.displacement(pos, nb[b as usize].pos());
             let r2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
-            // k < TILE: the mask only tells the compiler so (no bounds checks)
             let i = k & (TILE - 1);
             self.idx[i] = b;
             self.x[i] = d[0];
@@ -179,20 +195,98 @@ impl Tile {
     }
 
     /// Periodic grids: the displacements of the entries `seq` around `pa` (at most
-    /// [`TILE`]).
+    /// [`TILE`], a whole number of vectors), `lanes` at a time ([`periodic_images`]).
     #[inline(always)]
-    fn displacements(&mut self, c: &PassCtx<'_>, nb: &[Packed], pa: &Packed, seq: &[u32]) {
+    fn displacements<S: Simd>(
+        &mut self,
+        s: S,
+        c: &PassCtx<'_>,
+        nb: &[Packed],
+        pa: &Packed,
+        pos_a: &[S::f64s; 3],
+        seq: &[u32],
+    ) {
         debug_assert!(seq.len() <= TILE);
-        let pos = pa.pos();
-        for (i, &b) in seq.iter().enumerate() {
-            let d = c.grid.displacement(pos, nb[b as usize].pos());
-            let i = i & (TILE - 1);
-            self.x[i] = d[0];
-            self.y[i] = d[1];
-            self.z[i] = d[2];
-            self.r2[i] = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+        let lanes = S::F64_LANES;
+        debug_assert!(seq.len().is_multiple_of(lanes));
+        let mut g = Group::default();
+        for (v, ids) in seq.chunks_exact(lanes).enumerate() {
+            periodic_images(s, c, nb, pa, pos_a, ids, &mut g);
+            let i0 = (v * lanes) & (TILE - 1);
+            self.x[i0..i0 + lanes].copy_from_slice(&g.x[..lanes]);
+            self.y[i0..i0 + lanes].copy_from_slice(&g.y[..lanes]);
+            self.z[i0..i0 + lanes].copy_from_slice(&g.z[..lanes]);
+            self.r2[i0..i0 + lanes].copy_from_slice(&g.r2[..lanes]);
         }
     }
+}
+
+/// One vector of neighbours' displacements and squared distances, per lane.
+#[derive(Default)]
+struct Group {
+    x: [f64; 16],
+    y: [f64; 16],
+    z: [f64; 16],
+    r2: [f64; 16],
+}
+
+/// The minimum-image displacements `x_a - x_b` of the neighbours `ids` (one per lane)
+/// and their squared distances into `g`: per periodic axis of period `l`, `d - l` where
+/// `d > l/2` and `d + l` where `d < -l/2` by selects, the very subtractions
+/// `CellGrid::displacement` makes, so the same bits; a group with a lane still more than
+/// half a period away (points more than 1.5 periods apart, not seen in a wrapped
+/// domain) is redone entry by entry by `CellGrid::displacement` itself.
+#[inline(always)]
+fn periodic_images<S: Simd>(
+    s: S,
+    c: &PassCtx<'_>,
+    nb: &[Packed],
+    pa: &Packed,
+    pos_a: &[S::f64s; 3],
+    ids: &[u32],
+    g: &mut Group,
+) {
+    let lanes = S::F64_LANES;
+    let [xb, yb, zb, _] = columns(s, nb, ids, |r| &r.pos_p);
+    let mut d = [
+        s.sub_f64s(pos_a[0], xb),
+        s.sub_f64s(pos_a[1], yb),
+        s.sub_f64s(pos_a[2], zb),
+    ];
+    let per = c.grid.periods();
+    let mut far = false;
+    for (ax, l) in per.into_iter().enumerate() {
+        if l > 0.0 {
+            let half = 0.5 * l;
+            let lv = s.splat_f64s(l);
+            let down = s.less_than_f64s(s.splat_f64s(half), d[ax]);
+            let up = s.less_than_f64s(d[ax], s.splat_f64s(-half));
+            d[ax] = s.select_f64s(
+                down,
+                s.sub_f64s(d[ax], lv),
+                s.select_f64s(up, s.add_f64s(d[ax], lv), d[ax]),
+            );
+            S::as_mut_simd_f64s(&mut g.x[..lanes]).0[0] = d[ax];
+            far |= g.x[..lanes].iter().any(|v| v.abs() > half);
+        }
+    }
+    if far {
+        let pos = pa.pos();
+        for (j, &b) in ids.iter().enumerate() {
+            let e = c.grid.displacement(pos, nb[b as usize].pos());
+            (g.x[j], g.y[j], g.z[j]) = (e[0], e[1], e[2]);
+            g.r2[j] = e[0] * e[0] + e[1] * e[1] + e[2] * e[2];
+        }
+        return;
+    }
+    let r2 = s.add_f64s(
+        s.add_f64s(s.mul_f64s(d[0], d[0]), s.mul_f64s(d[1], d[1])),
+        s.mul_f64s(d[2], d[2]),
+    );
+    S::as_mut_simd_f64s(&mut g.x[..lanes]).0[0] = d[0];
+    S::as_mut_simd_f64s(&mut g.y[..lanes]).0[0] = d[1];
+    S::as_mut_simd_f64s(&mut g.z[..lanes]).0[0] = d[2];
+    S::as_mut_simd_f64s(&mut g.r2[..lanes]).0[0] = r2;
 }
 
 /// The four columns of one group of [`Packed`] (`field` picks it) over the neighbours
@@ -443,7 +537,7 @@ fn continuity_one<S: Simd, const KER: u8, const DIFF: u8>(
     let mut w = 0usize;
     for chunk in c.list.neighbors(a).chunks(TILE) {
         let kp = if c.periodic {
-            t.compact(c, nb, pa, a as u32, chunk, support2, lanes)
+            t.compact(s, c, nb, pa, &pos_a, a as u32, chunk, support2)
         } else {
             t.compact_simd(s, nb, pa, &pos_a, a as u32, chunk, support2)
         };
@@ -563,7 +657,7 @@ fn force_one<S: Simd, const KER: u8, const AV: bool>(
     // of every lane count
     for chunk in seq.chunks(TILE) {
         if c.periodic {
-            t.displacements(c, nb, pa, chunk);
+            t.displacements(s, c, nb, pa, &pos_a, chunk);
         }
         for j in (0..chunk.len()).step_by(lanes) {
             let ids = &chunk[j..j + lanes];

@@ -445,6 +445,12 @@ impl CellGrid {
         }
     }
 
+    /// The period of each axis, m (0 where the axis is not periodic): the minimum image
+    /// of [`displacement`](Self::displacement) wraps by it.
+    pub fn periods(&self) -> [f64; 3] {
+        self.period
+    }
+
     /// Minimum-image displacement `p - q` (periodic axes wrapped).
     #[inline]
     pub fn displacement(&self, p: [f64; 3], q: [f64; 3]) -> [f64; 3] {
