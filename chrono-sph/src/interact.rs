@@ -317,9 +317,12 @@ pub(crate) fn wall_extrapolation(
                 sv[2] += vf[2] * wk;
                 // distance of f in front of the wall surface (x = x_w - x_f)
                 sd += (-(n[0] * x[0] + n[1] * x[1] + n[2] * x[2]) - depth) * wk;
-                sx[0] += x[0] * wk;
-                sx[1] += x[1] * wk;
-                sx[2] += x[2] * wk;
+                // the kernel-averaged fluid point: only a rotating carrier's mirror reads it
+                if omega.is_some() {
+                    sx[0] += x[0] * wk;
+                    sx[1] += x[1] * wk;
+                    sx[2] += x[2] * wk;
+                }
             }
             if sw > 0.0 {
                 let mut p =
