@@ -308,6 +308,12 @@ fn run(p: &CylinderArrayCaseParams, ctx: &RunContext) -> anyhow::Result<CaseOutp
         "parameter `window` must be in (0, 1], got {}",
         p.window
     );
+    for &c in &p.more_fractions {
+        anyhow::ensure!(
+            c.is_finite() && c > 0.0 && c < PI / 4.0,
+            "parameter `more_fractions` must hold solid fractions in (0, pi/4), got {c}"
+        );
+    }
     let r = run_once(p, p.spacing, p.solid_fraction)?;
     let mut out = CaseOutput::new();
     let reynolds = check_run(&mut out, p, &r, p.spacing, "");
