@@ -139,6 +139,51 @@ impl ParticleData {
         self.wall_a.push([0.0; 3]);
     }
 
+    /// Keeps the particles whose slot has `keep[i]` (in their order) and drops the rest
+    /// (an open channel's outflow); returns the number dropped.
+    pub(crate) fn retain(&mut self, keep: &[bool]) -> usize {
+        fn compact<T: Copy>(v: &mut Vec<T>, keep: &[bool]) {
+            let mut k = 0;
+            for i in 0..v.len() {
+                if keep[i] {
+                    v[k] = v[i];
+                    k += 1;
+                }
+            }
+            v.truncate(k);
+        }
+        let n = self.len();
+        for v in [
+            &mut self.x,
+            &mut self.y,
+            &mut self.z,
+            &mut self.vx,
+            &mut self.vy,
+            &mut self.vz,
+            &mut self.rho,
+            &mut self.p,
+            &mut self.mass,
+            &mut self.wall_depth,
+            &mut self.rho_half,
+        ] {
+            compact(v, keep);
+        }
+        compact(&mut self.kind, keep);
+        compact(&mut self.id, keep);
+        compact(&mut self.carrier, keep);
+        compact(&mut self.group, keep);
+        for v in [
+            &mut self.wall_a,
+            &mut self.anchor,
+            &mut self.wall_v,
+            &mut self.wall_normal,
+        ] {
+            compact(v, keep);
+        }
+        compact(&mut self.deriv, keep);
+        n - self.len()
+    }
+
     /// Reorders every array by `order` (see [`chrono_core::particles::permute`]); no
     /// allocation once the scratch buffers have grown.
     pub(crate) fn permute(&mut self, order: &[u32]) {

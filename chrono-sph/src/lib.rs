@@ -20,6 +20,9 @@
 //! - [`carrier`]: wall markers carried by a [`RigidMotion`] set from outside (a body of a
 //!   multibody system, chrono-fsi), the force, torque and impulse of the fluid on them,
 //!   and [`SphSystem::advance_exactly`], which ends exactly at a given time;
+//! - [`open`]: open boundaries ([`OpenChannel`], off by default): a through-flow channel
+//!   with a velocity inlet and a zero-gradient outlet, buffer zones recycling particles
+//!   through a periodic seam;
 //! - [`system::active`]: the active domain ([`ActiveDomain`], off by default): only the
 //!   fluid near moving carriers is stepped, the rest frozen but still seen as neighbours;
 //! - [`distributed`]: domain decomposition over ranks (slabs, ghosts, migration), with
@@ -70,6 +73,9 @@ pub mod eos;
 pub mod error;
 mod interact;
 pub mod motion;
+pub mod open;
+#[cfg(test)]
+mod open_tests;
 mod output;
 mod pairs;
 mod probes;
@@ -91,6 +97,7 @@ pub use distributed::{DistributedSettings, LocalTransport, Slabs, Transport};
 pub use eos::{Tait, sound_speed_for};
 pub use error::{Result, SphError};
 pub use motion::{Kinematics, WallMotion};
+pub use open::{Inflow, OpenChannel, Outflow};
 pub use settings::{
     ActiveDomain, DensityDiffusion, MachPolicy, NoSlip, ShiftForm, Shifting, SphSettings, WallBelt,
 };

@@ -300,6 +300,10 @@ pub struct SphSettings {
     /// Tank walls that move along themselves ([`WallBelt`]); empty (the default): none.
     #[serde(default)]
     pub wall_belts: Vec<WallBelt>,
+    /// A through-flow channel with a velocity inlet and a zero-gradient outlet along a
+    /// non-periodic axis ([`OpenChannel`](crate::OpenChannel)); `None` (the default): none.
+    #[serde(default)]
+    pub open_channel: Option<crate::OpenChannel>,
 }
 
 impl Default for SphSettings {
@@ -336,6 +340,7 @@ impl Default for SphSettings {
             active_domain: None,
             shifting: None,
             wall_belts: Vec::new(),
+            open_channel: None,
         }
     }
 }
@@ -427,6 +432,15 @@ impl SphSettings {
                     "a group has one belt velocity",
                 ));
             }
+        }
+        if let Some(oc) = &self.open_channel {
+            oc.validate(
+                self.domain_lower,
+                self.domain_upper,
+                self.periodic,
+                2.0 * self.h(),
+                self.gravity,
+            )?;
         }
         finite3("settings.gravity", self.gravity)?;
         finite3("settings.body_force", self.body_force)?;

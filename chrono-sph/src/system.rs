@@ -49,8 +49,10 @@ mod belts;
 mod carriers;
 mod checks;
 pub mod halo;
+mod neighbors;
+mod open;
 
-use active::{ACT_NOW, ALL, LISTED};
+use active::{ACT_NOW, ALL, BUFFER};
 use belts::belt_table;
 pub(crate) use belts::belt_velocity;
 
@@ -155,6 +157,12 @@ pub struct SphSystem {
     /// The angular velocity of each rigid carrier (world, rad/s) over the current
     /// interval, for the no-slip extrapolation of its markers.
     carrier_omega: Vec<[f64; 3]>,
+    /// The open channel's inlet rows ([`crate::open`]; empty without one).
+    inlet_rows: Vec<open::InletRow>,
+    /// The next particle id to give (open channel).
+    next_id: u32,
+    /// Scratch: the particles kept by the open channel's outflow.
+    keep: Vec<bool>,
 }
 
 impl SphSystem {
@@ -220,6 +228,9 @@ impl SphSystem {
             shift_grad: Vec::new(),
             belts,
             carrier_omega: Vec::new(),
+            inlet_rows: Vec::new(),
+            next_id: 0,
+            keep: Vec::new(),
         };
         sys.carrier_radius = sys.carrier_radii();
         Ok(sys)
@@ -268,100 +279,6 @@ impl SphSystem {
                     *vz = v[2];
                 }
             });
-    }
-
-    /// Whether some particle moved more than half the skin since the last list build.
-    fn list_is_stale(&self) -> bool {
-        if self.x_ref.len() != self.data.len() {
-            return true;
-        }
-        let half_skin = 0.5 * (self.list_radius - self.kernel.support());
-        let lim2 = half_skin * half_skin;
-        let d = &self.data;
-        let grid = &self.grid;
-        (0..d.len()).into_par_iter().with_min_len(4096).any(|i| {
-            let r = self.x_ref[i];
-            let e = grid.displacement([d.x[i], d.y[i], d.z[i]], r);
-            e[0] * e[0] + e[1] * e[1] + e[2] * e[2] > lim2
-        })
-    }
-
-    /// Grid build, re-sort by cell when due, CSR neighbour list (radius `2 h (1 + skin)`)
-    /// at the current positions; skipped while the Verlet list is still valid.
-    fn neighbor_search(&mut self, mut net: Option<&mut (dyn Transport + 'static)>) -> Result<()> {
-        let t0 = Instant::now();
-        let mut stale = self.list_is_stale() || self.activity_needs_rebuild();
-        if let Some(t) = net.as_deref_mut() {
-            // a global decision: every rank rebuilds (ghosts and migration) together
-            let mut v = [stale as u8 as f64];
-            t.all_max(&mut v)?;
-            stale = v[0] > 0.0;
-        }
-        if !stale {
-            self.timings.neighbor_search += t0.elapsed().as_secs_f64();
-            return Ok(());
-        }
-        if let Some(t) = net {
-            self.halo_rebuild(t)?;
-        }
-        {
-            let d = &self.data;
-            self.grid.build([&d.x, &d.y, &d.z])?;
-        }
-        let every = self.settings.reorder_every as u64;
-        if every > 0 && (self.steps == 0 || self.steps >= self.last_reorder + every) {
-            self.data.permute(self.grid.order());
-            chrono_core::particles::permute(
-                self.grid.order(),
-                &mut self.act,
-                &mut self.act_scratch,
-            );
-            if let Some(st) = self.dist.as_mut() {
-                chrono_core::particles::permute(
-                    self.grid.order(),
-                    &mut st.owner,
-                    &mut st.owner_scratch,
-                );
-            }
-            self.grid.reordered();
-            self.last_reorder = self.steps;
-        }
-        self.mark_listed();
-        {
-            let d = &self.data;
-            let kind = &d.kind;
-            // wall markers keep only their fluid neighbours: no pass reads wall-wall
-            // entries (the wall extrapolation sums over fluid neighbours only)
-            let keep = |i: usize, j: usize| kind[i] == FLUID || kind[j] == FLUID;
-            if self.masked() {
-                // the active domain: rows for the listed particles only
-                let act = &self.act;
-                self.grid.neighbor_list_rows(
-                    [&d.x, &d.y, &d.z],
-                    self.list_radius,
-                    &mut self.list,
-                    |i| act[i] & LISTED != 0,
-                    keep,
-                )?;
-            } else {
-                self.grid.neighbor_list_filtered(
-                    [&d.x, &d.y, &d.z],
-                    self.list_radius,
-                    &mut self.list,
-                    keep,
-                )?;
-            }
-            self.x_ref.resize(d.len(), [0.0; 3]);
-            self.x_ref
-                .par_iter_mut()
-                .enumerate()
-                .for_each(|(i, r)| *r = [d.x[i], d.y[i], d.z[i]]);
-        }
-        self.halo_index();
-        self.stats.neighbor_entries = self.list.total();
-        self.stats.list_builds += 1;
-        self.timings.neighbor_search += t0.elapsed().as_secs_f64();
-        Ok(())
     }
 
     /// Density work at the current positions: continuity (+ XSPH) with the current
@@ -431,6 +348,16 @@ impl SphSystem {
             }
         }
         interact::fluid_pressure(&mut self.data, &self.eos);
+        Self::open_extrapolation(
+            &self.settings,
+            &self.kernel,
+            &self.eos,
+            &self.grid,
+            &self.list,
+            &self.act,
+            &mut self.data,
+            &mut self.bc,
+        );
         // the records of the continuity pass: same positions, fluid velocities and kinds
         interact::wall_extrapolation(&mut self.data, &self.packed, &ctx, &mut self.bc);
         if let Some(t) = net {
@@ -525,8 +452,10 @@ impl SphSystem {
             return Ok(());
         }
         self.check_active_domain()?;
+        self.init_open_channel();
         self.move_walls(self.time);
         self.update_activity();
+        self.set_inflow();
         self.stats.active_fluid = self.promote_activity();
         self.neighbor_search(net.as_deref_mut())?;
         // the density diffusion reads the pressures of the initial densities
@@ -639,21 +568,32 @@ impl SphSystem {
             )
                 .into_par_iter()
                 .for_each(|(x, y, z, vx, vy, vz, (dv, &kind), &act)| {
-                    if kind != FLUID || act & ACT_NOW == 0 {
+                    if kind != FLUID {
                         return;
                     }
-                    *x += dt * (vx + dv.xsph[0]);
-                    *y += dt * (vy + dv.xsph[1]);
-                    *z += dt * (vz + dv.xsph[2]);
+                    if act & ACT_NOW != 0 {
+                        *x += dt * (vx + dv.xsph[0]);
+                        *y += dt * (vy + dv.xsph[1]);
+                        *z += dt * (vz + dv.xsph[2]);
+                    } else if act & BUFFER != 0 {
+                        // an open channel's buffer particle moves with its imposed velocity
+                        *x += dt * vx;
+                        *y += dt * vy;
+                        *z += dt * vz;
+                    } else {
+                        return;
+                    }
                     wrap(x, 0);
                     wrap(y, 1);
                     wrap(z, 2);
                 });
         }
+        self.advance_inlet_rows(dt);
         self.time = t_new.unwrap_or(self.time + dt);
         self.steps += 1;
         self.move_walls(self.time);
         self.update_activity();
+        self.set_inflow();
         if let Some(t) = net.as_deref_mut() {
             Self::refresh(&mut self.dist, &mut self.data, Refresh::Kinematic, t)?;
         }

@@ -62,8 +62,12 @@ pub(crate) const ACT_NOW: u8 = 1;
 pub(crate) const ACT_NEXT: u8 = 2;
 /// Flag: the particle has a neighbour row.
 pub(crate) const LISTED: u8 = 4;
-/// Every flag: the state of every particle when the active domain is off.
+/// Every flag of a stepped particle: the state of every particle when the active domain
+/// and the open channel are off.
 pub(crate) const ALL: u8 = ACT_NOW | ACT_NEXT | LISTED;
+/// Flag: a fluid particle in a buffer zone of the open channel ([`crate::open`]): moved
+/// with its imposed velocity, never stepped (set with `ACT_NEXT` from the positions).
+pub(crate) const BUFFER: u8 = 8;
 
 /// The distance of `x` to the nearest source sphere `[cx, cy, cz, r]`, m (`+inf`
 /// without sources).
@@ -195,27 +199,40 @@ impl SphSystem {
     }
 
     /// Sets the `ACT_NEXT` flag of every fluid particle from its distance to the sources
-    /// at the current positions (active domain on only).
+    /// at the current positions (active domain), and its `BUFFER` flag from its zone (open
+    /// channel): a buffer particle is never active.
     pub(super) fn update_activity(&mut self) {
-        let Some(ad) = self.settings.active_domain else {
+        let ad = self.settings.active_domain;
+        let open = self.settings.open_channel;
+        if ad.is_none() && open.is_none() {
             return;
-        };
-        self.compute_sources();
+        }
+        if ad.is_some() {
+            self.compute_sources();
+        }
+        let (lo, hi) = (self.settings.domain_lower, self.settings.domain_upper);
         let (grid, sources, d) = (&self.grid, &self.sources, &self.data);
         self.act.par_iter_mut().enumerate().for_each(|(i, a)| {
             if d.kind[i] != FLUID {
                 return;
             }
             let x = [d.x[i], d.y[i], d.z[i]];
-            let next = distance(grid, sources, x) <= ad.radius;
-            *a = (*a & !ACT_NEXT) | if next { ACT_NEXT } else { 0 };
+            let mut next = ad.is_none_or(|ad| distance(grid, sources, x) <= ad.radius);
+            let buffer = open.is_some_and(|oc| {
+                let k = oc.axis;
+                oc.zone(x[k], lo[k], hi[k]) != crate::open::ZONE_FLUID
+            });
+            next &= !buffer;
+            *a = (*a & !(ACT_NEXT | BUFFER))
+                | if next { ACT_NEXT } else { 0 }
+                | if buffer { BUFFER } else { 0 };
         });
     }
 
     /// `A_n := A_{n+1}` at the end of a step; returns the number of active fluid
     /// particles.
     pub(super) fn promote_activity(&mut self) -> usize {
-        if !self.active_on() {
+        if !self.active_on() && self.settings.open_channel.is_none() {
             return self.n_fluid;
         }
         let d = &self.data;

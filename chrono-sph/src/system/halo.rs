@@ -115,6 +115,13 @@ impl SphSystem {
                 "the active domain cannot be combined with a decomposition",
             ));
         }
+        if self.settings.open_channel.is_some() {
+            return Err(SphError::invalid(
+                "settings.open_channel",
+                "Some",
+                "an open channel cannot be combined with a decomposition yet",
+            ));
+        }
         if self.initialized || self.dist.is_some() {
             return Err(SphError::invalid(
                 "distribute",
@@ -456,9 +463,12 @@ impl SphSystem {
     }
 
     /// Whether the passes read the activity flags: with the active domain (frozen
-    /// particles) or a decomposition (ghosts carry no flag).
+    /// particles), an open channel (buffer particles) or a decomposition (ghosts carry no
+    /// flag).
     pub(super) fn masked(&self) -> bool {
-        self.settings.active_domain.is_some() || self.dist.is_some()
+        self.settings.active_domain.is_some()
+            || self.settings.open_channel.is_some()
+            || self.dist.is_some()
     }
 }
 
