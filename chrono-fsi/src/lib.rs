@@ -79,6 +79,7 @@ pub mod channel;
 #[cfg(test)]
 mod channel_tests;
 pub mod cylinder_array;
+pub mod cylinder_flow;
 pub mod duct;
 pub mod error;
 pub mod fluid;

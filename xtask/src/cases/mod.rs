@@ -95,6 +95,7 @@ pub fn all_cases() -> Vec<Box<dyn Case>> {
         fsi::sphere_heave::case(),
         fsi::channel::case(),
         fsi::jeffery::case(),
+        fsi::cylinder_flow::case(),
         cfluid::incompressibility::case(),
         cfluid::dam_break::case(),
         cfluid::floating_box::case(),
