@@ -156,6 +156,39 @@ impl TrackedVehicleData {
         self.total_mass() * g / (2.0 * self.track.shoe.width * self.contact_length())
     }
 
+    /// The torque on each sprocket that holds the model on a slope of `grade` (rise over
+    /// run, e.g. 0.6 for 60 %) at gravity `g` (m/s^2), N m: the weight's component down the
+    /// slope, `m g sin(atan grade)`, shared by the two sprockets at their pitch radius,
+    /// `m g sin(atan grade) r_p / 2`. It is the least a drive that climbs that grade must
+    /// give at the sprockets (rolling resistance and the track's internal losses only add
+    /// to it). Errors name the field: `grade` negative or not finite, `g` not positive.
+    pub fn grade_sprocket_torque(&self, grade: f64, g: f64) -> Result<f64> {
+        if !(grade >= 0.0 && grade.is_finite()) {
+            return Err(VehicleError::invalid(
+                "grade",
+                grade,
+                "must be >= 0 and finite",
+            ));
+        }
+        check_positive("g", g)?;
+        let angle = grade.atan();
+        Ok(self.total_mass() * g * angle.sin() * self.track.sprocket.pitch_radius / 2.0)
+    }
+
+    /// [`Self::grade_sprocket_torque`] at the published steepest grade
+    /// (`published.max_grade`, named in the error if it is negative or not finite), N m.
+    pub fn published_grade_sprocket_torque(&self, g: f64) -> Result<f64> {
+        let grade = self.published.max_grade;
+        if !(grade >= 0.0 && grade.is_finite()) {
+            return Err(VehicleError::invalid(
+                "published.max_grade",
+                grade,
+                "must be >= 0 and finite",
+            ));
+        }
+        self.grade_sprocket_torque(grade, g)
+    }
+
     /// The model's ground contact length: first to last road wheel centre, m.
     pub fn contact_length(&self) -> f64 {
         let x = &self.track.road_wheels.x;
@@ -382,6 +415,43 @@ mod tests {
         assert!((d.contact_length() - d.published.ground_contact_length).abs() < 1e-3);
         let p = d.nominal_ground_pressure(chrono_core::math::GRAVITY_MAGNITUDE);
         assert!((p / d.published.ground_pressure - 1.0).abs() < 0.03, "{p}");
+    }
+
+    #[test]
+    fn the_grade_torque_balances_the_weight_down_the_slope() {
+        let d = m113_data().unwrap();
+        let g = chrono_core::math::GRAVITY_MAGNITUDE;
+        let r_p = d.track.sprocket.pitch_radius;
+        // Both sprockets' thrust equals the weight's component down the slope.
+        for grade in [0.0, 0.3, 0.6, 1.0, 2.5] {
+            let t = d.grade_sprocket_torque(grade, g).unwrap();
+            let down_slope = d.total_mass() * g * grade / (1.0 + grade * grade).sqrt();
+            assert!((2.0 * t / r_p - down_slope).abs() < 1e-9 * down_slope.max(1.0));
+        }
+        // A 45 deg slope: sin 45 deg of the weight.
+        let t = d.grade_sprocket_torque(1.0, g).unwrap();
+        let w = d.total_mass() * g;
+        assert!((2.0 * t / r_p / w - 0.5_f64.sqrt()).abs() < 1e-12);
+        // The M113A1's published 60 %: 0.514 of the weight, about 6.94 kN m a side.
+        let t = d.published_grade_sprocket_torque(g).unwrap();
+        assert!((2.0 * t / r_p / w - 0.6 / 1.36_f64.sqrt()).abs() < 1e-12);
+        assert!((t - 6.94e3).abs() < 10.0, "{t}");
+        // Bad input names the field.
+        for (grade, gg, field) in [
+            (-0.1, g, "`grade`"),
+            (f64::NAN, g, "`grade`"),
+            (0.6, 0.0, "`g`"),
+        ] {
+            let e = d.grade_sprocket_torque(grade, gg).unwrap_err().to_string();
+            assert!(e.contains(field), "{e}");
+        }
+        let mut bad = d.clone();
+        bad.published.max_grade = -0.6;
+        let e = bad
+            .published_grade_sprocket_torque(g)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("published.max_grade"), "{e}");
     }
 
     #[test]

@@ -20,7 +20,12 @@
 //! ground pressure under each road wheel (a shoe's ground force over its pitch times width,
 //! the largest within a pitch of the wheel), the chain tension on the upper run (mean pin
 //! force) against half the tensioner's force (the idler's two spans share it), the
-//! tensioner's force against its preload, wall time, steps/s and the CCP solve's share.
+//! tensioner's force against its preload, the upper run's clearance over each road wheel
+//! at the end (`upper_run_gap_wheel1` .. `5`, front to rear, mean of the sides: the M113's
+//! upper run rests on the road wheels, and its published track adjustment is by that sag:
+//! the No. 3 wheel touching, 3/8 to 5/8 in over the No. 2; docs/validation-vehicle.md,
+//! "`m113-step` with the published gradeability"), wall time, steps/s and the CCP solve's
+//! share.
 //! Forces are averaged over the last 40 % of the steps (the contact forces of the rigid
 //! shoes fluctuate by about 5 % from step to step).
 
@@ -174,6 +179,27 @@ fn run(p: &M113StaticParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     }
     let wall = t0.elapsed().as_secs_f64();
     vtk.finish()?;
+    // The upper run's clearance over the road wheels at the end (the M113's track has no
+    // return rollers: the upper run sags onto the wheels; its published adjustment is by
+    // that sag): for each road wheel and side, the lowest inner face of the upper-run
+    // shoes within half a pitch of the wheel centre (in X) above the wheel's top, m.
+    let half_t = 0.5 * d.track.shoe.thickness;
+    let n_wheels = d.track.road_wheels.x.len();
+    let mut upper_gap = vec![[f64::NAN; 2]; n_wheels];
+    for (side, s) in v.sides.iter().enumerate() {
+        for (k, w) in s.road_wheels.iter().enumerate() {
+            let wp = sys.body(w.wheel)?.position();
+            let top = wp.z + d.track.road_wheels.radius;
+            let mut gap = f64::INFINITY;
+            for &shoe in &s.shoes {
+                let sp = sys.body(shoe)?.position();
+                if sp.z > wp.z && (sp.x - wp.x).abs() <= 0.5 * d.track.shoe.pitch {
+                    gap = gap.min(sp.z - half_t - top);
+                }
+            }
+            upper_gap[k][side] = gap;
+        }
+    }
     let solve_s = nanos.load(Ordering::Relaxed) as f64 * 1e-9;
     let k = acc.count as f64;
 
@@ -231,6 +257,9 @@ fn run(p: &M113StaticParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     out.metric("track_tension_upper_run", acc.tension / k);
     out.metric("tensioner_force", acc.tensioner / k);
     out.metric("tensioner_preload", p.preload);
+    for (k, g) in upper_gap.iter().enumerate() {
+        out.metric(format!("upper_run_gap_wheel{}", k + 1), 0.5 * (g[0] + g[1]));
+    }
     out.metric(
         "tension_over_half_tensioner",
         acc.tension / (0.5 * acc.tensioner),
