@@ -10,8 +10,9 @@
 //! - *inlet*: velocity = the prescribed inflow `u_in(x, t)` along the axis ([`Inflow`],
 //!   times a C1 ramp over [`OpenChannel::ramp_time`]); pressure extrapolated from the fluid
 //!   with a zero normal gradient (with the hydrostatic and body-force term of the wall
-//!   markers, `p_i = sum_f (p_f + rho_f b . (x_i - x_f)) W_if / sum_f W_if`): a velocity
-//!   inlet. The inlet buffer is a conveyor of lattice rows: each row (a lattice point of
+//!   markers, `p_i = sum_f (p_f + rho_f b . (x_i - x_f)) W_if / sum_f W_if`), and the mass
+//!   `rho_i dp^3` of its lattice cell at that density: a velocity inlet whose mass flux is
+//!   `rho_in u_in`. The inlet buffer is a conveyor of lattice rows: each row (a lattice point of
 //!   the section) moves at its inflow speed, and a new particle is put at the row's rear
 //!   (one spacing behind its last particle, with the row's mass and the rest density)
 //!   whenever the rear has moved a spacing into the buffer, so the inflow enters at the
@@ -83,6 +84,19 @@ pub enum Outflow {
     },
     /// The pressure extrapolated from the fluid (zero normal gradient).
     ZeroGradient,
+    /// The gauge pressure `p` (Pa) plus the acoustic impedance term of a plane wave,
+    /// `p_b = p + rho_0 c_s (u_out - U_in)`, with `u_out` the mean axial velocity of the
+    /// outlet-buffer particles next to the fluid and `U_in` the inflow's section mean at
+    /// the same time ([`OpenChannel::inflow_mean`]): a plane acoustic wave carries
+    /// `p' = rho_0 c_s u'`, so the channel's plane mode leaves through the outlet instead
+    /// of ringing between a velocity inlet (a closed end) and a pressure outlet (an open
+    /// end). In the steady state `u_out = U_in` (the same flux through the same section)
+    /// and this is [`Outflow::Pressure`]. For channels whose outlet section equals the
+    /// inlet's (uniform gravity across the flow is refused as for `Pressure`).
+    Absorbing {
+        /// The outlet pressure, Pa.
+        p: f64,
+    },
 }
 
 /// A through-flow channel along a (non-periodic) axis with a velocity inlet and a zero-gradient
@@ -158,7 +172,7 @@ impl OpenChannel {
                 "must be finite and >= 0",
             ));
         }
-        if let Outflow::Pressure { p } = self.outflow {
+        if let Outflow::Pressure { p } | Outflow::Absorbing { p } = self.outflow {
             if !p.is_finite() {
                 return Err(SphError::invalid(
                     "settings.open_channel.outflow.p",
@@ -243,6 +257,16 @@ impl OpenChannel {
                     0.0
                 }
             }
+        }
+    }
+
+    /// The inflow's mean speed over its section at time `t` (m/s, ramp included): the
+    /// speed of a uniform inflow, `2 u_max / 3` of a plane Poiseuille one.
+    pub fn inflow_mean(&self, t: f64) -> f64 {
+        let r = self.ramp(t);
+        match self.inflow {
+            Inflow::Uniform { speed } => r * speed,
+            Inflow::PlanePoiseuille { u_max, .. } => r * 2.0 * u_max / 3.0,
         }
     }
 

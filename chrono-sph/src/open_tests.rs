@@ -196,6 +196,12 @@ fn buffer_particles_are_never_stepped_new_ones_enter_on_the_lattice_and_the_outf
                 let v = oc.inflow_velocity([x, d.y[i], d.z[i]], t);
                 assert_eq!([d.vx[i], d.vy[i], d.vz[i]], v, "inlet particle {id}");
                 assert!(!sys.is_active(i));
+                // its mass fills its lattice cell at its density
+                let v = d.mass[i] / d.rho[i];
+                assert!(
+                    (v / DP.powi(3) - 1.0).abs() < 1e-12,
+                    "inlet particle {id}: {v}"
+                );
                 for q in [d.y[i], d.z[i]] {
                     let r = q / DP - 0.5;
                     assert!(

@@ -357,6 +357,7 @@ impl SphSystem {
             &self.act,
             &mut self.data,
             &mut self.bc,
+            self.time,
         );
         // the records of the continuity pass: same positions, fluid velocities and kinds
         interact::wall_extrapolation(&mut self.data, &self.packed, &ctx, &mut self.bc);

@@ -61,7 +61,7 @@ pub const BUDGETS: &[Budget] = &[
     b("sph-sloshing", 41.0, 41.0),
     b("fsi-floating-body", 40.0, 12.0),
     b("fsi-flexible-beam", 15.0, 8.0),
-    b("fsi-cylinder-array", 10.0, 8.0),
+    b("fsi-cylinder-array", 15.0, 8.0),
     b("fsi-sphere-settling", 4.0, 2.0),
     b("fsi-sphere-heave", 6.0, 6.0),
     b("fsi-active-domain", 16.0, 10.0),
@@ -100,7 +100,7 @@ pub const BUDGETS: &[Budget] = &[
     b("m113-static", 11.0, 11.0),
     b("m113-accel", 25.0, 17.0),
     b("m113-turn", 18.0, 18.0),
-    b("m113-step", 16.0, 14.0),
+    b("m113-step", 10.0, 10.0),
     b("m113-granular", 25.0, 15.0),
 ];
 

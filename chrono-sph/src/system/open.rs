@@ -77,7 +77,8 @@ impl SphSystem {
 
     /// The exchange at the ends, before a list build: particles past the domain's end
     /// removed, and every inlet row whose rear moved a spacing or more into the buffer
-    /// fed one particle a spacing behind it (rest density, the inflow velocity, new id).
+    /// fed one particle a spacing behind it (the row's lattice density, the inflow
+    /// velocity, a new id).
     /// Returns whether the particle count changed.
     pub(super) fn open_exchange(&mut self) -> bool {
         let Some(oc) = self.settings.open_channel else {
@@ -107,8 +108,10 @@ impl SphSystem {
             changed = true;
         }
         let t = self.time;
-        let rho0 = self.settings.rho0;
+        let cell = dp * dp * dp;
         for r in &mut self.inlet_rows {
+            // the row's lattice density (its particles fill their cells)
+            let rho0 = r.mass / cell;
             // a small tolerance: a rear exactly a spacing in feeds now
             while r.rear[k] - dp >= lo - 1e-9 * dp {
                 r.rear[k] -= dp;
@@ -185,6 +188,7 @@ impl SphSystem {
         act: &[u8],
         d: &mut ParticleData,
         bc: &mut Vec<[f64; 5]>,
+        time: f64,
     ) {
         let Some(oc) = s.open_channel else {
             return;
@@ -229,9 +233,30 @@ impl SphSystem {
                 }
             });
         }
+        // the absorbing outlet's impedance term from the outlet's mean axial velocity (a
+        // serial sum: the same bits on any thread count)
+        let p_out = match oc.outflow {
+            Outflow::Pressure { p } => Some(p),
+            Outflow::ZeroGradient => None,
+            Outflow::Absorbing { p } => {
+                let (mut su, mut n) = (0.0, 0usize);
+                for (i, o) in bc.iter().enumerate() {
+                    if o[0] > 0.0 && oc.zone([d.x[i], d.y[i], d.z[i]][k], lo, hi) == ZONE_OUTLET {
+                        su += o[2 + k];
+                        n += 1;
+                    }
+                }
+                let u_out = if n > 0 { su / n as f64 } else { 0.0 };
+                Some(p + s.rho0 * s.sound_speed * (u_out - oc.inflow_mean(time)))
+            }
+        };
+        let cell = s.spacing * s.spacing * s.spacing;
         (
-            d.p.par_iter_mut(),
-            d.rho.par_iter_mut(),
+            (
+                d.p.par_iter_mut(),
+                d.rho.par_iter_mut(),
+                d.mass.par_iter_mut(),
+            ),
             d.vx.par_iter_mut(),
             d.vy.par_iter_mut(),
             d.vz.par_iter_mut(),
@@ -239,21 +264,30 @@ impl SphSystem {
             bc.par_iter(),
         )
             .into_par_iter()
-            .for_each(|(p, rho, vx, vy, vz, (&x, &y, &z), o)| {
+            .for_each(|((p, rho, m), vx, vy, vz, (&x, &y, &z), o)| {
                 if o[0] <= 0.0 {
                     return;
                 }
                 let mut pi = o[1];
-                if oc.zone([x, y, z][k], lo, hi) == ZONE_OUTLET {
+                let zone = oc.zone([x, y, z][k], lo, hi);
+                if zone == ZONE_OUTLET {
                     *vx = o[2];
                     *vy = o[3];
                     *vz = o[4];
-                    if let Outflow::Pressure { p } = oc.outflow {
-                        pi = p;
+                    if let Some(q) = p_out {
+                        pi = q;
                     }
                 }
                 *p = pi;
                 *rho = eos.density(pi);
+                if zone == ZONE_INLET {
+                    // a lattice particle at the density of the fluid it enters: its mass
+                    // fills its lattice cell at that density, so the inflow's mass flux
+                    // is rho_in u_in (a lattice particle of rest mass would bring a
+                    // density its spacing does not have, and the fluid would keep the
+                    // inlet's compression while draining through the outlet)
+                    *m = *rho * cell;
+                }
             });
     }
 }
