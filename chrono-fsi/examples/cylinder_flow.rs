@@ -2,6 +2,10 @@
 //! the drag and lift coefficients over time against the benchmark's bounds.
 //!
 //! `cargo run --release -p chrono-fsi --example cylinder_flow [rows_across_the_height] [t_end] [ramp_time] [absorbing_outlet: 1 | 0]`
+//!
+//! Diagnostics by environment: `CF_DIAG=1` prints the zone counts, the mean density and the
+//! mass flux at four stations over the inflow's; `CF_DUMP=file` writes the fluid particles
+//! (x, z, rho, vx, vz) at the end; `CF_SHIFT=A` sets the shifting coefficient.
 
 use chrono_ccp::Psor;
 use chrono_fsi::cylinder_flow::{CylinderFlowParams, DRAG_RANGE, LIFT_RANGE, cylinder_flow};
