@@ -12,8 +12,16 @@ use super::SphSystem;
 use super::active::{BUFFER, LISTED};
 use crate::data::{FLUID, Kind, ParticleData};
 use crate::eos::Tait;
-use crate::open::{Outflow, ZONE_INLET, ZONE_OUTLET};
+use crate::open::{OpenChannel, Outflow, ZONE_INLET, ZONE_OUTLET};
 use crate::settings::SphSettings;
+
+/// The open channel of `s`, its flow axis and the domain's bounds along it (m); `None`
+/// without one.
+fn open_axis(s: &SphSettings) -> Option<(OpenChannel, usize, f64, f64)> {
+    let oc = s.open_channel?;
+    let k = oc.axis;
+    Some((oc, k, s.domain_lower[k], s.domain_upper[k]))
+}
 
 /// One lattice row of the inlet buffer: the section point it feeds.
 #[derive(Debug, Clone, Copy)]
@@ -30,14 +38,9 @@ impl SphSystem {
     /// per section point (lateral coordinates to a tenth of the spacing), its rear the
     /// lowest coordinate along the axis; and the first free id.
     pub(super) fn init_open_channel(&mut self) {
-        let Some(oc) = self.settings.open_channel else {
+        let Some((oc, k, lo, hi)) = open_axis(&self.settings) else {
             return;
         };
-        let (k, lo, hi) = (
-            oc.axis,
-            self.settings.domain_lower[oc.axis],
-            self.settings.domain_upper[oc.axis],
-        );
         let d = &self.data;
         let q = 0.1 * self.settings.spacing;
         let mut rows = std::collections::BTreeMap::<(i64, i64), InletRow>::new();
@@ -81,14 +84,9 @@ impl SphSystem {
     /// velocity, a new id).
     /// Returns whether the particle count changed.
     pub(super) fn open_exchange(&mut self) -> bool {
-        let Some(oc) = self.settings.open_channel else {
+        let Some((oc, k, lo, hi)) = open_axis(&self.settings) else {
             return false;
         };
-        let (k, lo, hi) = (
-            oc.axis,
-            self.settings.domain_lower[oc.axis],
-            self.settings.domain_upper[oc.axis],
-        );
         let dp = self.settings.spacing;
         let d = &self.data;
         let coord = |i: usize| [d.x[i], d.y[i], d.z[i]][k];
@@ -135,14 +133,9 @@ impl SphSystem {
     /// Sets the velocity of every inlet-buffer particle to the inflow at its position and
     /// the current time (after the zones are updated; open channel only).
     pub(super) fn set_inflow(&mut self) {
-        let Some(oc) = self.settings.open_channel else {
+        let Some((oc, k, lo, hi)) = open_axis(&self.settings) else {
             return;
         };
-        let (k, lo, hi) = (
-            oc.axis,
-            self.settings.domain_lower[oc.axis],
-            self.settings.domain_upper[oc.axis],
-        );
         let t = self.time;
         let act = &self.act;
         let d = &mut self.data;
@@ -190,10 +183,9 @@ impl SphSystem {
         bc: &mut Vec<[f64; 5]>,
         time: f64,
     ) {
-        let Some(oc) = s.open_channel else {
+        let Some((oc, k, lo, hi)) = open_axis(s) else {
             return;
         };
-        let (k, lo, hi) = (oc.axis, s.domain_lower[oc.axis], s.domain_upper[oc.axis]);
         let b = [
             s.gravity[0] + s.body_force[0],
             s.gravity[1] + s.body_force[1],
