@@ -51,7 +51,7 @@ pub fn bench(
     runner::prepare(&mut benches, opts.mode, &opts.overrides)?;
     std::fs::create_dir_all(&opts.out_dir)
         .with_context(|| format!("creating {}", opts.out_dir.display()))?;
-    let results = runner::run_all(&benches, opts)?;
+    let results = runner::run_all(&mut benches, opts)?;
     let summary = opts.out_dir.join("summary.json");
     report::write_summary(&summary, &results)?;
     if let Some(json) = json {
@@ -81,6 +81,7 @@ mod tests {
             out_dir: dir.clone(),
             vtk: false,
             progress: false,
+            jobs: 1,
         };
         let ok = bench(vec![testing::decay_case()], &[], &opts, None).unwrap();
         assert!(ok);

@@ -34,6 +34,10 @@ pub enum Command {
         /// Write VTK frames into `DIR/<case>/vtk/`.
         #[arg(long)]
         vtk: bool,
+        /// Cases run at once, each on `threads / JOBS` threads (at least one); the
+        /// longest first. Figures then are those of that thread count.
+        #[arg(long, value_name = "JOBS", default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..))]
+        jobs: u32,
     },
     /// Run whole-scene throughput benches (steps/s, contacts/s ...).
     Bench {
@@ -68,7 +72,7 @@ pub struct RunArgs {
 }
 
 impl RunArgs {
-    fn options(&self, default_out: &str, vtk: bool) -> RunOptions {
+    fn options(&self, default_out: &str, vtk: bool, jobs: usize) -> RunOptions {
         RunOptions {
             mode: Mode::from_flags(self.quick, self.full),
             overrides: self.set.clone(),
@@ -78,6 +82,7 @@ impl RunArgs {
                 .unwrap_or_else(|| runner::workspace_root().join("target").join(default_out)),
             vtk,
             progress: runner::interactive(),
+            jobs,
         }
     }
 }
@@ -89,12 +94,17 @@ pub fn run(cli: Cli) -> anyhow::Result<bool> {
             print!("{}", list_text(&all_cases(), &all_benches()));
             Ok(true)
         }
-        Command::Validate { cases, run, vtk } => {
-            let opts = run.options("validation", vtk);
+        Command::Validate {
+            cases,
+            run,
+            vtk,
+            jobs,
+        } => {
+            let opts = run.options("validation", vtk, jobs as usize);
             runner::validate(all_cases(), &cases, &opts, run.json.as_deref())
         }
         Command::Bench { benches, run } => {
-            let opts = run.options("bench", false);
+            let opts = run.options("bench", false, 1);
             crate::bench::bench(all_benches(), &benches, &opts, run.json.as_deref())
         }
     }
@@ -174,11 +184,22 @@ mod tests {
             "xtask", "validate", "a", "--quick", "--set", "h=0.1", "--vtk",
         ])
         .unwrap();
-        let Command::Validate { cases, run, vtk } = cli.command else {
+        let Command::Validate {
+            cases,
+            run,
+            vtk,
+            jobs,
+        } = cli.command
+        else {
             panic!()
         };
         assert_eq!(cases, ["a"]);
         assert!(run.quick && vtk);
+        assert_eq!(jobs, 1);
+        let two = Cli::try_parse_from(["xtask", "validate", "--jobs", "2"]).unwrap();
+        assert!(matches!(two.command, Command::Validate { jobs: 2, .. }));
+        assert!(Cli::try_parse_from(["xtask", "validate", "--jobs", "0"]).is_err());
+        assert!(Cli::try_parse_from(["xtask", "bench", "--jobs", "2"]).is_err());
         assert_eq!(run.set[0].key, "h");
         assert!(Cli::try_parse_from(["xtask", "validate", "--quick", "--full"]).is_err());
         assert!(Cli::try_parse_from(["xtask", "bench", "--set", "novalue"]).is_err());

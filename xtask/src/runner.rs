@@ -81,6 +81,10 @@ pub struct RunOptions {
     pub vtk: bool,
     /// Show progress bars (when attached to a terminal).
     pub progress: bool,
+    /// Cases run at once (`--jobs`, at least 1). With more than one, each case runs on a
+    /// rayon pool of its own with `threads / jobs` threads (at least one), the longest
+    /// expected first; the results and the report keep the cases' order.
+    pub jobs: usize,
 }
 
 /// The workspace root: the parent of this crate's manifest directory, or the current
@@ -303,7 +307,10 @@ fn overall_message(done: usize, total: usize, elapsed: f64, left: f64) -> String
 /// elapsed and an estimate of the time left ([`Eta`]); in a terminal an overall bar
 /// above the case's own bar keeps that estimate current. The wall times are recorded in
 /// `DIR/timings.json` for the next run's estimate.
-pub fn run_all(cases: &[Box<dyn Case>], opts: &RunOptions) -> anyhow::Result<Vec<CaseResult>> {
+pub fn run_all(cases: &mut [Box<dyn Case>], opts: &RunOptions) -> anyhow::Result<Vec<CaseResult>> {
+    if opts.jobs > 1 && cases.len() > 1 {
+        return run_jobs(cases, opts);
+    }
     let width = cases.iter().map(|c| c.name().len()).max().unwrap_or(0);
     let mut timings = Timings::load(&opts.out_dir);
     let eta = Mutex::new(Eta::new(expectations(cases, opts.mode, &timings)));
@@ -395,6 +402,95 @@ pub fn run_all(cases: &[Box<dyn Case>], opts: &RunOptions) -> anyhow::Result<Vec
     Ok(results)
 }
 
+/// [`run_all`] with `opts.jobs` cases at once. Why: most cases use fewer than the
+/// machine's cores for part of their run (the serial parts of a step, small problems;
+/// 1.0-1.8 of 2 cores measured on the largest `--quick` cases, docs/performance.md "CI
+/// run time"), so two cases side by side on one thread each finish sooner than one after
+/// the other on two. A case's results are bit-reproducible for its thread count, so a run
+/// with `--jobs` gives the figures of a one-thread run when `threads / jobs` is 1. No
+/// per-case progress bars; one line per finished case as in the serial run.
+fn run_jobs(cases: &mut [Box<dyn Case>], opts: &RunOptions) -> anyhow::Result<Vec<CaseResult>> {
+    use std::sync::atomic::AtomicUsize;
+    let total = cases.len();
+    let width = cases.iter().map(|c| c.name().len()).max().unwrap_or(0);
+    let mut timings = Timings::load(&opts.out_dir);
+    let expected: Vec<f64> = expectations(cases, opts.mode, &timings)
+        .into_iter()
+        .map(|e| e.unwrap_or(10.0))
+        .collect();
+    // Longest first: the last case to start is a short one, so the tail is short.
+    let mut order: Vec<usize> = (0..total).collect();
+    order.sort_by(|&a, &b| expected[b].total_cmp(&expected[a]).then(a.cmp(&b)));
+    let jobs = opts.jobs.min(total);
+    let threads = (rayon::current_num_threads() / jobs).max(1);
+    // Each case is taken out once by the job that runs it (`&mut Box<dyn Case>` is `Send`).
+    let slots: Vec<Mutex<Option<&mut Box<dyn Case>>>> =
+        cases.iter_mut().map(|c| Mutex::new(Some(c))).collect();
+    let results: Mutex<Vec<Option<CaseResult>>> = Mutex::new(vec![None; total]);
+    // (cases finished, expected seconds of the cases not yet finished)
+    let progress = Mutex::new((0usize, expected.iter().sum::<f64>()));
+    let next = AtomicUsize::new(0);
+    let run_start = Instant::now();
+    let worker = || -> anyhow::Result<()> {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .context("building a case's thread pool")?;
+        loop {
+            let k = next.fetch_add(1, Ordering::Relaxed);
+            let Some(&i) = order.get(k) else {
+                return Ok(());
+            };
+            let case = slots[i]
+                .lock()
+                .map_err(|_| anyhow::anyhow!("case slot poisoned"))?
+                .take()
+                .ok_or_else(|| anyhow::anyhow!("case {i} taken twice"))?;
+            let r = pool.install(move || run_case_with_bar(case.as_ref(), opts, None))?;
+            let label = format!("[{}/{}] {:<width$}", i + 1, total, r.name);
+            let line = {
+                let mut p = progress
+                    .lock()
+                    .map_err(|_| anyhow::anyhow!("progress poisoned"))?;
+                p.0 += 1;
+                p.1 -= expected[i];
+                let left = p.1.max(0.0) / jobs as f64;
+                format!(
+                    "{}  · {}",
+                    finished_line(&label, &r),
+                    overall_message(p.0, total, run_start.elapsed().as_secs_f64(), left)
+                )
+            };
+            println!("{line}");
+            results
+                .lock()
+                .map_err(|_| anyhow::anyhow!("results poisoned"))?[i] = Some(r);
+        }
+    };
+    std::thread::scope(|scope| -> anyhow::Result<()> {
+        let handles: Vec<_> = (0..jobs).map(|_| scope.spawn(worker)).collect();
+        for h in handles {
+            h.join()
+                .map_err(|p| anyhow::anyhow!("a job {}", panic_text(p.as_ref())))??;
+        }
+        Ok(())
+    })?;
+    let results: Vec<CaseResult> = results
+        .into_inner()
+        .map_err(|_| anyhow::anyhow!("results poisoned"))?
+        .into_iter()
+        .flatten()
+        .collect();
+    anyhow::ensure!(results.len() == total, "a case did not run");
+    for r in &results {
+        timings.set(opts.mode, &r.name, r.wall_s);
+    }
+    if let Err(e) = timings.save(&opts.out_dir) {
+        eprintln!("warning: could not write {}: {e:#}", Timings::FILE);
+    }
+    Ok(results)
+}
+
 /// `cargo xtask validate`: selects, prepares and runs `all` (filtered by `names`),
 /// writes `report.md`, `summary.json` (and `json` if given) into `opts.out_dir`, prints
 /// the table. Returns whether every case passed.
@@ -412,7 +508,7 @@ pub fn validate(
     prepare(&mut cases, opts.mode, &opts.overrides)?;
     std::fs::create_dir_all(&opts.out_dir)
         .with_context(|| format!("creating {}", opts.out_dir.display()))?;
-    let results = run_all(&cases, opts)?;
+    let results = run_all(&mut cases, opts)?;
     let md = report::write_report_md(&opts.out_dir, "chrono-rs validation report", &results)?;
     report::write_summary(&opts.out_dir.join("summary.json"), &results)?;
     if let Some(json) = json {

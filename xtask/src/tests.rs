@@ -26,6 +26,7 @@ fn opts(dir: &Path, overrides: &[&str]) -> RunOptions {
         out_dir: dir.to_path_buf(),
         vtk: true,
         progress: false,
+        jobs: 1,
     }
 }
 
@@ -143,4 +144,46 @@ fn tolerance_ratio_ranks_the_worst_check() {
     assert!(tolerance_ratio(&Check::below("d", f64::NAN, 2.0)).is_nan());
     assert_eq!(tolerance_ratio(&Check::absolute("e", 1.0, 1.0, 0.0)), 0.0);
     assert!(tolerance_ratio(&Check::absolute("f", 2.0, 1.0, 0.0)).is_infinite());
+}
+
+#[test]
+fn jobs_run_every_case_once_and_keep_the_order_and_the_figures() {
+    let cases = || {
+        vec![
+            testing::decay_case(),
+            testing::failing_case(),
+            testing::decay_case(),
+        ]
+    };
+    let one = {
+        let dir = temp_dir("jobs1");
+        let o = opts(&dir, &["k=1.0", "panic=true"]);
+        let mut c = cases();
+        crate::runner::prepare(&mut c, o.mode, &o.overrides).unwrap();
+        crate::runner::run_all(&mut c, &o).unwrap()
+    };
+    let two = {
+        let dir = temp_dir("jobs2");
+        let mut o = opts(&dir, &["k=1.0", "panic=true"]);
+        o.jobs = 2;
+        let mut c = cases();
+        crate::runner::prepare(&mut c, o.mode, &o.overrides).unwrap();
+        crate::runner::run_all(&mut c, &o).unwrap()
+    };
+    assert_eq!(one.len(), 3);
+    assert_eq!(two.len(), 3);
+    for (a, b) in one.iter().zip(&two) {
+        assert_eq!(a.name, b.name);
+        assert_eq!(a.passed(), b.passed());
+        assert_eq!(a.error.is_some(), b.error.is_some());
+        let metrics = |r: &crate::runner::CaseResult| {
+            r.output.as_ref().map(|o| {
+                o.metrics
+                    .iter()
+                    .map(|(k, v)| (k.clone(), v.to_bits()))
+                    .collect::<Vec<_>>()
+            })
+        };
+        assert_eq!(metrics(a), metrics(b), "{}", a.name);
+    }
 }

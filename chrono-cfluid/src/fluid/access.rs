@@ -19,6 +19,23 @@ impl ConstraintFluid {
         &self.settings
     }
 
+    /// Set the XSPH epsilon of the following steps (e.g. a settling phase that smooths
+    /// more than the run, see [`CfluidSettings::xsph`]); the error names `cfluid.xsph`
+    /// when `eps` is outside `[0, 1]`. It replaces [`CfluidSettings::xsph_viscosity`]
+    /// (set to 0) so that `eps` is the smoothing used.
+    pub fn set_xsph(&mut self, eps: f64) -> Result<()> {
+        if !(0.0..=1.0).contains(&eps) {
+            return Err(ChronoError::invalid(
+                "cfluid.xsph",
+                eps,
+                "must be in [0, 1]",
+            ));
+        }
+        self.settings.xsph = eps;
+        self.settings.xsph_viscosity = 0.0;
+        Ok(())
+    }
+
     /// The kernel.
     pub fn kernel(&self) -> &Kernel {
         &self.kernel

@@ -105,6 +105,12 @@ pub struct SloshingDecayParams {
     pub solver: String,
     /// Constraint fluid: iteration cap per step.
     pub max_iterations: usize,
+    /// Constraint fluid: settling of the flat liquid before the release, s (XSPH
+    /// `settle_xsph`); the mode's displacement is then applied to the settled packing
+    /// (0: to the lattice).
+    pub settle_time: f64,
+    /// Constraint fluid: XSPH epsilon of the settling.
+    pub settle_xsph: f64,
     /// WCSPH: Monaghan artificial viscosity alpha.
     pub sph_alpha: f64,
     /// WCSPH: sound speed over `sqrt(g h)`.
@@ -139,6 +145,8 @@ impl Default for SloshingDecayParams {
             tolerance: 1e-4,
             solver: "apgd".into(),
             max_iterations: 500,
+            settle_time: 0.0,
+            settle_xsph: 0.1,
             sph_alpha: 0.02,
             sph_sound_factor: 10.0,
         }
@@ -207,6 +215,12 @@ impl CaseParams for SloshingDecayParams {
             "-",
             "constraint fluid: iteration cap per step",
         ),
+        ParamInfo::new(
+            "settle_time",
+            "s",
+            "constraint fluid: settling of the flat liquid before the release",
+        ),
+        ParamInfo::new("settle_xsph", "-", "constraint fluid: XSPH of the settling"),
         ParamInfo::new("sph_alpha", "-", "WCSPH: artificial viscosity alpha"),
         ParamInfo::new("sph_sound_factor", "-", "WCSPH: sound speed over sqrt(g h)"),
     ];
@@ -329,11 +343,6 @@ fn run_cfluid(
     let set = tank.particles(Fit::Nearest, Anchor::Inner)?;
     let ly = tank.thickness();
     let depth = set.fluid.len() as f64 * dp.powi(3) / (a * ly);
-    let fluid: Vec<[f64; 3]> = set
-        .fluid
-        .iter()
-        .map(|&q| displaced(q, a, depth, p.amplitude))
-        .collect();
     let t = tank.layers() as f64 * dp;
     let settings = CfluidSettings {
         spacing: dp,
@@ -350,6 +359,31 @@ fn run_cfluid(
         periodic: [false, true, false],
         ..CfluidSettings::default()
     };
+    let base = if p.settle_time > 0.0 {
+        let settle = CfluidSettings {
+            xsph: p.settle_xsph,
+            xsph_viscosity: 0.0,
+            xsph_corrected: false,
+            ..settings.clone()
+        };
+        let item = ConstraintFluid::new("water", settle, &set.fluid, &set.wall_positions())?;
+        let solver = solver_by_name(&p.solver, p.tolerance, p.max_iterations)?;
+        let mut sys = System::new(SystemSettings::default(), solver)?;
+        let id = sys.add_item(Box::new(item));
+        for _ in 0..(p.settle_time / p.h).round() as u64 {
+            sys.step(p.h)?;
+        }
+        let f = sys
+            .item::<ConstraintFluid>(id)
+            .ok_or_else(|| anyhow::anyhow!("no fluid"))?;
+        (0..f.n_fluid()).map(|i| f.position(i)).collect::<Vec<_>>()
+    } else {
+        set.fluid.clone()
+    };
+    let fluid: Vec<[f64; 3]> = base
+        .iter()
+        .map(|&q| displaced(q, a, depth, p.amplitude))
+        .collect();
     let item = ConstraintFluid::new("water", settings, &fluid, &set.wall_positions())?;
     let solver = solver_by_name(&p.solver, p.tolerance, p.max_iterations)?;
     let mut sys = System::new(SystemSettings::default(), solver)?;
@@ -379,7 +413,7 @@ fn run_cfluid(
             .ok_or_else(|| anyhow::anyhow!("no fluid"))?;
         f.particle_mass()
     };
-    let pe_rest = mass * G * set.fluid.iter().map(|q| q[2]).sum::<f64>();
+    let pe_rest = mass * G * base.iter().map(|q| q[2]).sum::<f64>();
     let e_mode0 = 0.25 * (mass / dp.powi(3)) * G * p.amplitude.powi(2) * a * ly;
     let probe = |f: &ConstraintFluid| -> anyhow::Result<[f64; 4]> {
         let nf = f.n_fluid();

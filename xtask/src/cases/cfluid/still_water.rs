@@ -111,6 +111,11 @@ pub struct StillWaterParams {
     /// Dynamic relaxation before the run, s: steps of `h` with the velocities zeroed
     /// after each one, so the run starts from the model's rest state (0: the lattice).
     pub relax_time: f64,
+    /// Settling before the run, s: steps of `h` with XSPH `settle_xsph` (velocities kept),
+    /// so the column reaches the model's own packing before the measured run (0: none).
+    pub settle_time: f64,
+    /// XSPH epsilon of the settling phase.
+    pub settle_xsph: f64,
 }
 
 impl Default for StillWaterParams {
@@ -129,6 +134,8 @@ impl Default for StillWaterParams {
             position_iterations: 0,
             position_tolerance: 1e-4,
             relax_time: 1.0,
+            settle_time: 0.0,
+            settle_xsph: 0.1,
             wall_colliders: true,
             surface_reference: CfluidSettings::default().surface_reference,
         }
@@ -172,6 +179,12 @@ impl CaseParams for StillWaterParams {
             "s",
             "dynamic relaxation (velocities zeroed) before the run",
         ),
+        ParamInfo::new(
+            "settle_time",
+            "s",
+            "settling with XSPH settle_xsph (velocities kept) before the run",
+        ),
+        ParamInfo::new("settle_xsph", "-", "XSPH epsilon of the settling"),
     ];
     fn apply_mode(&mut self, mode: Mode) {
         match mode {
@@ -282,6 +295,10 @@ fn run(p: &StillWaterParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     }
     let start = Instant::now();
     let z_lattice = surface_height(scene.fluid()?, dp, p.tank_length);
+    let mean_z = |f: &chrono_cfluid::ConstraintFluid| {
+        (0..f.n_fluid()).map(|i| f.position(i)[2]).sum::<f64>() / f.n_fluid() as f64
+    };
+    let zc_lattice = mean_z(scene.fluid()?);
     let n_relax = (p.relax_time.max(0.0) / p.h).round() as u64;
     for _ in 0..n_relax {
         scene.sys.step(p.h)?;
@@ -289,7 +306,19 @@ fn run(p: &StillWaterParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         let zero = vec![[0.0; 3]; f.n_fluid()];
         f.set_velocities(&zero)?;
     }
+    let n_settle = (p.settle_time.max(0.0) / p.h).round() as u64;
+    if n_settle > 0 {
+        scene.fluid_mut()?.set_xsph(p.settle_xsph)?;
+        for _ in 0..n_settle {
+            scene.sys.step(p.h)?;
+        }
+        let f = scene.fluid_mut()?;
+        let zero = vec![[0.0; 3]; f.n_fluid()];
+        f.set_velocities(&zero)?;
+        f.set_xsph(p.xsph)?;
+    }
     let z0 = surface_height(scene.fluid()?, dp, p.tank_length);
+    let zc_start = mean_z(scene.fluid()?);
     let n = (p.t_end / p.h).round().max(1.0) as u64;
     let half = n / 2;
     let settle = ((2.0f64.min(0.25 * p.t_end) / p.h).round() as u64).clamp(1, n);
@@ -378,6 +407,8 @@ fn run(p: &StillWaterParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         0.0,
     ));
     out.metric("surface_drift", z_end - z_settled)
+        .metric("com_drop_before_run", zc_lattice - zc_start)
+        .metric("com_drop_in_run", zc_start - mean_z(f))
         .metric("relaxation_settling", z0 - z_lattice)
         .metric("surface_drift_late", z_end - z_half)
         .metric("settling", z_settled - z0)
