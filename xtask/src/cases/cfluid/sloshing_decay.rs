@@ -293,12 +293,19 @@ fn validate(p: &SloshingDecayParams) -> anyhow::Result<()> {
         ("xsph_viscosity", p.xsph_viscosity),
         ("compressibility", p.compressibility),
         ("sph_alpha", p.sph_alpha),
+        ("settle_time", p.settle_time),
+        ("settle_xsph", p.settle_xsph),
     ] {
         anyhow::ensure!(
             v >= 0.0 && v.is_finite(),
             "parameter `{name}` must be >= 0, got {v}"
         );
     }
+    anyhow::ensure!(
+        p.settle_xsph <= 1.0,
+        "parameter `settle_xsph` must be in [0, 1], got {}",
+        p.settle_xsph
+    );
     anyhow::ensure!(
         p.damping_factor > 1.0,
         "parameter `damping_factor` must be > 1, got {}",

@@ -267,6 +267,16 @@ fn run(p: &StillWaterParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         "parameter `t_end` must be >= h, got {}",
         p.t_end
     );
+    anyhow::ensure!(
+        p.settle_time >= 0.0 && p.settle_time.is_finite(),
+        "parameter `settle_time` must be >= 0, got {}",
+        p.settle_time
+    );
+    anyhow::ensure!(
+        (0.0..=1.0).contains(&p.settle_xsph),
+        "parameter `settle_xsph` must be in [0, 1], got {}",
+        p.settle_xsph
+    );
     let dp = p.spacing;
     anyhow::ensure!(
         dp > 0.0 && dp <= p.depth / 4.0 && dp <= p.tank_length / 6.0,
