@@ -70,6 +70,11 @@ pub struct CfluidSloshingParams {
     pub solver: String,
     /// Iteration cap per step.
     pub max_iterations: usize,
+    /// Settling of the liquid at rest before the excitation, s (XSPH `settle_xsph`,
+    /// velocities zeroed after it; 0: none, the run starts from the lattice).
+    pub settle_time: f64,
+    /// XSPH epsilon of the settling.
+    pub settle_xsph: f64,
 }
 
 impl Default for CfluidSloshingParams {
@@ -89,6 +94,8 @@ impl Default for CfluidSloshingParams {
             tolerance: 1e-4,
             solver: "apgd".into(),
             max_iterations: 500,
+            settle_time: 0.0,
+            settle_xsph: 0.1,
         }
     }
 }
@@ -121,6 +128,12 @@ impl CaseParams for CfluidSloshingParams {
         ParamInfo::new("tolerance", "1/s", "solver tolerance (chrono-ccp residual)"),
         ParamInfo::new("solver", "-", "CCP solver name (chrono-ccp)"),
         ParamInfo::new("max_iterations", "-", "iteration cap per step"),
+        ParamInfo::new(
+            "settle_time",
+            "s",
+            "settling at rest before the excitation (XSPH settle_xsph)",
+        ),
+        ParamInfo::new("settle_xsph", "-", "XSPH epsilon of the settling"),
     ];
     fn apply_mode(&mut self, mode: Mode) {
         match mode {
@@ -234,6 +247,26 @@ fn simulate(
         p.tolerance,
         p.max_iterations,
     )?;
+    anyhow::ensure!(
+        p.settle_time >= 0.0 && p.settle_time.is_finite(),
+        "parameter `settle_time` must be >= 0, got {}",
+        p.settle_time
+    );
+    anyhow::ensure!(
+        (0.0..=1.0).contains(&p.settle_xsph),
+        "parameter `settle_xsph` must be in [0, 1], got {}",
+        p.settle_xsph
+    );
+    let n_settle = (p.settle_time / p.h).round() as u64;
+    if n_settle > 0 {
+        scene.fluid_mut()?.set_xsph(p.settle_xsph)?;
+        for _ in 0..n_settle {
+            scene.sys.step(p.h)?;
+        }
+        let f = scene.fluid_mut()?;
+        f.set_velocities(&vec![[0.0; 3]; f.n_fluid()])?;
+        f.set_xsph(p.xsph)?;
+    }
     let (m_l, mass) = {
         let f = scene.fluid()?;
         (f.particle_mass() * f.n_fluid() as f64, f.particle_mass())
