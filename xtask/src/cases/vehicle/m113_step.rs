@@ -63,6 +63,7 @@ use chrono_vehicle::m113::m113_data;
 use chrono_vehicle::obstacle::{StepParams, TrackedStepScene};
 use chrono_vehicle::powertrain::ShiftSpeed;
 use chrono_vehicle::state::DriverInputs;
+use chrono_vehicle::track::AdjusterKind;
 use chrono_vehicle::tracked::contact_forces;
 use chrono_vehicle::tracked_drive::TrackedDrive;
 
@@ -114,6 +115,17 @@ pub struct M113StepParams {
     pub tolerance: f64,
     /// Iteration cap of the solver's contact iterations.
     pub max_iterations: usize,
+    /// Tensioner preload, N (the data file's by default).
+    pub preload: f64,
+    /// What holds the idlers: `data` (the data file's `track.idler.tensioner.adjuster`),
+    /// `spring` (the spring-damper throughout) or `grease` (the spring-damper while
+    /// settling, then locked where it stands).
+    pub adjuster: String,
+    /// Road-wheel arms' rebound stop, rad from the assembled arm (< 0), with `arm_jounce`;
+    /// 0: the data file's `arm_travel`.
+    pub arm_rebound: f64,
+    /// Road-wheel arms' jounce stop, rad from the assembled arm (> 0); 0: the data file's.
+    pub arm_jounce: f64,
     /// Check `climbed` (issue 26's criterion) up to 0.8 x the published obstacle height,
     /// with any drive. Off by default: the model stalls with the published grade's torque
     /// (docs/validation-vehicle.md, "`m113-step` with the published gradeability").
@@ -142,6 +154,10 @@ impl Default for M113StepParams {
             solver: "schur".into(),
             tolerance: 1e-8,
             max_iterations: 60,
+            preload: d.track.idler.tensioner.preload,
+            adjuster: "data".into(),
+            arm_rebound: 0.0,
+            arm_jounce: 0.0,
             check: false,
         }
     }
@@ -183,6 +199,22 @@ impl CaseParams for M113StepParams {
         ParamInfo::new("solver", "-", "CCP solver"),
         ParamInfo::new("tolerance", "-", "contact solve tolerance"),
         ParamInfo::new("max_iterations", "-", "contact solve iteration cap"),
+        ParamInfo::new("preload", "N", "tensioner preload"),
+        ParamInfo::new(
+            "adjuster",
+            "-",
+            "data, spring, or grease (spring while settling, then locked)",
+        ),
+        ParamInfo::new(
+            "arm_rebound",
+            "rad",
+            "arms' rebound stop from the assembled arm (< 0; 0: the data's)",
+        ),
+        ParamInfo::new(
+            "arm_jounce",
+            "rad",
+            "arms' jounce stop from the assembled arm (> 0; 0: the data's)",
+        ),
         ParamInfo::new(
             "check",
             "-",
@@ -218,6 +250,21 @@ fn validate(p: &M113StepParams) -> anyhow::Result<()> {
         p.drive
     );
     anyhow::ensure!(
+        ["data", "spring", "grease"].contains(&p.adjuster.as_str()),
+        "parameter `adjuster` must be `data`, `spring` or `grease`, got `{}`",
+        p.adjuster
+    );
+    anyhow::ensure!(
+        p.arm_rebound <= 0.0 && p.arm_rebound.is_finite(),
+        "parameter `arm_rebound` must be <= 0 (0: the data's), got {}",
+        p.arm_rebound
+    );
+    anyhow::ensure!(
+        p.arm_jounce >= 0.0 && p.arm_jounce.is_finite(),
+        "parameter `arm_jounce` must be >= 0 (0: the data's), got {}",
+        p.arm_jounce
+    );
+    anyhow::ensure!(
         p.ki >= 0.0 && p.ki.is_finite(),
         "parameter `ki` must be >= 0, got {}",
         p.ki
@@ -240,6 +287,23 @@ fn run(p: &M113StepParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     // converter's stall speed (~1550 rpm, above the 1500 rpm upshift) would shift up on
     // the step (m113-turn).
     data.powertrain.transmission.shift_speed = ShiftSpeed::InputShaft;
+    data.track.idler.tensioner.preload = p.preload;
+    match p.adjuster.as_str() {
+        "spring" => data.track.idler.tensioner.adjuster = AdjusterKind::Spring,
+        "grease" => data.track.idler.tensioner.adjuster = AdjusterKind::Grease,
+        _ => {}
+    }
+    if p.arm_rebound < 0.0 || p.arm_jounce > 0.0 {
+        let [lo, hi] = data.track.road_wheels.arm_travel.unwrap_or([-1.0, 1.0]);
+        data.track.road_wheels.arm_travel = Some([
+            if p.arm_rebound < 0.0 {
+                p.arm_rebound
+            } else {
+                lo
+            },
+            if p.arm_jounce > 0.0 { p.arm_jounce } else { hi },
+        ]);
+    }
     let step = StepParams {
         height: p.step_height,
         gap: p.gap,
@@ -312,6 +376,9 @@ fn run(p: &M113StepParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         "front_wheel_past_face",
         "front_wheel_z",
         "front_wheel_lift",
+        "front_arm_angle",
+        "adjuster_force",
+        "adjuster_travel",
         "step_height",
     ]);
     let mut vtk = VtkFrames::new(ctx, (0.1 / p.h).round().max(1.0) as u64);
@@ -341,6 +408,13 @@ fn run(p: &M113StepParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     let mut u = 0.0;
     // Time at full drive within 2 cm of the position in `.1`.
     let mut still = (0.0, f64::NAN);
+    // The adjusters (mean of the sides): force and travel at the lock (end of settling)
+    // and their extremes while driving; the first arms' largest jounce and rebound.
+    let mut locked = false;
+    let (mut adj_f_settled, mut adj_x_settled) = (f64::NAN, f64::NAN);
+    let (mut adj_f_max, mut adj_f_min) = (f64::NEG_INFINITY, f64::INFINITY);
+    let (mut adj_x_max, mut adj_x_min) = (f64::NEG_INFINITY, f64::INFINITY);
+    let (mut arm_max, mut arm_min) = (f64::NEG_INFINITY, f64::INFINITY);
     let mut stalled_at = f64::NAN;
     for i in 1..=n {
         match drive.as_mut() {
@@ -356,9 +430,30 @@ fn run(p: &M113StepParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         let rot = c.rotation();
         let fwd = rot * Vector3::x();
         let speed = c.linear_velocity().dot(&fwd);
-        let reference = c.position() - rot * com;
+        let c_pos = c.position();
+        let reference = c_pos - rot * com;
         let pitch = fwd.z.atan2(fwd.x.hypot(fwd.y)).to_degrees();
         max_violation = max_violation.max(sys.max_joint_violation());
+        let (mut adj_f, mut adj_x, mut arm0) = (0.0, 0.0, 0.0);
+        for s in &v.sides {
+            adj_f += 0.5 * s.adjuster_force(sys)?;
+            adj_x += 0.5 * s.adjuster_travel(sys)?;
+            arm0 += 0.5 * s.arm_angle(sys, 0)?;
+        }
+        if i == n_settle.max(1) {
+            adj_f_settled = adj_f;
+            adj_x_settled = adj_x;
+            // The adjustment is done: a grease adjuster holds its length from here.
+            locked = v.lock_adjusters(sys, d)?;
+        }
+        if i > n_settle {
+            adj_f_max = adj_f_max.max(adj_f);
+            adj_f_min = adj_f_min.min(adj_f);
+            adj_x_max = adj_x_max.max(adj_x);
+            adj_x_min = adj_x_min.min(adj_x);
+            arm_max = arm_max.max(arm0);
+            arm_min = arm_min.min(arm0);
+        }
         if i == n_settle.max(1) {
             ride_height = reference.z;
             if let Some(zb) = hull_bottom {
@@ -435,7 +530,7 @@ fn run(p: &M113StepParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         let (mut fw_x, mut fw_z, mut fw_lift) = (0.0, 0.0, 0.0);
         for (k, s) in v.sides.iter().enumerate() {
             let w = sys.body(s.road_wheels[0].wheel)?.position();
-            let local = rot.inverse() * (w - c.position());
+            let local = rot.inverse() * (w - c_pos);
             if i == n_settle.max(1) {
                 front_settled[k] = local.z;
             }
@@ -461,6 +556,9 @@ fn run(p: &M113StepParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
             fw_x,
             fw_z,
             fw_lift,
+            arm0,
+            adj_f,
+            adj_x,
             p.step_height,
         ]);
         ctx.progress_steps(i, n);
@@ -531,6 +629,16 @@ fn run(p: &M113StepParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     out.metric("max_reference_past_face", max_past);
     out.metric("max_front_wheel_past_face", max_front_past);
     out.metric("max_front_wheel_lift", max_front_lift);
+    out.metric("adjuster_locked", if locked { 1.0 } else { 0.0 });
+    out.metric("tensioner_preload", p.preload);
+    out.metric("adjuster_force_settled", adj_f_settled);
+    out.metric("adjuster_travel_settled", adj_x_settled);
+    out.metric("max_adjuster_force", adj_f_max);
+    out.metric("min_adjuster_force", adj_f_min);
+    out.metric("max_adjuster_travel", adj_x_max);
+    out.metric("min_adjuster_travel", adj_x_min);
+    out.metric("max_front_arm_jounce", arm_max);
+    out.metric("max_front_arm_rebound", arm_min);
     out.metric("last_second_speed", end_speed);
     out.metric("last_second_track_speed", track_speed);
     // Only with the powertrain (`drive` = `torque` has no engine).
