@@ -185,7 +185,9 @@ pub struct RoadWheelData {
     /// wheel down; jounce `> 0`: the wheel up, towards the hull). The stops are rigid
     /// (unilateral constraint rows); absent, the arms swing freely against the torsion
     /// bars. A wheel travel `s` (m, at the wheel centre) on an arm of length `l` is about
-    /// `s / l` rad.
+    /// `s / l` rad. Rigid stops on the rigid chain with a locked (grease) adjuster
+    /// over-constrain the loop when an arm sits on its stop: `m113-step` at +-0.15 rad
+    /// drifted 0.24 m (docs/validation-vehicle.md, "`m113-step`: the track adjuster").
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub arm_travel: Option<[f64; 2]>,
 }

@@ -23,9 +23,10 @@
 //!   have, not whether an uncited gearbox does. (It is the least such a drive gives:
 //!   the grade's own rolling resistance is not in it.)
 //! - `powertrain`: the data's engine, converter, gearbox and braked differential, the
-//!   shift schedule on the turbine speed (as in `m113-turn`) holding first gear. It stalls
-//!   the converter at about 4.5 kN m a side on a 0.488 m step (reported, with the check's
-//!   failure: docs/validation-vehicle.md, `m113-step`).
+//!   shift schedule on the turbine speed (as in `m113-turn`) holding first gear. With the
+//!   spring tensioner it stalled the converter at about 4.5 kN m a side on a 0.488 m
+//!   step; with the grease adjusters it climbs it at 3-4.3 kN m a side
+//!   (docs/validation-vehicle.md, "`m113-step`: the track adjuster").
 //! - `torque`: as `grade` with a given largest torque `drive_torque` per side.
 //!
 //! The track adjusters are the data's (`track.idler.tensioner.adjuster`; `adjuster`
