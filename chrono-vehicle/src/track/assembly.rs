@@ -421,8 +421,8 @@ impl TrackAssembly {
         Ok(local_x(sys, self.chassis, x)? - self.carrier_x0)
     }
 
-    /// Lock the adjuster (a grease cylinder holds its length, [`super::AdjusterKind::
-    /// Grease`]): from now on the carrier's slide keeps its current travel, rigidly (a
+    /// Lock the adjuster (a grease cylinder holds its length,
+    /// [`super::AdjusterKind::Grease`]): from now on the carrier's slide keeps its current travel, rigidly (a
     /// position row without a force limit). The spring-damper stays in parallel; the
     /// lock takes any change of the chain's pull.
     pub fn lock_adjuster(&self, sys: &mut System) -> Result<()> {
