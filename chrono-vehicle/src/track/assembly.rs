@@ -3,8 +3,8 @@
 //! | part | body and joint | contact |
 //! |---|---|---|
 //! | sprocket | revolute motor to the chassis about Y ([`TrackAssembly::set_sprocket_drive`]: free, held or driven) | two gear rings at `±gear_offset`: a pin seat (cylinder of radius `pitch_radius - pin_radius`) and `num_teeth` convex teeth each |
-//! | idler | wheel on a revolute joint in a carrier; the carrier on a prismatic joint along X; the tensioner a preloaded [`SpringDamper`] pushing it rearward | cylinder |
-//! | road wheel | wheel on a revolute joint in a trailing arm; the arm on a revolute joint to the chassis with a [`TorsionSpring`] (plus the rotary shock's damping where fitted) | cylinder |
+//! | idler | wheel on a revolute joint in a carrier; the carrier on a slide along X (a linear actuator without a drive; held by [`TrackAssembly::lock_adjuster`] for a grease adjuster); the tensioner a preloaded [`SpringDamper`] pushing it rearward | cylinder |
+//! | road wheel | wheel on a revolute joint in a trailing arm; the arm on a revolute joint to the chassis (a rotational motor without a drive, with angle limits, where `arm_travel` gives stops) with a [`TorsionSpring`] (plus the rotary shock's damping where fitted) | cylinder |
 //! | roller | revolute joint to the chassis | cylinder |
 //! | shoe | box plate; revolute joints about Y at the pins to its neighbours; the loop closes by two distance rows (the pin in the track plane), so no row repeats another | the plate (against wheels and ground) and two pin ends (cylinders at the front pin, in the gear rings' planes) |
 //!
@@ -422,9 +422,9 @@ impl TrackAssembly {
     }
 
     /// Lock the adjuster (a grease cylinder holds its length,
-    /// [`super::AdjusterKind::Grease`]): from now on the carrier's slide keeps its current travel, rigidly (a
-    /// position row without a force limit). The spring-damper stays in parallel; the
-    /// lock takes any change of the chain's pull.
+    /// [`super::AdjusterKind::Grease`]): from now on the carrier's slide keeps its current
+    /// travel, rigidly (a position row without a force limit). The spring-damper stays in
+    /// parallel; the lock takes any change of the chain's pull.
     pub fn lock_adjuster(&self, sys: &mut System) -> Result<()> {
         let s = self.adjuster_travel(sys)?;
         sys.joint_mut(self.tensioner_slide)?
