@@ -253,6 +253,19 @@ impl TrackedVehicle {
         Ok(())
     }
 
+    /// Lock both tracks' adjusters where they stand if the data's are grease cylinders
+    /// ([`crate::track::AdjusterKind::Grease`]; call it once the vehicle has settled: the
+    /// adjustment); returns whether it locked them. A spring adjuster is left as it is.
+    pub fn lock_adjusters(&self, sys: &mut System, data: &TrackedVehicleData) -> Result<bool> {
+        if data.track.idler.tensioner.adjuster != crate::track::AdjusterKind::Grease {
+            return Ok(false);
+        }
+        for s in &self.sides {
+            s.lock_adjuster(sys)?;
+        }
+        Ok(true)
+    }
+
     /// All shoes of both sides.
     pub fn shoes(&self) -> Vec<BodyHandle> {
         self.sides.iter().flat_map(|s| s.shoes.clone()).collect()
@@ -537,5 +550,64 @@ mod tests {
         });
         let e = build(d);
         assert!(e.contains("track.rollers[0].location"), "{e}");
+
+        // Arm stops on the wrong side of the assembled arm.
+        for (travel, field) in [
+            ([0.1, 0.2], "track.road_wheels.arm_travel[0]"),
+            ([-0.1, -0.05], "track.road_wheels.arm_travel[1]"),
+            ([f64::NAN, 0.2], "track.road_wheels.arm_travel[0]"),
+        ] {
+            let mut d = m113_data().unwrap();
+            d.track.road_wheels.arm_travel = Some(travel);
+            let e = build(d);
+            assert!(e.contains(field), "{travel:?}: {e}");
+        }
+    }
+
+    /// A grease adjuster, locked after the vehicle has settled, holds the idler where it
+    /// stood while the chain's pull on it grows (the sprockets driven: the drive pulls the
+    /// upper run, which pulls the idler forward); a spring adjuster yields by `dF / k`.
+    /// The arm stops hold the arms within their travel.
+    #[test]
+    fn a_locked_grease_adjuster_holds_the_idler_and_the_stops_hold_the_arms() {
+        let run = |adjuster: crate::track::AdjusterKind| {
+            let mut d = m113_data().unwrap();
+            d.track.idler.tensioner.adjuster = adjuster;
+            d.track.road_wheels.arm_travel = Some([-0.02, 0.02]);
+            let mut s = TrackedFlatScene::new(d, 0.8, solver()).unwrap();
+            let h = 3e-3;
+            s.vehicle
+                .set_sprocket_drives(&mut s.sys, Drive::Speed(0.0))
+                .unwrap();
+            for _ in 0..60 {
+                s.sys.step(h).unwrap();
+            }
+            let locked = s.vehicle.lock_adjusters(&mut s.sys, &s.data).unwrap();
+            let x0 = s.vehicle.sides[0].adjuster_travel(&s.sys).unwrap();
+            // A large drive torque pulls the upper run.
+            s.vehicle
+                .set_sprocket_drives(&mut s.sys, Drive::Effort(8.0e3))
+                .unwrap();
+            let mut arm: f64 = 0.0;
+            for _ in 0..40 {
+                s.sys.step(h).unwrap();
+                for side in &s.vehicle.sides {
+                    for k in 0..side.road_wheels.len() {
+                        arm = arm.max(side.arm_angle(&s.sys, k).unwrap().abs());
+                    }
+                }
+            }
+            let x1 = s.vehicle.sides[0].adjuster_travel(&s.sys).unwrap();
+            let f = s.vehicle.sides[0].adjuster_force(&s.sys).unwrap();
+            (locked, x1 - x0, f, arm)
+        };
+        let (locked, dx, f, arm) = run(crate::track::AdjusterKind::Grease);
+        assert!(locked);
+        assert!(dx.abs() < 1e-4, "locked adjuster moved {dx} m");
+        assert!(f > 0.0 && f.is_finite(), "{f}");
+        assert!(arm < 0.02 + 2e-3, "{arm}");
+        let (locked, dx, _, _) = run(crate::track::AdjusterKind::Spring);
+        assert!(!locked);
+        assert!(dx.abs() > 1e-3, "the spring adjuster stayed within {dx} m");
     }
 }

@@ -3,8 +3,8 @@
 //! | part | body and joint | contact |
 //! |---|---|---|
 //! | sprocket | revolute motor to the chassis about Y ([`TrackAssembly::set_sprocket_drive`]: free, held or driven) | two gear rings at `±gear_offset`: a pin seat (cylinder of radius `pitch_radius - pin_radius`) and `num_teeth` convex teeth each |
-//! | idler | wheel on a revolute joint in a carrier; the carrier on a prismatic joint along X; the tensioner a preloaded [`SpringDamper`] pushing it rearward | cylinder |
-//! | road wheel | wheel on a revolute joint in a trailing arm; the arm on a revolute joint to the chassis with a [`TorsionSpring`] (plus the rotary shock's damping where fitted) | cylinder |
+//! | idler | wheel on a revolute joint in a carrier; the carrier on a slide along X (a linear actuator without a drive; held by [`TrackAssembly::lock_adjuster`] for a grease adjuster); the tensioner a preloaded [`SpringDamper`] pushing it rearward | cylinder |
+//! | road wheel | wheel on a revolute joint in a trailing arm; the arm on a revolute joint to the chassis (a rotational motor without a drive, with angle limits, where `arm_travel` gives stops) with a [`TorsionSpring`] (plus the rotary shock's damping where fitted) | cylinder |
 //! | roller | revolute joint to the chassis | cylinder |
 //! | shoe | box plate; revolute joints about Y at the pins to its neighbours; the loop closes by two distance rows (the pin in the track plane), so no row repeats another | the plate (against wheels and ground) and two pin ends (cylinders at the front pin, in the gear rings' planes) |
 //!
@@ -62,6 +62,13 @@ pub struct TrackAssembly {
     pub carrier: BodyHandle,
     /// The tensioner spring-damper (chassis to carrier).
     pub tensioner: ForceHandle,
+    /// The carrier's slide on the chassis (a linear actuator along X: free, or locked by
+    /// [`TrackAssembly::lock_adjuster`]).
+    pub tensioner_slide: JointHandle,
+    /// The chassis the running gear hangs on.
+    pub chassis: BodyHandle,
+    /// The carrier's X in the chassis frame at assembly, m.
+    carrier_x0: f64,
     /// The road wheels, front to rear.
     pub road_wheels: Vec<RoadWheel>,
     /// The support rollers.
@@ -207,10 +214,22 @@ impl TrackAssembly {
         let i = &data.idler;
         let ic = w([i.location[0] + lay.idler_offset, i.location[1]]);
         let carrier = sys.add_body(dynamic("idler_carrier", &i.carrier, ic, rot))?;
-        sys.add_joint(
-            JointBuilder::at_axis(JointKind::Prismatic, chassis, carrier, ic, x_axis)
-                .name(label("tensioner_slide")),
+        // A linear actuator without a drive is a prismatic joint; the grease adjuster
+        // locks it (`lock_adjuster`).
+        let tensioner_slide = sys.add_joint(
+            JointBuilder::at_axis(
+                JointKind::LinearActuator {
+                    drive: Drive::Effort(0.0),
+                    max_force: f64::INFINITY,
+                },
+                chassis,
+                carrier,
+                ic,
+                x_axis,
+            )
+            .name(label("tensioner_slide")),
         )?;
+        let carrier_x0 = local_x(sys, chassis, ic)?;
         let idler = sys.add_body(dynamic("idler", &i.mass, ic, rot).collider(
             cylinder(i.radius, i.width),
             Isometry3::identity(),
@@ -244,7 +263,24 @@ impl TrackAssembly {
                 0.5 * (c + pivot),
                 rot,
             ))?;
-            revolute(sys, &format!("arm_revolute[{k}]"), chassis, arm, pivot)?;
+            match r.arm_travel {
+                // Bump stops: a rotational motor without a drive, with angle limits.
+                Some([lo, hi]) => sys.add_joint(
+                    JointBuilder::at_axis(
+                        JointKind::RotationalMotor {
+                            drive: Drive::Effort(0.0),
+                            max_torque: f64::INFINITY,
+                            limits: Some((lo, hi)),
+                        },
+                        chassis,
+                        arm,
+                        pivot,
+                        y_axis,
+                    )
+                    .name(label(&format!("arm_revolute[{k}]"))),
+                )?,
+                None => revolute(sys, &format!("arm_revolute[{k}]"), chassis, arm, pivot)?,
+            };
             let wheel = sys.add_body(
                 dynamic(&format!("road_wheel[{k}]"), &r.wheel, c, rot).collider(
                     cylinder(r.radius, r.width),
@@ -351,6 +387,9 @@ impl TrackAssembly {
             idler,
             carrier,
             tensioner,
+            tensioner_slide,
+            chassis,
+            carrier_x0,
             road_wheels,
             rollers,
             shoes,
@@ -367,10 +406,51 @@ impl TrackAssembly {
         Ok(())
     }
 
-    /// The tensioner's force at the last step, N (positive pushes the idler rearward).
+    /// The tensioner spring's force at the last step, N (positive pushes the idler
+    /// rearward). With the adjuster locked the lock carries the rest: see
+    /// [`TrackAssembly::adjuster_force`].
     pub fn tensioner_force(&self, sys: &System) -> f64 {
         sys.force_element::<SpringDamper>(self.tensioner)
             .map_or(f64::NAN, |s| s.force())
+    }
+
+    /// The idler carrier's travel from its assembled place along the chassis X axis, m
+    /// (positive forward: the tensioner yielding to the chain).
+    pub fn adjuster_travel(&self, sys: &System) -> Result<f64> {
+        let x = sys.body(self.carrier)?.position();
+        Ok(local_x(sys, self.chassis, x)? - self.carrier_x0)
+    }
+
+    /// Lock the adjuster (a grease cylinder holds its length,
+    /// [`super::AdjusterKind::Grease`]): from now on the carrier's slide keeps its current
+    /// travel, rigidly (a position row without a force limit). The spring-damper stays in
+    /// parallel; the lock takes any change of the chain's pull.
+    pub fn lock_adjuster(&self, sys: &mut System) -> Result<()> {
+        let s = self.adjuster_travel(sys)?;
+        sys.joint_mut(self.tensioner_slide)?
+            .set_drive(Drive::Position(s))?;
+        Ok(())
+    }
+
+    /// Road-wheel arm `k`'s rotation about the chassis Y axis from its assembled position,
+    /// rad (positive: jounce, the wheel up towards the hull; the sign of
+    /// [`super::RoadWheelData::arm_travel`]).
+    pub fn arm_angle(&self, sys: &System, k: usize) -> Result<f64> {
+        let arm = self.road_wheels.get(k).ok_or_else(|| {
+            VehicleError::invalid("road_wheel", k, "no road wheel with this index")
+        })?;
+        let q = sys.body(self.chassis)?.rotation().inverse() * sys.body(arm.arm)?.rotation();
+        let x = q * Vector3::x();
+        Ok((-x.z).atan2(x.x))
+    }
+
+    /// The adjuster's whole push on the idler carrier at the last step, N (positive
+    /// rearward, tensioning the chain): the spring-damper's force plus the lock's reaction
+    /// along the slide (zero while unlocked).
+    pub fn adjuster_force(&self, sys: &System) -> Result<f64> {
+        let joint = sys.joint(self.tensioner_slide)?;
+        let fwd = sys.body(self.chassis)?.rotation() * Vector3::x();
+        Ok(self.tensioner_force(sys) - joint.reaction_force().dot(&fwd))
     }
 
     /// The magnitude of each pin joint's reaction force at the last step, N: the chain's
@@ -394,6 +474,13 @@ impl TrackAssembly {
         v.extend(&self.rollers);
         v
     }
+}
+
+/// X of the world point `p` in `chassis`'s reference orientation about its centre of mass
+/// (differences of it are travel along the chassis X axis), m.
+fn local_x(sys: &System, chassis: BodyHandle, p: Vector3<f64>) -> Result<f64> {
+    let c = sys.body(chassis)?;
+    Ok((c.rotation().inverse() * (p - c.position())).x)
 }
 
 /// Distance from `p` to the segment `a b` in the plane, m.

@@ -87,8 +87,25 @@ impl SprocketData {
     }
 }
 
+/// What holds the idler once the track is adjusted.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum AdjusterKind {
+    /// The preloaded spring-damper all the time (Project Chrono's M113 tensioner): the
+    /// idler moves forward by `dF / stiffness` when the chain's pull on it grows by `dF`.
+    #[default]
+    Spring,
+    /// A grease cylinder (a track adjusting link): grease pumped in pushes the idler out
+    /// until the track's sag is right, then the trapped grease holds the link's length.
+    /// In the model the spring-damper sets the idler while the vehicle settles (the
+    /// adjustment, at the preload), then [`TrackAssembly::lock_adjuster`] holds the carrier
+    /// where it stands (a rigid constraint row on its slide: the grease taken as
+    /// incompressible); the chain's pull on the idler is then whatever the loop needs.
+    Grease,
+}
+
 /// The tensioner: a preloaded spring-damper pushing the idler carrier rearward along the
-/// track frame's X axis.
+/// track frame's X axis, optionally locked after the adjustment ([`AdjusterKind`]).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct TensionerData {
@@ -101,6 +118,9 @@ pub struct TensionerData {
     /// Range of the idler position along X relative to `idler.location`, m: `[rearward
     /// limit (<= 0), forward limit (>= 0)]`, the range the assembly may place it in.
     pub travel: [f64; 2],
+    /// What holds the idler after the adjustment (`"spring"`, the default, or `"grease"`).
+    #[serde(default)]
+    pub adjuster: AdjusterKind,
 }
 
 /// The idler: a wheel at the rear on a carrier that slides along the tensioner.
@@ -160,6 +180,16 @@ pub struct RoadWheelData {
     pub shock_damping: f64,
     /// Indices of the wheels with a shock absorber.
     pub shock_wheels: Vec<usize>,
+    /// The arms' travel: `[rebound, jounce]`, rad, each arm's rotation about the track
+    /// frame's +Y from its assembled position at which a stop holds it (rebound `< 0`: the
+    /// wheel down; jounce `> 0`: the wheel up, towards the hull). The stops are rigid
+    /// (unilateral constraint rows); absent, the arms swing freely against the torsion
+    /// bars. A wheel travel `s` (m, at the wheel centre) on an arm of length `l` is about
+    /// `s / l` rad. Rigid stops on the rigid chain with a locked (grease) adjuster
+    /// over-constrain the loop when an arm sits on its stop: `m113-step` at +-0.15 rad
+    /// drifted 0.24 m (docs/validation-vehicle.md, "`m113-step`: the track adjuster").
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub arm_travel: Option<[f64; 2]>,
 }
 
 /// A support (return) roller under the upper run, fixed to the chassis by a revolute joint.
@@ -390,6 +420,22 @@ impl TrackData {
         check_non_negative(&f("road_wheels.torsion_bar.damping"), r.torsion_bar.damping)?;
         check_finite(&f("road_wheels.torsion_bar.preload"), r.torsion_bar.preload)?;
         check_non_negative(&f("road_wheels.shock_damping"), r.shock_damping)?;
+        if let Some([lo, hi]) = r.arm_travel {
+            if !(lo.is_finite() && lo < 0.0) {
+                return Err(VehicleError::invalid(
+                    f("road_wheels.arm_travel[0]"),
+                    lo,
+                    "the rebound stop must be finite and < 0 (rad from the assembled arm)",
+                ));
+            }
+            if !(hi.is_finite() && hi > 0.0) {
+                return Err(VehicleError::invalid(
+                    f("road_wheels.arm_travel[1]"),
+                    hi,
+                    "the jounce stop must be finite and > 0 (rad from the assembled arm)",
+                ));
+            }
+        }
         for (k, &w) in r.shock_wheels.iter().enumerate() {
             if w >= r.x.len() {
                 return Err(VehicleError::invalid(

@@ -214,6 +214,10 @@ fn run(p: &M113AccelParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         drive.synchronize(sys, inputs)?;
         sys.step(p.h)?;
         vtk.record(i, sys)?;
+        if i == n_settle.max(1) {
+            // Settled: a grease adjuster holds the idler from here (the data's adjuster).
+            v.lock_adjusters(sys, d)?;
+        }
         let c = sys.body(v.chassis)?;
         let (pos, vel) = (c.position(), c.linear_velocity());
         let fwd = c.rotation() * chrono_core::math::Vector3::x();

@@ -285,6 +285,8 @@ fn run(p: &M113GranularParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         drive.synchronize(&mut scene.sys, brakes)?;
         scene.sys.step(p.h)?;
     }
+    // Set down: a grease adjuster holds the idler from here (the data's adjuster).
+    scene.vehicle.lock_adjusters(&mut scene.sys, &scene.data)?;
     drive.set_forward_speed(&mut scene.sys, &scene.vehicle, &scene.data, p.initial_speed)?;
     let mut ctl = SpeedController::new(
         PidGains {

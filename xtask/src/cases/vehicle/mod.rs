@@ -7,6 +7,7 @@ pub mod m113_accel;
 pub mod m113_granular;
 pub mod m113_static;
 pub mod m113_step;
+pub mod m113_step_params;
 pub mod m113_turn;
 pub mod scene;
 pub mod static_settle;
