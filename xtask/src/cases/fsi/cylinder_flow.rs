@@ -10,8 +10,8 @@
 //! fluctuates with the particles' passage). `drag_coefficient` is checked (within 3 % of
 //! the bounds: `drag_range_error`, the distance to the nearer bound over it, below 0.03,
 //! the criterion) only for the benchmark itself (its geometry, fluid and inflow,
-//! the cylinder resolved by at least [`RESOLVED_SPACINGS`] and the window starting at
-//! least [`SETTLE_S`] after the ramp); any other set-up reports. The lift, about 0.2 % of
+//! the cylinder resolved by at least `RESOLVED_SPACINGS` (10) and the window starting at
+//! least `SETTLE_S` (3 s) after the ramp); any other set-up reports. The lift, about 0.2 % of
 //! the drag, is reported. `sweep` adds runs with `1.5^k` times fewer rows across the
 //! channel.
 //!
