@@ -68,6 +68,42 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
     let x0 = c.body.markers.x.clone();
     let start = std::time::Instant::now();
+    // COLUMN_I_AT="1,2,3": the inertial number of the flowing markers at these times (in
+    // sqrt(H0/g)), from the APIC velocity gradient C_p and the marker's pressure
+    if let (Ok(times), chrono_mpm::Material::CriticalState(m)) =
+        (std::env::var("COLUMN_I_AT"), *c.body.material())
+    {
+        for t in times.split(',') {
+            let t: f64 = t.trim().parse::<f64>()? * c.time_scale();
+            while c.body.time() < t {
+                let dt = c.body.stable_dt();
+                c.body.step(dt)?;
+            }
+            let mk = &c.body.markers;
+            let mut is = Vec::new();
+            for p in 0..mk.len() {
+                let d = 0.5 * (mk.c[p] + mk.c[p].transpose());
+                let dev = d - nalgebra::Matrix3::identity() * (d.trace() / 3.0);
+                let rate = 2.0f64.sqrt() * dev.norm();
+                let tau = c.body.material().kirchhoff(&mk.fe[p], &mk.fp[p]);
+                let pressure = -tau.trace() / 3.0 / mk.fe[p].determinant();
+                if rate > 1.0 && pressure > 0.0 {
+                    is.push(rate * m.grain_diameter / (pressure / m.grain_density).sqrt());
+                }
+            }
+            is.sort_by(f64::total_cmp);
+            let q = |f: f64| is.get(((is.len() as f64 - 1.0) * f) as usize).copied();
+            println!(
+                "t/tau {:.2}: {} of {} markers shear faster than 1/s; their I: 10 % {:.2e}, median {:.2e}, 90 % {:.2e}",
+                c.body.time() / c.time_scale(),
+                is.len(),
+                mk.len(),
+                q(0.1).unwrap_or(f64::NAN),
+                q(0.5).unwrap_or(f64::NAN),
+                q(0.9).unwrap_or(f64::NAN)
+            );
+        }
+    }
     let r = c.run(|_| {})?;
     let (l0, h0) = (spec.column_length, c.initial_height());
     for s in r.samples.iter().step_by(25) {
