@@ -44,6 +44,11 @@
 //! the mesh dependence of the rate-independent Coulomb flow (ill-posed: Schaeffer 1987,
 //! Barker et al. 2017); `mu(I)` (`grain_diameter`) slows it and converges `a = 4` to
 //! first order, not `a = 1`.
+//!
+//! `rheology = critical_state` runs the compressible `mu(I)` glass beads with
+//! critical-state dilatancy (`chrono_mpm::CriticalStateSand`, published constants, the
+//! floor at their `mu_2`): `a = 1` does not converge either (1.03, 1.31, 1.63, 1.90 at 4
+//! to 32 cells; `docs/mpm.md`: the grain-scale length is below the grid).
 
 use chrono_mpm::column::{Column, ColumnResult, ColumnSpec};
 use chrono_mpm::{CriticalStateSand, FBar, MuI};
