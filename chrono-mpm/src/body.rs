@@ -232,12 +232,11 @@ impl MpmBody {
         settings: PressureSettings,
         walls: &[[f64; 3]],
     ) -> Result<()> {
-        if let Material::DruckerPrager(m) = &self.material
-            && m.dilatancy != 0.0
-        {
+        let dilatancy = self.material.plastic_dilatancy();
+        if dilatancy != 0.0 {
             return Err(invalid(
                 "material.dilatancy",
-                m.dilatancy,
+                dilatancy,
                 "must be 0 in the split (pressure = rows): the rows' rest density is fixed",
             ));
         }

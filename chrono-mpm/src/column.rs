@@ -30,7 +30,7 @@ use crate::body::{MpmBody, MpmSettings};
 use crate::error::{Result, invalid, positive};
 use crate::fbar::FBar;
 use crate::grid::{GridSpec, Wall};
-use crate::material::{DruckerPrager, Material, MuI};
+use crate::material::{CriticalStateSand, DruckerPrager, Material, MuI};
 use crate::pressure::{PressureSettings, slab_wall_markers};
 use crate::rigid::{Contact, RigidBody};
 
@@ -85,6 +85,11 @@ pub struct ColumnSpec {
     /// The rate-dependent friction of the sand ([`DruckerPrager::with_mu_i`]); `None`:
     /// rate-independent.
     pub mu_i: Option<MuI>,
+    /// The sand is this compressible `mu(I)` sand with critical-state dilatancy (e.g.
+    /// [`CriticalStateSand::glass_beads`]; its packing at the start `phi0` is replaced by
+    /// `density` over its grain density) instead of the Drucker–Prager sand:
+    /// `friction_angle_deg`, `cohesion`, `associated_flow` and `mu_i` are then not used.
+    pub critical_state: Option<CriticalStateSand>,
 }
 
 impl Default for ColumnSpec {
@@ -111,6 +116,7 @@ impl Default for ColumnSpec {
             flip: 0.0,
             geostatic: false,
             mu_i: None,
+            critical_state: None,
         }
     }
 }
@@ -212,7 +218,13 @@ impl Column {
         if let Some(mi) = spec.mu_i {
             dp = dp.with_mu_i(mi)?;
         }
-        let sand = Material::DruckerPrager(dp);
+        let sand = match spec.critical_state {
+            Some(cs) => {
+                let phi0 = spec.density / cs.grain_density;
+                Material::CriticalState(CriticalStateSand { phi0, ..cs }.validated()?)
+            }
+            None => Material::DruckerPrager(dp),
+        };
         let dx = l0 / spec.cells_length as f64;
         let h0 = a * l0;
         // The marker rows: whole marker spacings in H0 (at least one).
@@ -542,6 +554,43 @@ mod tests {
             "{}",
             fails.final_height_ratio
         );
+    }
+
+    #[test]
+    fn critical_state_column_comes_to_rest_and_dilates_where_it_flowed() {
+        // The glass beads start at phi0 = 1500 / 2450 = 0.612, denser than phi_c = 0.6:
+        // the collapse shears them, they dilate toward phi_eq(I) <= phi_c, and the
+        // deposit comes to rest with its mass; a bulk density above the grains' is an
+        // error naming the field.
+        let s = ColumnSpec {
+            critical_state: Some(CriticalStateSand::glass_beads(2e6, 0.3, 0.6).unwrap()),
+            floor_friction_angle_deg: Some(32.76),
+            ..coarse(1.0)
+        };
+        let e = Column::new(ColumnSpec {
+            density: 3000.0,
+            ..s
+        })
+        .unwrap_err();
+        assert!(
+            e.to_string().contains("material.critical_state.phi0"),
+            "{e}"
+        );
+        let mut col = Column::new(s).unwrap();
+        let r = col.run(|_| {}).unwrap();
+        assert!(r.at_rest, "not at rest at t = {}", r.time);
+        assert_eq!(r.mass_ratio, 1.0);
+        assert!(r.runout_ratio > 0.1 && r.final_height_ratio < 1.0, "{r:?}");
+        let Material::CriticalState(m) = col.body.material() else {
+            panic!("not the critical-state sand")
+        };
+        let mk = &col.body.markers;
+        let phi: Vec<f64> = (0..mk.len())
+            .map(|p| m.packing_of(&mk.fe[p], &mk.fp[p]))
+            .collect();
+        let min = phi.iter().copied().fold(f64::INFINITY, f64::min);
+        assert!(min < m.phi_c, "no marker dilated below phi_c: min {min}");
+        assert!(phi.iter().all(|f| f.is_finite() && *f > 0.0 && *f < 1.0));
     }
 
     #[test]

@@ -12,8 +12,8 @@
 //!   nodes they mirror);
 //! - [`markers`]: the markers, structure of arrays;
 //! - [`material`]: fixed-corotated elasticity with snow hardening (Stomakhin et al. 2013),
-//!   Drucker–Prager sand (Klar et al. 2016) and von Mises clay, each with its return
-//!   mapping;
+//!   Drucker–Prager sand (Klar et al. 2016), von Mises clay and a compressible `mu(I)`
+//!   sand with critical-state dilatancy, each with its return mapping;
 //! - [`rigid`]: kinematic rigid bodies (plates, footings: boxes; wheels: spinning
 //!   cylinders) in the grid update, with their reaction force and torque;
 //! - [`body`]: an MPM body advanced by explicit APIC steps (Jiang et al. 2015);
@@ -73,7 +73,8 @@ pub use fbar::FBar;
 pub use grid::{GridSpec, SparseGrid, Wall};
 pub use markers::Markers;
 pub use material::{
-    DruckerPrager, Elasticity, FixedCorotated, Material, MuI, SnowHardening, VonMises,
+    CriticalStateSand, DruckerPrager, Elasticity, FixedCorotated, Material, MuI, SnowHardening,
+    VonMises,
 };
 pub use pressure::{PressureRows, PressureSettings, RowsNorm};
 pub use rigid::{Contact, RigidBody, Shape};

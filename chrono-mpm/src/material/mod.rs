@@ -7,11 +7,14 @@
 //! - [`drucker_prager`]: Drucker–Prager sand in Hencky strain (Klar et al. 2016), with
 //!   cohesion.
 //! - [`von_mises`]: von Mises cohesive clay (yield stress) in Hencky strain.
+//! - [`critical_state`]: compressible `mu(I)` sand with critical-state dilatancy (the
+//!   packing fraction relaxes to `phi_eq(I)`), Hencky elasticity.
 //!
 //! Stresses are Kirchhoff stresses `tau = P F_E^T = J sigma`, Pa, so the grid force of a
 //! marker with reference volume `V0` is `f_i = -V0 tau grad w_ip` (no inverse of `F`).
 
 pub mod corotated;
+pub mod critical_state;
 pub mod drucker_prager;
 mod hencky;
 pub mod svd;
@@ -20,6 +23,7 @@ pub mod von_mises;
 use nalgebra::Matrix3;
 
 pub use corotated::{FixedCorotated, SnowHardening};
+pub use critical_state::CriticalStateSand;
 pub use drucker_prager::{DruckerPrager, MuI};
 pub use svd::SignedSvd;
 pub use von_mises::VonMises;
@@ -74,6 +78,8 @@ pub enum Material {
     DruckerPrager(DruckerPrager),
     /// Von Mises clay in Hencky strain.
     VonMises(VonMises),
+    /// Compressible `mu(I)` sand with critical-state dilatancy in Hencky strain.
+    CriticalState(CriticalStateSand),
 }
 
 impl Material {
@@ -85,6 +91,7 @@ impl Material {
             Material::Corotated(m) => m.kirchhoff(fe, fp),
             Material::DruckerPrager(m) => hencky::kirchhoff(&m.elastic, fe),
             Material::VonMises(m) => hencky::kirchhoff(&m.elastic, fe),
+            Material::CriticalState(m) => hencky::kirchhoff(&m.elastic, fe),
         }
     }
 
@@ -94,6 +101,7 @@ impl Material {
             Material::Corotated(m) => m.energy_density(fe, fp),
             Material::DruckerPrager(m) => hencky::energy_density(&m.elastic, fe),
             Material::VonMises(m) => hencky::energy_density(&m.elastic, fe),
+            Material::CriticalState(m) => hencky::energy_density(&m.elastic, fe),
         }
     }
 
@@ -110,6 +118,7 @@ impl Material {
             Material::Corotated(m) => m.project(fe_trial, fp),
             Material::DruckerPrager(m) => m.project(fe_trial, fp),
             Material::VonMises(m) => m.project(fe_trial, fp),
+            Material::CriticalState(m) => m.project(fe_trial, fp),
         }
     }
 
@@ -124,6 +133,7 @@ impl Material {
     ) -> Option<(Matrix3<f64>, Matrix3<f64>)> {
         match self {
             Material::DruckerPrager(m) if m.mu_i.is_some() => m.project_step(fe_trial, fp, dt),
+            Material::CriticalState(m) => m.project_step(fe_trial, fp, dt),
             _ => self.project(fe_trial, fp),
         }
     }
@@ -152,6 +162,7 @@ impl Material {
             Material::Corotated(m) => m.p_modulus(fp),
             Material::DruckerPrager(m) => m.elastic.p_modulus(),
             Material::VonMises(m) => m.elastic.p_modulus(),
+            Material::CriticalState(m) => m.elastic.p_modulus(),
         }
     }
 
@@ -161,6 +172,18 @@ impl Material {
             Material::Corotated(m) => m.lame(fp).0,
             Material::DruckerPrager(m) => m.elastic.mu,
             Material::VonMises(m) => m.elastic.mu,
+            Material::CriticalState(m) => m.elastic.mu,
+        }
+    }
+
+    /// The plastic volume change of the flow rule: a Drucker–Prager sand's dilatancy
+    /// `beta`, the critical-state sand's `K_d`, 0 for the isochoric flows. The split's
+    /// fixed rest density needs 0.
+    pub fn plastic_dilatancy(&self) -> f64 {
+        match self {
+            Material::DruckerPrager(m) => m.dilatancy,
+            Material::CriticalState(m) => m.dilatancy,
+            _ => 0.0,
         }
     }
 
@@ -180,6 +203,12 @@ impl From<FixedCorotated> for Material {
 impl From<DruckerPrager> for Material {
     fn from(m: DruckerPrager) -> Self {
         Material::DruckerPrager(m)
+    }
+}
+
+impl From<CriticalStateSand> for Material {
+    fn from(m: CriticalStateSand) -> Self {
+        Material::CriticalState(m)
     }
 }
 

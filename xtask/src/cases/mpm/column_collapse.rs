@@ -44,9 +44,14 @@
 //! the mesh dependence of the rate-independent Coulomb flow (ill-posed: Schaeffer 1987,
 //! Barker et al. 2017); `mu(I)` (`grain_diameter`) slows it and converges `a = 4` to
 //! first order, not `a = 1`.
+//!
+//! `rheology = critical_state` runs the compressible `mu(I)` glass beads with
+//! critical-state dilatancy (`chrono_mpm::CriticalStateSand`, published constants, the
+//! floor at their `mu_2`): `a = 1` does not converge either (1.03, 1.31, 1.63, 1.90 at 4
+//! to 32 cells; `docs/mpm.md`: the grain-scale length is below the grid).
 
 use chrono_mpm::column::{Column, ColumnResult, ColumnSpec};
-use chrono_mpm::{FBar, MuI};
+use chrono_mpm::{CriticalStateSand, FBar, MuI};
 use serde::{Deserialize, Serialize};
 
 use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series};
@@ -111,6 +116,12 @@ pub struct ColumnParams {
     pub pressure: String,
     /// APGD's tolerance on the rows' velocity residual with `pressure = rows`, m/s.
     pub rows_tolerance: f64,
+    /// The sand: `drucker_prager` (the cone of `friction_angle_deg`) or `critical_state`
+    /// (`chrono_mpm::CriticalStateSand::glass_beads`: compressible `mu(I)` with
+    /// critical-state dilatancy, its own published friction; `friction_angle_deg`,
+    /// `associated_flow` and `grain_diameter` are then not used, and a floor of the
+    /// sand's friction is its `mu_2`).
+    pub rheology: String,
 }
 
 impl Default for ColumnParams {
@@ -142,6 +153,7 @@ impl Default for ColumnParams {
             geostatic: false,
             pressure: "stress".into(),
             rows_tolerance: 1e-6,
+            rheology: "drucker_prager".into(),
         }
     }
 }
@@ -234,6 +246,11 @@ impl CaseParams for ColumnParams {
             "1/s",
             "APGD's tolerance on the rows' velocity residual with pressure = rows",
         ),
+        ParamInfo::new(
+            "rheology",
+            "-",
+            "drucker_prager (the cone of friction_angle_deg) or critical_state (compressible mu(I) glass beads with critical-state dilatancy, published constants; docs/mpm.md)",
+        ),
     ];
 
     fn apply_mode(&mut self, mode: Mode) {
@@ -318,7 +335,12 @@ fn log_slope(pts: &[(f64, f64)]) -> f64 {
     (n * sxy - sx * sy) / (n * sxx - sx * sx)
 }
 
-fn spec(p: &ColumnParams, a: f64, f_bar: FBar) -> ColumnSpec {
+fn spec(
+    p: &ColumnParams,
+    a: f64,
+    f_bar: FBar,
+    critical_state: Option<CriticalStateSand>,
+) -> ColumnSpec {
     // The resolution across the smaller dimension: L0 for a >= 1, H0 below.
     let cells_length = if a >= 1.0 {
         p.cells
@@ -338,7 +360,11 @@ fn spec(p: &ColumnParams, a: f64, f_bar: FBar) -> ColumnSpec {
         cells_length,
         markers_per_cell: p.markers_per_cell,
         floor_friction_angle_deg: Some(if p.floor_friction_angle_deg < 0.0 {
-            p.friction_angle_deg
+            match critical_state {
+                // the beads' largest friction: the rough bed slides no sooner than the sand
+                Some(m) => m.mu_2.atan().to_degrees(),
+                None => p.friction_angle_deg,
+            }
         } else {
             p.floor_friction_angle_deg
         }),
@@ -353,6 +379,7 @@ fn spec(p: &ColumnParams, a: f64, f_bar: FBar) -> ColumnSpec {
             grain_diameter: p.grain_diameter,
             ..MuI::jop_2006()
         }),
+        critical_state,
     }
 }
 
@@ -383,13 +410,20 @@ fn run(p: &ColumnParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     }
     ratios.sort_by(f64::total_cmp);
     ratios.dedup();
+    let critical_state = match p.rheology.as_str() {
+        "drucker_prager" => None,
+        "critical_state" => Some(CriticalStateSand::glass_beads(p.young, p.poisson, 0.6)?),
+        other => anyhow::bail!(
+            "parameter `rheology` = {other:?}: must be `drucker_prager` or `critical_state`"
+        ),
+    };
     let split = match p.pressure.as_str() {
         "stress" => false,
         "rows" => true,
         other => anyhow::bail!("parameter `pressure` = {other:?}: must be `stress` or `rows`"),
     };
     let build = |a: f64| -> anyhow::Result<Column> {
-        let mut c = Column::new(spec(p, a, f_bar))?;
+        let mut c = Column::new(spec(p, a, f_bar, critical_state))?;
         if split {
             c.use_pressure_rows(p.rows_tolerance)?;
         }
