@@ -247,26 +247,7 @@ fn simulate(
         p.tolerance,
         p.max_iterations,
     )?;
-    anyhow::ensure!(
-        p.settle_time >= 0.0 && p.settle_time.is_finite(),
-        "parameter `settle_time` must be >= 0, got {}",
-        p.settle_time
-    );
-    anyhow::ensure!(
-        (0.0..=1.0).contains(&p.settle_xsph),
-        "parameter `settle_xsph` must be in [0, 1], got {}",
-        p.settle_xsph
-    );
-    let n_settle = (p.settle_time / p.h).round() as u64;
-    if n_settle > 0 {
-        scene.fluid_mut()?.set_xsph(p.settle_xsph)?;
-        for _ in 0..n_settle {
-            scene.sys.step(p.h)?;
-        }
-        let f = scene.fluid_mut()?;
-        f.set_velocities(&vec![[0.0; 3]; f.n_fluid()])?;
-        f.set_xsph(p.xsph)?;
-    }
+    super::settle(&mut scene, p.settle_time, p.settle_xsph, p.xsph, p.h)?;
     let (m_l, mass) = {
         let f = scene.fluid()?;
         (f.particle_mass() * f.n_fluid() as f64, f.particle_mass())

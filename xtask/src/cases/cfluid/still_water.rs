@@ -267,16 +267,6 @@ fn run(p: &StillWaterParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         "parameter `t_end` must be >= h, got {}",
         p.t_end
     );
-    anyhow::ensure!(
-        p.settle_time >= 0.0 && p.settle_time.is_finite(),
-        "parameter `settle_time` must be >= 0, got {}",
-        p.settle_time
-    );
-    anyhow::ensure!(
-        (0.0..=1.0).contains(&p.settle_xsph),
-        "parameter `settle_xsph` must be in [0, 1], got {}",
-        p.settle_xsph
-    );
     let dp = p.spacing;
     anyhow::ensure!(
         dp > 0.0 && dp <= p.depth / 4.0 && dp <= p.tank_length / 6.0,
@@ -316,17 +306,7 @@ fn run(p: &StillWaterParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         let zero = vec![[0.0; 3]; f.n_fluid()];
         f.set_velocities(&zero)?;
     }
-    let n_settle = (p.settle_time.max(0.0) / p.h).round() as u64;
-    if n_settle > 0 {
-        scene.fluid_mut()?.set_xsph(p.settle_xsph)?;
-        for _ in 0..n_settle {
-            scene.sys.step(p.h)?;
-        }
-        let f = scene.fluid_mut()?;
-        let zero = vec![[0.0; 3]; f.n_fluid()];
-        f.set_velocities(&zero)?;
-        f.set_xsph(p.xsph)?;
-    }
+    super::settle(&mut scene, p.settle_time, p.settle_xsph, p.xsph, p.h)?;
     let z0 = surface_height(scene.fluid()?, dp, p.tank_length);
     let zc_start = mean_z(scene.fluid()?);
     let n = (p.t_end / p.h).round().max(1.0) as u64;
