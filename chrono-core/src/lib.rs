@@ -30,6 +30,7 @@ pub mod item;
 pub mod joint;
 pub mod material;
 pub mod math;
+pub mod parallel;
 pub mod particles;
 pub mod rng;
 pub mod shape;

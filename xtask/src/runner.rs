@@ -353,13 +353,20 @@ pub fn run_all(cases: &mut [Box<dyn Case>], opts: &RunOptions) -> anyhow::Result
             });
         }
         let result = (|| {
-            for (i, case) in cases.iter().enumerate() {
+            for (i, case) in cases.iter_mut().enumerate() {
                 let label = format!("[{}/{}] {:<width$}", i + 1, total, case.name());
                 let bar = multi.as_ref().map(|m| m.add(progress_bar(label.clone())));
                 if let (Ok(mut c), Some(bar)) = (current.lock(), &bar) {
                     *c = Some((i, Instant::now(), bar.clone()));
                 }
-                let r = run_case_with_bar(case.as_ref(), opts, bar)?;
+                // On a pool thread: the case's parallel loops then start from the pool
+                // (chrono_core::parallel::on_worker says why).
+                let r = {
+                    let c: &mut Box<dyn Case> = &mut *case;
+                    chrono_core::parallel::on_worker(move || {
+                        run_case_with_bar(c.as_ref(), opts, bar)
+                    })?
+                };
                 let left = {
                     let mut e = eta
                         .lock()

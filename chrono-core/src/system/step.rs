@@ -76,6 +76,11 @@ impl System {
     /// Errors: `h` not finite and > 0; a non-finite state after the step (the error names the
     /// body or item and the step, and the state is left as it was computed).
     pub fn step(&mut self, h: f64) -> Result<StepReport> {
+        crate::parallel::on_worker(|| self.step_here(h))
+    }
+
+    /// [`System::step`] on the calling thread (see [`crate::parallel::on_worker`]).
+    fn step_here(&mut self, h: f64) -> Result<StepReport> {
         if self.settings.contact_method == super::ContactMethod::Smc {
             return self.step_smc(h);
         }
