@@ -5,6 +5,7 @@
 mod common;
 mod contact_friction;
 mod distributed_granular;
+mod axis_spring;
 mod ellipsoid;
 mod force_elements;
 mod granular_rolling_bed;
