@@ -84,7 +84,10 @@ fn oscillator_error(h: f64) -> f64 {
         assert!((vs - v).abs() < 1e-8, "step {i}: v {vs} against {v}");
         // The effort reported is the row's impulse over the step: f0 - k x' - c v'.
         let effort = sys.joint(j).unwrap().axis_spring_effort();
-        assert!((effort - (f0 - k * zs - c * vs)).abs() < 1e-6 * f0, "{effort}");
+        assert!(
+            (effort - (f0 - k * zs - c * vs)).abs() < 1e-6 * f0,
+            "{effort}"
+        );
         let t = i as f64 * h;
         let exact =
             xs * (1.0 - (-z * w * t).exp() * ((wd * t).cos() + z * w / wd * (wd * t).sin()));
@@ -100,7 +103,10 @@ fn oscillator_error(h: f64) -> f64 {
 fn the_axis_spring_is_the_backward_euler_step_and_follows_the_damped_oscillator() {
     let (e1, e2) = (oscillator_error(1e-3), oscillator_error(5e-4));
     assert!(e1 < 0.05, "error at 1 ms {e1} of x_s");
-    assert!(e2 < 0.6 * e1 && e2 > 0.4 * e1, "errors {e1} at 1 ms, {e2} at 0.5 ms");
+    assert!(
+        e2 < 0.6 * e1 && e2 > 0.4 * e1,
+        "errors {e1} at 1 ms, {e2} at 0.5 ms"
+    );
 }
 
 /// With `c h / m` = 50 the explicit spring-damper (the force element) blows up within a few
@@ -171,7 +177,10 @@ fn the_axis_spring_is_stable_where_the_explicit_element_diverges() {
             break;
         }
     }
-    assert!(blew_up, "the explicit element stayed stable: the test shows nothing");
+    assert!(
+        blew_up,
+        "the explicit element stayed stable: the test shows nothing"
+    );
 }
 
 /// About a rotational motor's axis: a preload torque `T_0` against `k` settles at
@@ -227,7 +236,10 @@ fn a_torsion_axis_spring_settles_at_its_preload_angle_and_works_beside_a_lock() 
     }
     assert!((angle(&sys) - 0.1).abs() < 1e-9, "angle {}", angle(&sys));
     let effort = sys.joint(j).unwrap().axis_spring_effort();
-    assert!((effort - (t0 - k * 0.1)).abs() < 1e-6, "spring effort {effort}");
+    assert!(
+        (effort - (t0 - k * 0.1)).abs() < 1e-6,
+        "spring effort {effort}"
+    );
     // The lock balances the spring: the body is at rest.
     let w = sys.body(b).unwrap().angular_velocity();
     assert!(w.norm() < 1e-6, "{w}");

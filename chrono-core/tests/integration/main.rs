@@ -2,10 +2,10 @@
 //! (one link instead of one per file: the cold CI build links each test binary).
 //! Run one topic with `cargo test -p chrono-core --test integration <module>::`.
 
+mod axis_spring;
 mod common;
 mod contact_friction;
 mod distributed_granular;
-mod axis_spring;
 mod ellipsoid;
 mod force_elements;
 mod granular_rolling_bed;

@@ -14,9 +14,10 @@
 //!
 //! The torsion bars, shocks and tensioner are spring-dampers on their joints' axes
 //! ([`AxisSpring`]: backward Euler, a compliant row of the step), not explicit force
-//! elements: an explicit damper diverges once `c h / I` passes about 2 on a body the
-//! contacts leave free, and the M113's rear arm (`c` = 2,500 N m s/rad on about 4.5 kg m^2
-//! about its pivot) passes it at `h` = 3.6 ms (docs/validation-vehicle.md, "M113 at 5 ms").
+//! elements: an explicit spring-damper diverges once `2 c h / I + k h^2 / I` passes 4 on
+//! a body the contacts leave free, and the M113's rear arm (`c` = 2,500 N m s/rad, `k` =
+//! 2.5e4 N m/rad on about 4.5 kg m^2 about its pivot) passes it at `h` = 3.5 ms
+//! (docs/validation-vehicle.md, "M113 at 5 ms").
 
 use std::f64::consts::TAU;
 
