@@ -45,7 +45,7 @@ pub use bodies::Bodies;
 pub use body::{BodyHandle, BodyMotion, RigidBody, RigidBodyBuilder};
 pub use curve::{Curve, Extrapolation};
 pub use force::{ForceElement, ForceHandle, SpringDamper};
-pub use joint::{Drive, Joint, JointBuilder, JointHandle, JointKind};
+pub use joint::{AxisSpring, Drive, Joint, JointBuilder, JointHandle, JointKind};
 pub use material::{ContactFriction, ContactMaterial};
 pub use shape::Shape;
 pub use system::{ContactMethod, FrictionLaw, StepReport, System, SystemSettings};

@@ -88,6 +88,68 @@ pub enum JointKind {
     },
 }
 
+/// A linear spring-damper acting along the axis of a [`JointKind::LinearActuator`] or
+/// about the axis of a [`JointKind::RotationalMotor`] (in parallel with its drive), with
+/// the effort on B (A gets the opposite)
+///
+/// ```text
+/// F = f_0 - k x - c x_dot
+/// ```
+///
+/// where `x` is the joint coordinate from the assembled pose (m or rad: the one
+/// [`Drive::Position`] reads), `k` the stiffness (N/m or N m/rad), `c` the damping (N s/m or
+/// N m s/rad) and `f_0` the preload (N or N m).
+///
+/// It is integrated implicitly, as a compliant row of the step's problem: with
+/// `x_{n+1} = x_n + h x_dot_{n+1}` and the row's impulse `g = h F_{n+1}`,
+///
+/// ```text
+/// x_dot_{n+1} + g / (h (k h + c)) + (k x_n - f_0) / (k h + c) = 0,
+/// ```
+///
+/// a bilateral row with compliance `eps = 1 / (h (k h + c))` and right-hand side
+/// `b = (k x_n - f_0) / (k h + c)`: the linearly implicit (backward) Euler step of the
+/// spring-damper, stable for any `h` however stiff the spring or light the bodies, where
+/// a force element (explicit) needs `c h / m_eff + k h^2 / (2 m_eff) < 2` (semi-implicit Euler
+/// on `m x'' = -k x - c x'`). This is the "soft constraint" form of a spring (C. Lacoursière,
+/// "Ghosts and machines: regularized variational methods for interactive simulations of
+/// multibodies with dry frictional contacts", PhD thesis, Umeå University, 2007; E. Catto,
+/// "Soft constraints", GDC 2011); Project Chrono applies the same backward-Euler
+/// linearization to its spring-dampers through their stiffness and damping matrices.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct AxisSpring {
+    /// Stiffness `k`, N/m (actuator) or N m/rad (motor), >= 0.
+    pub stiffness: f64,
+    /// Damping `c`, N s/m or N m s/rad, >= 0; `k h + c` must be > 0 at every step.
+    pub damping: f64,
+    /// Preload `f_0`, N or N m (on B along/about the joint axis at `x = 0`).
+    pub preload: f64,
+}
+
+impl AxisSpring {
+    /// Check the values; `field` names the spring in the message.
+    fn validate(&self, field: &str) -> Result<()> {
+        for (v, name) in [(self.stiffness, "stiffness"), (self.damping, "damping")] {
+            if !(v.is_finite() && v >= 0.0) {
+                return Err(ChronoError::invalid(
+                    format!("{field}.{name}"),
+                    v,
+                    "must be finite and >= 0",
+                ));
+            }
+        }
+        if self.stiffness == 0.0 && self.damping == 0.0 {
+            return Err(ChronoError::invalid(
+                format!("{field}.stiffness"),
+                self.stiffness,
+                "stiffness and damping are both zero (no spring: leave it out)",
+            ));
+        }
+        check_finite(&format!("{field}.preload"), self.preload)?;
+        Ok(())
+    }
+}
+
 /// A joint between two bodies.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Joint {
@@ -104,6 +166,10 @@ pub struct Joint {
     pub(crate) row_kinds: Vec<RowMeaning>,
     pub(crate) impulses: Vec<f64>,
     pub(crate) h: f64,
+    /// The spring-damper along/about the axis (motors and actuators), if any.
+    pub(crate) axis_spring: Option<AxisSpring>,
+    /// The index of the spring's row in `row_kinds`/`impulses` this step.
+    pub(crate) spring_row: Option<usize>,
 }
 
 /// What a joint row constrains (for reactions).
@@ -125,6 +191,7 @@ pub struct JointBuilder {
     /// B's frame when it differs from A's (distance joints between two anchors).
     frame_b_world: Option<Isometry3<f64>>,
     kind: JointKind,
+    axis_spring: Option<AxisSpring>,
 }
 
 impl JointBuilder {
@@ -138,6 +205,7 @@ impl JointBuilder {
             frame_world,
             frame_b_world: None,
             kind,
+            axis_spring: None,
         }
     }
     /// A joint whose frame is at world point `origin` with its z axis along `axis` (world).
@@ -175,6 +243,14 @@ impl JointBuilder {
     /// Name for messages.
     pub fn name(mut self, name: impl Into<String>) -> Self {
         self.name = name.into();
+        self
+    }
+
+    /// A spring-damper along/about the axis of a linear actuator or rotational motor,
+    /// integrated implicitly (see [`AxisSpring`]); other kinds are refused when the joint is
+    /// built.
+    pub fn axis_spring(mut self, spring: AxisSpring) -> Self {
+        self.axis_spring = Some(spring);
         self
     }
 
@@ -263,6 +339,10 @@ impl JointBuilder {
             }
             _ => {}
         }
+        if let Some(sp) = &self.axis_spring {
+            check_axis_spring_kind(&self.kind, &field("axis_spring"))?;
+            sp.validate(&field("axis_spring"))?;
+        }
         let (a, b) = (&bodies[self.body_a], &bodies[self.body_b]);
         let frame_a = a.pose().inverse() * self.frame_world;
         if let Some(fb) = &self.frame_b_world {
@@ -281,7 +361,21 @@ impl JointBuilder {
             row_kinds: Vec::new(),
             impulses: Vec::new(),
             h: 0.0,
+            axis_spring: self.axis_spring,
+            spring_row: None,
         })
+    }
+}
+
+/// An axis spring needs an axis coordinate: a rotational motor or a linear actuator.
+fn check_axis_spring_kind(kind: &JointKind, field: &str) -> Result<()> {
+    match kind {
+        JointKind::RotationalMotor { .. } | JointKind::LinearActuator { .. } => Ok(()),
+        other => Err(ChronoError::invalid(
+            field,
+            format!("{other:?}"),
+            "an axis spring needs a rotational motor or a linear actuator",
+        )),
     }
 }
 
@@ -312,6 +406,32 @@ impl Joint {
     /// The joint's name.
     pub fn name(&self) -> &str {
         &self.name
+    }
+
+    /// The spring-damper along/about the axis, if any ([`AxisSpring`]).
+    pub fn axis_spring(&self) -> Option<&AxisSpring> {
+        self.axis_spring.as_ref()
+    }
+
+    /// Set or remove the axis spring (between steps); only motors and actuators have one.
+    pub fn set_axis_spring(&mut self, spring: Option<AxisSpring>) -> Result<()> {
+        if let Some(sp) = &spring {
+            let field = format!("joint \"{}\".axis_spring", self.name);
+            check_axis_spring_kind(&self.kind, &field)?;
+            sp.validate(&field)?;
+        }
+        self.axis_spring = spring;
+        Ok(())
+    }
+
+    /// The axis spring's effort on B at the last step (N along the axis or N m about it;
+    /// A gets the opposite): `F = f_0 - k x_{n+1} - c x_dot_{n+1}`, its row's impulse over
+    /// the step. Zero without a spring or before the first step.
+    pub fn axis_spring_effort(&self) -> f64 {
+        match self.spring_row {
+            Some(k) if self.h > 0.0 => self.impulses.get(k).map_or(0.0, |g| g / self.h),
+            _ => 0.0,
+        }
     }
     /// The two bodies.
     pub fn bodies(&self) -> (BodyHandle, BodyHandle) {
@@ -412,6 +532,7 @@ impl Joint {
     pub(crate) fn add_rows(&mut self, bodies: &Bodies, h: f64, rows: &mut ConstraintRows) {
         self.row_ids.clear();
         self.row_kinds.clear();
+        self.spring_row = None;
         self.h = h;
         let (a, b) = (&bodies[self.body_a], &bodies[self.body_b]);
         let f = self.frames(a, b);
@@ -520,6 +641,9 @@ impl Joint {
                 );
             }
         }
+        // The axis spring's row (pushed after the drives and limits): entries, the joint
+        // coordinate and the effort's direction.
+        let mut spring: Option<([f64; 6], [f64; 6], f64, RowMeaning)> = None;
         // drives and limits
         match &kind {
             JointKind::RotationalMotor {
@@ -531,6 +655,7 @@ impl Joint {
                 // perpendicular rows, which keep z_A = z_B)
                 let ja = neg(a.angular_jacobian(&f.za));
                 let jb = b.angular_jacobian(&f.za);
+                spring = Some((ja, jb, self.angle, RowMeaning::Torque(f.za)));
                 let lim = max_torque * h;
                 match *drive {
                     Drive::Speed(w) => push(
@@ -580,6 +705,7 @@ impl Joint {
                 let jb = b.point_jacobian(&f.pb, &f.za);
                 let lim = max_force * h;
                 let s = dp.dot(&f.za);
+                spring = Some((ja, jb, s, RowMeaning::Force(f.za)));
                 match *drive {
                     Drive::Speed(v) => push(
                         self,
@@ -601,6 +727,21 @@ impl Joint {
                 }
             }
             _ => {}
+        }
+        if let (Some(sp), Some((ja, jb, x, meaning))) = (self.axis_spring, spring) {
+            // Backward Euler of F = f_0 - k x - c x_dot as a compliant row (see `AxisSpring`).
+            let kc = sp.stiffness * h + sp.damping;
+            if kc > 0.0 {
+                let rhs = (sp.stiffness * x - sp.preload) / kc;
+                let eps = 1.0 / (h * kc);
+                if let Some(id) =
+                    push_pair_row(rows, PairRowKind::Bilateral, a, &ja, b, &jb, rhs, eps)
+                {
+                    self.spring_row = Some(self.row_kinds.len());
+                    self.row_ids.push(id);
+                    self.row_kinds.push(meaning);
+                }
+            }
         }
     }
 

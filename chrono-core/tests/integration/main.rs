@@ -2,6 +2,7 @@
 //! (one link instead of one per file: the cold CI build links each test binary).
 //! Run one topic with `cargo test -p chrono-core --test integration <module>::`.
 
+mod axis_spring;
 mod common;
 mod contact_friction;
 mod distributed_granular;

@@ -3,21 +3,27 @@
 //! | part | body and joint | contact |
 //! |---|---|---|
 //! | sprocket | revolute motor to the chassis about Y ([`TrackAssembly::set_sprocket_drive`]: free, held or driven) | two gear rings at `±gear_offset`: a pin seat (cylinder of radius `pitch_radius - pin_radius`) and `num_teeth` convex teeth each |
-//! | idler | wheel on a revolute joint in a carrier; the carrier on a slide along X (a linear actuator without a drive; held by [`TrackAssembly::lock_adjuster`] for a grease adjuster); the tensioner a preloaded [`SpringDamper`] pushing it rearward | cylinder |
-//! | road wheel | wheel on a revolute joint in a trailing arm; the arm on a revolute joint to the chassis (a rotational motor without a drive, with angle limits, where `arm_travel` gives stops) with a [`TorsionSpring`] (plus the rotary shock's damping where fitted) | cylinder |
+//! | idler | wheel on a revolute joint in a carrier; the carrier on a slide along X (a linear actuator without a drive; held by [`TrackAssembly::lock_adjuster`] for a grease adjuster); the tensioner a preloaded spring-damper pushing it rearward, the slide's implicit [`AxisSpring`] | cylinder |
+//! | road wheel | wheel on a revolute joint in a trailing arm; the arm on a revolute joint to the chassis (a rotational motor without a drive, with angle limits where `arm_travel` gives stops) whose implicit [`AxisSpring`] is the torsion bar (plus the rotary shock's damping where fitted) | cylinder |
 //! | roller | revolute joint to the chassis | cylinder |
 //! | shoe | box plate; revolute joints about Y at the pins to its neighbours; the loop closes by two distance rows (the pin in the track plane), so no row repeats another | the plate (against wheels and ground) and two pin ends (cylinders at the front pin, in the gear rings' planes) |
 //!
 //! The shoes are laid out by [`super::geometry::layout`]; the idler starts where that puts
 //! it and the tensioner's spring is at its preload there. Shoes and wheels start touching
 //! (zero gap), so nothing jumps at the first step.
+//!
+//! The torsion bars, shocks and tensioner are spring-dampers on their joints' axes
+//! ([`AxisSpring`]: backward Euler, a compliant row of the step), not explicit force
+//! elements: an explicit spring-damper diverges once `2 c h / I + k h^2 / I` passes 4 on
+//! a body the contacts leave free, and the M113's rear arm (`c` = 2,500 N m s/rad, `k` =
+//! 2.5e4 N m/rad on about 4.5 kg m^2 about its pivot) passes it at `h` = 3.5 ms
+//! (docs/validation-vehicle.md, "M113 at 5 ms").
 
 use std::f64::consts::TAU;
 
-use chrono_core::force::ForceHandle;
 use chrono_core::math::{Isometry3, Point3, UnitQuaternion, Vector3};
 use chrono_core::{
-    BodyHandle, Drive, JointBuilder, JointHandle, JointKind, RigidBodyBuilder, Shape, SpringDamper,
+    AxisSpring, BodyHandle, Drive, JointBuilder, JointHandle, JointKind, RigidBodyBuilder, Shape,
     System,
 };
 
@@ -26,15 +32,10 @@ use crate::suspension::MassData;
 
 use super::TrackData;
 use super::geometry::{ChainLayout, layout};
-use super::torsion::TorsionSpring;
 
 /// Convex slices of a sprocket tooth between the seat and the tip radius (its concave
 /// flanks as chords).
 const TOOTH_SLICES: usize = 4;
-
-/// Length of the tensioner spring at assembly (its chassis anchor this far ahead of the
-/// idler centre along X), m. Only its direction matters: the force is the preload there.
-const TENSIONER_ARM: f64 = 0.5;
 
 /// A road wheel and its suspension.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -43,8 +44,9 @@ pub struct RoadWheel {
     pub wheel: BodyHandle,
     /// The trailing arm.
     pub arm: BodyHandle,
-    /// The torsion bar (with the shock's damping where fitted).
-    pub torsion_bar: ForceHandle,
+    /// The arm's joint to the chassis; its [`AxisSpring`] is the torsion bar (with the
+    /// shock's damping where fitted).
+    pub arm_joint: JointHandle,
 }
 
 /// One side's running gear (see the [module docs](self)).
@@ -60,10 +62,9 @@ pub struct TrackAssembly {
     pub idler: BodyHandle,
     /// The idler's carrier (slides along X).
     pub carrier: BodyHandle,
-    /// The tensioner spring-damper (chassis to carrier).
-    pub tensioner: ForceHandle,
     /// The carrier's slide on the chassis (a linear actuator along X: free, or locked by
-    /// [`TrackAssembly::lock_adjuster`]).
+    /// [`TrackAssembly::lock_adjuster`]); its [`AxisSpring`] is the tensioner's
+    /// spring-damper.
     pub tensioner_slide: JointHandle,
     /// The chassis the running gear hangs on.
     pub chassis: BodyHandle,
@@ -215,7 +216,10 @@ impl TrackAssembly {
         let ic = w([i.location[0] + lay.idler_offset, i.location[1]]);
         let carrier = sys.add_body(dynamic("idler_carrier", &i.carrier, ic, rot))?;
         // A linear actuator without a drive is a prismatic joint; the grease adjuster
-        // locks it (`lock_adjuster`).
+        // locks it (`lock_adjuster`). The tensioner pushes the carrier rearward (-X) with
+        // `preload + k s + c s_dot` at the forward travel `s`: on the carrier along the
+        // slide's +X, `-preload - k s - c s_dot`.
+        let t = &i.tensioner;
         let tensioner_slide = sys.add_joint(
             JointBuilder::at_axis(
                 JointKind::LinearActuator {
@@ -227,6 +231,11 @@ impl TrackAssembly {
                 ic,
                 x_axis,
             )
+            .axis_spring(AxisSpring {
+                stiffness: t.stiffness,
+                damping: t.damping,
+                preload: -t.preload,
+            })
             .name(label("tensioner_slide")),
         )?;
         let carrier_x0 = local_x(sys, chassis, ic)?;
@@ -236,20 +245,6 @@ impl TrackAssembly {
             mat_wheel,
         ))?;
         revolute(sys, "idler_revolute", carrier, idler, ic)?;
-        let t = &i.tensioner;
-        let tensioner = sys.add_force_element(Box::new(
-            SpringDamper::linear(
-                label("tensioner"),
-                chassis,
-                ic + x_axis * TENSIONER_ARM,
-                carrier,
-                ic,
-                TENSIONER_ARM,
-                t.stiffness,
-                t.damping,
-            )
-            .with_preload(t.preload),
-        ))?;
 
         // Road wheels on trailing arms.
         let r = &data.road_wheels;
@@ -263,24 +258,33 @@ impl TrackAssembly {
                 0.5 * (c + pivot),
                 rot,
             ))?;
-            match r.arm_travel {
-                // Bump stops: a rotational motor without a drive, with angle limits.
-                Some([lo, hi]) => sys.add_joint(
-                    JointBuilder::at_axis(
-                        JointKind::RotationalMotor {
-                            drive: Drive::Effort(0.0),
-                            max_torque: f64::INFINITY,
-                            limits: Some((lo, hi)),
-                        },
-                        chassis,
-                        arm,
-                        pivot,
-                        y_axis,
-                    )
-                    .name(label(&format!("arm_revolute[{k}]"))),
-                )?,
-                None => revolute(sys, &format!("arm_revolute[{k}]"), chassis, arm, pivot)?,
-            };
+            let damping = r.torsion_bar.damping
+                + if r.shock_wheels.contains(&k) {
+                    r.shock_damping
+                } else {
+                    0.0
+                };
+            // A rotational motor without a drive (angle limits: the bump stops, where given);
+            // the torsion bar `T = T_0 - k theta - c omega` on the arm about Y.
+            let arm_joint = sys.add_joint(
+                JointBuilder::at_axis(
+                    JointKind::RotationalMotor {
+                        drive: Drive::Effort(0.0),
+                        max_torque: f64::INFINITY,
+                        limits: r.arm_travel.map(|[lo, hi]| (lo, hi)),
+                    },
+                    chassis,
+                    arm,
+                    pivot,
+                    y_axis,
+                )
+                .axis_spring(AxisSpring {
+                    stiffness: r.torsion_bar.stiffness,
+                    damping,
+                    preload: r.torsion_bar.preload,
+                })
+                .name(label(&format!("arm_revolute[{k}]"))),
+            )?;
             let wheel = sys.add_body(
                 dynamic(&format!("road_wheel[{k}]"), &r.wheel, c, rot).collider(
                     cylinder(r.radius, r.width),
@@ -289,25 +293,10 @@ impl TrackAssembly {
                 ),
             )?;
             revolute(sys, &format!("road_wheel_revolute[{k}]"), arm, wheel, c)?;
-            let damping = r.torsion_bar.damping
-                + if r.shock_wheels.contains(&k) {
-                    r.shock_damping
-                } else {
-                    0.0
-                };
-            let torsion_bar = sys.add_force_element(Box::new(TorsionSpring::new(
-                label(&format!("torsion_bar[{k}]")),
-                chassis,
-                arm,
-                y_axis,
-                r.torsion_bar.stiffness,
-                damping,
-                r.torsion_bar.preload,
-            )))?;
             road_wheels.push(RoadWheel {
                 wheel,
                 arm,
-                torsion_bar,
+                arm_joint,
             });
         }
 
@@ -386,7 +375,6 @@ impl TrackAssembly {
             sprocket_joint,
             idler,
             carrier,
-            tensioner,
             tensioner_slide,
             chassis,
             carrier_x0,
@@ -407,11 +395,11 @@ impl TrackAssembly {
     }
 
     /// The tensioner spring's force at the last step, N (positive pushes the idler
-    /// rearward). With the adjuster locked the lock carries the rest: see
-    /// [`TrackAssembly::adjuster_force`].
+    /// rearward): `preload + k s + c s_dot` at the step's end. With the adjuster locked the
+    /// lock carries the rest: see [`TrackAssembly::adjuster_force`].
     pub fn tensioner_force(&self, sys: &System) -> f64 {
-        sys.force_element::<SpringDamper>(self.tensioner)
-            .map_or(f64::NAN, |s| s.force())
+        sys.joint(self.tensioner_slide)
+            .map_or(f64::NAN, |j| -j.axis_spring_effort())
     }
 
     /// The idler carrier's travel from its assembled place along the chassis X axis, m
@@ -424,7 +412,8 @@ impl TrackAssembly {
     /// Lock the adjuster (a grease cylinder holds its length,
     /// [`super::AdjusterKind::Grease`]): from now on the carrier's slide keeps its current
     /// travel, rigidly (a position row without a force limit). The spring-damper stays in
-    /// parallel; the lock takes any change of the chain's pull.
+    /// parallel (at the locked travel its force is constant); the lock takes any change of
+    /// the chain's pull.
     pub fn lock_adjuster(&self, sys: &mut System) -> Result<()> {
         let s = self.adjuster_travel(sys)?;
         sys.joint_mut(self.tensioner_slide)?
@@ -446,11 +435,12 @@ impl TrackAssembly {
 
     /// The adjuster's whole push on the idler carrier at the last step, N (positive
     /// rearward, tensioning the chain): the spring-damper's force plus the lock's reaction
-    /// along the slide (zero while unlocked).
+    /// along the slide (zero while unlocked). Both are rows of the slide, so this is its
+    /// reaction along the slide.
     pub fn adjuster_force(&self, sys: &System) -> Result<f64> {
         let joint = sys.joint(self.tensioner_slide)?;
         let fwd = sys.body(self.chassis)?.rotation() * Vector3::x();
-        Ok(self.tensioner_force(sys) - joint.reaction_force().dot(&fwd))
+        Ok(-joint.reaction_force().dot(&fwd))
     }
 
     /// The magnitude of each pin joint's reaction force at the last step, N: the chain's

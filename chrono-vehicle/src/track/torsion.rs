@@ -1,5 +1,7 @@
-//! A rotational spring-damper between two bodies about an axis fixed in the first: the
-//! torsion bar (and rotary shock) of a road-wheel arm.
+//! A rotational spring-damper between two bodies about an axis fixed in the first, as an
+//! explicit force element. The track assembly no longer uses it for its torsion bars: they
+//! are the arm joints' implicit [`chrono_core::AxisSpring`]s, stable at any step (this
+//! element's damping diverges on a free arm once `c h / I` passes about 2).
 //!
 //! With `theta` the rotation of body B relative to body A about the axis since assembly
 //! (from the relative rotation's scaled axis, exact for a rotation about that axis, which a
