@@ -53,6 +53,7 @@ use std::time::Instant;
 use serde::{Deserialize, Serialize};
 
 use chrono_core::math::{GRAVITY_MAGNITUDE, Vector3};
+use chrono_vehicle::driveline::TrackSteering;
 use chrono_vehicle::m113::m113_data;
 use chrono_vehicle::powertrain::ShiftSpeed;
 use chrono_vehicle::state::DriverInputs;
@@ -91,6 +92,20 @@ pub struct M113TurnParams {
     /// The speed the shift schedule watches: `input_shaft` (the turbine) or `engine`
     /// (the data file's, Project Chrono's).
     pub shift_on: String,
+    /// What runs: `steady` (the steady turn), `pivot` (the pivot turn,
+    /// [`super::m113_pivot`]) or `both`.
+    pub mode: String,
+    /// The steady turn's steering mechanism: `braked_differential` (the data's) or `dsu`
+    /// (the pivot turn always has the DSU).
+    pub steering: String,
+    /// Steering input of the pivot turn, in (0, 1].
+    pub pivot_steering: f64,
+    /// Simulated time of the pivot turn, settling included, s.
+    pub pivot_t_end: f64,
+    /// The pivot turn's averaging window at the end, s.
+    pub pivot_measure: f64,
+    /// Time over which the pivot's steering input ramps up after settling, s.
+    pub pivot_ramp: f64,
 }
 
 impl Default for M113TurnParams {
@@ -108,6 +123,12 @@ impl Default for M113TurnParams {
             max_iterations: 60,
             rel_tolerance: 0.1,
             shift_on: "input_shaft".into(),
+            mode: "both".into(),
+            steering: "braked_differential".into(),
+            pivot_steering: 0.5,
+            pivot_t_end: 4.0,
+            pivot_measure: 1.5,
+            pivot_ramp: 0.5,
         }
     }
 }
@@ -134,6 +155,16 @@ impl CaseParams for M113TurnParams {
             "-",
             "speed the shift schedule watches: input_shaft or engine",
         ),
+        ParamInfo::new("mode", "-", "what runs: steady, pivot or both"),
+        ParamInfo::new(
+            "steering",
+            "-",
+            "steady turn's steering: braked_differential or dsu",
+        ),
+        ParamInfo::new("pivot_steering", "-", "steering input of the pivot turn"),
+        ParamInfo::new("pivot_t_end", "s", "pivot turn's simulated time"),
+        ParamInfo::new("pivot_measure", "s", "pivot turn's averaging window"),
+        ParamInfo::new("pivot_ramp", "s", "pivot turn's steering ramp"),
     ];
     // The default (6 s, the last 2 averaged) is also `--quick`: the turn is steady from
     // about 3 s on. `--full` averages 4 s of a 12 s run.
@@ -141,6 +172,8 @@ impl CaseParams for M113TurnParams {
         if mode == Mode::Full {
             self.t_end = 12.0;
             self.measure = 4.0;
+            self.pivot_t_end = 8.0;
+            self.pivot_measure = 4.0;
         }
     }
 }
@@ -172,7 +205,51 @@ fn validate(p: &M113TurnParams) -> anyhow::Result<()> {
         p.t_end,
         p.settle + p.measure
     );
+    anyhow::ensure!(
+        ["steady", "pivot", "both"].contains(&p.mode.as_str()),
+        "parameter `mode` must be `steady`, `pivot` or `both`, got `{}`",
+        p.mode
+    );
+    p.steering
+        .parse::<TrackSteering>()
+        .map_err(|_| {
+            anyhow::anyhow!(
+                "parameter `steering` must be `braked_differential` or `dsu`, got `{}`",
+                p.steering
+            )
+        })?;
+    anyhow::ensure!(
+        p.pivot_steering > 0.0 && p.pivot_steering <= 1.0,
+        "parameter `pivot_steering` must be in (0, 1], got {}",
+        p.pivot_steering
+    );
+    anyhow::ensure!(
+        p.pivot_ramp >= 0.0 && p.pivot_ramp.is_finite(),
+        "parameter `pivot_ramp` must be finite and >= 0, got {}",
+        p.pivot_ramp
+    );
+    anyhow::ensure!(
+        p.pivot_measure > 0.0
+            && p.pivot_t_end.is_finite()
+            && p.pivot_t_end > p.settle + p.pivot_ramp + p.pivot_measure,
+        "parameters `pivot_t_end` ({}) and `pivot_measure` ({}): the window must be > 0 and \
+         end after `settle` + `pivot_ramp` + `pivot_measure` ({})",
+        p.pivot_t_end,
+        p.pivot_measure,
+        p.settle + p.pivot_ramp + p.pivot_measure
+    );
     Ok(())
+}
+
+/// The shift schedule's speed from the `shift_on` parameter.
+pub(super) fn shift_speed(shift_on: &str) -> anyhow::Result<ShiftSpeed> {
+    Ok(match shift_on {
+        "input_shaft" => ShiftSpeed::InputShaft,
+        "engine" => ShiftSpeed::Engine,
+        other => {
+            anyhow::bail!("parameter `shift_on` must be `input_shaft` or `engine`, got `{other}`")
+        }
+    })
 }
 
 /// Proportional-integral controller with its output clamped (and the integral frozen while
@@ -197,6 +274,29 @@ impl Pi {
 
 fn run(p: &M113TurnParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     validate(p)?;
+    let mut out = if p.mode == "pivot" {
+        CaseOutput::new()
+    } else {
+        run_steady(p, ctx)?
+    };
+    if p.mode != "steady" {
+        let series = super::m113_pivot::run_pivot(p, ctx, &mut out)?;
+        if p.mode == "pivot" {
+            out.series = series;
+            out.plot = PlotSpec::new(
+                "M113 pivot turn",
+                "t [s]",
+                "thrust difference [N]",
+                &["thrust_difference"],
+            )
+            .with_reference(&["thrust_difference_theory"]);
+        }
+    }
+    Ok(out)
+}
+
+/// The steady turn.
+fn run_steady(p: &M113TurnParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     let n = n_steps(p.h, p.t_end)?;
     let n_settle = (p.settle / p.h).round() as u64;
     let n_measure = n - (p.measure / p.h).round() as u64;
@@ -206,13 +306,9 @@ fn run(p: &M113TurnParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     // back down, and the vehicle stalls in the turn in second gear (radius 20 m at 1.5
     // m/s). On the turbine's speed (the vehicle's speed through the gearbox) it holds the
     // gear the road speed asks for.
-    data.powertrain.transmission.shift_speed = match p.shift_on.as_str() {
-        "input_shaft" => ShiftSpeed::InputShaft,
-        "engine" => ShiftSpeed::Engine,
-        other => {
-            anyhow::bail!("parameter `shift_on` must be `input_shaft` or `engine`, got `{other}`")
-        }
-    };
+    data.powertrain.transmission.shift_speed = shift_speed(&p.shift_on)?;
+    data.driveline.steering = p.steering.parse()?;
+    data.validate()?;
     let (solver, nanos) = super::m113_solver(&p.solver, p.tolerance, p.max_iterations)?;
     let mut scene = TrackedFlatScene::new(data, p.mu, solver)?;
     let mut drive = TrackedDrive::build(&mut scene.sys, &scene.vehicle, &scene.data)?;
@@ -229,16 +325,35 @@ fn run(p: &M113TurnParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     let yaw_target = p.speed / p.radius;
     // The braked differential's largest thrust difference: the open differential splits the
     // drive torque equally, so the difference is the inner brake's torque over the pitch
+    // radius. The DSU's is the steering motor's torque limit over its ratio and the pitch
     // radius. A turn whose uniform-load resistance needs more cannot be held.
     let uniform = mu * weight * d.contact_length() / (2.0 * tread);
-    let max_df = d.driveline.brake_max_torque / r_p;
+    let dsu = match d.driveline.steering {
+        TrackSteering::Dsu => d.driveline.dsu.clone(),
+        TrackSteering::BrakedDifferential => None,
+    };
+    let (max_df, what) = match &dsu {
+        Some(u) => (
+            u.max_sprocket_torque_difference() / r_p,
+            "the DSU's steering motor gives (its torque limit / steering ratio / pitch radius)",
+        ),
+        None => (
+            d.driveline.brake_max_torque / r_p,
+            "the braked differential gives (brake torque / pitch radius)",
+        ),
+    };
     anyhow::ensure!(
         uniform < 0.9 * max_df,
         "parameter `mu` ({}): the turn needs a thrust difference of about {uniform:.0} N (mu W L \
-         / 2B), more than 0.9 of what the braked differential gives ({max_df:.0} N = brake \
-         torque / pitch radius): lower the friction",
+         / 2B), more than 0.9 of what {what}, {max_df:.0} N: lower the friction",
         p.mu
     );
+    // The DSU sets the sprockets' speed difference: the steering input that gives the
+    // target yaw rate without track slip, `s = omega B / (2 k w_max r_p)`, is fed forward
+    // and the PI controller corrects for the slip.
+    let feed_forward = dsu.as_ref().map_or(0.0, |u| {
+        yaw_target * tread / (2.0 * u.steering_ratio * u.max_steering_speed * r_p)
+    });
 
     let mut throttle_pi = Pi {
         kp: 1.0,
@@ -248,12 +363,13 @@ fn run(p: &M113TurnParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         integral: 0.0,
     };
     // Steering input per yaw-rate error (1/(rad/s)): full steering brakes the inner track
-    // with 10 kN m, far more than a gentle turn needs.
+    // with 10 kN m, far more than a gentle turn needs. The DSU's full steering is a yaw
+    // rate of about 0.9 rad/s: a proportional gain of 1 corrects an error by ~0.9 of it.
     let mut steer_pi = Pi {
-        kp: 2.0,
+        kp: if dsu.is_some() { 1.0 } else { 2.0 },
         ki: 4.0,
-        lo: -1.0,
-        hi: 1.0,
+        lo: -1.0 - feed_forward,
+        hi: 1.0 - feed_forward,
         integral: 0.0,
     };
     let mut series = Series::new([
@@ -300,7 +416,7 @@ fn run(p: &M113TurnParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
             inputs = DriverInputs {
                 throttle: throttle_pi.update(p.speed - speed, t),
                 brake: 0.0,
-                steering: steer_pi.update(yaw_target - yaw, t),
+                steering: feed_forward + steer_pi.update(yaw_target - yaw, t),
             };
         }
         // Outer (right, side 1) minus inner (left, side 0) sprocket thrust.

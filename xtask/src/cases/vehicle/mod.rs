@@ -5,6 +5,7 @@ pub mod granular;
 pub mod lane_change;
 pub mod m113_accel;
 pub mod m113_granular;
+pub mod m113_pivot;
 pub mod m113_static;
 pub mod m113_step;
 pub mod m113_step_params;
