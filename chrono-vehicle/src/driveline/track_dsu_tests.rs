@@ -40,11 +40,15 @@ struct Rig {
 
 impl Rig {
     fn new(p: &TrackDrivelineParams, wheel_inertia: [f64; 2]) -> Self {
-        let mut sys = System::new(
-            SystemSettings::default(),
-            Box::new(Schur::new(Default::default())),
-        )
-        .unwrap();
+        // The box rows (steering motor, brake) are solved iteratively: a tight tolerance so
+        // that the kinematic checks can be tight.
+        let settings = chrono_core::descriptor::SolverSettings {
+            tolerance: 1e-13,
+            max_iterations: 5000,
+            record_history: false,
+        };
+        let mut sys =
+            System::new(SystemSettings::default(), Box::new(Schur::new(settings))).unwrap();
         let chassis = sys.add_body(RigidBodyBuilder::fixed()).unwrap();
         let mut sprockets = [chassis; 2];
         for (k, s) in sprockets.iter_mut().enumerate() {
@@ -97,7 +101,12 @@ impl Rig {
         let s = self.shafts();
         let mut v: Vec<(f64, f64)> = s.shaft_ids().map(|i| (s.inertia(i), s.speed(i))).collect();
         for k in 0..2 {
-            let w = self.sys.body(self.sprockets[k]).unwrap().angular_velocity().y;
+            let w = self
+                .sys
+                .body(self.sprockets[k])
+                .unwrap()
+                .angular_velocity()
+                .y;
             v.push((self.wheel_inertia[k], w));
         }
         v
@@ -129,7 +138,10 @@ fn the_sprockets_turn_at_propulsion_plus_minus_k_times_steering() {
         let k = 0.5;
         let w_in = r.shafts().speed(r.input);
         assert!(wp > 1.0, "propulsion {wp}");
-        assert!((wst - steer * 8.0).abs() < 1e-9, "steering {wst} for {steer}");
+        assert!(
+            (wst - steer * 8.0).abs() < 1e-9,
+            "steering {wst} for {steer}"
+        );
         assert!((wl - (wp - k * wst)).abs() < 1e-9, "{wl} {wp} {wst}");
         assert!((wr - (wp + k * wst)).abs() < 1e-9, "{wr} {wp} {wst}");
         assert!((wr - wl - 2.0 * k * 8.0 * steer).abs() < 1e-9, "{wl} {wr}");
@@ -192,7 +204,10 @@ fn brake_and_steering_counter_rotate_the_sprockets() {
     let (wp, wst, wl, wr) = r.state();
     assert!(wp.abs() < 1e-12, "propulsion {wp}");
     assert!((wst - 8.0).abs() < 1e-9);
-    assert!((wl + 4.0).abs() < 1e-9 && (wr - 4.0).abs() < 1e-9, "{wl} {wr}");
+    assert!(
+        (wl + 4.0).abs() < 1e-9 && (wr - 4.0).abs() < 1e-9,
+        "{wl} {wr}"
+    );
     // The brake holds the input's torque reduced to the propulsion shaft, 300 / r.
     let tb = r.d.propulsion_brake_torque(r.shafts());
     assert!((tb + 600.0).abs() < 1e-6, "brake {tb}");
@@ -229,18 +244,28 @@ fn the_input_and_the_steering_motor_power_the_inertias() {
     }
     assert!(saturated > 20, "the motor saturated on {saturated} steps");
     assert!(work > 100.0, "{work}");
-    assert!((work / gain - 1.0).abs() < 1e-9, "work {work} J, gain {gain} J");
+    assert!(
+        (work / gain - 1.0).abs() < 1e-9,
+        "work {work} J, gain {gain} J"
+    );
     // And the motor ended on its command (-4 rad/s) once the limit allowed it.
     let (_, wst, wl, wr) = r.state();
-    assert!((wst + 4.0).abs() < 1e-9 && (wr - wl + 4.0).abs() < 1e-9, "{wst}");
+    assert!(
+        (wst + 4.0).abs() < 1e-9 && (wr - wl + 4.0).abs() < 1e-9,
+        "{wst}"
+    );
 }
 
 /// Bad DSU data are errors naming the field and value; so is a NaN input, and `steering`
 /// = `dsu` without the unit's parameters.
 #[test]
 fn bad_dsu_inputs_are_errors_naming_the_field() {
-    let cases: [(fn(&mut DsuParams), &str); 5] = [
-        (|d| d.steering_ratio = 0.0, "driveline.dsu.steering_ratio` = 0"),
+    type Edit = fn(&mut DsuParams);
+    let cases: [(Edit, &str); 5] = [
+        (
+            |d| d.steering_ratio = 0.0,
+            "driveline.dsu.steering_ratio` = 0",
+        ),
         (
             |d| d.steering_shaft_inertia = -1.0,
             "driveline.dsu.steering_shaft_inertia` = -1",
@@ -253,7 +278,10 @@ fn bad_dsu_inputs_are_errors_naming_the_field() {
             |d| d.max_steering_torque = f64::INFINITY,
             "driveline.dsu.max_steering_torque` = inf",
         ),
-        (|d| d.steering_ratio = -0.5, "driveline.dsu.steering_ratio` = -0.5"),
+        (
+            |d| d.steering_ratio = -0.5,
+            "driveline.dsu.steering_ratio` = -0.5",
+        ),
     ];
     for (edit, want) in cases {
         let mut p = params();
@@ -266,7 +294,10 @@ fn bad_dsu_inputs_are_errors_naming_the_field() {
     let e = p.validate("driveline").unwrap_err().to_string();
     assert!(e.contains("`driveline.dsu`"), "{e}");
     let e = "dsuu".parse::<TrackSteering>().unwrap_err().to_string();
-    assert!(e.contains("driveline.steering") && e.contains("dsuu"), "{e}");
+    assert!(
+        e.contains("driveline.steering") && e.contains("dsuu"),
+        "{e}"
+    );
     assert_eq!("dsu".parse::<TrackSteering>().unwrap(), TrackSteering::Dsu);
     // The data as JSON: an unknown field and a wrong steering name are named.
     let mut v = serde_json::to_value(params()).unwrap();

@@ -34,9 +34,9 @@ impl SteeredDriveline {
             TrackSteering::BrakedDifferential => Self::Braked(TrackDriveline::new(
                 params, shafts, input, sprockets, chassis,
             )?),
-            TrackSteering::Dsu => {
-                Self::Dsu(DsuDriveline::new(params, shafts, input, sprockets, chassis)?)
-            }
+            TrackSteering::Dsu => Self::Dsu(DsuDriveline::new(
+                params, shafts, input, sprockets, chassis,
+            )?),
         })
     }
 

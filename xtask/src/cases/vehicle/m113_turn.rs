@@ -36,14 +36,22 @@
 //!   the ground contact length), i.e. `F_o - F_i = mu W L / (2 B)`, the measured yaw rate,
 //!   speed and radius, and the load distribution's centre.
 //!
+//! Modes (`mode`): `steady` (this turn), `pivot` (the pivot turn with the differential
+//! steering unit, [`super::m113_pivot`]) or `both` (the default: the steady turn, then the
+//! pivot; the pivot's metrics and checks are prefixed `pivot_`). The steady turn's steering
+//! (`steering`) is the braked differential (the data's default) or the DSU (`--set
+//! steering=dsu`: the steering input sets the sprockets' speed difference; the controller
+//! feeds forward the input of the target yaw rate without track slip and corrects with PI).
+//!
 //! Check: `thrust_difference` within 10 % of `thrust_difference_theory` (issue 26; the
 //! issue names Wong's theory over the simulated loads: the simple form assumes no
 //! lengthwise slip, which a Coulomb track cannot have while it pulls, so the check uses
 //! the general form and reports the simple one, docs/validation-vehicle.md). The
 //! contact friction `mu` is the minimum of the ground's and the shoes' coefficients. The
 //! braked differential can hold a thrust difference of at most the inner brake's torque
-//! over the pitch radius (40.6 kN for the M113's 10 kN m): a friction whose uniform-load
-//! estimate needs more than 0.9 of that is refused. Near that bound the engine cannot drive the
+//! over the pitch radius (40.6 kN for the M113's 10 kN m; the DSU's is its steering motor's
+//! torque limit over its steering ratio and the pitch radius, 81 kN): a friction whose
+//! uniform-load estimate needs more than 0.9 of that is refused. Near that bound the engine cannot drive the
 //! outer track against the braked inner one (at 0.5, 33.8 kN, the vehicle stalls in the
 //! turn at full throttle in first gear): the default 0.3 needs 20.3 kN.
 
@@ -106,6 +114,8 @@ pub struct M113TurnParams {
     pub pivot_measure: f64,
     /// Time over which the pivot's steering input ramps up after settling, s.
     pub pivot_ramp: f64,
+    /// Time step of the pivot turn, s (see [`super::m113_pivot`] for why not `h`).
+    pub pivot_h: f64,
 }
 
 impl Default for M113TurnParams {
@@ -129,6 +139,7 @@ impl Default for M113TurnParams {
             pivot_t_end: 4.0,
             pivot_measure: 1.5,
             pivot_ramp: 0.5,
+            pivot_h: 4e-3,
         }
     }
 }
@@ -165,6 +176,7 @@ impl CaseParams for M113TurnParams {
         ParamInfo::new("pivot_t_end", "s", "pivot turn's simulated time"),
         ParamInfo::new("pivot_measure", "s", "pivot turn's averaging window"),
         ParamInfo::new("pivot_ramp", "s", "pivot turn's steering ramp"),
+        ParamInfo::new("pivot_h", "s", "pivot turn's time step"),
     ];
     // The default (6 s, the last 2 averaged) is also `--quick`: the turn is steady from
     // about 3 s on. `--full` averages 4 s of a 12 s run.
@@ -210,14 +222,12 @@ fn validate(p: &M113TurnParams) -> anyhow::Result<()> {
         "parameter `mode` must be `steady`, `pivot` or `both`, got `{}`",
         p.mode
     );
-    p.steering
-        .parse::<TrackSteering>()
-        .map_err(|_| {
-            anyhow::anyhow!(
-                "parameter `steering` must be `braked_differential` or `dsu`, got `{}`",
-                p.steering
-            )
-        })?;
+    p.steering.parse::<TrackSteering>().map_err(|_| {
+        anyhow::anyhow!(
+            "parameter `steering` must be `braked_differential` or `dsu`, got `{}`",
+            p.steering
+        )
+    })?;
     anyhow::ensure!(
         p.pivot_steering > 0.0 && p.pivot_steering <= 1.0,
         "parameter `pivot_steering` must be in (0, 1], got {}",
@@ -566,6 +576,32 @@ pub fn skid_steer(
     omega: f64,
     centripetal: f64,
 ) -> anyhow::Result<(f64, f64)> {
+    skid_steer_solution(contacts, mu, omega, centripetal).map(|s| (s.left, s.right))
+}
+
+/// The solution of [`skid_steer`]: the lengthwise ground forces on the tracks and the
+/// slip velocities that balance them.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SkidSteer {
+    /// Lengthwise ground force on the left track, N.
+    pub left: f64,
+    /// Lengthwise ground force on the right track, N.
+    pub right: f64,
+    /// Lengthwise sliding velocity of the left track's ground contacts, `u_L`, m/s.
+    pub u_left: f64,
+    /// Lengthwise sliding velocity of the right track's ground contacts, `u_R`, m/s.
+    pub u_right: f64,
+    /// Lateral velocity of the centre of mass, `v_y`, m/s.
+    pub v_y: f64,
+}
+
+/// [`skid_steer`] with the slip velocities (same arguments and errors).
+pub fn skid_steer_solution(
+    contacts: &[[f64; 3]],
+    mu: f64,
+    omega: f64,
+    centripetal: f64,
+) -> anyhow::Result<SkidSteer> {
     let forces = |z: [f64; 3]| -> ([f64; 3], f64, f64) {
         let (mut fx, mut fy, mut mz, mut fl, mut fr) = (0.0, 0.0, 0.0, 0.0, 0.0);
         for &[x, y, n] in contacts {
@@ -586,7 +622,13 @@ pub fn skid_steer(
     };
     if omega == 0.0 && centripetal == 0.0 {
         // A straight run: no turning resistance, the tracks need no thrust difference.
-        return Ok((0.0, 0.0));
+        return Ok(SkidSteer {
+            left: 0.0,
+            right: 0.0,
+            u_left: 0.0,
+            u_right: 0.0,
+            v_y: 0.0,
+        });
     }
     anyhow::ensure!(
         contacts.iter().any(|c| c[1] > 0.0) && contacts.iter().any(|c| c[1] <= 0.0),
@@ -650,8 +692,14 @@ pub fn skid_steer(
         norm(r),
         contacts.len()
     );
-    let (_, fl, fr) = forces(z);
-    Ok((fl, fr))
+    let (_, left, right) = forces(z);
+    Ok(SkidSteer {
+        left,
+        right,
+        u_left: z[0],
+        u_right: z[1],
+        v_y: z[2],
+    })
 }
 
 /// The case.
@@ -659,16 +707,53 @@ pub fn case() -> Box<dyn Case> {
     ParamCase::<M113TurnParams>::boxed(
         "m113-turn",
         "vehicle",
-        "M113A1 steady skid-steer turn on flat rigid ground: the sprockets' thrust difference \
-         against Wong's theory integrated over the simulated ground loads (10 %); the \
-         uniform-load formula reported.",
+        "M113A1 steady skid-steer turn and pivot turn (differential steering unit) on flat \
+         rigid ground: the sprockets' thrust difference against Wong's theory integrated over \
+         the simulated ground loads (10 %); the uniform-load formula reported.",
         run,
     )
 }
 
 #[cfg(test)]
 mod tests {
-    use super::skid_steer;
+    use super::{skid_steer, skid_steer_solution};
+
+    /// A pivot turn (no lateral acceleration) on two tracks of uniform load: the thrusts are
+    /// equal and opposite (`F_o = -F_i`), their difference below the simple form's `mu W L /
+    /// (2 B)`, the tracks slip lengthwise equally and oppositely, and the slips scale with
+    /// the yaw rate (Coulomb contacts are rate-independent: the pivot case's theory yaw
+    /// rate rests on it).
+    #[test]
+    fn the_general_theory_of_a_pivot_is_antisymmetric_and_rate_independent() {
+        let (l, b, mu, w) = (2.667, 2.159, 0.5, 109_441.0);
+        let k = 40;
+        let mut c = Vec::new();
+        for side in [1.0, -1.0] {
+            for i in 0..k {
+                let x = -0.5 * l + l * (i as f64 + 0.5) / k as f64;
+                c.push([x, side * 0.5 * b, w / (2 * k) as f64]);
+            }
+        }
+        let s1 = skid_steer_solution(&c, mu, 0.3, 0.0).unwrap();
+        let s2 = skid_steer_solution(&c, mu, 0.6, 0.0).unwrap();
+        assert!(
+            s1.right > 0.0 && (s1.right + s1.left).abs() < 1e-6 * s1.right,
+            "{s1:?}"
+        );
+        assert!(
+            s1.u_right < 0.0 && (s1.u_right + s1.u_left).abs() < 1e-6 * s1.u_left.abs(),
+            "{s1:?}"
+        );
+        assert!(s1.v_y.abs() < 1e-9, "{s1:?}");
+        let df = s1.right - s1.left;
+        let simple = mu * w * l / (2.0 * b);
+        assert!(df < simple && df > 0.5 * simple, "{df} against {simple}");
+        assert!((s2.right / s1.right - 1.0).abs() < 1e-6, "{s1:?} {s2:?}");
+        assert!(
+            (s2.u_right / s1.u_right - 2.0).abs() < 1e-5,
+            "{s1:?} {s2:?}"
+        );
+    }
 
     /// Two tracks of uniform load, 2.667 m long, 2.159 m apart, turning at 0.1 rad/s: the
     /// solution balances the forces and the moment, gives the outer (right) track a thrust
