@@ -1,4 +1,4 @@
-//! The pivot turn of `m113-turn` (`--set mode=pivot`, or `both`, the default): the M113A1
+//! The pivot turn of `m113-turn` (`--set mode=pivot`, or `both`, which `--full` sets): the M113A1
 //! with the differential steering unit (`chrono_vehicle::driveline::track_dsu`) turns on
 //! the spot on flat rigid ground.
 //!
