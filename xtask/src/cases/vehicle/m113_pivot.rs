@@ -20,7 +20,7 @@
 //!   cancelling as in a forward turn, `F_o - F_i = 2 M_r / B + R_o + R_i` (magnitudes).
 //!   `M_r` is that of the simulated ground contacts (their normal loads and positions each
 //!   step, the contact friction), by the same function as the steady turn's check
-//!   ([`super::m113_turn::skid_steer`], Wong's general theory with Coulomb contacts, sect.
+//!   ([`super::skid_steer::skid_steer`], Wong's general theory with Coulomb contacts, sect.
 //!   7.3) with no lateral acceleration; `R` is the simulated one (the rigid ground has no
 //!   external motion resistance: it is the running gear's internal resistance), each
 //!   track's sprocket thrust less the ground's lengthwise force on it, averaged
@@ -62,7 +62,8 @@ use chrono_vehicle::state::DriverInputs;
 use chrono_vehicle::tracked::{TrackedFlatScene, contact_forces};
 use chrono_vehicle::tracked_drive::TrackedDrive;
 
-use super::m113_turn::{M113TurnParams, skid_steer_solution};
+use super::m113_turn::M113TurnParams;
+use super::skid_steer::skid_steer_solution;
 use crate::case::{CaseOutput, Check, RunContext, Series};
 use crate::cases::rigid::n_steps;
 

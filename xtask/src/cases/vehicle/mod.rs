@@ -11,6 +11,7 @@ pub mod m113_step;
 pub mod m113_step_params;
 pub mod m113_turn;
 pub mod scene;
+pub mod skid_steer;
 pub mod static_settle;
 pub mod turn;
 
