@@ -83,7 +83,8 @@ pub struct TrackedVehicleData {
     pub track: TrackData,
     /// Engine, torque converter and transmission.
     pub powertrain: PowertrainParams,
-    /// The braked-differential driveline to the sprockets.
+    /// The driveline to the sprockets: the braked differential, or the differential
+    /// steering unit with `driveline.steering` = `dsu` (`driveline.dsu`).
     pub driveline: TrackDrivelineParams,
     /// The hull's collision shape (none: the chassis does not collide).
     #[serde(default)]

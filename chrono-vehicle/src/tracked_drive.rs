@@ -1,7 +1,8 @@
 //! The powered tracked vehicle: a [`Powertrain`] (engine, torque converter, automatic
-//! transmission) and a [`TrackDriveline`] (conical gear, open differential, steering
-//! brakes) on one [`ShaftSystem`] item, coupled to the sprockets of a
-//! [`TrackedVehicle`].
+//! transmission) and a track driveline ([`SteeredDriveline`]: the braked differential,
+//! conical gear, open differential and steering brakes, or the differential steering unit,
+//! as the data's `driveline.steering` selects) on one [`ShaftSystem`] item, coupled to the
+//! sprockets of a [`TrackedVehicle`].
 //!
 //! ```text
 //!  engine ~ converter ~ gearbox ==conical== differential --+-- left sprocket shaft  ~ left sprocket
@@ -10,7 +11,8 @@
 //!
 //! Each step, before [`System::step`], the owner calls [`TrackedDrive::synchronize`] with
 //! the driver's inputs: throttle (engine torque and shift schedule), brake pedal (both
-//! sprocket brakes), steering (positive turns left by braking the left, inner track).
+//! sprocket brakes; the DSU's propulsion brake), steering (positive turns left: by braking
+//! the left, inner track, or by the DSU's steering motor).
 //!
 //! Example (the M113 on flat ground at full throttle):
 //!
@@ -36,7 +38,7 @@
 use chrono_core::item::ItemHandle;
 use chrono_core::{Drive, System};
 
-use crate::driveline::{ShaftSystem, TrackDriveline};
+use crate::driveline::{ShaftSystem, SteeredDriveline};
 use crate::error::{Result, VehicleError};
 use crate::powertrain::Powertrain;
 use crate::state::DriverInputs;
@@ -46,7 +48,7 @@ use crate::tracked::{TrackedVehicle, TrackedVehicleData};
 #[derive(Debug, Clone)]
 pub struct TrackedDrive {
     powertrain: Powertrain,
-    driveline: TrackDriveline,
+    driveline: SteeredDriveline,
     shafts: ItemHandle,
     inputs: DriverInputs,
 }
@@ -63,7 +65,7 @@ impl TrackedDrive {
     ) -> Result<Self> {
         let mut shafts = ShaftSystem::new(format!("{}.driveline", data.name));
         let powertrain = Powertrain::new(&data.powertrain, &mut shafts)?;
-        let driveline = TrackDriveline::new(
+        let driveline = SteeredDriveline::new(
             &data.driveline,
             &mut shafts,
             powertrain.output_shaft(),
@@ -82,7 +84,8 @@ impl TrackedDrive {
 
     /// Apply the driver's inputs for the next step (clamped to their ranges, NaN read as
     /// 0 as for the wheeled vehicle): the engine torque and the gear from the throttle, the
-    /// sprocket brakes from the brake pedal and the steering.
+    /// brakes from the brake pedal and the steering brakes or steering motor from the
+    /// steering.
     pub fn synchronize(&mut self, sys: &mut System, inputs: DriverInputs) -> Result<()> {
         self.inputs = inputs.clamped();
         let time = sys.time();
@@ -98,7 +101,8 @@ impl TrackedDrive {
 
     /// Set the vehicle rolling straight ahead at `speed` (m/s) without track slip
     /// ([`TrackedVehicle::set_forward_speed`]) and every shaft at its geared speed: the
-    /// sprocket shafts and the differential box at `w_s = speed / r_p` (pitch radius
+    /// sprocket shafts and the differential box (the DSU's propulsion shaft; its steering
+    /// shaft stays at rest) at `w_s = speed / r_p` (pitch radius
     /// `r_p`), the transmission's output at `w_s / r_c` (conical ratio `r_c`: `w_box = r_c
     /// w_in`), its input and the crankshaft at that over the current gear's ratio (the
     /// converter locked). A vehicle started at rest would spend its first seconds spinning
@@ -126,7 +130,7 @@ impl TrackedDrive {
         for side in 0..2 {
             shafts.set_speed(self.driveline.output_shaft(side), w_s)?;
         }
-        shafts.set_speed(self.driveline.differential_box(), w_s)?;
+        shafts.set_speed(self.driveline.propulsion_shaft(), w_s)?;
         shafts.set_speed(self.driveline.input_shaft(), w_out)?;
         shafts.set_speed(self.powertrain.input_shaft(), w_in)?;
         shafts.set_speed(self.powertrain.crankshaft(), w_in)?;
@@ -144,7 +148,7 @@ impl TrackedDrive {
     }
 
     /// The driveline.
-    pub fn driveline(&self) -> &TrackDriveline {
+    pub fn driveline(&self) -> &SteeredDriveline {
         &self.driveline
     }
 

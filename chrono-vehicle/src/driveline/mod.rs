@@ -1,7 +1,8 @@
 //! The driveline: shafts with inertia in the system's CCP ([`shafts`]: gears,
 //! differentials with optional locking, clutches and brakes, couplings to the wheel
-//! spindles), the HMMWV's 4WD layout ([`four_wd`]) and the braked-differential driveline
-//! of a tracked vehicle ([`track_bds`]).
+//! spindles, speed motors), the HMMWV's 4WD layout ([`four_wd`]) and the drivelines of a
+//! tracked vehicle: the braked differential ([`track_bds`]) and the differential steering
+//! unit ([`track_dsu`]), either built from the data by [`track_steer`].
 //!
 //! Wiring a powertrain and the 4WD driveline into a system (one [`ShaftSystem`] item
 //! holds the shafts of both), and the per-step calls:
@@ -38,7 +39,11 @@
 pub mod four_wd;
 pub mod shafts;
 pub mod track_bds;
+pub mod track_dsu;
+pub mod track_steer;
 
 pub use four_wd::{FourWd, FourWdParams, Wheel};
 pub use shafts::{LinkId, LinkKind, ShaftId, ShaftSystem};
-pub use track_bds::{TrackDriveline, TrackDrivelineParams};
+pub use track_bds::{TrackDriveline, TrackDrivelineParams, TrackSteering};
+pub use track_dsu::{DsuDriveline, DsuParams};
+pub use track_steer::SteeredDriveline;

@@ -14,6 +14,7 @@
 //! | planetary `a, b, c` | `c_a w_a + c_b w_b + c_c w_c = 0` (Willis) | free |
 //! | differential `carrier, l, r` | `w_c - (w_l + w_r)/2 = 0` | free |
 //! | clutch `a, b` (or `a` to ground) | `w_a - w_b = 0` (`w_a = 0`) | `abs(g) <= T_max h` |
+//! | speed motor `a` | `w_a - w_set = 0` | `abs(g) <= T_max h` |
 //! | body coupling | `w_s - a . (omega_body - omega_ref) = 0` | free |
 //!
 //! The impulse `g` (N m s) of a row applies the torque `c_k g / h` to each shaft `k` of the
@@ -22,6 +23,12 @@
 //! (`abs(g/h) < T_max`, the shafts turn together) or slips and transmits exactly `T_max`
 //! against the relative speed: this is a locking differential, a limited-slip clutch or,
 //! to ground, a brake.
+//!
+//! A speed motor is a clutch to a reference turning at `w_set` (a hydrostatic motor whose
+//! displacement sets its speed, with a relief valve limiting its torque): it holds the
+//! shaft at `w_set` while the torque it needs stays within `T_max`, and gives exactly
+//! `T_max` otherwise. Its reaction `g/h` is the torque it applies to the shaft, so its
+//! power is `g/h * w_a`.
 //!
 //! A body coupling ties a shaft to a rigid body's spin about an axis `a` fixed in the
 //! body frame (e.g. a wheel spindle's spin axis), relative to an optional reference body
@@ -97,6 +104,15 @@ pub enum LinkKind {
         /// Second shaft, or `None` for a brake to ground.
         b: Option<ShaftId>,
         /// Torque the clutch can transmit, N m (>= 0; 0 is disengaged).
+        max_torque: f64,
+    },
+    /// `w_a - speed = 0` with `abs(torque) <= max_torque`: a speed-controlled motor.
+    Motor {
+        /// The driven shaft.
+        a: ShaftId,
+        /// Commanded speed, rad/s.
+        speed: f64,
+        /// Torque the motor can give, N m (>= 0; 0 is off).
         max_torque: f64,
     },
     /// `w_shaft - axis . (omega_body - omega_reference) = 0`.
@@ -231,6 +247,39 @@ impl ShaftSystem {
         }
         check_non_negative("clutch.max_torque", max_torque)?;
         Ok(self.push_link(LinkKind::Clutch { a, b, max_torque }))
+    }
+
+    /// Add a speed motor on `a`: it holds `w_a = speed` (rad/s, finite) with at most
+    /// `max_torque` (N m, finite and >= 0; 0 is off). Change both any step with
+    /// [`set_motor`](Self::set_motor).
+    pub fn add_motor(&mut self, a: ShaftId, speed: f64, max_torque: f64) -> Result<LinkId> {
+        self.check_shafts("motor", &[a])?;
+        check_finite("motor.speed", speed)?;
+        check_non_negative("motor.max_torque", max_torque)?;
+        Ok(self.push_link(LinkKind::Motor {
+            a,
+            speed,
+            max_torque,
+        }))
+    }
+
+    /// Set a speed motor's commanded speed (rad/s, finite) and torque limit (N m, finite
+    /// and >= 0).
+    pub fn set_motor(&mut self, link: LinkId, speed: f64, max_torque: f64) -> Result<()> {
+        check_finite("motor.speed", speed)?;
+        check_non_negative("motor.max_torque", max_torque)?;
+        match &mut self.link_mut(link)?.kind {
+            LinkKind::Motor {
+                speed: w,
+                max_torque: t,
+                ..
+            } => {
+                *w = speed;
+                *t = max_torque;
+                Ok(())
+            }
+            other => Err(not_a("motor", link, other)),
+        }
     }
 
     /// Couple `shaft` to the spin of `body` about `axis` (body frame, normalized here),
@@ -531,6 +580,19 @@ impl PhysicsItem for ShaftSystem {
                             None => rows.push_box(&[ea], 0.0, 0.0, -lim, lim),
                         })
                     }
+                    LinkKind::Motor {
+                        max_torque: 0.0, ..
+                    } => None,
+                    LinkKind::Motor {
+                        a,
+                        speed,
+                        max_torque,
+                    } => {
+                        let ca = [1.0];
+                        let lim = max_torque * ctx.h;
+                        let e = [entry(self.block(a), &ca)];
+                        Some(rows.push_box(&e, -speed, 0.0, -lim, lim))
+                    }
                     LinkKind::Body { .. } => continue,
                 }
             };
@@ -606,7 +668,7 @@ impl PhysicsItem for ShaftSystem {
         for l in &self.links {
             if let Some(id) = l.row {
                 let g = match l.kind {
-                    LinkKind::Clutch { max_torque, .. } => {
+                    LinkKind::Clutch { max_torque, .. } | LinkKind::Motor { max_torque, .. } => {
                         let lim = max_torque * self.h_step;
                         l.impulse.clamp(-lim, lim)
                     }

@@ -31,6 +31,7 @@ use chrono_core::math::Vector3;
 use serde::{Deserialize, Serialize};
 
 use super::shafts::{LinkId, ShaftId, ShaftSystem};
+use super::track_dsu::DsuParams;
 use crate::error::{Result, VehicleError, check_non_negative, check_positive};
 
 /// Parameters of a [`TrackDriveline`] (JSON-ready; the M113's are in `data/m113.json`).
@@ -53,6 +54,40 @@ pub struct TrackDrivelineParams {
     /// Spin axis of each sprocket in its body frame (normalized; `+Y`: forward driving is
     /// a positive spin in the vehicle frame X forward, Y left, Z up).
     pub sprocket_axis: [f64; 3],
+    /// The steering mechanism built: `braked_differential` (this module's, the default) or
+    /// `dsu` (the differential steering unit of [`super::track_dsu`], which needs `dsu`).
+    #[serde(default)]
+    pub steering: TrackSteering,
+    /// The differential steering unit's parameters (used when `steering` is `dsu`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub dsu: Option<DsuParams>,
+}
+
+/// The steering mechanism of a track driveline (JSON `driveline.steering`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum TrackSteering {
+    /// Open differential and a steering brake per side ([`TrackDriveline`]).
+    #[default]
+    BrakedDifferential,
+    /// Double differential with a steering motor ([`super::DsuDriveline`]).
+    Dsu,
+}
+
+impl std::str::FromStr for TrackSteering {
+    type Err = VehicleError;
+    /// `braked_differential` or `dsu`; anything else is an error naming `driveline.steering`.
+    fn from_str(s: &str) -> Result<Self> {
+        match s {
+            "braked_differential" => Ok(Self::BrakedDifferential),
+            "dsu" => Ok(Self::Dsu),
+            other => Err(VehicleError::invalid(
+                "driveline.steering",
+                format!("\"{other}\""),
+                "must be \"braked_differential\" or \"dsu\"",
+            )),
+        }
+    }
 }
 
 impl TrackDrivelineParams {
@@ -79,6 +114,15 @@ impl TrackDrivelineParams {
                 f("sprocket_axis"),
                 format!("{:?}", self.sprocket_axis),
                 "must be finite and nonzero",
+            ));
+        }
+        if let Some(d) = &self.dsu {
+            d.validate(&f("dsu"))?;
+        } else if self.steering == TrackSteering::Dsu {
+            return Err(VehicleError::invalid(
+                f("dsu"),
+                "none",
+                "`steering` = \"dsu\" needs the differential steering unit's parameters",
             ));
         }
         Ok(())
@@ -258,6 +302,8 @@ mod tests {
             locked: false,
             brake_max_torque: 1.0e4,
             sprocket_axis: [0.0, 1.0, 0.0],
+            steering: TrackSteering::BrakedDifferential,
+            dsu: None,
         }
     }
 

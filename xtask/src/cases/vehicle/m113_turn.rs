@@ -36,14 +36,22 @@
 //!   the ground contact length), i.e. `F_o - F_i = mu W L / (2 B)`, the measured yaw rate,
 //!   speed and radius, and the load distribution's centre.
 //!
+//! Modes (`mode`): `steady` (this turn, the default and `--quick`), `pivot` (the pivot turn
+//! with the differential steering unit, [`super::m113_pivot`]) or `both` (the steady turn,
+//! then the pivot; `--full`). The pivot's metrics and checks are prefixed `pivot_`. The steady turn's steering
+//! (`steering`) is the braked differential (the data's default) or the DSU (`--set
+//! steering=dsu`: the steering input sets the sprockets' speed difference; the controller
+//! feeds forward the input of the target yaw rate without track slip and corrects with PI).
+//!
 //! Check: `thrust_difference` within 10 % of `thrust_difference_theory` (issue 26; the
 //! issue names Wong's theory over the simulated loads: the simple form assumes no
 //! lengthwise slip, which a Coulomb track cannot have while it pulls, so the check uses
 //! the general form and reports the simple one, docs/validation-vehicle.md). The
 //! contact friction `mu` is the minimum of the ground's and the shoes' coefficients. The
 //! braked differential can hold a thrust difference of at most the inner brake's torque
-//! over the pitch radius (40.6 kN for the M113's 10 kN m): a friction whose uniform-load
-//! estimate needs more than 0.9 of that is refused. Near that bound the engine cannot drive the
+//! over the pitch radius (40.6 kN for the M113's 10 kN m; the DSU's is its steering motor's
+//! torque limit over its steering ratio and the pitch radius, 81 kN): a friction whose
+//! uniform-load estimate needs more than 0.9 of that is refused. Near that bound the engine cannot drive the
 //! outer track against the braked inner one (at 0.5, 33.8 kN, the vehicle stalls in the
 //! turn at full throttle in first gear): the default 0.3 needs 20.3 kN.
 
@@ -53,6 +61,7 @@ use std::time::Instant;
 use serde::{Deserialize, Serialize};
 
 use chrono_core::math::{GRAVITY_MAGNITUDE, Vector3};
+use chrono_vehicle::driveline::TrackSteering;
 use chrono_vehicle::m113::m113_data;
 use chrono_vehicle::powertrain::ShiftSpeed;
 use chrono_vehicle::state::DriverInputs;
@@ -62,6 +71,8 @@ use chrono_vehicle::tracked_drive::TrackedDrive;
 use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series};
 use crate::cases::rigid::{VtkFrames, n_steps};
 use crate::params::{CaseParams, ParamCase, ParamInfo};
+
+pub use super::skid_steer::skid_steer;
 
 /// Parameters of `m113-turn`.
 #[derive(Clone, Debug, Serialize, Deserialize)]
@@ -91,6 +102,22 @@ pub struct M113TurnParams {
     /// The speed the shift schedule watches: `input_shaft` (the turbine) or `engine`
     /// (the data file's, Project Chrono's).
     pub shift_on: String,
+    /// What runs: `steady` (the steady turn), `pivot` (the pivot turn,
+    /// [`super::m113_pivot`]) or `both`.
+    pub mode: String,
+    /// The steady turn's steering mechanism: `braked_differential` (the data's) or `dsu`
+    /// (the pivot turn always has the DSU).
+    pub steering: String,
+    /// Steering input of the pivot turn, in (0, 1].
+    pub pivot_steering: f64,
+    /// Simulated time of the pivot turn, settling included, s.
+    pub pivot_t_end: f64,
+    /// The pivot turn's averaging window at the end, s.
+    pub pivot_measure: f64,
+    /// Time over which the pivot's steering input ramps up after settling, s.
+    pub pivot_ramp: f64,
+    /// Time step of the pivot turn, s (see [`super::m113_pivot`] for why not `h`).
+    pub pivot_h: f64,
 }
 
 impl Default for M113TurnParams {
@@ -108,6 +135,13 @@ impl Default for M113TurnParams {
             max_iterations: 60,
             rel_tolerance: 0.1,
             shift_on: "input_shaft".into(),
+            mode: "steady".into(),
+            steering: "braked_differential".into(),
+            pivot_steering: 0.5,
+            pivot_t_end: 4.0,
+            pivot_measure: 1.5,
+            pivot_ramp: 0.5,
+            pivot_h: 4e-3,
         }
     }
 }
@@ -134,13 +168,29 @@ impl CaseParams for M113TurnParams {
             "-",
             "speed the shift schedule watches: input_shaft or engine",
         ),
+        ParamInfo::new("mode", "-", "what runs: steady, pivot or both"),
+        ParamInfo::new(
+            "steering",
+            "-",
+            "steady turn's steering: braked_differential or dsu",
+        ),
+        ParamInfo::new("pivot_steering", "-", "steering input of the pivot turn"),
+        ParamInfo::new("pivot_t_end", "s", "pivot turn's simulated time"),
+        ParamInfo::new("pivot_measure", "s", "pivot turn's averaging window"),
+        ParamInfo::new("pivot_ramp", "s", "pivot turn's steering ramp"),
+        ParamInfo::new("pivot_h", "s", "pivot turn's time step"),
     ];
     // The default (6 s, the last 2 averaged) is also `--quick`: the turn is steady from
-    // about 3 s on. `--full` averages 4 s of a 12 s run.
+    // about 3 s on. `--full` averages 4 s of a 12 s run and adds the pivot turn (4 s of
+    // 8). The pivot is not in the default: its ~10 s would take the validation plan past
+    // 0.9 x the 20-minute limit (xtask/src/budget.rs); `--set mode=both` or `pivot` runs it.
     fn apply_mode(&mut self, mode: Mode) {
         if mode == Mode::Full {
             self.t_end = 12.0;
             self.measure = 4.0;
+            self.mode = "both".into();
+            self.pivot_t_end = 8.0;
+            self.pivot_measure = 4.0;
         }
     }
 }
@@ -172,7 +222,49 @@ fn validate(p: &M113TurnParams) -> anyhow::Result<()> {
         p.t_end,
         p.settle + p.measure
     );
+    anyhow::ensure!(
+        ["steady", "pivot", "both"].contains(&p.mode.as_str()),
+        "parameter `mode` must be `steady`, `pivot` or `both`, got `{}`",
+        p.mode
+    );
+    p.steering.parse::<TrackSteering>().map_err(|_| {
+        anyhow::anyhow!(
+            "parameter `steering` must be `braked_differential` or `dsu`, got `{}`",
+            p.steering
+        )
+    })?;
+    anyhow::ensure!(
+        p.pivot_steering > 0.0 && p.pivot_steering <= 1.0,
+        "parameter `pivot_steering` must be in (0, 1], got {}",
+        p.pivot_steering
+    );
+    anyhow::ensure!(
+        p.pivot_ramp >= 0.0 && p.pivot_ramp.is_finite(),
+        "parameter `pivot_ramp` must be finite and >= 0, got {}",
+        p.pivot_ramp
+    );
+    anyhow::ensure!(
+        p.pivot_measure > 0.0
+            && p.pivot_t_end.is_finite()
+            && p.pivot_t_end > p.settle + p.pivot_ramp + p.pivot_measure,
+        "parameters `pivot_t_end` ({}) and `pivot_measure` ({}): the window must be > 0 and \
+         end after `settle` + `pivot_ramp` + `pivot_measure` ({})",
+        p.pivot_t_end,
+        p.pivot_measure,
+        p.settle + p.pivot_ramp + p.pivot_measure
+    );
     Ok(())
+}
+
+/// The shift schedule's speed from the `shift_on` parameter.
+pub(super) fn shift_speed(shift_on: &str) -> anyhow::Result<ShiftSpeed> {
+    Ok(match shift_on {
+        "input_shaft" => ShiftSpeed::InputShaft,
+        "engine" => ShiftSpeed::Engine,
+        other => {
+            anyhow::bail!("parameter `shift_on` must be `input_shaft` or `engine`, got `{other}`")
+        }
+    })
 }
 
 /// Proportional-integral controller with its output clamped (and the integral frozen while
@@ -197,6 +289,29 @@ impl Pi {
 
 fn run(p: &M113TurnParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     validate(p)?;
+    let mut out = if p.mode == "pivot" {
+        CaseOutput::new()
+    } else {
+        run_steady(p, ctx)?
+    };
+    if p.mode != "steady" {
+        let series = super::m113_pivot::run_pivot(p, ctx, &mut out)?;
+        if p.mode == "pivot" {
+            out.series = series;
+            out.plot = PlotSpec::new(
+                "M113 pivot turn",
+                "t [s]",
+                "thrust difference [N]",
+                &["thrust_difference"],
+            )
+            .with_reference(&["thrust_difference_theory"]);
+        }
+    }
+    Ok(out)
+}
+
+/// The steady turn.
+fn run_steady(p: &M113TurnParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     let n = n_steps(p.h, p.t_end)?;
     let n_settle = (p.settle / p.h).round() as u64;
     let n_measure = n - (p.measure / p.h).round() as u64;
@@ -206,13 +321,9 @@ fn run(p: &M113TurnParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     // back down, and the vehicle stalls in the turn in second gear (radius 20 m at 1.5
     // m/s). On the turbine's speed (the vehicle's speed through the gearbox) it holds the
     // gear the road speed asks for.
-    data.powertrain.transmission.shift_speed = match p.shift_on.as_str() {
-        "input_shaft" => ShiftSpeed::InputShaft,
-        "engine" => ShiftSpeed::Engine,
-        other => {
-            anyhow::bail!("parameter `shift_on` must be `input_shaft` or `engine`, got `{other}`")
-        }
-    };
+    data.powertrain.transmission.shift_speed = shift_speed(&p.shift_on)?;
+    data.driveline.steering = p.steering.parse()?;
+    data.validate()?;
     let (solver, nanos) = super::m113_solver(&p.solver, p.tolerance, p.max_iterations)?;
     let mut scene = TrackedFlatScene::new(data, p.mu, solver)?;
     let mut drive = TrackedDrive::build(&mut scene.sys, &scene.vehicle, &scene.data)?;
@@ -229,16 +340,35 @@ fn run(p: &M113TurnParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     let yaw_target = p.speed / p.radius;
     // The braked differential's largest thrust difference: the open differential splits the
     // drive torque equally, so the difference is the inner brake's torque over the pitch
+    // radius. The DSU's is the steering motor's torque limit over its ratio and the pitch
     // radius. A turn whose uniform-load resistance needs more cannot be held.
     let uniform = mu * weight * d.contact_length() / (2.0 * tread);
-    let max_df = d.driveline.brake_max_torque / r_p;
+    let dsu = match d.driveline.steering {
+        TrackSteering::Dsu => d.driveline.dsu.clone(),
+        TrackSteering::BrakedDifferential => None,
+    };
+    let (max_df, what) = match &dsu {
+        Some(u) => (
+            u.max_sprocket_torque_difference() / r_p,
+            "the DSU's steering motor gives (its torque limit / steering ratio / pitch radius)",
+        ),
+        None => (
+            d.driveline.brake_max_torque / r_p,
+            "the braked differential gives (brake torque / pitch radius)",
+        ),
+    };
     anyhow::ensure!(
         uniform < 0.9 * max_df,
         "parameter `mu` ({}): the turn needs a thrust difference of about {uniform:.0} N (mu W L \
-         / 2B), more than 0.9 of what the braked differential gives ({max_df:.0} N = brake \
-         torque / pitch radius): lower the friction",
+         / 2B), more than 0.9 of what {what}, {max_df:.0} N: lower the friction",
         p.mu
     );
+    // The DSU sets the sprockets' speed difference: the steering input that gives the
+    // target yaw rate without track slip, `s = omega B / (2 k w_max r_p)`, is fed forward
+    // and the PI controller corrects for the slip.
+    let feed_forward = dsu.as_ref().map_or(0.0, |u| {
+        yaw_target * tread / (2.0 * u.steering_ratio * u.max_steering_speed * r_p)
+    });
 
     let mut throttle_pi = Pi {
         kp: 1.0,
@@ -248,12 +378,13 @@ fn run(p: &M113TurnParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         integral: 0.0,
     };
     // Steering input per yaw-rate error (1/(rad/s)): full steering brakes the inner track
-    // with 10 kN m, far more than a gentle turn needs.
+    // with 10 kN m, far more than a gentle turn needs. The DSU's full steering is a yaw
+    // rate of about 0.9 rad/s: a proportional gain of 1 corrects an error by ~0.9 of it.
     let mut steer_pi = Pi {
-        kp: 2.0,
+        kp: if dsu.is_some() { 1.0 } else { 2.0 },
         ki: 4.0,
-        lo: -1.0,
-        hi: 1.0,
+        lo: -1.0 - feed_forward,
+        hi: 1.0 - feed_forward,
         integral: 0.0,
     };
     let mut series = Series::new([
@@ -300,7 +431,7 @@ fn run(p: &M113TurnParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
             inputs = DriverInputs {
                 throttle: throttle_pi.update(p.speed - speed, t),
                 brake: 0.0,
-                steering: steer_pi.update(yaw_target - yaw, t),
+                steering: feed_forward + steer_pi.update(yaw_target - yaw, t),
             };
         }
         // Outer (right, side 1) minus inner (left, side 0) sprocket thrust.
@@ -431,154 +562,14 @@ fn run(p: &M113TurnParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     Ok(out)
 }
 
-/// Wong's general theory of skid steering with a rigid-plastic (Coulomb) shear law, over
-/// given ground contacts `[x, y, N]` (vehicle frame from the centre of mass: `x` forward,
-/// `y` left, m; normal load `N`, N; a contact with `y > 0` is on the left track): contact
-/// `c` on track `j` slides at `s_c = (u_j, omega x_c + v_y)` and the ground pushes the
-/// track with `-mu N_c s_c / |s_c|`. The unknowns `u_L`, `u_R` (m/s) and `v_y` (m/s) solve
-///
-/// ```text
-/// sum_c F_x,c = 0,   sum_c F_y,c = m a_y,   sum_c (x_c F_y,c - y_c F_x,c) = 0
-/// ```
-///
-/// (`m a_y` = `centripetal`, N: steady turn on flat ground, no other horizontal force) by
-/// Newton's method with a finite-difference Jacobian; returns the lengthwise ground forces
-/// on the left and right tracks `(F_L, F_R)`, N. `|s|` is regularized by 1e-9 m/s.
-pub fn skid_steer(
-    contacts: &[[f64; 3]],
-    mu: f64,
-    omega: f64,
-    centripetal: f64,
-) -> anyhow::Result<(f64, f64)> {
-    let forces = |z: [f64; 3]| -> ([f64; 3], f64, f64) {
-        let (mut fx, mut fy, mut mz, mut fl, mut fr) = (0.0, 0.0, 0.0, 0.0, 0.0);
-        for &[x, y, n] in contacts {
-            let u = if y > 0.0 { z[0] } else { z[1] };
-            let w = omega * x + z[2];
-            let norm = (u * u + w * w + 1e-18).sqrt();
-            let (cx, cy) = (-mu * n * u / norm, -mu * n * w / norm);
-            fx += cx;
-            fy += cy;
-            mz += x * cy - y * cx;
-            if y > 0.0 {
-                fl += cx;
-            } else {
-                fr += cx;
-            }
-        }
-        ([fx, fy - centripetal, mz], fl, fr)
-    };
-    if omega == 0.0 && centripetal == 0.0 {
-        // A straight run: no turning resistance, the tracks need no thrust difference.
-        return Ok((0.0, 0.0));
-    }
-    anyhow::ensure!(
-        contacts.iter().any(|c| c[1] > 0.0) && contacts.iter().any(|c| c[1] <= 0.0),
-        "skid-steer theory: a track has no ground contact"
-    );
-    let scale: f64 = mu * contacts.iter().map(|c| c[2]).sum::<f64>();
-    anyhow::ensure!(
-        scale > 0.0 && scale.is_finite(),
-        "no ground contact carries a load"
-    );
-    // The yaw moment's scale is a force times half the contact length (~1 m).
-    let norm = |r: [f64; 3]| (r[0] * r[0] + r[1] * r[1] + r[2] * r[2]).sqrt() / scale;
-    let v0 = (omega.abs() * 0.1).max(1e-4);
-    let mut z = [v0, -v0, 0.0];
-    let (mut r, _, _) = forces(z);
-    for _ in 0..100 {
-        if norm(r) < 1e-10 {
-            break;
-        }
-        let mut jac = nalgebra::Matrix3::<f64>::zeros();
-        for k in 0..3 {
-            let mut zk = z;
-            let dz = 1e-7 * (z[k].abs() + v0);
-            zk[k] += dz;
-            let (rk, _, _) = forces(zk);
-            for i in 0..3 {
-                jac[(i, k)] = (rk[i] - r[i]) / dz;
-            }
-        }
-        let rhs = nalgebra::Vector3::new(-r[0], -r[1], -r[2]);
-        // Gauss-Newton with a Levenberg damping where the Jacobian is (near) singular (a
-        // track whose contacts all slide the same way has no lengthwise derivative).
-        let step = match jac.lu().solve(&rhs) {
-            Some(x) if x.iter().all(|v| v.is_finite()) => x,
-            _ => {
-                let jtj = jac.transpose() * jac;
-                let damp = 1e-6 * jtj.trace().max(f64::MIN_POSITIVE);
-                (jtj + nalgebra::Matrix3::identity() * damp)
-                    .lu()
-                    .solve(&(jac.transpose() * rhs))
-                    .ok_or_else(|| anyhow::anyhow!("skid-steer theory: singular Jacobian"))?
-            }
-        };
-        // Damped: halve the step until the residual falls.
-        let mut t = 1.0;
-        loop {
-            let zt = [z[0] + t * step[0], z[1] + t * step[1], z[2] + t * step[2]];
-            let (rt, _, _) = forces(zt);
-            if norm(rt) < norm(r) || t < 1e-6 {
-                z = zt;
-                r = rt;
-                break;
-            }
-            t *= 0.5;
-        }
-    }
-    anyhow::ensure!(
-        norm(r) < 1e-6,
-        "skid-steer theory did not converge (residual {:.1e} of mu N; omega {omega} rad/s, \
-         m a_y {centripetal} N, {} contacts, mu sum N {scale} N, slips {z:?})",
-        norm(r),
-        contacts.len()
-    );
-    let (_, fl, fr) = forces(z);
-    Ok((fl, fr))
-}
-
 /// The case.
 pub fn case() -> Box<dyn Case> {
     ParamCase::<M113TurnParams>::boxed(
         "m113-turn",
         "vehicle",
-        "M113A1 steady skid-steer turn on flat rigid ground: the sprockets' thrust difference \
-         against Wong's theory integrated over the simulated ground loads (10 %); the \
-         uniform-load formula reported.",
+        "M113A1 steady skid-steer turn and pivot turn (differential steering unit) on flat \
+         rigid ground: the sprockets' thrust difference against Wong's theory integrated over \
+         the simulated ground loads (10 %); the uniform-load formula reported.",
         run,
     )
-}
-
-#[cfg(test)]
-mod tests {
-    use super::skid_steer;
-
-    /// Two tracks of uniform load, 2.667 m long, 2.159 m apart, turning at 0.1 rad/s: the
-    /// solution balances the forces and the moment, gives the outer (right) track a thrust
-    /// and the inner a drag, a difference below the simple form's `mu W L / (2 B)` (the
-    /// lengthwise slip takes part of the friction) and above half of it.
-    #[test]
-    fn the_general_theory_balances_and_stays_below_the_simple_form() {
-        let (l, b, mu, w) = (2.667, 2.159, 0.3, 109_441.0);
-        let k = 40;
-        let mut c = Vec::new();
-        for side in [1.0, -1.0] {
-            for i in 0..k {
-                let x = -0.5 * l + l * (i as f64 + 0.5) / k as f64;
-                c.push([x, side * 0.5 * b, w / (2 * k) as f64]);
-            }
-        }
-        let (fl, fr) = skid_steer(&c, mu, 0.1, 0.0).unwrap();
-        assert!(
-            fr > 0.0 && fl < 0.0 && (fr + fl).abs() < 1e-6 * fr,
-            "{fl} {fr}"
-        );
-        let simple = mu * w * l / (2.0 * b);
-        let df = fr - fl;
-        assert!(df < simple && df > 0.5 * simple, "{df} against {simple}");
-        // Without turning there is nothing to balance.
-        let (fl, fr) = skid_steer(&c, mu, 0.0, 0.0).unwrap();
-        assert!(fl.abs() < 1e-6 && fr.abs() < 1e-6, "{fl} {fr}");
-    }
 }

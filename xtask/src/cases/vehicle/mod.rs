@@ -5,11 +5,13 @@ pub mod granular;
 pub mod lane_change;
 pub mod m113_accel;
 pub mod m113_granular;
+pub mod m113_pivot;
 pub mod m113_static;
 pub mod m113_step;
 pub mod m113_step_params;
 pub mod m113_turn;
 pub mod scene;
+pub mod skid_steer;
 pub mod static_settle;
 pub mod turn;
 
