@@ -42,11 +42,10 @@
 //! The series (`pivot.csv`, and the plot when only the pivot runs) has the moment part of
 //! the theory per step (`thrust_difference_theory`).
 //!
-//! Time step: `pivot_h` (4 ms), not the steady turn's `h` (5 ms). The M113's settling at
-//! 5 ms is marginal (docs/validation-vehicle.md: `m113-accel` diverges while settling at
-//! 5 ms and passes at 4 ms); the pivot run, whose DSU adds a shaft and three rows, diverged
-//! at 5 ms in the landing (t = 0.13 s, before any steering) for `mu` 0.2, 0.5 and 0.8,
-//! and ran at 4 ms for all of them.
+//! Time step: `pivot_h`, 5 ms by default like the steady turn's `h`. Before the track's
+//! spring-dampers became implicit rows (`AxisSpring`, 2026-12-06) the pivot run diverged at
+//! 5 ms in the landing for `mu` 0.2, 0.5 and 0.8 (the explicit rear-arm damper past its
+//! stability limit) and used 4 ms; with them it runs at 5 ms for all three.
 //!
 //! Checks: the thrust difference within `rel_tolerance` of the theory (the 10 %),
 //! the vehicle turning (`pivot_yaw_slip` below 0.5: the yaw rate above half the kinematic
