@@ -58,8 +58,7 @@ use chrono_core::math::Vector3;
 use chrono_vehicle::driveline::TrackSteering;
 use chrono_vehicle::m113::m113_data;
 use chrono_vehicle::state::DriverInputs;
-use chrono_vehicle::tracked::{TrackedFlatScene, contact_forces};
-use chrono_vehicle::tracked_drive::TrackedDrive;
+use chrono_vehicle::tracked::contact_forces;
 
 use super::m113_turn::M113TurnParams;
 use super::skid_steer::skid_steer_solution;
@@ -94,13 +93,7 @@ pub(super) fn run_pivot(
         .clone()
         .ok_or_else(|| anyhow::anyhow!("the data has no `driveline.dsu`"))?;
     let (solver, _nanos) = super::m113_solver(&p.solver, p.tolerance, p.max_iterations)?;
-    let mut scene = TrackedFlatScene::new(data, p.mu, solver)?;
-    let mut drive = TrackedDrive::build(&mut scene.sys, &scene.vehicle, &scene.data)?;
-    let ground = scene
-        .sys
-        .body_set()
-        .dense_index(scene.ground)
-        .ok_or_else(|| anyhow::anyhow!("the ground body is missing"))?;
+    let (mut scene, mut drive, ground) = super::m113_turn::turn_scene(data, p.mu, solver)?;
     let (sys, v, d) = (&mut scene.sys, &scene.vehicle, &scene.data);
     let r_p = d.track.sprocket.pitch_radius;
     let tread = 2.0 * d.track_y;

@@ -65,7 +65,7 @@ use chrono_vehicle::driveline::TrackSteering;
 use chrono_vehicle::m113::m113_data;
 use chrono_vehicle::powertrain::ShiftSpeed;
 use chrono_vehicle::state::DriverInputs;
-use chrono_vehicle::tracked::{TrackedFlatScene, contact_forces};
+use chrono_vehicle::tracked::{TrackedFlatScene, TrackedVehicleData, contact_forces};
 use chrono_vehicle::tracked_drive::TrackedDrive;
 
 use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series};
@@ -193,6 +193,24 @@ impl CaseParams for M113TurnParams {
             self.pivot_measure = 4.0;
         }
     }
+}
+
+/// The vehicle on flat ground with friction `mu`, its drive, and the ground's dense body
+/// index (whose contact impulses are the ground's forces on the tracks): the set-up of
+/// both turns.
+pub(super) fn turn_scene(
+    data: TrackedVehicleData,
+    mu: f64,
+    solver: Box<dyn chrono_core::descriptor::CcpSolver>,
+) -> anyhow::Result<(TrackedFlatScene, TrackedDrive, usize)> {
+    let mut scene = TrackedFlatScene::new(data, mu, solver)?;
+    let drive = TrackedDrive::build(&mut scene.sys, &scene.vehicle, &scene.data)?;
+    let ground = scene
+        .sys
+        .body_set()
+        .dense_index(scene.ground)
+        .ok_or_else(|| anyhow::anyhow!("the ground body is missing"))?;
+    Ok((scene, drive, ground))
 }
 
 fn validate(p: &M113TurnParams) -> anyhow::Result<()> {
@@ -325,13 +343,7 @@ fn run_steady(p: &M113TurnParams, ctx: &RunContext) -> anyhow::Result<CaseOutput
     data.driveline.steering = p.steering.parse()?;
     data.validate()?;
     let (solver, nanos) = super::m113_solver(&p.solver, p.tolerance, p.max_iterations)?;
-    let mut scene = TrackedFlatScene::new(data, p.mu, solver)?;
-    let mut drive = TrackedDrive::build(&mut scene.sys, &scene.vehicle, &scene.data)?;
-    let ground = scene
-        .sys
-        .body_set()
-        .dense_index(scene.ground)
-        .ok_or_else(|| anyhow::anyhow!("the ground body is missing"))?;
+    let (mut scene, mut drive, ground) = turn_scene(data, p.mu, solver)?;
     let (sys, v, d) = (&mut scene.sys, &scene.vehicle, &scene.data);
     let r_p = d.track.sprocket.pitch_radius;
     let tread = 2.0 * d.track_y;
