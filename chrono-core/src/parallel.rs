@@ -10,8 +10,10 @@
 //! once per step and lets the loops inside split and join on the pool's own threads.
 //! Results do not change: where a closure runs does not change what it computes.
 
-/// Run `f` on a thread of the current rayon pool: inline when already on one, otherwise
-/// by handing it to the pool once (`rayon::scope` runs its closure on a worker).
+/// Run `f` on a rayon worker thread: inline when the caller already is one (of any pool,
+/// e.g. inside `ThreadPool::install`), otherwise by handing it once to the global pool
+/// (`rayon::scope` runs its closure on a worker), whose threads then run `f`'s parallel
+/// loops as they would have anyway.
 pub fn on_worker<R: Send>(f: impl FnOnce() -> R + Send) -> R {
     if rayon::current_thread_index().is_some() {
         f()
