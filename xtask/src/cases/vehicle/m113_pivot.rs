@@ -58,7 +58,6 @@ use chrono_core::math::Vector3;
 use chrono_vehicle::driveline::TrackSteering;
 use chrono_vehicle::m113::m113_data;
 use chrono_vehicle::state::DriverInputs;
-use chrono_vehicle::tracked::contact_forces;
 
 use super::m113_turn::M113TurnParams;
 use super::skid_steer::skid_steer_solution;
@@ -214,25 +213,13 @@ pub(super) fn run_pivot(
         contacts.clear();
         let (mut g_l, mut g_r, mut m_r) = (0.0, 0.0, 0.0);
         let (mut lx, mut ln) = (0.0, 0.0);
-        for f in contact_forces(sys, h) {
-            let on_ground = if f.owner_b == ground {
-                f.on_b
-            } else if f.owner_a == ground {
-                -f.on_b
-            } else {
-                continue;
-            };
-            let n_c = -on_ground.z;
-            if n_c <= 0.0 {
-                continue;
-            }
-            let x = (f.point - cg).dot(&fwd);
-            let y = (f.point - cg).dot(&left);
+        for g in super::m113_turn::ground_contacts(sys, h, ground, cg, fwd, left) {
+            let (x, y, n_c) = (g.x, g.y, g.n);
             contacts.push([x, y, n_c]);
             m_r += mu * n_c * x.abs();
             lx += n_c * x;
             ln += n_c;
-            let along = -on_ground.dot(&fwd);
+            let along = g.on_track.dot(&fwd);
             if y > 0.0 {
                 g_l += along;
             } else {

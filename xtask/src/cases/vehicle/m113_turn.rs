@@ -213,6 +213,46 @@ pub(super) fn turn_scene(
     Ok((scene, drive, ground))
 }
 
+/// One contact of the tracks on the ground at the last step.
+pub(super) struct GroundContact {
+    /// Lengthwise and lateral position from the centre of mass (along the chassis' `x`
+    /// and `y`), m.
+    pub x: f64,
+    pub y: f64,
+    /// The normal load the ground carries there, N (> 0).
+    pub n: f64,
+    /// The ground's force on the track, N (world).
+    pub on_track: Vector3<f64>,
+}
+
+/// The last step's loaded contacts of the ground (dense index `ground`) with the
+/// vehicle, positioned from `cg` along `fwd` and `left` (unit vectors of the chassis).
+pub(super) fn ground_contacts(
+    sys: &chrono_core::system::System,
+    h: f64,
+    ground: usize,
+    cg: Vector3<f64>,
+    fwd: Vector3<f64>,
+    left: Vector3<f64>,
+) -> impl Iterator<Item = GroundContact> {
+    contact_forces(sys, h).into_iter().filter_map(move |f| {
+        let on_ground = if f.owner_b == ground {
+            f.on_b
+        } else if f.owner_a == ground {
+            -f.on_b
+        } else {
+            return None;
+        };
+        let n = -on_ground.z;
+        (n > 0.0).then(|| GroundContact {
+            x: (f.point - cg).dot(&fwd),
+            y: (f.point - cg).dot(&left),
+            n,
+            on_track: -on_ground,
+        })
+    })
+}
+
 fn validate(p: &M113TurnParams) -> anyhow::Result<()> {
     for (name, v) in [
         ("radius", p.radius),
@@ -454,21 +494,9 @@ fn run_steady(p: &M113TurnParams, ctx: &RunContext) -> anyhow::Result<CaseOutput
         let mut m_r = 0.0;
         let mut load_x = (0.0, 0.0);
         contacts.clear();
-        for f in contact_forces(sys, p.h) {
-            let on_ground = if f.owner_b == ground {
-                f.on_b
-            } else if f.owner_a == ground {
-                -f.on_b
-            } else {
-                continue;
-            };
-            // The normal load the ground carries at this contact, N.
-            let n_c = -on_ground.z;
-            if n_c <= 0.0 {
-                continue;
-            }
-            let x = (f.point - cg).dot(&fwd);
-            contacts.push([x, (f.point - cg).dot(&left), n_c]);
+        for g in ground_contacts(sys, p.h, ground, cg, fwd, left) {
+            let (x, n_c) = (g.x, g.n);
+            contacts.push([x, g.y, n_c]);
             m_r += mu * n_c * x.abs();
             load_x.0 += n_c * x;
             load_x.1 += n_c;

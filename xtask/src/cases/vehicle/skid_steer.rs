@@ -151,14 +151,9 @@ pub fn skid_steer_solution(
 mod tests {
     use super::{skid_steer, skid_steer_solution};
 
-    /// A pivot turn (no lateral acceleration) on two tracks of uniform load: the thrusts are
-    /// equal and opposite (`F_o = -F_i`), their difference below the simple form's `mu W L /
-    /// (2 B)`, the tracks slip lengthwise equally and oppositely, and the slips scale with
-    /// the yaw rate (Coulomb contacts are rate-independent: the pivot case's theory yaw
-    /// rate rests on it).
-    #[test]
-    fn the_general_theory_of_a_pivot_is_antisymmetric_and_rate_independent() {
-        let (l, b, mu, w) = (2.667, 2.159, 0.5, 109_441.0);
+    /// Contacts `[x, y, load]` of two tracks `l` long, `b` apart, carrying `w` N uniformly
+    /// (40 points each).
+    fn uniform_tracks(l: f64, b: f64, w: f64) -> Vec<[f64; 3]> {
         let k = 40;
         let mut c = Vec::new();
         for side in [1.0, -1.0] {
@@ -167,6 +162,18 @@ mod tests {
                 c.push([x, side * 0.5 * b, w / (2 * k) as f64]);
             }
         }
+        c
+    }
+
+    /// A pivot turn (no lateral acceleration) on two tracks of uniform load: the thrusts are
+    /// equal and opposite (`F_o = -F_i`), their difference below the simple form's `mu W L /
+    /// (2 B)`, the tracks slip lengthwise equally and oppositely, and the slips scale with
+    /// the yaw rate (Coulomb contacts are rate-independent: the pivot case's theory yaw
+    /// rate rests on it).
+    #[test]
+    fn the_general_theory_of_a_pivot_is_antisymmetric_and_rate_independent() {
+        let (l, b, mu, w) = (2.667, 2.159, 0.5, 109_441.0);
+        let c = uniform_tracks(l, b, w);
         let s1 = skid_steer_solution(&c, mu, 0.3, 0.0).unwrap();
         let s2 = skid_steer_solution(&c, mu, 0.6, 0.0).unwrap();
         assert!(
@@ -195,14 +202,7 @@ mod tests {
     #[test]
     fn the_general_theory_balances_and_stays_below_the_simple_form() {
         let (l, b, mu, w) = (2.667, 2.159, 0.3, 109_441.0);
-        let k = 40;
-        let mut c = Vec::new();
-        for side in [1.0, -1.0] {
-            for i in 0..k {
-                let x = -0.5 * l + l * (i as f64 + 0.5) / k as f64;
-                c.push([x, side * 0.5 * b, w / (2 * k) as f64]);
-            }
-        }
+        let c = uniform_tracks(l, b, w);
         let (fl, fr) = skid_steer(&c, mu, 0.1, 0.0).unwrap();
         assert!(
             fr > 0.0 && fl < 0.0 && (fr + fl).abs() < 1e-6 * fr,
