@@ -115,6 +115,7 @@ pub mod bb;
 pub mod cg;
 mod dense;
 pub mod error;
+mod hubs;
 pub mod jacobi;
 pub mod local_direct;
 pub mod minres;

@@ -75,6 +75,8 @@ pub struct Schur {
     /// The joint rows packed for the matrix-free mode's completed steps.
     packed: PackedRows,
     work: CcpWork,
+    /// The matrix-free mode's step-size bound at the end of the last solve (0: none yet).
+    last_lip: f64,
 }
 
 /// Power iterations for the step size of the matrix-free mode (a lower bound of the
@@ -144,6 +146,7 @@ impl Schur {
             scratch: ImplicitScratch::default(),
             packed: PackedRows::default(),
             work: CcpWork::default(),
+            last_lip: 0.0,
         }
     }
 
@@ -265,7 +268,8 @@ impl Schur {
     /// [`complete_step`](Self::complete_step): one product with `N` and one sparse solve per
     /// trial; the warm start by [`complete`](Self::complete)). The metric is the rows'
     /// diagonal scales (Jacobi preconditioning, cone-averaged); the step `1 / L` with `L`
-    /// from a power iteration, doubled while the quadratic model does not bound the step;
+    /// from a power iteration on the first solve and half the last solve's `L` after it,
+    /// doubled while the quadratic model does not bound the step;
     /// momentum with gradient restart; the best iterate is returned. The joints hold to
     /// round-off at every iterate, so however far from convergence the iterations stop, no
     /// joint drifts.
@@ -278,8 +282,17 @@ impl Schur {
         self.zero.resize(m, 0.0);
         // The joint rows, used twice per completed step, packed once per solve.
         self.packed.pack(problem, &self.b_rows);
-        let mut lip = self.reduced_lipschitz(problem, POWER_ITERATIONS);
-        let mut apply_n = 1 + POWER_ITERATIONS;
+        // The bound of the last solve, halved, when there is one (the problems of
+        // successive steps are alike; the backtracking doubles a low bound back, one product
+        // where the power iteration spent four); else the power iteration.
+        let (mut lip, mut apply_n) = if self.last_lip > 0.0 {
+            (0.5 * self.last_lip, 1)
+        } else {
+            (
+                self.reduced_lipschitz(problem, POWER_ITERATIONS),
+                1 + POWER_ITERATIONS,
+            )
+        };
         let sc = problem.scales();
         // The non-bilateral rows: the problem's rows before and after its bilateral section.
         let bil = problem.sections().bilateral.clone();
@@ -398,6 +411,11 @@ impl Schur {
         }
         gamma.copy_from_slice(&v.best);
         self.scratch = v;
+        self.last_lip = if lip.is_finite() && lip > 0.0 {
+            lip
+        } else {
+            0.0
+        };
         problem.gradient(gamma, &mut self.grad, &mut self.work);
         apply_n += 1;
         final_stats(

@@ -19,6 +19,7 @@
 use chrono_core::descriptor::{CcpProblem, NEntryPlan};
 
 use crate::error::CcpError;
+use crate::hubs::Hubs;
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::linalg::cholesky::llt::factor::LltRegularization;
 use faer::sparse::linalg::cholesky::{
@@ -49,6 +50,11 @@ pub(crate) struct SparseBilateral {
     /// True once a solve with this factor met the round-off bound without refinement (the
     /// factor is exact: no regularized pivot and no ill-conditioning that shows).
     checked: bool,
+    /// Bodies many joint rows touch, kept out of the sparse factor (`crate::hubs`).
+    hubs: Hubs,
+    /// Set when the factor without the hubs was singular for this pattern (the hubs held
+    /// fixed over-constrain another body): the pattern is then factored whole.
+    no_hubs: bool,
 }
 
 /// Iterative-refinement steps of a solve with a regularized factor.
@@ -82,6 +88,7 @@ impl SparseBilateral {
         }
         if self.key_scratch != self.key || self.symbolic.is_none() {
             std::mem::swap(&mut self.key, &mut self.key_scratch);
+            self.no_hubs = false;
             self.analyze(problem, b_rows)?;
         }
         let missing = |stage| CcpError::Factorization {
@@ -98,6 +105,9 @@ impl SparseBilateral {
                 stage: "numeric",
                 detail: e.to_string(),
             })?;
+        if !self.hubs.is_empty() {
+            self.hubs.refresh(problem, b_rows, vals);
+        }
         let mut max_diag: f64 = 0.0;
         for (v, &(i, j)) in vals.iter_mut().zip(&self.entries) {
             if i == j {
@@ -128,8 +138,41 @@ impl SparseBilateral {
                 MemStack::new(scratch),
                 Default::default(),
             )
-            .map(|_| self.checked = false)
-            .map_err(|e| failed(format!("{e:?}")))
+            .map_err(|e| failed(format!("{e:?}")))?;
+        self.checked = false;
+        if !self.hubs.is_empty() {
+            // W = N'^-1 U with the hub-free factor, then the capacitance. A hub held fixed
+            // can over-constrain a body (more rows on it than its dof): `N'` is then
+            // singular, its regularized factor does not solve `N' W = U`, and the pattern
+            // is factored whole instead.
+            let mut w = self.hubs.take_u();
+            let u = w.clone();
+            let k = self.hubs.rank();
+            self.solve_plain(&mut w, k);
+            let nb = b_rows.len();
+            let mut exact = true;
+            if let Some(upper) = &self.upper {
+                let mut nw = vec![0.0; nb];
+                for (wc, uc) in w.chunks(nb).zip(u.chunks(nb)) {
+                    nw.iter_mut().for_each(|v| *v = 0.0);
+                    symmetric_upper_mul_add(upper, wc, &mut nw);
+                    let scale = uc.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+                    let err = nw
+                        .iter()
+                        .zip(uc)
+                        .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+                    exact &= err <= 1e-9 * scale;
+                }
+            }
+            if !exact {
+                self.hubs.set_w(w);
+                self.no_hubs = true;
+                self.analyze(problem, b_rows)?;
+                return self.factor_shifted(problem, b_rows, shift);
+            }
+            self.hubs.set_w(w);
+        }
+        Ok(())
     }
 
     /// The pattern, ordering and symbolic factorization for the current key.
@@ -142,8 +185,15 @@ impl SparseBilateral {
                 by_block[b.0 as usize].push(a);
             }
         }
+        // A hub's rows would be a dense clique: left out of the pattern (`crate::hubs`).
+        let hub = if self.no_hubs {
+            self.hubs.clear();
+            vec![false; by_block.len()]
+        } else {
+            self.hubs.find(problem, b_rows, &by_block)
+        };
         let mut pairs: Vec<(usize, usize)> = (0..nb).map(|a| (a, a)).collect();
-        for rows in &by_block {
+        for (rows, _) in by_block.iter().zip(&hub).filter(|(_, h)| !**h) {
             for (k, &a) in rows.iter().enumerate() {
                 for &b in &rows[k + 1..] {
                     pairs.push((a.min(b), a.max(b)));
@@ -171,6 +221,7 @@ impl SparseBilateral {
                 self.entries.push((s.row_idx()[idx], j));
             }
         }
+        self.hubs.plan_corrections(&self.entries);
         let symbolic = factorize_symbolic_cholesky(
             upper.symbolic(),
             Side::Upper,
@@ -242,6 +293,9 @@ impl SparseBilateral {
                     let xc = &x[c * nb..(c + 1) * nb];
                     let rc = &mut res[c * nb..(c + 1) * nb];
                     symmetric_upper_mul_add(upper, xc, rc);
+                    if !self.hubs.is_empty() {
+                        self.hubs.mul_add(xc, rc);
+                    }
                 }
             }
             let (mut rn, mut bn) = (0.0f64, 0.0f64);
@@ -277,8 +331,19 @@ impl SparseBilateral {
         }
     }
 
-    /// One solve with the factor.
+    /// One solve with the factor, the hubs put back (`N_BB^-1`).
     fn solve_factor(&mut self, x: &mut [f64], cols: usize) {
+        self.solve_plain(x, cols);
+        if !self.hubs.is_empty() && cols > 0 {
+            let nb = x.len() / cols;
+            for xc in x.chunks_mut(nb) {
+                self.hubs.apply(xc);
+            }
+        }
+    }
+
+    /// One solve with the sparse factor alone (`N'^-1`: without the hubs).
+    fn solve_plain(&mut self, x: &mut [f64], cols: usize) {
         self.ensure_scratch(cols);
         let (Some(symbolic), Some(scratch)) = (&self.symbolic, &mut self.scratch) else {
             x.fill(f64::NAN);
@@ -313,5 +378,126 @@ fn symmetric_upper_mul_add(upper: &SparseColMat<usize, f64>, x: &[f64], out: &mu
             }
         }
         out[j] = oj;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use chrono_core::descriptor::{ConstraintRows, MassOperator, RowEntry, Variables};
+    use chrono_core::math::Matrix3;
+    use chrono_core::rng::Rng;
+
+    /// A hub (a heavy rigid body) with `n` light rigid satellites, each held to it by 3
+    /// joint rows and paired with a neighbour by one more. With `over`, the first satellite
+    /// has 7 rows to the hub: with the hub held fixed, more rows than its 6 dof (`N'`
+    /// singular) while the whole block stays regular (the hub takes the seventh). The
+    /// hub's rows are a clique of `N_BB`.
+    fn star(n: usize, over: bool, seed: u64) -> CcpProblem {
+        let mut rng = Rng::splitmix64(seed);
+        let mut vars = Variables::new();
+        let inertia = |m: f64| Matrix3::from_diagonal_element(0.1 * m);
+        let hub = vars.add(MassOperator::rigid_body(1.0e4, inertia(1.0e4)).unwrap());
+        let sats: Vec<_> = (0..n)
+            .map(|_| {
+                let m = rng.range(5.0, 50.0);
+                vars.add(MassOperator::rigid_body(m, inertia(m)).unwrap())
+            })
+            .collect();
+        let mut cr = ConstraintRows::new();
+        let coefs = |rng: &mut Rng| -> [f64; 6] { std::array::from_fn(|_| rng.range(-1.0, 1.0)) };
+        for (k, &s) in sats.iter().enumerate() {
+            for _ in 0..if over && k == 0 { 7 } else { 3 } {
+                let (a, b) = (coefs(&mut rng), coefs(&mut rng));
+                let e = [
+                    RowEntry {
+                        block: hub,
+                        coefs: &a,
+                    },
+                    RowEntry {
+                        block: s,
+                        coefs: &b,
+                    },
+                ];
+                cr.push_bilateral(&e, 0.0, 0.0);
+            }
+            if k + 1 < n && k % 2 == 0 {
+                for _ in 0..1 {
+                    let (a, b) = (coefs(&mut rng), coefs(&mut rng));
+                    let e = [
+                        RowEntry {
+                            block: s,
+                            coefs: &a,
+                        },
+                        RowEntry {
+                            block: sats[k + 1],
+                            coefs: &b,
+                        },
+                    ];
+                    cr.push_bilateral(&e, 0.0, 0.0);
+                }
+            }
+        }
+        let k = vec![0.0; vars.ndof()];
+        let mut p = CcpProblem::new();
+        p.assemble(&vars, &cr, &k).unwrap();
+        p
+    }
+
+    /// With a hub the solve is still `N_BB^-1` (to round-off against the dense product),
+    /// and the factor is smaller than the whole block's would be.
+    #[test]
+    fn a_hub_kept_out_of_the_factor_still_solves_the_joint_block() {
+        for (n, over, seed) in [
+            (11, false, 1),
+            (16, false, 2),
+            (24, false, 3),
+            (11, true, 4),
+            (16, true, 5),
+        ] {
+            let p = star(n, over, seed);
+            let rows: Vec<usize> = p.sections().bilateral.clone().collect();
+            let nb = rows.len();
+            let mut f = SparseBilateral::default();
+            f.factor(&p, &rows).unwrap();
+            // Kept out where the rest stays regular; factored whole where it does not.
+            assert_eq!(f.hubs.is_empty(), over, "n {n}, over {over}");
+            let mut rng = Rng::splitmix64(seed + 10);
+            let r: Vec<f64> = (0..nb).map(|_| rng.range(-1.0, 1.0)).collect();
+            let mut x = r.clone();
+            f.solve(&mut x, 1);
+            let mut worst: f64 = 0.0;
+            let scale = r.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            for (a, &i) in rows.iter().enumerate() {
+                let nx: f64 = rows
+                    .iter()
+                    .zip(&x)
+                    .map(|(&j, xj)| p.n_entry(i, j) * xj)
+                    .sum();
+                worst = worst.max((nx - r[a]).abs());
+            }
+            assert!(worst < 1e-9 * scale, "n {n}: residual {worst:e}");
+            if over {
+                continue;
+            }
+            // The plain factor alone (without the hubs put back) is not N_BB's solve.
+            let mut y = r.clone();
+            f.solve_plain(&mut y, 1);
+            let diff = x
+                .iter()
+                .zip(&y)
+                .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+            assert!(
+                diff > 1e-6 * x.iter().fold(0.0f64, |m, v| m.max(v.abs())),
+                "n {n}"
+            );
+            // Fewer factor entries than the hub's clique alone.
+            let clique = 3 * n * (3 * n + 1) / 2;
+            assert!(
+                f.l_values.len() < clique,
+                "n {n}: {} entries",
+                f.l_values.len()
+            );
+        }
     }
 }

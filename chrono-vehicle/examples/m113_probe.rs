@@ -5,6 +5,9 @@
 //! `cargo run --release -p chrono-vehicle --example m113_probe -- [h] [steps] [solver]
 //! [max_iterations] [compliance] [torsion_preload]`
 //!
+//! With `CENSUS=1` the last step's contacts are counted by body pair (names without their
+//! indices): how many rows each kind of contact puts into the problem.
+//!
 //! With `RAMP=a` (rad/s^2) in the environment the sprockets are held for 0.5 s, then driven
 //! at the prescribed speed `a (t - 0.5)` (both sides): the chassis' forward speed is printed
 //! against the sprocket's pitch-circle speed `w r_p`, which shows whether the chain follows
@@ -109,6 +112,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                     near.join(" ")
                 );
             }
+            Ok(r) if std::env::var("CENSUS").is_ok() && i + 1 == n => {
+                println!("step {i}: {} contacts, {} rows", r.contacts, r.rows);
+                for ((a, b), k) in census(&sc) {
+                    println!("  {a} - {b}: {k}");
+                }
+            }
             Ok(r) if i % every == 0 || i + 1 == n => println!(
                 "step {i}: {dt:.3} s, {} contacts, {} rows, {} iterations, residual {:.1e}, \
                  chassis z {:.4} m, vz {:.4} m/s, vx {:.4} m/s against w r_p {:.4} m/s, \
@@ -131,6 +140,28 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         }
     }
     Ok(())
+}
+
+/// The last step's contacts counted by the pair of body names, each name without its
+/// `[k]` index.
+fn census(sc: &TrackedFlatScene) -> std::collections::BTreeMap<(String, String), usize> {
+    let kind = |owner: u32| -> String {
+        let name = sc
+            .sys
+            .bodies()
+            .get(owner as usize)
+            .map_or("?", |b| b.name());
+        match name.find('[') {
+            Some(k) => name[..k].to_string(),
+            None => name.to_string(),
+        }
+    };
+    let mut m = std::collections::BTreeMap::new();
+    for c in sc.sys.contacts() {
+        *m.entry((kind(c.point.owner_a), kind(c.point.owner_b)))
+            .or_insert(0) += 1;
+    }
+    m
 }
 
 /// Seated pins, the largest offset of a seated pin in its gap (m), and `(angle deg, lift

@@ -611,4 +611,46 @@ mod tests {
         assert!(!locked);
         assert!(dx.abs() > 1e-3, "the spring adjuster stayed within {dx} m");
     }
+
+    /// Every contact of the running gear enters the problem once: the pins in the sprocket's
+    /// tooth gaps (cylinders on the teeth's hull slices) used to put each end of their line
+    /// contacts in two or three times, a quarter of the M113's contact rows.
+    #[test]
+    fn the_pins_on_the_sprocket_teeth_are_each_one_contact() {
+        // The vehicle cases' solver (the complement matrix-free, 60 iterations).
+        let settings = chrono_core::descriptor::SolverSettings {
+            tolerance: 1e-8,
+            max_iterations: 60,
+            record_history: false,
+        };
+        let solver = Box::new(chrono_ccp::Schur::new(settings).with_max_dense_rows(0));
+        let mut s = TrackedFlatScene::new(m113_data().unwrap(), 0.8, solver).unwrap();
+        s.vehicle
+            .set_sprocket_drives(&mut s.sys, Drive::Speed(2.0))
+            .unwrap();
+        let mut sprocket_contacts = 0;
+        for _ in 0..40 {
+            s.sys.step(4e-3).unwrap();
+            let cs = s.sys.contacts();
+            for (i, a) in cs.iter().enumerate() {
+                let a = &a.point;
+                let name = |o: u32| s.sys.bodies()[o as usize].name().to_string();
+                if name(a.owner_a).contains("sprocket") || name(a.owner_b).contains("sprocket") {
+                    sprocket_contacts += 1;
+                }
+                for b in &cs[i + 1..] {
+                    let b = &b.point;
+                    assert!(
+                        a.collider_a != b.collider_a
+                            || a.collider_b != b.collider_b
+                            || (a.point_a - b.point_a).norm() > 1e-6
+                            || (a.point_b - b.point_b).norm() > 1e-6
+                            || (a.normal - b.normal).norm() > 1e-6,
+                        "the same contact twice: {a:?}"
+                    );
+                }
+            }
+        }
+        assert!(sprocket_contacts > 0, "no pin on a sprocket tooth");
+    }
 }

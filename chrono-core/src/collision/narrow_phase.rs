@@ -9,9 +9,12 @@
 //! used instead; if that is unsupported too, the pair is an error
 //! ([`ChronoError::Collision`]).
 //!
-//! Points of one manifold that coincide (within 1 micrometer on both shapes) are merged,
-//! keeping the first: parry reports a corner twice when the edges of two touching faces
-//! coincide (two equal boxes stacked exactly).
+//! Contacts of one pair that coincide (within 1 micrometer on both shapes, the same normal)
+//! are merged, keeping the first: parry reports a corner twice when the edges of two
+//! touching faces coincide (two equal boxes stacked exactly), a cylinder's line-contact end
+//! up to three times, and a mesh vertex once per triangle that shares it. Each copy would
+//! be a repeated row of the contact problem (a singular problem, and work for nothing: a
+//! quarter of the M113's rows were such copies).
 
 use parry3d_f64::math::{Pose, Vector};
 use parry3d_f64::query::{
@@ -29,7 +32,8 @@ use crate::shape::Shape;
 /// Feature id used by the analytic contacts (parry's `face(0)`).
 const FACE0: u32 = 0xC000_0000;
 
-/// Points of one manifold closer than this (m, squared) on both shapes are merged.
+/// Contacts of one pair closer than this (m, squared) on both shapes, with normals closer
+/// than its square root, are merged.
 const MERGE_DISTANCE_SQ: f64 = 1e-12;
 
 /// How a pair is computed.
@@ -225,25 +229,31 @@ impl PairState {
             let n = wa.rotation * m.local_n1;
             let first = self.contacts.len();
             for c in &m.points {
-                // Parry reports each corner twice (vertex-face and face-vertex) when edges
-                // of the two faces coincide, e.g. equal boxes stacked: keep the first.
                 let (p1, p2) = (wa * c.local_p1, wb * c.local_p2);
-                let dup = self.contacts[first..].iter().any(|k| {
-                    (vec_to_glam(&k.point_a) - p1).length_squared() <= MERGE_DISTANCE_SQ
-                        && (vec_to_glam(&k.point_b) - p2).length_squared() <= MERGE_DISTANCE_SQ
+                // A smooth surface's normal at the contact point is the contact normal;
+                // GJK's direction is undefined when the two just touch.
+                let n = if one_point {
+                    smooth_normal(out.ca, &wa, p1)
+                        .or_else(|| smooth_normal(out.cb, &wb, p2).map(|v| -v))
+                        .unwrap_or(n)
+                } else {
+                    n
+                };
+                // Parry reports a point more than once: a corner twice (vertex-face and
+                // face-vertex) when edges of two faces coincide (equal boxes stacked), a
+                // cylinder's line contact end up to three times (its clipping, offset
+                // tangentially), a vertex shared by the triangles of a mesh once per
+                // triangle. The same points (as stored: on the common normal line) with
+                // the same normal are one contact: keep the first.
+                let (q1, q2) = on_normal_line(p1, p2, n);
+                let dup = self.contacts.iter().any(|k| {
+                    (vec_to_glam(&k.point_a) - q1).length_squared() <= MERGE_DISTANCE_SQ
+                        && (vec_to_glam(&k.point_b) - q2).length_squared() <= MERGE_DISTANCE_SQ
+                        && (vec_to_glam(&k.normal) - n).length_squared() <= MERGE_DISTANCE_SQ
                 });
                 if !dup {
                     let fa = feature_key(c.fid1, m.subshape1, out.ca.composite);
                     let fb = feature_key(c.fid2, m.subshape2, out.cb.composite);
-                    // A smooth surface's normal at the contact point is the contact
-                    // normal; GJK's direction is undefined when the two just touch.
-                    let n = if one_point {
-                        smooth_normal(out.ca, &wa, p1)
-                            .or_else(|| smooth_normal(out.cb, &wb, p2).map(|v| -v))
-                            .unwrap_or(n)
-                    } else {
-                        n
-                    };
                     out.push(&mut self.contacts, p1, p2, n, fa, fb);
                 }
             }
@@ -338,6 +348,15 @@ struct Output<'a> {
     radius: f64,
 }
 
+/// The pair `(p1, p2)` moved onto a common line along `n`: each point by half the
+/// tangential part of `p2 - p1` (the distance along `n` unchanged).
+#[inline]
+fn on_normal_line(p1: Vector, p2: Vector, n: Vector) -> (Vector, Vector) {
+    let gap = p2 - p1;
+    let half_offset = (gap - n * gap.dot(n)) * 0.5;
+    (p1 + half_offset, p2 - half_offset)
+}
+
 impl Output<'_> {
     /// Convert one contact to our types, if closer than the envelope.
     ///
@@ -360,11 +379,8 @@ impl Output<'_> {
         if distance.is_nan() || distance >= self.envelope {
             return;
         }
-        let half_offset = (gap - n * distance) * 0.5;
-        let (point_a, point_b) = (
-            vec_from_glam(p1 + half_offset),
-            vec_from_glam(p2 - half_offset),
-        );
+        let (q1, q2) = on_normal_line(p1, p2, n);
+        let (point_a, point_b) = (vec_from_glam(q1), vec_from_glam(q2));
         let normal = vec_from_glam(n);
         out.push(ContactPoint {
             collider_a: ColliderId(self.a),

@@ -65,4 +65,18 @@ pub(super) fn check_invariants(cs: &[ContactPoint]) {
             (c.collider_a.0, c.collider_b.0)
         );
     }
+    // No contact twice (the same points and normal): a repeated contact is a repeated row
+    // of the CCP (a singular problem, and work for nothing).
+    for (i, a) in cs.iter().enumerate() {
+        for b in &cs[i + 1..] {
+            assert!(
+                a.collider_a != b.collider_a
+                    || a.collider_b != b.collider_b
+                    || (a.point_a - b.point_a).norm() > 1e-6
+                    || (a.point_b - b.point_b).norm() > 1e-6
+                    || (a.normal - b.normal).norm() > 1e-6,
+                "the same contact twice: {a:?} and {b:?}"
+            );
+        }
+    }
 }
