@@ -150,9 +150,8 @@ impl Hubs {
         6 * self.blocks.len()
     }
 
-    /// `U` as `n_B x k` column-major into `self.w` (to be solved in place by the caller into
-    /// `W = N'^-1 U`), handed out and back by [`take_w`](Self::take_w) /
-    /// [`set_w`](Self::set_w).
+    /// `U` as `n_B x k` column-major, in `self.w`'s buffer, for the caller to solve in place
+    /// into `W = N'^-1 U` and hand back by [`set_w`](Self::set_w).
     pub(crate) fn take_u(&mut self) -> Vec<f64> {
         let (nb, k) = (self.nb, self.rank());
         let mut w = std::mem::take(&mut self.w);
