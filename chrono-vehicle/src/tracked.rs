@@ -639,13 +639,8 @@ mod tests {
                     sprocket_contacts += 1;
                 }
                 for b in &cs[i + 1..] {
-                    let b = &b.point;
                     assert!(
-                        a.collider_a != b.collider_a
-                            || a.collider_b != b.collider_b
-                            || (a.point_a - b.point_a).norm() > 1e-6
-                            || (a.point_b - b.point_b).norm() > 1e-6
-                            || (a.normal - b.normal).norm() > 1e-6,
+                        !a.coincides(&b.point, 1e-6),
                         "the same contact twice: {a:?}"
                     );
                 }

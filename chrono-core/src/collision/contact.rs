@@ -91,6 +91,19 @@ pub struct ContactPoint {
     pub radius: f64,
 }
 
+impl ContactPoint {
+    /// True if `other` is the same contact: the same two colliders, both points and the
+    /// normal within `tol` (m; unitless for the normal). A collision step reports no contact
+    /// twice (a repeated contact would be a repeated row of the contact problem).
+    pub fn coincides(&self, other: &ContactPoint, tol: f64) -> bool {
+        self.collider_a == other.collider_a
+            && self.collider_b == other.collider_b
+            && (self.point_a - other.point_a).norm() <= tol
+            && (self.point_b - other.point_b).norm() <= tol
+            && (self.normal - other.normal).norm() <= tol
+    }
+}
+
 /// Effective radius `1/(1/a + 1/b)` of two curvature radii (m); infinite radii are flat.
 #[inline]
 pub fn effective_radius(a: f64, b: f64) -> f64 {

@@ -70,11 +70,7 @@ pub(super) fn check_invariants(cs: &[ContactPoint]) {
     for (i, a) in cs.iter().enumerate() {
         for b in &cs[i + 1..] {
             assert!(
-                a.collider_a != b.collider_a
-                    || a.collider_b != b.collider_b
-                    || (a.point_a - b.point_a).norm() > 1e-6
-                    || (a.point_b - b.point_b).norm() > 1e-6
-                    || (a.normal - b.normal).norm() > 1e-6,
+                !a.coincides(b, 1e-6),
                 "the same contact twice: {a:?} and {b:?}"
             );
         }
