@@ -36,7 +36,7 @@
 
 use chrono_ccp::CcpSolver;
 use chrono_core::math::{Isometry3, Vector3};
-use chrono_core::{BodyHandle, System, SystemSettings};
+use chrono_core::{BodyHandle, ContactMethod, System, SystemSettings};
 
 use crate::error::{Result, VehicleError, check_non_negative, check_positive};
 use crate::hull::lateral_reach;
@@ -193,23 +193,38 @@ impl TrackedGranularScene {
         Ok(self.patch.surface() - sum / shoes.len() as f64)
     }
 
-    /// Grains against shoes in the last SMC step ([`System::smc_contacts`]): the largest
-    /// overlap of a grain into a shoe (plate or pin end), m, and the number of those contacts.
-    /// A grain whose overlap reaches its radius has its centre inside the shoe: it is
-    /// passing through. (NSC steps have no SMC contacts: use
-    /// [`grains_inside_shoes`](Self::grains_inside_shoes).)
+    /// Grains against shoes in the last step: the largest penetration of a grain into a shoe
+    /// (plate or pin end), m, and the number of those contacts. With SMC these are the
+    /// penalty contacts' overlaps ([`System::smc_contacts`]); with NSC the contact rows'
+    /// penetrations `-distance` ([`System::contacts`], found at the step's start, before the
+    /// solve separates them; a contact inside the envelope that does not touch counts with
+    /// a penetration <= 0). A grain whose penetration reaches its radius has its centre inside
+    /// the shoe: it is passing through. See also
+    /// [`grains_inside_shoes`](Self::grains_inside_shoes), which does not depend on the
+    /// contact method.
     pub fn grain_shoe_overlap(&self, is_shoe: &[bool], is_grain: &[bool]) -> (f64, usize) {
+        let pair = |x: u32, y: u32| {
+            is_shoe.get(x as usize).copied().unwrap_or(false)
+                && is_grain.get(y as usize).copied().unwrap_or(false)
+        };
         let mut max = 0.0_f64;
         let mut n = 0;
-        for c in self.sys.smc_contacts() {
-            let (a, b) = (c.owner_a as usize, c.owner_b as usize);
-            let pair = |x: usize, y: usize| {
-                is_shoe.get(x).copied().unwrap_or(false)
-                    && is_grain.get(y).copied().unwrap_or(false)
-            };
+        let mut add = |a: u32, b: u32, overlap: f64| {
             if pair(a, b) || pair(b, a) {
                 n += 1;
-                max = max.max(c.overlap);
+                max = max.max(overlap);
+            }
+        };
+        match self.sys.settings().contact_method {
+            ContactMethod::Smc => {
+                for c in self.sys.smc_contacts() {
+                    add(c.owner_a, c.owner_b, c.overlap);
+                }
+            }
+            ContactMethod::Nsc => {
+                for c in self.sys.contacts() {
+                    add(c.point.owner_a, c.point.owner_b, -c.point.distance);
+                }
             }
         }
         (max, n)
@@ -272,7 +287,6 @@ impl TrackedGranularScene {
 mod tests {
     use super::*;
     use crate::m113::m113_data;
-    use chrono_core::ContactMethod;
 
     fn patch() -> GranularPatchParams {
         GranularPatchParams {
