@@ -9,29 +9,38 @@
 //! while a PI speed controller (`chrono_vehicle::driver::SpeedController`) holds `speed`.
 //! The shift schedule watches the turbine speed (as in `m113-turn` and `m113-step`).
 //!
-//! Contact is SMC throughout (`method`; NSC grains need the heavy-on-light solver of issue
-//! 27 and are refused): grain on grain, grain on shoe and the vehicle's own contacts (shoe
-//! on road wheel, pin on sprocket) are Hertz penalty forces from the materials (the grains'
-//! from the parameters below, the same as `hmmwv-granular`'s; the vehicle's from
-//! `data/m113.json`, every value with its source there); the pin joints, the suspension's
-//! joints and the driveline's shafts are rows of the CCP (Schur solver). `h` = 2.5e-4 s:
-//! the step `hmmwv-granular` found stable for these grains.
+//! Contact is SMC by default (`method`). With SMC, grain on grain, grain on shoe and the
+//! vehicle's own contacts (shoe on road wheel, pin on sprocket) are Hertz penalty forces from
+//! the materials (the grains' from the parameters below, the same as `hmmwv-granular`'s; the
+//! vehicle's from `data/m113.json`, every value with its source there); the pin joints, the
+//! suspension's joints and the driveline's shafts are rows of the CCP (Schur solver).
+//! `h` = 2.5e-4 s ([`SMC_H`]): the step `hmmwv-granular` found stable for these grains.
+//!
+//! With `method = nsc` every contact is a complementarity row of the CCP beside the joints
+//! (Anitescu-Tasora; the same materials: friction, rolling friction, grain size and
+//! density; only the contact law differs). Under the loaded tracks that is a heavy-on-light
+//! problem (18 kg shoes and a 10 t chassis on 0.67 kg grains), solved by `local-direct`
+//! (`chrono_ccp::LocalDirect`: the rows around the shoes and wheels by ADMM, the rest by
+//! APGD), at `h` = [`NSC_H`]. Measured runs, the step's choice and the cost are in
+//! `docs/validation-vehicle.md` ("`m113-granular` by NSC").
 //!
 //! Checks:
 //! - the mean forward speed from `t_start` s after the start to the end within 10 % of
 //!   `speed` (the speed controller's job on this ground);
 //! - no grain passes through a shoe: no grain centre ever inside a shoe's plate
 //!   (`grains_inside_shoes`, counted geometrically every `inside_every` steps), and the
-//!   largest SMC overlap of a grain into a shoe, checked every step, stays below the grain
-//!   radius (at that overlap its centre reaches the plate's face);
+//!   largest penetration of a grain into a shoe, checked every step (SMC: the penalty
+//!   overlap; NSC: the contact rows' `-distance` at the step's start), stays below the grain
+//!   radius (at that depth its centre reaches the plate's face);
 //! - no instability: a diverging body stops the system with an error naming the body and the
 //!   step; the case also stops with an error naming the chassis and the step if it tilts
 //!   past 45 deg or leaves the bed by more than a metre.
 //!
 //! Reported: sinkage (settled surface minus the lower runs' ground faces, mean of the second
 //! half of the drive), slip `1 - v / (w r_p)` (track speed from the sprockets' spin against
-//! the vehicle's), grain count and relocations, joint drift, wall time, steps/s and the
-//! CCP share.
+//! the vehicle's), grain count and relocations, joint drift, wall time, steps/s, the CCP
+//! share and the CCP's convergence (largest residual, unconverged steps, mean iterations
+//! and products per step).
 
 use std::sync::atomic::Ordering;
 use std::time::Instant;
@@ -171,7 +180,7 @@ impl CaseParams for M113GranularParams {
         ParamInfo::new(
             "h",
             "s",
-            "time step (0: the method's, 2.5e-4 SMC, NSC_H NSC)",
+            "time step (0: the method's, 2.5e-4 smc, 1e-3 nsc)",
         ),
         ParamInfo::new("settle", "s", "settling time of the bed"),
         ParamInfo::new(
@@ -536,8 +545,8 @@ fn run(p: &M113GranularParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         "M113A1 on {} {} grains ({} m, h = {h} s, solver {}): mean speed {mean_speed:.3} m/s after {} s (target {}), \
          track speed {track_speed:.3} m/s (slip {slip:.3}), sinkage {sinkage:.4} m, {distance:.2} m \
          in {} s with {} relocations; largest grain overlap into a shoe {:.2e} m ({:.3} r), \
-         grains inside shoes {max_inside}; joint drift {max_violation:.1e} m; {:.0} steps/s \
-         ({:.3} x real time), CCP {:.0} %",
+         grains inside shoes {max_inside}; joint drift {max_violation:.1e} m; {:.3} steps/s \
+         ({:.2e} x real time), CCP {:.0} %",
         scene.patch.grains().len(),
         if p.method == ContactMethod::Nsc {
             "NSC"
@@ -578,4 +587,76 @@ pub fn case() -> Box<dyn Case> {
          sinkage, slip, wall time reported.",
         run,
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn each_method_gets_its_step_and_solver_unless_set() {
+        let smc = resolve(&M113GranularParams::default()).unwrap();
+        assert_eq!(
+            smc,
+            Resolved {
+                h: SMC_H,
+                solver: "schur".into(),
+                tolerance: SMC_TOLERANCE,
+                max_iterations: SMC_MAX_ITERATIONS,
+            }
+        );
+        let nsc = M113GranularParams {
+            method: ContactMethod::Nsc,
+            ..Default::default()
+        };
+        let r = resolve(&nsc).unwrap();
+        assert_eq!((r.h, r.solver.as_str()), (NSC_H, "local-direct"));
+        assert_eq!(
+            (r.tolerance, r.max_iterations),
+            (NSC_TOLERANCE, NSC_MAX_ITERATIONS)
+        );
+        let set = M113GranularParams {
+            h: 5e-4,
+            solver: "schur".into(),
+            tolerance: 1e-4,
+            max_iterations: 200,
+            ..nsc
+        };
+        let r = resolve(&set).unwrap();
+        assert_eq!(
+            (r.h, r.solver.as_str(), r.tolerance, r.max_iterations),
+            (5e-4, "schur", 1e-4, 200)
+        );
+    }
+
+    #[test]
+    fn bad_input_names_the_parameter() {
+        let err = |p: M113GranularParams| format!("{:#}", resolve(&p).unwrap_err());
+        let e = err(M113GranularParams {
+            method: ContactMethod::Nsc,
+            solver: "gauss".into(),
+            ..Default::default()
+        });
+        assert!(e.contains("`solver`") && e.contains("gauss"), "{e}");
+        assert!(e.contains("local-direct"), "{e}");
+        let e = err(M113GranularParams {
+            h: -1e-3,
+            ..Default::default()
+        });
+        assert!(e.contains("`h`"), "{e}");
+        let e = err(M113GranularParams {
+            tolerance: f64::NAN,
+            ..Default::default()
+        });
+        assert!(e.contains("`tolerance`"), "{e}");
+        let e = format!(
+            "{:#}",
+            validate(&M113GranularParams {
+                t_start: 2.0,
+                ..Default::default()
+            })
+            .unwrap_err()
+        );
+        assert!(e.contains("`t_start`"), "{e}");
+    }
 }
