@@ -583,8 +583,8 @@ pub fn case() -> Box<dyn Case> {
         "m113-granular",
         "vehicle",
         "M113A1 (shoe by shoe, powertrain) holding 2 m/s with a speed controller on a moving \
-         patch of SMC grains: mean speed within 10 %, no grain through a shoe, no instability; \
-         sinkage, slip, wall time reported.",
+         patch of SMC grains (`--set method=nsc`: NSC grains, local-direct solver): mean speed \
+         within 10 %, no grain through a shoe, no instability; sinkage, slip, wall time reported.",
         run,
     )
 }
