@@ -130,7 +130,7 @@ impl Schur {
             max_dense_rows: 1500,
             b_rows: Vec::new(),
             c_rows: Vec::new(),
-            factor: SparseBilateral::default(),
+            factor: SparseBilateral::with_hubs(),
             nbc: Vec::new(),
             x: Vec::new(),
             s: Vec::new(),

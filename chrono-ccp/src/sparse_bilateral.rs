@@ -55,12 +55,24 @@ pub(crate) struct SparseBilateral {
     /// Set when the factor without the hubs was singular for this pattern (the hubs held
     /// fixed over-constrain another body): the pattern is then factored whole.
     no_hubs: bool,
+    /// Whether hubs are looked for at all ([`with_hubs`](Self::with_hubs)): the Schur
+    /// solver's joint block, not ADMM's whole-problem blocks (many heavy bodies with
+    /// contact rows, unmeasured there).
+    hubs_enabled: bool,
 }
 
 /// Iterative-refinement steps of a solve with a regularized factor.
 const REFINE_STEPS: usize = 4;
 
 impl SparseBilateral {
+    /// A factorization that keeps hub bodies out of the sparse factor (`crate::hubs`).
+    pub(crate) fn with_hubs() -> Self {
+        Self {
+            hubs_enabled: true,
+            ..Self::default()
+        }
+    }
+
     /// Assemble `N_BB` for the bilateral rows `b_rows` of `problem` and factor it.
     /// Returns an error text if the factorization failed (not expected for a PSD matrix
     /// with regularization; the caller falls back).
@@ -186,7 +198,7 @@ impl SparseBilateral {
             }
         }
         // A hub's rows would be a dense clique: left out of the pattern (`crate::hubs`).
-        let hub = if self.no_hubs {
+        let hub = if self.no_hubs || !self.hubs_enabled {
             self.hubs.clear();
             vec![false; by_block.len()]
         } else {
@@ -458,7 +470,7 @@ mod tests {
             let p = star(n, over, seed);
             let rows: Vec<usize> = p.sections().bilateral.clone().collect();
             let nb = rows.len();
-            let mut f = SparseBilateral::default();
+            let mut f = SparseBilateral::with_hubs();
             f.factor(&p, &rows).unwrap();
             // Kept out where the rest stays regular; factored whole where it does not.
             assert_eq!(f.hubs.is_empty(), over, "n {n}, over {over}");
