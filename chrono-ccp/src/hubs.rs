@@ -54,6 +54,9 @@ pub(crate) struct Hubs {
     pivots: Vec<usize>,
     /// Scratch of length `k`.
     z: Vec<f64>,
+    /// Scratch for the check of `W`: a copy of `U` and one column of `N' W`.
+    u_copy: Vec<f64>,
+    column: Vec<f64>,
     nb: usize,
 }
 
@@ -175,7 +178,26 @@ impl Hubs {
                 w[(6 * h as usize + c) * nb + a as usize] = self.u[s][c];
             }
         }
+        self.u_copy.clear();
+        self.u_copy.extend_from_slice(&w);
         w
+    }
+
+    /// True if `w` solves `N' W = U` to round-off (`mul(x, out)`: `out += N' x`), i.e. the
+    /// factor of `N'` was not regularized (`U` as last handed out by
+    /// [`take_u`](Self::take_u)).
+    pub(crate) fn solves_u(&mut self, w: &[f64], mul: impl Fn(&[f64], &mut [f64])) -> bool {
+        let nb = self.nb;
+        let mut exact = true;
+        for (wc, uc) in w.chunks(nb).zip(self.u_copy.chunks(nb)) {
+            self.column.clear();
+            self.column.resize(nb, 0.0);
+            mul(wc, &mut self.column);
+            let scale = uc.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            let err = (self.column.iter().zip(uc)).fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+            exact &= err <= 1e-9 * scale;
+        }
+        exact
     }
 
     /// Keep `W = N'^-1 U` and factor the capacitance `I + V'W`.

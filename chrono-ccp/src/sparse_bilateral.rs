@@ -158,24 +158,14 @@ impl SparseBilateral {
             // singular, its regularized factor does not solve `N' W = U`, and the pattern
             // is factored whole instead.
             let mut w = self.hubs.take_u();
-            let u = w.clone();
             let k = self.hubs.rank();
             self.solve_plain(&mut w, k);
-            let nb = b_rows.len();
-            let mut exact = true;
-            if let Some(upper) = &self.upper {
-                let mut nw = vec![0.0; nb];
-                for (wc, uc) in w.chunks(nb).zip(u.chunks(nb)) {
-                    nw.iter_mut().for_each(|v| *v = 0.0);
-                    symmetric_upper_mul_add(upper, wc, &mut nw);
-                    let scale = uc.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-                    let err = nw
-                        .iter()
-                        .zip(uc)
-                        .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
-                    exact &= err <= 1e-9 * scale;
-                }
-            }
+            let exact = match &self.upper {
+                Some(upper) => self
+                    .hubs
+                    .solves_u(&w, |x, out| symmetric_upper_mul_add(upper, x, out)),
+                None => true,
+            };
             if !exact {
                 self.hubs.set_w(w);
                 self.no_hubs = true;

@@ -28,9 +28,8 @@ fn system() -> System {
     .unwrap()
 }
 
-/// A body of mass `m` on a linear actuator along world z (no drive) from a fixed ground,
-/// with the axis spring `sp`. Returns the system, the body and the joint.
-fn slider(m: f64, sp: AxisSpring) -> (System, chrono_core::BodyHandle, JointHandle) {
+/// A system with a fixed ground and a free body of mass `m` (small inertia).
+fn ground_and_body(m: f64) -> (System, chrono_core::BodyHandle, chrono_core::BodyHandle) {
     let mut sys = system();
     let ground = sys.add_body(RigidBodyBuilder::fixed()).unwrap();
     let b = sys
@@ -40,6 +39,13 @@ fn slider(m: f64, sp: AxisSpring) -> (System, chrono_core::BodyHandle, JointHand
                 .inertia_diagonal(Vector3::new(0.1, 0.1, 0.1)),
         )
         .unwrap();
+    (sys, ground, b)
+}
+
+/// A body of mass `m` on a linear actuator along world z (no drive) from a fixed ground,
+/// with the axis spring `sp`. Returns the system, the body and the joint.
+fn slider(m: f64, sp: AxisSpring) -> (System, chrono_core::BodyHandle, JointHandle) {
+    let (mut sys, ground, b) = ground_and_body(m);
     let kind = JointKind::LinearActuator {
         drive: Drive::Effort(0.0),
         max_force: f64::INFINITY,
@@ -132,15 +138,7 @@ fn the_axis_spring_is_stable_where_the_explicit_element_diverges() {
     assert!((prev - f0 / k).abs() < 1e-6 * f0 / k, "settled at {prev}");
 
     // The same spring as a force element (explicit): diverges.
-    let mut sys = system();
-    let ground = sys.add_body(RigidBodyBuilder::fixed()).unwrap();
-    let b = sys
-        .add_body(
-            RigidBodyBuilder::dynamic()
-                .mass(m)
-                .inertia_diagonal(Vector3::new(0.1, 0.1, 0.1)),
-        )
-        .unwrap();
+    let (mut sys, ground, b) = ground_and_body(m);
     let kind = JointKind::Prismatic;
     sys.add_joint(JointBuilder::at_axis(
         kind,
