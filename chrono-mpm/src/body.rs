@@ -474,8 +474,6 @@ impl MpmBody {
     /// ghosts' mass and momentum are folded into the nodes they mirror
     /// ([`crate::fold`]: 0.044 % with the folded image).
     pub(crate) fn grid_update(&mut self, dt: f64) {
-        let spec = self.spec;
-        let nb = spec.blocks();
         let g = self.settings.gravity;
         // Momenta with gravity's impulse, then the walls' ghosts folded into their mirror
         // nodes (`crate::fold`).
@@ -491,6 +489,15 @@ impl MpmBody {
                     }
                 }
             });
+        self.grid_velocities(true);
+    }
+
+    /// The nodes' momenta (in `grid.mom`, mass in `grid.mass`) to velocities under the wall
+    /// conditions (see [`Self::grid_update`]): the walls' ghosts folded, the velocities with
+    /// each node's wall condition, the rigid bodies' nodes (`rigid`), the ghosts' images.
+    pub(crate) fn grid_velocities(&mut self, rigid: bool) {
+        let spec = self.spec;
+        let nb = spec.blocks();
         let mut mom = std::mem::take(&mut self.grid.mom);
         let mut prev = std::mem::take(&mut self.grid.prev);
         let mut fmass = std::mem::take(&mut self.grid.fmass);
@@ -520,7 +527,7 @@ impl MpmBody {
                     mom[l] = v;
                 }
             });
-        if !self.rigid.is_empty() {
+        if rigid && !self.rigid.is_empty() {
             self.rigid_update();
         }
         // The ghost nodes: images of the updated nodes inside.

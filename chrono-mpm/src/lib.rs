@@ -76,6 +76,6 @@ pub use material::{
     CriticalStateSand, DruckerPrager, Elasticity, FixedCorotated, Material, MuI, SnowHardening,
     VonMises,
 };
-pub use pressure::{PressureRows, PressureSettings, RowsNorm};
+pub use pressure::{PressureRows, PressureSettings, RowsNorm, StrainFrom};
 pub use rigid::{Contact, RigidBody, Shape};
 pub use timings::StepTimings;

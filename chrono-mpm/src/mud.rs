@@ -32,7 +32,7 @@ use crate::body::{MpmBody, MpmSettings};
 use crate::error::{Result, invalid, positive};
 use crate::grid::{GridSpec, Wall};
 use crate::material::{FixedCorotated, Material, SnowHardening};
-use crate::pressure::{PressureSettings, RowsNorm};
+use crate::pressure::{PressureSettings, RowsNorm, StrainFrom};
 
 /// Empty grid cells above the bed (room for the surface's motion).
 const ROOM_CELLS: usize = 2;
@@ -76,6 +76,9 @@ pub struct MudSpec {
     /// ([`PressureSettings::volume_from_rows`]; off in [`MudSpec::seed`]: without it `J`
     /// drifts next to the walls, with it the rows' pressure grows faster, `docs/mpm.md`).
     pub volume_from_rows: bool,
+    /// The velocity field whose gradient updates `F_E` ([`StrainFrom`]; the seed's
+    /// [`StrainFrom::FinalGrid`], as Chrono::Multicore's MPM).
+    pub strain_from: StrainFrom,
 }
 
 impl MudSpec {
@@ -99,6 +102,7 @@ impl MudSpec {
             tolerance_norm: RowsNorm::L2,
             max_iterations: 1000,
             volume_from_rows: false,
+            strain_from: StrainFrom::FinalGrid,
         }
     }
 
@@ -209,6 +213,7 @@ impl MudBed {
             tolerance_norm: spec.tolerance_norm,
             max_iterations: spec.max_iterations,
             volume_from_rows: spec.volume_from_rows,
+            strain_from: spec.strain_from,
             ..PressureSettings::default()
         };
         rows.validate()?;

@@ -41,7 +41,7 @@ pub use crate::row_markers::{box_slab_markers, lattice_gradient_moment, slab_wal
 use crate::timings::lap;
 
 mod settings;
-pub use settings::{PressureSettings, RowsNorm};
+pub use settings::{PressureSettings, RowsNorm, StrainFrom};
 
 /// The pressure rows of an MPM body in the split mode (see the module documentation).
 #[derive(Clone, Debug)]
@@ -677,7 +677,8 @@ impl PressureRows {
             });
     }
 
-    /// Scales each marker's increment `dF_p` (after [`Self::add_velocity_gradient`]) so
+    /// Scales each marker's increment `dF_p` (after the step's strain increment,
+    /// [`StrainFrom`]) so
     /// that the trial `J = det(dF_p F_E F_P)` is the rows' volume ratio at the step's
     /// start, `rho_0 / rho_p`: `dF_p <- (J_rows / J_trial)^(1/3) dF_p`, an isotropic
     /// factor, so the deviatoric part of the increment is kept (as F-bar with the rows'
@@ -714,7 +715,10 @@ impl PressureRows {
     /// exact for a linear field on a full support. Without it `F_E` would follow the grid's
     /// velocity before the pressure, and at rest under gravity keep compressing next to a
     /// floor (the grid's `g dt` above a node held at 0, removed by the rows every step).
-    /// Call after [`solve`](Self::solve), before the positions move.
+    /// Used with [`StrainFrom::GridPlusRows`] only: the B-spline and SPH gradients do not
+    /// cancel next to a wall, so a bed at rest still strains (`docs/mpm.md`, "The mud
+    /// bench"); the default is [`StrainFrom::FinalGrid`]. Call after
+    /// [`solve`](Self::solve), before the positions move.
     pub fn add_velocity_gradient(&self, dt: f64, df: &mut [nalgebra::Matrix3<f64>]) {
         let n = self.dv.len();
         let v = self.kernel_mass / self.settings.rest_density;

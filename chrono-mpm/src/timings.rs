@@ -24,7 +24,8 @@ pub struct StepTimings {
     /// The split's rows, solve: APGD, s.
     pub rows_solve: f64,
     /// The split's rows, after the solve: velocities back to the markers, the walls'
-    /// friction, the pressure and its kernel average, the rows' share of `dF`, s.
+    /// friction, the pressure and its kernel average, the strain increment `dF` from the
+    /// final velocities ([`crate::StrainFrom`]), s.
     pub rows_post: f64,
     /// The constitutive update: F-bar (when set) and the return mapping, s.
     pub constitutive: f64,

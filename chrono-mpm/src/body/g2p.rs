@@ -5,6 +5,7 @@
 
 use super::*;
 use crate::fbar;
+use crate::pressure::StrainFrom;
 
 impl MpmBody {
     /// Grid to particle: velocity, affine matrix, deformation gradient (with the F-bar
@@ -26,9 +27,16 @@ impl MpmBody {
                 self.time,
             )?;
             t = Instant::now();
-            rows.add_velocity_gradient(dt, &mut self.df);
-            rows.match_volume(&self.markers, &mut self.df);
-            lap(&mut t, &mut rows.timing[2]);
+            let from = rows.settings().strain_from;
+            if from == StrainFrom::GridPlusRows {
+                rows.add_velocity_gradient(dt, &mut self.df);
+            } else {
+                self.strain_from_final_velocities(dt);
+            }
+            if let Some(rows) = self.pressure.as_mut() {
+                rows.match_volume(&self.markers, &mut self.df);
+                lap(&mut t, &mut rows.timing[2]);
+            }
         }
         let mode = self.settings.f_bar;
         if matches!(mode, FBar::Increment | FBar::Total) {
@@ -93,6 +101,46 @@ impl MpmBody {
                     vp
                 };
                 *c = bp * dinv;
+                *df = Matrix3::identity() + grad_v * dt;
+            });
+    }
+
+    /// The split's increment `dF_p = I + dt sum_i v_i grad w_ip'` from the step's *final*
+    /// velocities ([`StrainFrom::FinalGrid`]): the markers' velocities after the rows,
+    /// rasterized by mass (`v_i = sum_p w_ip m_p v_p / m_i`, no affine part, so markers at
+    /// rest give a grid at rest), under the walls' conditions (no gravity, the rigid
+    /// bodies' nodes left as the markers carry them). The grid's gradient is the adjoint of
+    /// the grid's stress divergence, as in plain MPM; the markers have not moved yet, so
+    /// the stencils and the nodes' masses are those of this step's P2G.
+    pub(crate) fn strain_from_final_velocities(&mut self, dt: f64) {
+        let mk = &self.markers;
+        let sorted = &self.grid.sorted;
+        self.scratch
+            .par_iter_mut()
+            .with_min_len(MARKERS_PER_TASK)
+            .enumerate()
+            .for_each(|(s, d)| {
+                let p = sorted[s].1 as usize;
+                d.mv = (mk.v[p] * d.m).into();
+                d.mc = [[0.0; 3]; 3];
+            });
+        let (nb, dx, origin) = (self.spec.blocks(), self.spec.dx, self.spec.origin);
+        let mut mom = std::mem::take(&mut self.grid.mom);
+        transfer_gather(&self.grid, &self.scratch, nb, dx, &mut mom);
+        self.grid.mom = mom;
+        self.grid_velocities(false);
+        let grid = &self.grid;
+        self.markers
+            .x
+            .par_iter()
+            .zip(self.df.par_iter_mut())
+            .with_min_len(MARKERS_PER_TASK)
+            .for_each(|(x, df)| {
+                let st = Stencil::new((*x).into(), origin, dx);
+                let mut grad_v = Matrix3::zeros();
+                fbar::for_stencil_nodes(grid, nb, &st, |o, node| {
+                    grad_v += Vector3::from(grid.mom[node]) * Vector3::from(st.grad(o)).transpose();
+                });
                 *df = Matrix3::identity() + grad_v * dt;
             });
     }

@@ -14,6 +14,23 @@ pub enum RowsNorm {
     L2,
 }
 
+/// Which velocity field updates the markers' `F_E` in the split.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum StrainFrom {
+    /// The markers' final velocities (after the rows) rasterized to the grid by mass
+    /// (PIC), under the wall conditions, and their B-spline gradient: `F_E` moves only if
+    /// the markers do, so a bed at rest keeps its stress (Chrono::Multicore's MPM also
+    /// updates `F_E` from the rasterized marker velocities, our reference notes sec. 5).
+    #[default]
+    FinalGrid,
+    /// The grid's velocity before the rows plus the SPH gradient of the rows' velocity
+    /// change ([`PressureRows::add_velocity_gradient`](super::PressureRows::add_velocity_gradient)):
+    /// the two gradients are different discretizations and do not cancel next to a wall,
+    /// so a bed at rest strains by `~ g dt^2 / dx` per step without moving (the growing
+    /// mode of `docs/mpm.md`, "The mud bench"). Kept for comparison.
+    GridPlusRows,
+}
+
 /// Settings of the split's pressure rows.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PressureSettings {
@@ -51,6 +68,8 @@ pub struct PressureSettings {
     /// while the rows hold the density to 1e-5, and a hardening material stiffens from
     /// it). Off by default (the existing cases' behaviour).
     pub volume_from_rows: bool,
+    /// The velocity field whose gradient updates `F_E` ([`StrainFrom`]).
+    pub strain_from: StrainFrom,
 }
 
 impl Default for PressureSettings {
@@ -67,6 +86,7 @@ impl Default for PressureSettings {
             max_iterations: 500,
             warm_start_factor: 1.0,
             volume_from_rows: false,
+            strain_from: StrainFrom::FinalGrid,
         }
     }
 }

@@ -20,14 +20,25 @@
 
 use std::time::Instant;
 
-use chrono_mpm::RowsNorm;
 use chrono_mpm::material::SnowHardening;
 use chrono_mpm::mud::{MudBed, MudSpec};
+use chrono_mpm::{RowsNorm, StrainFrom};
 use serde::{Deserialize, Serialize};
 
 use crate::case::{Case, CaseOutput, Mode, RunContext};
 use crate::cases::cfluid::incompressibility::ToleranceNorm;
 use crate::params::{CaseParams, ParamCase, ParamInfo};
+
+/// The velocity field of the markers' strain update (parameter `strain_from`;
+/// [`StrainFrom`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Strain {
+    /// The markers' final velocities rasterized to the grid (the default).
+    FinalGrid,
+    /// The grid's velocity before the rows plus the rows' SPH share (the earlier form).
+    GridPlusRows,
+}
 
 /// The seed's rate: 1 426 663 markers, 12 s at dt 1e-3 in 30 h, marker-steps/s.
 pub const SEED_MARKER_STEPS_PER_S: f64 = 1_426_663.0 * 12_000.0 / (30.0 * 3600.0);
@@ -77,6 +88,8 @@ pub struct SettleBenchParams {
     pub block_fraction: f64,
     /// The markers' volume ratio from the rows' density (`PressureSettings::volume_from_rows`).
     pub volume_from_rows: bool,
+    /// The velocity field of the markers' strain update.
+    pub strain_from: Strain,
 }
 
 impl Default for SettleBenchParams {
@@ -103,6 +116,7 @@ impl Default for SettleBenchParams {
             aspect: s.aspect,
             block_fraction: s.block_fraction,
             volume_from_rows: s.volume_from_rows,
+            strain_from: Strain::FinalGrid,
         }
     }
 }
@@ -149,6 +163,12 @@ impl CaseParams for SettleBenchParams {
             "-",
             "markers' J set to the rows' rho_0 / rho each step (default false)",
         ),
+        ParamInfo::new(
+            "strain_from",
+            "-",
+            "F_E's velocity field: final_grid (markers' final velocities on the grid) or \
+             grid_plus_rows (the grid's before the rows plus the rows' SPH share)",
+        ),
     ];
     fn apply_mode(&mut self, mode: Mode) {
         if mode == Mode::Quick {
@@ -192,6 +212,10 @@ fn run(p: &SettleBenchParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         },
         max_iterations: p.max_iterations,
         volume_from_rows: p.volume_from_rows,
+        strain_from: match p.strain_from {
+            Strain::FinalGrid => StrainFrom::FinalGrid,
+            Strain::GridPlusRows => StrainFrom::GridPlusRows,
+        },
     };
     let t_build = Instant::now();
     let mut bed = MudBed::new(spec)?;
