@@ -19,10 +19,37 @@ pub struct SpinParams {
     pub spin: f64,
     /// Relative perturbation about the other two axes.
     pub perturbation: f64,
-    /// Time step, s.
+    /// Time step, s (0: [`SpinParams::step`]).
     pub h: f64,
-    /// Simulated time, s.
+    /// Simulated time, s (0: [`SpinParams::duration`]).
     pub t_end: f64,
+    /// The automatic duration's time at the default spin, s (20; 10 in `--quick`).
+    pub t_ref: f64,
+}
+
+/// The default run's spin rate, rad/s: the reference of the automatic step and duration.
+const SPIN_REF: f64 = 2.0;
+
+impl SpinParams {
+    /// The time step: `h` if set, else `1e-3 min(1, 2 / |spin|)` s, so that `h |w|` stays
+    /// at most the default run's (2e-3): the first-order step's energy error per flip is
+    /// `O(h w)`.
+    pub fn step(&self) -> f64 {
+        if self.h != 0.0 {
+            return self.h;
+        }
+        1e-3 * (SPIN_REF / self.spin.abs()).min(1.0)
+    }
+
+    /// The simulated time: `t_end` if set, else `t_ref * 2 / |spin|` (`t_ref` 20 s, 10 s
+    /// in `--quick`): the same number of flips as the default run at any spin (the flip
+    /// period scales as `1 / |w|`).
+    pub fn duration(&self) -> f64 {
+        if self.t_end != 0.0 {
+            return self.t_end;
+        }
+        self.t_ref * SPIN_REF / self.spin.abs()
+    }
 }
 
 impl Default for SpinParams {
@@ -30,8 +57,9 @@ impl Default for SpinParams {
         Self {
             spin: 2.0,
             perturbation: 0.01,
-            h: 1e-3,
-            t_end: 20.0,
+            h: 0.0,
+            t_end: 0.0,
+            t_ref: 20.0,
         }
     }
 }
@@ -44,23 +72,38 @@ impl CaseParams for SpinParams {
             "-",
             "relative perturbation about the other axes",
         ),
-        ParamInfo::new("h", "s", "time step"),
-        ParamInfo::new("t_end", "s", "simulated time"),
+        ParamInfo::new(
+            "h",
+            "s",
+            "time step (0: 1 ms, times 2 / |spin| above 2 rad/s)",
+        ),
+        ParamInfo::new("t_end", "s", "simulated time (0: t_ref x 2 / |spin|)"),
+        ParamInfo::new(
+            "t_ref",
+            "s",
+            "the automatic simulated time at the default spin 2 rad/s",
+        ),
     ];
     fn apply_mode(&mut self, mode: Mode) {
         if mode == Mode::Quick {
-            self.t_end = 10.0;
+            self.t_ref = 10.0;
         }
     }
 }
 
 fn run(p: &SpinParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
-    let n = n_steps(p.h, p.t_end)?;
     anyhow::ensure!(
         p.spin.is_finite() && p.spin != 0.0,
         "parameter `spin` must be non-zero, got {}",
         p.spin
     );
+    anyhow::ensure!(
+        p.t_ref.is_finite() && p.t_ref > 0.0,
+        "parameter `t_ref` must be > 0, got {}",
+        p.t_ref
+    );
+    let h = p.step();
+    let n = n_steps(h, p.duration())?;
     let mut sys = make_system("psor", 1e-9, 100)?;
     let mut settings = sys.settings().clone();
     settings.gravity = Vector3::zeros();
@@ -79,9 +122,9 @@ fn run(p: &SpinParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     let (mut l_drift, mut e_drift) = (0.0f64, 0.0f64);
     let mut flips = 0usize;
     let mut sign = w0.y.signum();
-    let mut vtk = VtkFrames::new(ctx, (0.05 / p.h).round() as u64);
+    let mut vtk = VtkFrames::new(ctx, (0.05 / h).round().max(1.0) as u64);
     for i in 1..=n {
-        sys.step(p.h)?;
+        sys.step(h)?;
         vtk.record(i, &sys)?;
         let b = sys.body(body)?;
         let w = b.angular_velocity_body();
