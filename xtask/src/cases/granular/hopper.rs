@@ -63,8 +63,12 @@ pub struct HopperParams {
     pub mu: f64,
     /// Rolling friction coefficient (dimensionless, NSC cones `mu_r R`; SMC torque).
     pub rolling_friction: f64,
-    /// Height of the settled fill, m (0: the silo diameter).
+    /// Height of the settled fill, m (0: `fill_orifices` orifice diameters, or the silo
+    /// diameter if that is 0 too).
     pub fill_height: f64,
+    /// Height of the settled fill in orifice diameters when `fill_height` is 0 (0: the silo
+    /// diameter; `--quick` and the default run: 2).
+    pub fill_orifices: f64,
     /// Silo diameter over orifice diameter (at least `D + 10 d`).
     pub silo_ratio: f64,
     /// Contact method: `nsc` or `smc`.
@@ -102,6 +106,7 @@ impl Default for HopperParams {
             mu: 0.3,
             rolling_friction: 0.0,
             fill_height: 0.0,
+            fill_orifices: 0.0,
             silo_ratio: 2.5,
             method: ContactMethod::Nsc,
             density: 2500.0,
@@ -135,7 +140,12 @@ impl CaseParams for HopperParams {
         ParamInfo::new(
             "fill_height",
             "m",
-            "settled fill height (0: the silo diameter)",
+            "settled fill height (0: fill_orifices x the orifice, or the silo diameter)",
+        ),
+        ParamInfo::new(
+            "fill_orifices",
+            "-",
+            "fill height in orifice diameters when fill_height = 0 (0: the silo diameter)",
         ),
         ParamInfo::new(
             "silo_ratio",
@@ -172,12 +182,13 @@ impl CaseParams for HopperParams {
             // runs D = 5, 7.5 and 10 d (3k, 6k, 15k grains) with the full fill, each with
             // seeds 3, 4 and 5; the earlier
             // default, D = 5 and 7.5 d with the full fill, is
-            // `--set 'orifice_diameter=[0.02,0.03]' --set fill_height=0 --set t_transient=0.4
-            // --set t_end=1.2`.
+            // `--set 'orifice_diameter=[0.02,0.03]' --set fill_orifices=0 --set t_transient=0.4
+            // --set t_end=1.2`. The fill is given in orifice diameters (2: 10 d at D = 5 d,
+            // the same bits) so that another orifice keeps its measuring band.
             Mode::Quick | Mode::Default => {
                 self.orifice_diameter = vec![5.0 * self.grain_diameter];
                 self.seed = vec![3];
-                self.fill_height = 10.0 * self.grain_diameter;
+                self.fill_orifices = 2.0;
                 self.t_transient = 0.3;
                 self.t_end = 1.0;
             }
@@ -215,9 +226,21 @@ fn discharge(
     let silo = (p.silo_ratio * orifice).max(orifice + 10.0 * d);
     let fill = if p.fill_height > 0.0 {
         p.fill_height
+    } else if p.fill_orifices > 0.0 {
+        p.fill_orifices * orifice
     } else {
         silo
     };
+    // The measuring band of the bulk density: above the orifice's influence, below the
+    // surface (at 0.8 of the fill height), away from the wall; it must hold 2 grains.
+    let (band_lo, band_r) = (orifice.max(4.0 * d), 0.5 * silo - 2.0 * d);
+    anyhow::ensure!(
+        0.8 * fill > band_lo + 2.0 * d,
+        "parameter `fill_height` / `fill_orifices`: the fill {fill} m is too low to measure \
+         the bulk density between {band_lo} m (the orifice's reach) and 0.8 of the fill: \
+         it must exceed {} m",
+        (band_lo + 2.0 * d) / 0.8
+    );
     let settings = SystemSettings {
         envelope: 0.05 * d,
         smc: SmcSettings::default(),
@@ -248,9 +271,6 @@ fn discharge(
     let mut series = Vec::new();
     let (mut rho_sum, mut rho_n) = (0.0, 0usize);
     let mut recycler = Recycler::new(&sys, &bed, &vessel, d, fill + 2.0 * d)?;
-    // The measuring band of the bulk density: above the orifice's influence, below the
-    // surface (at 0.8 of the fill height), away from the wall.
-    let (band_lo, band_r) = (orifice.max(4.0 * d), 0.5 * silo - 2.0 * d);
     let record_every = ((0.01 / h).round() as u64).max(1);
     for i in 1..=n {
         sys.step(h)?;
