@@ -647,6 +647,8 @@ impl CcpSolver for Psor {
         }
 
         sanitize_and_project(problem, gamma);
+        // the cone blocks are built lazily: once here, before the (parallel) sweeps
+        problem.prepare_cone_blocks();
         self.setup(problem);
         problem.minv_d(gamma, &mut self.w);
         problem.gradient(gamma, &mut self.grad, &mut self.work);

@@ -411,8 +411,15 @@ impl CcpProblem {
             self.scale[start..start + n].fill(inv(mean));
             i = start + n;
         }
+        // The cone blocks (`cone_block`) are built on first use: only PSOR reads them.
+        self.cone_blocks.reset();
+    }
+
+    /// The upper triangles of the diagonal blocks of `N` ([`CcpProblem::cone_block`]'s
+    /// layout) into `blocks`: per section, a fixed-size upper triangle per contact.
+    pub(super) fn fill_cone_blocks(&self, blocks: &mut Vec<f64>) {
+        let par = self.n_rows >= PAR_MIN_ASSEMBLY_ROWS;
         // Cone blocks: per section, a fixed-size upper triangle per contact.
-        let mut blocks = std::mem::take(&mut self.cone_blocks);
         blocks.clear();
         let s = self.sections.clone();
         let sizes = [
@@ -445,7 +452,6 @@ impl CcpProblem {
                 mine.chunks_mut(len).enumerate().for_each(fill);
             }
         }
-        self.cone_blocks = blocks;
     }
 }
 

@@ -141,8 +141,9 @@ pub struct CcpProblem {
     pub(super) mu_rolling: Vec<[f64; 3]>,
     pub(super) mu_per_body: Vec<[f64; 3]>,
     /// Upper triangles of the diagonal blocks of `N`: 6 per triplet, then 21 per rolling
-    /// contact, then 55 per per-body rolling contact (row-major upper triangles).
-    pub(super) cone_blocks: Vec<f64>,
+    /// contact, then 55 per per-body rolling contact (row-major upper triangles); built on
+    /// first use after each assembly ([`CcpProblem::cone_block`]).
+    pub(super) cone_blocks: ConeBlocks,
     pub(super) v_free: Vec<f64>,
     pub(super) sections: Sections,
     pub(super) group_start: [usize; N_GROUPS],
@@ -386,21 +387,31 @@ impl CcpProblem {
     /// contact, 55 for a per-body rolling contact); cached at assembly. `None` if `t` does
     /// not start a cone block.
     pub fn cone_block(&self, t: usize) -> Option<&[f64]> {
+        self.cone_block_in(self.prepare_cone_blocks(), t)
+    }
+
+    /// Builds the cone blocks of [`cone_block`](Self::cone_block) now (else on its first
+    /// call), e.g. before parallel sweeps read them; returns them in their layout.
+    pub fn prepare_cone_blocks(&self) -> &[f64] {
+        self.cone_blocks.get(|buf| self.fill_cone_blocks(buf))
+    }
+
+    fn cone_block_in<'a>(&self, blocks: &'a [f64], t: usize) -> Option<&'a [f64]> {
         let s = &self.sections;
         let nf = s.friction.len() / 3;
         let (pb, n) = (&s.rolling_per_body, PER_BODY_ROWS);
         if pb.contains(&t) && (t - pb.start).is_multiple_of(n) {
             let size = n * (n + 1) / 2;
             let o = 6 * nf + 21 * (s.rolling.len() / 6) + size * ((t - pb.start) / n);
-            return Some(&self.cone_blocks[o..o + size]);
+            return Some(&blocks[o..o + size]);
         }
         if s.friction.contains(&t) && (t - s.friction.start).is_multiple_of(3) {
             let c = (t - s.friction.start) / 3;
-            Some(&self.cone_blocks[6 * c..6 * c + 6])
+            Some(&blocks[6 * c..6 * c + 6])
         } else if s.rolling.contains(&t) && (t - s.rolling.start).is_multiple_of(6) {
             let c = (t - s.rolling.start) / 6;
             let o = 6 * nf + 21 * c;
-            Some(&self.cone_blocks[o..o + 21])
+            Some(&blocks[o..o + 21])
         } else {
             None
         }
@@ -667,5 +678,43 @@ impl CcpProblem {
         }
         let k: Vec<f64> = self.k.iter().zip(&dv).map(|(a, b)| a + b).collect();
         out.assemble(&self.vars, rows, &k)
+    }
+}
+
+/// The lazily built cone blocks of a [`CcpProblem`]: filled on the first
+/// [`CcpProblem::cone_block`] after an assembly, from a buffer kept across assemblies (no
+/// allocation per step once warm). Thread-safe: concurrent first calls build once.
+#[derive(Debug, Default)]
+pub(super) struct ConeBlocks {
+    built: std::sync::OnceLock<Vec<f64>>,
+    spare: std::sync::Mutex<Vec<f64>>,
+}
+
+impl Clone for ConeBlocks {
+    fn clone(&self) -> Self {
+        let c = Self::default();
+        if let Some(v) = self.built.get() {
+            let _ = c.built.set(v.clone());
+        }
+        c
+    }
+}
+
+impl ConeBlocks {
+    /// Forgets the blocks (a new assembly), keeping their buffer.
+    pub(super) fn reset(&mut self) {
+        if let Some(v) = self.built.take() {
+            *self.spare.get_mut().unwrap_or_else(|e| e.into_inner()) = v;
+        }
+    }
+
+    /// The blocks, built by `fill` into the kept buffer on the first call.
+    pub(super) fn get(&self, fill: impl FnOnce(&mut Vec<f64>)) -> &[f64] {
+        self.built.get_or_init(|| {
+            let mut buf =
+                std::mem::take(&mut *self.spare.lock().unwrap_or_else(|e| e.into_inner()));
+            fill(&mut buf);
+            buf
+        })
     }
 }
