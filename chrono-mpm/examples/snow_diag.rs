@@ -45,7 +45,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             let j_u = 1.0 - s;
             let mut idx: Vec<usize> = (0..mk.len()).collect();
             idx.sort_by(|&a, &q| mk.x[a].z.total_cmp(&mk.x[q].z));
-            let js: Vec<f64> = idx.iter().map(|&p| (mk.fe[p] * mk.fp[p]).determinant()).collect();
+            let js: Vec<f64> = idx
+                .iter()
+                .map(|&p| (mk.fe[p] * mk.fp[p]).determinant())
+                .collect();
             let jps: Vec<f64> = idx.iter().map(|&p| mk.fp[p].determinant()).collect();
             let sum_j: f64 = js.iter().sum::<f64>() / cells as f64;
             let top = *idx.last().unwrap();
@@ -56,6 +59,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             imp0 = imp;
             t0 = b.time();
             let exact = -mat.uniaxial_strain_stress(1.0 - s);
+            let vt = mk.v[top].z / vb;
+            println!(
+                "plate {:.3} dx  top marker {:.3} dx  (plate - top marker) {:+.3} dx  top marker's v / plate's {:.3}",
+                zb / dx,
+                mk.x[top].z / dx,
+                (zb - mk.x[top].z) / dx,
+                vt
+            );
             println!(
                 "strain {s:.4}  markers' J mean {sum_j:.5} (uniform {j_u:.5}, lag {:+.2e} = {:+.3} dx)  top extent - plate {:+.3} dx  stress/exact {:.4}",
                 sum_j - j_u,
@@ -65,15 +76,24 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             );
             println!(
                 "  J/uniform - 1 (e-3): {}",
-                js.iter().map(|j| format!("{:+.2}", 1e3 * (j / j_u - 1.0))).collect::<Vec<_>>().join(" ")
+                js.iter()
+                    .map(|j| format!("{:+.2}", 1e3 * (j / j_u - 1.0)))
+                    .collect::<Vec<_>>()
+                    .join(" ")
             );
             println!(
                 "  J_P: {}",
-                jps.iter().map(|j| format!("{:.4}", j)).collect::<Vec<_>>().join(" ")
+                jps.iter()
+                    .map(|j| format!("{:.4}", j))
+                    .collect::<Vec<_>>()
+                    .join(" ")
             );
             println!(
                 "  z/dx: {}",
-                idx.iter().map(|&p| format!("{:.3}", mk.x[p].z / dx)).collect::<Vec<_>>().join(" ")
+                idx.iter()
+                    .map(|&p| format!("{:.3}", mk.x[p].z / dx))
+                    .collect::<Vec<_>>()
+                    .join(" ")
             );
             // linear field v(z) = vb z / zb, grad = vb / zb
             println!(
@@ -101,7 +121,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                         .map(|(z, j)| {
                             let r = z / dx - k as f64;
                             let a = r.abs();
-                            let dn = if a < 0.5 { -2.0 * r } else if a < 1.5 { -r.signum() * (1.5 - a) } else { 0.0 };
+                            let dn = if a < 0.5 {
+                                -2.0 * r
+                            } else if a < 1.5 {
+                                -r.signum() * (1.5 - a)
+                            } else {
+                                0.0
+                            };
                             j * dn
                         })
                         .sum::<f64>()
@@ -109,7 +135,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 .collect();
             println!(
                 "  residual of a uniform stress per node (sigma A): {}",
-                res.iter().map(|r| format!("{:+.3}", r)).collect::<Vec<_>>().join(" ")
+                res.iter()
+                    .map(|r| format!("{:+.3}", r))
+                    .collect::<Vec<_>>()
+                    .join(" ")
             );
             // The tiling: gaps between neighbours against their half sizes, in dx.
             let mut gaps = vec![zs[0] / dx - 0.5 * js[0]];
@@ -119,9 +148,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             gaps.push(zb / dx - zs[cells - 1] / dx - 0.5 * js[cells - 1]);
             println!(
                 "  tiling gaps (dx; floor, between, plate): {}",
-                gaps.iter().map(|g| format!("{:+.3}", g)).collect::<Vec<_>>().join(" ")
+                gaps.iter()
+                    .map(|g| format!("{:+.3}", g))
+                    .collect::<Vec<_>>()
+                    .join(" ")
             );
-            next += 0.025;
+            next += arg(6, 0.025);
             if s >= spec.final_strain {
                 break;
             }

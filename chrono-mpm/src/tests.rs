@@ -728,7 +728,12 @@ fn compressed_column_residual(n: usize, s: f64) -> (Vec<f64>, Vec<f64>) {
         let z = (p as f64 + 0.5) * s * dx;
         let v0 = s * dx * dx * dx / 0.9;
         body.markers
-            .push(1.0, v0, Vector3::new(0.5 * dx, 0.5 * dx, z), Vector3::zeros())
+            .push(
+                1.0,
+                v0,
+                Vector3::new(0.5 * dx, 0.5 * dx, z),
+                Vector3::zeros(),
+            )
             .unwrap();
         body.markers.fe[p] = fe;
     }
@@ -800,7 +805,11 @@ fn one_marker_per_cell_compressed_leaves_a_uniform_stress_out_of_balance() {
         let top = (8.0 * s - 1.5f64).floor() as usize;
         worst[c] = (1..=top).map(|k| grid[k].abs()).fold(0.0, f64::max);
     }
-    assert!(worst[0] < 1e-12, "aligned: largest interior residual {}", worst[0]);
+    assert!(
+        worst[0] < 1e-12,
+        "aligned: largest interior residual {}",
+        worst[0]
+    );
     assert!(
         worst[1] > 0.05 && worst[1] < 0.2,
         "compressed to 0.75: largest interior residual {}",
