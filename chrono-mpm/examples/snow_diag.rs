@@ -2,7 +2,9 @@
 //! markers' `J` against the uniform `J` of the plate, the top marker's extent against the
 //! plate, the markers' velocity and `C_zz` against the linear field.
 //!
-//! `cargo run --profile test -p chrono-mpm --example snow_diag [cells [final_strain [rate]]]`
+//! `cargo run --profile test -p chrono-mpm --example snow_diag -- [cells [final_strain [rate [elastic [unused [step]]]]]]`
+//! (`elastic` 1: fixed-corotated without plasticity; `step`: the strain between prints;
+//! one marker per cell, the layers' figures assume it).
 
 use chrono_mpm::compaction::{Compaction, CompactionSpec};
 use chrono_mpm::fbar::FBar;
@@ -25,7 +27,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         width: dx,
         density: 400.0,
         cells,
-        markers_per_cell: arg(5, 1.0) as usize,
+        markers_per_cell: 1,
         strain_rate: arg(3, 0.1),
         ramp_time: 0.05,
         final_strain: arg(2, 0.3),
