@@ -19,8 +19,11 @@
 //! ghosts' mass and force folded into the nodes they mirror, `chrono_mpm::fold`): the
 //! stress is on the curve to 0.1 % up to 5 % strain, then falls below it because the
 //! markers' plastic compaction alternates between neighbouring layers (`J_P` 0.67 to 0.78
-//! at 30 %, every marker at the critical compression): a marker-level checkerboard, not
-//! a boundary error (7.3 % before the folding, partly its cancellation). It is not inertia
+//! at 30 %, every marker at the critical compression), 7.3 % before the folding, partly
+//! its cancellation. (Called a marker-level checkerboard, not a boundary error, until
+//! 2026-12-06; measured since: it starts at the plate, where the top marker runs up into
+//! the plate once the plate's face passes the half-node above it, and a purely elastic
+//! column does the same; `docs/mpm.md`, "The lag and the layer alternation: measured".) It is not inertia
 //! (13.9 % at a tenth of the rate) nor resolution (6.6 % at 16 cells, 7.5 % at 32). One
 //! marker per cell (per axis) is the default (12.4 % with two). F-bar (`f_bar`: increment,
 //! total, or the plastic increment averaged) does not remove it (18 to 23 %); most of the
@@ -152,7 +155,7 @@ impl CaseParams for SnowParams {
         ParamInfo::new(
             "check",
             "-",
-            "check the stress error (off until the known 14 % plastic-checkerboard error is fixed: reported)",
+            "check the stress error (off until the known 14 % error, the plate's fold with one marker per cell, is fixed: reported)",
         ),
         ParamInfo::new(
             "f_bar",
