@@ -63,6 +63,8 @@ pub mod wheel;
 #[cfg(test)]
 mod mud_tests;
 #[cfg(test)]
+mod quadrature_tests;
+#[cfg(test)]
 mod split_tests;
 #[cfg(test)]
 mod tests;
