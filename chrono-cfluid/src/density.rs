@@ -1,16 +1,14 @@
-//! The fluid's own computations on the density field: the support fractions of a
-//! truncated support, the position projection, XSPH. The density sums and the rows
+//! The fluid's own computations on the density field: the position projection, XSPH
+//! (the support fractions of a truncated support are chrono-core's,
+//! `DensityField::support_fractions`). The density sums and the rows
 //! themselves are [`chrono_core::density_rows`] (shared with chrono-mpm's split).
 
 use chrono_core::density_rows::DensityField;
 use rayon::prelude::*;
 
-use crate::surface::SupportModel;
-
 /// The fluid's operations on a [`DensityField`] (fluid particles are its free particles
 /// `0..n_free`, wall markers its fixed markers).
 pub(crate) trait FluidField {
-    fn support_fractions(&self, model: &SupportModel, phi: &mut [f64]);
     fn projection(&self, rho: &mut [f64], lambda: &mut [f64]) -> f64;
     fn projection_step(&self, lambda: &[f64], relax: f64, out: &mut [[f64; 3]]);
     fn xsph_corrected(&self, eps: f64, rho: &[f64], vel: &[[f64; 3]], out: &mut [[f64; 3]]);
@@ -27,31 +25,6 @@ pub(crate) trait FluidField {
 }
 
 impl FluidField for DensityField<'_> {
-    /// The support fractions `phi_i` of all fluid particles by `model` (see
-    /// [`crate::surface`]), in parallel: the filled fraction `g_i = rho_i / rho_0` and the
-    /// first moment `M_i = |sum_j (m / rho_0) W_ij (x_j - x_i)|` over every neighbour.
-    fn support_fractions(&self, model: &SupportModel, phi: &mut [f64]) {
-        let v = self.mass / self.rho_0;
-        phi[..self.n_free]
-            .par_iter_mut()
-            .enumerate()
-            .for_each(|(i, p)| {
-                let mut g = v * self.kernel.w(0.0);
-                let mut m = [0.0; 3];
-                for &j in self.nbrs.neighbors(i) {
-                    let d = self.displacement(i, j as usize);
-                    let r = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
-                    let w = v * self.kernel.w(r);
-                    g += w;
-                    // x_j - x_i = -d
-                    for a in 0..3 {
-                        m[a] -= w * d[a];
-                    }
-                }
-                *p = model.fraction(g, (m[0] * m[0] + m[1] * m[1] + m[2] * m[2]).sqrt());
-            });
-    }
-
     /// The multipliers of one Jacobi sweep of the position projection (see
     /// [`CfluidSettings::position_iterations`](crate::CfluidSettings::position_iterations)):
     /// `lambda_i = -C_i / (sum_k |dC_i/dx_k|^2)` for a compressed particle (`C_i > 0`,

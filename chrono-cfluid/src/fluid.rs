@@ -17,7 +17,7 @@ use chrono_core::density_rows::{DensityField, RowBuf, compliance};
 use crate::density::FluidField;
 use crate::geometry::lattice_mass;
 use crate::settings::CfluidSettings;
-use crate::surface::SupportModel;
+use chrono_core::density_rows::SupportModel;
 
 mod access;
 mod output;

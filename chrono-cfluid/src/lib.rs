@@ -55,7 +55,6 @@ mod fluid;
 mod geometry;
 pub mod scene;
 mod settings;
-mod surface;
 #[cfg(test)]
 mod tests;
 

@@ -50,7 +50,8 @@ pub struct CfluidSettings {
     /// truncated support, `C_i = rho_i / rho_0 - phi_i`, instead of `rho_i / rho_0 - 1`
     /// (`phi_i` in `(0, 1]` the fraction of a full kernel support its neighbourhood
     /// fills at the rest spacing, from the first moment of its neighbours by the
-    /// planar-surface model of the lattice, see `surface.rs` and
+    /// planar-surface model of the lattice, see
+    /// `chrono_core::density_rows::SupportModel` and
     /// `docs/validation-cfluid.md`). A row with `phi_i < 1` is unilateral (the free
     /// surface pushes but never pulls). Without it the surface layers' rows are slack
     /// until their truncated sums reach `rho_0`, so gravity packs them (the top layer of

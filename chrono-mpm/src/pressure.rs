@@ -24,7 +24,7 @@
 //! normalization ([`PressureRows::pressure`]).
 
 use chrono_core::density_rows::{
-    DensityField, RowBuf, SurfaceMode, compliance, lattice_mass, push_density_row,
+    DensityField, RowBuf, SupportModel, SurfaceMode, compliance, lattice_mass, push_density_row,
 };
 use chrono_core::descriptor::{
     BlockId, CcpProblem, CcpSolver, ConstraintRows, MassOperator, RowEntry, RowId, SolverSettings,
@@ -59,6 +59,10 @@ pub struct PressureRows {
     nbrs: NeighborList,
     bufs: Vec<RowBuf>,
     rho: Vec<f64>,
+    /// The markers' support fractions `phi_p` of the last step (1 without
+    /// [`PressureSettings::surface_reference`]) and the model that gives them.
+    phi: Vec<f64>,
+    support_model: Option<SupportModel>,
     ids: Vec<RowId>,
     /// Row buffers, densities (kg/m^3) and impulses (N m s) of the wall markers, and the
     /// wall markers that have a row this step.
@@ -139,6 +143,10 @@ impl PressureRows {
             nbrs: NeighborList::new(),
             bufs: Vec::new(),
             rho: Vec::new(),
+            phi: Vec::new(),
+            support_model: settings
+                .surface_reference
+                .then(|| SupportModel::new(&kernel, settings.spacing)),
             ids: Vec::new(),
             wall_bufs: vec![RowBuf::default(); walls.len()],
             wall_rho: vec![settings.rest_density; walls.len()],
@@ -203,15 +211,31 @@ impl PressureRows {
         &self.smoothed
     }
 
+    /// Switches [`PressureSettings::surface_reference`] on or off (from the next step).
+    pub fn set_surface_reference(&mut self, on: bool) {
+        self.settings.surface_reference = on;
+        self.support_model = on.then(|| SupportModel::new(&self.kernel, self.settings.spacing));
+    }
+
+    /// Each marker's support fraction `phi_p` of the last step (its row's reference
+    /// `rho_0 phi_p`; all 1 without [`PressureSettings::surface_reference`]).
+    pub fn support_fractions(&self) -> &[f64] {
+        &self.phi
+    }
+
     /// Each marker's density of the last step (at the step's start), kg/m^3.
     pub fn density(&self) -> &[f64] {
         &self.rho
     }
 
-    /// The largest compression `max_p C_p` at the last step's start (0 when none).
+    /// The largest compression `max_p C_p` at the last step's start (0 when none),
+    /// `C_p = rho_p / rho_0 - phi_p` ([`Self::support_fractions`]).
     pub fn max_compression(&self) -> f64 {
         let r0 = self.settings.rest_density;
-        self.rho.iter().fold(0.0, |m, r| m.max(r / r0 - 1.0))
+        self.rho
+            .iter()
+            .zip(&self.phi)
+            .fold(0.0, |m, (r, phi)| m.max(r / r0 - phi))
     }
 
     /// APGD's iterations and residual (RMS, 1/s) at the last step.
@@ -446,6 +470,11 @@ impl PressureRows {
             body_origin: &self.body_origin,
         };
         field.densities(&mut self.rho);
+        self.phi.clear();
+        self.phi.resize(n, 1.0);
+        if let Some(model) = &self.support_model {
+            field.support_fractions(model, &mut self.phi);
+        }
         field.rows(&mut self.bufs);
         field.wall_rows(&mut self.wall_bufs, &mut self.wall_rho);
         field.marker_rows(&mut self.marker_bufs, &mut self.marker_rho);
@@ -493,7 +522,7 @@ impl PressureRows {
                     coefs: &buf.coefs[3 * j..3 * j + 3],
                 });
             }
-            let c = self.rho[p] / s.rest_density - 1.0;
+            let c = self.rho[p] / s.rest_density - self.phi[p];
             let eps = compliance(s.compressibility, s.rest_density, dt, markers.mass[p]);
             let id = push_density_row(
                 &mut self.rows,
@@ -502,7 +531,13 @@ impl PressureRows {
                 dt,
                 eps,
                 known(&buf.bodies),
-                SurfaceMode::OneSided,
+                // a surface marker's row (phi < 1, `surface_reference`) pushes but never
+                // pulls, as chrono-cfluid's
+                if self.phi[p] < 1.0 {
+                    SurfaceMode::Unilateral
+                } else {
+                    SurfaceMode::OneSided
+                },
                 s.max_recovery_rate,
             );
             self.ids.push(id);

@@ -37,10 +37,12 @@ use rayon::prelude::*;
 use crate::particles::{CellGrid, Kernel, NeighborList, Positions};
 
 mod rhs;
+mod surface;
 #[cfg(test)]
 mod tests;
 
 pub use rhs::{SurfaceMode, compliance, push_density_row};
+pub use surface::SupportModel;
 
 /// The coefficients of one density row: the particles it touches (itself first) and
 /// three coefficients per particle, `D_i = -dC_i/dx_j`, 1/m. Kept per particle across

@@ -70,6 +70,16 @@ pub struct PressureSettings {
     pub volume_from_rows: bool,
     /// The velocity field whose gradient updates `F_E` ([`StrainFrom`]).
     pub strain_from: StrainFrom,
+    /// Hold each marker's row at the reference of its truncated kernel support,
+    /// `C_p = rho_p / rho_0 - phi_p`, with `phi_p` the support fraction of
+    /// [`chrono_core::density_rows::SupportModel`] (the planar-surface model of the
+    /// marker lattice, read from the first moment of the neighbourhood; chrono-cfluid's
+    /// `surface_reference`), instead of `phi_p = 1`: a surface marker at the lattice
+    /// spacing is then at `C = 0` and its row carries the pressure of its own
+    /// compression, where with `phi_p = 1` it is slack (`p = 0`) until its truncated sum
+    /// reaches `rho_0`. A row with `phi_p < 1` is unilateral (pushes, never pulls).
+    /// Off by default (`docs/mpm.md`, "The split's surface layers").
+    pub surface_reference: bool,
 }
 
 impl Default for PressureSettings {
@@ -87,6 +97,7 @@ impl Default for PressureSettings {
             warm_start_factor: 1.0,
             volume_from_rows: false,
             strain_from: StrainFrom::FinalGrid,
+            surface_reference: false,
         }
     }
 }

@@ -116,6 +116,10 @@ pub struct ColumnParams {
     pub pressure: String,
     /// APGD's tolerance on the rows' velocity residual with `pressure = rows`, m/s.
     pub rows_tolerance: f64,
+    /// With `pressure = rows`: each marker's row held at its truncated support's
+    /// reference (`chrono_mpm::PressureSettings::surface_reference`; `docs/mpm.md`,
+    /// "The split's surface layers").
+    pub rows_surface_reference: bool,
     /// The sand: `drucker_prager` (the cone of `friction_angle_deg`) or `critical_state`
     /// (`chrono_mpm::CriticalStateSand::glass_beads`: compressible `mu(I)` with
     /// critical-state dilatancy, its own published friction; `friction_angle_deg`,
@@ -153,6 +157,7 @@ impl Default for ColumnParams {
             geostatic: false,
             pressure: "stress".into(),
             rows_tolerance: 1e-6,
+            rows_surface_reference: false,
             rheology: "drucker_prager".into(),
         }
     }
@@ -245,6 +250,11 @@ impl CaseParams for ColumnParams {
             "rows_tolerance",
             "1/s",
             "APGD's tolerance on the rows' velocity residual with pressure = rows",
+        ),
+        ParamInfo::new(
+            "rows_surface_reference",
+            "-",
+            "with pressure = rows: hold each marker's row at its truncated kernel support's reference (the free surface; docs/mpm.md)",
         ),
         ParamInfo::new(
             "rheology",
@@ -426,6 +436,9 @@ fn run(p: &ColumnParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         let mut c = Column::new(spec(p, a, f_bar, critical_state))?;
         if split {
             c.use_pressure_rows(p.rows_tolerance)?;
+            if let Some(rows) = c.body.pressure_rows_mut() {
+                rows.set_surface_reference(p.rows_surface_reference);
+            }
         }
         Ok(c)
     };

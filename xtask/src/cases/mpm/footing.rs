@@ -83,6 +83,10 @@ pub struct FootingParams {
     pub pressure: String,
     /// APGD's tolerance on the rows' velocity residual with `pressure = rows`, m/s.
     pub rows_tolerance: f64,
+    /// With `pressure = rows`: each marker's row held at its truncated support's
+    /// reference (`chrono_mpm::PressureSettings::surface_reference`; `docs/mpm.md`,
+    /// "The split's surface layers").
+    pub rows_surface_reference: bool,
 }
 
 impl Default for FootingParams {
@@ -108,6 +112,7 @@ impl Default for FootingParams {
             f_bar: "off".into(),
             pressure: "stress".into(),
             rows_tolerance: 1e-6,
+            rows_surface_reference: false,
         }
     }
 }
@@ -165,6 +170,11 @@ impl CaseParams for FootingParams {
             "rows_tolerance",
             "1/s",
             "APGD's tolerance on the rows' velocity residual with pressure = rows",
+        ),
+        ParamInfo::new(
+            "rows_surface_reference",
+            "-",
+            "with pressure = rows: hold each marker's row at its truncated kernel support's reference (the free surface; docs/mpm.md)",
         ),
     ];
 
@@ -229,7 +239,12 @@ fn run(p: &FootingParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     let mut f = Footing::new(spec(p, p.poisson, f_bar))?;
     match p.pressure.as_str() {
         "stress" => {}
-        "rows" => f.use_pressure_rows(p.rows_tolerance)?,
+        "rows" => {
+            f.use_pressure_rows(p.rows_tolerance)?;
+            if let Some(rows) = f.body.pressure_rows_mut() {
+                rows.set_surface_reference(p.rows_surface_reference);
+            }
+        }
         other => anyhow::bail!("pressure = {other:?}: must be `stress` or `rows`"),
     }
     let samples = f.run(50, |x| ctx.progress(share * x))?;

@@ -31,8 +31,15 @@
 //! (`C_i = 0`), the layers between read a full support within their own small deficit
 //! (`1 - Gamma` = 9e-4 for the second layer at `h_k = 1.2 dp`, 0.016 at 1.5 dp). Off the lattice (a disordered packing, a curved surface) it is an
 //! estimate; `phi_i` is frozen over a step (the row's Jacobian is that of `rho_i`).
+//!
+//! A kernel of dimension 2 (a plane-strain slab, chrono-mpm's split) has its surface
+//! layers as lines of the square lattice in its plane, summed over one axis; dimension 3
+//! sums each layer over its square plane. Moved here from chrono-cfluid (its
+//! `surface_reference`) so that chrono-mpm's split uses the same model (issue 25).
 
-use chrono_core::particles::Kernel;
+use super::DensityField;
+use crate::particles::Kernel;
+use rayon::prelude::*;
 
 /// The power of the ratio `M / g` over the top layer's that enters the table: 1 would
 /// read the ratio as it is; at 1 the moment of a disordered bulk (ratio 0.05-0.2 of
@@ -44,20 +51,27 @@ const NOISE_EXPONENT: i32 = 3;
 /// `Gamma` and missing first moment `P` (m) at the depths `(k + 1/2) dp`, `k = 0..`, down
 /// to the first depth with a full support (see the module documentation).
 #[derive(Debug, Clone)]
-pub(crate) struct SupportModel {
+pub struct SupportModel {
     gamma: Vec<f64>,
     moment: Vec<f64>,
 }
 
 impl SupportModel {
-    /// The tables of `kernel` on the cubic lattice of spacing `dp`.
+    /// The tables of `kernel` on the lattice of spacing `dp` (cubic; square in the
+    /// kernel's plane for a kernel of dimension 2).
     pub fn new(kernel: &Kernel, dp: f64) -> Self {
         let reach = (kernel.support() / dp).ceil() as i64;
+        // the in-plane axes of a layer: two (3-D), one (2-D)
+        let js = if kernel.dim() >= 3 {
+            -reach..=reach
+        } else {
+            0..=0
+        };
         // layer sums A(l) = sum_plane W(dp |(i, j, l)|), normalized by the full sum
         let layer: Vec<f64> = (-reach..=reach)
             .map(|l| {
                 let mut s = 0.0;
-                for j in -reach..=reach {
+                for j in js.clone() {
                     for i in -reach..=reach {
                         s += kernel.w(dp * ((i * i + j * j + l * l) as f64).sqrt());
                     }
@@ -105,8 +119,7 @@ impl SupportModel {
         1.0
     }
 
-    /// The tabulated `(Gamma, P)` at the depths `(k + 1/2) dp`, -, m (tests).
-    #[cfg(test)]
+    /// The tabulated `(Gamma, P)` at the depths `(k + 1/2) dp`, -, m.
     pub fn table(&self) -> Vec<(f64, f64)> {
         self.gamma
             .iter()
@@ -116,10 +129,39 @@ impl SupportModel {
     }
 }
 
+impl DensityField<'_> {
+    /// The support fractions `phi_i` of the free particles `0..n_free` by `model` (see
+    /// [`SupportModel`]), in parallel: the filled fraction `g_i = rho_i / rho_0` and the
+    /// first moment `M_i = |sum_j (m_k / rho_0) W_ij (x_j - x_i)|` over every neighbour
+    /// (free, fixed and body markers). The density row of a surface particle is then
+    /// `C_i = rho_i / rho_0 - phi_i`.
+    pub fn support_fractions(&self, model: &SupportModel, phi: &mut [f64]) {
+        let v = self.mass / self.rho_0;
+        phi[..self.n_free]
+            .par_iter_mut()
+            .enumerate()
+            .for_each(|(i, p)| {
+                let mut g = v * self.kernel.w(0.0);
+                let mut m = [0.0; 3];
+                for &j in self.nbrs.neighbors(i) {
+                    let d = self.displacement(i, j as usize);
+                    let r = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+                    let w = v * self.kernel.w(r);
+                    g += w;
+                    // x_j - x_i = -d
+                    for a in 0..3 {
+                        m[a] -= w * d[a];
+                    }
+                }
+                *p = model.fraction(g, (m[0] * m[0] + m[1] * m[1] + m[2] * m[2]).sqrt());
+            });
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
-    use chrono_core::particles::KernelKind;
+    use crate::particles::KernelKind;
 
     fn model(h_over_dp: f64) -> (SupportModel, Kernel, f64) {
         let dp = 0.02;
@@ -168,6 +210,50 @@ mod tests {
                 };
                 assert!((phi - g).abs() <= tol, "h {h}, layer {above}: {phi} vs {g}");
                 assert!(phi >= g - 1e-12, "h {h}, layer {above}: {phi} vs {g}");
+            }
+        }
+    }
+
+    /// As [`half_lattice`] on the square lattice of a 2-D kernel (the layers are lines).
+    fn half_lattice_2d(k: &Kernel, dp: f64, top_rows_above: i64) -> (f64, f64) {
+        let reach = (k.support() / dp).ceil() as i64;
+        let mut full = 0.0;
+        let (mut g, mut m) = (0.0, 0.0);
+        for l in -reach..=reach {
+            for i in -reach..=reach {
+                let w = k.w(dp * ((i * i + l * l) as f64).sqrt());
+                full += w;
+                if l <= top_rows_above {
+                    g += w;
+                    m += w * l as f64 * dp;
+                }
+            }
+        }
+        (g / full, m.abs() / full)
+    }
+
+    #[test]
+    fn a_2d_lattice_layer_gets_its_own_fraction() {
+        // the plane-strain slab's kernel (chrono-mpm's split): layers are lines of the
+        // square lattice; the top line and a full support exactly, the lines between
+        // within their own small deficit
+        for h in [1.2, 1.5] {
+            let dp = 0.02;
+            let k = Kernel::new(KernelKind::WendlandC2, h * dp, 2).unwrap();
+            let sm = SupportModel::new(&k, dp);
+            let table = sm.table();
+            assert!((0.4..0.9).contains(&table[0].0), "{table:?}");
+            assert_eq!(table.last().unwrap().0, 1.0);
+            for above in 0..4 {
+                let (g, m) = half_lattice_2d(&k, dp, above);
+                let phi = sm.fraction(g, m);
+                let tol = if above == 0 {
+                    1e-12
+                } else {
+                    1.0 - table[1].0 + 1e-12
+                };
+                assert!((phi - g).abs() <= tol, "h {h}, line {above}: {phi} vs {g}");
+                assert!(phi >= g - 1e-12, "h {h}, line {above}: {phi} vs {g}");
             }
         }
     }
