@@ -194,23 +194,27 @@ mod tests {
     fn every_lattice_layer_gets_its_own_fraction() {
         for h in [1.2, 1.5] {
             let (sm, k, dp) = model(h);
-            let table = sm.table();
-            // the top layer misses part of its support (0.81 at 1.2 dp); a full support has phi = 1
-            assert!((0.4..0.9).contains(&table[0].0), "{table:?}");
-            assert_eq!(table.last().unwrap().0, 1.0);
-            // the top layer and a full support exactly; the layers between read a full
-            // support within their own small deficit (the noise exponent)
-            for above in 0..4 {
-                let (g, m) = half_lattice(&k, dp, above);
-                let phi = sm.fraction(g, m);
-                let tol = if above == 0 {
-                    1e-12
-                } else {
-                    1.0 - table[1].0 + 1e-12
-                };
-                assert!((phi - g).abs() <= tol, "h {h}, layer {above}: {phi} vs {g}");
-                assert!(phi >= g - 1e-12, "h {h}, layer {above}: {phi} vs {g}");
-            }
+            assert_layer_fractions(&sm, |above| half_lattice(&k, dp, above), h);
+        }
+    }
+
+    /// The top layer misses part of its support (0.81 at 1.2 dp in 3-D) and a full support
+    /// has phi = 1; the top layer and a full support read exactly, the layers between a
+    /// full support within their own small deficit (the noise exponent).
+    fn assert_layer_fractions(sm: &SupportModel, lattice: impl Fn(i64) -> (f64, f64), h: f64) {
+        let table = sm.table();
+        assert!((0.4..0.9).contains(&table[0].0), "{table:?}");
+        assert_eq!(table.last().unwrap().0, 1.0);
+        for above in 0..4 {
+            let (g, m) = lattice(above);
+            let phi = sm.fraction(g, m);
+            let tol = if above == 0 {
+                1e-12
+            } else {
+                1.0 - table[1].0 + 1e-12
+            };
+            assert!((phi - g).abs() <= tol, "h {h}, layer {above}: {phi} vs {g}");
+            assert!(phi >= g - 1e-12, "h {h}, layer {above}: {phi} vs {g}");
         }
     }
 
@@ -241,20 +245,7 @@ mod tests {
             let dp = 0.02;
             let k = Kernel::new(KernelKind::WendlandC2, h * dp, 2).unwrap();
             let sm = SupportModel::new(&k, dp);
-            let table = sm.table();
-            assert!((0.4..0.9).contains(&table[0].0), "{table:?}");
-            assert_eq!(table.last().unwrap().0, 1.0);
-            for above in 0..4 {
-                let (g, m) = half_lattice_2d(&k, dp, above);
-                let phi = sm.fraction(g, m);
-                let tol = if above == 0 {
-                    1e-12
-                } else {
-                    1.0 - table[1].0 + 1e-12
-                };
-                assert!((phi - g).abs() <= tol, "h {h}, line {above}: {phi} vs {g}");
-                assert!(phi >= g - 1e-12, "h {h}, line {above}: {phi} vs {g}");
-            }
+            assert_layer_fractions(&sm, |above| half_lattice_2d(&k, dp, above), h);
         }
     }
 
