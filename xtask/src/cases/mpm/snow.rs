@@ -11,7 +11,8 @@
 //! `(lambda + 2 mu) strain` up to `theta_c`, then `exp(xi (1 - J_P)) (lambda + 2 mu) theta_c / J_P`
 //! with `J_P = (1 - strain)/(1 - theta_c)`), the largest relative error over the samples
 //! from `check_from_strain` on, within `stress_tolerance` (2 %). Reported: the error
-//! over the elastic part, the kinetic/elastic energy ratio (quasi-static).
+//! over the elastic part after the speed ramp's transient (strain from `strain_rate *
+//! ramp_time` to `theta_c`), the kinetic/elastic energy ratio (quasi-static).
 //!
 //! **Status: the check does not hold yet** (14.5 % at the defaults, `docs/mpm.md`), so it
 //! is off by default (`check` = false: the error is reported, the 2 % criterion
@@ -223,7 +224,11 @@ fn run(p: &SnowParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         if s.strain >= p.check_from_strain {
             worst = worst.max(err);
             ke_ratio = ke_ratio.max(s.kinetic / s.elastic);
-        } else if s.strain < p.theta_c {
+        } else if s.strain < p.theta_c && s.strain >= p.strain_rate * p.ramp_time {
+            // the elastic part once the speed ramp's transient is over (from twice the
+            // ramp's own strain): the sample at the ramp's end reads the accelerating
+            // column, 30 % off the quasi-static curve (this figure included it until
+            // 2026-12-06; the samples after it are within 0.17 %)
             worst_elastic = worst_elastic.max(err);
         }
         series.push(&[s.strain, s.stress * 1e-3, exact * 1e-3]);
