@@ -407,37 +407,28 @@ mod tests {
             })
             .collect();
         let mut cr = ConstraintRows::new();
-        let coefs = |rng: &mut Rng| -> [f64; 6] { std::array::from_fn(|_| rng.range(-1.0, 1.0)) };
+        // one bilateral row between blocks `a` and `b`, random coefficients (same draw order)
+        let mut pair = |cr: &mut ConstraintRows, a, b| {
+            let ca: [f64; 6] = std::array::from_fn(|_| rng.range(-1.0, 1.0));
+            let cb: [f64; 6] = std::array::from_fn(|_| rng.range(-1.0, 1.0));
+            let e = [
+                RowEntry {
+                    block: a,
+                    coefs: &ca,
+                },
+                RowEntry {
+                    block: b,
+                    coefs: &cb,
+                },
+            ];
+            cr.push_bilateral(&e, 0.0, 0.0);
+        };
         for (k, &s) in sats.iter().enumerate() {
             for _ in 0..if over && k == 0 { 7 } else { 3 } {
-                let (a, b) = (coefs(&mut rng), coefs(&mut rng));
-                let e = [
-                    RowEntry {
-                        block: hub,
-                        coefs: &a,
-                    },
-                    RowEntry {
-                        block: s,
-                        coefs: &b,
-                    },
-                ];
-                cr.push_bilateral(&e, 0.0, 0.0);
+                pair(&mut cr, hub, s);
             }
             if k + 1 < n && k % 2 == 0 {
-                for _ in 0..1 {
-                    let (a, b) = (coefs(&mut rng), coefs(&mut rng));
-                    let e = [
-                        RowEntry {
-                            block: s,
-                            coefs: &a,
-                        },
-                        RowEntry {
-                            block: sats[k + 1],
-                            coefs: &b,
-                        },
-                    ];
-                    cr.push_bilateral(&e, 0.0, 0.0);
-                }
+                pair(&mut cr, s, sats[k + 1]);
             }
         }
         let k = vec![0.0; vars.ndof()];

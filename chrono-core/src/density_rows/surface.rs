@@ -169,14 +169,16 @@ mod tests {
         (SupportModel::new(&k, dp), k, dp)
     }
 
-    /// `g` and `M` of the particle at `(0, 0, -depth_layers dp)` in the half-lattice
-    /// whose top layer is at `z = 0`, by brute force.
-    fn half_lattice(k: &Kernel, dp: f64, top_rows_above: i64) -> (f64, f64) {
+    /// `g` and `M` of the particle at the origin in the half-lattice whose top layer is
+    /// `top_rows_above` spacings above it, by brute force: a cubic lattice (`dim` 3) or the
+    /// square lattice of a 2-D kernel (`dim` 2, the layers are lines).
+    fn half_lattice(k: &Kernel, dp: f64, top_rows_above: i64, dim: u32) -> (f64, f64) {
         let reach = (k.support() / dp).ceil() as i64;
+        let across = if dim == 3 { reach } else { 0 };
         let mut full = 0.0;
         let (mut g, mut m) = (0.0, 0.0);
         for l in -reach..=reach {
-            for j in -reach..=reach {
+            for j in -across..=across {
                 for i in -reach..=reach {
                     let w = k.w(dp * ((i * i + j * j + l * l) as f64).sqrt());
                     full += w;
@@ -194,7 +196,7 @@ mod tests {
     fn every_lattice_layer_gets_its_own_fraction() {
         for h in [1.2, 1.5] {
             let (sm, k, dp) = model(h);
-            assert_layer_fractions(&sm, |above| half_lattice(&k, dp, above), h);
+            assert_layer_fractions(&sm, |above| half_lattice(&k, dp, above, 3), h);
         }
     }
 
@@ -218,24 +220,6 @@ mod tests {
         }
     }
 
-    /// As [`half_lattice`] on the square lattice of a 2-D kernel (the layers are lines).
-    fn half_lattice_2d(k: &Kernel, dp: f64, top_rows_above: i64) -> (f64, f64) {
-        let reach = (k.support() / dp).ceil() as i64;
-        let mut full = 0.0;
-        let (mut g, mut m) = (0.0, 0.0);
-        for l in -reach..=reach {
-            for i in -reach..=reach {
-                let w = k.w(dp * ((i * i + l * l) as f64).sqrt());
-                full += w;
-                if l <= top_rows_above {
-                    g += w;
-                    m += w * l as f64 * dp;
-                }
-            }
-        }
-        (g / full, m.abs() / full)
-    }
-
     #[test]
     fn a_2d_lattice_layer_gets_its_own_fraction() {
         // the plane-strain slab's kernel (chrono-mpm's split): layers are lines of the
@@ -245,7 +229,7 @@ mod tests {
             let dp = 0.02;
             let k = Kernel::new(KernelKind::WendlandC2, h * dp, 2).unwrap();
             let sm = SupportModel::new(&k, dp);
-            assert_layer_fractions(&sm, |above| half_lattice_2d(&k, dp, above), h);
+            assert_layer_fractions(&sm, |above| half_lattice(&k, dp, above, 2), h);
         }
     }
 
@@ -254,7 +238,7 @@ mod tests {
         // the same truncated neighbourhood at 1 % more particles per volume: g and M both
         // scale by 1.01 (the ratio, and so the depth, is kept), so g / phi = 1.01
         let (sm, k, dp) = model(1.2);
-        let (g, m) = half_lattice(&k, dp, 0);
+        let (g, m) = half_lattice(&k, dp, 0, 3);
         let phi = sm.fraction(1.01 * g, 1.01 * m);
         assert!((1.01 * g / phi - 1.01).abs() < 1e-12);
     }

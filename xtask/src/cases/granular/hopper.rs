@@ -224,6 +224,11 @@ fn discharge(
     );
     let method = p.method;
     let silo = (p.silo_ratio * orifice).max(orifice + 10.0 * d);
+    anyhow::ensure!(
+        p.fill_orifices.is_finite() && p.fill_orifices >= 0.0,
+        "parameter `fill_orifices` must be finite and >= 0, got {}",
+        p.fill_orifices
+    );
     let fill = if p.fill_height > 0.0 {
         p.fill_height
     } else if p.fill_orifices > 0.0 {
