@@ -400,7 +400,11 @@ impl ConstraintFluid {
             if let Some(model) = &self.support_model {
                 field.support_fractions(model, &mut phi);
             }
-            field.rows(&mut bufs);
+            if self.settings.gradient_correction > 0.0 {
+                field.rows_corrected(&mut bufs, self.settings.gradient_correction);
+            } else {
+                field.rows(&mut bufs);
+            }
             if self.settings.body_marker_rows {
                 field.marker_rows(&mut mbufs, &mut mrho);
             }

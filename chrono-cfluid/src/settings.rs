@@ -46,6 +46,17 @@ pub struct CfluidSettings {
     /// particle noise but not a smooth flow at a free surface or a wall, where the plain
     /// form drags the surface particles toward their neighbours' one-sided mean.
     pub xsph_corrected: bool,
+    /// The density rows' kernel-gradient correction (Bonet and Lok 1999): 0 = off (the
+    /// rows are the exact gradients of the density constraints); otherwise each free
+    /// particle's row coefficients are multiplied by the inverse of its moment matrix
+    /// `M_i = -sum_j V F(r_ij) x_ij x_ij^T` where the smallest eigenvalue of `M_i` is at
+    /// least this value (in `(0, 1]`; below it, at the free surface, the plain row is
+    /// kept). The rows then read a shear of a disordered packing as no compression, which
+    /// with the plain rows the projection removes as particle noise every step (the
+    /// damping of the sloshing mode); see
+    /// `chrono_core::density_rows::DensityField::row_corrected` and
+    /// `docs/validation-cfluid.md` ("The rows' gradient correction").
+    pub gradient_correction: f64,
     /// Whether a particle near a free surface holds its density at the reference of its
     /// truncated support, `C_i = rho_i / rho_0 - phi_i`, instead of `rho_i / rho_0 - 1`
     /// (`phi_i` in `(0, 1]` the fraction of a full kernel support its neighbourhood
@@ -136,6 +147,7 @@ impl Default for CfluidSettings {
             xsph: 0.1,
             xsph_viscosity: 0.0,
             xsph_corrected: false,
+            gradient_correction: 0.0,
             max_recovery_rate: 10.0,
             warm_start_factor: 1.0,
             position_iterations: 0,
@@ -191,6 +203,14 @@ impl CfluidSettings {
             ));
         }
         check_non_negative("cfluid.xsph_viscosity", self.xsph_viscosity)?;
+        check_non_negative("cfluid.gradient_correction", self.gradient_correction)?;
+        if self.gradient_correction > 1.0 {
+            return Err(ChronoError::invalid(
+                "cfluid.gradient_correction",
+                self.gradient_correction,
+                "must be 0 (off) or in (0, 1]",
+            ));
+        }
         check_positive("cfluid.max_recovery_rate", self.max_recovery_rate)?;
         check_positive("cfluid.position_tolerance", self.position_tolerance)?;
         check_positive("cfluid.position_relaxation", self.position_relaxation)?;

@@ -287,3 +287,91 @@ fn the_right_hand_side_follows_the_surface_mode() {
     assert!((compliance(1e-9, 1000.0, 1e-3, 2.0) - 0.5).abs() < 1e-12);
     assert!(SurfaceMode::parse("sideways").is_err());
 }
+
+/// A block of `7^3` free particles on the lattice (jittered by up to `jitter` dp per
+/// axis, deterministically), no markers; the centre particle has a full support.
+fn block(jitter: f64) -> (Cloud, usize) {
+    let kernel = Kernel::new(KernelKind::WendlandC2, 1.2 * DP, 3).unwrap();
+    let mass = lattice_mass(&kernel, DP, RHO);
+    let mut pts = Vec::new();
+    let mut k = 0usize;
+    for z in -3i32..=3 {
+        for y in -3i32..=3 {
+            for x in -3i32..=3 {
+                let p = [x, y, z].map(|v| f64::from(v) * DP);
+                // a pseudo-random offset in [-jitter/2, jitter/2] dp per axis
+                let off = |a: usize| {
+                    let h = (k * 2654435761 + a * 40503) % 1000;
+                    jitter * DP * (h as f64 / 999.0 - 0.5)
+                };
+                pts.push([p[0] + off(0), p[1] + off(1), p[2] + off(2)]);
+                k += 1;
+            }
+        }
+    }
+    let n = pts.len();
+    let c = Cloud {
+        kernel,
+        mass,
+        pos: std::array::from_fn(|a| pts.iter().map(|p| p[a]).collect()),
+        n_free: n,
+        n_static: n,
+        owner: Vec::new(),
+        origin: Vec::new(),
+    };
+    (c, n / 2)
+}
+
+/// `D_i . v` of row `row` for the velocity field `v(x)`.
+fn row_rate(row: &RowBuf, pos: &[Vec<f64>; 3], v: impl Fn([f64; 3]) -> [f64; 3]) -> f64 {
+    row.particles
+        .iter()
+        .zip(row.coefs.chunks_exact(3))
+        .map(|(&p, c)| {
+            let p = p as usize;
+            let u = v([pos[0][p], pos[1][p], pos[2][p]]);
+            c[0] * u[0] + c[1] * u[1] + c[2] * u[2]
+        })
+        .sum()
+}
+
+#[test]
+fn the_corrected_row_reads_a_shear_of_a_disordered_packing_as_no_compression() {
+    let shear = |x: [f64; 3]| [x[2], 0.0, 0.0];
+    let expansion = |x: [f64; 3]| x;
+    let translation = |_: [f64; 3]| [0.3, -0.2, 0.1];
+    // on the lattice the moment matrix is isotropic and close to the identity
+    let (c, i) = block(0.0);
+    let (grid, nbrs) = neighbours(&c, &c.pos);
+    let f = field(&c, &c.pos, &grid, &nbrs);
+    let m = f.moment(i);
+    for (a, row) in m.iter().enumerate() {
+        for (b, &e) in row.iter().enumerate() {
+            let want = if a == b { m[0][0] } else { 0.0 };
+            assert!((e - want).abs() < 1e-12, "lattice M[{a}][{b}] = {e}");
+        }
+    }
+    assert!((m[0][0] - 1.0).abs() < 0.05, "lattice M = {} I", m[0][0]);
+    // a disordered packing: the plain row sees the shear, the corrected one does not
+    let (c, i) = block(0.4);
+    let (grid, nbrs) = neighbours(&c, &c.pos);
+    let f = field(&c, &c.pos, &grid, &nbrs);
+    let (mut plain, mut corr) = (RowBuf::default(), RowBuf::default());
+    f.row(i, &mut plain);
+    f.row_corrected(i, &mut corr, 0.5);
+    let p_shear = row_rate(&plain, &c.pos, shear);
+    let c_shear = row_rate(&corr, &c.pos, shear);
+    let c_exp = row_rate(&corr, &c.pos, expansion);
+    assert!(p_shear.abs() > 1e-3, "plain row's shear rate {p_shear}");
+    assert!(c_shear.abs() < 1e-12, "corrected row's shear rate {c_shear}");
+    // the rate of v = A x is tr A (the row is -grad C, so `D . v = -dC/dt = div v`)
+    assert!((c_exp - 3.0).abs() < 1e-12, "corrected row's expansion rate {c_exp}");
+    for r in [&plain, &corr] {
+        let t = row_rate(r, &c.pos, translation);
+        assert!(t.abs() < 1e-12, "translation rate {t}");
+    }
+    // a threshold above the smallest eigenvalue keeps the plain row
+    let mut kept = RowBuf::default();
+    f.row_corrected(i, &mut kept, 10.0);
+    assert_eq!(kept.coefs, plain.coefs);
+}

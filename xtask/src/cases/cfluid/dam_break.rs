@@ -55,6 +55,9 @@ pub struct CfluidDamBreakParams {
     pub t_end: f64,
     /// XSPH viscosity epsilon.
     pub xsph: f64,
+    /// The density rows' kernel-gradient correction (`CfluidSettings::gradient_correction`:
+    /// 0 off, else the smallest eigenvalue of the moment matrix that gets it).
+    pub gradient_correction: f64,
     /// Time step, s.
     pub h: f64,
     /// Solver tolerance (chrono-ccp residual, 1/s for density rows).
@@ -81,6 +84,7 @@ impl Default for CfluidDamBreakParams {
             spacing: a / 24.0,
             t_end: 0.165,
             xsph: CfluidSettings::default().xsph,
+            gradient_correction: 0.0,
             h: 5e-4,
             tolerance: 1e-4,
             solver: "apgd".into(),
@@ -103,6 +107,11 @@ impl CaseParams for CfluidDamBreakParams {
         ParamInfo::new("spacing", "m", "particle spacing dp"),
         ParamInfo::new("t_end", "s", "simulated time (T = t sqrt(2g/a) up to ~3)"),
         ParamInfo::new("xsph", "-", "XSPH viscosity epsilon"),
+        ParamInfo::new(
+            "gradient_correction",
+            "-",
+            "density rows' gradient correction (0 off, else min eigenvalue of M_i)",
+        ),
         ParamInfo::new("h", "s", "time step"),
         ParamInfo::new("tolerance", "1/s", "solver tolerance (chrono-ccp residual)"),
         ParamInfo::new("solver", "-", "CCP solver name (chrono-ccp)"),
@@ -192,6 +201,7 @@ fn simulate(
     let settings = CfluidSettings {
         spacing: dp,
         xsph: p.xsph,
+        gradient_correction: p.gradient_correction,
         ..CfluidSettings::default()
     };
     let mut scene = tank_scene(

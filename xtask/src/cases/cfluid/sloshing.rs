@@ -64,6 +64,9 @@ pub struct CfluidSloshingParams {
     pub h: f64,
     /// XSPH viscosity epsilon.
     pub xsph: f64,
+    /// The density rows' kernel-gradient correction (`CfluidSettings::gradient_correction`:
+    /// 0 off, else the smallest eigenvalue of the moment matrix that gets it).
+    pub gradient_correction: f64,
     /// Solver tolerance (chrono-ccp residual, 1/s).
     pub tolerance: f64,
     /// CCP solver name.
@@ -91,6 +94,7 @@ impl Default for CfluidSloshingParams {
             rel_tolerance: 0.10,
             h: 2e-3,
             xsph: CfluidSettings::default().xsph,
+            gradient_correction: 0.0,
             tolerance: 1e-4,
             solver: "apgd".into(),
             max_iterations: 500,
@@ -125,6 +129,11 @@ impl CaseParams for CfluidSloshingParams {
         ),
         ParamInfo::new("h", "s", "time step"),
         ParamInfo::new("xsph", "-", "XSPH viscosity epsilon"),
+        ParamInfo::new(
+            "gradient_correction",
+            "-",
+            "density rows' gradient correction (0 off, else min eigenvalue of M_i)",
+        ),
         ParamInfo::new("tolerance", "1/s", "solver tolerance (chrono-ccp residual)"),
         ParamInfo::new("solver", "-", "CCP solver name (chrono-ccp)"),
         ParamInfo::new("max_iterations", "-", "iteration cap per step"),
@@ -235,6 +244,7 @@ fn simulate(
     let settings = CfluidSettings {
         spacing: dp,
         xsph: p.xsph,
+        gradient_correction: p.gradient_correction,
         ..CfluidSettings::default()
     };
     let top = hf + 0.5 * a.min(hf).max(4.0 * dp);

@@ -83,6 +83,9 @@ pub struct SloshingDecayParams {
     pub h: f64,
     /// Constraint fluid: XSPH epsilon.
     pub xsph: f64,
+    /// The density rows' kernel-gradient correction (`CfluidSettings::gradient_correction`:
+    /// 0 off, else the smallest eigenvalue of the moment matrix that gets it).
+    pub gradient_correction: f64,
     /// Constraint fluid: XSPH as a viscosity, m^2/s (see `CfluidSettings::xsph_viscosity`).
     pub xsph_viscosity: f64,
     /// Constraint fluid: gradient-corrected XSPH (`CfluidSettings::xsph_corrected`).
@@ -135,6 +138,7 @@ impl Default for SloshingDecayParams {
             check: true,
             h: 2e-3,
             xsph: c.xsph,
+            gradient_correction: 0.0,
             xsph_viscosity: c.xsph_viscosity,
             xsph_corrected: c.xsph_corrected,
             compressibility: c.compressibility,
@@ -177,6 +181,11 @@ impl CaseParams for SloshingDecayParams {
         ParamInfo::new("check", "-", "check frequency and damping (else report)"),
         ParamInfo::new("h", "s", "constraint fluid: time step"),
         ParamInfo::new("xsph", "-", "constraint fluid: XSPH epsilon"),
+        ParamInfo::new(
+            "gradient_correction",
+            "-",
+            "density rows' gradient correction (0 off, else min eigenvalue of M_i)",
+        ),
         ParamInfo::new(
             "xsph_viscosity",
             "m^2/s",
@@ -355,6 +364,7 @@ fn run_cfluid(
         spacing: dp,
         h_over_dp: p.h_over_dp,
         xsph: p.xsph,
+        gradient_correction: p.gradient_correction,
         xsph_viscosity: p.xsph_viscosity,
         xsph_corrected: p.xsph_corrected,
         compressibility: p.compressibility,

@@ -89,6 +89,9 @@ pub struct StillWaterParams {
     pub t_end: f64,
     /// XSPH viscosity epsilon.
     pub xsph: f64,
+    /// The density rows' kernel-gradient correction (`CfluidSettings::gradient_correction`:
+    /// 0 off, else the smallest eigenvalue of the moment matrix that gets it).
+    pub gradient_correction: f64,
     /// Solver tolerance (chrono-ccp residual, 1/s).
     pub tolerance: f64,
     /// CCP solver name.
@@ -127,6 +130,7 @@ impl Default for StillWaterParams {
             h: 4e-3,
             t_end: 20.0,
             xsph: CfluidSettings::default().xsph,
+            gradient_correction: 0.0,
             tolerance: 1e-4,
             solver: "apgd".into(),
             max_iterations: 500,
@@ -150,6 +154,11 @@ impl CaseParams for StillWaterParams {
         ParamInfo::new("h", "s", "time step"),
         ParamInfo::new("t_end", "s", "simulated time"),
         ParamInfo::new("xsph", "-", "XSPH viscosity epsilon"),
+        ParamInfo::new(
+            "gradient_correction",
+            "-",
+            "density rows' gradient correction (0 off, else min eigenvalue of M_i)",
+        ),
         ParamInfo::new("tolerance", "1/s", "solver tolerance (chrono-ccp residual)"),
         ParamInfo::new("solver", "-", "CCP solver name (chrono-ccp)"),
         ParamInfo::new("max_iterations", "-", "iteration cap per step"),
@@ -275,6 +284,7 @@ fn run(p: &StillWaterParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     let settings = CfluidSettings {
         spacing: dp,
         xsph: p.xsph,
+        gradient_correction: p.gradient_correction,
         h_over_dp: p.h_over_dp,
         position_iterations: p.position_iterations,
         position_tolerance: p.position_tolerance,
