@@ -83,6 +83,9 @@ pub struct SnowParams {
     pub check: bool,
     /// F-bar: off, increment, total or plastic (`chrono_mpm::fbar`).
     pub f_bar: String,
+    /// The plate's boundary from mirrored markers (`RigidBody::mirrored_markers`) instead
+    /// of the lumped fold of its ghosts.
+    pub mirrored_markers: bool,
     /// Impact: side of the snow cube, m.
     pub impact_size: f64,
     /// Impact: cells across the cube.
@@ -118,6 +121,7 @@ impl Default for SnowParams {
             stress_tolerance: 0.02,
             check: false,
             f_bar: "off".into(),
+            mirrored_markers: false,
             impact_size: 0.2,
             impact_cells: 6,
             impact_markers_per_cell: 2,
@@ -162,6 +166,11 @@ impl CaseParams for SnowParams {
             "f_bar",
             "-",
             "F-bar volume averaging: off, increment, total or plastic (chrono_mpm::fbar)",
+        ),
+        ParamInfo::new(
+            "mirrored_markers",
+            "-",
+            "the plate's boundary from mirrored markers instead of the lumped fold of its ghosts (RigidBody::mirrored_markers)",
         ),
         ParamInfo::new("impact_size", "m", "impact: side of the snow cube"),
         ParamInfo::new("impact_cells", "-", "impact: grid cells across the cube"),
@@ -211,6 +220,7 @@ fn run(p: &SnowParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         final_strain: p.final_strain,
         cfl: p.cfl,
         f_bar,
+        mirrored_markers: p.mirrored_markers,
     };
     let mut col = Compaction::new(spec, mat.into())?;
     let samples = col.run(60, |f| ctx.progress(0.7 * f))?;
