@@ -31,6 +31,10 @@
 //! the nodes it reads ([`crate::fold`]; 0.13 % at 16 cells; `docs/mpm.md`,
 //! `plate_reaction_is_the_uniaxial_strain_modulus`).
 //! The slip contact keeps the simple node condition (its error is first order in `dx`).
+//! Opt-in for a sticky box, the ghosts' fold is replaced by mirrored markers
+//! ([`RigidBody::mirrored_markers`]): the same sums for a face on a node plane, and no
+//! dependence on where a face between node planes lies (the lumped fold's reading changes
+//! as the face passes a half-node).
 //!
 //! **Reaction, sign convention.** The body changes the momentum of the grid by
 //!

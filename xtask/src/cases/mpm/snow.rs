@@ -30,7 +30,11 @@
 //! total, or the plastic increment averaged) does not remove it (18 to 23 %); most of the
 //! error is the markers' own compaction lagging the plate's (0.2865 against 0.300, which
 //! the hardening amplifies by `xi + 1/J_P` = 11.4), reported as `marker_strain_mean`
-//! against `plate_strain_final`.
+//! against `plate_strain_final`. The plate's boundary from mirrored markers
+//! (`mirrored_markers`, `RigidBody::mirrored_markers`, off by default) removes the plate's
+//! trigger and converges at first order (16.7, 8.3, 3.2, 2.6 % at 8, 16, 32, 64 cells),
+//! but does not reach 2 % at an affordable run (`docs/mpm.md`, "The plate's ghosts from
+//! mirrored markers").
 //!
 //! Impact: a cube of the same snow falls at `impact_speed` onto a separating floor under
 //! gravity for `impact_time`: reported, not checked (no reference): that it runs without
