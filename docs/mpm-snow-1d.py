@@ -9,7 +9,10 @@ import math, sys
 #   PLATE: image (the engine's), node (v = v_b inside), traction (no plate: the exact
 #          stress history on the top surface), mirror (mirrored virtual markers about the
 #          plate's surface, no node condition), mirror_image (mirrored markers for the
-#          nodes outside, the image on the nodes inside, no fold); the mirror modes
+#          nodes outside, the image on the nodes inside, no fold; chrono_mpm's
+#          RigidBody::mirrored_markers), mirror_fold (the mirrored markers' mass and
+#          momentum without their stress; the real markers' stress on the image nodes
+#          folded by the image's transpose, -w_k f_g, onto the nodes it reads); the mirror modes
 #          report the markers' mean stress (quasi-static) against the curve at the strain
 #   STEP: the sampling interval of the strain (0.025)
 #   dens: the plastic branch's J_P from the grid's density (mirrored markers)
@@ -47,7 +50,7 @@ def run(quad, cells=8, ppc=1, elastic=False, strain_end=0.3, rate=0.1):
             l=0.5*d0*s[p]*jp[p]; q=32
             lo=math.floor((x[p]-l)/dx-0.5); hi=math.floor((x[p]+l)/dx-0.5)+2
             return [(i,sum(N((x[p]-l+(k+0.5)*2*l/q)/dx-i) for k in range(q))/q) for i in range(lo,hi+1)]
-        mass={}; mom={}
+        mass={}; mom={}; frc={}
         tau=[M*h[p]*(s[p]-1)*s[p] for p in range(n)]
         for p in range(n):
             g=x[p]/dx; b=math.floor(g-0.5)
@@ -57,6 +60,7 @@ def run(quad, cells=8, ppc=1, elastic=False, strain_end=0.3, rate=0.1):
             if quad=='point':
                 for i in range(b,b+3):
                     mom[i]=mom.get(i,0)-dt*V0*tau[p]*dN(g-i)/dx
+                    frc[i]=frc.get(i,0)-dt*V0*tau[p]*dN(g-i)/dx
             else:
                 l=0.5*d0*s[p]*jp[p]
                 lo=math.floor((x[p]-l)/dx-0.5); hi=math.floor((x[p]+l)/dx-0.5)+2
@@ -71,24 +75,36 @@ def run(quad, cells=8, ppc=1, elastic=False, strain_end=0.3, rate=0.1):
             g=ztop/dx; b=math.floor(g-0.5)
             for i in range(b,b+3):
                 mom[i]=mom.get(i,0)-dt*sig_t*N(g-i)
-        if PLATE in ('mirror','mirror_image'):
+        if PLATE in ('mirror','mirror_image','mirror_fold'):
             for p in range(n):
                 xv=2*zb-x[p]; vv=2*vb-v[p]
                 g=xv/dx; b=math.floor(g-0.5)
                 for i in range(b,b+3):
                     w=N(g-i)
                     mass[i]=mass.get(i,0)+w*m
-                    mom[i]=mom.get(i,0)+w*m*(vv+C[p]*(i*dx-xv))-dt*V0*tau[p]*dN(g-i)/dx
+                    mom[i]=mom.get(i,0)+w*m*(vv+C[p]*(i*dx-xv))-(dt*V0*tau[p]*dN(g-i)/dx if PLATE!='mirror_fold' else 0.0)
         # floor: fold ghosts -1,-2 into 1,2 (slip: normal component odd)
         for gi in (-1,-2):
             if gi in mass and mass[gi]>0:
                 mass[-gi]=mass.get(-gi,0)+mass[gi]; mom[-gi]=mom.get(-gi,0)-mom[gi]
+        if PLATE=='mirror_fold':
+            # the real stress on the image nodes, folded by the image's transpose
+            k_=math.floor(zb/dx-1e-12)
+            if abs(k_*dx-zb)<1e-12: k_-=1
+            for gi in [i for i in sorted(mass) if i*dx>=zb and mass[i]>0 and i>0]:
+                a=gi*dx-zb; zm=zb-a
+                if gi*dx==zb: L=[]
+                elif zm>=k_*dx: L=[(k_,(zb-zm)/(zb-k_*dx))]
+                else:
+                    u=(k_*dx-zm)/dx; L=[(k_,1-u),(k_-1,u)]
+                for kk,w in L:
+                    mom[kk]=mom.get(kk,0)-w*frc.get(gi,0)
         vel={i:(mom[i]/mass[i] if mass[i]>0 else 0.0) for i in mass}
         vel[0]=0.0
         # plate: nodes with z_i >= zb and mass are ghosts; image from the surface and the top free node
         k=math.floor(zb/dx-1e-12)  # highest node strictly below zb
         if abs(k*dx-zb)<1e-12: k-=1
-        ghosts=[i for i in sorted(mass) if i*dx>=zb and mass[i]>0 and i>0] if PLATE in ('image','node','mirror_image') else []
+        ghosts=[i for i in sorted(mass) if i*dx>=zb and mass[i]>0 and i>0] if PLATE in ('image','node','mirror_image','mirror_fold') else []
         before={i:vel[i] for i in vel}
         # links
         folds={}
@@ -107,7 +123,7 @@ def run(quad, cells=8, ppc=1, elastic=False, strain_end=0.3, rate=0.1):
             for kk,w in L:
                 folds.setdefault(kk,[0.0,0.0]); folds[kk][0]+=w*W*mass[gi]; folds[kk][1]+=-w*mass[gi]*e
         J=0.0
-        if PLATE in ('node','mirror_image'): folds={}
+        if PLATE in ('node','mirror_image','mirror_fold'): folds={}
         for kk,(dm,dp) in folds.items():
             if kk<=0: continue
             nv=vel[kk]+dp/(mass[kk]+dm); J+=mass[kk]*(nv-vel[kk]); vel[kk]=nv
@@ -162,9 +178,9 @@ def run(quad, cells=8, ppc=1, elastic=False, strain_end=0.3, rate=0.1):
             sig=-(imp-i0)/(t-t0)
             smid=0.5*(strain+s0); s0=strain; t0=t; i0=imp; nxt+=STEP
             Js=[s[p]*jp[p] for p in range(n)]
-            if PLATE in ('mirror','mirror_image'):
+            if PLATE in ('mirror','mirror_image','mirror_fold'):
                 sig=-sum(V0*tt for tt in tau)/zb  # the markers' mean axial stress
-            print('%s strain %.3f  sum J d0 - zb = %+.3f dx  J spread %.4f..%.4f  (unif %.4f) plate stress/exact at mid %.4f'%(quad,strain,(sum(Js)*d0-zb)/dx,min(Js),max(Js),1-strain,sig/-stress_exact(smid if PLATE not in ('mirror','mirror_image') else strain)))
+            print('%s strain %.3f  sum J d0 - zb = %+.3f dx  J spread %.4f..%.4f  (unif %.4f) plate stress/exact at mid %.4f'%(quad,strain,(sum(Js)*d0-zb)/dx,min(Js),max(Js),1-strain,sig/-stress_exact(smid if PLATE not in ('mirror','mirror_image','mirror_fold') else strain)))
             print('   top marker: plate - x_top = %.3f dx, J range in the lower half %.4f..%.4f'%((zb-x[-1])/dx, min(Js[:n//2]), max(Js[:n//2])))
             sys.stdout.flush()
 DENS=len(sys.argv)>6 and sys.argv[6]=='dens'

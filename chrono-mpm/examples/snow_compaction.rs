@@ -1,7 +1,7 @@
 //! Confined compaction of Stomakhin 2013's snow by a plate (`chrono_mpm::compaction`):
 //! prints the axial stress against the model's own uniaxial-strain curve.
 //!
-//! `cargo run --release -p chrono-mpm --example snow_compaction [cells [strain_rate [final_strain [markers_per_cell [f_bar (0 off, 1 increment, 2 total, 3 plastic)]]]]]`
+//! `cargo run --release -p chrono-mpm --example snow_compaction [cells [strain_rate [final_strain [markers_per_cell [f_bar (0 off, 1 increment, 2 total, 3 plastic) [mirrored (1: the plate's mirrored markers)]]]]]]`
 
 use chrono_mpm::compaction::{Compaction, CompactionSpec};
 use chrono_mpm::{FixedCorotated, SnowHardening};
@@ -32,6 +32,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             FBar::Total,
             FBar::PlasticIncrement,
         ][arg(5, 0.0)? as usize],
+        mirrored_markers: arg(6, 0.0)? > 0.0,
     };
     let mut c = Compaction::new(spec, mat.into())?;
     let start = std::time::Instant::now();

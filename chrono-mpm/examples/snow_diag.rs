@@ -2,9 +2,11 @@
 //! markers' `J` against the uniform `J` of the plate, the top marker's extent against the
 //! plate, the markers' velocity and `C_zz` against the linear field.
 //!
-//! `cargo run --profile test -p chrono-mpm --example snow_diag -- [cells [final_strain [rate [elastic [unused [step]]]]]]`
-//! (`elastic` 1: fixed-corotated without plasticity; `step`: the strain between prints;
-//! one marker per cell, the layers' figures assume it).
+//! `cargo run --profile test -p chrono-mpm --example snow_diag -- [cells [final_strain [rate [elastic [mirrored [step]]]]]]`
+//! (`elastic` 1: fixed-corotated without plasticity; `mirrored` 2: the plate's boundary
+//! from mirrored markers, `RigidBody::mirrored_markers`, else the lumped fold (1 was an
+//! unused argument before); `step`: the strain between prints; one marker per cell, the
+//! layers' figures assume it).
 
 use chrono_mpm::compaction::{Compaction, CompactionSpec};
 use chrono_mpm::fbar::FBar;
@@ -33,6 +35,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         final_strain: arg(2, 0.3),
         cfl: 0.4,
         f_bar: FBar::Off,
+        mirrored_markers: arg(5, 1.0) > 1.0,
     };
     let mut c = Compaction::new(spec, mat.into())?;
     let mut next = 0.0;

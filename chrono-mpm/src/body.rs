@@ -39,6 +39,7 @@ use std::time::Instant;
 
 mod g2p;
 mod grid_update;
+mod mirror;
 mod rigid_update;
 
 /// Settings of an MPM body.
@@ -462,6 +463,7 @@ impl MpmBody {
         }
         self.grid.mass = mass;
         self.grid.mom = mom;
+        self.p2g_mirrored(dt);
     }
 
     /// Total marker momentum `sum m_p v_p`, kg m/s (fixed-order sum).

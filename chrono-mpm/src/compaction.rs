@@ -53,6 +53,9 @@ pub struct CompactionSpec {
     pub cfl: f64,
     /// F-bar volume averaging ([`crate::fbar`]).
     pub f_bar: crate::fbar::FBar,
+    /// The plate's boundary from mirrored markers instead of the lumped fold of its ghosts
+    /// ([`RigidBody::mirrored_markers`]).
+    pub mirrored_markers: bool,
 }
 
 /// One sample of the compaction.
@@ -139,12 +142,14 @@ impl Compaction {
         // on the top of the column: the nodes inside it near the column are nearest to the
         // lower face (whose normal the image uses), not to a side face.
         let plate_z0 = 2.0 * h;
-        body.rigid.push(RigidBody::new_box(
+        let mut plate = RigidBody::new_box(
             Vector3::new(w / 2.0, w / 2.0, plate_z0),
             [w + 2.0 * h, w + 2.0 * h, h],
             Vector3::zeros(),
             Contact::Sticky,
-        )?);
+        )?;
+        plate.set_mirrored_markers(spec.mirrored_markers)?;
+        body.rigid.push(plate);
         Ok(Self {
             body,
             spec,

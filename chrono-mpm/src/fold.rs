@@ -50,11 +50,13 @@ pub(crate) fn mirror_index(g: i64, n: i64) -> i64 {
 }
 
 /// Folds the walls' ghosts into their mirror nodes: `mass` and `mom` are the P2G masses
-/// and momenta (gravity included); on return `fmass` and `mom` hold, for the box nodes,
-/// the folded masses and momenta (ghost nodes unchanged). `prev` is scratch.
+/// and momenta (gravity included) on the nodes of `grid`'s active blocks; on return
+/// `fmass` and `mom` hold, for the box nodes, the folded masses and momenta (ghost nodes
+/// unchanged). `prev` is scratch.
 pub(crate) fn fold_walls(
     spec: &GridSpec,
     grid: &SparseGrid,
+    mass: &[f64],
     prev: &mut Vec<[f64; 3]>,
     fmass: &mut Vec<f64>,
     mom: &mut [[f64; 3]],
@@ -63,9 +65,8 @@ pub(crate) fn fold_walls(
     prev.clear();
     prev.extend_from_slice(mom);
     fmass.clear();
-    fmass.extend_from_slice(&grid.mass);
+    fmass.extend_from_slice(mass);
     let prev = &*prev;
-    let mass = &grid.mass;
     fmass
         .par_chunks_mut(BLOCK3)
         .zip(mom.par_chunks_mut(BLOCK3))
@@ -214,7 +215,10 @@ pub(crate) fn rigid_links(
             let half = r.shape.bounding_half();
             (0..3).all(|a| lo[a] <= r.position[a] + half[a] && hi[a] >= r.position[a] - half[a])
         };
-        if !rigid.iter().any(|r| r.uses_image() && near(r)) {
+        if !rigid
+            .iter()
+            .any(|r| r.uses_image() && !r.mirrors() && near(r))
+        {
             continue;
         }
         for l in 0..BLOCK3 {
@@ -235,6 +239,10 @@ pub(crate) fn rigid_links(
                 let (phi, n) = body.shape.distance(&(x - body.position));
                 if phi >= 0.0 {
                     continue;
+                }
+                if body.mirrors() {
+                    // Its ghosts take the mirrored markers' share instead (no fold).
+                    break;
                 }
                 let Some(m) = body.mirror(&x, i, dx, -phi, &n) else {
                     break;

@@ -150,6 +150,17 @@ pub struct SparseGrid {
     /// The folded nodes' momentum change (N s) and its moment about the body's centre
     /// (N m s) per rigid body (scratch of the grid update).
     pub(crate) fold_impulse: Vec<[f64; 6]>,
+    /// Whether the step has mirrored markers ([`crate::rigid::RigidBody::mirrored_markers`]).
+    pub(crate) mirror_on: bool,
+    /// The mirrored markers' node masses (kg) and momenta (N s, their stress and gravity
+    /// impulses included) per active block (empty when `mirror_on` is false); in the grid
+    /// update, the masses with the real markers' added.
+    pub(crate) mirror_mass: Vec<f64>,
+    pub(crate) mirror_mom: Vec<[f64; 3]>,
+    /// The real markers' folded node masses (kg) and velocities under the walls (m/s)
+    /// alone, when `mirror_on` (the mirrored bodies' impulse).
+    pub(crate) real_mass: Vec<f64>,
+    pub(crate) real_vel: Vec<[f64; 3]>,
 }
 
 impl SparseGrid {

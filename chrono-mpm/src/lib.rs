@@ -61,6 +61,8 @@ pub mod vtk;
 pub mod wheel;
 
 #[cfg(test)]
+mod mirror_tests;
+#[cfg(test)]
 mod mud_tests;
 #[cfg(test)]
 mod quadrature_tests;

@@ -31,6 +31,10 @@
 //! the nodes it reads ([`crate::fold`]; 0.13 % at 16 cells; `docs/mpm.md`,
 //! `plate_reaction_is_the_uniaxial_strain_modulus`).
 //! The slip contact keeps the simple node condition (its error is first order in `dx`).
+//! Opt-in for a sticky box, the ghosts' fold is replaced by mirrored markers
+//! ([`RigidBody::mirrored_markers`]): the same sums for a face on a node plane, and no
+//! dependence on where a face between node planes lies (the lumped fold's reading changes
+//! as the face passes a half-node).
 //!
 //! **Reaction, sign convention.** The body changes the momentum of the grid by
 //!
@@ -181,6 +185,32 @@ pub struct RigidBody {
     pub total_angular_impulse: Vector3<f64>,
     /// The length of the last step, s.
     pub last_dt: f64,
+    /// The sticky image's boundary treatment from *mirrored markers* instead of the lumped
+    /// fold (opt-in, off by default; a sticky, non-spinning box only:
+    /// [`RigidBody::set_mirrored_markers`]). Each marker within `1.5 dx` of a face of the
+    /// body (its nearest feature a face, not an edge or corner) adds to the grid, in P2G,
+    /// the mass, momentum and stress of its mirror image about that face: with `R` the
+    /// reflection about the face's plane (`R = I - 2 n n^T`, `n` the face's normal),
+    ///
+    /// ```text
+    /// x' = x - 2 phi n,   m' = m,   v' = 2 v_b - v - dt g,   C' = -C R,   tau' = -tau R
+    /// ```
+    ///
+    /// (`phi` the marker's signed distance to the face): the odd continuation of the
+    /// velocity relative to the body (`v'(x') = 2 v_b - v(R x')`), the same images the
+    /// sticky walls' fold gives for a face on a node plane ([`crate::fold`]: there the two
+    /// are the same sums). The nodes outside the body then solve `v = p / m` with the
+    /// mirrored markers' share; the nodes inside take the sticky image
+    /// ([`crate::rigid`]); no ghost is folded. For a face between node planes the lumped
+    /// fold reads the wrong nodes once the face passes a half-node (the top marker of a
+    /// compressed column runs into the plate); the mirrored markers do not depend on where
+    /// the face lies between nodes (`docs/mpm.md`, `mpm-snow`, "The plate's ghosts from
+    /// mirrored markers"). The body's impulse is then the momentum change of the real
+    /// markers' share of the nodes within `3 dx` of it (those its mirrored markers reach,
+    /// `1.5 dx` beyond the mirror of a marker up to `1.5 dx` inside; the folded real masses):
+    /// `J = sum_i m_i^r (v_i' - v_i^r)`, with `v_i^r` the node's velocity from the real
+    /// markers alone under the walls' conditions.
+    pub mirrored_markers: bool,
 }
 
 impl RigidBody {
@@ -231,6 +261,7 @@ impl RigidBody {
             angular_impulse: Vector3::zeros(),
             total_angular_impulse: Vector3::zeros(),
             last_dt: 0.0,
+            mirrored_markers: false,
         })
     }
 
@@ -282,6 +313,46 @@ impl RigidBody {
             && self.angular_velocity == Vector3::zeros()
     }
 
+    /// Switches the boundary treatment from mirrored markers ([`RigidBody::mirrored_markers`])
+    /// on or off. Errors name `rigid.mirrored_markers` for a body that does not take the
+    /// sticky image ([`RigidBody::uses_image`]: slip contact, a cylinder, a spinning box).
+    pub fn set_mirrored_markers(&mut self, on: bool) -> Result<()> {
+        if on && !self.uses_image() {
+            return Err(invalid(
+                "rigid.mirrored_markers",
+                on,
+                "needs a sticky, non-spinning box (a body that takes the sticky image)",
+            ));
+        }
+        self.mirrored_markers = on;
+        Ok(())
+    }
+
+    /// Whether the body's boundary is from mirrored markers ([`RigidBody::mirrored_markers`]).
+    #[inline]
+    pub(crate) fn mirrors(&self) -> bool {
+        self.mirrored_markers && self.uses_image()
+    }
+
+    /// The mirror image of a marker at `x` (m) about the body's nearest face, and the
+    /// face's outward normal, if the marker lies within `reach` (m) of the face on either
+    /// side and its nearest feature is a face (outside: one coordinate past the box; an
+    /// edge's or corner's neighbours are not mirrored). `x' = x - 2 phi n`.
+    pub(crate) fn mirror_marker(
+        &self,
+        x: &Vector3<f64>,
+        reach: f64,
+    ) -> Option<(Vector3<f64>, Vector3<f64>)> {
+        let (phi, n) = self.shape.distance(&(x - self.position));
+        if phi.abs() >= reach {
+            return None;
+        }
+        if n.iter().filter(|c| **c != 0.0).count() != 1 {
+            return None;
+        }
+        Some((x - n * (2.0 * phi), n))
+    }
+
     /// The torque the material exerted on the body about its centre over the last step,
     /// `-angular_impulse / dt`, N m (zero before the first step).
     pub fn torque_on_body(&self) -> Vector3<f64> {
@@ -315,6 +386,13 @@ impl RigidBody {
         }
         if !self.angular_velocity.iter().all(|c| c.is_finite()) {
             return bad("angular_velocity", format!("{:?}", self.angular_velocity));
+        }
+        if self.mirrored_markers && !self.uses_image() {
+            return Err(invalid(
+                &format!("rigid[{k}].mirrored_markers"),
+                true,
+                "needs a sticky, non-spinning box (a body that takes the sticky image)",
+            ));
         }
         Ok(())
     }

@@ -285,8 +285,12 @@ fn walls_stop_a_falling_block_without_penetration() {
 }
 
 /// A free elastic block (no walls near, gravity off) pushed by a plate moving down and
-/// sideways: the markers' momentum changes by the plate's impulse, to round-off.
-fn pushed_block(contact: rigid::Contact) -> (Vector3<f64>, Vector3<f64>, Vector3<f64>) {
+/// sideways (`mirrored`: its boundary from mirrored markers): the markers' momentum before
+/// and after, the plate's impulse.
+pub(crate) fn pushed_block(
+    contact: rigid::Contact,
+    mirrored: bool,
+) -> (Vector3<f64>, Vector3<f64>, Vector3<f64>) {
     let spec = GridSpec::new([0.0; 3], [12, 12, 12], 0.1).unwrap();
     let mat = FixedCorotated::elastic(1e5, 0.3).unwrap();
     let mut body = MpmBody::new(
@@ -310,15 +314,15 @@ fn pushed_block(contact: rigid::Contact) -> (Vector3<f64>, Vector3<f64>, Vector3
         .unwrap();
     // A plate wider than the block, pressed 2 cm into its top, moving down and sideways:
     // only its lower face acts.
-    body.rigid.push(
-        RigidBody::new_box(
-            Vector3::new(0.6, 0.6, 0.98),
-            [1.0, 1.0, 0.2],
-            Vector3::new(0.3, 0.0, -0.5),
-            contact,
-        )
-        .unwrap(),
-    );
+    let mut plate = RigidBody::new_box(
+        Vector3::new(0.6, 0.6, 0.98),
+        [1.0, 1.0, 0.2],
+        Vector3::new(0.3, 0.0, -0.5),
+        contact,
+    )
+    .unwrap();
+    plate.set_mirrored_markers(mirrored).unwrap();
+    body.rigid.push(plate);
     let p0 = body.momentum();
     let dt = 0.5 * body.stable_dt();
     for _ in 0..40 {
@@ -335,7 +339,7 @@ fn rigid_impulse_equals_the_material_momentum_change() {
         rigid::Contact::Slip { friction: 0.0 },
         rigid::Contact::Slip { friction: 0.4 },
     ] {
-        let (p0, p1, j) = pushed_block(contact);
+        let (p0, p1, j) = pushed_block(contact, false);
         // The plate did push (a real impulse, not zero = zero).
         assert!(j.z < -1.0, "{contact:?}: impulse {j}");
         let err = (p1 - p0 - j).norm();
@@ -357,8 +361,9 @@ fn rigid_impulse_equals_the_material_momentum_change() {
 
 /// The largest relative error of the plate's stress against `(lambda + 2 mu) strain` from
 /// 0.5 % strain on, compressing an elastic column (confined sides) of `cells` cells with
-/// `mpc` markers per cell per axis to 2 %; and the markers' mean-stress error.
-fn plate_stress_error(cells: usize, mpc: usize) -> (f64, f64) {
+/// `mpc` markers per cell per axis to 2 % (`mirrored`: the plate's boundary from mirrored
+/// markers); and the markers' mean-stress error.
+pub(crate) fn plate_stress_error(cells: usize, mpc: usize, mirrored: bool) -> (f64, f64) {
     let (young, poisson, rho, h) = (1e6, 0.3, 1000.0, 1.0);
     let mat = FixedCorotated::elastic(young, poisson).unwrap();
     let m = mat.elastic.p_modulus();
@@ -374,6 +379,7 @@ fn plate_stress_error(cells: usize, mpc: usize) -> (f64, f64) {
         final_strain: 0.02,
         cfl: 0.4,
         f_bar: crate::fbar::FBar::Off,
+        mirrored_markers: mirrored,
     };
     let mut c = compaction::Compaction::new(spec, mat.into()).unwrap();
     let samples = c.run(40, |_| {}).unwrap();
@@ -405,8 +411,8 @@ fn plate_reaction_is_the_uniaxial_strain_modulus() {
     // fixed-corotated in uniaxial strain, `uniaxial_strain_stress`). With the boundary
     // images folded (crate::fold) 0.26 % at 8 cells, 0.13 % at 16, with two markers per
     // cell (7.6 % and 4.5 % with the ghosts' mass and force dropped; `docs/mpm.md`).
-    let (e8, m8) = plate_stress_error(8, 2);
-    let (e16, m16) = plate_stress_error(16, 2);
+    let (e8, m8) = plate_stress_error(8, 2, false);
+    let (e16, m16) = plate_stress_error(16, 2, false);
     assert!(
         e16 < 0.005,
         "plate stress off the modulus by {e16} at 16 cells"
@@ -415,7 +421,7 @@ fn plate_reaction_is_the_uniaxial_strain_modulus() {
     // The material itself is on the modulus (its mean stress against its mean strain).
     assert!(m8 < 2e-3 && m16 < 2e-3, "markers {m8}, {m16}");
     // One marker per cell as well.
-    let (e8_1, _) = plate_stress_error(8, 1);
+    let (e8_1, _) = plate_stress_error(8, 1, false);
     assert!(e8_1 < 0.005, "one marker per cell, 8 cells: {e8_1}");
 }
 

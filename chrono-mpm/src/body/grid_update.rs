@@ -40,13 +40,25 @@ impl MpmBody {
     pub(crate) fn grid_velocities(&mut self, rigid: bool) {
         let spec = self.spec;
         let nb = spec.blocks();
-        let mut mom = std::mem::take(&mut self.grid.mom);
-        let mut prev = std::mem::take(&mut self.grid.prev);
-        let mut fmass = std::mem::take(&mut self.grid.fmass);
-        fold::fold_walls(&spec, &self.grid, &mut prev, &mut fmass, &mut mom);
-        self.grid.mom = mom;
-        self.grid.prev = prev;
-        self.grid.fmass = fmass;
+        if rigid && self.grid.mirror_on {
+            // The rigid bodies' mirrored markers join the sums (`body::mirror`).
+            self.fold_with_mirrored();
+        } else {
+            let mut mom = std::mem::take(&mut self.grid.mom);
+            let mut prev = std::mem::take(&mut self.grid.prev);
+            let mut fmass = std::mem::take(&mut self.grid.fmass);
+            fold::fold_walls(
+                &spec,
+                &self.grid,
+                &self.grid.mass,
+                &mut prev,
+                &mut fmass,
+                &mut mom,
+            );
+            self.grid.mom = mom;
+            self.grid.prev = prev;
+            self.grid.fmass = fmass;
+        }
         let active = &self.grid.active;
         self.grid
             .mom

@@ -12,7 +12,9 @@ impl MpmBody {
     /// read from the updated nodes ([`crate::rigid`]). Each body's impulse is the momentum
     /// change of the nodes it changed (with the folded masses), summed per block and then
     /// over the blocks in order, the folded nodes' last (the same bits for any thread
-    /// count).
+    /// count). A body with mirrored markers ([`RigidBody::mirrored_markers`]) has no
+    /// ghosts folded; its impulse is the real markers' share of the change of the nodes
+    /// within `3 dx` of it (`m^r (v' - v^r)`, [`MpmBody::fold_with_mirrored`]).
     pub(super) fn rigid_update(&mut self) {
         let spec = self.spec;
         let nb = spec.blocks();
@@ -124,16 +126,46 @@ impl MpmBody {
                             continue;
                         }
                         if let Some(v1) = body.contact_velocity(&x, i, spec.dx, v, node) {
-                            let dp = (Vector3::from(v1) - Vector3::from(v)) * mass[l];
-                            let dl = (x - body.position).cross(&dp);
-                            for a in 0..3 {
-                                impulse[r][a] += dp[a];
-                                impulse[r][3 + a] += dl[a];
+                            if !body.mirrors() {
+                                let dp = (Vector3::from(v1) - Vector3::from(v)) * mass[l];
+                                let dl = (x - body.position).cross(&dp);
+                                for a in 0..3 {
+                                    impulse[r][a] += dp[a];
+                                    impulse[r][3 + a] += dl[a];
+                                }
                             }
                             v = v1;
                         }
                     }
                     mom[l] = v;
+                    if !grid.mirror_on {
+                        continue;
+                    }
+                    // A mirroring body's impulse: the real markers' share of the node's
+                    // change, `m^r (v' - v^r)`, on the nodes within 3 dx of it (those its
+                    // mirrored markers reach; to the first such body;
+                    // `RigidBody::mirrored_markers`).
+                    let q = k * BLOCK3 + l;
+                    let mr = grid.real_mass[q];
+                    if mr <= 0.0 {
+                        continue;
+                    }
+                    for (r, body) in rigid.iter().enumerate() {
+                        if !body.mirrors() {
+                            continue;
+                        }
+                        let (phi, _) = body.shape.distance(&(x - body.position));
+                        if phi >= 3.0 * spec.dx {
+                            continue;
+                        }
+                        let dp = (Vector3::from(v) - Vector3::from(grid.real_vel[q])) * mr;
+                        let dl = (x - body.position).cross(&dp);
+                        for a in 0..3 {
+                            impulse[r][a] += dp[a];
+                            impulse[r][3 + a] += dl[a];
+                        }
+                        break;
+                    }
                 }
             });
         for (r, body) in self.rigid.iter_mut().enumerate() {
