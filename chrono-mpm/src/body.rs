@@ -428,14 +428,8 @@ impl MpmBody {
                 let p = sorted[s].1 as usize;
                 let st = Stencil::new(mk.x[p].into(), origin, dx);
                 let m = mk.mass[p];
-                let mut tau = mat.kirchhoff(&mk.fe[p], &mk.fp[p]);
-                if split {
-                    // the split: the volumetric part is the pressure rows'
-                    let mean = tau.trace() / 3.0;
-                    for a in 0..3 {
-                        tau[(a, a)] -= mean;
-                    }
-                }
+                // the split: the volumetric part is the pressure rows'
+                let tau = mat.grid_stress(&mk.fe[p], &mk.fp[p], split);
                 let a = tau * (-dt * mk.volume0[p]);
                 let mc = mk.c[p] * m;
                 *d = P2gMarker {

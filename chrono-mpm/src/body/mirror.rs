@@ -42,13 +42,7 @@ impl MpmBody {
                 };
                 let r = Matrix3::identity() - (n * n.transpose()) * 2.0;
                 let m = mk.mass[p];
-                let mut tau = mat.kirchhoff(&mk.fe[p], &mk.fp[p]);
-                if split {
-                    let mean = tau.trace() / 3.0;
-                    for a in 0..3 {
-                        tau[(a, a)] -= mean;
-                    }
-                }
+                let tau = mat.grid_stress(&mk.fe[p], &mk.fp[p], split);
                 // -dt V0 tau' with tau' = -tau R.
                 let am = (tau * r) * (dt * mk.volume0[p]);
                 let mv = (body.velocity * 2.0 - mk.v[p] - g * dt) * m;

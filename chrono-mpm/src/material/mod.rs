@@ -95,6 +95,21 @@ impl Material {
         }
     }
 
+    /// The Kirchhoff stress the grid takes from a marker, Pa: [`kirchhoff`](Self::kirchhoff),
+    /// or its deviator `tau - tr(tau)/3 I` when `deviatoric` (the split, whose density rows
+    /// carry the volumetric part).
+    #[inline]
+    pub fn grid_stress(&self, fe: &Matrix3<f64>, fp: &Matrix3<f64>, deviatoric: bool) -> Matrix3<f64> {
+        let mut tau = self.kirchhoff(fe, fp);
+        if deviatoric {
+            let mean = tau.trace() / 3.0;
+            for a in 0..3 {
+                tau[(a, a)] -= mean;
+            }
+        }
+        tau
+    }
+
     /// Elastic energy per reference volume, J/m^3.
     pub fn energy_density(&self, fe: &Matrix3<f64>, fp: &Matrix3<f64>) -> f64 {
         match self {
