@@ -623,6 +623,64 @@ fn momentum_exchange_is_equal_and_opposite() {
     );
 }
 
+/// The per-row body impulses of `row_impulses_on` add up to the momentum the body got
+/// from the fluid in each step (no contacts: the box has no collider, no gravity), both the
+/// fluid rows' and the markers' own rows contributing; a body that is not attached has none.
+#[test]
+fn row_impulses_on_a_body_add_up_to_its_momentum_change() {
+    let dp = 0.01;
+    let settings = CfluidSettings {
+        spacing: dp,
+        body_marker_rows: true,
+        domain_lower: [-0.2; 3],
+        domain_upper: [0.2; 3],
+        ..CfluidSettings::default()
+    };
+    let fluid = lattice_box([-0.04, -0.03, -0.04], [0.04, 0.03, 0.0], dp).unwrap();
+    let mut item = ConstraintFluid::new("blob", settings, &fluid, &[]).unwrap();
+    let mut sys = system(Vector3::zeros());
+    let half = [0.02, 0.02, 0.01];
+    let body = sys
+        .add_body(
+            box_body(
+                BodyMotion::Dynamic,
+                half,
+                800.0,
+                Vector3::new(0.005, 0.0, 0.016),
+            )
+            .rotation(UnitQuaternion::from_euler_angles(0.3, 0.1, -0.2))
+            .linear_velocity(Vector3::new(0.1, 0.05, -0.6)),
+        )
+        .unwrap();
+    let m = box_markers(half, dp, 2, [false; 3]).unwrap();
+    item.attach_body(body, sys.body(body).unwrap(), &m).unwrap();
+    let id = sys.add_item(Box::new(item));
+    let (mut worst, mut largest, mut marker_part) = (0.0f64, 0.0f64, 0.0f64);
+    for _ in 0..30 {
+        sys.step(1e-3).unwrap();
+        let vf = sys.last_problem().free_velocity();
+        let b = sys.body(body).unwrap();
+        let got = b.mass() * (b.linear_velocity() - Vector3::new(vf[0], vf[1], vf[2]));
+        let f = sys.item::<ConstraintFluid>(id).unwrap();
+        let (fl, mk) = f.row_impulses_on(body);
+        assert_eq!((fl.len(), mk.len()), (f.n_fluid(), f.n_body_markers()));
+        let sum = |v: &[[f64; 3]]| v.iter().map(|x| Vector3::from(*x)).sum::<Vector3<f64>>();
+        let (sf, sm) = (sum(&fl), sum(&mk));
+        worst = worst.max((sf + sm - got).norm());
+        largest = largest.max(got.norm());
+        marker_part = marker_part.max(sm.norm());
+        let fixed = || RigidBodyBuilder::fixed().build().unwrap();
+        let not_attached = Bodies::from_bodies(vec![fixed(), fixed()]).handle(1);
+        assert!(f.row_impulses_on(not_attached).0.is_empty());
+    }
+    assert!(largest > 1e-4, "no impulse was exchanged ({largest} N s)");
+    assert!(marker_part > 0.0, "the markers' rows never pushed");
+    assert!(
+        worst < 1e-9 * largest,
+        "rows' impulses differ from the body's momentum change by {worst} N s (largest {largest})"
+    );
+}
+
 #[test]
 fn bad_coupling_input_names_the_field() {
     let e = ConstraintFluid::new(

@@ -1,6 +1,8 @@
 //! The [`ConstraintFluid`]'s read access: counts, particle state, densities, impulses,
 //! pressure and energy (diagnostics and output; the step does not use them).
 
+use chrono_core::body::BodyHandle;
+use chrono_core::density_rows::RowBuf;
 use chrono_core::descriptor::RowId;
 use chrono_core::error::{ChronoError, Result};
 use chrono_core::particles::Kernel;
@@ -152,6 +154,53 @@ impl ConstraintFluid {
     /// where it pushes).
     pub fn impulses(&self) -> &[f64] {
         &self.gamma
+    }
+
+    /// The impulses of the body-marker rows of the last step, N m s (one per body marker,
+    /// in attachment order; 0 for a marker without a row), `>= 0` (the rows are unilateral).
+    pub fn marker_impulses(&self) -> &[f64] {
+        &self.marker_gamma
+    }
+
+    /// Position of body marker `k` (all attached bodies, attachment order) at the start of
+    /// the last step (or where [`attach_body`](Self::attach_body) put it), m.
+    pub fn marker_position(&self, k: usize) -> [f64; 3] {
+        let j = self.n_static + k;
+        [self.pos[0][j], self.pos[1][j], self.pos[2][j]]
+    }
+
+    /// Pressure of body marker `k`'s own row in the last step, `p_k = g_k rho_0 / (h m_k)`,
+    /// Pa (0 without a row).
+    pub fn marker_pressure(&self, k: usize) -> f64 {
+        self.impulse_to_pressure(self.marker_gamma[k])
+    }
+
+    /// The linear impulse (N s, world frame) that each density row of the last step gave
+    /// the attached body `body`: `D_b g` of every row with a block on it, `D_b` the row's
+    /// linear body coefficients (`sum_k c_k` over the body's markers in the row, see
+    /// [`ConstraintFluid`]) and `g` its impulse. `fluid[i]` is fluid particle `i`'s row,
+    /// `markers[k]` body marker `k`'s own row (all attached bodies' markers, attachment
+    /// order; zero where a row has no block on `body`). The sum over both is the impulse
+    /// the density rows gave the body (the contact rows' share is not included);
+    /// `- g / h` of `(0, 0, 1)` summed is the buoyancy, N. Empty when `body` is not
+    /// attached.
+    pub fn row_impulses_on(&self, body: BodyHandle) -> (Vec<[f64; 3]>, Vec<[f64; 3]>) {
+        let Some(slot) = self.bodies.iter().position(|b| b.0 == body) else {
+            return (Vec::new(), Vec::new());
+        };
+        let on = |buf: &RowBuf, g: f64| -> [f64; 3] {
+            buf.bodies
+                .iter()
+                .find(|b| b.0 as usize == slot)
+                .map_or([0.0; 3], |(_, c)| [c[0] * g, c[1] * g, c[2] * g])
+        };
+        let fluid = (self.rows.iter().zip(&self.gamma))
+            .map(|(b, g)| on(b, *g))
+            .collect();
+        let markers = (self.marker_rows.iter().zip(&self.marker_gamma))
+            .map(|(b, g)| on(b, *g))
+            .collect();
+        (fluid, markers)
     }
 
     /// The density rows of the last step, one per fluid particle (map them to global rows
