@@ -363,9 +363,15 @@ fn the_corrected_row_reads_a_shear_of_a_disordered_packing_as_no_compression() {
     let c_shear = row_rate(&corr, &c.pos, shear);
     let c_exp = row_rate(&corr, &c.pos, expansion);
     assert!(p_shear.abs() > 1e-3, "plain row's shear rate {p_shear}");
-    assert!(c_shear.abs() < 1e-12, "corrected row's shear rate {c_shear}");
+    assert!(
+        c_shear.abs() < 1e-12,
+        "corrected row's shear rate {c_shear}"
+    );
     // the rate of v = A x is tr A (the row is -grad C, so `D . v = -dC/dt = div v`)
-    assert!((c_exp - 3.0).abs() < 1e-12, "corrected row's expansion rate {c_exp}");
+    assert!(
+        (c_exp - 3.0).abs() < 1e-12,
+        "corrected row's expansion rate {c_exp}"
+    );
     for r in [&plain, &corr] {
         let t = row_rate(r, &c.pos, translation);
         assert!(t.abs() < 1e-12, "translation rate {t}");

@@ -99,7 +99,12 @@ impl Material {
     /// or its deviator `tau - tr(tau)/3 I` when `deviatoric` (the split, whose density rows
     /// carry the volumetric part).
     #[inline]
-    pub fn grid_stress(&self, fe: &Matrix3<f64>, fp: &Matrix3<f64>, deviatoric: bool) -> Matrix3<f64> {
+    pub fn grid_stress(
+        &self,
+        fe: &Matrix3<f64>,
+        fp: &Matrix3<f64>,
+        deviatoric: bool,
+    ) -> Matrix3<f64> {
         let mut tau = self.kirchhoff(fe, fp);
         if deviatoric {
             let mean = tau.trace() / 3.0;
