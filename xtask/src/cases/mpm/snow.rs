@@ -35,8 +35,8 @@
 //! trigger and converges at first order (16.7, 8.3, 3.2, 2.6 % at 8, 16, 32, 64 cells),
 //! but does not reach 2 % at an affordable default run (`docs/mpm.md`, "The plate's ghosts
 //! from mirrored markers"). `--full` runs the check where it holds: mirrored markers, 16
-//! cells, 4 markers per cell per axis (1.28 %; 2.35 % at 8 cells; about 2 min on one
-//! thread).
+//! cells, 4 markers per cell per axis (1.28 %; 2.35 / 0.91 % at 8 / 32 cells; about 2
+//! min on one thread).
 //!
 //! Impact: a cube of the same snow falls at `impact_speed` onto a separating floor under
 //! gravity for `impact_time`: reported, not checked (no reference): that it runs without
