@@ -56,7 +56,8 @@ pub struct CfluidSloshingParams {
     pub spacing: f64,
     /// Duration of the smooth start, in excitation periods.
     pub ramp_periods: f64,
-    /// Length of the fit window after the ramp, in excitation periods.
+    /// Length of the fit window after the ramp, in excitation periods (near `omega_1` at
+    /// least the beat period of `Omega` and `omega_1`, so the two are separable).
     pub fit_periods: f64,
     /// Relative tolerance of the force ratio.
     pub rel_tolerance: f64,
@@ -121,7 +122,11 @@ impl CaseParams for CfluidSloshingParams {
         ),
         ParamInfo::new("spacing", "m", "particle spacing dp (0: a / 40)"),
         ParamInfo::new("ramp_periods", "-", "smooth start, in excitation periods"),
-        ParamInfo::new("fit_periods", "-", "fit window after the ramp, in periods"),
+        ParamInfo::new(
+            "fit_periods",
+            "-",
+            "fit window after the ramp, in periods (at least a beat period near omega_1)",
+        ),
         ParamInfo::new(
             "rel_tolerance",
             "-",
@@ -234,7 +239,9 @@ fn simulate(
     let (a, hf) = (p.tank_length, p.fill_height);
     let period = std::f64::consts::TAU / omega;
     let ramp = p.ramp_periods * period;
-    let t_end = ramp + p.fit_periods * period;
+    let om1 = sloshing_mode(1, a, hf, G);
+    let t_end =
+        ramp + crate::cases::sph::sloshing::fit_window_periods(p.fit_periods, omega, om1) * period;
     let motion = WallMotion::Sinusoid {
         amplitude: [p.amplitude, 0.0, 0.0],
         omega,
