@@ -59,28 +59,12 @@ impl MpmBody {
             self.grid.prev = prev;
             self.grid.fmass = fmass;
         }
-        let active = &self.grid.active;
-        self.grid
-            .mom
-            .par_chunks_mut(BLOCK3)
-            .zip(self.grid.fmass.par_chunks(BLOCK3))
-            .with_min_len(BLOCKS_PER_TASK)
-            .enumerate()
-            .for_each(|(k, (mom, mass))| {
-                let b = unkey(active[k], nb);
-                for l in 0..BLOCK3 {
-                    if mass[l] <= 0.0 {
-                        mom[l] = [0.0; 3];
-                        continue;
-                    }
-                    let mut v = [0.0; 3];
-                    for a in 0..3 {
-                        v[a] = mom[l][a] / mass[l];
-                    }
-                    apply_node_walls(&mut v, b, l, &spec);
-                    mom[l] = v;
-                }
-            });
+        walled_velocities(
+            &spec,
+            &self.grid.active,
+            &self.grid.fmass,
+            &mut self.grid.mom,
+        );
         if rigid && !self.rigid.is_empty() {
             self.rigid_update();
         }
@@ -152,4 +136,34 @@ impl MpmBody {
             });
         self.grid.mom = mom;
     }
+}
+
+/// Momenta (`mom`, per node of the active blocks) to velocities `mom / mass` under each
+/// node's wall condition, in place; a node without mass gets zero.
+pub(super) fn walled_velocities(
+    spec: &GridSpec,
+    active: &[u64],
+    mass: &[f64],
+    mom: &mut [[f64; 3]],
+) {
+    let nb = spec.blocks();
+    mom.par_chunks_mut(BLOCK3)
+        .zip(mass.par_chunks(BLOCK3))
+        .with_min_len(BLOCKS_PER_TASK)
+        .enumerate()
+        .for_each(|(k, (mom, mass))| {
+            let b = unkey(active[k], nb);
+            for l in 0..BLOCK3 {
+                if mass[l] <= 0.0 {
+                    mom[l] = [0.0; 3];
+                    continue;
+                }
+                let mut v = [0.0; 3];
+                for a in 0..3 {
+                    v[a] = mom[l][a] / mass[l];
+                }
+                apply_node_walls(&mut v, b, l, spec);
+                mom[l] = v;
+            }
+        });
 }

@@ -83,7 +83,6 @@ impl MpmBody {
     /// `grid.mom` and the sum folded into `grid.fmass` and `grid.mom`.
     pub(super) fn fold_with_mirrored(&mut self) {
         let spec = self.spec;
-        let nb = spec.blocks();
         let mut prev = std::mem::take(&mut self.grid.prev);
         let mut real_mass = std::mem::take(&mut self.grid.real_mass);
         let mut real_vel = std::mem::take(&mut self.grid.real_vel);
@@ -97,27 +96,7 @@ impl MpmBody {
             &mut real_mass,
             &mut real_vel,
         );
-        let active = &self.grid.active;
-        real_vel
-            .par_chunks_mut(BLOCK3)
-            .zip(real_mass.par_chunks(BLOCK3))
-            .with_min_len(BLOCKS_PER_TASK)
-            .enumerate()
-            .for_each(|(k, (vel, mass))| {
-                let b = unkey(active[k], nb);
-                for l in 0..BLOCK3 {
-                    if mass[l] <= 0.0 {
-                        vel[l] = [0.0; 3];
-                        continue;
-                    }
-                    let mut v = [0.0; 3];
-                    for a in 0..3 {
-                        v[a] = vel[l][a] / mass[l];
-                    }
-                    apply_node_walls(&mut v, b, l, &spec);
-                    vel[l] = v;
-                }
-            });
+        super::grid_update::walled_velocities(&spec, &self.grid.active, &real_mass, &mut real_vel);
         self.grid.real_mass = real_mass;
         self.grid.real_vel = real_vel;
         // The sums: the mirrored markers' mass array takes the real markers' added.
