@@ -10,7 +10,7 @@
 //! bits as the general path's, for any thread count.
 
 use chrono_core::descriptor::{
-    CcpProblem, UNIT_ROWS, project_friction_cones,
+    CcpProblem, UNIT_ROWS, friction_residual_terms, project_friction_cones,
     reduce::{CHUNK, lane_sum},
 };
 use rayon::prelude::*;
@@ -22,9 +22,6 @@ type StepChunks<'a> = ((&'a mut [f64], &'a mut [f64]), &'a mut [f64]);
 
 /// Below this many rows the step pass runs on the calling thread.
 const PAR_MIN_ROWS: usize = 4096;
-
-/// Triplets per block of the residual's projections (stack buffers).
-const RES_BLOCK: usize = 128;
 
 /// Rows per task of the step pass (whole triplets: element-wise work, so the split does not
 /// change any value).
@@ -141,40 +138,9 @@ impl Apgd {
                 &scale[r.clone()],
                 &mu[r.start / 3..r.end / 3],
             );
-            // The trial steps `z = g+ - h (N g+ + r)` (`h` the triplet's scale), projected a
-            // block at a time (lanes, no branches), each triplet's squared change kept, then
-            // summed in `lane_sum`'s order.
             let mut terms = [0.0f64; UNIT_ROWS / 3];
-            let mut z = [0.0f64; 3 * RES_BLOCK];
-            for (b, terms) in terms[..mu.len()].chunks_mut(RES_BLOCK).enumerate() {
-                let (k0, nb) = (b * RES_BLOCK, terms.len());
-                let (gn, grn, sc) = (
-                    &gn[3 * k0..3 * (k0 + nb)],
-                    &grn[3 * k0..3 * (k0 + nb)],
-                    &sc[3 * k0..3 * (k0 + nb)],
-                );
-                let z = &mut z[..3 * nb];
-                for (((z, gn), grn), &h) in (z.chunks_exact_mut(3))
-                    .zip(gn.chunks_exact(3))
-                    .zip(grn.chunks_exact(3))
-                    .zip(sc.iter().step_by(3))
-                {
-                    for j in 0..3 {
-                        z[j] = gn[j] - h * grn[j];
-                    }
-                }
-                project_friction_cones(&mu[k0..k0 + nb], z);
-                for (k, term) in terms.iter_mut().enumerate() {
-                    let t = 3 * k;
-                    let h = sc[t];
-                    *term = if h <= 0.0 {
-                        0.0
-                    } else {
-                        let ih = 1.0 / h;
-                        (0..3).map(|j| ((gn[t + j] - z[t + j]) * ih).powi(2)).sum()
-                    };
-                }
-            }
+            let terms = &mut terms[..mu.len()];
+            friction_residual_terms(gn, grn, sc, mu, terms);
             let [res2] = lane_sum::<1>(mu.len(), |k| [terms[k]]);
             u.res2 = res2;
             u

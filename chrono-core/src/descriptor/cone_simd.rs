@@ -32,6 +32,60 @@ pub fn project_friction_cones(mu: &[f64], g: &mut [f64]) {
     Arch::new().dispatch(ProjectOp { mu, g });
 }
 
+/// Triplets per block of [`friction_residual_terms`] (its stack buffer).
+const RES_BLOCK: usize = 128;
+
+/// Each friction triplet's share of the squared residual ([`super::CcpProblem::residual`],
+/// (m/s)^2): with `h` the triplet's scale (`scale[3k]`), the trial step
+/// `z = g - h (N g + r)` projected onto the cone of `mu[k]` ([`project_friction_cones`],
+/// a block at a time) and `terms[k] = sum_j ((g_j - z_j) / h)^2` (0 where `h <= 0`).
+/// `gamma`, `grad` (`N g + r`) and `scale` hold the triplets' rows (`3 mu.len()` each).
+/// The operations of the scalar formula, so the same bits.
+///
+/// # Panics
+/// If the lengths do not match.
+pub fn friction_residual_terms(
+    gamma: &[f64],
+    grad: &[f64],
+    scale: &[f64],
+    mu: &[f64],
+    terms: &mut [f64],
+) {
+    let n = mu.len();
+    assert!(
+        gamma.len() == 3 * n && grad.len() == 3 * n && scale.len() == 3 * n && terms.len() == n,
+        "three rows of gamma, grad and scale and one term per triplet"
+    );
+    let mut z = [0.0f64; 3 * RES_BLOCK];
+    for (b, terms) in terms.chunks_mut(RES_BLOCK).enumerate() {
+        let (k0, nb) = (b * RES_BLOCK, terms.len());
+        let rows = 3 * k0..3 * (k0 + nb);
+        let (g, gr, sc) = (&gamma[rows.clone()], &grad[rows.clone()], &scale[rows]);
+        let z = &mut z[..3 * nb];
+        for (((z, g), gr), &h) in (z.chunks_exact_mut(3))
+            .zip(g.chunks_exact(3))
+            .zip(gr.chunks_exact(3))
+            .zip(sc.iter().step_by(3))
+        {
+            for j in 0..3 {
+                z[j] = g[j] - h * gr[j];
+            }
+        }
+        project_friction_cones(&mu[k0..k0 + nb], z);
+        for (k, term) in terms.iter_mut().enumerate() {
+            let t = 3 * k;
+            let h = sc[t];
+            *term = if h <= 0.0 {
+                0.0
+            } else {
+                // One division per triplet.
+                let ih = 1.0 / h;
+                (0..3).map(|j| ((g[t + j] - z[t + j]) * ih).powi(2)).sum()
+            };
+        }
+    }
+}
+
 struct ProjectOp<'a> {
     mu: &'a [f64],
     g: &'a mut [f64],

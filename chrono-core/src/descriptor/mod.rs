@@ -43,7 +43,7 @@ pub use cone::{
     project_box, project_friction_cone, project_rolling_cone, project_rolling_per_body_cone,
     project_unilateral,
 };
-pub use cone_simd::project_friction_cones;
+pub use cone_simd::{friction_residual_terms, project_friction_cones};
 pub use coupled::{CoupledMass, DenseMass, dense_matrix};
 pub use file::{FrameData, ProblemFile, ProblemFormat};
 pub use held::HeldSubproblem;

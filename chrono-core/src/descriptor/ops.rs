@@ -5,9 +5,9 @@
 use rayon::prelude::*;
 
 use super::cone::{
-    project_box, project_friction_cone, project_rolling_cone, project_rolling_per_body_cone,
-    project_unilateral,
+    project_box, project_rolling_cone, project_rolling_per_body_cone, project_unilateral,
 };
+use super::cone_simd::{friction_residual_terms, project_friction_cones};
 use super::frames::NONE;
 use super::frames_simd::RowData;
 use super::problem::{CcpProblem, CcpWork};
@@ -16,6 +16,10 @@ use super::rows::PER_BODY_ROWS;
 
 /// Below this many rows, row-wise loops run on the calling thread.
 const PAR_MIN_ROWS: usize = 4096;
+
+/// Friction triplets per task of the parallel projections and residual terms (element-wise
+/// work: the split does not change any value).
+const TERM_TASK: usize = 512;
 
 /// Below this many dof, block-wise loops run on the calling thread.
 const PAR_MIN_DOF: usize = 8192;
@@ -553,13 +557,11 @@ impl CcpProblem {
         }
         let fr = &mut gamma[s.friction.clone()];
         if par {
-            fr.par_chunks_mut(3)
-                .zip(self.mu.par_iter())
-                .for_each(|(g, &mu)| project_friction_cone(mu, g));
+            (fr.par_chunks_mut(3 * TERM_TASK))
+                .zip(self.mu.par_chunks(TERM_TASK))
+                .for_each(|(g, mu)| project_friction_cones(mu, g));
         } else {
-            fr.chunks_mut(3)
-                .zip(&self.mu)
-                .for_each(|(g, &mu)| project_friction_cone(mu, g));
+            project_friction_cones(&self.mu, fr);
         }
         let ro = &mut gamma[s.rolling.clone()];
         if par {
@@ -624,22 +626,29 @@ impl CcpProblem {
             };
             rho * rho
         });
-        total += sum_by(s.friction.len() / 3, &mut work.partials, |c| {
-            let t = s.friction.start + 3 * c;
-            let h = sc[t];
-            if h <= 0.0 {
-                return 0.0;
-            }
-            let mut z = [
-                gamma[t] - h * grad[t],
-                gamma[t + 1] - h * grad[t + 1],
-                gamma[t + 2] - h * grad[t + 2],
-            ];
-            project_friction_cone(self.mu[c], &mut z);
-            // One division per triplet (the fused APGD path repeats this formula).
-            let ih = 1.0 / h;
-            (0..3).map(|j| ((gamma[t + j] - z[j]) * ih).powi(2)).sum()
-        });
+        // The friction triplets' terms first (their projections in lanes), then summed in
+        // `sum_by`'s order.
+        let nf = s.friction.len() / 3;
+        work.terms.resize(nf, 0.0);
+        let fr = s.friction.clone();
+        let (g, gr, scf) = (&gamma[fr.clone()], &grad[fr.clone()], &sc[fr]);
+        if self.n_rows >= PAR_MIN_ROWS {
+            (work.terms.par_chunks_mut(TERM_TASK).enumerate()).for_each(|(b, t)| {
+                let rows = 3 * b * TERM_TASK..3 * (b * TERM_TASK + t.len());
+                let k = b * TERM_TASK..b * TERM_TASK + t.len();
+                friction_residual_terms(
+                    &g[rows.clone()],
+                    &gr[rows.clone()],
+                    &scf[rows],
+                    &self.mu[k],
+                    t,
+                );
+            });
+        } else {
+            friction_residual_terms(g, gr, scf, &self.mu, &mut work.terms);
+        }
+        let terms = &work.terms;
+        total += sum_by(nf, &mut work.partials, |c| terms[c]);
         total += sum_by(s.rolling.len() / 6, &mut work.partials, |c| {
             let t = s.rolling.start + 6 * c;
             let h = sc[t];

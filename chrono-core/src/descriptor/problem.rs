@@ -54,6 +54,8 @@ pub struct CcpWork {
     pub w: Vec<f64>,
     /// Partial sums of deterministic reductions.
     pub partials: Vec<f64>,
+    /// One value per friction triplet (the residual's terms).
+    pub terms: Vec<f64>,
 }
 
 impl CcpWork {
