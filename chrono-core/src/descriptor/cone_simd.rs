@@ -175,15 +175,16 @@ fn project_lanes<S: Simd>(s: S, mu: &[f64], t: &mut [f64]) {
     let shrink = s.splat_f64s(1.0 - f64::EPSILON);
     let r2 = s.mul_f64s(radius, radius);
     let surface = s.not_m64s(s.or_m64s(inside, polar));
-    for _ in 0..4 {
-        // The scalar loop stops at the first pass of the inside test; a lane that passed
-        // keeps its values, so shrinking only the others is the same. Most surface lanes
-        // pass at once (and the inside and polar lanes' values are discarded): the loop
-        // ends when no surface lane is left outside.
+    // The scalar loop stops at the first pass of the inside test; a lane that passed keeps
+    // its values, so shrinking only the others is the same. The first shrink is done
+    // unconditionally (whether a lane is an ulp outside is a coin toss, a branch on it
+    // would be mispredicted), the other three only while a surface lane (the inside and
+    // polar lanes' values are discarded) is still outside, which is rare.
+    for pass in 0..4 {
         let out = s.not_m64s(
             s.less_than_or_equal_f64s(s.add_f64s(s.mul_f64s(u, u), s.mul_f64s(w, w)), r2),
         );
-        if s.first_true_m64s(s.and_m64s(out, surface)) == S::F64_LANES {
+        if pass > 0 && s.first_true_m64s(s.and_m64s(out, surface)) == S::F64_LANES {
             break;
         }
         u = s.select_f64s(out, s.mul_f64s(u, shrink), u);
