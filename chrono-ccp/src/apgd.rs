@@ -300,14 +300,18 @@ impl CcpSolver for Apgd {
             // Projected gradient step from y with backtracking on L.
             let mut ok = false;
             let mut sums = units::TrialSums::default();
+            // The trials overwrite `g_new`: if it holds the best iterate, its buffer becomes
+            // `best` (a swap, not a copy) and the fused extrapolation reads the previous
+            // iterate from there.
+            let mut prev_in_best = false;
             if best_at == Best::GNew {
-                // The trials overwrite `g_new`.
-                self.best.copy_from_slice(&self.g_new);
+                std::mem::swap(&mut self.best, &mut self.g_new);
                 best_at = Best::Kept;
+                prev_in_best = true;
             }
             for _ in 0..=MAX_BACKTRACKS {
                 let (dnd, dpd) = if fused {
-                    sums = self.trial_units(problem, l, extrapolate.take());
+                    sums = self.trial_units(problem, l, extrapolate.take(), prev_in_best);
                     (sums.dnd, sums.dpd)
                 } else {
                     self.trial(problem, l)

@@ -52,16 +52,20 @@ impl Apgd {
     /// One trial of the line search on a friction-only problem: with `beta` given, first
     /// `y = g + beta (g - g_prev)` and `N y + r` likewise (`g_prev` and its gradient are in
     /// `g_new`, `grad_new`: the buffers of the last iteration); then
-    /// `g_new = P_Y(y - P (N y + r) / l)`, `grad_new = N g_new + r` and the sums.
+    /// `g_new = P_Y(y - P (N y + r) / l)`, `grad_new = N g_new + r` and the sums. With
+    /// `prev_in_best` the previous iterate is in `best` instead of `g_new` (the solve swapped
+    /// the buffers to keep the best iterate).
     pub(super) fn trial_units(
         &mut self,
         problem: &CcpProblem,
         l: f64,
         beta: Option<f64>,
+        prev_in_best: bool,
     ) -> TrialSums {
         let t = 1.0 / l;
         let mu = problem.friction_mu();
         let (g, gr, grp, s) = (&self.g, &self.grad, &self.grad_new, &self.s);
+        let best = prev_in_best.then_some(&self.best[..]);
         // One task per `STEP_ROWS` rows (whole triplets), its slices taken once.
         let step = |(c, ((y, gy), gn)): (usize, StepChunks)| {
             let base = c * STEP_ROWS;
@@ -75,14 +79,18 @@ impl Apgd {
             // Row-wise first (plain loops over slices, which the compiler vectorizes: the same
             // operations per element, so the same bits), then the cone projections.
             if let Some(beta) = beta {
+                // The general path's `gn + beta (gn - g)`: here `g` is the new iterate and
+                // `gn` (or `best`) still holds the previous one.
+                let gp: &[f64] = match best {
+                    Some(b) => &b[base..base + n],
+                    None => gn,
+                };
                 for ((((y, gy), &g), &gr), (&gp, &grp)) in (y.iter_mut())
                     .zip(gy.iter_mut())
                     .zip(g)
                     .zip(gr)
-                    .zip(gn.iter().zip(grp))
+                    .zip(gp.iter().zip(grp))
                 {
-                    // The general path's `gn + beta (gn - g)`: here `g` is the new iterate
-                    // and `gn` still holds the previous one.
                     *y = g + beta * (g - gp);
                     *gy = gr + beta * (gr - grp);
                 }
