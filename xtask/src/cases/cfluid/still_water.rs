@@ -100,6 +100,9 @@ pub struct StillWaterParams {
     pub max_iterations: usize,
     /// Smoothing length over spacing `h_k / dp`.
     pub h_over_dp: f64,
+    /// Largest stabilization rate of the density rows, 1/s
+    /// (`CfluidSettings::max_recovery_rate`).
+    pub max_recovery_rate: f64,
     /// Position projection sweeps per step (`CfluidSettings::position_iterations`).
     pub position_iterations: u32,
     /// Compression at which the projection stops.
@@ -135,6 +138,7 @@ impl Default for StillWaterParams {
             solver: "apgd".into(),
             max_iterations: 500,
             h_over_dp: CfluidSettings::default().h_over_dp,
+            max_recovery_rate: CfluidSettings::default().max_recovery_rate,
             position_iterations: 0,
             position_tolerance: 1e-4,
             relax_time: 1.0,
@@ -163,6 +167,11 @@ impl CaseParams for StillWaterParams {
         ParamInfo::new("solver", "-", "CCP solver name (chrono-ccp)"),
         ParamInfo::new("max_iterations", "-", "iteration cap per step"),
         ParamInfo::new("h_over_dp", "-", "smoothing length over spacing"),
+        ParamInfo::new(
+            "max_recovery_rate",
+            "1/s",
+            "largest stabilization rate of the density rows",
+        ),
         ParamInfo::new(
             "position_iterations",
             "-",
@@ -286,6 +295,7 @@ fn run(p: &StillWaterParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         xsph: p.xsph,
         gradient_correction: p.gradient_correction,
         h_over_dp: p.h_over_dp,
+        max_recovery_rate: p.max_recovery_rate,
         position_iterations: p.position_iterations,
         position_tolerance: p.position_tolerance,
         surface_reference: p.surface_reference,
