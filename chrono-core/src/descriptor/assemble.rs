@@ -68,6 +68,8 @@ impl CcpProblem {
             let g = &rows.groups[group as usize];
             self.group_start[gi] = row;
             let name = group_name(group);
+            // Check every row (its entries, then `b` and `eps`: the first bad field in row
+            // order is named), then copy the group's arrays in bulk.
             for i in 0..g.n_rows() {
                 let (e0, e1) = (g.row_ptr[i] as usize, g.row_ptr[i + 1] as usize);
                 for e in e0..e1 {
@@ -101,13 +103,7 @@ impl CcpProblem {
                             "must be finite",
                         ));
                     }
-                    self.ent_block.push(blk as u32);
-                    self.ent_off.push(vars.offset(BlockId(blk as u32)) as u32);
-                    self.ent_coef.push(self.coefs.len() as u32);
-                    self.ent_span.push(nonzero_span(c));
-                    self.coefs.extend_from_slice(c);
                 }
-                self.row_ptr.push(self.ent_block.len() as u32);
                 if !g.b[i].is_finite() {
                     return Err(ChronoError::invalid(
                         format!("rows.{name}[{i}].b"),
@@ -122,10 +118,33 @@ impl CcpProblem {
                         "must be finite and >= 0",
                     ));
                 }
-                self.b.push(g.b[i]);
-                self.eps.push(g.eps[i]);
-                row += 1;
             }
+            // The group's entries are those of its rows, and its coefficients those of its
+            // entries, in order (`GroupRows::push`).
+            let n_ent = g.row_ptr.get(g.n_rows()).map_or(0, |&p| p as usize);
+            let (ent_base, coef_base) = (self.ent_block.len() as u32, self.coefs.len() as u32);
+            let n_coef = if n_ent == 0 {
+                0
+            } else {
+                g.coefs.len()
+            };
+            self.ent_block.extend_from_slice(&g.ent_block[..n_ent]);
+            (self.ent_off).extend(
+                g.ent_block[..n_ent]
+                    .iter()
+                    .map(|&b| vars.offset(BlockId(b)) as u32),
+            );
+            (self.ent_coef).extend(g.ent_coef[..n_ent].iter().map(|&c| c + coef_base));
+            self.ent_span.extend((0..n_ent).map(|e| {
+                let c1 = g.ent_coef.get(e + 1).map_or(n_coef, |&c| c as usize);
+                nonzero_span(&g.coefs[g.ent_coef[e] as usize..c1])
+            }));
+            self.coefs.extend_from_slice(&g.coefs[..n_coef]);
+            let rows_end = g.row_ptr.get(1..g.n_rows() + 1).unwrap_or(&[]);
+            (self.row_ptr).extend(rows_end.iter().map(|&p| p + ent_base));
+            self.b.extend_from_slice(&g.b);
+            self.eps.extend_from_slice(&g.eps);
+            row += g.n_rows();
             let bad_mu = |i: usize, m: f64| {
                 ChronoError::invalid(format!("rows.{name}[{i}].mu"), m, "must be finite and >= 0")
             };
@@ -221,8 +240,8 @@ impl CcpProblem {
                 "must be finite (momentum too large for the mass)",
             ));
         }
+        // Every value is written below: the previous assembly's are not cleared first.
         let mut r = std::mem::take(&mut self.r);
-        r.clear();
         r.resize(self.n_rows, 0.0);
         let one = |(i, r): (usize, &mut f64)| *r = self.b[i] + self.row_dot(i, &self.v_free);
         if self.n_rows >= PAR_MIN_ASSEMBLY_ROWS {
@@ -243,8 +262,9 @@ impl CcpProblem {
     /// columns instead of one per row, the same values column by column.
     fn fill_minv(&mut self) {
         const ENTRIES: usize = 2048;
+        // Every coefficient is written below (each entry's, diagonal or coupled): the
+        // previous assembly's values are not cleared first.
         let mut minv = std::mem::take(&mut self.minv);
-        minv.clear();
         minv.resize(self.coefs.len(), 0.0);
         let n_ent = self.ent_block.len();
         let coupled = |e: usize| {
@@ -329,11 +349,11 @@ impl CcpProblem {
         }
         self.tr_cptr.push(c);
         let n_ent = self.ent_block.len();
-        self.tr_row.clear();
+        // Every slot of `tr_row`, `tr_ent` and `tr_minv` is written below: the previous
+        // assembly's values are not cleared first.
         self.tr_row.resize(n_ent, 0);
         // Per slot of the block order: its entry (the counting sort, u32 work only) ...
         let mut tr_ent = std::mem::take(&mut self.tr_ent);
-        tr_ent.clear();
         tr_ent.resize(n_ent, 0);
         let mut cursor: Vec<u32> = self.tr_ptr[..nblocks].to_vec();
         for i in 0..self.n_rows {
@@ -347,7 +367,6 @@ impl CcpProblem {
         }
         // ... then the coefficients, slot by slot over each run of equal-size blocks (a
         // run's slots are contiguous and of one size), in parallel for large problems.
-        self.tr_minv.clear();
         self.tr_minv.resize(self.minv.len(), 0.0);
         let par = n_ent >= PAR_MIN_ASSEMBLY_ROWS;
         for run in self.vars.runs() {
@@ -360,9 +379,11 @@ impl CcpProblem {
             let (minv, ent_coef, tr_ent) = (&self.minv, &self.ent_coef, &tr_ent);
             let copy = |(k, out): (usize, &mut [f64])| {
                 let src = ent_coef[tr_ent[t0 + k] as usize] as usize;
-                // a particle's 3 values as one fixed-size move (not a library call per
-                // entry: density rows have ~60 entries a row)
-                if let Ok(o) = <&mut [f64; 3]>::try_from(&mut *out) {
+                // a rigid body's 6 or a particle's 3 values as one fixed-size move (not a
+                // library call per entry: density rows have ~60 entries a row)
+                if let Ok(o) = <&mut [f64; 6]>::try_from(&mut *out) {
+                    *o = minv[src..src + 6].try_into().expect("6");
+                } else if let Ok(o) = <&mut [f64; 3]>::try_from(&mut *out) {
                     *o = minv[src..src + 3].try_into().expect("3");
                 } else {
                     out.copy_from_slice(&minv[src..src + out.len()]);
@@ -382,13 +403,24 @@ impl CcpProblem {
     /// its own, in parallel for large problems: the same bits for any thread count).
     fn build_diagonal(&mut self) {
         let par = self.n_rows >= PAR_MIN_ASSEMBLY_ROWS;
+        // Every value is written below: the previous assembly's are not cleared first.
         let mut diag = std::mem::take(&mut self.diag);
-        diag.clear();
         diag.resize(self.n_rows, 0.0);
         let one = |(i, d): (usize, &mut f64)| {
             let mut x = self.eps[i];
             for e in self.row_ptr[i] as usize..self.row_ptr[i + 1] as usize {
                 let (c0, c1) = self.nonzero_span(e);
+                // A rigid body's 6 dof as fixed-size arrays: the same sums in the same
+                // order, so the same bits.
+                if let (Ok(c), Ok(m)) = (
+                    <&[f64; 6]>::try_from(&self.coefs[c0..c1]),
+                    <&[f64; 6]>::try_from(&self.minv[c0..c1]),
+                ) {
+                    for k in 0..6 {
+                        x += c[k] * m[k];
+                    }
+                    continue;
+                }
                 for (c, m) in self.coefs[c0..c1].iter().zip(&self.minv[c0..c1]) {
                     x += c * m;
                 }
@@ -401,7 +433,7 @@ impl CcpProblem {
             diag.iter_mut().enumerate().for_each(one);
         }
         self.diag = diag;
-        self.scale.clear();
+        // Every value is written below (by cone block).
         self.scale.resize(self.n_rows, 0.0);
         let inv = |d: f64| if d > 0.0 { 1.0 / d } else { 0.0 };
         let mut i = 0;

@@ -221,12 +221,12 @@ impl CcpProblem {
     pub(super) fn build_matrix_free(&mut self, rows: &ConstraintRows) {
         let mut mf = std::mem::take(&mut self.mf);
         mf.clear();
-        let frames = &rows.groups[RowGroup::Friction as usize].frames;
-        if !frames.is_empty() {
-            mf.frames.extend_from_slice(frames);
+        let group = &rows.groups[RowGroup::Friction as usize];
+        if !group.frames.is_empty() {
+            mf.frames.extend_from_slice(&group.frames);
             // `s_row` packs `2 row + side` in 32 bits.
             if self.n_rows < 1 << 31 {
-                self.fill_matrix_free(&mut mf);
+                self.fill_matrix_free(&mut mf, &group.frames_built);
             }
         }
         self.mf = mf;
@@ -263,7 +263,9 @@ impl CcpProblem {
         e == e1
     }
 
-    fn fill_matrix_free(&self, mf: &mut MatrixFree) {
+    /// `built[f]`: frame `f`'s rows were built from it (see
+    /// [`ConstraintRows::set_contact_frame_of_built_rows`]), so they are not checked.
+    fn fill_matrix_free(&self, mf: &mut MatrixFree, built: &[bool]) {
         let nblocks = self.vars.len();
         let inv: Vec<Option<[f64; 2]>> = (0..nblocks)
             .map(|b| isotropic(self.vars.mass(BlockId(b as u32))))
@@ -271,32 +273,41 @@ impl CcpProblem {
         let fs = self.sections.friction.start;
         // Candidates: frames whose rows match and whose blocks are spheres (each frame
         // checked on its own, in parallel for many; `collect` keeps the order).
-        let check = |&(k, fr): &(u32, ContactFrame)| {
+        let check = |(f, &(k, fr)): (usize, &(u32, ContactFrame))| {
             let n = Vector3::from(fr.normal);
             if !(n.iter().all(|x| x.is_finite()) && fr.arms.iter().flatten().all(|x| x.is_finite()))
             {
                 return None;
             }
-            let (u, w) = frame(&fr.normal);
-            let (u, w) = (Vector3::from(u), Vector3::from(w));
-            let t = fs + 3 * k as usize;
             let spheres = fr
                 .blocks
                 .iter()
                 .flatten()
                 .all(|b| (b.0 as usize) < nblocks && inv[b.0 as usize].is_some());
-            let ok = spheres
-                && [n, u, w]
-                    .iter()
-                    .enumerate()
-                    .all(|(r, d)| self.row_matches(t + r, &fr, d));
-            ok.then_some((k, fr))
+            if !spheres {
+                return None;
+            }
+            if built.get(f).copied().unwrap_or(false) {
+                return Some(f as u32);
+            }
+            let (u, w) = frame(&fr.normal);
+            let (u, w) = (Vector3::from(u), Vector3::from(w));
+            let t = fs + 3 * k as usize;
+            let ok = [n, u, w]
+                .iter()
+                .enumerate()
+                .all(|(r, d)| self.row_matches(t + r, &fr, d));
+            ok.then_some(f as u32)
         };
-        let cand: Vec<(u32, ContactFrame)> = if mf.frames.len() >= PAR_MIN_BODIES {
-            mf.frames.par_iter().filter_map(check).collect()
+        // Indices into `mf.frames`.
+        let cand: Vec<u32> = if mf.frames.len() >= PAR_MIN_BODIES {
+            mf.frames.par_iter().enumerate().filter_map(check).collect()
         } else {
-            mf.frames.iter().filter_map(check).collect()
+            mf.frames.iter().enumerate().filter_map(check).collect()
         };
+        // (Taken out of `mf` while its other fields are filled; put back at the end.)
+        let frames = std::mem::take(&mut mf.frames);
+        let cand = || cand.iter().map(|&f| &frames[f as usize]);
         // A sphere is pure if all its entries belong to checked frames: then its world-frame
         // velocity change is complete. A triplet is matrix-free if all its spheres are pure;
         // the others (touching a body with other rows) use the explicit rows, so no
@@ -305,7 +316,7 @@ impl CcpProblem {
             .map(|b| self.tr_ptr[b + 1] - self.tr_ptr[b])
             .collect();
         let mut hinted = vec![0u32; nblocks];
-        for (_, f) in &cand {
+        for (_, f) in cand() {
             for b in f.blocks.iter().flatten() {
                 hinted[b.0 as usize] += 3;
             }
@@ -322,7 +333,7 @@ impl CcpProblem {
         // needs no explicit velocity.
         let mut in_mf = vec![0u32; nblocks];
         let mut count = vec![0u32; mf.b_inv.len() + 1];
-        for (k, f) in &cand {
+        for (k, f) in cand() {
             let c = mf.c_row.len();
             let body = f
                 .blocks
@@ -385,5 +396,6 @@ impl CcpProblem {
                 }
             }
         }
+        mf.frames = frames;
     }
 }
