@@ -48,9 +48,9 @@ impl CcpProblem {
             v.clear();
         }
         self.ent_span.clear();
+        // (`minv` is resized and overwritten by `fill_minv`.)
         for v in [
             &mut self.coefs,
-            &mut self.minv,
             &mut self.b,
             &mut self.eps,
             &mut self.lo,

@@ -101,15 +101,20 @@ impl MatrixFree {
         self.c_rc.clear();
         self.b_inv.clear();
         self.b_ptr.clear();
+        self.clear_sides();
+        self.block_sphere.clear();
+        self.skip_block.clear();
+        self.explicit_free = false;
+        self.n_mf = 0;
+    }
+
+    /// Empty the sphere-ordered contact sides (`s_*`).
+    fn clear_sides(&mut self) {
         self.s_row.clear();
         for x in self.s_n.iter_mut().chain(&mut self.s_r) {
             x.clear();
         }
         self.s_rc.clear();
-        self.block_sphere.clear();
-        self.skip_block.clear();
-        self.explicit_free = false;
-        self.n_mf = 0;
     }
 
     /// `w = M^-1 D g` restricted to the spheres, in the world frame: `[dv; dw]` (6 per
@@ -220,14 +225,27 @@ impl CcpProblem {
     /// storage, whose entries it checks the frames against).
     pub(super) fn build_matrix_free(&mut self, rows: &ConstraintRows) {
         let mut mf = std::mem::take(&mut self.mf);
+        // The sides keep their length: `fill_matrix_free` resizes and overwrites them.
+        let sides = (
+            std::mem::take(&mut mf.s_row),
+            std::mem::take(&mut mf.s_n),
+            std::mem::take(&mut mf.s_r),
+            std::mem::take(&mut mf.s_rc),
+        );
         mf.clear();
+        (mf.s_row, mf.s_n, mf.s_r, mf.s_rc) = sides;
+        let mut filled = false;
         let group = &rows.groups[RowGroup::Friction as usize];
         if !group.frames.is_empty() {
             mf.frames.extend_from_slice(&group.frames);
             // `s_row` packs `2 row + side` in 32 bits.
             if self.n_rows < 1 << 31 {
                 self.fill_matrix_free(&mut mf, &group.frames_built);
+                filled = true;
             }
+        }
+        if !filled {
+            mf.clear_sides();
         }
         self.mf = mf;
     }
@@ -300,14 +318,14 @@ impl CcpProblem {
             ok.then_some(f as u32)
         };
         // Indices into `mf.frames`.
-        let cand: Vec<u32> = if mf.frames.len() >= PAR_MIN_BODIES {
+        let picked: Vec<u32> = if mf.frames.len() >= PAR_MIN_BODIES {
             mf.frames.par_iter().enumerate().filter_map(check).collect()
         } else {
             mf.frames.iter().enumerate().filter_map(check).collect()
         };
         // (Taken out of `mf` while its other fields are filled; put back at the end.)
         let frames = std::mem::take(&mut mf.frames);
-        let cand = || cand.iter().map(|&f| &frames[f as usize]);
+        let cand = || picked.iter().map(|&f| &frames[f as usize]);
         // A sphere is pure if all its entries belong to checked frames: then its world-frame
         // velocity change is complete. A triplet is matrix-free if all its spheres are pure;
         // the others (touching a body with other rows) use the explicit rows, so no
@@ -333,6 +351,12 @@ impl CcpProblem {
         // needs no explicit velocity.
         let mut in_mf = vec![0u32; nblocks];
         let mut count = vec![0u32; mf.b_inv.len() + 1];
+        mf.c_row.reserve(picked.len());
+        mf.c_body.reserve(picked.len());
+        for x in mf.c_n.iter_mut().chain(&mut mf.c_ra).chain(&mut mf.c_rb) {
+            x.reserve(picked.len());
+        }
+        mf.c_rc.reserve(picked.len());
         for (k, f) in cand() {
             let c = mf.c_row.len();
             let body = f

@@ -104,7 +104,11 @@ impl GroupRows {
         for e in entries {
             self.ent_block.push(e.block.0);
             self.ent_coef.push(self.coefs.len() as u32);
-            self.coefs.extend_from_slice(e.coefs);
+            // A rigid body's 6 coefficients as a fixed-size copy (not a library call).
+            match <&[f64; 6]>::try_from(e.coefs) {
+                Ok(c) => self.coefs.extend_from_slice(c),
+                Err(_) => self.coefs.extend_from_slice(e.coefs),
+            }
         }
         self.row_ptr.push(self.ent_block.len() as u32);
         self.b.push(b);
