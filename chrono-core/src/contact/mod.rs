@@ -10,3 +10,5 @@
 pub mod nsc;
 pub mod smc;
 mod sorted_map;
+#[cfg(test)]
+mod nsc_tests;
