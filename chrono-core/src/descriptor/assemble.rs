@@ -4,6 +4,7 @@
 //! loops are parallel for large problems, each value computed on its own (the same bits
 //! for any thread count).
 
+use nalgebra::Vector3;
 use rayon::prelude::*;
 
 use super::problem::{CcpProblem, GROUP_ORDER, Sections, group_name};
@@ -186,7 +187,6 @@ impl CcpProblem {
             }
         }
         self.ent_coef.push(self.coefs.len() as u32);
-        self.fill_minv();
         self.n_rows = row;
         let gs = self.group_start;
         self.sections = Sections {
@@ -197,10 +197,90 @@ impl CcpProblem {
             rolling: gs[4]..gs[5],
             rolling_per_body: gs[5]..row,
         };
-        self.build_transpose(nblocks);
-        self.build_diagonal();
-        self.build_matrix_free(rows);
-        self.set_free_velocity()
+        let coupled = (0..nblocks)
+            .any(|b| matches!(vars.mass(BlockId(b as u32)), MassOperator::Coupled(_)));
+        if coupled {
+            // `M^-1 D` of the coupled blocks' entries is solved per block, in batches of
+            // columns: the passes one after the other.
+            self.fill_minv();
+            self.build_transpose(nblocks);
+            self.build_diagonal();
+            self.build_matrix_free(rows);
+            self.set_free_velocity()
+        } else {
+            self.fill_v_free()?;
+            self.fill_rows_fused();
+            self.build_transpose(nblocks);
+            self.fill_scales();
+            self.build_matrix_free(rows);
+            Ok(())
+        }
+    }
+
+    /// `M^-1 D`, `diag(N)` and `r = b + D' v_free` in one pass over the rows (each row's
+    /// entries once, in parallel over chunks of rows for large problems), when no entry is
+    /// on a coupled block: the same operations per value as [`fill_minv`](Self::fill_minv),
+    /// [`build_diagonal`](Self::build_diagonal) and
+    /// [`set_free_velocity`](Self::set_free_velocity), so the same bits. Needs `v_free`.
+    fn fill_rows_fused(&mut self) {
+        const ROWS: usize = 1024;
+        let n = self.n_rows;
+        let mut minv = std::mem::take(&mut self.minv);
+        let mut diag = std::mem::take(&mut self.diag);
+        let mut r = std::mem::take(&mut self.r);
+        // Every value is written below: the previous assembly's are not cleared first.
+        minv.resize(self.coefs.len(), 0.0);
+        diag.resize(n, 0.0);
+        r.resize(n, 0.0);
+        let this = &*self;
+        let chunk = |i0: usize, minv: &mut [f64], diag: &mut [f64], r: &mut [f64]| {
+            let base = this.ent_coef[this.row_ptr[i0] as usize] as usize;
+            for (k, (d, r)) in diag.iter_mut().zip(r.iter_mut()).enumerate() {
+                let i = i0 + k;
+                if let Some((x, s)) = this.rigid_row_fused(i, base, minv) {
+                    (*d, *r) = (x, this.b[i] + s);
+                    continue;
+                }
+                let mut x = this.eps[i];
+                for e in this.row_ptr[i] as usize..this.row_ptr[i + 1] as usize {
+                    let (c0, c1) = (this.ent_coef[e] as usize, this.ent_coef[e + 1] as usize);
+                    let out = &mut minv[c0 - base..c1 - base];
+                    (this.vars.mass(BlockId(this.ent_block[e]))).apply_inverse(&this.coefs[c0..c1], out);
+                    let (a0, a1) = this.nonzero_span(e);
+                    let (c, m) = (&this.coefs[a0..a1], &minv[a0 - base..a1 - base]);
+                    if let (Ok(c), Ok(m)) = (<&[f64; 6]>::try_from(c), <&[f64; 6]>::try_from(m)) {
+                        for k in 0..6 {
+                            x += c[k] * m[k];
+                        }
+                        continue;
+                    }
+                    for (c, m) in c.iter().zip(m) {
+                        x += c * m;
+                    }
+                }
+                *d = x;
+                *r = this.b[i] + this.row_dot(i, &this.v_free);
+            }
+        };
+        // Split the outputs at the chunks' first rows (and their first coefficients).
+        let mut parts = Vec::with_capacity(n.div_ceil(ROWS));
+        let (mut rest_m, mut rest_d, mut rest_r) = (&mut minv[..], &mut diag[..], &mut r[..]);
+        let mut at = 0;
+        for i0 in (0..n).step_by(ROWS) {
+            let i1 = (i0 + ROWS).min(n);
+            let end = self.ent_coef[self.row_ptr[i1] as usize] as usize;
+            let (m, tm) = rest_m.split_at_mut(end - at);
+            let (d, td) = rest_d.split_at_mut(i1 - i0);
+            let (q, tr) = rest_r.split_at_mut(i1 - i0);
+            parts.push((i0, m, d, q));
+            (rest_m, rest_d, rest_r, at) = (tm, td, tr, end);
+        }
+        if n >= PAR_MIN_ASSEMBLY_ROWS {
+            parts.into_par_iter().for_each(|(i0, m, d, q)| chunk(i0, m, d, q));
+        } else {
+            parts.into_iter().for_each(|(i0, m, d, q)| chunk(i0, m, d, q));
+        }
+        (self.minv, self.diag, self.r) = (minv, diag, r);
     }
 
     /// Replace the momentum `k` of an assembled problem (same variables and rows) and
@@ -228,6 +308,22 @@ impl CcpProblem {
 
     /// `v_free = M^-1 k` and `r = b + D' v_free` from the stored `k`.
     fn set_free_velocity(&mut self) -> Result<()> {
+        self.fill_v_free()?;
+        // Every value is written below: the previous assembly's are not cleared first.
+        let mut r = std::mem::take(&mut self.r);
+        r.resize(self.n_rows, 0.0);
+        let one = |(i, r): (usize, &mut f64)| *r = self.b[i] + self.row_dot(i, &self.v_free);
+        if self.n_rows >= PAR_MIN_ASSEMBLY_ROWS {
+            r.par_iter_mut().enumerate().for_each(one);
+        } else {
+            r.iter_mut().enumerate().for_each(one);
+        }
+        self.r = r;
+        Ok(())
+    }
+
+    /// `v_free = M^-1 k` from the stored `k` (an error if not finite).
+    fn fill_v_free(&mut self) -> Result<()> {
         let vars = &self.vars;
         let k = &self.k;
         self.v_free.clear();
@@ -240,16 +336,6 @@ impl CcpProblem {
                 "must be finite (momentum too large for the mass)",
             ));
         }
-        // Every value is written below: the previous assembly's are not cleared first.
-        let mut r = std::mem::take(&mut self.r);
-        r.resize(self.n_rows, 0.0);
-        let one = |(i, r): (usize, &mut f64)| *r = self.b[i] + self.row_dot(i, &self.v_free);
-        if self.n_rows >= PAR_MIN_ASSEMBLY_ROWS {
-            r.par_iter_mut().enumerate().for_each(one);
-        } else {
-            r.iter_mut().enumerate().for_each(one);
-        }
-        self.r = r;
         Ok(())
     }
 
@@ -433,6 +519,59 @@ impl CcpProblem {
             diag.iter_mut().enumerate().for_each(one);
         }
         self.diag = diag;
+        self.fill_scales();
+    }
+
+    /// [`fill_rows_fused`](Self::fill_rows_fused) for a row whose entries are all on rigid
+    /// bodies (6 coefficients each, the usual contact row): writes the entries' `M^-1 D`
+    /// into `minv` (which starts at coefficient `base`) and returns `diag(N)_i` and
+    /// `D_i' v_free` with fixed-size arrays, the same sums in the same order as
+    /// [`build_diagonal`](Self::build_diagonal) and [`row_dot`](Self::row_dot). `None`
+    /// (nothing written) for any other row.
+    #[inline]
+    fn rigid_row_fused(&self, i: usize, base: usize, minv: &mut [f64]) -> Option<(f64, f64)> {
+        let (e0, e1) = (self.row_ptr[i] as usize, self.row_ptr[i + 1] as usize);
+        let six = |e: usize| self.ent_coef[e + 1] - self.ent_coef[e] == 6;
+        if !(e0..e1).all(six) {
+            return None;
+        }
+        let (mut x, mut s) = (self.eps[i], 0.0);
+        for e in e0..e1 {
+            let c0 = self.ent_coef[e] as usize;
+            let off = self.ent_off[e] as usize;
+            let c: &[f64; 6] = self.coefs[c0..c0 + 6].try_into().expect("6");
+            let v: &[f64; 6] = self.v_free.get(off..off + 6)?.try_into().expect("6");
+            let m: &mut [f64; 6] = (&mut minv[c0 - base..c0 - base + 6])
+                .try_into()
+                .expect("6");
+            match self.vars.mass(BlockId(self.ent_block[e])) {
+                // `MassOperator::apply_inverse`'s operations, inlined.
+                MassOperator::RigidBody {
+                    mass, inv_inertia, ..
+                } => {
+                    let im = 1.0 / mass;
+                    m[0] = c[0] * im;
+                    m[1] = c[1] * im;
+                    m[2] = c[2] * im;
+                    let w = inv_inertia * Vector3::new(c[3], c[4], c[5]);
+                    m[3] = w.x;
+                    m[4] = w.y;
+                    m[5] = w.z;
+                }
+                op => op.apply_inverse(c, m),
+            }
+            for k in 0..6 {
+                x += c[k] * m[k];
+            }
+            for k in 0..6 {
+                s += c[k] * v[k];
+            }
+        }
+        Some((x, s))
+    }
+
+    /// The residual scales from `diag(N)`, and the cone blocks marked for rebuilding.
+    fn fill_scales(&mut self) {
         // Every value is written below (by cone block).
         self.scale.resize(self.n_rows, 0.0);
         let inv = |d: f64| if d > 0.0 { 1.0 / d } else { 0.0 };
