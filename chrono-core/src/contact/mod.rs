@@ -8,7 +8,7 @@
 //!   mapped from the restitution, Coulomb cap, rolling and spinning resistance ([`smc`]).
 
 pub mod nsc;
-pub mod smc;
-mod sorted_map;
 #[cfg(test)]
 mod nsc_tests;
+pub mod smc;
+mod sorted_map;

@@ -24,9 +24,8 @@ fn scene(seed: u64) -> (Vec<RigidBody>, Variables, Vec<ContactPoint>) {
             rng.range(-3.0, 3.0),
         )
     };
-    let v3 = |rng: &mut Rng, s: f64| {
-        Vector3::new(rng.range(-s, s), rng.range(-s, s), rng.range(-s, s))
-    };
+    let v3 =
+        |rng: &mut Rng, s: f64| Vector3::new(rng.range(-s, s), rng.range(-s, s), rng.range(-s, s));
     for i in 0..12 {
         let b = match i {
             10 => RigidBodyBuilder::fixed(),

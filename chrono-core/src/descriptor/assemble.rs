@@ -124,11 +124,7 @@ impl CcpProblem {
             // entries, in order (`GroupRows::push`).
             let n_ent = g.row_ptr.get(g.n_rows()).map_or(0, |&p| p as usize);
             let (ent_base, coef_base) = (self.ent_block.len() as u32, self.coefs.len() as u32);
-            let n_coef = if n_ent == 0 {
-                0
-            } else {
-                g.coefs.len()
-            };
+            let n_coef = if n_ent == 0 { 0 } else { g.coefs.len() };
             self.ent_block.extend_from_slice(&g.ent_block[..n_ent]);
             (self.ent_off).extend(
                 g.ent_block[..n_ent]
@@ -197,8 +193,8 @@ impl CcpProblem {
             rolling: gs[4]..gs[5],
             rolling_per_body: gs[5]..row,
         };
-        let coupled = (0..nblocks)
-            .any(|b| matches!(vars.mass(BlockId(b as u32)), MassOperator::Coupled(_)));
+        let coupled =
+            (0..nblocks).any(|b| matches!(vars.mass(BlockId(b as u32)), MassOperator::Coupled(_)));
         if coupled {
             // `M^-1 D` of the coupled blocks' entries is solved per block, in batches of
             // columns: the passes one after the other.
@@ -245,7 +241,8 @@ impl CcpProblem {
                 for e in this.row_ptr[i] as usize..this.row_ptr[i + 1] as usize {
                     let (c0, c1) = (this.ent_coef[e] as usize, this.ent_coef[e + 1] as usize);
                     let out = &mut minv[c0 - base..c1 - base];
-                    (this.vars.mass(BlockId(this.ent_block[e]))).apply_inverse(&this.coefs[c0..c1], out);
+                    (this.vars.mass(BlockId(this.ent_block[e])))
+                        .apply_inverse(&this.coefs[c0..c1], out);
                     let (a0, a1) = this.nonzero_span(e);
                     let (c, m) = (&this.coefs[a0..a1], &minv[a0 - base..a1 - base]);
                     if let (Ok(c), Ok(m)) = (<&[f64; 6]>::try_from(c), <&[f64; 6]>::try_from(m)) {
@@ -276,9 +273,13 @@ impl CcpProblem {
             (rest_m, rest_d, rest_r, at) = (tm, td, tr, end);
         }
         if n >= PAR_MIN_ASSEMBLY_ROWS {
-            parts.into_par_iter().for_each(|(i0, m, d, q)| chunk(i0, m, d, q));
+            parts
+                .into_par_iter()
+                .for_each(|(i0, m, d, q)| chunk(i0, m, d, q));
         } else {
-            parts.into_iter().for_each(|(i0, m, d, q)| chunk(i0, m, d, q));
+            parts
+                .into_iter()
+                .for_each(|(i0, m, d, q)| chunk(i0, m, d, q));
         }
         (self.minv, self.diag, self.r) = (minv, diag, r);
     }
@@ -541,9 +542,7 @@ impl CcpProblem {
             let off = self.ent_off[e] as usize;
             let c: &[f64; 6] = self.coefs[c0..c0 + 6].try_into().expect("6");
             let v: &[f64; 6] = self.v_free.get(off..off + 6)?.try_into().expect("6");
-            let m: &mut [f64; 6] = (&mut minv[c0 - base..c0 - base + 6])
-                .try_into()
-                .expect("6");
+            let m: &mut [f64; 6] = (&mut minv[c0 - base..c0 - base + 6]).try_into().expect("6");
             match self.vars.mass(BlockId(self.ent_block[e])) {
                 // `MassOperator::apply_inverse`'s operations, inlined.
                 MassOperator::RigidBody {

@@ -637,11 +637,18 @@ impl CellGrid {
                     }
                     let p = [pos[0][i], pos[1][i], pos[2][i]];
                     let cell = self.unlinear(self.cell_of[i] as usize);
-                    self.visit(pos, p, cell, radius, |j| j != i, |j, _, _| {
-                        if keep(i, j) {
-                            buf.push(j as u32)
-                        }
-                    });
+                    self.visit(
+                        pos,
+                        p,
+                        cell,
+                        radius,
+                        |j| j != i,
+                        |j, _, _| {
+                            if keep(i, j) {
+                                buf.push(j as u32)
+                            }
+                        },
+                    );
                     *count = buf.len() - before;
                 }
             });
@@ -696,9 +703,16 @@ impl CellGrid {
                     let p = [pos[0][i], pos[1][i], pos[2][i]];
                     let cell = self.unlinear(self.cell_of[i] as usize);
                     // Only `j > i` (the pairs reported) has its distance computed.
-                    self.visit(pos, p, cell, radius, |j| j > i, |j, _, _| {
-                        buf.push([i as u32, j as u32]);
-                    });
+                    self.visit(
+                        pos,
+                        p,
+                        cell,
+                        radius,
+                        |j| j > i,
+                        |j, _, _| {
+                            buf.push([i as u32, j as u32]);
+                        },
+                    );
                 }
             });
         out.clear();
