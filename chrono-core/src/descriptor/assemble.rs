@@ -8,7 +8,7 @@ use nalgebra::Vector3;
 use rayon::prelude::*;
 
 use super::problem::{CcpProblem, GROUP_ORDER, Sections, group_name};
-use super::rows::{ConstraintRows, PER_BODY_ROWS, RowGroup};
+use super::rows::{ConstraintRows, N_GROUPS, PER_BODY_ROWS, RowGroup};
 use super::variables::{BlockId, MassOperator, Variables};
 use crate::error::{ChronoError, Result};
 
@@ -22,6 +22,56 @@ impl CcpProblem {
     /// numbers, negative compliance or friction, `lo > hi`, a non-finite `M^-1 k`) with an
     /// error naming the row or field.
     pub fn assemble(&mut self, vars: &Variables, rows: &ConstraintRows, k: &[f64]) -> Result<()> {
+        self.load_rows(vars, rows, k, None)?;
+        self.ent_coef.push(self.coefs.len() as u32);
+        self.finish_assembly(rows)
+    }
+
+    /// [`assemble`](Self::assemble) (the same problem, bit for bit) that may take the rows'
+    /// storage instead of copying it: when a single group has rows (e.g. only friction
+    /// triplets, a granular scene), its Jacobian, `b` and `eps` arrays are swapped with this
+    /// problem's previous ones. `rows` is left empty (cleared, its capacity kept) on
+    /// success and unchanged on error.
+    pub fn assemble_taking(
+        &mut self,
+        vars: &Variables,
+        rows: &mut ConstraintRows,
+        k: &[f64],
+    ) -> Result<()> {
+        let mut full = (0..N_GROUPS).filter(|&g| rows.groups[g].n_rows() > 0);
+        let single = match (full.next(), full.next()) {
+            (Some(g), None) => Some(g),
+            _ => None,
+        };
+        self.load_rows(vars, rows, k, single)?;
+        if let Some(g) = single {
+            // The only group with rows starts at row 0, entry 0 and coefficient 0: its
+            // arrays are the problem's (`load_rows` left these empty).
+            let g = &mut rows.groups[g];
+            std::mem::swap(&mut self.row_ptr, &mut g.row_ptr);
+            std::mem::swap(&mut self.ent_block, &mut g.ent_block);
+            std::mem::swap(&mut self.ent_coef, &mut g.ent_coef);
+            std::mem::swap(&mut self.coefs, &mut g.coefs);
+            std::mem::swap(&mut self.b, &mut g.b);
+            std::mem::swap(&mut self.eps, &mut g.eps);
+        }
+        self.ent_coef.push(self.coefs.len() as u32);
+        let done = self.finish_assembly(rows);
+        rows.clear();
+        done
+    }
+
+    /// The checks and the copy of the rows (all but the final sentinel of `ent_coef`);
+    /// the group `taken` (the only one with rows) is checked and indexed but its
+    /// `row_ptr`, `ent_block`, `ent_coef`, `coefs`, `b` and `eps` are not copied (left
+    /// empty, with `row_ptr` empty too, for the caller to swap in).
+    fn load_rows(
+        &mut self,
+        vars: &Variables,
+        rows: &ConstraintRows,
+        k: &[f64],
+        taken: Option<usize>,
+    ) -> Result<()> {
         if k.len() != vars.ndof() {
             return Err(ChronoError::invalid(
                 "k.len()",
@@ -62,7 +112,9 @@ impl CcpProblem {
         }
         self.mu_rolling.clear();
         self.mu_per_body.clear();
-        self.row_ptr.push(0);
+        if taken.is_none() {
+            self.row_ptr.push(0);
+        }
 
         let mut row = 0usize;
         for (gi, &group) in GROUP_ORDER.iter().enumerate() {
@@ -125,22 +177,27 @@ impl CcpProblem {
             let n_ent = g.row_ptr.get(g.n_rows()).map_or(0, |&p| p as usize);
             let (ent_base, coef_base) = (self.ent_block.len() as u32, self.coefs.len() as u32);
             let n_coef = if n_ent == 0 { 0 } else { g.coefs.len() };
-            self.ent_block.extend_from_slice(&g.ent_block[..n_ent]);
+            let copy = taken != Some(group as usize);
+            if copy {
+                self.ent_block.extend_from_slice(&g.ent_block[..n_ent]);
+            }
             (self.ent_off).extend(
                 g.ent_block[..n_ent]
                     .iter()
                     .map(|&b| vars.offset(BlockId(b)) as u32),
             );
-            (self.ent_coef).extend(g.ent_coef[..n_ent].iter().map(|&c| c + coef_base));
             self.ent_span.extend((0..n_ent).map(|e| {
                 let c1 = g.ent_coef.get(e + 1).map_or(n_coef, |&c| c as usize);
                 nonzero_span(&g.coefs[g.ent_coef[e] as usize..c1])
             }));
-            self.coefs.extend_from_slice(&g.coefs[..n_coef]);
-            let rows_end = g.row_ptr.get(1..g.n_rows() + 1).unwrap_or(&[]);
-            (self.row_ptr).extend(rows_end.iter().map(|&p| p + ent_base));
-            self.b.extend_from_slice(&g.b);
-            self.eps.extend_from_slice(&g.eps);
+            if copy {
+                (self.ent_coef).extend(g.ent_coef[..n_ent].iter().map(|&c| c + coef_base));
+                self.coefs.extend_from_slice(&g.coefs[..n_coef]);
+                let rows_end = g.row_ptr.get(1..g.n_rows() + 1).unwrap_or(&[]);
+                (self.row_ptr).extend(rows_end.iter().map(|&p| p + ent_base));
+                self.b.extend_from_slice(&g.b);
+                self.eps.extend_from_slice(&g.eps);
+            }
             row += g.n_rows();
             let bad_mu = |i: usize, m: f64| {
                 ChronoError::invalid(format!("rows.{name}[{i}].mu"), m, "must be finite and >= 0")
@@ -182,8 +239,16 @@ impl CcpProblem {
                 _ => {}
             }
         }
-        self.ent_coef.push(self.coefs.len() as u32);
         self.n_rows = row;
+        Ok(())
+    }
+
+    /// The rest of an assembly after [`load_rows`](Self::load_rows) (and the sentinel of
+    /// `ent_coef`): the sections, `M^-1 D`, `diag(N)`, the scales, the block-ordered copy,
+    /// the matrix-free triplets (from `rows`' frames) and `r`.
+    fn finish_assembly(&mut self, rows: &ConstraintRows) -> Result<()> {
+        let (row, nblocks) = (self.n_rows, self.vars.len());
+        let vars = &self.vars;
         let gs = self.group_start;
         self.sections = Sections {
             bilateral: gs[0]..gs[1],
@@ -195,6 +260,7 @@ impl CcpProblem {
         };
         let coupled =
             (0..nblocks).any(|b| matches!(vars.mass(BlockId(b as u32)), MassOperator::Coupled(_)));
+
         if coupled {
             // `M^-1 D` of the coupled blocks' entries is solved per block, in batches of
             // columns: the passes one after the other.

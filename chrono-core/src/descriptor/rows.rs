@@ -132,6 +132,8 @@ impl GroupRows {
 /// linear coefficients exactly, the angular ones' norms to 1e-9) and uses the
 /// matrix-free path only for triplets that pass and whose blocks are rigid bodies with
 /// isotropic inertia touched by no other kind of row; the others use the explicit rows.
+/// (The crate's own NSC contact rows are built from their frames and skip the check, see
+/// `ConstraintRows::set_contact_frame_of_built_rows`; the other conditions still apply.)
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ContactFrame {
     /// Unit contact normal `n` (world, from A to B).
