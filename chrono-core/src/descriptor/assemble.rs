@@ -30,8 +30,9 @@ impl CcpProblem {
     /// [`assemble`](Self::assemble) (the same problem, bit for bit) that may take the rows'
     /// storage instead of copying it: when a single group has rows (e.g. only friction
     /// triplets, a granular scene), its Jacobian, `b` and `eps` arrays are swapped with this
-    /// problem's previous ones. `rows` is left empty (cleared, its capacity kept) on
-    /// success and unchanged on error.
+    /// problem's previous ones. `rows` is left empty (cleared, its capacity kept), unless a
+    /// row is rejected (then it is unchanged; an error of `M^-1 k` comes after the rows were
+    /// taken, and leaves them empty too).
     pub fn assemble_taking(
         &mut self,
         vars: &Variables,
