@@ -239,6 +239,23 @@ impl RigidBody {
         [d.x, d.y, d.z, a.x, a.y, a.z]
     }
 
+    /// [`point_jacobian`](Self::point_jacobian) for several directions at one point: the
+    /// rotation's inverse and the body-frame arm computed once (the same operations per
+    /// direction, so the same bits as one call per direction).
+    #[inline]
+    pub fn point_jacobians<const K: usize>(
+        &self,
+        p: &Vector3<f64>,
+        dirs: &[Vector3<f64>; K],
+    ) -> [[f64; 6]; K] {
+        let rinv = self.rotation.inverse();
+        let rb = rinv * (p - self.position);
+        dirs.map(|d| {
+            let a = rb.cross(&(rinv * d));
+            [d.x, d.y, d.z, a.x, a.y, a.z]
+        })
+    }
+
     /// The 6 Jacobian coefficients of `a . w_world`: `[0; R' a]`.
     #[inline]
     pub fn angular_jacobian(&self, a: &Vector3<f64>) -> [f64; 6] {

@@ -192,7 +192,7 @@ impl Contactable for crate::body::RigidBody {
         dirs: &[Vector3<f64>; 3],
         entry: &mut dyn FnMut(BlockId, [&[f64]; 3]),
     ) -> [f64; 3] {
-        let j = dirs.map(|d| self.point_jacobian(p, &d));
+        let j = self.point_jacobians(p, dirs);
         match self.block {
             Some(block) => {
                 entry(block, [&j[0], &j[1], &j[2]]);

@@ -8,5 +8,7 @@
 //!   mapped from the restitution, Coulomb cap, rolling and spinning resistance ([`smc`]).
 
 pub mod nsc;
+#[cfg(test)]
+mod nsc_tests;
 pub mod smc;
 mod sorted_map;

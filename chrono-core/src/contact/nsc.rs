@@ -423,34 +423,25 @@ pub fn add_contact_rows(
             }
             continue;
         }
-        let rolling = rolling.then_some(cp.radius);
+        if !rolling {
+            if let Some(row) = push_body_triplet(rows, settings, cp, a, b, &dirs) {
+                out.push(NscContact {
+                    point: *cp,
+                    u,
+                    w,
+                    row,
+                });
+            }
+            continue;
+        }
+        let rolling = Some(cp.radius);
         let ka = scratch.add_body(a, &cp.point_a, -1.0, &dirs, rolling);
         let kb = scratch.add_body(b, &cp.point_b, 1.0, &dirs, rolling);
         if scratch.blocks.len() > MAX_CONTACT_BLOCKS {
             return Err(too_many(scratch.blocks.len()));
         }
         let known: [f64; 6] = std::array::from_fn(|r| ka[r] + kb[r]);
-        let row = if rolling.is_some() {
-            scratch.push_rolling(rows, settings, cp.distance, m, known)
-        } else {
-            let what = || format!("contact {:?}", cp.key);
-            let k3 = [known[0], known[1], known[2]];
-            let row = scratch.push_triplet(rows, settings, cp.distance, m, k3, &what)?;
-            if let Some(row) = row {
-                // Lets the problem apply N matrix-free for sphere pairs (checked there).
-                let arm = |p: &Vector3<f64>, body: &RigidBody| (p - body.position).into();
-                rows.set_contact_frame(
-                    row,
-                    ContactFrame {
-                        normal: n.into(),
-                        blocks: [a.block, b.block],
-                        arms: [arm(&cp.point_a, a), arm(&cp.point_b, b)],
-                    },
-                );
-            }
-            row
-        };
-        if let Some(row) = row {
+        if let Some(row) = scratch.push_rolling(rows, settings, cp.distance, m, known) {
             out.push(NscContact {
                 point: *cp,
                 u,
@@ -460,6 +451,77 @@ pub fn add_contact_rows(
         }
     }
     Ok(())
+}
+
+/// Push the friction triplet of a contact between two rigid bodies without rolling
+/// friction (`dirs` = `n, u, w`) and its [`ContactFrame`]: the values
+/// [`TripletScratch::add_body`] and [`TripletScratch::push_triplet`] would push, built in
+/// fixed arrays (each side's rows by one
+/// [`RigidBody::point_jacobians`](crate::RigidBody::point_jacobians)). The rows are built
+/// from the frame's normal, tangents and arms, so the frame is set as such
+/// ([`ConstraintRows::set_contact_frame_of_built_rows`]: the problem applies sphere pairs
+/// matrix-free without re-checking the rows). `None` if neither body has variables.
+fn push_body_triplet(
+    rows: &mut ConstraintRows,
+    settings: NscRowSettings,
+    cp: &ContactPoint,
+    a: &RigidBody,
+    b: &RigidBody,
+    dirs: &[Vector3<f64>; 3],
+) -> Option<RowId> {
+    // One side: its rows `sign * d` and the known velocities (a body without variables).
+    let side = |body: &RigidBody, p: &Vector3<f64>, sign: f64| {
+        let signed = dirs.map(|d| d * sign);
+        let j = body.point_jacobians(p, &signed);
+        let known = match body.block {
+            Some(_) => [0.0; 3],
+            None => j.map(|jk| body.jacobian_times_velocity(&jk)),
+        };
+        (j, known)
+    };
+    let (ja, ka) = side(a, &cp.point_a, -1.0);
+    let (jb, kb) = side(b, &cp.point_b, 1.0);
+    let known: [f64; 3] = std::array::from_fn(|r| ka[r] + kb[r]);
+    let empty = RowEntry {
+        block: BlockId(0),
+        coefs: &[],
+    };
+    let mut e = [[empty; 2]; 3];
+    let mut nb = 0;
+    for (block, j) in [(a.block, &ja), (b.block, &jb)] {
+        if let Some(block) = block {
+            for r in 0..3 {
+                e[r][nb] = RowEntry {
+                    block,
+                    coefs: &j[r],
+                };
+            }
+            nb += 1;
+        }
+    }
+    if nb == 0 {
+        return None;
+    }
+    let h = settings.h;
+    let m = &cp.material;
+    let bn = (cp.distance / h).max(-settings.max_recovery_speed) + known[0];
+    let eps_n = m.compliance / (h * h);
+    let row = rows.push_friction(
+        m.friction,
+        [&e[0][..nb], &e[1][..nb], &e[2][..nb]],
+        [bn, known[1], known[2]],
+        [eps_n, 0.0, 0.0],
+    );
+    let arm = |p: &Vector3<f64>, body: &RigidBody| (p - body.position).into();
+    rows.set_contact_frame_of_built_rows(
+        row,
+        ContactFrame {
+            normal: dirs[0].into(),
+            blocks: [a.block, b.block],
+            arms: [arm(&cp.point_a, a), arm(&cp.point_b, b)],
+        },
+    );
+    Some(row)
 }
 
 /// Make the friction triplets of contacts between body colliders (side A) and item

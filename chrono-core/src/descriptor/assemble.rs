@@ -4,10 +4,11 @@
 //! loops are parallel for large problems, each value computed on its own (the same bits
 //! for any thread count).
 
+use nalgebra::Vector3;
 use rayon::prelude::*;
 
 use super::problem::{CcpProblem, GROUP_ORDER, Sections, group_name};
-use super::rows::{ConstraintRows, PER_BODY_ROWS, RowGroup};
+use super::rows::{ConstraintRows, N_GROUPS, PER_BODY_ROWS, RowGroup};
 use super::variables::{BlockId, MassOperator, Variables};
 use crate::error::{ChronoError, Result};
 
@@ -21,6 +22,57 @@ impl CcpProblem {
     /// numbers, negative compliance or friction, `lo > hi`, a non-finite `M^-1 k`) with an
     /// error naming the row or field.
     pub fn assemble(&mut self, vars: &Variables, rows: &ConstraintRows, k: &[f64]) -> Result<()> {
+        self.load_rows(vars, rows, k, None)?;
+        self.ent_coef.push(self.coefs.len() as u32);
+        self.finish_assembly(rows)
+    }
+
+    /// [`assemble`](Self::assemble) (the same problem, bit for bit) that may take the rows'
+    /// storage instead of copying it: when a single group has rows (e.g. only friction
+    /// triplets, a granular scene), its Jacobian, `b` and `eps` arrays are swapped with this
+    /// problem's previous ones. `rows` is left empty (cleared, its capacity kept), unless a
+    /// row is rejected (then it is unchanged; an error of `M^-1 k` comes after the rows were
+    /// taken, and leaves them empty too).
+    pub fn assemble_taking(
+        &mut self,
+        vars: &Variables,
+        rows: &mut ConstraintRows,
+        k: &[f64],
+    ) -> Result<()> {
+        let mut full = (0..N_GROUPS).filter(|&g| rows.groups[g].n_rows() > 0);
+        let single = match (full.next(), full.next()) {
+            (Some(g), None) => Some(g),
+            _ => None,
+        };
+        self.load_rows(vars, rows, k, single)?;
+        if let Some(g) = single {
+            // The only group with rows starts at row 0, entry 0 and coefficient 0: its
+            // arrays are the problem's (`load_rows` left these empty).
+            let g = &mut rows.groups[g];
+            std::mem::swap(&mut self.row_ptr, &mut g.row_ptr);
+            std::mem::swap(&mut self.ent_block, &mut g.ent_block);
+            std::mem::swap(&mut self.ent_coef, &mut g.ent_coef);
+            std::mem::swap(&mut self.coefs, &mut g.coefs);
+            std::mem::swap(&mut self.b, &mut g.b);
+            std::mem::swap(&mut self.eps, &mut g.eps);
+        }
+        self.ent_coef.push(self.coefs.len() as u32);
+        let done = self.finish_assembly(rows);
+        rows.clear();
+        done
+    }
+
+    /// The checks and the copy of the rows (all but the final sentinel of `ent_coef`);
+    /// the group `taken` (the only one with rows) is checked and indexed but its
+    /// `row_ptr`, `ent_block`, `ent_coef`, `coefs`, `b` and `eps` are not copied (left
+    /// empty, with `row_ptr` empty too, for the caller to swap in).
+    fn load_rows(
+        &mut self,
+        vars: &Variables,
+        rows: &ConstraintRows,
+        k: &[f64],
+        taken: Option<usize>,
+    ) -> Result<()> {
         if k.len() != vars.ndof() {
             return Err(ChronoError::invalid(
                 "k.len()",
@@ -48,9 +100,9 @@ impl CcpProblem {
             v.clear();
         }
         self.ent_span.clear();
+        // (`minv` is resized and overwritten by `fill_minv`.)
         for v in [
             &mut self.coefs,
-            &mut self.minv,
             &mut self.b,
             &mut self.eps,
             &mut self.lo,
@@ -61,13 +113,17 @@ impl CcpProblem {
         }
         self.mu_rolling.clear();
         self.mu_per_body.clear();
-        self.row_ptr.push(0);
+        if taken.is_none() {
+            self.row_ptr.push(0);
+        }
 
         let mut row = 0usize;
         for (gi, &group) in GROUP_ORDER.iter().enumerate() {
             let g = &rows.groups[group as usize];
             self.group_start[gi] = row;
             let name = group_name(group);
+            // Check every row (its entries, then `b` and `eps`: the first bad field in row
+            // order is named), then copy the group's arrays in bulk.
             for i in 0..g.n_rows() {
                 let (e0, e1) = (g.row_ptr[i] as usize, g.row_ptr[i + 1] as usize);
                 for e in e0..e1 {
@@ -101,13 +157,7 @@ impl CcpProblem {
                             "must be finite",
                         ));
                     }
-                    self.ent_block.push(blk as u32);
-                    self.ent_off.push(vars.offset(BlockId(blk as u32)) as u32);
-                    self.ent_coef.push(self.coefs.len() as u32);
-                    self.ent_span.push(nonzero_span(c));
-                    self.coefs.extend_from_slice(c);
                 }
-                self.row_ptr.push(self.ent_block.len() as u32);
                 if !g.b[i].is_finite() {
                     return Err(ChronoError::invalid(
                         format!("rows.{name}[{i}].b"),
@@ -122,10 +172,34 @@ impl CcpProblem {
                         "must be finite and >= 0",
                     ));
                 }
-                self.b.push(g.b[i]);
-                self.eps.push(g.eps[i]);
-                row += 1;
             }
+            // The group's entries are those of its rows, and its coefficients those of its
+            // entries, in order (`GroupRows::push`).
+            let n_ent = g.row_ptr.get(g.n_rows()).map_or(0, |&p| p as usize);
+            let (ent_base, coef_base) = (self.ent_block.len() as u32, self.coefs.len() as u32);
+            let n_coef = if n_ent == 0 { 0 } else { g.coefs.len() };
+            let copy = taken != Some(group as usize);
+            if copy {
+                self.ent_block.extend_from_slice(&g.ent_block[..n_ent]);
+            }
+            (self.ent_off).extend(
+                g.ent_block[..n_ent]
+                    .iter()
+                    .map(|&b| vars.offset(BlockId(b)) as u32),
+            );
+            self.ent_span.extend((0..n_ent).map(|e| {
+                let c1 = g.ent_coef.get(e + 1).map_or(n_coef, |&c| c as usize);
+                nonzero_span(&g.coefs[g.ent_coef[e] as usize..c1])
+            }));
+            if copy {
+                (self.ent_coef).extend(g.ent_coef[..n_ent].iter().map(|&c| c + coef_base));
+                self.coefs.extend_from_slice(&g.coefs[..n_coef]);
+                let rows_end = g.row_ptr.get(1..g.n_rows() + 1).unwrap_or(&[]);
+                (self.row_ptr).extend(rows_end.iter().map(|&p| p + ent_base));
+                self.b.extend_from_slice(&g.b);
+                self.eps.extend_from_slice(&g.eps);
+            }
+            row += g.n_rows();
             let bad_mu = |i: usize, m: f64| {
                 ChronoError::invalid(format!("rows.{name}[{i}].mu"), m, "must be finite and >= 0")
             };
@@ -166,9 +240,16 @@ impl CcpProblem {
                 _ => {}
             }
         }
-        self.ent_coef.push(self.coefs.len() as u32);
-        self.fill_minv();
         self.n_rows = row;
+        Ok(())
+    }
+
+    /// The rest of an assembly after [`load_rows`](Self::load_rows) (and the sentinel of
+    /// `ent_coef`): the sections, `M^-1 D`, `diag(N)`, the scales, the block-ordered copy,
+    /// the matrix-free triplets (from `rows`' frames) and `r`.
+    fn finish_assembly(&mut self, rows: &ConstraintRows) -> Result<()> {
+        let (row, nblocks) = (self.n_rows, self.vars.len());
+        let vars = &self.vars;
         let gs = self.group_start;
         self.sections = Sections {
             bilateral: gs[0]..gs[1],
@@ -178,10 +259,96 @@ impl CcpProblem {
             rolling: gs[4]..gs[5],
             rolling_per_body: gs[5]..row,
         };
-        self.build_transpose(nblocks);
-        self.build_diagonal();
-        self.build_matrix_free(rows);
-        self.set_free_velocity()
+        let coupled =
+            (0..nblocks).any(|b| matches!(vars.mass(BlockId(b as u32)), MassOperator::Coupled(_)));
+
+        if coupled {
+            // `M^-1 D` of the coupled blocks' entries is solved per block, in batches of
+            // columns: the passes one after the other.
+            self.fill_minv();
+            self.build_transpose(nblocks);
+            self.build_diagonal();
+            self.build_matrix_free(rows);
+            self.set_free_velocity()
+        } else {
+            self.fill_v_free()?;
+            self.fill_rows_fused();
+            self.build_transpose(nblocks);
+            self.fill_scales();
+            self.build_matrix_free(rows);
+            Ok(())
+        }
+    }
+
+    /// `M^-1 D`, `diag(N)` and `r = b + D' v_free` in one pass over the rows (each row's
+    /// entries once, in parallel over chunks of rows for large problems), when no entry is
+    /// on a coupled block: the same operations per value as [`fill_minv`](Self::fill_minv),
+    /// [`build_diagonal`](Self::build_diagonal) and
+    /// [`set_free_velocity`](Self::set_free_velocity), so the same bits. Needs `v_free`.
+    fn fill_rows_fused(&mut self) {
+        const ROWS: usize = 1024;
+        let n = self.n_rows;
+        let mut minv = std::mem::take(&mut self.minv);
+        let mut diag = std::mem::take(&mut self.diag);
+        let mut r = std::mem::take(&mut self.r);
+        // Every value is written below: the previous assembly's are not cleared first.
+        minv.resize(self.coefs.len(), 0.0);
+        diag.resize(n, 0.0);
+        r.resize(n, 0.0);
+        let this = &*self;
+        let chunk = |i0: usize, minv: &mut [f64], diag: &mut [f64], r: &mut [f64]| {
+            let base = this.ent_coef[this.row_ptr[i0] as usize] as usize;
+            for (k, (d, r)) in diag.iter_mut().zip(r.iter_mut()).enumerate() {
+                let i = i0 + k;
+                if let Some((x, s)) = this.rigid_row_fused(i, base, minv) {
+                    (*d, *r) = (x, this.b[i] + s);
+                    continue;
+                }
+                let mut x = this.eps[i];
+                for e in this.row_ptr[i] as usize..this.row_ptr[i + 1] as usize {
+                    let (c0, c1) = (this.ent_coef[e] as usize, this.ent_coef[e + 1] as usize);
+                    let out = &mut minv[c0 - base..c1 - base];
+                    (this.vars.mass(BlockId(this.ent_block[e])))
+                        .apply_inverse(&this.coefs[c0..c1], out);
+                    let (a0, a1) = this.nonzero_span(e);
+                    let (c, m) = (&this.coefs[a0..a1], &minv[a0 - base..a1 - base]);
+                    if let (Ok(c), Ok(m)) = (<&[f64; 6]>::try_from(c), <&[f64; 6]>::try_from(m)) {
+                        for k in 0..6 {
+                            x += c[k] * m[k];
+                        }
+                        continue;
+                    }
+                    for (c, m) in c.iter().zip(m) {
+                        x += c * m;
+                    }
+                }
+                *d = x;
+                *r = this.b[i] + this.row_dot(i, &this.v_free);
+            }
+        };
+        // Split the outputs at the chunks' first rows (and their first coefficients).
+        let mut parts = Vec::with_capacity(n.div_ceil(ROWS));
+        let (mut rest_m, mut rest_d, mut rest_r) = (&mut minv[..], &mut diag[..], &mut r[..]);
+        let mut at = 0;
+        for i0 in (0..n).step_by(ROWS) {
+            let i1 = (i0 + ROWS).min(n);
+            let end = self.ent_coef[self.row_ptr[i1] as usize] as usize;
+            let (m, tm) = rest_m.split_at_mut(end - at);
+            let (d, td) = rest_d.split_at_mut(i1 - i0);
+            let (q, tr) = rest_r.split_at_mut(i1 - i0);
+            parts.push((i0, m, d, q));
+            (rest_m, rest_d, rest_r, at) = (tm, td, tr, end);
+        }
+        if n >= PAR_MIN_ASSEMBLY_ROWS {
+            parts
+                .into_par_iter()
+                .for_each(|(i0, m, d, q)| chunk(i0, m, d, q));
+        } else {
+            parts
+                .into_iter()
+                .for_each(|(i0, m, d, q)| chunk(i0, m, d, q));
+        }
+        (self.minv, self.diag, self.r) = (minv, diag, r);
     }
 
     /// Replace the momentum `k` of an assembled problem (same variables and rows) and
@@ -209,6 +376,22 @@ impl CcpProblem {
 
     /// `v_free = M^-1 k` and `r = b + D' v_free` from the stored `k`.
     fn set_free_velocity(&mut self) -> Result<()> {
+        self.fill_v_free()?;
+        // Every value is written below: the previous assembly's are not cleared first.
+        let mut r = std::mem::take(&mut self.r);
+        r.resize(self.n_rows, 0.0);
+        let one = |(i, r): (usize, &mut f64)| *r = self.b[i] + self.row_dot(i, &self.v_free);
+        if self.n_rows >= PAR_MIN_ASSEMBLY_ROWS {
+            r.par_iter_mut().enumerate().for_each(one);
+        } else {
+            r.iter_mut().enumerate().for_each(one);
+        }
+        self.r = r;
+        Ok(())
+    }
+
+    /// `v_free = M^-1 k` from the stored `k` (an error if not finite).
+    fn fill_v_free(&mut self) -> Result<()> {
         let vars = &self.vars;
         let k = &self.k;
         self.v_free.clear();
@@ -221,16 +404,6 @@ impl CcpProblem {
                 "must be finite (momentum too large for the mass)",
             ));
         }
-        let mut r = std::mem::take(&mut self.r);
-        r.clear();
-        r.resize(self.n_rows, 0.0);
-        let one = |(i, r): (usize, &mut f64)| *r = self.b[i] + self.row_dot(i, &self.v_free);
-        if self.n_rows >= PAR_MIN_ASSEMBLY_ROWS {
-            r.par_iter_mut().enumerate().for_each(one);
-        } else {
-            r.iter_mut().enumerate().for_each(one);
-        }
-        self.r = r;
         Ok(())
     }
 
@@ -243,8 +416,9 @@ impl CcpProblem {
     /// columns instead of one per row, the same values column by column.
     fn fill_minv(&mut self) {
         const ENTRIES: usize = 2048;
+        // Every coefficient is written below (each entry's, diagonal or coupled): the
+        // previous assembly's values are not cleared first.
         let mut minv = std::mem::take(&mut self.minv);
-        minv.clear();
         minv.resize(self.coefs.len(), 0.0);
         let n_ent = self.ent_block.len();
         let coupled = |e: usize| {
@@ -329,11 +503,11 @@ impl CcpProblem {
         }
         self.tr_cptr.push(c);
         let n_ent = self.ent_block.len();
-        self.tr_row.clear();
+        // Every slot of `tr_row`, `tr_ent` and `tr_minv` is written below: the previous
+        // assembly's values are not cleared first.
         self.tr_row.resize(n_ent, 0);
         // Per slot of the block order: its entry (the counting sort, u32 work only) ...
         let mut tr_ent = std::mem::take(&mut self.tr_ent);
-        tr_ent.clear();
         tr_ent.resize(n_ent, 0);
         let mut cursor: Vec<u32> = self.tr_ptr[..nblocks].to_vec();
         for i in 0..self.n_rows {
@@ -347,7 +521,6 @@ impl CcpProblem {
         }
         // ... then the coefficients, slot by slot over each run of equal-size blocks (a
         // run's slots are contiguous and of one size), in parallel for large problems.
-        self.tr_minv.clear();
         self.tr_minv.resize(self.minv.len(), 0.0);
         let par = n_ent >= PAR_MIN_ASSEMBLY_ROWS;
         for run in self.vars.runs() {
@@ -360,9 +533,11 @@ impl CcpProblem {
             let (minv, ent_coef, tr_ent) = (&self.minv, &self.ent_coef, &tr_ent);
             let copy = |(k, out): (usize, &mut [f64])| {
                 let src = ent_coef[tr_ent[t0 + k] as usize] as usize;
-                // a particle's 3 values as one fixed-size move (not a library call per
-                // entry: density rows have ~60 entries a row)
-                if let Ok(o) = <&mut [f64; 3]>::try_from(&mut *out) {
+                // a rigid body's 6 or a particle's 3 values as one fixed-size move (not a
+                // library call per entry: density rows have ~60 entries a row)
+                if let Ok(o) = <&mut [f64; 6]>::try_from(&mut *out) {
+                    *o = minv[src..src + 6].try_into().expect("6");
+                } else if let Ok(o) = <&mut [f64; 3]>::try_from(&mut *out) {
                     *o = minv[src..src + 3].try_into().expect("3");
                 } else {
                     out.copy_from_slice(&minv[src..src + out.len()]);
@@ -382,13 +557,24 @@ impl CcpProblem {
     /// its own, in parallel for large problems: the same bits for any thread count).
     fn build_diagonal(&mut self) {
         let par = self.n_rows >= PAR_MIN_ASSEMBLY_ROWS;
+        // Every value is written below: the previous assembly's are not cleared first.
         let mut diag = std::mem::take(&mut self.diag);
-        diag.clear();
         diag.resize(self.n_rows, 0.0);
         let one = |(i, d): (usize, &mut f64)| {
             let mut x = self.eps[i];
             for e in self.row_ptr[i] as usize..self.row_ptr[i + 1] as usize {
                 let (c0, c1) = self.nonzero_span(e);
+                // A rigid body's 6 dof as fixed-size arrays: the same sums in the same
+                // order, so the same bits.
+                if let (Ok(c), Ok(m)) = (
+                    <&[f64; 6]>::try_from(&self.coefs[c0..c1]),
+                    <&[f64; 6]>::try_from(&self.minv[c0..c1]),
+                ) {
+                    for k in 0..6 {
+                        x += c[k] * m[k];
+                    }
+                    continue;
+                }
                 for (c, m) in self.coefs[c0..c1].iter().zip(&self.minv[c0..c1]) {
                     x += c * m;
                 }
@@ -401,7 +587,58 @@ impl CcpProblem {
             diag.iter_mut().enumerate().for_each(one);
         }
         self.diag = diag;
-        self.scale.clear();
+        self.fill_scales();
+    }
+
+    /// [`fill_rows_fused`](Self::fill_rows_fused) for a row whose entries are all on rigid
+    /// bodies (6 coefficients each, the usual contact row): writes the entries' `M^-1 D`
+    /// into `minv` (which starts at coefficient `base`) and returns `diag(N)_i` and
+    /// `D_i' v_free` with fixed-size arrays, the same sums in the same order as
+    /// [`build_diagonal`](Self::build_diagonal) and [`row_dot`](Self::row_dot). `None`
+    /// (nothing written) for any other row.
+    #[inline]
+    fn rigid_row_fused(&self, i: usize, base: usize, minv: &mut [f64]) -> Option<(f64, f64)> {
+        let (e0, e1) = (self.row_ptr[i] as usize, self.row_ptr[i + 1] as usize);
+        let six = |e: usize| self.ent_coef[e + 1] - self.ent_coef[e] == 6;
+        if !(e0..e1).all(six) {
+            return None;
+        }
+        let (mut x, mut s) = (self.eps[i], 0.0);
+        for e in e0..e1 {
+            let c0 = self.ent_coef[e] as usize;
+            let off = self.ent_off[e] as usize;
+            let c: &[f64; 6] = self.coefs[c0..c0 + 6].try_into().expect("6");
+            let v: &[f64; 6] = self.v_free.get(off..off + 6)?.try_into().expect("6");
+            let m: &mut [f64; 6] = (&mut minv[c0 - base..c0 - base + 6]).try_into().expect("6");
+            match self.vars.mass(BlockId(self.ent_block[e])) {
+                // `MassOperator::apply_inverse`'s operations, inlined.
+                MassOperator::RigidBody {
+                    mass, inv_inertia, ..
+                } => {
+                    let im = 1.0 / mass;
+                    m[0] = c[0] * im;
+                    m[1] = c[1] * im;
+                    m[2] = c[2] * im;
+                    let w = inv_inertia * Vector3::new(c[3], c[4], c[5]);
+                    m[3] = w.x;
+                    m[4] = w.y;
+                    m[5] = w.z;
+                }
+                op => op.apply_inverse(c, m),
+            }
+            for k in 0..6 {
+                x += c[k] * m[k];
+            }
+            for k in 0..6 {
+                s += c[k] * v[k];
+            }
+        }
+        Some((x, s))
+    }
+
+    /// The residual scales from `diag(N)`, and the cone blocks marked for rebuilding.
+    fn fill_scales(&mut self) {
+        // Every value is written below (by cone block).
         self.scale.resize(self.n_rows, 0.0);
         let inv = |d: f64| if d > 0.0 { 1.0 / d } else { 0.0 };
         let mut i = 0;

@@ -101,15 +101,20 @@ impl MatrixFree {
         self.c_rc.clear();
         self.b_inv.clear();
         self.b_ptr.clear();
+        self.clear_sides();
+        self.block_sphere.clear();
+        self.skip_block.clear();
+        self.explicit_free = false;
+        self.n_mf = 0;
+    }
+
+    /// Empty the sphere-ordered contact sides (`s_*`).
+    fn clear_sides(&mut self) {
         self.s_row.clear();
         for x in self.s_n.iter_mut().chain(&mut self.s_r) {
             x.clear();
         }
         self.s_rc.clear();
-        self.block_sphere.clear();
-        self.skip_block.clear();
-        self.explicit_free = false;
-        self.n_mf = 0;
     }
 
     /// `w = M^-1 D g` restricted to the spheres, in the world frame: `[dv; dw]` (6 per
@@ -220,14 +225,27 @@ impl CcpProblem {
     /// storage, whose entries it checks the frames against).
     pub(super) fn build_matrix_free(&mut self, rows: &ConstraintRows) {
         let mut mf = std::mem::take(&mut self.mf);
+        // The sides keep their length: `fill_matrix_free` resizes and overwrites them.
+        let sides = (
+            std::mem::take(&mut mf.s_row),
+            std::mem::take(&mut mf.s_n),
+            std::mem::take(&mut mf.s_r),
+            std::mem::take(&mut mf.s_rc),
+        );
         mf.clear();
-        let frames = &rows.groups[RowGroup::Friction as usize].frames;
-        if !frames.is_empty() {
-            mf.frames.extend_from_slice(frames);
+        (mf.s_row, mf.s_n, mf.s_r, mf.s_rc) = sides;
+        let mut filled = false;
+        let group = &rows.groups[RowGroup::Friction as usize];
+        if !group.frames.is_empty() {
+            mf.frames.extend_from_slice(&group.frames);
             // `s_row` packs `2 row + side` in 32 bits.
             if self.n_rows < 1 << 31 {
-                self.fill_matrix_free(&mut mf);
+                self.fill_matrix_free(&mut mf, &group.frames_built);
+                filled = true;
             }
+        }
+        if !filled {
+            mf.clear_sides();
         }
         self.mf = mf;
     }
@@ -263,7 +281,9 @@ impl CcpProblem {
         e == e1
     }
 
-    fn fill_matrix_free(&self, mf: &mut MatrixFree) {
+    /// `built[f]`: frame `f`'s rows were built from it (see
+    /// [`ConstraintRows::set_contact_frame_of_built_rows`]), so they are not checked.
+    fn fill_matrix_free(&self, mf: &mut MatrixFree, built: &[bool]) {
         let nblocks = self.vars.len();
         let inv: Vec<Option<[f64; 2]>> = (0..nblocks)
             .map(|b| isotropic(self.vars.mass(BlockId(b as u32))))
@@ -271,32 +291,41 @@ impl CcpProblem {
         let fs = self.sections.friction.start;
         // Candidates: frames whose rows match and whose blocks are spheres (each frame
         // checked on its own, in parallel for many; `collect` keeps the order).
-        let check = |&(k, fr): &(u32, ContactFrame)| {
+        let check = |(f, &(k, fr)): (usize, &(u32, ContactFrame))| {
             let n = Vector3::from(fr.normal);
             if !(n.iter().all(|x| x.is_finite()) && fr.arms.iter().flatten().all(|x| x.is_finite()))
             {
                 return None;
             }
-            let (u, w) = frame(&fr.normal);
-            let (u, w) = (Vector3::from(u), Vector3::from(w));
-            let t = fs + 3 * k as usize;
             let spheres = fr
                 .blocks
                 .iter()
                 .flatten()
                 .all(|b| (b.0 as usize) < nblocks && inv[b.0 as usize].is_some());
-            let ok = spheres
-                && [n, u, w]
-                    .iter()
-                    .enumerate()
-                    .all(|(r, d)| self.row_matches(t + r, &fr, d));
-            ok.then_some((k, fr))
+            if !spheres {
+                return None;
+            }
+            if built.get(f).copied().unwrap_or(false) {
+                return Some(f as u32);
+            }
+            let (u, w) = frame(&fr.normal);
+            let (u, w) = (Vector3::from(u), Vector3::from(w));
+            let t = fs + 3 * k as usize;
+            let ok = [n, u, w]
+                .iter()
+                .enumerate()
+                .all(|(r, d)| self.row_matches(t + r, &fr, d));
+            ok.then_some(f as u32)
         };
-        let cand: Vec<(u32, ContactFrame)> = if mf.frames.len() >= PAR_MIN_BODIES {
-            mf.frames.par_iter().filter_map(check).collect()
+        // Indices into `mf.frames`.
+        let picked: Vec<u32> = if mf.frames.len() >= PAR_MIN_BODIES {
+            mf.frames.par_iter().enumerate().filter_map(check).collect()
         } else {
-            mf.frames.iter().filter_map(check).collect()
+            mf.frames.iter().enumerate().filter_map(check).collect()
         };
+        // (Taken out of `mf` while its other fields are filled; put back at the end.)
+        let frames = std::mem::take(&mut mf.frames);
+        let cand = || picked.iter().map(|&f| &frames[f as usize]);
         // A sphere is pure if all its entries belong to checked frames: then its world-frame
         // velocity change is complete. A triplet is matrix-free if all its spheres are pure;
         // the others (touching a body with other rows) use the explicit rows, so no
@@ -305,7 +334,7 @@ impl CcpProblem {
             .map(|b| self.tr_ptr[b + 1] - self.tr_ptr[b])
             .collect();
         let mut hinted = vec![0u32; nblocks];
-        for (_, f) in &cand {
+        for (_, f) in cand() {
             for b in f.blocks.iter().flatten() {
                 hinted[b.0 as usize] += 3;
             }
@@ -322,7 +351,13 @@ impl CcpProblem {
         // needs no explicit velocity.
         let mut in_mf = vec![0u32; nblocks];
         let mut count = vec![0u32; mf.b_inv.len() + 1];
-        for (k, f) in &cand {
+        mf.c_row.reserve(picked.len());
+        mf.c_body.reserve(picked.len());
+        for x in mf.c_n.iter_mut().chain(&mut mf.c_ra).chain(&mut mf.c_rb) {
+            x.reserve(picked.len());
+        }
+        mf.c_rc.reserve(picked.len());
+        for (k, f) in cand() {
             let c = mf.c_row.len();
             let body = f
                 .blocks
@@ -385,5 +420,6 @@ impl CcpProblem {
                 }
             }
         }
+        mf.frames = frames;
     }
 }

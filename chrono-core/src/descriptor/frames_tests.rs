@@ -332,3 +332,58 @@ fn held_subproblem_compacts_keeps_frames_and_updates_bit_for_bit() {
     let e = h.build(&p, &rows, &g[1..]).unwrap_err().to_string();
     assert!(e.contains("gamma.len()"), "{e}");
 }
+
+/// `assemble_taking` gives `assemble`'s problem bit for bit: a single group (its arrays
+/// swapped in), two groups (copied), and again into the same problem (whose old arrays
+/// went to the rows: nothing stale is read); the rows are left empty.
+#[test]
+fn assemble_taking_equals_assemble_bit_for_bit() {
+    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    let same = |a: &CcpProblem, b: &CcpProblem| {
+        assert_eq!(a.n_rows(), b.n_rows());
+        assert_eq!(a.n_matrix_free(), b.n_matrix_free());
+        assert_eq!(bits(a.r()), bits(b.r()));
+        assert_eq!(bits(a.diag()), bits(b.diag()));
+        assert_eq!(bits(a.scales()), bits(b.scales()));
+        for i in 0..a.n_rows() {
+            let ea: Vec<_> = a.row_entries(i).collect();
+            let eb: Vec<_> = b.row_entries(i).collect();
+            assert_eq!(ea.len(), eb.len());
+            for (x, y) in ea.iter().zip(&eb) {
+                assert_eq!((x.0, x.1), (y.0, y.1));
+                assert_eq!((bits(x.2), bits(x.3)), (bits(y.2), bits(y.3)));
+            }
+        }
+        let g: Vec<f64> = (0..a.n_rows()).map(|i| (i as f64 * 0.3).cos()).collect();
+        let (mut x, mut y) = (vec![0.0; g.len()], vec![0.0; g.len()]);
+        a.apply_n(&g, &mut x, &mut CcpWork::for_problem(a));
+        b.apply_n(&g, &mut y, &mut CcpWork::for_problem(b));
+        assert_eq!(bits(&x), bits(&y));
+        let (mut v, mut w) = (vec![0.0; a.ndof()], vec![0.0; b.ndof()]);
+        a.velocities(&g, &mut v);
+        b.velocities(&g, &mut w);
+        assert_eq!(bits(&v), bits(&w));
+    };
+    let mut taken = CcpProblem::new();
+    for (seed, all) in [(3, false), (5, true), (9, false)] {
+        let (p, _, _) = scene(seed, 20, 30 + seed as usize);
+        // The friction triplets alone (one group) or with the scene's joint row.
+        let mut rows = ConstraintRows::new();
+        if all {
+            rows = p.constraint_rows();
+        } else {
+            p.push_rows(p.sections().friction.clone(), &mut rows);
+        }
+        let groups = (0..N_GROUPS)
+            .filter(|&g| rows.groups[g].n_rows() > 0)
+            .count();
+        assert_eq!(groups, if all { 2 } else { 1 }, "seed {seed}");
+        let mut fresh = CcpProblem::new();
+        fresh.assemble(p.variables(), &rows, p.momentum()).unwrap();
+        taken
+            .assemble_taking(p.variables(), &mut rows, p.momentum())
+            .unwrap();
+        assert_eq!(rows.total_rows(), 0, "seed {seed}: rows not emptied");
+        same(&fresh, &taken);
+    }
+}

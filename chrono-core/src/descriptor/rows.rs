@@ -71,6 +71,10 @@ pub(crate) struct GroupRows {
     /// Friction group: the contact frames given with
     /// [`ConstraintRows::set_contact_frame`], by triplet index (increasing).
     pub frames: Vec<(u32, ContactFrame)>,
+    /// Per entry of `frames`: true if its rows were built from the frame by
+    /// [`ConstraintRows::set_contact_frame_of_built_rows`]'s caller (they match it by
+    /// construction, so the assembly does not check them).
+    pub frames_built: Vec<bool>,
 }
 
 impl GroupRows {
@@ -86,6 +90,7 @@ impl GroupRows {
         self.hi.clear();
         self.mu.clear();
         self.frames.clear();
+        self.frames_built.clear();
     }
 
     pub fn n_rows(&self) -> usize {
@@ -99,7 +104,11 @@ impl GroupRows {
         for e in entries {
             self.ent_block.push(e.block.0);
             self.ent_coef.push(self.coefs.len() as u32);
-            self.coefs.extend_from_slice(e.coefs);
+            // A rigid body's 6 coefficients as a fixed-size copy (not a library call).
+            match <&[f64; 6]>::try_from(e.coefs) {
+                Ok(c) => self.coefs.extend_from_slice(c),
+                Err(_) => self.coefs.extend_from_slice(e.coefs),
+            }
         }
         self.row_ptr.push(self.ent_block.len() as u32);
         self.b.push(b);
@@ -123,6 +132,8 @@ impl GroupRows {
 /// linear coefficients exactly, the angular ones' norms to 1e-9) and uses the
 /// matrix-free path only for triplets that pass and whose blocks are rigid bodies with
 /// isotropic inertia touched by no other kind of row; the others use the explicit rows.
+/// (The crate's own NSC contact rows are built from their frames and skip the check, see
+/// `ConstraintRows::set_contact_frame_of_built_rows`; the other conditions still apply.)
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ContactFrame {
     /// Unit contact normal `n` (world, from A to B).
@@ -228,6 +239,23 @@ impl ConstraintRows {
     /// for it (see [`ContactFrame`]). Triplets must be given in the order they were pushed;
     /// a frame for another group's row, or out of order, is ignored.
     pub fn set_contact_frame(&mut self, row: RowId, frame: ContactFrame) {
+        self.push_frame(row, frame, false);
+    }
+
+    /// [`set_contact_frame`](Self::set_contact_frame) for a triplet whose rows the caller
+    /// built from this very frame: row `d` of `(n, u, w)` (`(u, w)` =
+    /// [`tangent_frame`](crate::math::tangent_frame)`(n)`) is
+    /// [`RigidBody::point_jacobians`](crate::RigidBody::point_jacobians) of `-d` at A's
+    /// contact point on A's block, then of `d` at B's on B's, with the arms `p - x` of the
+    /// frame. Such rows match the frame by construction, so the assembly skips the check of
+    /// [`ContactFrame`] for them (the NSC contact rows of sphere pairs); the other
+    /// conditions of the matrix-free path (spheres, no other rows on the blocks) are still
+    /// checked.
+    pub(crate) fn set_contact_frame_of_built_rows(&mut self, row: RowId, frame: ContactFrame) {
+        self.push_frame(row, frame, true);
+    }
+
+    fn push_frame(&mut self, row: RowId, frame: ContactFrame, built: bool) {
         let g = &mut self.groups[RowGroup::Friction as usize];
         let k = row.index / 3;
         let in_order = g.frames.last().is_none_or(|&(last, _)| last < k);
@@ -237,6 +265,7 @@ impl ConstraintRows {
             && in_order
         {
             g.frames.push((k, frame));
+            g.frames_built.push(built);
         }
     }
 

@@ -477,8 +477,9 @@ impl CellGrid {
         d
     }
 
-    /// Calls `f(j, p - x_j, |p - x_j|^2)` for every particle `j != skip` with
-    /// `|p - x_j| <= radius`, around the point `p` in the cell `cell`. `radius` must
+    /// Calls `f(j, p - x_j, |p - x_j|^2)` for every particle `j` with `keep(j)` and
+    /// `|p - x_j| <= radius`, around the point `p` in the cell `cell` (`keep` is asked
+    /// before the distance is computed). `radius` must
     /// satisfy [`check_radius`](Self::check_radius) (the public callers check it).
     #[inline]
     fn visit<F: FnMut(usize, [f64; 3], f64)>(
@@ -487,7 +488,7 @@ impl CellGrid {
         p: [f64; 3],
         cell: [usize; 3],
         radius: f64,
-        skip: usize,
+        keep: impl Fn(usize) -> bool,
         mut f: F,
     ) {
         let r2max = radius * radius;
@@ -512,7 +513,7 @@ impl CellGrid {
                     let e = self.cell_start[row + last + 1] as usize;
                     for &j in &self.order[s..e] {
                         let j = j as usize;
-                        if j == skip {
+                        if !keep(j) {
                             continue;
                         }
                         let d = self.displacement(p, [px[j], py[j], pz[j]]);
@@ -542,7 +543,7 @@ impl CellGrid {
             p,
             self.unlinear(self.cell_of[i] as usize),
             radius,
-            i,
+            |j| j != i,
             f,
         );
         Ok(())
@@ -561,7 +562,7 @@ impl CellGrid {
         for (a, v) in p.iter().enumerate() {
             crate::error::check_finite(&format!("point[{a}]"), *v)?;
         }
-        self.visit(pos, p, self.cell_coords(p), radius, usize::MAX, f);
+        self.visit(pos, p, self.cell_coords(p), radius, |_| true, f);
         Ok(())
     }
 
@@ -636,11 +637,18 @@ impl CellGrid {
                     }
                     let p = [pos[0][i], pos[1][i], pos[2][i]];
                     let cell = self.unlinear(self.cell_of[i] as usize);
-                    self.visit(pos, p, cell, radius, i, |j, _, _| {
-                        if keep(i, j) {
-                            buf.push(j as u32)
-                        }
-                    });
+                    self.visit(
+                        pos,
+                        p,
+                        cell,
+                        radius,
+                        |j| j != i,
+                        |j, _, _| {
+                            if keep(i, j) {
+                                buf.push(j as u32)
+                            }
+                        },
+                    );
                     *count = buf.len() - before;
                 }
             });
@@ -664,11 +672,8 @@ impl CellGrid {
         for i in 0..self.len() {
             let p = [pos[0][i], pos[1][i], pos[2][i]];
             let cell = self.unlinear(self.cell_of[i] as usize);
-            self.visit(pos, p, cell, radius, i, |j, d, r2| {
-                if i < j {
-                    f(i, j, d, r2)
-                }
-            });
+            // Only `j > i` (the pairs reported) has its distance computed.
+            self.visit(pos, p, cell, radius, |j| j > i, |j, d, r2| f(i, j, d, r2));
         }
         Ok(())
     }
@@ -697,11 +702,17 @@ impl CellGrid {
                 for i in b * BLOCK..((b + 1) * BLOCK).min(n) {
                     let p = [pos[0][i], pos[1][i], pos[2][i]];
                     let cell = self.unlinear(self.cell_of[i] as usize);
-                    self.visit(pos, p, cell, radius, i, |j, _, _| {
-                        if i < j {
+                    // Only `j > i` (the pairs reported) has its distance computed.
+                    self.visit(
+                        pos,
+                        p,
+                        cell,
+                        radius,
+                        |j| j > i,
+                        |j, _, _| {
                             buf.push([i as u32, j as u32]);
-                        }
-                    });
+                        },
+                    );
                 }
             });
         out.clear();

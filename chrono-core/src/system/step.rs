@@ -175,7 +175,8 @@ impl System {
         }
 
         // Assemble and solve.
-        self.problem.assemble(&self.vars, &self.rows, &self.k)?;
+        self.problem
+            .assemble_taking(&self.vars, &mut self.rows, &self.k)?;
         let m = self.problem.n_rows();
         self.gamma.clear();
         self.gamma.resize(m, 0.0);

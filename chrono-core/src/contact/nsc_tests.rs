@@ -1,0 +1,162 @@
+//! The NSC rows of sphere pairs, built with their frames ([`super::nsc::add_contact_rows`]):
+//! the coefficients are `RigidBody::point_jacobian`'s, and trusting their frames (no check
+//! at assembly) selects the same matrix-free triplets with the same bits as checking them.
+
+use nalgebra::{UnitQuaternion, Vector3};
+
+use super::nsc::{NscRowSettings, TripletScratch, add_contact_rows};
+use crate::body::{RigidBody, RigidBodyBuilder};
+use crate::collision::{ColliderId, ContactKey, ContactPoint};
+use crate::contact::smc::RollingModel;
+use crate::descriptor::{CcpProblem, CcpWork, ConstraintRows, RowGroup, Variables};
+use crate::material::ContactMaterial;
+use crate::rng::Rng;
+
+/// Spheres with random rotations (isotropic inertia), an anisotropic body, a fixed and a
+/// moving kinematic body (no variables), and contacts between random pairs of them.
+fn scene(seed: u64) -> (Vec<RigidBody>, Variables, Vec<ContactPoint>) {
+    let mut rng = Rng::splitmix64(seed);
+    let mut bodies = Vec::new();
+    let rot = |rng: &mut Rng| {
+        UnitQuaternion::from_euler_angles(
+            rng.range(-3.0, 3.0),
+            rng.range(-1.5, 1.5),
+            rng.range(-3.0, 3.0),
+        )
+    };
+    let v3 =
+        |rng: &mut Rng, s: f64| Vector3::new(rng.range(-s, s), rng.range(-s, s), rng.range(-s, s));
+    for i in 0..12 {
+        let b = match i {
+            10 => RigidBodyBuilder::fixed(),
+            11 => RigidBodyBuilder::kinematic()
+                .linear_velocity(v3(&mut rng, 1.0))
+                .angular_velocity(v3(&mut rng, 2.0)),
+            9 => RigidBodyBuilder::dynamic()
+                .mass(2.0)
+                .inertia_diagonal(Vector3::new(0.1, 0.2, 0.3)),
+            _ => RigidBodyBuilder::dynamic()
+                .mass(rng.range(0.5, 2.0))
+                .inertia_diagonal(Vector3::repeat(rng.range(0.01, 0.1))),
+        };
+        bodies.push(
+            b.position(v3(&mut rng, 1.0))
+                .rotation(rot(&mut rng))
+                .build()
+                .unwrap(),
+        );
+    }
+    let mut vars = Variables::new();
+    for b in bodies.iter_mut().filter(|b| b.is_dynamic()) {
+        b.block = Some(vars.add(b.mass_operator().unwrap()));
+    }
+    let mut points = Vec::new();
+    for c in 0..60u32 {
+        let a = rng.int(0, 11);
+        let mut b = (a + 1 + rng.int(0, 10)) % 12;
+        if a + b == 21 {
+            // fixed against kinematic: no rows
+            b = 0;
+        }
+        let normal = v3(&mut rng, 1.0).normalize();
+        let p = v3(&mut rng, 1.0);
+        points.push(ContactPoint {
+            collider_a: ColliderId(a as u32),
+            collider_b: ColliderId(b as u32),
+            owner_a: a as u32,
+            owner_b: b as u32,
+            point_a: p - normal * 1e-3,
+            point_b: p + normal * 1e-3,
+            normal,
+            distance: rng.range(-1e-3, 1e-3),
+            key: ContactKey {
+                collider_a: a as u32,
+                collider_b: b as u32,
+                feature_a: c,
+                feature_b: 0,
+            },
+            material: ContactMaterial::smc(1e7, 0.3, 0.5, 0.4),
+            radius: 0.01,
+        });
+    }
+    (bodies, vars, points)
+}
+
+fn rows_of(bodies: &[RigidBody], points: &[ContactPoint]) -> ConstraintRows {
+    let mut rows = ConstraintRows::new();
+    let settings = NscRowSettings {
+        h: 1e-3,
+        max_recovery_speed: 0.5,
+        rolling_model: RollingModel::default(),
+    };
+    let mut out = Vec::new();
+    add_contact_rows(
+        points,
+        bodies,
+        settings,
+        &mut rows,
+        &mut TripletScratch::default(),
+        &mut out,
+    )
+    .unwrap();
+    assert_eq!(out.len(), points.len());
+    rows
+}
+
+#[test]
+fn sphere_pair_rows_are_point_jacobians() {
+    let (bodies, vars, points) = scene(7);
+    let rows = rows_of(&bodies, &points);
+    let k = vec![0.0; vars.ndof()];
+    let mut p = CcpProblem::new();
+    p.assemble(&vars, &rows, &k).unwrap();
+    for (c, cp) in points.iter().enumerate() {
+        let (a, b) = (&bodies[cp.owner_a as usize], &bodies[cp.owner_b as usize]);
+        let (u, w) = crate::math::tangent_frame(&cp.normal);
+        for (r, d) in [cp.normal, u, w].iter().enumerate() {
+            let mut want = Vec::new();
+            if let Some(blk) = a.block {
+                want.push((blk, a.point_jacobian(&cp.point_a, &-d)));
+            }
+            if let Some(blk) = b.block {
+                want.push((blk, b.point_jacobian(&cp.point_b, d)));
+            }
+            let have: Vec<_> = p.row_entries(3 * c + r).collect();
+            assert_eq!(have.len(), want.len(), "contact {c} row {r}");
+            for ((blk, _, coefs, _), (wb, wc)) in have.iter().zip(&want) {
+                assert_eq!(blk, wb);
+                let bits = |x: &[f64]| x.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+                assert_eq!(bits(coefs), bits(wc), "contact {c} row {r}");
+            }
+        }
+    }
+}
+
+#[test]
+fn trusted_frames_select_what_the_check_selects_bit_for_bit() {
+    for seed in 0..8 {
+        let (bodies, vars, points) = scene(seed);
+        let rows = rows_of(&bodies, &points);
+        let mut checked = rows.clone();
+        let g = &mut checked.groups[RowGroup::Friction as usize];
+        assert_eq!(g.frames_built.len(), points.len());
+        assert!(g.frames_built.iter().all(|&b| b));
+        g.frames_built.fill(false);
+        let mut rng = Rng::splitmix64(100 + seed);
+        let k: Vec<f64> = (0..vars.ndof()).map(|_| rng.range(-1.0, 1.0)).collect();
+        let (mut p, mut q) = (CcpProblem::new(), CcpProblem::new());
+        p.assemble(&vars, &rows, &k).unwrap();
+        q.assemble(&vars, &checked, &k).unwrap();
+        assert!(p.n_matrix_free() > 0, "seed {seed}: no sphere pair");
+        assert!(p.n_matrix_free() < points.len(), "seed {seed}: no fallback");
+        assert_eq!(p.n_matrix_free(), q.n_matrix_free(), "seed {seed}");
+        let gamma: Vec<f64> = (0..p.n_rows()).map(|_| rng.range(-1.0, 1.0)).collect();
+        let (mut np, mut nq) = (vec![0.0; p.n_rows()], vec![0.0; p.n_rows()]);
+        p.apply_n(&gamma, &mut np, &mut CcpWork::for_problem(&p));
+        q.apply_n(&gamma, &mut nq, &mut CcpWork::for_problem(&q));
+        let bits = |x: &[f64]| x.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+        assert_eq!(bits(&np), bits(&nq), "seed {seed}");
+        assert_eq!(bits(p.r()), bits(q.r()), "seed {seed}");
+        assert_eq!(bits(p.diag()), bits(q.diag()), "seed {seed}");
+    }
+}
