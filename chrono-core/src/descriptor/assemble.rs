@@ -4,12 +4,11 @@
 //! loops are parallel for large problems, each value computed on its own (the same bits
 //! for any thread count).
 
-use nalgebra::Vector3;
 use rayon::prelude::*;
 
 use super::problem::{CcpProblem, GROUP_ORDER, Sections, group_name};
 use super::rows::{ConstraintRows, N_GROUPS, PER_BODY_ROWS, RowGroup};
-use super::variables::{BlockId, MassOperator, Variables};
+use super::variables::{BlockId, MassOperator, Variables, rigid_inverse};
 use crate::error::{ChronoError, Result};
 
 /// Below this many rows the assembly's row-wise loops run on the calling thread.
@@ -611,19 +610,10 @@ impl CcpProblem {
             let v: &[f64; 6] = self.v_free.get(off..off + 6)?.try_into().expect("6");
             let m: &mut [f64; 6] = (&mut minv[c0 - base..c0 - base + 6]).try_into().expect("6");
             match self.vars.mass(BlockId(self.ent_block[e])) {
-                // `MassOperator::apply_inverse`'s operations, inlined.
+                // `MassOperator::apply_inverse`'s rigid arm on fixed-size arrays, inlined.
                 MassOperator::RigidBody {
                     mass, inv_inertia, ..
-                } => {
-                    let im = 1.0 / mass;
-                    m[0] = c[0] * im;
-                    m[1] = c[1] * im;
-                    m[2] = c[2] * im;
-                    let w = inv_inertia * Vector3::new(c[3], c[4], c[5]);
-                    m[3] = w.x;
-                    m[4] = w.y;
-                    m[5] = w.z;
-                }
+                } => rigid_inverse(*mass, inv_inertia, c, m),
                 op => op.apply_inverse(c, m),
             }
             for k in 0..6 {

@@ -129,16 +129,12 @@ impl MassOperator {
             MassOperator::Scalar { mass } => out[0] = x[0] / mass,
             MassOperator::RigidBody {
                 mass, inv_inertia, ..
-            } => {
-                let im = 1.0 / mass;
-                out[0] = x[0] * im;
-                out[1] = x[1] * im;
-                out[2] = x[2] * im;
-                let w = inv_inertia * Vector3::new(x[3], x[4], x[5]);
-                out[3] = w.x;
-                out[4] = w.y;
-                out[5] = w.z;
-            }
+            } => rigid_inverse(
+                *mass,
+                inv_inertia,
+                x[..6].try_into().expect("6 dof"),
+                (&mut out[..6]).try_into().expect("6 dof"),
+            ),
             MassOperator::Coupled(op) => op.apply_inverse(x, out),
         }
     }
@@ -165,6 +161,25 @@ impl MassOperator {
             MassOperator::Coupled(op) => op.apply(x, out),
         }
     }
+}
+
+/// `out = M^-1 x` of a rigid body's 6 dof: `x_v / m` and `J^-1 x_w` (world frame), as
+/// [`MassOperator::apply_inverse`] computes it (the assembly's fixed-size path calls it too).
+#[inline(always)]
+pub(crate) fn rigid_inverse(
+    mass: f64,
+    inv_inertia: &Matrix3<f64>,
+    x: &[f64; 6],
+    out: &mut [f64; 6],
+) {
+    let im = 1.0 / mass;
+    out[0] = x[0] * im;
+    out[1] = x[1] * im;
+    out[2] = x[2] * im;
+    let w = inv_inertia * Vector3::new(x[3], x[4], x[5]);
+    out[3] = w.x;
+    out[4] = w.y;
+    out[5] = w.z;
 }
 
 /// Check an inertia tensor (finite, symmetric, positive definite); returns its inverse.
