@@ -310,16 +310,7 @@ impl CcpProblem {
                     (this.vars.mass(BlockId(this.ent_block[e])))
                         .apply_inverse(&this.coefs[c0..c1], out);
                     let (a0, a1) = this.nonzero_span(e);
-                    let (c, m) = (&this.coefs[a0..a1], &minv[a0 - base..a1 - base]);
-                    if let (Ok(c), Ok(m)) = (<&[f64; 6]>::try_from(c), <&[f64; 6]>::try_from(m)) {
-                        for k in 0..6 {
-                            x += c[k] * m[k];
-                        }
-                        continue;
-                    }
-                    for (c, m) in c.iter().zip(m) {
-                        x += c * m;
-                    }
+                    x = entry_dot(x, &this.coefs[a0..a1], &minv[a0 - base..a1 - base]);
                 }
                 *d = x;
                 *r = this.b[i] + this.row_dot(i, &this.v_free);
@@ -563,20 +554,7 @@ impl CcpProblem {
             let mut x = self.eps[i];
             for e in self.row_ptr[i] as usize..self.row_ptr[i + 1] as usize {
                 let (c0, c1) = self.nonzero_span(e);
-                // A rigid body's 6 dof as fixed-size arrays: the same sums in the same
-                // order, so the same bits.
-                if let (Ok(c), Ok(m)) = (
-                    <&[f64; 6]>::try_from(&self.coefs[c0..c1]),
-                    <&[f64; 6]>::try_from(&self.minv[c0..c1]),
-                ) {
-                    for k in 0..6 {
-                        x += c[k] * m[k];
-                    }
-                    continue;
-                }
-                for (c, m) in self.coefs[c0..c1].iter().zip(&self.minv[c0..c1]) {
-                    x += c * m;
-                }
+                x = entry_dot(x, &self.coefs[c0..c1], &self.minv[c0..c1]);
             }
             *d = x;
         };
@@ -696,4 +674,21 @@ fn nonzero_span(c: &[f64]) -> [u32; 2] {
         }
         None => [0, 0],
     }
+}
+
+/// `x + sum_k c_k m_k` over one entry's coefficients, in order: a rigid body's 6 values as
+/// fixed-size arrays (the same sums in the same order, so the same bits), others as slices.
+/// The diagonal `diag(N)_i = eps_i + sum_e D_e . (M^-1 D)_e` is built from it.
+#[inline(always)]
+fn entry_dot(mut x: f64, c: &[f64], m: &[f64]) -> f64 {
+    if let (Ok(c), Ok(m)) = (<&[f64; 6]>::try_from(c), <&[f64; 6]>::try_from(m)) {
+        for k in 0..6 {
+            x += c[k] * m[k];
+        }
+        return x;
+    }
+    for (c, m) in c.iter().zip(m) {
+        x += c * m;
+    }
+    x
 }

@@ -135,24 +135,15 @@ fn to_buf<S: Simd>(v: S::f64s, x: &mut [f64; MAX_LANES]) {
 #[inline(always)]
 fn project_lanes<S: Simd>(s: S, mu: &[f64], t: &mut [f64]) {
     let lanes = S::F64_LANES;
-    let (mut bn, mut bu, mut bw, mut bm) = (
-        [0.0; MAX_LANES],
-        [0.0; MAX_LANES],
-        [0.0; MAX_LANES],
-        [0.0; MAX_LANES],
-    );
+    let (mut bn, mut bu, mut bw) = ([0.0; MAX_LANES], [0.0; MAX_LANES], [0.0; MAX_LANES]);
     for l in 0..lanes {
         bn[l] = t[3 * l];
         bu[l] = t[3 * l + 1];
         bw[l] = t[3 * l + 2];
-        bm[l] = mu[l];
     }
-    let (gn, gu, gw, mu) = (
-        from_buf::<S>(&bn),
-        from_buf::<S>(&bu),
-        from_buf::<S>(&bw),
-        from_buf::<S>(&bm),
-    );
+    // The coefficients are contiguous: one load.
+    let mu = S::as_simd_f64s(&mu[..lanes]).0[0];
+    let (gn, gu, gw) = (from_buf::<S>(&bn), from_buf::<S>(&bu), from_buf::<S>(&bw));
     let zero = s.splat_f64s(0.0);
     // The scalar function's inside test.
     let t2 = s.add_f64s(s.mul_f64s(gu, gu), s.mul_f64s(gw, gw));
