@@ -22,9 +22,54 @@ pub fn on_worker<R: Send>(f: impl FnOnce() -> R + Send) -> R {
     }
 }
 
+/// Extend `v` to length `n` with copies of `x`, in parallel (rayon writes the new slots
+/// in place): the serial fill of a large buffer is a step's critical path on two threads.
+pub(crate) fn grow<T: Clone + Send + Sync>(v: &mut Vec<T>, n: usize, x: T) {
+    use rayon::prelude::*;
+    let add = n.saturating_sub(v.len());
+    v.par_extend(rayon::iter::repeat_n(x, add));
+}
+
+/// Append the concatenation of `parts` to `out`, the copies in parallel (each part into
+/// its own slice of `out`): the same values, in the same order, as extending part by part.
+pub(crate) fn append_parts<T: Copy + Send + Sync>(out: &mut Vec<T>, parts: &[Vec<T>]) {
+    use rayon::prelude::*;
+    let total: usize = parts.iter().map(Vec::len).sum();
+    let Some(&first) = parts.iter().find_map(|p| p.first()) else {
+        return;
+    };
+    let start = out.len();
+    grow(out, start + total, first);
+    let mut slices = Vec::with_capacity(parts.len());
+    let mut rest = &mut out[start..];
+    for p in parts {
+        let (a, b) = rest.split_at_mut(p.len());
+        slices.push(a);
+        rest = b;
+    }
+    slices
+        .into_par_iter()
+        .zip(parts.par_iter())
+        .for_each(|(o, p)| o.copy_from_slice(p));
+}
+
 #[cfg(test)]
 mod tests {
-    use super::on_worker;
+    use super::{append_parts, on_worker};
+
+    #[test]
+    fn appended_parts_are_the_concatenation() {
+        let parts: Vec<Vec<u32>> = (0..37).map(|k| (0..(k * 7) % 11).collect()).collect();
+        let mut out = vec![99, 98];
+        append_parts(&mut out, &parts);
+        let mut want = vec![99, 98];
+        for p in &parts {
+            want.extend_from_slice(p);
+        }
+        assert_eq!(out, want);
+        append_parts(&mut out, &[Vec::new(), Vec::new()]);
+        assert_eq!(out, want);
+    }
 
     #[test]
     fn the_closure_runs_on_a_pool_thread_and_returns_its_value() {

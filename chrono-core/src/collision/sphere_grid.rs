@@ -318,9 +318,7 @@ impl SphereGrid {
                     });
                 }
             });
-        for b in &self.blocks[..nblocks] {
-            out.extend_from_slice(b);
-        }
+        crate::parallel::append_parts(out, &self.blocks[..nblocks]);
         Ok(())
     }
 }

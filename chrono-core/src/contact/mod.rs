@@ -8,6 +8,7 @@
 //!   mapped from the restitution, Coulomb cap, rolling and spinning resistance ([`smc`]).
 
 pub mod nsc;
+mod nsc_plain;
 #[cfg(test)]
 mod nsc_tests;
 pub mod smc;

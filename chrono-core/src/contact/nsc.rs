@@ -36,10 +36,11 @@ use nalgebra::Vector3;
 
 use crate::body::RigidBody;
 use crate::collision::{ContactKey, ContactPoint, ProxyContact, ProxyKey};
+use crate::contact::nsc_plain;
 use crate::contact::smc::RollingModel;
 use crate::contact::sorted_map::SortedMap;
 use crate::descriptor::{
-    BlockId, CcpProblem, ConstraintRows, ContactFrame, PER_BODY_ROWS, RowEntry, RowGroup, RowId,
+    BlockId, CcpProblem, ConstraintRows, PER_BODY_ROWS, RowEntry, RowGroup, RowId,
 };
 use crate::error::{ChronoError, Result};
 use crate::item::{Contactable, JacobianSink, PhysicsItem};
@@ -385,6 +386,11 @@ pub fn add_contact_rows(
     scratch: &mut TripletScratch,
     out: &mut Vec<NscContact>,
 ) -> Result<()> {
+    // Many contacts without rolling friction (a granular bed): their rows in parallel.
+    if points.len() >= nsc_plain::PAR_MIN_CONTACTS && points.iter().all(nsc_plain::is_plain) {
+        nsc_plain::add_plain_rows_par(points, bodies, settings, rows, out);
+        return Ok(());
+    }
     for cp in points {
         let n = cp.normal;
         let (u, w) = tangent_frame(&n);
@@ -424,7 +430,8 @@ pub fn add_contact_rows(
             continue;
         }
         if !rolling {
-            if let Some(row) = push_body_triplet(rows, settings, cp, a, b, &dirs) {
+            if let Some(t) = nsc_plain::plain_triplet(settings, cp, a, b, &dirs) {
+                let row = nsc_plain::push_plain(rows, &t);
                 out.push(NscContact {
                     point: *cp,
                     u,
@@ -451,77 +458,6 @@ pub fn add_contact_rows(
         }
     }
     Ok(())
-}
-
-/// Push the friction triplet of a contact between two rigid bodies without rolling
-/// friction (`dirs` = `n, u, w`) and its [`ContactFrame`]: the values
-/// [`TripletScratch::add_body`] and [`TripletScratch::push_triplet`] would push, built in
-/// fixed arrays (each side's rows by one
-/// [`RigidBody::point_jacobians`](crate::RigidBody::point_jacobians)). The rows are built
-/// from the frame's normal, tangents and arms, so the frame is set as such
-/// ([`ConstraintRows::set_contact_frame_of_built_rows`]: the problem applies sphere pairs
-/// matrix-free without re-checking the rows). `None` if neither body has variables.
-fn push_body_triplet(
-    rows: &mut ConstraintRows,
-    settings: NscRowSettings,
-    cp: &ContactPoint,
-    a: &RigidBody,
-    b: &RigidBody,
-    dirs: &[Vector3<f64>; 3],
-) -> Option<RowId> {
-    // One side: its rows `sign * d` and the known velocities (a body without variables).
-    let side = |body: &RigidBody, p: &Vector3<f64>, sign: f64| {
-        let signed = dirs.map(|d| d * sign);
-        let j = body.point_jacobians(p, &signed);
-        let known = match body.block {
-            Some(_) => [0.0; 3],
-            None => j.map(|jk| body.jacobian_times_velocity(&jk)),
-        };
-        (j, known)
-    };
-    let (ja, ka) = side(a, &cp.point_a, -1.0);
-    let (jb, kb) = side(b, &cp.point_b, 1.0);
-    let known: [f64; 3] = std::array::from_fn(|r| ka[r] + kb[r]);
-    let empty = RowEntry {
-        block: BlockId(0),
-        coefs: &[],
-    };
-    let mut e = [[empty; 2]; 3];
-    let mut nb = 0;
-    for (block, j) in [(a.block, &ja), (b.block, &jb)] {
-        if let Some(block) = block {
-            for r in 0..3 {
-                e[r][nb] = RowEntry {
-                    block,
-                    coefs: &j[r],
-                };
-            }
-            nb += 1;
-        }
-    }
-    if nb == 0 {
-        return None;
-    }
-    let h = settings.h;
-    let m = &cp.material;
-    let bn = (cp.distance / h).max(-settings.max_recovery_speed) + known[0];
-    let eps_n = m.compliance / (h * h);
-    let row = rows.push_friction(
-        m.friction,
-        [&e[0][..nb], &e[1][..nb], &e[2][..nb]],
-        [bn, known[1], known[2]],
-        [eps_n, 0.0, 0.0],
-    );
-    let arm = |p: &Vector3<f64>, body: &RigidBody| (p - body.position).into();
-    rows.set_contact_frame_of_built_rows(
-        row,
-        ContactFrame {
-            normal: dirs[0].into(),
-            blocks: [a.block, b.block],
-            arms: [arm(&cp.point_a, a), arm(&cp.point_b, b)],
-        },
-    );
-    Some(row)
 }
 
 /// Make the friction triplets of contacts between body colliders (side A) and item

@@ -5,6 +5,7 @@
 use nalgebra::{UnitQuaternion, Vector3};
 
 use super::nsc::{NscRowSettings, TripletScratch, add_contact_rows};
+use super::nsc_plain::{add_plain_rows_par, plain_triplet, push_plain};
 use crate::body::{RigidBody, RigidBodyBuilder};
 use crate::collision::{ColliderId, ContactKey, ContactPoint};
 use crate::contact::smc::RollingModel;
@@ -15,6 +16,12 @@ use crate::rng::Rng;
 /// Spheres with random rotations (isotropic inertia), an anisotropic body, a fixed and a
 /// moving kinematic body (no variables), and contacts between random pairs of them.
 fn scene(seed: u64) -> (Vec<RigidBody>, Variables, Vec<ContactPoint>) {
+    scene_with(seed, 60, false)
+}
+
+/// [`scene`] with `n` contacts; with `no_vars` the fixed–kinematic pair (no variables, so
+/// no rows) is kept where it is drawn.
+fn scene_with(seed: u64, n: u32, no_vars: bool) -> (Vec<RigidBody>, Variables, Vec<ContactPoint>) {
     let mut rng = Rng::splitmix64(seed);
     let mut bodies = Vec::new();
     let rot = |rng: &mut Rng| {
@@ -51,10 +58,10 @@ fn scene(seed: u64) -> (Vec<RigidBody>, Variables, Vec<ContactPoint>) {
         b.block = Some(vars.add(b.mass_operator().unwrap()));
     }
     let mut points = Vec::new();
-    for c in 0..60u32 {
+    for c in 0..n {
         let a = rng.int(0, 11);
         let mut b = (a + 1 + rng.int(0, 10)) % 12;
-        if a + b == 21 {
+        if a + b == 21 && !no_vars {
             // fixed against kinematic: no rows
             b = 0;
         }
@@ -158,5 +165,69 @@ fn trusted_frames_select_what_the_check_selects_bit_for_bit() {
         assert_eq!(bits(&np), bits(&nq), "seed {seed}");
         assert_eq!(bits(p.r()), bits(q.r()), "seed {seed}");
         assert_eq!(bits(p.diag()), bits(q.diag()), "seed {seed}");
+    }
+}
+
+#[test]
+fn plain_rows_in_parallel_are_the_pushed_rows_bit_for_bit() {
+    let settings = NscRowSettings {
+        h: 1e-3,
+        max_recovery_speed: 0.5,
+        rolling_model: RollingModel::default(),
+    };
+    for (seed, n) in [(1, 1), (2, 700), (3, 5000)] {
+        let (bodies, _, points) = scene_with(seed, n, true);
+        // A triplet already in the group: the new rows' offsets start after it.
+        let mut before = ConstraintRows::new();
+        let first = &points[..1];
+        add_contact_rows(
+            first,
+            &bodies,
+            settings,
+            &mut before,
+            &mut TripletScratch::default(),
+            &mut Vec::new(),
+        )
+        .unwrap();
+        let (mut serial, mut par) = (before.clone(), before);
+        let (mut out_s, mut out_p) = (Vec::new(), Vec::new());
+        let mut skipped = 0;
+        for cp in &points {
+            let (a, b) = (&bodies[cp.owner_a as usize], &bodies[cp.owner_b as usize]);
+            let (u, w) = crate::math::tangent_frame(&cp.normal);
+            match plain_triplet(settings, cp, a, b, &[cp.normal, u, w]) {
+                Some(t) => {
+                    let row = push_plain(&mut serial, &t);
+                    out_s.push(super::nsc::NscContact {
+                        point: *cp,
+                        u,
+                        w,
+                        row,
+                    });
+                }
+                None => skipped += 1,
+            }
+        }
+        add_plain_rows_par(&points, &bodies, settings, &mut par, &mut out_p);
+        assert!(
+            n < 5000 || skipped > 0,
+            "seed {seed}: no contact without variables"
+        );
+        let (gs, gp) = (
+            &serial.groups[RowGroup::Friction as usize],
+            &par.groups[RowGroup::Friction as usize],
+        );
+        let bits = |x: &[f64]| x.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+        assert_eq!(gs.row_ptr, gp.row_ptr, "seed {seed}");
+        assert_eq!(gs.ent_block, gp.ent_block, "seed {seed}");
+        assert_eq!(gs.ent_coef, gp.ent_coef, "seed {seed}");
+        assert_eq!(bits(&gs.coefs), bits(&gp.coefs), "seed {seed}");
+        assert_eq!(bits(&gs.b), bits(&gp.b), "seed {seed}");
+        assert_eq!(bits(&gs.eps), bits(&gp.eps), "seed {seed}");
+        assert_eq!(bits(&gs.mu), bits(&gp.mu), "seed {seed}");
+        assert_eq!(gs.frames, gp.frames, "seed {seed}");
+        assert_eq!(gs.frames_built, gp.frames_built, "seed {seed}");
+        assert_eq!(out_s, out_p, "seed {seed}");
+        assert_eq!(out_p.len() + skipped, points.len());
     }
 }

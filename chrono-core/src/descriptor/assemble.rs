@@ -7,7 +7,7 @@
 use rayon::prelude::*;
 
 use super::problem::{CcpProblem, GROUP_ORDER, Sections, group_name};
-use super::rows::{ConstraintRows, N_GROUPS, PER_BODY_ROWS, RowGroup};
+use super::rows::{ConstraintRows, GroupRows, N_GROUPS, PER_BODY_ROWS, RowGroup};
 use super::variables::{BlockId, MassOperator, Variables, rigid_inverse};
 use crate::error::{ChronoError, Result};
 
@@ -86,10 +86,9 @@ impl CcpProblem {
                 "must be finite",
             ));
         }
-        self.vars.clone_from(vars);
+        self.vars.copy_from(vars);
         self.k.clear();
         self.k.extend_from_slice(k);
-        let nblocks = vars.len();
         for v in [
             &mut self.row_ptr,
             &mut self.ent_block,
@@ -122,54 +121,20 @@ impl CcpProblem {
             self.group_start[gi] = row;
             let name = group_name(group);
             // Check every row (its entries, then `b` and `eps`: the first bad field in row
-            // order is named), then copy the group's arrays in bulk.
-            for i in 0..g.n_rows() {
-                let (e0, e1) = (g.row_ptr[i] as usize, g.row_ptr[i + 1] as usize);
-                for e in e0..e1 {
-                    let blk = g.ent_block[e] as usize;
-                    if blk >= nblocks {
-                        return Err(ChronoError::UnknownHandle {
-                            kind: "variable block",
-                            index: blk,
-                            field: format!("rows.{name}[{i}]"),
-                        });
-                    }
-                    let nd = vars.block_ndof(BlockId(blk as u32));
-                    let c0 = g.ent_coef[e] as usize;
-                    let c1 = if e + 1 < g.ent_coef.len() {
-                        g.ent_coef[e + 1] as usize
-                    } else {
-                        g.coefs.len()
-                    };
-                    if c1 - c0 != nd {
-                        return Err(ChronoError::invalid(
-                            format!("rows.{name}[{i}].coefs.len()"),
-                            c1 - c0,
-                            format!("must equal the ndof ({nd}) of block {blk}"),
-                        ));
-                    }
-                    let c = &g.coefs[c0..c1];
-                    if let Some(j) = c.iter().position(|x| !x.is_finite()) {
-                        return Err(ChronoError::invalid(
-                            format!("rows.{name}[{i}].coefs[{j}]"),
-                            c[j],
-                            "must be finite",
-                        ));
-                    }
+            // order is named; for many rows the first bad row is found in parallel and
+            // checked again for its error), then copy the group's arrays in bulk.
+            let n = g.n_rows();
+            if n >= PAR_MIN_ASSEMBLY_ROWS {
+                let bad = (0..n)
+                    .into_par_iter()
+                    .with_min_len(1024)
+                    .find_first(|&i| check_row(g, i, vars, name).is_err());
+                if let Some(i) = bad {
+                    check_row(g, i, vars, name)?;
                 }
-                if !g.b[i].is_finite() {
-                    return Err(ChronoError::invalid(
-                        format!("rows.{name}[{i}].b"),
-                        g.b[i],
-                        "must be finite",
-                    ));
-                }
-                if !(g.eps[i].is_finite() && g.eps[i] >= 0.0) {
-                    return Err(ChronoError::invalid(
-                        format!("rows.{name}[{i}].eps"),
-                        g.eps[i],
-                        "must be finite and >= 0",
-                    ));
+            } else {
+                for i in 0..n {
+                    check_row(g, i, vars, name)?;
                 }
             }
             // The group's entries are those of its rows, and its coefficients those of its
@@ -181,15 +146,19 @@ impl CcpProblem {
             if copy {
                 self.ent_block.extend_from_slice(&g.ent_block[..n_ent]);
             }
-            (self.ent_off).extend(
-                g.ent_block[..n_ent]
-                    .iter()
-                    .map(|&b| vars.offset(BlockId(b)) as u32),
-            );
-            self.ent_span.extend((0..n_ent).map(|e| {
+            let offset = |&b: &u32| vars.offset(BlockId(b)) as u32;
+            let span = |e: usize| {
                 let c1 = g.ent_coef.get(e + 1).map_or(n_coef, |&c| c as usize);
                 nonzero_span(&g.coefs[g.ent_coef[e] as usize..c1])
-            }));
+            };
+            // Each value on its own: in parallel (written in place) for many entries.
+            if n_ent >= PAR_MIN_ASSEMBLY_ROWS {
+                (self.ent_off).par_extend(g.ent_block[..n_ent].par_iter().map(offset));
+                (self.ent_span).par_extend((0..n_ent).into_par_iter().map(span));
+            } else {
+                (self.ent_off).extend(g.ent_block[..n_ent].iter().map(offset));
+                (self.ent_span).extend((0..n_ent).map(span));
+            }
             if copy {
                 (self.ent_coef).extend(g.ent_coef[..n_ent].iter().map(|&c| c + coef_base));
                 self.coefs.extend_from_slice(&g.coefs[..n_coef]);
@@ -658,6 +627,61 @@ impl CcpProblem {
             }
         }
     }
+}
+
+/// Check row `i` of group `g` (named `name`) against the variables: every entry names an
+/// existing block and carries that block's number of finite coefficients, `b` is finite
+/// and `eps` finite and `>= 0`. The error names the first bad field in that order.
+fn check_row(g: &GroupRows, i: usize, vars: &Variables, name: &str) -> Result<()> {
+    let nblocks = vars.len();
+    let (e0, e1) = (g.row_ptr[i] as usize, g.row_ptr[i + 1] as usize);
+    for e in e0..e1 {
+        let blk = g.ent_block[e] as usize;
+        if blk >= nblocks {
+            return Err(ChronoError::UnknownHandle {
+                kind: "variable block",
+                index: blk,
+                field: format!("rows.{name}[{i}]"),
+            });
+        }
+        let nd = vars.block_ndof(BlockId(blk as u32));
+        let c0 = g.ent_coef[e] as usize;
+        let c1 = if e + 1 < g.ent_coef.len() {
+            g.ent_coef[e + 1] as usize
+        } else {
+            g.coefs.len()
+        };
+        if c1 - c0 != nd {
+            return Err(ChronoError::invalid(
+                format!("rows.{name}[{i}].coefs.len()"),
+                c1 - c0,
+                format!("must equal the ndof ({nd}) of block {blk}"),
+            ));
+        }
+        let c = &g.coefs[c0..c1];
+        if let Some(j) = c.iter().position(|x| !x.is_finite()) {
+            return Err(ChronoError::invalid(
+                format!("rows.{name}[{i}].coefs[{j}]"),
+                c[j],
+                "must be finite",
+            ));
+        }
+    }
+    if !g.b[i].is_finite() {
+        return Err(ChronoError::invalid(
+            format!("rows.{name}[{i}].b"),
+            g.b[i],
+            "must be finite",
+        ));
+    }
+    if !(g.eps[i].is_finite() && g.eps[i] >= 0.0) {
+        return Err(ChronoError::invalid(
+            format!("rows.{name}[{i}].eps"),
+            g.eps[i],
+            "must be finite and >= 0",
+        ));
+    }
+    Ok(())
 }
 
 /// `[lo, hi)`: the span of `c` outside which every coefficient is zero (`[0, 0]` if all

@@ -237,7 +237,11 @@ impl CcpProblem {
         let mut filled = false;
         let group = &rows.groups[RowGroup::Friction as usize];
         if !group.frames.is_empty() {
-            mf.frames.extend_from_slice(&group.frames);
+            if group.frames.len() >= PAR_MIN_BODIES {
+                mf.frames.par_extend(group.frames.par_iter().copied());
+            } else {
+                mf.frames.extend_from_slice(&group.frames);
+            }
             // `s_row` packs `2 row + side` in 32 bits.
             if self.n_rows < 1 << 31 {
                 self.fill_matrix_free(&mut mf, &group.frames_built);

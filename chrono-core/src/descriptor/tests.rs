@@ -321,6 +321,45 @@ fn bad_rows_are_errors_naming_the_field() {
     assert!(err.contains("M^-1 k"), "{err}");
 }
 
+/// Many rows (the checks run in parallel): the error names the first bad row in row order
+/// and its first bad field, as the serial checks do.
+#[test]
+fn the_first_bad_row_of_many_is_named() {
+    let mut vars = Variables::new();
+    let a = vars.add(MassOperator::particle(1.0).unwrap());
+    let n = 9000;
+    for (bad_rows, want) in [
+        (vec![(7000, 1), (8000, 0)], "rows.bilateral[7000].coefs[1]"),
+        (vec![(8999, 2), (6000, 4)], "rows.bilateral[6000].b"),
+        (vec![(4500, 5)], "rows.bilateral[4500].eps"),
+    ] {
+        let mut rows = ConstraintRows::new();
+        for i in 0..n {
+            let mut c = [0.0, 0.0, 1.0];
+            let (mut b, mut eps) = (0.0, 0.0);
+            for &(r, what) in &bad_rows {
+                if r == i {
+                    match what {
+                        0..=2 => c[what] = f64::NAN,
+                        4 => b = f64::INFINITY,
+                        _ => eps = -1.0,
+                    }
+                }
+            }
+            let e = [RowEntry {
+                block: a,
+                coefs: &c,
+            }];
+            rows.push_bilateral(&e, b, eps);
+        }
+        let err = CcpProblem::new()
+            .assemble(&vars, &rows, &[0.0; 3])
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains(want), "{err} (want {want})");
+    }
+}
+
 /// A coupled 5-dof SPD block and a particle, rows touching both: `N` against the dense
 /// definition, `v+ = H^-1 (k + D g)`, and a file round trip (the block is saved densely).
 #[test]

@@ -241,6 +241,19 @@ impl Variables {
         Self::default()
     }
 
+    /// Make this set a copy of `src`, reusing this set's allocations (the blocks copied in
+    /// parallel for many dof). The same value as `src.clone()`.
+    pub fn copy_from(&mut self, src: &Variables) {
+        self.blocks.clear();
+        if src.ndof >= PAR_MIN_DOF {
+            self.blocks.par_extend(src.blocks.par_iter().cloned());
+        } else {
+            self.blocks.extend_from_slice(&src.blocks);
+        }
+        self.runs.clone_from(&src.runs);
+        self.ndof = src.ndof;
+    }
+
     /// Remove all blocks, keeping the allocations.
     pub fn clear(&mut self) {
         self.blocks.clear();
