@@ -156,7 +156,7 @@ fn next<I: Iterator>(it: &mut I) -> I::Item {
 }
 
 /// Split `s` into consecutive parts of the given lengths.
-fn split_parts<'a, T>(mut s: &'a mut [T], lens: impl Iterator<Item = usize>) -> Vec<&'a mut [T]> {
+fn split_parts<T>(mut s: &mut [T], lens: impl Iterator<Item = usize>) -> Vec<&mut [T]> {
     let mut parts = Vec::new();
     for n in lens {
         let (a, rest) = s.split_at_mut(n);
