@@ -287,8 +287,6 @@ impl CcpSolver for Apgd {
         self.grad_y.copy_from_slice(&self.grad);
         let mut theta: f64 = 1.0;
         let mut iterations = 0;
-        // Does `grad_new` hold the gradient of `best` after the loop?
-        let mut have_grad = false;
 
         // Friction-only problems take the fused passes (same bits, fewer passes).
         let fused = self.options.fused && problem.is_friction_only();
@@ -345,7 +343,6 @@ impl CcpSolver for Apgd {
                 best_at = Best::GNew;
             }
             if res <= tol {
-                have_grad = improved;
                 break;
             }
 
@@ -392,14 +389,22 @@ impl CcpSolver for Apgd {
             Best::GNew => &self.g_new,
             Best::Kept => &self.best,
         });
-        if !have_grad {
-            problem.gradient(gamma, &mut self.grad_new, &mut self.work);
-            n_apply += 1;
-        }
+        // The best iterate's gradient moved with it (`g` with `grad`, `g_new` with
+        // `grad_new`: every trial fills both, every swap swaps both); only a copied best has
+        // lost its own.
+        let grad = match best_at {
+            Best::G => &self.grad,
+            Best::GNew => &self.grad_new,
+            Best::Kept => {
+                problem.gradient(gamma, &mut self.grad_new, &mut self.work);
+                n_apply += 1;
+                &self.grad_new
+            }
+        };
         final_stats(
             problem,
             gamma,
-            &self.grad_new,
+            grad,
             &mut self.work,
             iterations,
             n_apply,
