@@ -70,6 +70,21 @@ pub(super) struct MatrixFree {
     pub explicit_free: bool,
     /// Number of triplets applied matrix-free.
     pub n_mf: usize,
+    /// Scratch of [`CcpProblem::fill_matrix_free`] (kept so that a step allocates
+    /// nothing): per block its isotropic `[1/m, 1/J]`, its entries, its entries hinted by
+    /// frames and in matrix-free triplets; per sphere its side count; the picked frames.
+    scratch: FillScratch,
+}
+
+/// See [`MatrixFree::scratch`].
+#[derive(Debug, Clone, Default)]
+pub(super) struct FillScratch {
+    inv: Vec<Option<[f64; 2]>>,
+    total: Vec<u32>,
+    hinted: Vec<u32>,
+    in_mf: Vec<u32>,
+    count: Vec<u32>,
+    picked: Vec<u32>,
 }
 
 impl MatrixFree {
@@ -289,9 +304,16 @@ impl CcpProblem {
     /// [`ConstraintRows::set_contact_frame_of_built_rows`]), so they are not checked.
     fn fill_matrix_free(&self, mf: &mut MatrixFree, built: &[bool]) {
         let nblocks = self.vars.len();
-        let inv: Vec<Option<[f64; 2]>> = (0..nblocks)
-            .map(|b| isotropic(self.vars.mass(BlockId(b as u32))))
-            .collect();
+        let mut sc = std::mem::take(&mut mf.scratch);
+        let isotropic_of = |b: usize| isotropic(self.vars.mass(BlockId(b as u32)));
+        sc.inv.clear();
+        if nblocks >= PAR_MIN_BODIES {
+            sc.inv
+                .par_extend((0..nblocks).into_par_iter().map(isotropic_of));
+        } else {
+            sc.inv.extend((0..nblocks).map(isotropic_of));
+        }
+        let inv = &sc.inv;
         let fs = self.sections.friction.start;
         // Candidates: frames whose rows match and whose blocks are spheres (each frame
         // checked on its own, in parallel for many; `collect` keeps the order).
@@ -322,11 +344,13 @@ impl CcpProblem {
             ok.then_some(f as u32)
         };
         // Indices into `mf.frames`.
-        let picked: Vec<u32> = if mf.frames.len() >= PAR_MIN_BODIES {
-            mf.frames.par_iter().enumerate().filter_map(check).collect()
+        let mut picked = std::mem::take(&mut sc.picked);
+        picked.clear();
+        if mf.frames.len() >= PAR_MIN_BODIES {
+            picked.par_extend(mf.frames.par_iter().enumerate().filter_map(check));
         } else {
-            mf.frames.iter().enumerate().filter_map(check).collect()
-        };
+            picked.extend(mf.frames.iter().enumerate().filter_map(check));
+        }
         // (Taken out of `mf` while its other fields are filled; put back at the end.)
         let frames = std::mem::take(&mut mf.frames);
         let cand = || picked.iter().map(|&f| &frames[f as usize]);
@@ -334,10 +358,12 @@ impl CcpProblem {
         // velocity change is complete. A triplet is matrix-free if all its spheres are pure;
         // the others (touching a body with other rows) use the explicit rows, so no
         // fallback spreads beyond the bodies it touches.
-        let total: Vec<u32> = (0..nblocks)
-            .map(|b| self.tr_ptr[b + 1] - self.tr_ptr[b])
-            .collect();
-        let mut hinted = vec![0u32; nblocks];
+        let mut total = std::mem::take(&mut sc.total);
+        total.clear();
+        total.extend((0..nblocks).map(|b| self.tr_ptr[b + 1] - self.tr_ptr[b]));
+        let mut hinted = std::mem::take(&mut sc.hinted);
+        hinted.clear();
+        hinted.resize(nblocks, 0);
         for (_, f) in cand() {
             for b in f.blocks.iter().flatten() {
                 hinted[b.0 as usize] += 3;
@@ -353,8 +379,12 @@ impl CcpProblem {
         mf.of_triplet.resize(self.sections.friction.len() / 3, NONE);
         // Entries of each block in matrix-free triplets: a block all of whose entries are
         // needs no explicit velocity.
-        let mut in_mf = vec![0u32; nblocks];
-        let mut count = vec![0u32; mf.b_inv.len() + 1];
+        let mut in_mf = std::mem::take(&mut sc.in_mf);
+        in_mf.clear();
+        in_mf.resize(nblocks, 0);
+        let mut count = std::mem::take(&mut sc.count);
+        count.clear();
+        count.resize(mf.b_inv.len() + 1, 0);
         mf.c_row.reserve(picked.len());
         mf.c_body.reserve(picked.len());
         for x in mf.c_n.iter_mut().chain(&mut mf.c_ra).chain(&mut mf.c_rb) {
@@ -393,9 +423,8 @@ impl CcpProblem {
             mf.c_rc.push(rc);
         }
         mf.n_mf = mf.of_triplet.iter().filter(|&&c| c != NONE).count();
-        mf.skip_block = (0..nblocks)
-            .map(|b| total[b] > 0 && in_mf[b] == total[b])
-            .collect();
+        mf.skip_block.clear();
+        (mf.skip_block).extend((0..nblocks).map(|b| total[b] > 0 && in_mf[b] == total[b]));
         mf.explicit_free = (0..nblocks).all(|b| total[b] == 0 || mf.skip_block[b]);
         for s in 0..mf.b_inv.len() {
             count[s + 1] += count[s];
@@ -407,7 +436,8 @@ impl CcpProblem {
             x.resize(n_sides, 0.0);
         }
         mf.s_rc.resize(n_sides, 0.0);
-        let mut cursor = count;
+        // (`count` becomes the cursor of each sphere's next side.)
+        let cursor = &mut count;
         for (c, body) in mf.c_body.iter().enumerate() {
             for (side, &s) in body.iter().enumerate() {
                 if s != NONE {
@@ -425,5 +455,8 @@ impl CcpProblem {
             }
         }
         mf.frames = frames;
+        (sc.total, sc.hinted, sc.in_mf, sc.count, sc.picked) =
+            (total, hinted, in_mf, count, picked);
+        mf.scratch = sc;
     }
 }
