@@ -105,7 +105,10 @@ pub struct CfluidSettings {
     /// the step's rows read the divergence by the corrected gradient, the drift of the
     /// density sums is removed along the exact one. Markers (walls, bodies at their pose
     /// of the step) do not move and have no rows here. 0 = off (the default); exclusive
-    /// with [`position_iterations`](Self::position_iterations).
+    /// with [`position_iterations`](Self::position_iterations). Measured (issue 29,
+    /// `docs/validation-cfluid.md`, "The split"): it removes the dam break's compression
+    /// with corrected rows (20.7 % to 0.09 %) but also a first-order part of their shear,
+    /// so part of the sloshing mode's damping comes back.
     pub density_projection: u32,
     /// Residual (chrono-ccp's, in units of `C_i`, dimensionless) at which the density
     /// projection's solver stops (`> 0`).
