@@ -20,11 +20,14 @@ use crate::settings::CfluidSettings;
 use chrono_core::density_rows::SupportModel;
 
 mod access;
+mod density_projection;
 mod output;
 mod projection;
 mod push;
 
 use push::PushRow;
+
+pub use density_projection::ProjectionReport;
 
 pub use output::{KIND_BODY_MARKER, KIND_FLUID, KIND_WALL};
 
@@ -144,6 +147,8 @@ pub struct ConstraintFluid {
     proj_rho: Vec<f64>,
     proj_lambda: Vec<f64>,
     projection: (u32, f64),
+    /// The density projection (`CfluidSettings::density_projection`): solver and scratch.
+    dproj: density_projection::DensityProjection,
     last_h: f64,
     neighbors_fresh: bool,
     /// Number of fluid particles and wall markers (body markers follow).
@@ -252,6 +257,7 @@ impl ConstraintFluid {
             proj_rho: Vec::new(),
             proj_lambda: Vec::new(),
             projection: (0, f64::NAN),
+            dproj: Default::default(),
             last_h: 0.0,
             neighbors_fresh: false,
             n_static: n_fluid + walls.len(),
@@ -644,6 +650,7 @@ impl PhysicsItem for ConstraintFluid {
             return Err(self.non_finite(ctx, i, "position after the step"));
         }
         self.project_positions()?;
+        self.project_densities(ctx)?;
         if let Some(i) = (0..self.n_fluid).find(|&i| (0..3).any(|a| !self.pos[a][i].is_finite())) {
             return Err(self.non_finite(ctx, i, "position after the projection"));
         }

@@ -53,12 +53,14 @@ mod density;
 pub mod floating_box;
 mod fluid;
 mod geometry;
+#[cfg(test)]
+mod projection_tests;
 pub mod scene;
 mod settings;
 #[cfg(test)]
 mod tests;
 
 pub use chrono_core::particles::lattice::wall_layers;
-pub use fluid::{ConstraintFluid, KIND_BODY_MARKER, KIND_FLUID, KIND_WALL};
+pub use fluid::{ConstraintFluid, KIND_BODY_MARKER, KIND_FLUID, KIND_WALL, ProjectionReport};
 pub use geometry::{box_markers, lattice_box, lattice_mass, tank_markers};
 pub use settings::{CfluidSettings, SurfaceMode};

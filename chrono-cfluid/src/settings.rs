@@ -85,6 +85,34 @@ pub struct CfluidSettings {
     pub position_iterations: u32,
     /// Compression (`C_i`) at which the position projection stops.
     pub position_tolerance: f64,
+    /// The density projection as a position-level CCP ("post-stabilization", Cline and
+    /// Pai 2003; the density-invariant solve of DFSPH, Bender and Koschier 2015): after
+    /// `x += h v`, the densities and the **exact** density rows `D_i = -grad C_i` at the
+    /// new positions make a second problem of the same kind as the step's,
+    ///
+    /// ```text
+    /// dx = M^-1 D lambda,   c_i = D_i' dx - C_i + eps_i lambda_i
+    /// ```
+    ///
+    /// (`C_i(x + dx) ~ C_i - D_i' dx`; `eps_i` the step's compliance, so `lambda = h g`,
+    /// N m s^2; bilateral or unilateral as the step's rows, by
+    /// [`surface`](Self::surface) and the support fraction), solved by the CCP solver
+    /// given to [`ConstraintFluid::set_projection_solver`](crate::ConstraintFluid::set_projection_solver)
+    /// with at most this many iterations, to
+    /// [`density_projection_tolerance`](Self::density_projection_tolerance); the positions
+    /// move by `dx`, the pseudo-velocity `dx / h` is discarded (velocities unchanged).
+    /// With [`gradient_correction`](Self::gradient_correction) it is the split of issue 29:
+    /// the step's rows read the divergence by the corrected gradient, the drift of the
+    /// density sums is removed along the exact one. Markers (walls, bodies at their pose
+    /// of the step) do not move and have no rows here. 0 = off (the default); exclusive
+    /// with [`position_iterations`](Self::position_iterations). Measured (issue 29,
+    /// `docs/validation-cfluid.md`, "The split"): it removes the dam break's compression
+    /// with corrected rows (20.7 % to 0.09 %) but also a first-order part of their shear,
+    /// so part of the sloshing mode's damping comes back.
+    pub density_projection: u32,
+    /// Residual (chrono-ccp's, in units of `C_i`, dimensionless) at which the density
+    /// projection's solver stops (`> 0`).
+    pub density_projection_tolerance: f64,
     /// Relaxation factor of the Jacobi sweeps, in `(0, 1]`.
     pub position_relaxation: f64,
     /// The previous step's impulses times this factor warm-start the solver, in `[0, 1]`.
@@ -153,6 +181,8 @@ impl Default for CfluidSettings {
             position_iterations: 0,
             position_tolerance: 1e-4,
             position_relaxation: 0.5,
+            density_projection: 0,
+            density_projection_tolerance: 1e-9,
             domain_lower: [0.0; 3],
             domain_upper: [1.0; 3],
             periodic: [false; 3],
@@ -219,6 +249,21 @@ impl CfluidSettings {
                 "cfluid.position_relaxation",
                 self.position_relaxation,
                 "must be in (0, 1]",
+            ));
+        }
+        check_positive(
+            "cfluid.density_projection_tolerance",
+            self.density_projection_tolerance,
+        )?;
+        if self.density_projection > 0 && self.position_iterations > 0 {
+            return Err(ChronoError::invalid(
+                "cfluid.density_projection",
+                self.density_projection,
+                format!(
+                    "the CCP density projection and the Jacobi position projection \
+                     (position_iterations = {}) are exclusive",
+                    self.position_iterations
+                ),
             ));
         }
         check_non_negative("cfluid.warm_start_factor", self.warm_start_factor)?;

@@ -58,6 +58,11 @@ pub struct CfluidDamBreakParams {
     /// The density rows' kernel-gradient correction (`CfluidSettings::gradient_correction`:
     /// 0 off, else the smallest eigenvalue of the moment matrix that gets it).
     pub gradient_correction: f64,
+    /// Iteration cap of the position-level CCP density projection
+    /// (`CfluidSettings::density_projection`; 0 off), solved by `solver`.
+    pub density_projection: u32,
+    /// Residual at which the density projection stops (units of `C_i`).
+    pub density_projection_tolerance: f64,
     /// Time step, s.
     pub h: f64,
     /// Solver tolerance (chrono-ccp residual, 1/s for density rows).
@@ -85,6 +90,8 @@ impl Default for CfluidDamBreakParams {
             t_end: 0.165,
             xsph: CfluidSettings::default().xsph,
             gradient_correction: 0.0,
+            density_projection: 0,
+            density_projection_tolerance: CfluidSettings::default().density_projection_tolerance,
             h: 5e-4,
             tolerance: 1e-4,
             solver: "apgd".into(),
@@ -111,6 +118,16 @@ impl CaseParams for CfluidDamBreakParams {
             "gradient_correction",
             "-",
             "density rows' gradient correction (0 off, else min eigenvalue of M_i)",
+        ),
+        ParamInfo::new(
+            "density_projection",
+            "-",
+            "iteration cap of the CCP density projection (0 off)",
+        ),
+        ParamInfo::new(
+            "density_projection_tolerance",
+            "-",
+            "residual at which the density projection stops (C_i)",
         ),
         ParamInfo::new("h", "s", "time step"),
         ParamInfo::new("tolerance", "1/s", "solver tolerance (chrono-ccp residual)"),
@@ -202,6 +219,8 @@ fn simulate(
         spacing: dp,
         xsph: p.xsph,
         gradient_correction: p.gradient_correction,
+        density_projection: p.density_projection,
+        density_projection_tolerance: p.density_projection_tolerance,
         ..CfluidSettings::default()
     };
     let mut scene = tank_scene(

@@ -49,6 +49,7 @@ pub fn tank_scene(
     tolerance: f64,
     max_iterations: usize,
 ) -> anyhow::Result<TankScene> {
+    let name = solver;
     let solver = solver_by_name(solver, tolerance, max_iterations)?;
     let tank = SlabTank::dam_break(
         settings.spacing,
@@ -57,7 +58,28 @@ pub fn tank_scene(
         tank_length,
         top,
     );
-    Ok(TankScene::new(settings, &tank, solver)?)
+    let on = settings.density_projection > 0;
+    let mut scene = TankScene::new(settings, &tank, solver)?;
+    if on {
+        projection_solver(scene.fluid_mut()?, name)?;
+    }
+    Ok(scene)
+}
+
+/// Gives `fluid` the chrono-ccp solver `name` for its density projection when the
+/// projection is on (`CfluidSettings::density_projection`; its tolerance and cap are
+/// the settings'); nothing otherwise.
+pub fn projection_solver(fluid: &mut ConstraintFluid, name: &str) -> anyhow::Result<()> {
+    let s = fluid.settings();
+    if s.density_projection > 0 {
+        let solver = solver_by_name(
+            name,
+            s.density_projection_tolerance,
+            s.density_projection as usize,
+        )?;
+        fluid.set_projection_solver(solver);
+    }
+    Ok(())
 }
 
 /// Fluid particles outside the tank `[0, tank_length] x [0, ..)` by more than `dp / 2`.

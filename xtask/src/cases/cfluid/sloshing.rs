@@ -68,6 +68,11 @@ pub struct CfluidSloshingParams {
     /// The density rows' kernel-gradient correction (`CfluidSettings::gradient_correction`:
     /// 0 off, else the smallest eigenvalue of the moment matrix that gets it).
     pub gradient_correction: f64,
+    /// Iteration cap of the position-level CCP density projection
+    /// (`CfluidSettings::density_projection`; 0 off), solved by `solver`.
+    pub density_projection: u32,
+    /// Residual at which the density projection stops (units of `C_i`).
+    pub density_projection_tolerance: f64,
     /// Solver tolerance (chrono-ccp residual, 1/s).
     pub tolerance: f64,
     /// CCP solver name.
@@ -96,6 +101,8 @@ impl Default for CfluidSloshingParams {
             h: 2e-3,
             xsph: CfluidSettings::default().xsph,
             gradient_correction: 0.0,
+            density_projection: 0,
+            density_projection_tolerance: CfluidSettings::default().density_projection_tolerance,
             tolerance: 1e-4,
             solver: "apgd".into(),
             max_iterations: 500,
@@ -138,6 +145,16 @@ impl CaseParams for CfluidSloshingParams {
             "gradient_correction",
             "-",
             "density rows' gradient correction (0 off, else min eigenvalue of M_i)",
+        ),
+        ParamInfo::new(
+            "density_projection",
+            "-",
+            "iteration cap of the CCP density projection (0 off)",
+        ),
+        ParamInfo::new(
+            "density_projection_tolerance",
+            "-",
+            "residual at which the density projection stops (C_i)",
         ),
         ParamInfo::new("tolerance", "1/s", "solver tolerance (chrono-ccp residual)"),
         ParamInfo::new("solver", "-", "CCP solver name (chrono-ccp)"),
@@ -252,6 +269,8 @@ fn simulate(
         spacing: dp,
         xsph: p.xsph,
         gradient_correction: p.gradient_correction,
+        density_projection: p.density_projection,
+        density_projection_tolerance: p.density_projection_tolerance,
         ..CfluidSettings::default()
     };
     let top = hf + 0.5 * a.min(hf).max(4.0 * dp);

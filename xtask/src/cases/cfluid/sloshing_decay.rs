@@ -45,7 +45,7 @@ use chrono_sph::{SphBuilder, SphSettings, SphSystem, WallMotion};
 use serde::{Deserialize, Serialize};
 
 use super::decay_fit::{fit_damped, log_decrement};
-use super::{left_tank, solver_by_name};
+use super::{left_tank, projection_solver, solver_by_name};
 use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series};
 use crate::params::{CaseParams, ParamCase, ParamInfo};
 
@@ -86,6 +86,11 @@ pub struct SloshingDecayParams {
     /// The density rows' kernel-gradient correction (`CfluidSettings::gradient_correction`:
     /// 0 off, else the smallest eigenvalue of the moment matrix that gets it).
     pub gradient_correction: f64,
+    /// Iteration cap of the position-level CCP density projection
+    /// (`CfluidSettings::density_projection`; 0 off), solved by `solver`.
+    pub density_projection: u32,
+    /// Residual at which the density projection stops (units of `C_i`).
+    pub density_projection_tolerance: f64,
     /// Constraint fluid: XSPH as a viscosity, m^2/s (see `CfluidSettings::xsph_viscosity`).
     pub xsph_viscosity: f64,
     /// Constraint fluid: gradient-corrected XSPH (`CfluidSettings::xsph_corrected`).
@@ -139,6 +144,8 @@ impl Default for SloshingDecayParams {
             h: 2e-3,
             xsph: c.xsph,
             gradient_correction: 0.0,
+            density_projection: 0,
+            density_projection_tolerance: CfluidSettings::default().density_projection_tolerance,
             xsph_viscosity: c.xsph_viscosity,
             xsph_corrected: c.xsph_corrected,
             compressibility: c.compressibility,
@@ -185,6 +192,16 @@ impl CaseParams for SloshingDecayParams {
             "gradient_correction",
             "-",
             "density rows' gradient correction (0 off, else min eigenvalue of M_i)",
+        ),
+        ParamInfo::new(
+            "density_projection",
+            "-",
+            "iteration cap of the CCP density projection (0 off)",
+        ),
+        ParamInfo::new(
+            "density_projection_tolerance",
+            "-",
+            "residual at which the density projection stops (C_i)",
         ),
         ParamInfo::new(
             "xsph_viscosity",
@@ -365,6 +382,8 @@ fn run_cfluid(
         h_over_dp: p.h_over_dp,
         xsph: p.xsph,
         gradient_correction: p.gradient_correction,
+        density_projection: p.density_projection,
+        density_projection_tolerance: p.density_projection_tolerance,
         xsph_viscosity: p.xsph_viscosity,
         xsph_corrected: p.xsph_corrected,
         compressibility: p.compressibility,
@@ -383,7 +402,8 @@ fn run_cfluid(
             xsph_corrected: false,
             ..settings.clone()
         };
-        let item = ConstraintFluid::new("water", settle, &set.fluid, &set.wall_positions())?;
+        let mut item = ConstraintFluid::new("water", settle, &set.fluid, &set.wall_positions())?;
+        projection_solver(&mut item, &p.solver)?;
         let solver = solver_by_name(&p.solver, p.tolerance, p.max_iterations)?;
         let mut sys = System::new(SystemSettings::default(), solver)?;
         let id = sys.add_item(Box::new(item));
@@ -401,7 +421,8 @@ fn run_cfluid(
         .iter()
         .map(|&q| displaced(q, a, depth, p.amplitude))
         .collect();
-    let item = ConstraintFluid::new("water", settings, &fluid, &set.wall_positions())?;
+    let mut item = ConstraintFluid::new("water", settings, &fluid, &set.wall_positions())?;
+    projection_solver(&mut item, &p.solver)?;
     let solver = solver_by_name(&p.solver, p.tolerance, p.max_iterations)?;
     let mut sys = System::new(SystemSettings::default(), solver)?;
     let id = sys.add_item(Box::new(item));

@@ -92,6 +92,11 @@ pub struct StillWaterParams {
     /// The density rows' kernel-gradient correction (`CfluidSettings::gradient_correction`:
     /// 0 off, else the smallest eigenvalue of the moment matrix that gets it).
     pub gradient_correction: f64,
+    /// Iteration cap of the position-level CCP density projection
+    /// (`CfluidSettings::density_projection`; 0 off), solved by `solver`.
+    pub density_projection: u32,
+    /// Residual at which the density projection stops (units of `C_i`).
+    pub density_projection_tolerance: f64,
     /// Solver tolerance (chrono-ccp residual, 1/s).
     pub tolerance: f64,
     /// CCP solver name.
@@ -134,6 +139,8 @@ impl Default for StillWaterParams {
             t_end: 20.0,
             xsph: CfluidSettings::default().xsph,
             gradient_correction: 0.0,
+            density_projection: 0,
+            density_projection_tolerance: CfluidSettings::default().density_projection_tolerance,
             tolerance: 1e-4,
             solver: "apgd".into(),
             max_iterations: 500,
@@ -162,6 +169,16 @@ impl CaseParams for StillWaterParams {
             "gradient_correction",
             "-",
             "density rows' gradient correction (0 off, else min eigenvalue of M_i)",
+        ),
+        ParamInfo::new(
+            "density_projection",
+            "-",
+            "iteration cap of the CCP density projection (0 off)",
+        ),
+        ParamInfo::new(
+            "density_projection_tolerance",
+            "-",
+            "residual at which the density projection stops (C_i)",
         ),
         ParamInfo::new("tolerance", "1/s", "solver tolerance (chrono-ccp residual)"),
         ParamInfo::new("solver", "-", "CCP solver name (chrono-ccp)"),
@@ -294,6 +311,8 @@ fn run(p: &StillWaterParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         spacing: dp,
         xsph: p.xsph,
         gradient_correction: p.gradient_correction,
+        density_projection: p.density_projection,
+        density_projection_tolerance: p.density_projection_tolerance,
         h_over_dp: p.h_over_dp,
         max_recovery_rate: p.max_recovery_rate,
         position_iterations: p.position_iterations,
