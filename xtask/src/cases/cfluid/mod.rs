@@ -18,6 +18,27 @@ use chrono_cfluid::scene::TankScene;
 use chrono_core::descriptor::{CcpSolver, SolverSettings};
 use chrono_core::particles::lattice::SlabTank;
 
+use crate::params::ParamInfo;
+
+/// The parameter of [`CfluidSettings::gradient_correction`], shared by the cases that take it.
+pub(super) const GRADIENT_CORRECTION: ParamInfo = ParamInfo::new(
+    "gradient_correction",
+    "-",
+    "density rows' gradient correction (0 off, else min eigenvalue of M_i)",
+);
+/// The parameter of [`CfluidSettings::density_projection`].
+pub(super) const DENSITY_PROJECTION: ParamInfo = ParamInfo::new(
+    "density_projection",
+    "-",
+    "iteration cap of the CCP density projection (0 off)",
+);
+/// The parameter of [`CfluidSettings::density_projection_tolerance`].
+pub(super) const DENSITY_PROJECTION_TOLERANCE: ParamInfo = ParamInfo::new(
+    "density_projection_tolerance",
+    "-",
+    "residual at which the density projection stops (C_i)",
+);
+
 /// The CCP solver named `name` (chrono-ccp spelling) at `tolerance` and
 /// `max_iterations`; an unknown name is an error naming the parameter `solver`.
 pub fn solver_by_name(

@@ -188,21 +188,9 @@ impl CaseParams for SloshingDecayParams {
         ParamInfo::new("check", "-", "check frequency and damping (else report)"),
         ParamInfo::new("h", "s", "constraint fluid: time step"),
         ParamInfo::new("xsph", "-", "constraint fluid: XSPH epsilon"),
-        ParamInfo::new(
-            "gradient_correction",
-            "-",
-            "density rows' gradient correction (0 off, else min eigenvalue of M_i)",
-        ),
-        ParamInfo::new(
-            "density_projection",
-            "-",
-            "iteration cap of the CCP density projection (0 off)",
-        ),
-        ParamInfo::new(
-            "density_projection_tolerance",
-            "-",
-            "residual at which the density projection stops (C_i)",
-        ),
+        super::GRADIENT_CORRECTION,
+        super::DENSITY_PROJECTION,
+        super::DENSITY_PROJECTION_TOLERANCE,
         ParamInfo::new(
             "xsph_viscosity",
             "m^2/s",
