@@ -30,6 +30,18 @@ pub(crate) fn grow<T: Clone + Send + Sync>(v: &mut Vec<T>, n: usize, x: T) {
     v.par_extend(rayon::iter::repeat_n(x, add));
 }
 
+/// Split `s` into consecutive parts of the given lengths (for tasks that each fill their
+/// own part).
+pub(crate) fn split_parts<T>(mut s: &mut [T], lens: impl Iterator<Item = usize>) -> Vec<&mut [T]> {
+    let mut parts = Vec::new();
+    for n in lens {
+        let (a, rest) = s.split_at_mut(n);
+        parts.push(a);
+        s = rest;
+    }
+    parts
+}
+
 /// Append the concatenation of `parts` to `out`, the copies in parallel (each part into
 /// its own slice of `out`): the same values, in the same order, as extending part by part.
 pub(crate) fn append_parts<T: Copy + Send + Sync>(out: &mut Vec<T>, parts: &[Vec<T>]) {
@@ -40,14 +52,7 @@ pub(crate) fn append_parts<T: Copy + Send + Sync>(out: &mut Vec<T>, parts: &[Vec
     };
     let start = out.len();
     grow(out, start + total, first);
-    let mut slices = Vec::with_capacity(parts.len());
-    let mut rest = &mut out[start..];
-    for p in parts {
-        let (a, b) = rest.split_at_mut(p.len());
-        slices.push(a);
-        rest = b;
-    }
-    slices
+    split_parts(&mut out[start..], parts.iter().map(Vec::len))
         .into_par_iter()
         .zip(parts.par_iter())
         .for_each(|(o, p)| o.copy_from_slice(p));

@@ -396,9 +396,7 @@ pub fn add_contact_rows(
         let (u, w) = tangent_frame(&n);
         let (a, b) = (&bodies[cp.owner_a as usize], &bodies[cp.owner_b as usize]);
         let m = &cp.material;
-        let rolling = (m.rolling_friction > 0.0 || m.spinning_friction > 0.0)
-            && cp.radius.is_finite()
-            && cp.radius > 0.0;
+        let rolling = !nsc_plain::is_plain(cp);
         scratch.clear();
         let dirs = [n, u, w];
         let too_many = |nb: usize| {

@@ -14,7 +14,7 @@ use super::nsc::{NscContact, NscRowSettings};
 use crate::body::RigidBody;
 use crate::collision::ContactPoint;
 use crate::descriptor::{BlockId, ConstraintRows, ContactFrame, RowEntry, RowGroup, RowId};
-use crate::parallel::grow;
+use crate::parallel::{grow, split_parts};
 
 /// Below this many contacts the rows are written on the calling thread.
 pub(super) const PAR_MIN_CONTACTS: usize = 2048;
@@ -146,24 +146,12 @@ struct Part<'a> {
     eps: &'a mut [f64],
     mu: &'a mut [f64],
     frames: &'a mut [(u32, ContactFrame)],
-    built: &'a mut [bool],
     out: &'a mut [NscContact],
 }
 
 /// The next part of a split (there is one per chunk).
 fn next<I: Iterator>(it: &mut I) -> I::Item {
     it.next().expect("one part per chunk")
-}
-
-/// Split `s` into consecutive parts of the given lengths.
-fn split_parts<T>(mut s: &mut [T], lens: impl Iterator<Item = usize>) -> Vec<&mut [T]> {
-    let mut parts = Vec::new();
-    for n in lens {
-        let (a, rest) = s.split_at_mut(n);
-        parts.push(a);
-        s = rest;
-    }
-    parts
 }
 
 /// Append the plain triplets of `points` (every one [`is_plain`]) to the friction group of
@@ -217,7 +205,8 @@ pub(super) fn add_plain_rows_par(
             arms: [[0.0; 3]; 2],
         },
     );
-    // Every new slot is written below; the slots are made (zero-filled) in parallel.
+    // Every new slot is written below (but `frames_built`: each new frame is built from
+    // its rows, so its slot is made `true` here); the slots are made in parallel.
     grow(&mut g.row_ptr, r0 + 1 + 3 * nt, 0);
     grow(&mut g.ent_block, e0 + ne, 0);
     grow(&mut g.ent_coef, e0 + ne, 0);
@@ -240,7 +229,6 @@ pub(super) fn add_plain_rows_par(
     let mut eps = split_parts(&mut g.eps[r0..], ts().map(|t| 3 * t)).into_iter();
     let mut mu = split_parts(&mut g.mu[k0..], ts()).into_iter();
     let mut frames = split_parts(&mut g.frames[f0..], ts()).into_iter();
-    let mut built = split_parts(&mut g.frames_built[f0..], ts()).into_iter();
     let mut outs = split_parts(&mut out[o0..], ts()).into_iter();
     let (mut t, mut e) = (k0, e0);
     for (i, &(ct, ce)) in counts.iter().enumerate() {
@@ -256,7 +244,6 @@ pub(super) fn add_plain_rows_par(
             eps: next(&mut eps),
             mu: next(&mut mu),
             frames: next(&mut frames),
-            built: next(&mut built),
             out: next(&mut outs),
         });
         (t, e) = (t + ct, e + ce);
@@ -287,7 +274,6 @@ pub(super) fn add_plain_rows_par(
             let k = p.t0 + t;
             p.mu[t] = tr.mu;
             p.frames[t] = (k as u32, tr.frame);
-            p.built[t] = true;
             p.out[t] = NscContact {
                 point: *cp,
                 u,

@@ -79,11 +79,8 @@ pub fn tank_scene(
         tank_length,
         top,
     );
-    let on = settings.density_projection > 0;
     let mut scene = TankScene::new(settings, &tank, solver)?;
-    if on {
-        projection_solver(scene.fluid_mut()?, name)?;
-    }
+    projection_solver(scene.fluid_mut()?, name)?;
     Ok(scene)
 }
 
