@@ -4,7 +4,7 @@
 //! (e.g. under callgrind) and comparing solver options at the case's tolerance.
 //!
 //! Run: `cargo run --release -p chrono-ccp --example pour_stats -- [n] [steps] [radius] [h]
-//! [solver] [cap]` (defaults: 2000 grains, 40 steps, r = 0.01 m, h = 1/240 s, `apgd`, 100;
+//! [solver] [cap]` (`TOL=x` sets the tolerance, m/s; defaults: 2000 grains, 40 steps, r = 0.01 m, h = 1/240 s, `apgd`, 100;
 //! `solver` is `apgd`, `bb`, `psor`, `psor-par` (coloured sweeps), `psor-sym`, `2l:K` (APGD
 //! cycles of K iterations with a coarse correction, [`two_level`]) or `study` (APGD, and on
 //! the warm start of solve `STUDY_STEP` the error study of docs/performance.md, "is the
@@ -32,8 +32,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let h: f64 = arg(3, "0.0041666666667").parse()?;
     let which = arg(4, "apgd");
     let cap: usize = arg(5, "100").parse()?;
+    // `TOL=x`: the solver's tolerance, m/s (the case's 1e-5 by default).
+    let tolerance: f64 = std::env::var("TOL")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(1e-5);
     let settings = SolverSettings {
-        tolerance: 1e-5,
+        tolerance,
         max_iterations: cap,
         record_history: false,
     };
