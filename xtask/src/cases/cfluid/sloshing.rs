@@ -244,9 +244,9 @@ fn simulate(
     let (a, hf) = (p.tank_length, p.fill_height);
     let period = std::f64::consts::TAU / omega;
     let ramp = p.ramp_periods * period;
-    let om1 = sloshing_mode(1, a, hf, G);
-    let t_end =
-        ramp + crate::cases::sph::sloshing::fit_window_periods(p.fit_periods, omega, om1) * period;
+    let modes = [sloshing_mode(1, a, hf, G), sloshing_mode(2, a, hf, G)];
+    let t_end = ramp
+        + crate::cases::sph::sloshing::fit_window_periods(p.fit_periods, omega, &modes) * period;
     let motion = WallMotion::Sinusoid {
         amplitude: [p.amplitude, 0.0, 0.0],
         omega,
@@ -342,6 +342,15 @@ fn run(p: &CfluidSloshingParams, ctx: &RunContext) -> anyhow::Result<CaseOutput>
         let o = simulate(p, dp, omega, ctx)?;
         let wall = start.elapsed().as_secs_f64();
         out.metric(format!("force_ratio_reference[{tag}]"), reference);
+        out.metric(
+            format!("force_ratio_sensitivity[{tag}]"),
+            crate::cases::sph::sloshing::force_ratio_sensitivity(
+                p.tank_length,
+                p.fill_height,
+                omega,
+                MODES,
+            ),
+        );
         out.metric(format!("force_phase_deg[{tag}]"), o.phase_deg);
         out.metric(format!("omega1_measured[{tag}]"), o.omega1_measured);
         out.metric(format!("avg_iterations[{tag}]"), o.iterations);
