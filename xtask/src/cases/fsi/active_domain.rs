@@ -9,8 +9,11 @@
 //! `speed` after a C1 ramp of `ramp` seconds. Three runs of the same scene:
 //!
 //! 1. full domain at `spacing`;
-//! 2. active domain at `spacing`, radius `active_supports` kernel supports around the
-//!    cylinder's bounding sphere;
+//! 2. active domain at `spacing`, radius `active_radius` diameters around the cylinder's
+//!    bounding sphere (a length of the flow: the same reach in metres at every spacing;
+//!    at least the kernel support `2 h`, else an error naming `active_radius`), with the
+//!    cylinder's path over the last `active_trail` seconds kept active and frozen
+//!    particles held or brought to rest (`active_at_rest`);
 //! 3. full domain at `spacing * coarse_ratio`: the full run's own resolution error.
 //!
 //! The runs are interleaved coupling step by coupling step and each step is timed
@@ -66,8 +69,12 @@ pub struct ActiveDomainParams {
     pub spacing: f64,
     /// Kinematic viscosity, m^2/s.
     pub nu: f64,
-    /// Active-domain radius, in kernel supports (`2 h`).
-    pub active_supports: f64,
+    /// Active-domain radius around the cylinder's bounding sphere, in diameters.
+    pub active_radius: f64,
+    /// The cylinder's recent path kept active, s (0: off).
+    pub active_trail: f64,
+    /// Frozen particles brought to rest (else they hold their velocity).
+    pub active_at_rest: bool,
     /// Spacing of the coarser full run over `spacing` (the resolution error).
     pub coarse_ratio: f64,
     /// Simulated time, s.
@@ -92,7 +99,10 @@ impl Default for ActiveDomainParams {
             start: 3.0,
             spacing: 0.025,
             nu: 1e-4,
-            active_supports: 6.0,
+            // 0.45 m: 6 kernel supports at the default spacing D / 5
+            active_radius: 3.6,
+            active_trail: 0.0,
+            active_at_rest: false,
             coarse_ratio: 1.25,
             t_end: 0.5,
             coupling_step: 2e-3,
@@ -122,9 +132,19 @@ impl CaseParams for ActiveDomainParams {
         ParamInfo::new("spacing", "m", "particle spacing dp"),
         ParamInfo::new("nu", "m^2/s", "kinematic viscosity"),
         ParamInfo::new(
-            "active_supports",
+            "active_radius",
             "-",
-            "active-domain radius in kernel supports 2h",
+            "active-domain radius around the cylinder, in diameters (>= 2h)",
+        ),
+        ParamInfo::new(
+            "active_trail",
+            "s",
+            "the cylinder's recent path kept active (0: off)",
+        ),
+        ParamInfo::new(
+            "active_at_rest",
+            "-",
+            "frozen particles brought to rest (false: held velocity)",
         ),
         ParamInfo::new(
             "coarse_ratio",
@@ -192,7 +212,9 @@ fn towed_params(p: &ActiveDomainParams, spacing: f64, active: bool) -> TowedPara
         spacing,
         rho0: p.rho_water,
         nu: p.nu,
-        active_supports: active.then_some(p.active_supports),
+        active_radius: active.then_some(p.active_radius),
+        active_trail: p.active_trail,
+        active_at_rest: p.active_at_rest,
         ..TowedParams::default()
     }
 }
@@ -297,7 +319,7 @@ fn run(p: &ActiveDomainParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     for (name, v) in [
         ("t_end", p.t_end),
         ("coupling_step", p.coupling_step),
-        ("active_supports", p.active_supports),
+        ("active_radius", p.active_radius),
     ] {
         anyhow::ensure!(
             v.is_finite() && v > 0.0,
