@@ -65,11 +65,6 @@ pub struct TowedParams {
     /// diameters (`active_radius * D` m, at least the kernel support `2 h`, see the
     /// [module docs](self)); `None`: the full domain is stepped.
     pub active_radius: Option<f64>,
-    /// The cylinder's recent path kept active, s ([`chrono_sph::ActiveDomain::trail`]; 0:
-    /// off).
-    pub active_trail: f64,
-    /// Frozen particles brought to rest ([`chrono_sph::ActiveDomain::freeze_at_rest`]).
-    pub active_at_rest: bool,
 }
 
 impl Default for TowedParams {
@@ -88,8 +83,6 @@ impl Default for TowedParams {
             nu: 1e-4,
             mach_factor: 10.0,
             active_radius: None,
-            active_trail: 0.0,
-            active_at_rest: false,
         }
     }
 }
@@ -159,13 +152,6 @@ impl TowedParams {
                     ),
                 ));
             }
-        }
-        if !(self.active_trail.is_finite() && self.active_trail >= 0.0) {
-            return Err(FsiError::invalid(
-                "active_trail",
-                self.active_trail,
-                "must be finite and >= 0 (s; 0: off)",
-            ));
         }
         Ok(())
     }
@@ -283,11 +269,7 @@ pub fn towed(
         [len, width, top],
     );
     if let Some(n) = p.active_radius {
-        settings.active_domain = Some(ActiveDomain {
-            trail: p.active_trail,
-            freeze_at_rest: p.active_at_rest,
-            ..ActiveDomain::from_radius(&settings, n * d)
-        });
+        settings.active_domain = Some(ActiveDomain::from_radius(&settings, n * d));
     }
     let mut system = System::new(sys_settings, solver)?;
     let shape = Shape::Cylinder {
@@ -395,15 +377,11 @@ mod tests {
             let p = TowedParams {
                 spacing,
                 active_radius: Some(r),
-                active_trail: 0.3,
-                active_at_rest: true,
                 ..TowedParams::default()
             };
             p.validate()?;
             let s = towed(&p, Box::new(chrono_ccp::Psor::new(Default::default())))?;
             let ad = s.fluid().sph().settings().active_domain.expect("active");
-            assert_eq!(ad.trail, 0.3);
-            assert!(ad.freeze_at_rest);
             Ok::<f64, FsiError>(ad.radius)
         };
         let d = TowedParams::default().diameter;
@@ -430,15 +408,6 @@ mod tests {
         assert!(
             p.validate()
                 .is_err_and(|e| e.to_string().contains("active_radius"))
-        );
-        let p = TowedParams {
-            active_radius: Some(3.0),
-            active_trail: f64::NAN,
-            ..TowedParams::default()
-        };
-        assert!(
-            p.validate()
-                .is_err_and(|e| e.to_string().contains("active_trail"))
         );
     }
 }

@@ -92,8 +92,6 @@ fn active_domain_covering_the_tank_gives_the_full_run_bit_for_bit() {
     let mut act = towed_block(Some(ActiveDomain {
         radius: 10.0 * LEN,
         margin: 0.1,
-        trail: 0.0,
-        freeze_at_rest: false,
     }));
     for _ in 0..150 {
         full.step().unwrap();
@@ -110,92 +108,6 @@ fn active_domain_covering_the_tank_gives_the_full_run_bit_for_bit() {
     assert_eq!(full.time().to_bits(), act.time().to_bits());
     let (fa, fb) = (full.carrier_load(0), act.carrier_load(0));
     assert_eq!(fa[0], fb[0]);
-}
-
-#[test]
-fn covering_active_domain_with_trail_and_rest_gives_the_full_run_bit_for_bit() {
-    // nothing freezes, so neither option may change a bit
-    let mut full = towed_block(None);
-    let mut act = towed_block(Some(ActiveDomain {
-        radius: 10.0 * LEN,
-        margin: 0.1,
-        trail: 0.05,
-        freeze_at_rest: true,
-    }));
-    for _ in 0..150 {
-        full.step().unwrap();
-        act.step().unwrap();
-    }
-    assert_eq!(state(&full), state(&act));
-    assert_eq!(full.carrier_load(0)[0], act.carrier_load(0)[0]);
-}
-
-/// With a trail of `T` seconds a particle is active while it is within the radius of the
-/// block's path over `[t - T, t]` (sampled every support `2 h`: the path kept is between
-/// `U T - 2 h - U dt` and `U T` long), not only of its sphere now.
-#[test]
-fn trail_keeps_the_recent_path_active() {
-    let trail = 0.5;
-    let ad = ActiveDomain {
-        trail,
-        ..radius(1.5)
-    };
-    let mut sys = towed_block(Some(ad));
-    while sys.time() < 1.0 {
-        sys.step().unwrap();
-    }
-    let src = sys.active_sources()[0];
-    let support = 2.0 * sys.settings().h();
-    // the path is a straight line along x at SPEED (y periodic: the minimum image)
-    let seg = |x: f64, y: f64, z: f64, back: f64| {
-        let u = (src[0] - x).clamp(0.0, back);
-        let dy = (y - src[1]) - LY * ((y - src[1]) / LY).round();
-        ((src[0] - u - x).powi(2) + dy * dy + (z - src[2]).powi(2)).sqrt() - src[3]
-    };
-    let (surely, at_most) = (SPEED * trail - support - 0.01, SPEED * trail);
-    let d = sys.data();
-    let (mut on_trail, mut behind) = (0, 0);
-    for i in 0..d.len() {
-        if d.kind[i] != FLUID {
-            continue;
-        }
-        let (x, y, z) = (d.x[i], d.y[i], d.z[i]);
-        let now = seg(x, y, z, 0.0);
-        if seg(x, y, z, surely) <= ad.radius {
-            assert!(sys.is_active(i), "slot {i} on the path, {now} m from the block");
-            on_trail += (now > ad.radius) as usize;
-        }
-        if seg(x, y, z, at_most) > ad.radius {
-            assert!(!sys.is_active(i), "slot {i} off the path is active");
-            behind += (x < src[0]) as usize;
-        }
-    }
-    // the trail mattered, and it ends: fluid behind it froze
-    assert!(on_trail > 20, "{on_trail} particles active by the trail only");
-    assert!(behind > 20, "{behind} particles behind the trail");
-}
-
-/// With `freeze_at_rest` every frozen particle is at rest (the still water starts at rest,
-/// a particle freezing is brought to rest); without it the particles left behind by the
-/// block hold the velocity they had.
-#[test]
-fn freeze_at_rest_holds_frozen_particles_at_rest() {
-    let frozen_speeds = |rest: bool| {
-        let mut sys = towed_block(Some(ActiveDomain {
-            freeze_at_rest: rest,
-            ..radius(1.5)
-        }));
-        for _ in 0..300 {
-            sys.step().unwrap();
-        }
-        let d = sys.data();
-        (0..d.len())
-            .filter(|&i| d.kind[i] == FLUID && !sys.is_active(i))
-            .filter(|&i| d.vx[i] != 0.0 || d.vy[i] != 0.0 || d.vz[i] != 0.0)
-            .count()
-    };
-    assert_eq!(frozen_speeds(true), 0);
-    assert!(frozen_speeds(false) > 0, "the test must see moving frozen fluid");
 }
 
 #[test]
@@ -303,8 +215,6 @@ fn active_domain_bad_input_names_the_field() {
         active_domain: Some(ActiveDomain {
             radius: 0.5 * DP,
             margin: DP,
-            trail: 0.0,
-            freeze_at_rest: false,
         }),
         ..SphSettings::default()
     };
@@ -316,24 +226,11 @@ fn active_domain_bad_input_names_the_field() {
         active_domain: Some(ActiveDomain {
             radius: 1.0,
             margin: f64::NAN,
-            trail: 0.0,
-            freeze_at_rest: false,
         }),
         ..SphSettings::default()
     };
     let e = SphBuilder::new(s).unwrap_err().to_string();
     assert!(e.contains("settings.active_domain.margin"), "{e}");
-    let s = SphSettings {
-        spacing: DP,
-        sound_speed: 10.0,
-        active_domain: Some(ActiveDomain {
-            trail: -0.1,
-            ..radius(2.0)
-        }),
-        ..SphSettings::default()
-    };
-    let e = SphBuilder::new(s).unwrap_err().to_string();
-    assert!(e.contains("settings.active_domain.trail"), "{e}");
     // no moving carrier: every particle would freeze
     let mut sys = towed_block(Some(radius(2.0)));
     sys.set_carrier_source(0, false).unwrap();

@@ -114,19 +114,6 @@ pub struct ActiveDomain {
     /// the list is rebuilt only when a source moved `margin` since the last build or an
     /// active particle has no row. Larger: fewer rebuilds, longer rebuilds.
     pub margin: f64,
-    /// The sources' recent path kept active, s (`>= 0`; 0: off, the default). With
-    /// `trail = T` a particle is active while it is within `radius` of a source's bounding
-    /// sphere at any time in `[t - T, t]` (the path sampled every kernel support of
-    /// travel, joined by straight segments: the swept sphere, a capsule chain): the wake
-    /// and the waves a body leaves behind stay stepped for `T` after it passed.
-    #[serde(default)]
-    pub trail: f64,
-    /// Whether a particle brought to rest when it freezes (`true`) or holding the
-    /// velocity it had (`false`, the default). A frozen particle does not move, so its
-    /// position's rate is zero; with `true` its velocity says so to its active neighbours'
-    /// continuity, viscous and XSPH terms (and it re-enters from rest).
-    #[serde(default)]
-    pub freeze_at_rest: bool,
 }
 
 /// Particle shifting after each step ([`crate::shifting`]): a Fickian diffusion of the
@@ -203,21 +190,18 @@ pub struct WallBelt {
 }
 
 impl ActiveDomain {
-    /// `radius = supports` kernel supports (`2 h` each) of `settings`, `margin` one support,
-    /// no trail, frozen particles holding their velocity.
+    /// `radius = supports` kernel supports (`2 h` each) of `settings`, `margin` one support.
     pub fn from_supports(settings: &SphSettings, supports: f64) -> Self {
         Self::from_radius(settings, supports * 2.0 * settings.h())
     }
 
     /// `radius` (m, a length of the flow: the same reach at every resolution), `margin`
-    /// one kernel support `2 h` of `settings`, no trail, frozen particles holding their
-    /// velocity. The radius is checked when the system is built (at least `2 h`).
+    /// one kernel support `2 h` of `settings`. The radius is checked when the system is
+    /// built (at least `2 h`, else an error naming `settings.active_domain.radius`).
     pub fn from_radius(settings: &SphSettings, radius: f64) -> Self {
         Self {
             radius,
             margin: 2.0 * settings.h(),
-            trail: 0.0,
-            freeze_at_rest: false,
         }
     }
 }
@@ -433,13 +417,6 @@ impl SphSettings {
                     "settings.active_domain.margin",
                     a.margin,
                     "must be finite and >= 0",
-                ));
-            }
-            if !(a.trail.is_finite() && a.trail >= 0.0) {
-                return Err(SphError::invalid(
-                    "settings.active_domain.trail",
-                    a.trail,
-                    "must be finite and >= 0 (s; 0: off)",
                 ));
             }
         }

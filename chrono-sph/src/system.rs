@@ -143,9 +143,6 @@ pub struct SphSystem {
     /// The sources' bounding spheres `[cx, cy, cz, r]` now and at the last list build.
     sources: Vec<[f64; 4]>,
     list_sources: Vec<[f64; 4]>,
-    /// Each source's trail: samples `[t, cx, cy, cz, r]` of its path, oldest first (empty
-    /// without [`ActiveDomain::trail`](crate::ActiveDomain::trail)).
-    trails: Vec<Vec<[f64; 5]>>,
     /// This rank's part of a decomposition ([`crate::distributed`]; `None`: the whole
     /// scene in this process).
     dist: Option<Box<halo::DistState>>,
@@ -226,7 +223,6 @@ impl SphSystem {
             carrier_radius: Vec::new(),
             sources: Vec::new(),
             list_sources: Vec::new(),
-            trails: Vec::new(),
             dist: None,
             shift: Vec::new(),
             shift_grad: Vec::new(),

@@ -70,38 +70,13 @@ pub(crate) const ALL: u8 = ACT_NOW | ACT_NEXT | LISTED;
 pub(crate) const BUFFER: u8 = 8;
 
 /// The distance of `x` to the nearest source sphere `[cx, cy, cz, r]`, m (`+inf`
-/// without sources), and to the segments of the sources' trails (`trails[s]`: the
-/// samples `[t, cx, cy, cz, r]` of source `s`'s path, oldest first; each sample joined to
-/// the next and the last to the source's centre now, at the larger radius of the two
-/// ends).
+/// without sources).
 #[inline]
-fn distance(
-    grid: &chrono_core::particles::CellGrid,
-    sources: &[[f64; 4]],
-    trails: &[Vec<[f64; 5]>],
-    x: [f64; 3],
-) -> f64 {
+fn distance(grid: &chrono_core::particles::CellGrid, sources: &[[f64; 4]], x: [f64; 3]) -> f64 {
     let mut d = f64::INFINITY;
-    for (k, s) in sources.iter().enumerate() {
+    for s in sources {
         let e = grid.displacement(x, [s[0], s[1], s[2]]);
         d = d.min((e[0] * e[0] + e[1] * e[1] + e[2] * e[2]).sqrt() - s[3]);
-        let Some(tr) = trails.get(k) else {
-            continue;
-        };
-        for (j, a) in tr.iter().enumerate() {
-            let b = tr.get(j + 1).map_or(*s, |b| [b[1], b[2], b[3], b[4]]);
-            // x - a and b - a (minimum images), the nearest point of the segment
-            let e = grid.displacement(x, [a[1], a[2], a[3]]);
-            let l = grid.displacement([b[0], b[1], b[2]], [a[1], a[2], a[3]]);
-            let ll = l[0] * l[0] + l[1] * l[1] + l[2] * l[2];
-            let u = if ll > 0.0 {
-                ((e[0] * l[0] + e[1] * l[1] + e[2] * l[2]) / ll).clamp(0.0, 1.0)
-            } else {
-                0.0
-            };
-            let q = [e[0] - u * l[0], e[1] - u * l[1], e[2] - u * l[2]];
-            d = d.min((q[0] * q[0] + q[1] * q[1] + q[2] * q[2]).sqrt() - a[4].max(b[3]));
-        }
     }
     d
 }
@@ -221,34 +196,6 @@ impl SphSystem {
             }
             self.sources.push([m[0], m[1], m[2], r]);
         }
-        self.update_trails();
-    }
-
-    /// The sources' trails ([`ActiveDomain::trail`](crate::ActiveDomain::trail)): a sample
-    /// of each source's sphere when it moved a kernel support `2 h` from its last sample,
-    /// the samples older than `trail` dropped. A function of the sources' poses and the
-    /// time only.
-    fn update_trails(&mut self) {
-        let trail = self.settings.active_domain.map_or(0.0, |ad| ad.trail);
-        if trail <= 0.0 {
-            self.trails.clear();
-            return;
-        }
-        if self.trails.len() != self.sources.len() {
-            self.trails = vec![Vec::new(); self.sources.len()];
-        }
-        let (t, step) = (self.time, 2.0 * self.settings.h());
-        for (tr, s) in self.trails.iter_mut().zip(&self.sources) {
-            let far = tr.last().is_none_or(|a| {
-                let e = self.grid.displacement([s[0], s[1], s[2]], [a[1], a[2], a[3]]);
-                (e[0] * e[0] + e[1] * e[1] + e[2] * e[2]).sqrt() >= step
-            });
-            if far {
-                tr.push([t, s[0], s[1], s[2], s[3]]);
-            }
-            let old = tr.iter().take_while(|a| a[0] < t - trail).count();
-            tr.drain(..old);
-        }
     }
 
     /// Sets the `ACT_NEXT` flag of every fluid particle from its distance to the sources
@@ -264,14 +211,13 @@ impl SphSystem {
             self.compute_sources();
         }
         let (lo, hi) = (self.settings.domain_lower, self.settings.domain_upper);
-        let (grid, sources, trails, d) = (&self.grid, &self.sources, &self.trails, &self.data);
+        let (grid, sources, d) = (&self.grid, &self.sources, &self.data);
         self.act.par_iter_mut().enumerate().for_each(|(i, a)| {
             if d.kind[i] != FLUID {
                 return;
             }
             let x = [d.x[i], d.y[i], d.z[i]];
-            let mut next =
-                ad.is_none_or(|ad| distance(grid, sources, trails, x) <= ad.radius);
+            let mut next = ad.is_none_or(|ad| distance(grid, sources, x) <= ad.radius);
             let buffer = open.is_some_and(|oc| {
                 let k = oc.axis;
                 oc.zone(x[k], lo[k], hi[k]) != crate::open::ZONE_FLUID
@@ -288,23 +234,6 @@ impl SphSystem {
     pub(super) fn promote_activity(&mut self) -> usize {
         if !self.active_on() && self.settings.open_channel.is_none() {
             return self.n_fluid;
-        }
-        if self.settings.active_domain.is_some_and(|ad| ad.freeze_at_rest) {
-            // a particle freezing (active now, not next) is brought to rest
-            let d = &mut self.data;
-            (
-                d.vx.par_iter_mut(),
-                d.vy.par_iter_mut(),
-                d.vz.par_iter_mut(),
-                d.kind.par_iter(),
-                self.act.par_iter(),
-            )
-                .into_par_iter()
-                .for_each(|(vx, vy, vz, &kind, &a)| {
-                    if kind == FLUID && a & ACT_NOW != 0 && a & (ACT_NEXT | BUFFER) == 0 {
-                        (*vx, *vy, *vz) = (0.0, 0.0, 0.0);
-                    }
-                });
         }
         let d = &self.data;
         self.act
@@ -349,7 +278,7 @@ impl SphSystem {
         let Some(ad) = self.settings.active_domain else {
             return;
         };
-        let (grid, sources, trails, d) = (&self.grid, &self.sources, &self.trails, &self.data);
+        let (grid, sources, d) = (&self.grid, &self.sources, &self.data);
         let fluid_reach = ad.radius + ad.margin;
         let wall_reach = fluid_reach + self.list_radius;
         self.act.par_iter_mut().enumerate().for_each(|(i, a)| {
@@ -358,7 +287,7 @@ impl SphSystem {
             } else {
                 wall_reach
             };
-            let listed = distance(grid, sources, trails, [d.x[i], d.y[i], d.z[i]]) <= reach;
+            let listed = distance(grid, sources, [d.x[i], d.y[i], d.z[i]]) <= reach;
             *a = (*a & !LISTED) | if listed { LISTED } else { 0 };
         });
         self.list_sources.clear();

@@ -11,9 +11,7 @@
 //! 1. full domain at `spacing`;
 //! 2. active domain at `spacing`, radius `active_radius` diameters around the cylinder's
 //!    bounding sphere (a length of the flow: the same reach in metres at every spacing;
-//!    at least the kernel support `2 h`, else an error naming `active_radius`), with the
-//!    cylinder's path over the last `active_trail` seconds kept active and frozen
-//!    particles held or brought to rest (`active_at_rest`);
+//!    at least the kernel support `2 h`, else an error naming `active_radius`);
 //! 3. full domain at `spacing * coarse_ratio`: the full run's own resolution error.
 //!
 //! The runs are interleaved coupling step by coupling step and each step is timed
@@ -71,10 +69,8 @@ pub struct ActiveDomainParams {
     pub nu: f64,
     /// Active-domain radius around the cylinder's bounding sphere, in diameters.
     pub active_radius: f64,
-    /// The cylinder's recent path kept active, s (0: off).
-    pub active_trail: f64,
-    /// Frozen particles brought to rest (else they hold their velocity).
-    pub active_at_rest: bool,
+    /// Sound speed over the long-wave speed `sqrt(g depth)`.
+    pub mach_factor: f64,
     /// Spacing of the coarser full run over `spacing` (the resolution error).
     pub coarse_ratio: f64,
     /// Simulated time, s.
@@ -101,8 +97,7 @@ impl Default for ActiveDomainParams {
             nu: 1e-4,
             // 0.45 m: 6 kernel supports at the default spacing D / 5
             active_radius: 3.6,
-            active_trail: 0.0,
-            active_at_rest: false,
+            mach_factor: 10.0,
             coarse_ratio: 1.25,
             t_end: 0.5,
             coupling_step: 2e-3,
@@ -137,14 +132,9 @@ impl CaseParams for ActiveDomainParams {
             "active-domain radius around the cylinder, in diameters (>= 2h)",
         ),
         ParamInfo::new(
-            "active_trail",
-            "s",
-            "the cylinder's recent path kept active (0: off)",
-        ),
-        ParamInfo::new(
-            "active_at_rest",
+            "mach_factor",
             "-",
-            "frozen particles brought to rest (false: held velocity)",
+            "sound speed over the long-wave speed sqrt(g depth)",
         ),
         ParamInfo::new(
             "coarse_ratio",
@@ -213,8 +203,7 @@ fn towed_params(p: &ActiveDomainParams, spacing: f64, active: bool) -> TowedPara
         rho0: p.rho_water,
         nu: p.nu,
         active_radius: active.then_some(p.active_radius),
-        active_trail: p.active_trail,
-        active_at_rest: p.active_at_rest,
+        mach_factor: p.mach_factor,
         ..TowedParams::default()
     }
 }
@@ -320,6 +309,7 @@ fn run(p: &ActiveDomainParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         ("t_end", p.t_end),
         ("coupling_step", p.coupling_step),
         ("active_radius", p.active_radius),
+        ("mach_factor", p.mach_factor),
     ] {
         anyhow::ensure!(
             v.is_finite() && v > 0.0,
