@@ -386,7 +386,11 @@ mod tests {
         };
         let d = TowedParams::default().diameter;
         for spacing in [d / 4.0, d / 5.0, d / 8.0] {
-            assert_eq!(radius_at(spacing, 3.6).unwrap(), 3.6 * d, "spacing {spacing}");
+            assert_eq!(
+                radius_at(spacing, 3.6).unwrap(),
+                3.6 * d,
+                "spacing {spacing}"
+            );
         }
         let e = radius_at(d / 4.0, 0.5).unwrap_err().to_string();
         assert!(e.contains("active_radius") && e.contains("0.5"), "{e}");
