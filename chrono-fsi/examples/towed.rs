@@ -1,6 +1,6 @@
 //! The towed cylinder of `fsi-active-domain`, run alone with the full domain or with an
-//! active domain of radius `R` cylinder diameters: wall time, particle-steps and the fluid's phase
-//! times, for profiling one of the two runs at a time.
+//! active domain of radius `R` cylinder diameters: wall time, particle-steps and the
+//! fluid's phase times, for profiling one of the two runs at a time.
 //!
 //! `cargo run --release -p chrono-fsi --example towed -- [RADIUS_IN_D|full] [T_END]`
 

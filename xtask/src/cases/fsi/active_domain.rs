@@ -42,9 +42,9 @@
 //! surface's long-wave response (speed `sqrt(g depth)`), so the radius that holds the
 //! drag grows with the run: in a tank whose end walls do not reach the body within the
 //! run (`start` 6-8 D) 2 % needs more than 3.6 D at 0.5 s (+4.4 %), about 6 D at 0.8 s
-//! (+0.9 %) and 8 D at 1.2 s (+0.3 %, 6 D: +5.7 %), i.e. a reach from the bounding sphere of about
-//! `2 D + sqrt(g depth) t_end / 2`. (The default tank starts the cylinder 3 D from a wall, which
-//! moves the full run's own drag by 7 % at 0.5 s and 16 % at 0.8 s.)
+//! (+0.9 %) and 8 D at 1.2 s (+0.3 %; 6 D: +5.7 %), i.e. a reach `active_reach_m` of
+//! about `2 D + sqrt(g depth) t_end / 2`. (The default tank starts the cylinder 3 D from a
+//! wall, which moves the full run's own drag by 7 % at 0.5 s and 16 % at 0.8 s.)
 
 use std::time::Instant;
 
