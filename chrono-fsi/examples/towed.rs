@@ -1,8 +1,8 @@
 //! The towed cylinder of `fsi-active-domain`, run alone with the full domain or with an
-//! active domain of `N` kernel supports: wall time, particle-steps and the fluid's phase
-//! times, for profiling one of the two runs at a time.
+//! active domain of radius `R` cylinder diameters: wall time, particle-steps and the
+//! fluid's phase times, for profiling one of the two runs at a time.
 //!
-//! `cargo run --release -p chrono-fsi --example towed -- [SUPPORTS|full] [T_END]`
+//! `cargo run --release -p chrono-fsi --example towed -- [RADIUS_IN_D|full] [T_END]`
 
 use std::time::Instant;
 
@@ -11,13 +11,13 @@ use chrono_fsi::towed::{TowedParams, towed};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().collect();
-    let active_supports = match args.get(1).map(String::as_str) {
+    let active_radius = match args.get(1).map(String::as_str) {
         None | Some("full") => None,
         Some(s) => Some(s.parse::<f64>()?),
     };
     let t_end: f64 = args.get(2).map_or(Ok(0.5), |s| s.parse())?;
     let p = TowedParams {
-        active_supports,
+        active_radius,
         ..TowedParams::default()
     };
     let mut scene = towed(&p, Box::new(Psor::new(Default::default())))?;
@@ -34,7 +34,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         "{}: {n} steps, {} sub-steps, {} fluid particle-steps ({} particles), wall {wall:.3} s; \
          phases neighbours {:.3} density {:.3} forces {:.3} markers {:.3} integration {:.3} s; \
          C_D at the end {:.4}",
-        active_supports.map_or("full".to_string(), |s| format!("active {s} supports")),
+        active_radius.map_or("full".to_string(), |s| format!("active {s} D")),
         sph.steps(),
         sph.stats().fluid_steps,
         sph.num_fluid(),

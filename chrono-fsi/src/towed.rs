@@ -6,9 +6,18 @@
 //! would send a pressure pulse `rho c_s U` through the weakly compressible fluid).
 //!
 //! The fluid is WCSPH with BCE markers in the cylinder ([`FsiBuilder`](crate::FsiBuilder)); with
-//! [`TowedParams::active_supports`] set it runs with an active domain
-//! ([`chrono_sph::ActiveDomain`]) of that many kernel supports around the cylinder, so
-//! the same scene runs with and without it.
+//! [`TowedParams::active_radius`] set it runs with an active domain
+//! ([`chrono_sph::ActiveDomain`]) of that radius around the cylinder, so the same scene
+//! runs with and without it.
+//!
+//! **The radius is a length of the flow**, in cylinder diameters: what the active domain
+//! must hold is the body's near field and the free surface's response to it, whose extent
+//! scales with `D` (and the depth), not with the particle spacing. A radius in kernel
+//! supports `2 h` is half as long in metres at half the spacing, so the same number of
+//! supports reached 3.6 D at `dp = D/5` and 1.8 D at `D/10` (docs/validation-fsi.md, the
+//! first `--full` run: drag -13.5 %). The radius, `active_radius * D` from the cylinder's
+//! bounding sphere, must still be at least the kernel support `2 h` (the fluid touching
+//! the markers must move): below it is an error naming `active_radius`.
 //!
 //! Read-outs: the fluid's force on the cylinder ([`TowedScene::force`]), its drag
 //! coefficient per unit span `C_D = F_D / (rho U^2 D W / 2)` (`W` the slab width), and
@@ -52,9 +61,10 @@ pub struct TowedParams {
     pub nu: f64,
     /// Sound speed over `sqrt(g depth)`.
     pub mach_factor: f64,
-    /// The active domain's radius in kernel supports (`2 h`) around the cylinder's
-    /// bounding sphere; `None`: the full domain is stepped.
-    pub active_supports: Option<f64>,
+    /// The active domain's radius around the cylinder's bounding sphere, in cylinder
+    /// diameters (`active_radius * D` m, at least the kernel support `2 h`, see the
+    /// [module docs](self)); `None`: the full domain is stepped.
+    pub active_radius: Option<f64>,
 }
 
 impl Default for TowedParams {
@@ -72,7 +82,7 @@ impl Default for TowedParams {
             rho0: 1000.0,
             nu: 1e-4,
             mach_factor: 10.0,
-            active_supports: None,
+            active_radius: None,
         }
     }
 }
@@ -129,14 +139,19 @@ impl TowedParams {
                 ),
             ));
         }
-        if let Some(n) = self.active_supports
-            && !(n.is_finite() && n >= 1.0)
-        {
-            return Err(FsiError::invalid(
-                "active_supports",
-                n,
-                "must be finite and >= 1 (the fluid touching the markers must move)",
-            ));
+        if let Some(n) = self.active_radius {
+            let support = 2.0 * self.h_over_dp * self.spacing;
+            if !(n.is_finite() && n * self.diameter >= support) {
+                return Err(FsiError::invalid(
+                    "active_radius",
+                    n,
+                    format!(
+                        "must be finite and at least the kernel support 2 h = {support} m = {} D \
+                         (the fluid touching the markers must move)",
+                        support / self.diameter
+                    ),
+                ));
+            }
         }
         Ok(())
     }
@@ -253,8 +268,8 @@ pub fn towed(
         p.nu,
         [len, width, top],
     );
-    if let Some(n) = p.active_supports {
-        settings.active_domain = Some(ActiveDomain::from_supports(&settings, n));
+    if let Some(n) = p.active_radius {
+        settings.active_domain = Some(ActiveDomain::from_radius(&settings, n * d));
     }
     let mut system = System::new(sys_settings, solver)?;
     let shape = Shape::Cylinder {
@@ -319,7 +334,7 @@ mod tests {
                 spacing: 0.125 / 4.0,
                 length: 12.0,
                 start: 3.0,
-                active_supports: active,
+                active_radius: active,
                 ..TowedParams::default()
             };
             let mut s = towed(&p, Box::new(chrono_ccp::Psor::new(Default::default()))).unwrap();
@@ -346,10 +361,40 @@ mod tests {
             "a covering active domain changed the body's load"
         );
         assert_eq!(n_cover, n);
-        let (_, n_small, _, src, c) = run(Some(2.0));
+        // 1.5 D = 2 kernel supports at D / 4
+        let (_, n_small, _, src, c) = run(Some(1.5));
         assert!(n_small > 0 && 2 * n_small < n, "{n_small} of {n}");
         assert_eq!(src.len(), 1);
         assert!((src[0][0] - c.x).abs() < 1e-12 && (src[0][2] - c.z).abs() < 1e-12);
+    }
+
+    /// The radius is a length of the flow: `active_radius * D` m at every spacing, and the
+    /// kernel-support floor `2 h` follows the spacing (0.5 D is too short at D / 4, where
+    /// `2 h` = 0.75 D, and long enough at D / 10, where `2 h` = 0.3 D).
+    #[test]
+    fn active_radius_is_in_diameters_at_every_spacing() {
+        let radius_at = |spacing: f64, r: f64| {
+            let p = TowedParams {
+                spacing,
+                active_radius: Some(r),
+                ..TowedParams::default()
+            };
+            p.validate()?;
+            let s = towed(&p, Box::new(chrono_ccp::Psor::new(Default::default())))?;
+            let ad = s.fluid().sph().settings().active_domain.expect("active");
+            Ok::<f64, FsiError>(ad.radius)
+        };
+        let d = TowedParams::default().diameter;
+        for spacing in [d / 4.0, d / 5.0, d / 8.0] {
+            assert_eq!(
+                radius_at(spacing, 3.6).unwrap(),
+                3.6 * d,
+                "spacing {spacing}"
+            );
+        }
+        let e = radius_at(d / 4.0, 0.5).unwrap_err().to_string();
+        assert!(e.contains("active_radius") && e.contains("0.5"), "{e}");
+        assert_eq!(radius_at(d / 10.0, 0.5).unwrap(), 0.5 * d);
     }
 
     #[test]
@@ -361,12 +406,12 @@ mod tests {
         let e = towed(&p, Box::new(chrono_ccp::Psor::new(Default::default())));
         assert!(e.is_err_and(|e| e.to_string().contains("submergence")));
         let p = TowedParams {
-            active_supports: Some(0.5),
+            active_radius: Some(0.5),
             ..TowedParams::default()
         };
         assert!(
             p.validate()
-                .is_err_and(|e| e.to_string().contains("active_supports"))
+                .is_err_and(|e| e.to_string().contains("active_radius"))
         );
     }
 }

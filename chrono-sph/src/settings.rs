@@ -97,14 +97,16 @@ pub enum NoSlip {
 /// Choosing `radius`: at least the kernel support `2 h` (the fluid touching the markers
 /// must move), plus the distance a body travels between two updates (one fluid step,
 /// `|v| dt < 0.2 h` at the CFL limit: the step updates the set), plus the reach of the
-/// disturbance that matters to the quantity measured. A frozen region acts as a wall
-/// holding its state: it reflects what reaches it (sound waves at `c_s`, free-surface
-/// waves at up to `sqrt(g depth)`), so the error falls with `radius` and grows with the
-/// time those waves have to come back. Measured on a cylinder towed under a free surface
-/// (`xtask validate fsi-active-domain`, docs/validation-fsi.md, 0.5 s): the mean drag is
-/// off by 19 %, 6.6 %, 1.45 % and 0.04 % at 2, 4, 6 and 8 kernel supports, with 20 %,
-/// 36 %, 47 % and 55 % of the particle-steps; over 0.8 s the error at 6 supports is
-/// 4.8 % (more reflected waves come back).
+/// disturbance that matters to the quantity measured — a length of the flow, so give it in
+/// the body's size ([`from_radius`](Self::from_radius)), not in kernel supports, which
+/// shrink with the spacing. A frozen region acts as a wall holding its state: it reflects
+/// what reaches it. Under a free surface the disturbance that matters is the surface's
+/// long-wave response (speed `sqrt(g depth)`), so the radius must grow with the time the
+/// result is read: measured on a cylinder of diameter `D` towed at depth Froude number
+/// 0.19 (`xtask validate fsi-active-domain`, docs/validation-fsi.md, 2026-12-07), the mean
+/// drag stays within 2 % of the full run's for about `t <= 2 (r_b + radius - 2 D) /
+/// sqrt(g depth)` (`r_b` the body's bounding radius): `radius` 3.6 D is +4.4 % off at
+/// 0.5 s and +13 % at 0.8 s, 6 D +0.9 % at 0.8 s and +5.7 % at 1.2 s, 8 D +0.3 % at 1.2 s.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct ActiveDomain {
     /// Activation distance from the sources' bounding spheres, m (`>= 2 h`).
@@ -192,10 +194,16 @@ pub struct WallBelt {
 impl ActiveDomain {
     /// `radius = supports` kernel supports (`2 h` each) of `settings`, `margin` one support.
     pub fn from_supports(settings: &SphSettings, supports: f64) -> Self {
-        let support = 2.0 * settings.h();
+        Self::from_radius(settings, supports * 2.0 * settings.h())
+    }
+
+    /// `radius` (m, a length of the flow: the same reach at every resolution), `margin`
+    /// one kernel support `2 h` of `settings`. The radius is checked when the system is
+    /// built (at least `2 h`, else an error naming `settings.active_domain.radius`).
+    pub fn from_radius(settings: &SphSettings, radius: f64) -> Self {
         Self {
-            radius: supports * support,
-            margin: support,
+            radius,
+            margin: 2.0 * settings.h(),
         }
     }
 }

@@ -9,8 +9,9 @@
 //! `speed` after a C1 ramp of `ramp` seconds. Three runs of the same scene:
 //!
 //! 1. full domain at `spacing`;
-//! 2. active domain at `spacing`, radius `active_supports` kernel supports around the
-//!    cylinder's bounding sphere;
+//! 2. active domain at `spacing`, radius `active_radius` diameters around the cylinder's
+//!    bounding sphere (a length of the flow: the same reach in metres at every spacing;
+//!    at least the kernel support `2 h`, else an error naming `active_radius`);
 //! 3. full domain at `spacing * coarse_ratio`: the full run's own resolution error.
 //!
 //! The runs are interleaved coupling step by coupling step and each step is timed
@@ -30,11 +31,22 @@
 //! between two resolutions. The target, within 2 % of the full run, is reported
 //! beside it (`drag_error`). No check on wall time (load dependent: reported).
 //!
-//! Measured (docs/validation-fsi.md): at the default 6 kernel supports 47 % of the
-//! particle-steps and 55 % of the wall time, drag +1.45 % against a resolution error of
-//! 6.7 % (pass), rms force difference 2.7 %; 2 and 4 supports cost 19 % and 6.6 %. The
-//! error is the sound and free-surface waves the frozen region reflects, which cross
-//! this tank within the run: over 0.8 s it is 4.8 % at 6 supports.
+//! Reported beside them: `active_reach_m`, the active domain's reach from the cylinder's
+//! centre (bounding-sphere radius plus `active_radius * D`), and `long_wave_return_s`
+//! `= 2 reach / sqrt(g depth)`, the time a free-surface long wave takes from the body to
+//! the frozen boundary and back; `upstream_wall_return_s` `= 2 start D / sqrt(g depth)`,
+//! the same for the upstream wall from the start: before it the full run does not feel
+//! its tank's end, after it the reference itself is confined (at the default, 0.48 s).
+//!
+//! Measured (docs/validation-fsi.md): at the default 3.6 D (6 kernel supports at `D/5`)
+//! 47 % of the particle-steps and 54 % of the wall time, drag +1.45 % against a
+//! resolution error of 6.7 % (pass). The frozen boundary is a wall for the free
+//! surface's long-wave response (speed `sqrt(g depth)`), so the radius that holds the
+//! drag grows with the run: in a tank whose end walls do not reach the body within the
+//! run (`start` 6-8 D) 2 % needs more than 3.6 D at 0.5 s (+4.4 %), about 6 D at 0.8 s
+//! (+0.9 %) and 8 D at 1.2 s (+0.3 %; 6 D: +5.7 %), i.e. a reach `active_reach_m` of
+//! about `2 D + sqrt(g depth) t_end / 2`. (The default tank starts the cylinder 3 D from a
+//! wall, which moves the full run's own drag by 7 % at 0.5 s and 16 % at 0.8 s.)
 
 use std::time::Instant;
 
@@ -66,8 +78,10 @@ pub struct ActiveDomainParams {
     pub spacing: f64,
     /// Kinematic viscosity, m^2/s.
     pub nu: f64,
-    /// Active-domain radius, in kernel supports (`2 h`).
-    pub active_supports: f64,
+    /// Active-domain radius around the cylinder's bounding sphere, in diameters.
+    pub active_radius: f64,
+    /// Sound speed over the long-wave speed `sqrt(g depth)`.
+    pub mach_factor: f64,
     /// Spacing of the coarser full run over `spacing` (the resolution error).
     pub coarse_ratio: f64,
     /// Simulated time, s.
@@ -92,7 +106,9 @@ impl Default for ActiveDomainParams {
             start: 3.0,
             spacing: 0.025,
             nu: 1e-4,
-            active_supports: 6.0,
+            // 0.45 m: 6 kernel supports at the default spacing D / 5
+            active_radius: 3.6,
+            mach_factor: 10.0,
             coarse_ratio: 1.25,
             t_end: 0.5,
             coupling_step: 2e-3,
@@ -122,9 +138,14 @@ impl CaseParams for ActiveDomainParams {
         ParamInfo::new("spacing", "m", "particle spacing dp"),
         ParamInfo::new("nu", "m^2/s", "kinematic viscosity"),
         ParamInfo::new(
-            "active_supports",
+            "active_radius",
             "-",
-            "active-domain radius in kernel supports 2h",
+            "active-domain radius around the cylinder, in diameters (>= 2h)",
+        ),
+        ParamInfo::new(
+            "mach_factor",
+            "-",
+            "sound speed over the long-wave speed sqrt(g depth)",
         ),
         ParamInfo::new(
             "coarse_ratio",
@@ -174,6 +195,9 @@ struct Run {
     substeps: u64,
     /// Fluid particles.
     n_fluid: usize,
+    /// The active domain's reach from the cylinder's centre, m: the radius of its bounding
+    /// sphere plus the active radius (0 for a full run).
+    reach: f64,
     /// The fluid's phase times (neighbour search, density, forces, integration), s.
     phases: [f64; 4],
     wall: f64,
@@ -192,7 +216,8 @@ fn towed_params(p: &ActiveDomainParams, spacing: f64, active: bool) -> TowedPara
         spacing,
         rho0: p.rho_water,
         nu: p.nu,
-        active_supports: active.then_some(p.active_supports),
+        active_radius: active.then_some(p.active_radius),
+        mach_factor: p.mach_factor,
         ..TowedParams::default()
     }
 }
@@ -219,6 +244,7 @@ impl Runner {
                 fluid_steps: 0,
                 substeps: 0,
                 n_fluid,
+                reach: 0.0,
                 phases: [0.0; 4],
                 wall: 0.0,
             },
@@ -256,6 +282,9 @@ impl Runner {
             };
         }
         let sph = self.scene.fluid().sph();
+        if let (Some(ad), Some(s)) = (sph.settings().active_domain, sph.active_sources().first()) {
+            self.run.reach = s[3] + ad.radius;
+        }
         self.run.fluid_steps = sph.stats().fluid_steps;
         self.run.substeps = sph.steps();
         let t = sph.timings();
@@ -297,7 +326,8 @@ fn run(p: &ActiveDomainParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     for (name, v) in [
         ("t_end", p.t_end),
         ("coupling_step", p.coupling_step),
-        ("active_supports", p.active_supports),
+        ("active_radius", p.active_radius),
+        ("mach_factor", p.mach_factor),
     ] {
         anyhow::ensure!(
             v.is_finite() && v > 0.0,
@@ -371,6 +401,8 @@ fn run(p: &ActiveDomainParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         (s / full.fx.len().max(1) as f64).sqrt()
     };
     let mean_fx = full.fx.iter().sum::<f64>() / full.fx.len().max(1) as f64;
+    // the free surface's long-wave speed sqrt(g depth), m/s
+    let long_wave = (chrono_core::math::GRAVITY_MAGNITUDE * p.depth).sqrt();
     let mut out = CaseOutput::new();
     if let Some(coarse) = &coarse {
         // the tolerance: the full run's own resolution error (module docs)
@@ -393,6 +425,12 @@ fn run(p: &ActiveDomainParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         .metric("drag_force_full", -mean_fx)
         .metric("drag_coefficient_scale", q)
         .metric("stepped_fraction", stepped)
+        .metric("active_reach_m", act.reach)
+        .metric("long_wave_return_s", 2.0 * act.reach / long_wave)
+        .metric(
+            "upstream_wall_return_s",
+            2.0 * p.start * p.diameter / long_wave,
+        )
         .metric("wall_full_s", full.wall)
         .metric("wall_active_s", act.wall)
         .metric("wall_saving", 1.0 - act.wall / full.wall)
