@@ -4,11 +4,12 @@
 //! (e.g. under callgrind) and comparing solver options at the case's tolerance.
 //!
 //! Run: `cargo run --release -p chrono-ccp --example pour_stats -- [n] [steps] [radius] [h]
-//! [solver] [cap]` (`TOL=x` sets the tolerance, m/s; defaults: 2000 grains, 40 steps, r = 0.01 m, h = 1/240 s, `apgd`, 100;
-//! `solver` is `apgd`, `bb`, `psor`, `psor-par` (coloured sweeps), `psor-sym`, `2l:K` (APGD
-//! cycles of K iterations with a coarse correction, [`two_level`]) or `study` (APGD, and on
-//! the warm start of solve `STUDY_STEP` the error study of docs/performance.md, "is the
-//! pour's slow error a smooth (coarse) mode?")).
+//! [solver] [cap]` (defaults: 2000 grains, 40 steps, r = 0.01 m, h = 1/240 s, `apgd`, 100;
+//! `TOL=x` sets the solver's tolerance, m/s, 1e-5 by default; `solver` is `apgd`, `bb`,
+//! `psor`, `psor-par` (coloured sweeps), `psor-sym`, `2l:K` (APGD cycles of K iterations
+//! with a coarse correction, [`two_level`]) or `study` (APGD, and on the warm start of solve
+//! `STUDY_STEP` the error study of docs/performance.md, "is the pour's slow error a smooth
+//! (coarse) mode?")).
 
 #[path = "../common/hooked.rs"]
 mod hooked;
