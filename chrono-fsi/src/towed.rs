@@ -61,6 +61,11 @@ pub struct TowedParams {
     pub nu: f64,
     /// Sound speed over `sqrt(g depth)`.
     pub mach_factor: f64,
+    /// Artificial viscosity `alpha` of the fluid (Monaghan; `>= 0`). It adds a viscosity
+    /// `~ alpha c_s h / 10` m^2/s to `nu` (chrono-sph's `SphSettings::artificial_viscosity`),
+    /// 1.2e-3 m^2/s at the defaults against `nu` = 1e-4: the flow's effective Reynolds number
+    /// is then about 30, not `U D / nu` = 375, and it moves with the sound speed.
+    pub alpha: f64,
     /// The active domain's radius around the cylinder's bounding sphere, in cylinder
     /// diameters (`active_radius * D` m, at least the kernel support `2 h`, see the
     /// [module docs](self)); `None`: the full domain is stepped.
@@ -82,6 +87,7 @@ impl Default for TowedParams {
             rho0: 1000.0,
             nu: 1e-4,
             mach_factor: 10.0,
+            alpha: 0.02,
             active_radius: None,
         }
     }
@@ -104,6 +110,13 @@ impl TowedParams {
         pos("mach_factor", self.mach_factor)?;
         if !(self.nu.is_finite() && self.nu >= 0.0) {
             return Err(FsiError::invalid("nu", self.nu, "must be finite and >= 0"));
+        }
+        if !(self.alpha.is_finite() && self.alpha >= 0.0) {
+            return Err(FsiError::invalid(
+                "alpha",
+                self.alpha,
+                "must be finite and >= 0",
+            ));
         }
         let r = 0.5 * self.diameter;
         // a layer of water (two spacings) above and below the cylinder
@@ -268,6 +281,7 @@ pub fn towed(
         p.nu,
         [len, width, top],
     );
+    settings.artificial_viscosity = p.alpha;
     if let Some(n) = p.active_radius {
         settings.active_domain = Some(ActiveDomain::from_radius(&settings, n * d));
     }
@@ -413,5 +427,10 @@ mod tests {
             p.validate()
                 .is_err_and(|e| e.to_string().contains("active_radius"))
         );
+        let p = TowedParams {
+            alpha: -0.1,
+            ..TowedParams::default()
+        };
+        assert!(p.validate().is_err_and(|e| e.to_string().contains("alpha")));
     }
 }

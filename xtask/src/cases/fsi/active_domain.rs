@@ -82,6 +82,9 @@ pub struct ActiveDomainParams {
     pub active_radius: f64,
     /// Sound speed over the long-wave speed `sqrt(g depth)`.
     pub mach_factor: f64,
+    /// The fluid's artificial viscosity `alpha` (it sets the effective viscosity here,
+    /// see `chrono_fsi::towed::TowedParams::alpha`).
+    pub alpha: f64,
     /// Spacing of the coarser full run over `spacing` (the resolution error).
     pub coarse_ratio: f64,
     /// Simulated time, s.
@@ -109,6 +112,7 @@ impl Default for ActiveDomainParams {
             // 0.45 m: 6 kernel supports at the default spacing D / 5
             active_radius: 3.6,
             mach_factor: 10.0,
+            alpha: 0.02,
             coarse_ratio: 1.25,
             t_end: 0.5,
             coupling_step: 2e-3,
@@ -146,6 +150,11 @@ impl CaseParams for ActiveDomainParams {
             "mach_factor",
             "-",
             "sound speed over the long-wave speed sqrt(g depth)",
+        ),
+        ParamInfo::new(
+            "alpha",
+            "-",
+            "artificial viscosity (adds ~ alpha c_s h / 10 to nu)",
         ),
         ParamInfo::new(
             "coarse_ratio",
@@ -218,6 +227,7 @@ fn towed_params(p: &ActiveDomainParams, spacing: f64, active: bool) -> TowedPara
         nu: p.nu,
         active_radius: active.then_some(p.active_radius),
         mach_factor: p.mach_factor,
+        alpha: p.alpha,
         ..TowedParams::default()
     }
 }
