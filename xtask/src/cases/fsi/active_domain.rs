@@ -12,7 +12,7 @@
 //! 2. active domain at `spacing`, radius `active_radius` diameters around the cylinder's
 //!    bounding sphere (a length of the flow: the same reach in metres at every spacing;
 //!    at least the kernel support `2 h`, else an error naming `active_radius`); by
-//!    default ([`rule_radius`]) `2 + sqrt(g depth) t_end / (2 D)` diameters, the reach the
+//!    default (`rule_radius`) `2 + sqrt(g depth) t_end / (2 D)` diameters, the reach the
 //!    free surface's long waves need over the run;
 //! 3. full domain at `spacing * coarse_ratio`: the full run's own resolution error.
 //!
@@ -82,7 +82,7 @@ pub struct ActiveDomainParams {
     /// Kinematic viscosity, m^2/s.
     pub nu: f64,
     /// Active-domain radius around the cylinder's bounding sphere, in diameters; 0: by the
-    /// rule [`rule_radius`] (the reach the free surface's long waves need over `t_end`).
+    /// rule `rule_radius` (the reach the free surface's long waves need over `t_end`).
     pub active_radius: f64,
     /// Sound speed over the long-wave speed `sqrt(g depth)`.
     pub mach_factor: f64,
