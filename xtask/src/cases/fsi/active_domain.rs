@@ -466,6 +466,16 @@ fn run(p: &ActiveDomainParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     } else {
         out.metric("drag_coefficient_active", act.cd);
     }
+    let wall_return = 2.0 * p.start * p.diameter / long_wave;
+    if wall_return < p.t_end {
+        ctx.note(format!(
+            "the full run is confined from t = {wall_return:.2} s (its long waves come back \
+             from the upstream wall before t_end = {} s): start the cylinder at least \
+             sqrt(g depth) t_end / 2 = {:.2} D from the wall for an unconfined reference",
+            p.t_end,
+            long_wave * p.t_end / (2.0 * p.diameter)
+        ));
+    }
     out.metric("drag_coefficient_full", full.cd)
         .metric("drag_error", act.cd / full.cd - 1.0)
         .metric("force_rms_difference", rms / mean_fx.abs())
@@ -475,10 +485,7 @@ fn run(p: &ActiveDomainParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         .metric("active_radius_diameters", radius_in_diameters(p))
         .metric("active_reach_m", act.reach)
         .metric("long_wave_return_s", 2.0 * act.reach / long_wave)
-        .metric(
-            "upstream_wall_return_s",
-            2.0 * p.start * p.diameter / long_wave,
-        )
+        .metric("upstream_wall_return_s", wall_return)
         .metric("wall_full_s", full.wall)
         .metric("wall_active_s", act.wall)
         .metric("wall_saving", 1.0 - act.wall / full.wall)
