@@ -303,7 +303,7 @@ fn simulate(
         }
         ctx.progress_steps(step, n);
     }
-    let (om1, om2) = (sloshing_mode(1, a, hf, G), sloshing_mode(2, a, hf, G));
+    let [om1, om2] = modes;
     let (w1, ca, cb) = fit(&samples, omega, om1, om2)?;
     let scale = m_l * p.amplitude * omega;
     Ok(Outcome {

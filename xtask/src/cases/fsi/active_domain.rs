@@ -232,9 +232,13 @@ struct Run {
 /// 2`. Taken from the bounding sphere (radius ~0.9 D here) instead of the centre, the
 /// rule keeps about one diameter of margin: the drag within 1 % over 0.5 s in an
 /// unconfined tank, against 2.0 % at the bare rule (docs/validation-fsi.md).
-pub(crate) fn rule_radius(p: &ActiveDomainParams) -> f64 {
-    let long_wave = (chrono_core::math::GRAVITY_MAGNITUDE * p.depth).sqrt();
-    2.0 + long_wave * p.t_end / (2.0 * p.diameter)
+fn rule_radius(p: &ActiveDomainParams) -> f64 {
+    2.0 + long_wave_speed(p) * p.t_end / (2.0 * p.diameter)
+}
+
+/// The free surface's long-wave speed `sqrt(g depth)`, m/s.
+fn long_wave_speed(p: &ActiveDomainParams) -> f64 {
+    (chrono_core::math::GRAVITY_MAGNITUDE * p.depth).sqrt()
 }
 
 /// The radius the active run uses, in diameters: `active_radius`, or the rule when 0.
@@ -448,8 +452,7 @@ fn run(p: &ActiveDomainParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         (s / full.fx.len().max(1) as f64).sqrt()
     };
     let mean_fx = full.fx.iter().sum::<f64>() / full.fx.len().max(1) as f64;
-    // the free surface's long-wave speed sqrt(g depth), m/s
-    let long_wave = (chrono_core::math::GRAVITY_MAGNITUDE * p.depth).sqrt();
+    let long_wave = long_wave_speed(p);
     let mut out = CaseOutput::new();
     if let Some(coarse) = &coarse {
         // the tolerance: the full run's own resolution error (module docs)

@@ -352,7 +352,7 @@ fn simulate(
         }
     }
     frames.finish()?;
-    let (om1, om2) = (omega1(p), sloshing_mode(2, p.tank_length, p.fill_height, G));
+    let [om1, om2] = modes;
     let (w1, a, b) = fit(&samples, omega, om1, om2)?;
     let scale = m_l * p.amplitude * omega;
     let tol = 0.5 * dp;
