@@ -173,6 +173,8 @@ pub struct ConstraintFluid {
     wall_rho: Vec<f64>,
     wall_gamma: Vec<f64>,
     wall_row_ids: Vec<(u32, RowId)>,
+    /// Velocity relaxation rate after each solve, 1/s ([`ConstraintFluid::set_damping`]).
+    damping: f64,
 }
 
 /// Re-types an empty vector of row entries for another borrow: the allocation is kept
@@ -273,6 +275,7 @@ impl ConstraintFluid {
             wall_rho: vec![settings.rest_density; walls.len()],
             wall_gamma: vec![0.0; walls.len()],
             wall_row_ids: Vec::new(),
+            damping: 0.0,
             settings,
         })
     }
@@ -635,6 +638,12 @@ impl PhysicsItem for ConstraintFluid {
             self.vel_scratch = std::mem::replace(&mut self.vel, out);
         }
         let h = ctx.h;
+        if self.damping > 0.0 {
+            let f = (-self.damping * h).exp();
+            for v in &mut self.vel {
+                *v = v.map(|x| f * x);
+            }
+        }
         let s = &self.settings;
         for a in 0..3 {
             let (lo, hi) = (s.domain_lower[a], s.domain_upper[a]);

@@ -134,34 +134,23 @@ impl FsiBuilder {
         let mut shapes = Vec::new();
         let mut local = Vec::new();
         for c in b.colliders() {
-            let open = open_axes(s, b, &c.shape, &c.local_pose);
-            let kind = shape_kind(&c.shape);
-            let t = thickness(&c.shape, open).ok_or_else(|| FsiError::UnsupportedShape {
-                body: name.clone(),
-                shape: kind.to_string(),
-            })?;
-            if t < support {
-                return Err(FsiError::BodyThinnerThanSupport {
-                    body: name,
-                    shape: kind.to_string(),
-                    thickness: t,
-                    support,
-                });
-            }
-            if t < MIN_CELLS_ACROSS * dp {
-                return Err(FsiError::Unresolved {
-                    body: name,
-                    shape: kind.to_string(),
-                    thickness: t,
-                    spacing: dp,
-                    min_cells: MIN_CELLS_ACROSS,
-                });
-            }
-            let m = shape_markers(&name, &c.shape, dp, layers, open)?;
-            local.extend(m.points.iter().map(|p| {
-                let q = c.local_pose * Point3::new(p[0], p[1], p[2]);
-                [q.x, q.y, q.z]
-            }));
+            let open = open_axes(
+                s.periodic,
+                s.domain_lower,
+                s.domain_upper,
+                b,
+                &c.shape,
+                &c.local_pose,
+            );
+            local.extend(collider_markers(
+                &name,
+                &c.shape,
+                &c.local_pose,
+                open,
+                dp,
+                support,
+                layers,
+            )?);
             shapes.push(BodyShape {
                 shape: c.shape.clone(),
                 local_pose: c.local_pose,
@@ -261,9 +250,66 @@ impl FsiBuilder {
     }
 }
 
+/// The markers of one collider of body `name` (m, in the body frame): `shape`'s
+/// [`shape_markers`] at spacing `dp`, `layers` deep, placed by the collider's `local`
+/// pose, `open` axes left out. Errors name the body: a shape without markers, a shape
+/// thinner than the kernel `support` (m) or resolved by fewer than
+/// [`MIN_CELLS_ACROSS`] spacings. Shared by the SPH ([`FsiBuilder::add_body`]) and the
+/// constraint-fluid ([`crate::cfluid`]) couplings.
+pub fn collider_markers(
+    name: &str,
+    shape: &Shape,
+    local: &Isometry3<f64>,
+    open: [bool; 3],
+    dp: f64,
+    support: f64,
+    layers: usize,
+) -> Result<Vec<[f64; 3]>> {
+    let kind = shape_kind(shape);
+    let t = thickness(shape, open).ok_or_else(|| FsiError::UnsupportedShape {
+        body: name.to_string(),
+        shape: kind.to_string(),
+    })?;
+    if t < support {
+        return Err(FsiError::BodyThinnerThanSupport {
+            body: name.to_string(),
+            shape: kind.to_string(),
+            thickness: t,
+            support,
+        });
+    }
+    if t < MIN_CELLS_ACROSS * dp {
+        return Err(FsiError::Unresolved {
+            body: name.to_string(),
+            shape: kind.to_string(),
+            thickness: t,
+            spacing: dp,
+            min_cells: MIN_CELLS_ACROSS,
+        });
+    }
+    let m = shape_markers(name, shape, dp, layers, open)?;
+    Ok(m.points
+        .iter()
+        .map(|p| {
+            let q = local * Point3::new(p[0], p[1], p[2]);
+            [q.x, q.y, q.z]
+        })
+        .collect())
+}
+
 /// The local axes of a collider that span a periodic direction of the fluid domain: the
 /// axis is parallel to a periodic world axis and the shape is at least one period long.
-fn open_axes(s: &SphSettings, b: &RigidBody, shape: &Shape, local: &Isometry3<f64>) -> [bool; 3] {
+/// The local axes of a collider (`shape` at `local` in body `b`) along which it spans a
+/// periodic direction of the fluid domain `[lower, upper]` (`periodic` per axis): the
+/// faces or caps normal to them get no markers and cut no fluid.
+pub fn open_axes(
+    periodic: [bool; 3],
+    lower: [f64; 3],
+    upper: [f64; 3],
+    b: &RigidBody,
+    shape: &Shape,
+    local: &Isometry3<f64>,
+) -> [bool; 3] {
     let extent = |i: usize| match shape {
         Shape::Box { half_extents } => 2.0 * half_extents[i],
         Shape::Cylinder { half_length, .. } if i == 1 => 2.0 * half_length,
@@ -274,8 +320,8 @@ fn open_axes(s: &SphSettings, b: &RigidBody, shape: &Shape, local: &Isometry3<f6
     for (i, o) in open.iter_mut().enumerate() {
         let dir = rot * Vector3::ith(i, 1.0);
         for a in 0..3 {
-            let period = s.domain_upper[a] - s.domain_lower[a];
-            if s.periodic[a] && dir[a].abs() > 1.0 - 1e-9 && extent(i) >= period * (1.0 - 1e-9) {
+            let period = upper[a] - lower[a];
+            if periodic[a] && dir[a].abs() > 1.0 - 1e-9 && extent(i) >= period * (1.0 - 1e-9) {
                 *o = true;
             }
         }

@@ -37,8 +37,9 @@
 use chrono_core::descriptor::CcpSolver;
 use chrono_core::math::{GRAVITY_MAGNITUDE, Vector3};
 
+use crate::cfluid::{CfluidFloat, CfluidFloatingScene, floating_cfluid};
 use crate::error::{FsiError, Result, check_positive};
-use crate::scene::{FloatShape, FloatingParams, FloatingScene, floating};
+use crate::scene::{FloatShape, FloatingParams, FloatingScene, FloatingSystem, floating};
 
 /// Hulme's (1982) heave coefficients of a floating hemisphere in deep water,
 /// `(K a, mu, nu)`: `K a = omega^2 a / g`, `mu = A33 / ((2/3) pi rho a^3)`,
@@ -405,10 +406,12 @@ impl HeaveParams {
     }
 }
 
-/// The heave scene: [`FloatingScene`] with the sphere's hold and release.
-pub struct HeaveScene {
+/// The heave scene: a floating scene of either fluid model ([`FloatingSystem`]: WCSPH by
+/// default, [`sphere_heave_cfluid`] for the constraint fluid) with the sphere's hold and
+/// release.
+pub struct HeaveScene<S: FloatingSystem = FloatingScene> {
     /// The floating scene (system, body, fluid, tank).
-    pub scene: FloatingScene,
+    pub scene: S,
     /// Its parameters.
     pub params: FloatingParams,
     /// Height of the sphere's centre at its Archimedes position, m.
@@ -416,14 +419,15 @@ pub struct HeaveScene {
     start: Vector3<f64>,
 }
 
-impl HeaveScene {
+impl<S: FloatingSystem> HeaveScene<S> {
     /// One multibody step of `h` (s) with the sphere held at its start (position reset,
     /// velocities zero after the step) and the fluid's velocity relaxed at `damping`
     /// (1/s): the fluid settles around the displaced sphere.
     pub fn hold(&mut self, h: f64, damping: f64) -> Result<()> {
-        self.fluid_damping(damping)?;
-        self.scene.system.step(h)?;
-        let b = self.scene.system.body_mut(self.scene.body)?;
+        self.scene.set_fluid_damping(damping)?;
+        self.scene.step(h)?;
+        let body = self.scene.body();
+        let b = self.scene.system_mut().body_mut(body)?;
         let rot = b.rotation();
         b.set_pose(self.start, rot)?;
         b.set_linear_velocity(Vector3::zeros())?;
@@ -433,22 +437,29 @@ impl HeaveScene {
 
     /// One free multibody step of `h` (s), the fluid undamped.
     pub fn step(&mut self, h: f64) -> Result<()> {
-        self.fluid_damping(0.0)?;
-        self.scene.system.step(h)?;
+        self.scene.set_fluid_damping(0.0)?;
+        self.scene.step(h)?;
         Ok(())
     }
 
     /// The sphere's heave: its centre's height above the Archimedes position, m.
     pub fn heave(&self) -> Result<f64> {
-        Ok(self.scene.system.body(self.scene.body)?.position().z - self.z_equilibrium)
+        Ok(self.scene.system().body(self.scene.body())?.position().z - self.z_equilibrium)
+    }
+
+    /// The sphere's mass, kg.
+    pub fn mass(&self) -> Result<f64> {
+        Ok(self.scene.system().body(self.scene.body())?.mass())
     }
 
     /// The fluid's vertical force on the sphere over the last multibody step, N.
     pub fn fluid_force_z(&self) -> f64 {
-        self.scene
-            .fluid()
-            .body_load(self.scene.body)
-            .map_or(f64::NAN, |[f, _]| f.z)
+        self.scene.fluid_force_z()
+    }
+
+    /// The fluid's steps so far ([`FloatingSystem::fluid_steps`]).
+    pub fn fluid_steps(&self) -> u64 {
+        self.scene.fluid_steps()
     }
 
     /// The buoyancy stiffness `C = rho g pi a^2` of linear theory (N/m): the waterplane
@@ -464,19 +475,9 @@ impl HeaveScene {
     /// deep-water group velocity `g / (2 omega)`, counted from surface to surface:
     /// `2 (L - 2 a) omega / g`.
     pub fn return_time(&self, omega: f64) -> f64 {
-        let gap = self.scene.tank[0].min(self.scene.tank[1]) - self.params.body_size;
+        let tank = self.scene.tank();
+        let gap = tank[0].min(tank[1]) - self.params.body_size;
         2.0 * gap * omega / GRAVITY_MAGNITUDE
-    }
-
-    fn fluid_damping(&mut self, rate: f64) -> Result<()> {
-        let fluid = self.scene.fluid;
-        self.scene
-            .system
-            .item_mut::<crate::SphFluid>(fluid)
-            .expect("the scene's fluid")
-            .sph_mut()
-            .set_damping(rate)?;
-        Ok(())
     }
 }
 
@@ -486,14 +487,36 @@ pub fn sphere_heave(p: &HeaveParams, solver: Box<dyn CcpSolver>) -> Result<Heave
     p.validate()?;
     let params = p.floating();
     let scene = floating(&params, solver)?;
-    let start = scene.system.body(scene.body)?.position();
+    Ok(heave_scene(scene, params))
+}
+
+/// The heave scene of `p` in a constraint fluid set by `c` (the SPH-only fields of `p`
+/// are not used), solved by `solver` (one CCP per step for the fluid and the sphere;
+/// [`crate::cfluid`]).
+pub fn sphere_heave_cfluid(
+    p: &HeaveParams,
+    c: &CfluidFloat,
+    solver: Box<dyn CcpSolver>,
+) -> Result<HeaveScene<CfluidFloatingScene>> {
+    p.validate()?;
+    let params = p.floating();
+    let scene = floating_cfluid(&params, c, solver)?;
+    Ok(heave_scene(scene, params))
+}
+
+fn heave_scene<S: FloatingSystem>(scene: S, params: FloatingParams) -> HeaveScene<S> {
+    let start = scene
+        .system()
+        .body(scene.body())
+        .expect("the scene's body")
+        .position();
     let z_equilibrium = start.z - params.offset;
-    Ok(HeaveScene {
+    HeaveScene {
         scene,
         params,
         z_equilibrium,
         start,
-    })
+    }
 }
 
 #[cfg(test)]

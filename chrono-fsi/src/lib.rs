@@ -30,8 +30,12 @@
 //!   fluid's impulse on each body into the multibody step (the coupling and its stability
 //!   limit: [`fluid`]).
 //!
-//! Not yet: shell and tetrahedral mesh markers, constraint fluids (chrono-cfluid),
-//! ellipsoid, convex-hull and triangle-mesh markers.
+//! - [`cfluid`]: the same markers on rigid bodies in a constraint fluid (chrono-cfluid):
+//!   the body's markers in the fluid's density rows, one CCP for fluid and bodies
+//!   ([`cfluid::attach_body`]), and the floating scene by it ([`cfluid::floating_cfluid`]).
+//!
+//! Not yet: shell and tetrahedral mesh markers, cable markers in a constraint fluid,
+//! convex-hull and triangle-mesh markers.
 //!
 //! ```
 //! use chrono_ccp::Psor;
@@ -75,6 +79,9 @@ pub mod builder;
 pub mod cable;
 #[cfg(test)]
 mod cable_tests;
+pub mod cfluid;
+#[cfg(test)]
+mod cfluid_tests;
 pub mod channel;
 #[cfg(test)]
 mod channel_tests;

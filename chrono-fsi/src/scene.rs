@@ -222,26 +222,93 @@ impl FloatingScene {
             .filter(|&i| d.kind[i] == chrono_sph::data::FLUID)
             .map(|i| d.mass[i] / d.rho[i])
             .sum();
-        let area = self.tank[0] * self.tank[1];
-        let bottom = c.z - 0.5 * p.body_size;
-        let sub = |level: f64| {
-            let dd = (level - bottom).clamp(0.0, p.body_size);
-            submerged_area_or_volume(p.shape, p.body_size, dd)
-                * match p.shape {
-                    FloatShape::Sphere => 1.0,
-                    _ => self.tank[1],
-                }
-        };
-        let (mut lo, mut hi) = (0.0, 2.0 * (vol / area) + 2.0 * p.body_size + c.z.abs());
-        for _ in 0..200 {
-            let mid = 0.5 * (lo + hi);
-            if area * mid - sub(mid) < vol {
-                lo = mid;
-            } else {
-                hi = mid;
+        volume_draft(p.shape, p.body_size, self.tank, vol, c.z)
+    }
+}
+
+/// The draft (m) of a body of `shape` and `size` (m) centred at height `centre` (m; its
+/// lowest point `bottom = centre - size / 2`) in a tank of plan `tank = [length, width]` (m) holding the fluid volume `vol`
+/// (m^3): the level `L` with `A L - V_sub(L) = vol` (`A` the plan area, `V_sub` the
+/// body's volume below `L`: the section times the slab width for the slab shapes), by
+/// bisection, minus `bottom`.
+pub fn volume_draft(shape: FloatShape, size: f64, tank: [f64; 2], vol: f64, centre: f64) -> f64 {
+    let bottom = centre - 0.5 * size;
+    let area = tank[0] * tank[1];
+    let sub = |level: f64| {
+        let dd = (level - bottom).clamp(0.0, size);
+        submerged_area_or_volume(shape, size, dd)
+            * match shape {
+                FloatShape::Sphere => 1.0,
+                _ => tank[1],
             }
+    };
+    let (mut lo, mut hi) = (0.0, 2.0 * (vol / area) + 2.0 * size + centre.abs());
+    for _ in 0..200 {
+        let mid = 0.5 * (lo + hi);
+        if area * mid - sub(mid) < vol {
+            lo = mid;
+        } else {
+            hi = mid;
         }
-        0.5 * (lo + hi) - bottom
+    }
+    0.5 * (lo + hi) - bottom
+}
+
+/// A floating scene by either fluid model (WCSPH: [`FloatingScene`]; constraint fluid:
+/// [`crate::cfluid::CfluidFloatingScene`]): what the heave scene
+/// ([`crate::heave::HeaveScene`]) needs of it.
+pub trait FloatingSystem {
+    /// The multibody system.
+    fn system(&self) -> &System;
+    /// The multibody system, mutable.
+    fn system_mut(&mut self) -> &mut System;
+    /// The floating body.
+    fn body(&self) -> BodyHandle;
+    /// Tank inner extent (x, y), m.
+    fn tank(&self) -> [f64; 2];
+    /// Relax the fluid's velocities at `rate` (1/s; 0: off).
+    fn set_fluid_damping(&mut self, rate: f64) -> Result<()>;
+    /// One multibody step of `h` (s).
+    fn step(&mut self, h: f64) -> Result<()>;
+    /// The fluid's vertical force on the body over the last step, N.
+    fn fluid_force_z(&self) -> f64;
+    /// The fluid's steps so far (SPH: its sub-steps; constraint fluid: the system's).
+    fn fluid_steps(&self) -> u64;
+}
+
+impl FloatingSystem for FloatingScene {
+    fn system(&self) -> &System {
+        &self.system
+    }
+    fn system_mut(&mut self) -> &mut System {
+        &mut self.system
+    }
+    fn body(&self) -> BodyHandle {
+        self.body
+    }
+    fn tank(&self) -> [f64; 2] {
+        self.tank
+    }
+    fn set_fluid_damping(&mut self, rate: f64) -> Result<()> {
+        let fluid = self.fluid;
+        self.system
+            .item_mut::<SphFluid>(fluid)
+            .expect("the scene's fluid")
+            .sph_mut()
+            .set_damping(rate)?;
+        Ok(())
+    }
+    fn step(&mut self, h: f64) -> Result<()> {
+        self.system.step(h)?;
+        Ok(())
+    }
+    fn fluid_force_z(&self) -> f64 {
+        self.fluid()
+            .body_load(self.body)
+            .map_or(f64::NAN, |[f, _]| f.z)
+    }
+    fn fluid_steps(&self) -> u64 {
+        self.fluid().substeps()
     }
 }
 

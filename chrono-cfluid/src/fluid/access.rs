@@ -21,6 +21,29 @@ impl ConstraintFluid {
         &self.settings
     }
 
+    /// Sets a velocity relaxation rate `k` (1/s; 0, the default, turns it off): after
+    /// each solve (and the XSPH smoothing) every fluid velocity is scaled by `exp(-k h)`
+    /// before `x += h v`, a drag towards rest that leaves a static equilibrium unchanged
+    /// (the same relaxation as chrono-sph's `SphSettings::damping`). For settling a scene
+    /// to its static state (a floating body's draft), not for a dynamic run. Error: a
+    /// negative or non-finite rate, naming `damping`.
+    pub fn set_damping(&mut self, rate: f64) -> Result<()> {
+        if !(rate.is_finite() && rate >= 0.0) {
+            return Err(ChronoError::invalid(
+                "damping",
+                rate,
+                "must be finite and >= 0 (1/s)",
+            ));
+        }
+        self.damping = rate;
+        Ok(())
+    }
+
+    /// The velocity relaxation rate ([`set_damping`](Self::set_damping)), 1/s.
+    pub fn damping(&self) -> f64 {
+        self.damping
+    }
+
     /// Set the XSPH epsilon of the following steps (e.g. a settling phase that smooths
     /// more than the run, see [`CfluidSettings::xsph`]); the error names `cfluid.xsph`
     /// when `eps` is outside `[0, 1]`. It replaces [`CfluidSettings::xsph_viscosity`]

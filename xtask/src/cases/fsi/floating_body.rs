@@ -33,12 +33,20 @@
 //! (docs/validation-fsi.md). `draft_pressure` (reported) reads the level from the far
 //! fluid's pressure instead (`FloatingScene::draft_pressure`).
 //!
+//! `fluid = cfluid` runs the same scenes in a constraint fluid
+//! ([`chrono_fsi::cfluid::floating_cfluid`]: the body's markers in the fluid's density
+//! rows, one CCP per `coupling_step` for fluid and body, APGD at `tolerance` and
+//! `max_iterations`, `damping` the same velocity relaxation), the draft read from the
+//! fluid's particle count and checked the same way (docs/validation-fsi.md, "Constraint
+//! fluids").
+//!
 //! The sphere's heave period against Hulme (1982) is the case `fsi-sphere-heave`
-//! (`sphere_heave.rs`). Not yet: `fluid = cfluid` (an error).
+//! (`sphere_heave.rs`).
 
 use std::time::Instant;
 
 use chrono_core::descriptor::SolverSettings;
+use chrono_fsi::cfluid::{CfluidFloat, floating_cfluid};
 use chrono_fsi::scene::{FloatShape, FloatingParams, floating};
 use serde::{Deserialize, Serialize};
 
@@ -62,7 +70,8 @@ pub struct FloatingBodyParams {
     pub body_size: f64,
     /// Water depth, m.
     pub depth: f64,
-    /// Fluid model: `sph` (`cfluid`: not yet).
+    /// Fluid model: `sph` (WCSPH, sub-stepped) or `cfluid` (constraint fluid, one CCP
+    /// per step with the body).
     pub fluid: String,
     /// Particle spacing, m.
     pub spacing: f64,
@@ -82,6 +91,10 @@ pub struct FloatingBodyParams {
     pub window: f64,
     /// Water density, kg/m^3.
     pub rho_water: f64,
+    /// `fluid = cfluid`: the CCP solver's tolerance (chrono-ccp residual, m/s).
+    pub tolerance: f64,
+    /// `fluid = cfluid`: the CCP solver's iteration cap per step.
+    pub max_iterations: usize,
 }
 
 impl Default for FloatingBodyParams {
@@ -101,6 +114,8 @@ impl Default for FloatingBodyParams {
             coupling_step: 1e-3,
             window: 0.25,
             rho_water: 1000.0,
+            tolerance: 1e-4,
+            max_iterations: 300,
         }
     }
 }
@@ -111,7 +126,11 @@ impl CaseParams for FloatingBodyParams {
         ParamInfo::new("body_density", "kg/m^3", "body density"),
         ParamInfo::new("body_size", "m", "box height, cylinder and sphere diameter"),
         ParamInfo::new("depth", "m", "water depth"),
-        ParamInfo::new("fluid", "-", "sph (cfluid: not yet)"),
+        ParamInfo::new(
+            "fluid",
+            "-",
+            "sph (WCSPH + BCE markers) | cfluid (constraint fluid, body markers in its density rows)",
+        ),
         ParamInfo::new("spacing", "m", "particle spacing dp"),
         ParamInfo::new("length", "-", "tank length in body widths (box, cylinder)"),
         ParamInfo::new("width", "-", "sphere: period along y in diameters"),
@@ -129,6 +148,16 @@ impl CaseParams for FloatingBodyParams {
             "fraction of the run the draft is averaged over",
         ),
         ParamInfo::new("rho_water", "kg/m^3", "water density"),
+        ParamInfo::new(
+            "tolerance",
+            "m/s",
+            "fluid = cfluid: CCP solver tolerance (APGD residual)",
+        ),
+        ParamInfo::new(
+            "max_iterations",
+            "-",
+            "fluid = cfluid: CCP solver iteration cap per step",
+        ),
     ];
     fn apply_mode(&mut self, mode: Mode) {
         match mode {
@@ -159,12 +188,8 @@ struct Outcome {
     wall: f64,
 }
 
-fn simulate(
-    p: &FloatingBodyParams,
-    shape: FloatShape,
-    series: &mut Series,
-    ctx: &RunContext,
-) -> anyhow::Result<Outcome> {
+/// The scene's parameters for `shape` (the run's parameters checked first).
+fn floating_params(p: &FloatingBodyParams, shape: FloatShape) -> anyhow::Result<FloatingParams> {
     anyhow::ensure!(
         p.coupling_step.is_finite() && p.coupling_step > 0.0,
         "parameter `coupling_step` must be > 0, got {}",
@@ -187,7 +212,7 @@ fn simulate(
         FloatShape::Cylinder => p.length,
         FloatShape::Sphere => p.width,
     };
-    let fp = FloatingParams {
+    Ok(FloatingParams {
         shape,
         body_density: p.body_density,
         body_size: p.body_size,
@@ -198,7 +223,16 @@ fn simulate(
         rho0: p.rho_water,
         offset: p.offset,
         ..FloatingParams::default()
-    };
+    })
+}
+
+fn simulate(
+    p: &FloatingBodyParams,
+    shape: FloatShape,
+    series: &mut Series,
+    ctx: &RunContext,
+) -> anyhow::Result<Outcome> {
+    let fp = floating_params(p, shape)?;
     let solver = chrono_ccp::Psor::new(SolverSettings::default());
     let mut scene = floating(&fp, Box::new(solver))?;
     let fluid = scene.fluid;
@@ -244,14 +278,59 @@ fn simulate(
     })
 }
 
-fn run(p: &FloatingBodyParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
-    match p.fluid.as_str() {
-        "sph" => {}
-        "cfluid" => anyhow::bail!(
-            "parameter `fluid` = cfluid: not yet (constraint-fluid body markers for cylinders and spheres are a later step of issue 24; the box is `cfluid-floating-box`)"
-        ),
-        other => anyhow::bail!("parameter `fluid` must be sph | cfluid, got `{other}`"),
+/// The same scene in a constraint fluid (`chrono_fsi::cfluid::floating_cfluid`): one CCP
+/// per step `coupling_step` for the fluid and the body, APGD at `tolerance` and
+/// `max_iterations`; `damping` relaxes the fluid's velocities as in the SPH run.
+fn simulate_cfluid(
+    p: &FloatingBodyParams,
+    shape: FloatShape,
+    series: &mut Series,
+    ctx: &RunContext,
+) -> anyhow::Result<Outcome> {
+    let fp = floating_params(p, shape)?;
+    let solver = crate::cases::cfluid::solver_by_name("apgd", p.tolerance, p.max_iterations)?;
+    let mut scene = floating_cfluid(&fp, &CfluidFloat::default(), solver)?;
+    scene.fluid_mut().set_damping(p.damping)?;
+    let x0 = scene.system.body(scene.body)?.position();
+    let start = Instant::now();
+    let n = (p.t_end / p.coupling_step).round().max(1.0) as u64;
+    let from = ((1.0 - p.window) * n as f64) as u64;
+    let (mut sum, mut vz2, mut cnt) = (0.0, 0.0, 0usize);
+    for i in 1..=n {
+        scene.system.step(p.coupling_step)?;
+        let t = scene.system.time();
+        let draft = scene.draft(&fp);
+        let vz = scene.system.body(scene.body)?.linear_velocity().z;
+        if i > from {
+            sum += draft;
+            vz2 += vz * vz;
+            cnt += 1;
+        }
+        if i % 10 == 0 {
+            series.push(&[t, draft, scene.draft_archimedes, vz]);
+        }
+        ctx.progress_steps(i, n);
     }
+    let x1 = scene.system.body(scene.body)?.position();
+    let drift = ((x1.x - x0.x).powi(2) + (x1.y - x0.y).powi(2)).sqrt();
+    Ok(Outcome {
+        draft: sum / cnt as f64,
+        draft_pressure: f64::NAN,
+        draft_archimedes: scene.draft_archimedes,
+        drift,
+        jitter: (vz2 / cnt as f64).sqrt(),
+        substeps: 1.0,
+        steps: n,
+        wall: start.elapsed().as_secs_f64(),
+    })
+}
+
+fn run(p: &FloatingBodyParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
+    let cfluid = match p.fluid.as_str() {
+        "sph" => false,
+        "cfluid" => true,
+        other => anyhow::bail!("parameter `fluid` must be sph | cfluid, got `{other}`"),
+    };
     let shapes: Vec<(FloatShape, &str)> = match p.shape.as_str() {
         "all" => vec![
             (FloatShape::Box, "box"),
@@ -265,7 +344,11 @@ fn run(p: &FloatingBodyParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     let mut series = Series::new(["t", "draft", "draft_archimedes", "vz"]);
     let mut steps = 0;
     for (shape, name) in shapes {
-        let o = simulate(p, shape, &mut series, ctx)?;
+        let o = if cfluid {
+            simulate_cfluid(p, shape, &mut series, ctx)?
+        } else {
+            simulate(p, shape, &mut series, ctx)?
+        };
         steps += o.steps;
         let sfx = |m: &str| {
             if single {
@@ -300,7 +383,11 @@ fn run(p: &FloatingBodyParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     }
     out.series = series;
     out.plot = PlotSpec::new(
-        "floating bodies (WCSPH + BCE markers): draft against Archimedes",
+        if cfluid {
+            "floating bodies (constraint fluid, body markers in its rows): draft against Archimedes"
+        } else {
+            "floating bodies (WCSPH + BCE markers): draft against Archimedes"
+        },
         "t [s]",
         "m",
         &["draft"],

@@ -25,12 +25,23 @@
 //!
 //! Defaults: 5 spacings per diameter, reported (+8 %); `--quick` 4, reported;
 //! `--full` the checked 10 (+3.0 %) with 8 and 6.4 reported.
+//!
+//! `fluid = cfluid` runs the same scene in a constraint fluid
+//! ([`chrono_fsi::heave::sphere_heave_cfluid`]: the sphere's markers in the fluid's
+//! density rows, one CCP per `coupling_step` for fluid and sphere, APGD at `tolerance`
+//! and `max_iterations`; `xsph` is the constraint fluid's XSPH epsilon), checked the same
+//! way (docs/validation-fsi.md, "Constraint fluids").
 
 use std::time::Instant;
 
 use chrono_core::descriptor::SolverSettings;
 use chrono_core::math::GRAVITY_MAGNITUDE;
-use chrono_fsi::heave::{HeaveParams, fit_damped_oscillation, hemisphere_heave, sphere_heave};
+use chrono_fsi::cfluid::CfluidFloat;
+use chrono_fsi::heave::{
+    HeaveParams, HeaveScene, fit_damped_oscillation, hemisphere_heave, sphere_heave,
+    sphere_heave_cfluid,
+};
+use chrono_fsi::scene::FloatingSystem;
 use serde::{Deserialize, Serialize};
 
 use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series};
@@ -54,7 +65,8 @@ pub struct SphereHeaveParams {
     pub depth: f64,
     /// Release offset above the Archimedes position, in radii (negative: below).
     pub offset: f64,
-    /// Fluid model: `sph` (`cfluid`: not yet).
+    /// Fluid model: `sph` (WCSPH, sub-stepped) or `cfluid` (constraint fluid, one CCP per
+    /// step with the sphere).
     pub fluid: String,
     /// Particle spacing, m.
     pub spacing: f64,
@@ -78,6 +90,10 @@ pub struct SphereHeaveParams {
     pub xsph: f64,
     /// Number of extra runs at spacings `spacing * 1.25^k` (reported).
     pub sweep: u32,
+    /// `fluid = cfluid`: the CCP solver's tolerance (APGD residual, m/s).
+    pub tolerance: f64,
+    /// `fluid = cfluid`: the CCP solver's iteration cap per step.
+    pub max_iterations: usize,
 }
 
 impl Default for SphereHeaveParams {
@@ -100,6 +116,8 @@ impl Default for SphereHeaveParams {
             artificial_viscosity: 0.0,
             xsph: 0.0,
             sweep: 0,
+            tolerance: 1e-4,
+            max_iterations: 300,
         }
     }
 }
@@ -119,7 +137,11 @@ impl CaseParams for SphereHeaveParams {
             "-",
             "release offset above the Archimedes position, in radii",
         ),
-        ParamInfo::new("fluid", "-", "sph (cfluid: not yet)"),
+        ParamInfo::new(
+            "fluid",
+            "-",
+            "sph (WCSPH + BCE markers) | cfluid (constraint fluid, markers in its rows)",
+        ),
         ParamInfo::new("spacing", "m", "particle spacing dp"),
         ParamInfo::new("hold", "s", "time held while the fluid settles"),
         ParamInfo::new(
@@ -139,6 +161,16 @@ impl CaseParams for SphereHeaveParams {
         ),
         ParamInfo::new("xsph", "-", "XSPH coefficient of the fluid"),
         ParamInfo::new("sweep", "-", "extra runs at spacing * 1.25^k (reported)"),
+        ParamInfo::new(
+            "tolerance",
+            "m/s",
+            "fluid = cfluid: CCP solver tolerance (APGD residual)",
+        ),
+        ParamInfo::new(
+            "max_iterations",
+            "-",
+            "fluid = cfluid: CCP solver iteration cap per step",
+        ),
     ];
     fn apply_mode(&mut self, mode: Mode) {
         match mode {
@@ -184,8 +216,30 @@ fn run_once(p: &SphereHeaveParams, spacing: f64, ctx: &RunContext) -> anyhow::Re
         artificial_viscosity: p.artificial_viscosity,
         xsph: p.xsph,
     };
-    let solver = chrono_ccp::Psor::new(SolverSettings::default());
-    let mut scene = sphere_heave(&hp, Box::new(solver))?;
+    if p.fluid == "cfluid" {
+        let solver = crate::cases::cfluid::solver_by_name("apgd", p.tolerance, p.max_iterations)?;
+        let scene = sphere_heave_cfluid(
+            &hp,
+            &CfluidFloat {
+                xsph: p.xsph,
+                ..CfluidFloat::default()
+            },
+            solver,
+        )?;
+        record(p, spacing, scene, ctx)
+    } else {
+        let solver = chrono_ccp::Psor::new(SolverSettings::default());
+        record(p, spacing, sphere_heave(&hp, Box::new(solver))?, ctx)
+    }
+}
+
+/// Holds the sphere, releases it and fits its heave record.
+fn record<S: FloatingSystem>(
+    p: &SphereHeaveParams,
+    spacing: f64,
+    mut scene: HeaveScene<S>,
+    ctx: &RunContext,
+) -> anyhow::Result<RunResult> {
     // the time scale of the record: Hulme's period at half density, else the
     // undamped hydrostatic estimate (no added mass) for the window length only
     let period_scale = match hemisphere_heave(p.sphere_radius, GRAVITY_MAGNITUDE) {
@@ -207,7 +261,7 @@ fn run_once(p: &SphereHeaveParams, spacing: f64, ctx: &RunContext) -> anyhow::Re
         ctx.progress_steps(i, n_hold + n);
     }
     let (mut t, mut z) = (vec![0.0], vec![scene.heave()?]);
-    let weight = scene.scene.system.body(scene.scene.body)?.mass() * GRAVITY_MAGNITUDE;
+    let weight = scene.mass()? * GRAVITY_MAGNITUDE;
     let net_force = if nf > 0 {
         weight - fz / nf as f64
     } else {
@@ -259,7 +313,7 @@ fn run_once(p: &SphereHeaveParams, spacing: f64, ctx: &RunContext) -> anyhow::Re
         residual: fit.residual,
         return_time: scene.return_time(omega),
         window: t[t.len() - 1],
-        substeps: scene.scene.fluid().substeps(),
+        substeps: scene.fluid_steps(),
         wall,
         series,
     })
@@ -267,10 +321,7 @@ fn run_once(p: &SphereHeaveParams, spacing: f64, ctx: &RunContext) -> anyhow::Re
 
 fn run(p: &SphereHeaveParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     match p.fluid.as_str() {
-        "sph" => {}
-        "cfluid" => anyhow::bail!(
-            "parameter `fluid` = cfluid: not yet (constraint-fluid body markers for spheres wait for issue 29)"
-        ),
+        "sph" | "cfluid" => {}
         other => anyhow::bail!("parameter `fluid` must be sph | cfluid, got `{other}`"),
     }
     ensure_positive("coupling_step", p.coupling_step)?;
