@@ -6,7 +6,7 @@
 //! box: 4.4 % solid fraction). Prints `v / v0` after each of the first steps.
 //!
 //! ```text
-//! cargo run --release -p chrono-fsi --example cfluid_added_mass -- [dp] [xsph] [contact_radius] [surface] [tolerance] [steps] [max_iterations]
+//! cargo run --release -p chrono-fsi --example cfluid_added_mass -- [dp] [xsph] [contact_radius] [surface] [tolerance] [steps] [max_iterations] [surface_deficit]
 //! ```
 //! (`surface`: `one_sided`, the fluid's default, or `clamped`, every row bilateral.)
 
@@ -35,6 +35,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         contact_radius_over_dp: contact,
         body_contacts: contact > 0.0,
         surface,
+        surface_deficit: arg(8, "0").parse()?,
         domain_lower: [0.0; 3],
         domain_upper: [side; 3],
         periodic: [true; 3],
@@ -73,6 +74,32 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .collect();
     let mut item = ConstraintFluid::new("water", settings, &fluid, &[])?;
     chrono_fsi::cfluid::attach_body(&mut item, &sys, b)?;
+    // the deficit `1 - rho / rho_0` of the fluid next to the body at the start, by
+    // distance from its surface
+    let rho = item.compute_densities()?.to_vec();
+    let mut bands = [(0.0f64, 0usize, 0.0f64); 3];
+    for (i, q) in fluid.iter().enumerate() {
+        let d = signed_distance(&shape, [q[0] - c, q[1] - c, q[2] - c], [false; 3]) / dp;
+        if d < 1.5 {
+            let k = ((d - 0.5).max(0.0) / 0.5) as usize;
+            let def = 1.0 - rho[i] / 1000.0;
+            let band = &mut bands[k.min(2)];
+            band.0 += def;
+            band.1 += 1;
+            band.2 = band.2.max(def);
+        }
+    }
+    for (k, (sum, n, max)) in bands.iter().enumerate() {
+        if *n > 0 {
+            println!(
+                "start: {n} particles {:.1}-{:.1} dp from the surface, deficit mean {:.3}, max {:.3}",
+                0.5 + 0.5 * k as f64,
+                1.0 + 0.5 * k as f64,
+                sum / *n as f64,
+                max
+            );
+        }
+    }
     sys.add_item(Box::new(item));
     let m = sys.body(b)?.mass();
     let added = 0.5 * 1000.0 * 4.0 / 3.0 * std::f64::consts::PI * r.powi(3);

@@ -138,6 +138,12 @@ pub struct CfluidFloat {
     pub xsph: f64,
     /// Radius of the particles' contact spheres over the spacing (default 0.5).
     pub contact_radius: f64,
+    /// `CfluidSettings::surface_deficit` (default 0: every density deficit is a free
+    /// surface). The fluid next to a curved body starts with deficits of 10-25 % (the
+    /// markers of a convex surface fill less of the kernel support than a wall's, and
+    /// the first layer stands a contact radius off), and with unilateral rows it gives
+    /// the body no suction (docs/validation-fsi.md, "Constraint fluids").
+    pub surface_deficit: f64,
 }
 
 impl Default for CfluidFloat {
@@ -147,6 +153,7 @@ impl Default for CfluidFloat {
             h_over_dp: d.h_over_dp,
             xsph: d.xsph,
             contact_radius: d.contact_radius_over_dp,
+            surface_deficit: d.surface_deficit,
         }
     }
 }
@@ -262,6 +269,7 @@ pub fn floating_cfluid(
         h_over_dp: c.h_over_dp,
         xsph: c.xsph,
         contact_radius_over_dp: c.contact_radius,
+        surface_deficit: c.surface_deficit,
         domain_lower: [-t, 0.0, -t],
         domain_upper: [len + t, width, top + t],
         periodic: [false, true, false],

@@ -69,6 +69,9 @@ impl PushRow<'_> {
         let c = rho / s.rest_density - phi;
         let surface = if marker || phi < 1.0 {
             SurfaceMode::Unilateral
+        } else if s.surface == SurfaceMode::OneSided && c < 0.0 && -c <= s.surface_deficit {
+            // a small deficit inside the liquid: hold the rate, do not pull it back
+            SurfaceMode::Clamped
         } else {
             s.surface
         };

@@ -95,6 +95,9 @@ pub struct FloatingBodyParams {
     pub tolerance: f64,
     /// `fluid = cfluid`: the CCP solver's iteration cap per step.
     pub max_iterations: usize,
+    /// `fluid = cfluid`: the largest density deficit with a bilateral row
+    /// (`CfluidSettings::surface_deficit`; 0: every deficit a free surface).
+    pub surface_deficit: f64,
 }
 
 impl Default for FloatingBodyParams {
@@ -116,6 +119,7 @@ impl Default for FloatingBodyParams {
             rho_water: 1000.0,
             tolerance: 1e-4,
             max_iterations: 300,
+            surface_deficit: 0.0,
         }
     }
 }
@@ -157,6 +161,11 @@ impl CaseParams for FloatingBodyParams {
             "max_iterations",
             "-",
             "fluid = cfluid: CCP solver iteration cap per step",
+        ),
+        ParamInfo::new(
+            "surface_deficit",
+            "-",
+            "fluid = cfluid: largest density deficit with a bilateral row (0: all unilateral)",
         ),
     ];
     fn apply_mode(&mut self, mode: Mode) {
@@ -289,7 +298,11 @@ fn simulate_cfluid(
 ) -> anyhow::Result<Outcome> {
     let fp = floating_params(p, shape)?;
     let solver = crate::cases::cfluid::solver_by_name("apgd", p.tolerance, p.max_iterations)?;
-    let mut scene = floating_cfluid(&fp, &CfluidFloat::default(), solver)?;
+    let c = CfluidFloat {
+        surface_deficit: p.surface_deficit,
+        ..CfluidFloat::default()
+    };
+    let mut scene = floating_cfluid(&fp, &c, solver)?;
     scene.fluid_mut().set_damping(p.damping)?;
     let x0 = scene.system.body(scene.body)?.position();
     let start = Instant::now();

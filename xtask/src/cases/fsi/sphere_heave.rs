@@ -94,6 +94,9 @@ pub struct SphereHeaveParams {
     pub tolerance: f64,
     /// `fluid = cfluid`: the CCP solver's iteration cap per step.
     pub max_iterations: usize,
+    /// `fluid = cfluid`: the largest density deficit with a bilateral row
+    /// (`CfluidSettings::surface_deficit`; 0: every deficit a free surface).
+    pub surface_deficit: f64,
 }
 
 impl Default for SphereHeaveParams {
@@ -118,6 +121,7 @@ impl Default for SphereHeaveParams {
             sweep: 0,
             tolerance: 1e-4,
             max_iterations: 300,
+            surface_deficit: 0.0,
         }
     }
 }
@@ -171,6 +175,11 @@ impl CaseParams for SphereHeaveParams {
             "-",
             "fluid = cfluid: CCP solver iteration cap per step",
         ),
+        ParamInfo::new(
+            "surface_deficit",
+            "-",
+            "fluid = cfluid: largest density deficit with a bilateral row (0: all unilateral)",
+        ),
     ];
     fn apply_mode(&mut self, mode: Mode) {
         match mode {
@@ -222,6 +231,7 @@ fn run_once(p: &SphereHeaveParams, spacing: f64, ctx: &RunContext) -> anyhow::Re
             &hp,
             &CfluidFloat {
                 xsph: p.xsph,
+                surface_deficit: p.surface_deficit,
                 ..CfluidFloat::default()
             },
             solver,
