@@ -168,6 +168,8 @@ pub struct ColumnParams {
     pub dem_tolerance: f64,
     /// DEM: APGD iteration cap.
     pub dem_max_iterations: usize,
+    /// DEM: the NSC contacts' largest penetration recovery speed, m/s.
+    pub dem_recovery_speed: f64,
     /// DEM: seed of the packing and the glued floor.
     pub dem_seed: u64,
     /// DEM: the aspect ratios (`null`: `sweep`; the main `aspect_ratio` is added).
@@ -233,6 +235,7 @@ impl Default for ColumnParams {
             dem_step: 1e-3,
             dem_tolerance: 1e-5,
             dem_max_iterations: 100,
+            dem_recovery_speed: 0.05,
             dem_seed: 1,
             dem_sweep: None,
             matched_friction_angle_deg: -1.0,
@@ -373,6 +376,11 @@ impl CaseParams for ColumnParams {
         ParamInfo::new("dem_step", "s", "nsc: time step (0: 1 ms)"),
         ParamInfo::new("dem_tolerance", "m/s", "nsc: APGD tolerance"),
         ParamInfo::new("dem_max_iterations", "-", "nsc: APGD iteration cap"),
+        ParamInfo::new(
+            "dem_recovery_speed",
+            "m/s",
+            "nsc: largest penetration recovery speed of the contacts (SystemSettings::max_recovery_speed)",
+        ),
         ParamInfo::new(
             "dem_seed",
             "-",
@@ -631,6 +639,7 @@ fn dem_system(p: &ColumnParams) -> anyhow::Result<System> {
     let settings = SystemSettings {
         gravity: Vector3::new(0.0, 0.0, -p.gravity),
         envelope: 0.1 * d,
+        max_recovery_speed: p.dem_recovery_speed,
         ..SystemSettings::default()
     };
     make_system(
@@ -856,8 +865,16 @@ fn run_nsc(
         let grain_steps = (r.grains as u64 * (r.steps + r.settle_steps)) as f64;
         let (lo, hi) = envelope(a);
         ctx.note(format!(
-            "DEM a = {a} (built {:.3}): runout ratio {:.3} (farthest grain {:.3}, 99 % mass {:.3}; envelope [{lo:.3}, {hi:.3}]), final height ratio {:.3} (Lube {:.3}), {} at t = {:.2} sqrt(H0/g); {} grains (solid fraction {:.3}), {} + {} steps, {:.1} iterations per step, {wall_s:.1} s wall ({settle_s:.1} s settling), {:.3e} grain-steps/s",
+            "DEM a = {a} (built {:.3}{}): runout ratio {:.3} (farthest grain {:.3}, 99 % mass {:.3}; envelope [{lo:.3}, {hi:.3}]), final height ratio {:.3} (Lube {:.3}), {} at t = {:.2} sqrt(H0/g); {} grains (solid fraction {:.3}), {} + {} steps, {:.1} iterations per step, {wall_s:.1} s wall ({settle_s:.1} s settling), {:.3e} grain-steps/s",
             r.aspect_ratio,
+            if r.settled {
+                String::new()
+            } else {
+                format!(
+                    ", gate opened at t_settle with {:.1e} m g d per grain",
+                    r.settled_ke
+                )
+            },
             r.runout_ratio,
             r.runout_ratio_farthest,
             r.runout_ratio_99,
@@ -897,6 +914,7 @@ fn run_nsc(
             .metric(format!("detached_grains_{tag}"), r.deposit.detached as f64)
             .metric(format!("steps_{tag}"), r.steps as f64)
             .metric(format!("settle_steps_{tag}"), r.settle_steps as f64)
+            .metric(format!("settled_ke_over_mgd_{tag}"), r.settled_ke)
             .metric(format!("rest_time_over_tau_{tag}"), r.time / r.time_scale)
             .metric(format!("iterations_per_step_{tag}"), r.iterations)
             .metric(format!("wall_s_{tag}"), wall_s)
