@@ -129,6 +129,11 @@ pub struct GranularColumn {
     /// Sliding friction of the grains' contacts while they settle (`None`: the material's;
     /// lower: a denser column).
     pub settle_friction: Option<f64>,
+    /// The solver's iteration cap while the column settles (`None`: the system's own),
+    /// restored before the gate opens: an iterative NSC solve carries the weight of a tall
+    /// column down its contact chains only with enough iterations (a column `H0/d` grains
+    /// high needs more than `H0/d`), else the packing keeps jittering.
+    pub settle_iterations: Option<usize>,
     /// At rest: kinetic energy below this fraction of `M g H0`.
     pub rest_kinetic: f64,
     /// At rest for this long, in `sqrt(H0 / g)`.
@@ -166,6 +171,7 @@ impl GranularColumn {
             settle_ke: 1e-2,
             t_settle: 3.0,
             settle_friction: None,
+            settle_iterations: None,
             rest_kinetic: 1e-4,
             rest_window: 1.0,
             max_time: 30.0,
@@ -457,6 +463,11 @@ impl GranularColumn {
                 sys.set_contact_friction(b, Some(fill))?;
             }
         }
+        let full_iterations = sys.solver().settings().max_iterations;
+        if let Some(cap) = self.settle_iterations {
+            check_positive("column.settle_iterations", cap as f64)?;
+            sys.solver_mut().settings_mut().max_iterations = cap;
+        }
         let n_max = (self.t_settle / h).ceil() as u64;
         let every = ((0.01 / h).round() as u64).max(1);
         let (mut steps, mut settled_ke, mut settled) = (0u64, f64::INFINITY, false);
@@ -475,6 +486,7 @@ impl GranularColumn {
         if !settled {
             settled_ke = sys.kinetic_energy() / unit;
         }
+        sys.solver_mut().settings_mut().max_iterations = full_iterations;
         if self.settle_friction.is_some() {
             for &b in &handles {
                 sys.set_contact_friction(b, None)?;
