@@ -28,9 +28,10 @@
 //! across; a solid fraction of about 0.36), as many as fill `L0 W H0` at a solid fraction
 //! of [`FILL_FRACTION`] (more than a poured packing reaches), kicked (random horizontal
 //! velocities of at most 0.1 m/s, breaking the lattice's columns) and settled behind the
-//! gate until the kinetic energy per grain is below `settle_ke m g d` (1e-2: rms speeds of
-//! a few `0.01 sqrt(g d)`, against the collapse's `sqrt(g H0)`; an unconverged NSC solve
-//! keeps a tall packing jittering near 1e-3) or for at most `t_settle`; the grains whose
+//! gate until the kinetic energy per grain is below `settle_ke m g d` (1e-2: rms speeds
+//! below `0.15 sqrt(g d)`, against the collapse's `sqrt(g H0)`; an NSC solve whose
+//! iteration cap is below the column's height in grains keeps a tall packing jittering
+//! above it, hence `settle_iterations`) or for at most `t_settle`; the grains whose
 //! top is above `z_b + H0` are then removed, so the column's top is at most `H0`. The
 //! initial height `H0` of the measure is the highest grain top after the trim.
 //!
