@@ -8,7 +8,7 @@
 //! - [`shear_box`]: the direct shear box and the reduction of its curve ([`ShearBox`]);
 //! - [`shear_test`]: the direct shear test in that box (pour, consolidation, shear at
 //!   constant speed, the read-out by bins of displacement: [`ShearTest`], [`ShearRun`]);
-//! - [`column`]: a granular column released from behind a gate in a slab, its runout
+//! - [`column`](mod@column): a granular column released from behind a gate in a slab, its runout
 //!   and final height ([`GranularColumn`], [`ColumnRun`]);
 //! - [`heap`]: a heap left on a plate in a slot after discharge over both edges, and its
 //!   angle of repose ([`HeapSlot`], [`Heap`]);
