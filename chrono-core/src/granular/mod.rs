@@ -8,6 +8,8 @@
 //! - [`shear_box`]: the direct shear box and the reduction of its curve ([`ShearBox`]);
 //! - [`shear_test`]: the direct shear test in that box (pour, consolidation, shear at
 //!   constant speed, the read-out by bins of displacement: [`ShearTest`], [`ShearRun`]);
+//! - [`column`](mod@column): a granular column released from behind a gate in a slab, its runout
+//!   and final height ([`GranularColumn`], [`ColumnRun`]);
 //! - [`heap`]: a heap left on a plate in a slot after discharge over both edges, and its
 //!   angle of repose ([`HeapSlot`], [`Heap`]);
 //! - [`impact`]: a ball dropped into a settled bed, and its penetration ([`ImpactBed`],
@@ -24,6 +26,7 @@
 //! world finds sphere pairs on a uniform cell grid.
 
 pub mod bed;
+pub mod column;
 mod fill;
 pub mod heap;
 pub mod impact;
@@ -37,6 +40,7 @@ pub mod wheel;
 /// The seeded generator, re-exported from its old place ([`crate::rng::Rng`]).
 pub use crate::rng::Rng;
 pub use bed::{Bed, GrainBed, Kick, Settle, Settled};
+pub use column::{ColumnRun, ColumnScene, Deposit, GranularColumn};
 pub use fill::{Grain, LatticeFill, Region};
 pub use heap::{Heap, HeapScene, HeapSlot};
 pub use impact::{BallDrop, ImpactBed, Penetration};

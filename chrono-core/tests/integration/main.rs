@@ -8,6 +8,7 @@ mod contact_friction;
 mod distributed_granular;
 mod ellipsoid;
 mod force_elements;
+mod granular_column;
 mod granular_rolling_bed;
 mod granular_scenes;
 mod granular_wheel;

@@ -28,9 +28,32 @@
 //! pressure, the floor's friction on the rows' normal impulse; `Column::use_pressure_rows`)
 //! with the same material; `docs/mpm.md` ("The split: status") compares it with plain MPM.
 //!
-//! `method = nsc` (the same column by granular DEM with the friction angle from the
-//! shear-box measurement of the DEM material) is not implemented yet: an error naming
-//! the field.
+//! `method = nsc` runs the same column by granular DEM (NSC, DEM-C;
+//! `chrono_core::granular::column`): spheres of radii in `[0.8 r, r]`, `grains_across`
+//! (10) largest diameters across `L0`, in a slab `slab_width` (3) diameters wide between
+//! frictionless walls (rigid-body collision has no periodic axis), on a glued layer of
+//! grains, settled behind a gate that is removed at `t = 0`, run to the same rest
+//! criterion. Runout: the front of the continuous deposit (a gap wider than `d` along `x`
+//! ends it; the farthest grain and the 99 % mass front are reported too); height: the
+//! highest grain top. The DEM run at each ratio of `dem_sweep` (null: `sweep`) gives the
+//! case's metrics (`runout_ratio`, `final_height_ratio`, per ratio, the slopes, the
+//! envelope, reported or checked by `check` as for MPM), with `_dem` metrics per ratio
+//! (farthest and 99 % fronts, grains, steps, wall time, grain-steps/s). Matched friction:
+//! the MPM column (`mpm_beside`) runs beside it with `friction_angle_deg` the residual
+//! (critical-state) angle of the DEM material in the direct shear box (`granular-shear` by
+//! NSC), [`SHEAR_BOX_RESIDUAL_DEG`] = 25.94 degrees for the default contact friction 0.5
+//! (mean of three packings; `matched_friction_angle_deg` for another material), metrics
+//! `_mpm`. The residual rather than the peak: a collapsing column flows at the critical
+//! state over most of its deposit, and the MPM sand has no dilatancy to carry a peak.
+//! The column settles behind the gate with 300 APGD iterations (`dem_settle_iterations`;
+//! at 100 a column 80 grains high keeps jittering and runs 22 % farther) and collapses
+//! with 100. A DEM column that does not meet the rest criterion within `max_time` is
+//! measured at the end and reported (`at_rest_a*_dem` 0), not an error: at `a = 0.5` with
+//! 6 grains across, one grain rocking is above `1e-4 M g H0`. `--quick`: `dem_sweep`
+//! `[1, 2]`, 6 grains across (about 10 s). Measured (`docs/mpm.md`, "The DEM side"; 10
+//! grains across, three packings): the DEM runout inside the envelope at `a` = 1, 2, 8,
+//! slightly below at 0.5 and above at 4, its large-`a` slope 0.59 to 0.62; the MPM column at
+//! 4 cells within the DEM's packing scatter for `a <= 4` and 31 % farther at 8.
 //!
 //! Status (`docs/mpm.md`): with APIC (`flip` = 0) the runout depends on the number of
 //! steps per unit time (APIC drops the markers' non-grid velocity every step); the FLIP
@@ -50,9 +73,14 @@
 //! floor at their `mu_2`): `a = 1` does not converge either (1.03, 1.31, 1.63, 1.90 at 4
 //! to 32 cells; `docs/mpm.md`: the grain-scale length is below the grid).
 
+use chrono_core::granular::GranularColumn;
+use chrono_core::{ContactMaterial, ContactMethod, System, SystemSettings};
 use chrono_mpm::column::{Column, ColumnResult, ColumnSpec};
 use chrono_mpm::{CriticalStateSand, FBar, MuI};
+use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
+
+use crate::cases::granular::make_system;
 
 use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series};
 use crate::params::{CaseParams, ParamCase, ParamInfo};
@@ -71,7 +99,8 @@ pub struct ColumnParams {
     pub floor_friction_angle_deg: f64,
     /// The associated (dilatant) flow rule instead of the non-dilatant one.
     pub associated_flow: bool,
-    /// `mpm` (or `nsc`, not implemented yet).
+    /// `mpm`, or `nsc`: the column by granular DEM (NSC, `chrono_core::granular::column`)
+    /// with the MPM column at the shear-box angle of the DEM material beside it.
     pub method: String,
     /// Column length `L0`, m.
     pub column_length: f64,
@@ -126,7 +155,56 @@ pub struct ColumnParams {
     /// `associated_flow` and `grain_diameter` are then not used, and a floor of the
     /// sand's friction is its `mu_2`).
     pub rheology: String,
+    /// DEM (`method = nsc`): largest grain diameters across `L0`.
+    pub grains_across: f64,
+    /// DEM: grain–grain (and glued-floor) sliding friction coefficient `mu_c`.
+    pub contact_friction: f64,
+    /// DEM: grain–grain rolling friction coefficient.
+    pub rolling_friction: f64,
+    /// DEM: slab width between the frictionless side walls, in grain diameters.
+    pub slab_width: f64,
+    /// DEM: smallest over largest grain radius.
+    pub size_ratio: f64,
+    /// DEM: grain density, kg/m^3.
+    pub grain_density: f64,
+    /// DEM: a glued layer of grains on the floor (else the flat floor of the grains'
+    /// friction).
+    pub rough_floor: bool,
+    /// DEM: time step, s (0: 1 ms).
+    pub dem_step: f64,
+    /// DEM: APGD tolerance, m/s.
+    pub dem_tolerance: f64,
+    /// DEM: APGD iteration cap.
+    pub dem_max_iterations: usize,
+    /// DEM: the NSC contacts' largest penetration recovery speed, m/s.
+    pub dem_recovery_speed: f64,
+    /// DEM: APGD iteration cap while the column settles behind the gate (0:
+    /// `dem_max_iterations`); 300: at 100 the 80-grain column of `a = 8` does not settle
+    /// (docs/mpm.md, "The DEM side").
+    pub dem_settle_iterations: usize,
+    /// DEM: seed of the packing and the glued floor.
+    pub dem_seed: u64,
+    /// DEM: the aspect ratios (`null`: `sweep`; the main `aspect_ratio` is added).
+    pub dem_sweep: Option<Vec<f64>>,
+    /// The friction angle of the MPM sand beside the DEM column, degrees: the shear-box
+    /// residual angle of the DEM material; < 0: the recorded one of the default material
+    /// ([`SHEAR_BOX_RESIDUAL_DEG`], an error for another material).
+    pub matched_friction_angle_deg: f64,
+    /// With `method = nsc`: run the MPM column at the matched angle beside the DEM one.
+    pub mpm_beside: bool,
 }
+
+/// The DEM material whose shear-box angles are recorded: contact friction 0.5, no rolling
+/// friction.
+pub const RECORDED_CONTACT_FRICTION: f64 = 0.5;
+
+/// The residual (critical-state) angle of the recorded DEM material in the direct shear
+/// box, degrees: mean of three packings (seeds 7, 8, 9) of `granular-shear` by NSC at
+/// 3.1 kPa, 12 d box, `mu` 0.5 (docs/mpm.md, "The DEM side (`method = nsc`)").
+pub const SHEAR_BOX_RESIDUAL_DEG: f64 = 25.94;
+
+/// The peak angle of the same runs, degrees (reported).
+pub const SHEAR_BOX_PEAK_DEG: f64 = 35.59;
 
 impl Default for ColumnParams {
     fn default() -> Self {
@@ -159,6 +237,22 @@ impl Default for ColumnParams {
             rows_tolerance: 1e-6,
             rows_surface_reference: false,
             rheology: "drucker_prager".into(),
+            grains_across: 10.0,
+            contact_friction: RECORDED_CONTACT_FRICTION,
+            rolling_friction: 0.0,
+            slab_width: 3.0,
+            size_ratio: 0.8,
+            grain_density: 2500.0,
+            rough_floor: true,
+            dem_step: 1e-3,
+            dem_tolerance: 1e-5,
+            dem_max_iterations: 100,
+            dem_recovery_speed: 0.05,
+            dem_settle_iterations: 300,
+            dem_seed: 1,
+            dem_sweep: None,
+            matched_friction_angle_deg: -1.0,
+            mpm_beside: true,
         }
     }
 }
@@ -189,7 +283,7 @@ impl CaseParams for ColumnParams {
         ParamInfo::new(
             "method",
             "-",
-            "mpm (nsc, the DEM side, is not implemented yet)",
+            "mpm, or nsc: the column by granular DEM (NSC) with the MPM column at the DEM material's shear-box angle beside it (metrics _dem, _mpm)",
         ),
         ParamInfo::new("column_length", "m", "column length L0 from the wall"),
         ParamInfo::new(
@@ -261,11 +355,79 @@ impl CaseParams for ColumnParams {
             "-",
             "drucker_prager (the cone of friction_angle_deg) or critical_state (compressible mu(I) glass beads with critical-state dilatancy, published constants; docs/mpm.md)",
         ),
+        ParamInfo::new(
+            "grains_across",
+            "-",
+            "nsc: largest grain diameters across L0 (d = column_length / grains_across)",
+        ),
+        ParamInfo::new(
+            "contact_friction",
+            "-",
+            "nsc: grain-grain and glued-floor sliding friction coefficient mu_c",
+        ),
+        ParamInfo::new(
+            "rolling_friction",
+            "-",
+            "nsc: grain-grain rolling friction coefficient",
+        ),
+        ParamInfo::new(
+            "slab_width",
+            "d",
+            "nsc: slab width between the frictionless side walls, in grain diameters",
+        ),
+        ParamInfo::new(
+            "size_ratio",
+            "-",
+            "nsc: smallest over largest grain radius (radii uniform between)",
+        ),
+        ParamInfo::new("grain_density", "kg/m^3", "nsc: grain density"),
+        ParamInfo::new(
+            "rough_floor",
+            "-",
+            "nsc: a glued layer of grains on the floor (else the flat floor of the grains' friction)",
+        ),
+        ParamInfo::new("dem_step", "s", "nsc: time step (0: 1 ms)"),
+        ParamInfo::new("dem_tolerance", "m/s", "nsc: APGD tolerance"),
+        ParamInfo::new("dem_max_iterations", "-", "nsc: APGD iteration cap"),
+        ParamInfo::new(
+            "dem_settle_iterations",
+            "-",
+            "nsc: APGD iteration cap while the column settles behind the gate (0: dem_max_iterations)",
+        ),
+        ParamInfo::new(
+            "dem_recovery_speed",
+            "m/s",
+            "nsc: largest penetration recovery speed of the contacts (SystemSettings::max_recovery_speed)",
+        ),
+        ParamInfo::new(
+            "dem_seed",
+            "-",
+            "nsc: seed of the packing and the glued floor",
+        ),
+        ParamInfo::new(
+            "dem_sweep",
+            "-",
+            "nsc: aspect ratios of the DEM runs (null: sweep; the main one is added)",
+        ),
+        ParamInfo::new(
+            "matched_friction_angle_deg",
+            "deg",
+            "nsc: friction angle of the MPM sand beside the DEM column, the DEM material's shear-box residual angle; < 0: the recorded one of contact_friction 0.5, rolling 0 (an error for another material)",
+        ),
+        ParamInfo::new(
+            "mpm_beside",
+            "-",
+            "nsc: run the MPM column at the matched angle beside the DEM one",
+        ),
     ];
 
     fn apply_mode(&mut self, mode: Mode) {
         match mode {
-            Mode::Quick => self.sweep = vec![0.5, 1.5, 4.0, 6.0],
+            Mode::Quick => {
+                self.sweep = vec![0.5, 1.5, 4.0, 6.0];
+                self.dem_sweep = Some(vec![1.0, 2.0]);
+                self.grains_across = 6.0;
+            }
             Mode::Default => {}
             Mode::Full => {
                 self.cells = 8;
@@ -393,45 +555,27 @@ fn spec(
     }
 }
 
-fn run(p: &ColumnParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
-    match p.method.as_str() {
-        "mpm" => {}
-        "nsc" => anyhow::bail!(
-            "parameter `method` = nsc: the DEM (NSC) column with the shear-box friction angle is not implemented yet (use mpm)"
-        ),
-        m => anyhow::bail!("parameter `method` must be mpm or nsc, got `{m}`"),
-    }
-    if p.cells == 0 {
-        anyhow::bail!("parameter `cells` must be >= 1, got 0");
-    }
-    anyhow::ensure!(
-        p.grain_diameter.is_finite() && p.grain_diameter >= 0.0,
-        "parameter `grain_diameter` must be finite and >= 0 m (0: rate-independent), got {}",
-        p.grain_diameter
-    );
-    let f_bar: FBar = p.f_bar.parse()?;
-    let mut ratios: Vec<f64> = p.sweep.clone();
-    ratios.push(p.aspect_ratio);
-    for &a in &ratios {
-        anyhow::ensure!(
-            a.is_finite() && a > 0.0,
-            "parameter `sweep`/`aspect_ratio`: aspect ratios must be finite and > 0, got {a}"
-        );
-    }
-    ratios.sort_by(f64::total_cmp);
-    ratios.dedup();
-    let critical_state = match p.rheology.as_str() {
-        "drucker_prager" => None,
-        "critical_state" => Some(CriticalStateSand::glass_beads(p.young, p.poisson, 0.6)?),
-        other => anyhow::bail!(
-            "parameter `rheology` = {other:?}: must be `drucker_prager` or `critical_state`"
-        ),
-    };
-    let split = match p.pressure.as_str() {
-        "stress" => false,
-        "rows" => true,
-        other => anyhow::bail!("parameter `pressure` = {other:?}: must be `stress` or `rows`"),
-    };
+/// One column's outcome, for the report.
+#[derive(Clone, Copy, Debug)]
+struct Point {
+    a: f64,
+    runout: f64,
+    height: f64,
+}
+
+/// Checks every MPM spec, then runs the MPM column at each ratio (progress from `from` over
+/// `span`); each result with its wall time.
+#[allow(clippy::too_many_arguments)]
+fn run_mpm(
+    p: &ColumnParams,
+    ctx: &RunContext,
+    ratios: &[f64],
+    f_bar: FBar,
+    critical_state: Option<CriticalStateSand>,
+    split: bool,
+    (from, span): (f64, f64),
+    tag: &str,
+) -> anyhow::Result<Vec<(f64, ColumnResult, f64, usize)>> {
     let build = |a: f64| -> anyhow::Result<Column> {
         let mut c = Column::new(spec(p, a, f_bar, critical_state))?;
         if split {
@@ -443,26 +587,24 @@ fn run(p: &ColumnParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         Ok(c)
     };
     // Check every spec before the first run (bad input fails at once, naming the field).
-    for &a in &ratios {
+    for &a in ratios {
         build(a)?;
     }
     // The work of a run grows about as the markers times the steps, a^1.5 above a = 1.
     let weight = |a: f64| a.max(1.0).powf(1.5);
     let total: f64 = ratios.iter().map(|&a| weight(a)).sum();
     let mut done = 0.0;
-    let mut results: Vec<(f64, ColumnResult)> = Vec::new();
-    let mut out = CaseOutput::new();
-    let mut steps = 0;
-    for &a in &ratios {
+    let mut results = Vec::new();
+    for &a in ratios {
         let mut c = build(a)?;
         let w = weight(a) / total;
         let wall = std::time::Instant::now();
-        let r = c.run(|x| ctx.progress(done + w * x))?;
+        let r = c.run(|x| ctx.progress(from + span * (done + w * x)))?;
         done += w;
-        steps += r.steps;
+        let wall_s = wall.elapsed().as_secs_f64();
         let (lo, hi) = envelope(a);
         ctx.note(format!(
-            "a = {a}: runout ratio {:.3} (envelope [{lo:.3}, {hi:.3}]), final height ratio {:.3} (Lube {:.3}), {} at t = {:.2} sqrt(H0/g); {} markers, {} steps, {:.2} s wall",
+            "{tag}a = {a}: runout ratio {:.3} (envelope [{lo:.3}, {hi:.3}]), final height ratio {:.3} (Lube {:.3}), {} at t = {:.2} sqrt(H0/g); {} markers, {} steps, {wall_s:.2} s wall",
             r.runout_ratio,
             r.final_height_ratio,
             lube_height_ratio(a),
@@ -470,7 +612,6 @@ fn run(p: &ColumnParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
             r.time / c.time_scale(),
             c.body.markers.len(),
             r.steps,
-            wall.elapsed().as_secs_f64()
         ));
         anyhow::ensure!(
             r.at_rest,
@@ -482,38 +623,105 @@ fn run(p: &ColumnParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
             "mass not conserved at a = {a}: ratio {}",
             r.mass_ratio
         );
-        results.push((a, r));
+        let markers = c.body.markers.len();
+        results.push((a, r, wall_s, markers));
     }
+    Ok(results)
+}
+
+/// The DEM column of the case's parameters at `a`.
+fn dem_spec(p: &ColumnParams, a: f64) -> GranularColumn {
+    GranularColumn {
+        size_ratio: p.size_ratio,
+        slab_width: p.slab_width,
+        density: p.grain_density,
+        rough_floor: p.rough_floor,
+        seed: p.dem_seed,
+        h: p.dem_step,
+        settle_iterations: (p.dem_settle_iterations > 0).then_some(p.dem_settle_iterations),
+        rest_kinetic: p.rest_kinetic,
+        rest_window: p.rest_window,
+        max_time: p.max_time,
+        ..GranularColumn::new(
+            a,
+            p.column_length,
+            p.grains_across,
+            ContactMaterial::with_friction(p.contact_friction)
+                .with_rolling_friction(p.rolling_friction),
+        )
+    }
+}
+
+/// The NSC system of the DEM column: gravity `-g z`, envelope `0.1 d`, APGD.
+fn dem_system(p: &ColumnParams) -> anyhow::Result<System> {
+    let d = p.column_length / p.grains_across;
+    let settings = SystemSettings {
+        gravity: Vector3::new(0.0, 0.0, -p.gravity),
+        envelope: 0.1 * d,
+        max_recovery_speed: p.dem_recovery_speed,
+        ..SystemSettings::default()
+    };
+    make_system(
+        ContactMethod::Nsc,
+        settings,
+        p.dem_tolerance,
+        p.dem_max_iterations,
+    )
+}
+
+/// The MPM sand's friction angle beside the DEM column (`matched_friction_angle_deg`).
+fn matched_angle(p: &ColumnParams) -> anyhow::Result<f64> {
+    if p.matched_friction_angle_deg >= 0.0 {
+        anyhow::ensure!(
+            p.matched_friction_angle_deg > 0.0 && p.matched_friction_angle_deg < 90.0,
+            "parameter `matched_friction_angle_deg` must lie in (0, 90) degrees, got {}",
+            p.matched_friction_angle_deg
+        );
+        return Ok(p.matched_friction_angle_deg);
+    }
+    anyhow::ensure!(
+        p.contact_friction == RECORDED_CONTACT_FRICTION && p.rolling_friction == 0.0,
+        "parameter `matched_friction_angle_deg` < 0 takes the recorded shear-box angle of contact_friction {RECORDED_CONTACT_FRICTION}, rolling_friction 0; this material (contact_friction {}, rolling_friction {}) has none: measure it (`xtask validate granular-shear --set 'method=[\"nsc\"]' --set mu={} --set rolling_friction={} ...`, docs/mpm.md) and give it",
+        p.contact_friction,
+        p.rolling_friction,
+        p.contact_friction,
+        p.rolling_friction
+    );
+    Ok(SHEAR_BOX_RESIDUAL_DEG)
+}
+
+/// The checks and the per-ratio metrics of one method's columns (the case's names), the
+/// series and the plot.
+fn report(p: &ColumnParams, ctx: &RunContext, out: &mut CaseOutput, pts: &[Point], title: &str) {
     // The main run.
-    let main = &results
+    let main = pts
         .iter()
-        .find(|(a, _)| *a == p.aspect_ratio)
-        .expect("the main ratio is in the list")
-        .1;
+        .find(|q| q.a == p.aspect_ratio)
+        .expect("the main ratio is in the list");
     let (lo, hi) = envelope(p.aspect_ratio);
     let env = |name: &str, v: f64, lo: f64, hi: f64| {
         Check::absolute(name, v, 0.5 * (lo + hi), 0.5 * (hi - lo))
     };
-    let mut checks = vec![env("runout_ratio", main.runout_ratio, lo, hi)];
-    out.metric("final_height_ratio", main.final_height_ratio);
+    let mut checks = vec![env("runout_ratio", main.runout, lo, hi)];
+    out.metric("final_height_ratio", main.height);
     out.metric("final_height_ratio_lube", lube_height_ratio(p.aspect_ratio));
-    for (a, r) in &results {
-        if *a == p.aspect_ratio {
+    for q in pts {
+        if q.a == p.aspect_ratio {
             continue;
         }
-        let (lo, hi) = envelope(*a);
-        checks.push(env(&format!("runout_ratio_a{a}"), r.runout_ratio, lo, hi));
-        out.metric(format!("final_height_ratio_a{a}"), r.final_height_ratio);
+        let (lo, hi) = envelope(q.a);
+        checks.push(env(&format!("runout_ratio_a{}", q.a), q.runout, lo, hi));
+        out.metric(format!("final_height_ratio_a{}", q.a), q.height);
     }
-    let small: Vec<(f64, f64)> = results
+    let small: Vec<(f64, f64)> = pts
         .iter()
-        .filter(|(a, _)| *a <= 1.5)
-        .map(|(a, r)| (*a, r.runout_ratio))
+        .filter(|q| q.a <= 1.5)
+        .map(|q| (q.a, q.runout))
         .collect();
-    let large: Vec<(f64, f64)> = results
+    let large: Vec<(f64, f64)> = pts
         .iter()
-        .filter(|(a, _)| *a >= 4.0)
-        .map(|(a, r)| (*a, r.runout_ratio))
+        .filter(|q| q.a >= 4.0)
+        .map(|q| (q.a, q.runout))
         .collect();
     if small.len() >= 2 {
         checks.push(Check::absolute(
@@ -552,28 +760,358 @@ fn run(p: &ColumnParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         "final_height_ratio",
         "final_height_ratio_lube",
     ]);
-    for (a, r) in &results {
+    for q in pts {
         let fit = |f: &Fit| {
-            let v = f.values(*a);
+            let v = f.values(q.a);
             v.iter().sum::<f64>() / v.len() as f64
         };
         series.push(&[
-            *a,
-            r.runout_ratio,
+            q.a,
+            q.runout,
             fit(&LUBE),
             fit(&LAJEUNESSE),
-            r.final_height_ratio,
-            lube_height_ratio(*a),
+            q.height,
+            lube_height_ratio(q.a),
         ]);
     }
     out.series = series;
     out.plot = PlotSpec::new(
-        "MPM granular column collapse: runout against aspect ratio",
+        title,
         "a = H0 / L0",
         "(L_inf - L0) / L0",
         &["runout_ratio", "lube_2005", "lajeunesse_2005"],
     );
+}
+
+/// The distance of the runouts outside their envelopes, relative to the envelope's middle,
+/// averaged over the ratios (0: every runout inside).
+fn envelope_excess(pts: &[Point]) -> f64 {
+    pts.iter()
+        .map(|q| {
+            let (lo, hi) = envelope(q.a);
+            (lo - q.runout).max(q.runout - hi).max(0.0) / (0.5 * (lo + hi))
+        })
+        .sum::<f64>()
+        / pts.len().max(1) as f64
+}
+
+/// The log-log slopes over `a <= 1.5` and `a >= 4` as `runout_slope_small_a_{tag}` and
+/// `runout_slope_large_a_{tag}`, each where two ratios or more are in its range.
+fn slope_metrics(out: &mut CaseOutput, pts: &[Point], tag: &str) {
+    for (name, keep) in [
+        ("small", &(|a: f64| a <= 1.5) as &dyn Fn(f64) -> bool),
+        ("large", &|a: f64| a >= 4.0),
+    ] {
+        let v: Vec<(f64, f64)> = pts
+            .iter()
+            .filter(|q| keep(q.a))
+            .map(|q| (q.a, q.runout))
+            .collect();
+        if v.len() >= 2 {
+            out.metric(format!("runout_slope_{name}_a_{tag}"), log_slope(&v));
+        }
+    }
+}
+
+/// `method = nsc`: the DEM column at each ratio, the MPM column at the matched angle beside.
+fn run_nsc(
+    p: &ColumnParams,
+    ctx: &RunContext,
+    f_bar: FBar,
+    critical_state: Option<CriticalStateSand>,
+    split: bool,
+) -> anyhow::Result<CaseOutput> {
+    let angle = matched_angle(p)?;
+    let mut ratios: Vec<f64> = p.dem_sweep.clone().unwrap_or_else(|| p.sweep.clone());
+    ratios.push(p.aspect_ratio);
+    for &a in &ratios {
+        anyhow::ensure!(
+            a.is_finite() && a > 0.0,
+            "parameter `dem_sweep`/`sweep`/`aspect_ratio`: aspect ratios must be finite and > 0, got {a}"
+        );
+    }
+    ratios.sort_by(f64::total_cmp);
+    ratios.dedup();
+    anyhow::ensure!(
+        p.dem_step.is_finite() && p.dem_step >= 0.0,
+        "parameter `dem_step` must be finite and >= 0 s (0: 1 ms), got {}",
+        p.dem_step
+    );
+    for &a in &ratios {
+        dem_spec(p, a)
+            .validate()
+            .map_err(|e| anyhow::anyhow!("mpm-column-collapse (nsc): {e}"))?;
+    }
+    dem_system(p)?;
+    let mpm_p = ColumnParams {
+        friction_angle_deg: angle,
+        floor_friction_angle_deg: -1.0,
+        ..p.clone()
+    };
+    if p.mpm_beside {
+        for &a in &ratios {
+            Column::new(spec(&mpm_p, a, f_bar, critical_state))?;
+        }
+    }
+    let mut out = CaseOutput::new();
+    let weight = |a: f64| a.max(1.0).powf(2.0);
+    let total: f64 = ratios.iter().map(|&a| weight(a)).sum();
+    let dem_share = if p.mpm_beside { 0.9 } else { 1.0 };
+    let mut done = 0.0;
+    let mut dem_pts = Vec::new();
+    let (mut dem_wall, mut dem_grain_steps, mut steps) = (0.0, 0.0, 0u64);
+    for &a in &ratios {
+        let spec = dem_spec(p, a);
+        let mut sys = dem_system(p)?;
+        let w = weight(a) / total;
+        let wall = std::time::Instant::now();
+        let mut scene = spec
+            .build(&mut sys, |_, _| Ok::<(), anyhow::Error>(()))
+            .map_err(|e| anyhow::anyhow!("mpm-column-collapse (nsc), a = {a}: {e}"))?;
+        let settle_s = wall.elapsed().as_secs_f64();
+        let tau = (scene.initial_height() / p.gravity).sqrt();
+        let n_max = (p.max_time * tau / scene.h()).ceil();
+        let r = scene
+            .run(&mut sys, |_, k| {
+                if k.is_multiple_of(32) {
+                    ctx.progress(dem_share * (done + w * (k as f64 / n_max).min(1.0)));
+                }
+                Ok::<(), anyhow::Error>(())
+            })
+            .map_err(|e| anyhow::anyhow!("mpm-column-collapse (nsc), a = {a}: {e}"))?;
+        done += w;
+        let wall_s = wall.elapsed().as_secs_f64();
+        let grain_steps = (r.grains as u64 * (r.steps + r.settle_steps)) as f64;
+        let (lo, hi) = envelope(a);
+        ctx.note(format!(
+            "DEM a = {a} (built {:.3}{}): runout ratio {:.3} (farthest grain {:.3}, 99 % mass {:.3}; envelope [{lo:.3}, {hi:.3}]), final height ratio {:.3} (Lube {:.3}), {} at t = {:.2} sqrt(H0/g); {} grains (solid fraction {:.3}), {} + {} steps, {:.1} iterations per step, {wall_s:.1} s wall ({settle_s:.1} s settling), {:.3e} grain-steps/s",
+            r.aspect_ratio,
+            if r.settled {
+                String::new()
+            } else {
+                format!(
+                    ", gate opened at t_settle with {:.1e} m g d per grain",
+                    r.settled_ke
+                )
+            },
+            r.runout_ratio,
+            r.runout_ratio_farthest,
+            r.runout_ratio_99,
+            r.final_height_ratio,
+            lube_height_ratio(a),
+            if r.at_rest { "at rest" } else { "NOT at rest" },
+            r.time / r.time_scale,
+            r.grains,
+            r.solid_fraction,
+            r.settle_steps,
+            r.steps,
+            r.iterations,
+            grain_steps / wall_s,
+        ));
+        if !r.at_rest {
+            // A grain rocking on the deposit keeps a small column above the criterion
+            // (1e-4 M g H0 is a few grains' energy at a = 0.5): reported, not an error.
+            ctx.note(format!(
+                "the DEM column at a = {a} did not meet the rest criterion within max_time = {} sqrt(H0/g): its deposit is measured at the end",
+                p.max_time
+            ));
+        }
+        anyhow::ensure!(
+            (r.mass_ratio - 1.0).abs() < 1e-12 && r.escaped == 0,
+            "the DEM column at a = {a} lost grains: mass ratio {}, {} outside the slab",
+            r.mass_ratio,
+            r.escaped
+        );
+        let tag = format!("a{a}_dem");
+        out.metric(format!("runout_ratio_{tag}"), r.runout_ratio)
+            .metric(
+                format!("runout_ratio_farthest_{tag}"),
+                r.runout_ratio_farthest,
+            )
+            .metric(format!("runout_ratio_99_{tag}"), r.runout_ratio_99)
+            .metric(format!("final_height_ratio_{tag}"), r.final_height_ratio)
+            .metric(format!("aspect_ratio_built_{tag}"), r.aspect_ratio)
+            .metric(format!("solid_fraction_{tag}"), r.solid_fraction)
+            .metric(format!("grains_{tag}"), r.grains as f64)
+            .metric(format!("detached_grains_{tag}"), r.deposit.detached as f64)
+            .metric(format!("steps_{tag}"), r.steps as f64)
+            .metric(format!("settle_steps_{tag}"), r.settle_steps as f64)
+            .metric(format!("settled_ke_over_mgd_{tag}"), r.settled_ke)
+            .metric(format!("rest_time_over_tau_{tag}"), r.time / r.time_scale)
+            .metric(format!("at_rest_{tag}"), if r.at_rest { 1.0 } else { 0.0 })
+            .metric(format!("iterations_per_step_{tag}"), r.iterations)
+            .metric(format!("wall_s_{tag}"), wall_s)
+            .metric(format!("grain_steps_per_s_{tag}"), grain_steps / wall_s);
+        dem_wall += wall_s;
+        dem_grain_steps += grain_steps;
+        steps += r.steps + r.settle_steps;
+        dem_pts.push(Point {
+            a,
+            runout: r.runout_ratio,
+            height: r.final_height_ratio,
+        });
+    }
+    report(
+        p,
+        ctx,
+        &mut out,
+        &dem_pts,
+        "Granular column collapse by DEM (NSC): runout against aspect ratio",
+    );
+    slope_metrics(&mut out, &dem_pts, "dem");
+    out.metric("matched_friction_angle_deg", angle)
+        .metric("shear_box_peak_deg", SHEAR_BOX_PEAK_DEG)
+        .metric("envelope_excess_dem", envelope_excess(&dem_pts))
+        .metric("wall_s_dem", dem_wall)
+        .metric("grain_steps_per_s_dem", dem_grain_steps / dem_wall);
+    if p.mpm_beside {
+        let mpm = run_mpm(
+            &mpm_p,
+            ctx,
+            &ratios,
+            f_bar,
+            critical_state,
+            split,
+            (dem_share, 1.0 - dem_share),
+            "MPM (matched angle) ",
+        )?;
+        let mut mpm_pts = Vec::new();
+        let (mut wall, mut marker_steps) = (0.0, 0.0);
+        for (a, r, wall_s, markers) in &mpm {
+            let tag = format!("a{a}_mpm");
+            out.metric(format!("runout_ratio_{tag}"), r.runout_ratio)
+                .metric(format!("final_height_ratio_{tag}"), r.final_height_ratio)
+                .metric(format!("steps_{tag}"), r.steps as f64)
+                .metric(format!("wall_s_{tag}"), *wall_s);
+            wall += wall_s;
+            marker_steps += (*markers as u64 * r.steps) as f64;
+            steps += r.steps;
+            mpm_pts.push(Point {
+                a: *a,
+                runout: r.runout_ratio,
+                height: r.final_height_ratio,
+            });
+        }
+        slope_metrics(&mut out, &mpm_pts, "mpm");
+        out.metric("envelope_excess_mpm", envelope_excess(&mpm_pts))
+            .metric("wall_s_mpm", wall)
+            .metric("marker_steps_per_s_mpm", marker_steps / wall);
+        for (d, m) in dem_pts.iter().zip(&mpm_pts) {
+            ctx.note(format!(
+                "a = {}: runout ratio DEM {:.3}, MPM {:.3} (phi {angle:.2}); final height ratio DEM {:.3}, MPM {:.3}",
+                d.a, d.runout, m.runout, d.height, m.height
+            ));
+        }
+        let mut series = Series::new([
+            "aspect_ratio",
+            "runout_ratio_dem",
+            "runout_ratio_mpm",
+            "lube_2005",
+            "lajeunesse_2005",
+            "final_height_ratio_dem",
+            "final_height_ratio_mpm",
+            "final_height_ratio_lube",
+        ]);
+        for (d, m) in dem_pts.iter().zip(&mpm_pts) {
+            let fit = |f: &Fit| {
+                let v = f.values(d.a);
+                v.iter().sum::<f64>() / v.len() as f64
+            };
+            series.push(&[
+                d.a,
+                d.runout,
+                m.runout,
+                fit(&LUBE),
+                fit(&LAJEUNESSE),
+                d.height,
+                m.height,
+                lube_height_ratio(d.a),
+            ]);
+        }
+        out.series = series;
+        out.plot = PlotSpec::new(
+            "Granular column collapse, DEM (NSC) and MPM at the shear-box angle",
+            "a = H0 / L0",
+            "(L_inf - L0) / L0",
+            &[
+                "runout_ratio_dem",
+                "runout_ratio_mpm",
+                "lube_2005",
+                "lajeunesse_2005",
+            ],
+        );
+    }
     out.steps = steps;
+    Ok(out)
+}
+
+fn run(p: &ColumnParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
+    let dem = match p.method.as_str() {
+        "mpm" => false,
+        "nsc" => true,
+        m => anyhow::bail!("parameter `method` must be mpm or nsc, got `{m}`"),
+    };
+    if p.cells == 0 {
+        anyhow::bail!("parameter `cells` must be >= 1, got 0");
+    }
+    anyhow::ensure!(
+        p.grain_diameter.is_finite() && p.grain_diameter >= 0.0,
+        "parameter `grain_diameter` must be finite and >= 0 m (0: rate-independent), got {}",
+        p.grain_diameter
+    );
+    let f_bar: FBar = p.f_bar.parse()?;
+    let critical_state = match p.rheology.as_str() {
+        "drucker_prager" => None,
+        "critical_state" => Some(CriticalStateSand::glass_beads(p.young, p.poisson, 0.6)?),
+        other => anyhow::bail!(
+            "parameter `rheology` = {other:?}: must be `drucker_prager` or `critical_state`"
+        ),
+    };
+    let split = match p.pressure.as_str() {
+        "stress" => false,
+        "rows" => true,
+        other => anyhow::bail!("parameter `pressure` = {other:?}: must be `stress` or `rows`"),
+    };
+    if dem {
+        return run_nsc(p, ctx, f_bar, critical_state, split);
+    }
+    let mut ratios: Vec<f64> = p.sweep.clone();
+    ratios.push(p.aspect_ratio);
+    for &a in &ratios {
+        anyhow::ensure!(
+            a.is_finite() && a > 0.0,
+            "parameter `sweep`/`aspect_ratio`: aspect ratios must be finite and > 0, got {a}"
+        );
+    }
+    ratios.sort_by(f64::total_cmp);
+    ratios.dedup();
+    let results = run_mpm(
+        p,
+        ctx,
+        &ratios,
+        f_bar,
+        critical_state,
+        split,
+        (0.0, 1.0),
+        "",
+    )?;
+    let mut out = CaseOutput::new();
+    let pts: Vec<Point> = results
+        .iter()
+        .map(|(a, r, _, _)| Point {
+            a: *a,
+            runout: r.runout_ratio,
+            height: r.final_height_ratio,
+        })
+        .collect();
+    report(
+        p,
+        ctx,
+        &mut out,
+        &pts,
+        "MPM granular column collapse: runout against aspect ratio",
+    );
+    out.steps = results.iter().map(|(_, r, _, _)| r.steps).sum();
     Ok(out)
 }
 
@@ -582,7 +1120,7 @@ pub fn case() -> Box<dyn Case> {
     ParamCase::<ColumnParams>::boxed(
         "mpm-column-collapse",
         "mpm",
-        "Granular column (cohesionless Drucker-Prager, plane strain) collapsing on a rough floor, plain explicit MPM: runout (L_inf - L0)/L0 against the aspect ratio, log-log slope 1 +- 0.15 for a <= 1.5 and 2/3 +- 0.12 for a >= 4, each value inside the envelope of Lube et al. (2005) and Lajeunesse et al. (2005); final height H_inf/H0 against Lube's fit (reported).",
+        "Granular column (cohesionless Drucker-Prager, plane strain) collapsing on a rough floor, plain explicit MPM: runout (L_inf - L0)/L0 against the aspect ratio, log-log slope 1 +- 0.15 for a <= 1.5 and 2/3 +- 0.12 for a >= 4, each value inside the envelope of Lube et al. (2005) and Lajeunesse et al. (2005); final height H_inf/H0 against Lube's fit (reported). method = nsc: the same column by granular DEM (NSC) with the MPM column at the DEM material's shear-box residual angle beside it.",
         run,
     )
 }
