@@ -31,11 +31,11 @@
 //! from the fluid's volume, `n dp^3` (the rows hold `rho_0`, so each particle stands for
 //! its lattice cell), as for SPH ([`volume_draft`]).
 
-use chrono_cfluid::{CfluidSettings, ConstraintFluid};
+use chrono_cfluid::{CfluidSettings, ConstraintFluid, tank_markers};
 use chrono_core::descriptor::CcpSolver;
 use chrono_core::item::ItemHandle;
 use chrono_core::math::{Isometry3, Point3, UnitQuaternion, Vector3};
-use chrono_core::particles::lattice::{Fit, Lattice, SLAB_SIDES, Tank, slab_layers, wall_layers};
+use chrono_core::particles::lattice::{Fit, Lattice, SLAB_SIDES, slab_layers, wall_layers};
 use chrono_core::{BodyHandle, ContactMaterial, RigidBodyBuilder, Shape, System, SystemSettings};
 
 use crate::builder::{CARVE_DEPTH, collider_markers, open_axes, signed_distance};
@@ -362,12 +362,7 @@ pub fn floating_cfluid(
             signed_distance(&wet, [l.x, l.y, l.z], open) > carve
         })
         .collect();
-    let tank = Tank::new([0.0; 3], [len, width, top], layers, SLAB_SIDES);
-    let walls: Vec<[f64; 3]> = lattice
-        .tank(&tank, Fit::Nearest)?
-        .into_iter()
-        .map(|w| w.position)
-        .collect();
+    let walls = tank_markers([0.0; 3], [len, width, top], dp, layers, SLAB_SIDES)?;
     let mut item = ConstraintFluid::new("water", settings, &fluid, &walls)?;
     attach_shape(&mut item, &system, body, &wet, &Isometry3::identity(), open)?;
     let fluid = system.add_item(Box::new(item));

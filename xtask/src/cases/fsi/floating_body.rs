@@ -47,7 +47,7 @@ use std::time::Instant;
 
 use chrono_core::descriptor::SolverSettings;
 use chrono_fsi::cfluid::{CfluidFloat, floating_cfluid};
-use chrono_fsi::scene::{FloatShape, FloatingParams, floating};
+use chrono_fsi::scene::{FloatShape, FloatingParams, FloatingSystem, floating};
 use serde::{Deserialize, Serialize};
 
 use crate::case::{Case, CaseOutput, Check, Mode, PlotSpec, RunContext, Series};
@@ -251,38 +251,72 @@ fn simulate(
         .expect("fluid")
         .sph_mut()
         .set_damping(p.damping)?;
-    let x0 = scene.system.body(scene.body)?.position();
+    let r = record(p, &mut scene, series, ctx, |s| {
+        [s.draft(&fp), s.draft_pressure(&fp), s.draft_archimedes]
+    })?;
+    let f = scene.fluid();
+    Ok(Outcome {
+        draft: r.draft,
+        draft_pressure: r.draft_pressure,
+        draft_archimedes: scene.draft_archimedes,
+        drift: r.drift,
+        jitter: r.jitter,
+        substeps: f.substeps() as f64 / r.steps as f64,
+        steps: f.substeps(),
+        wall: r.wall,
+    })
+}
+
+/// The window's means of a run of `scene`: `reading` gives the draft, the pressure-level
+/// draft (NaN where there is none) and the Archimedes draft, m.
+struct Record {
+    draft: f64,
+    draft_pressure: f64,
+    drift: f64,
+    jitter: f64,
+    steps: u64,
+    wall: f64,
+}
+
+/// Steps `scene` to `t_end` by `coupling_step`, averaging `reading`'s drafts and the
+/// body's vertical speed over the last `window` of the run; the drift is the body's
+/// horizontal displacement at the end.
+fn record<S: FloatingSystem>(
+    p: &FloatingBodyParams,
+    scene: &mut S,
+    series: &mut Series,
+    ctx: &RunContext,
+    reading: impl Fn(&S) -> [f64; 3],
+) -> anyhow::Result<Record> {
+    let body = scene.body();
+    let x0 = scene.system().body(body)?.position();
     let start = Instant::now();
     let n = (p.t_end / p.coupling_step).round().max(1.0) as u64;
     let from = ((1.0 - p.window) * n as f64) as u64;
     let (mut sum, mut sum_p, mut vz2, mut cnt) = (0.0, 0.0, 0.0, 0usize);
     for i in 1..=n {
-        scene.system.step(p.coupling_step)?;
-        let t = scene.system.time();
-        let draft = scene.draft(&fp);
-        let vz = scene.system.body(scene.body)?.linear_velocity().z;
+        scene.step(p.coupling_step)?;
+        let t = scene.system().time();
+        let [draft, draft_p, archimedes] = reading(scene);
+        let vz = scene.system().body(body)?.linear_velocity().z;
         if i > from {
             sum += draft;
-            sum_p += scene.draft_pressure(&fp);
+            sum_p += draft_p;
             vz2 += vz * vz;
             cnt += 1;
         }
         if i % 10 == 0 {
-            series.push(&[t, draft, scene.draft_archimedes, vz]);
+            series.push(&[t, draft, archimedes, vz]);
         }
         ctx.progress_steps(i, n);
     }
-    let x1 = scene.system.body(scene.body)?.position();
-    let drift = ((x1.x - x0.x).powi(2) + (x1.y - x0.y).powi(2)).sqrt();
-    let f = scene.fluid();
-    Ok(Outcome {
+    let x1 = scene.system().body(body)?.position();
+    Ok(Record {
         draft: sum / cnt as f64,
         draft_pressure: sum_p / cnt as f64,
-        draft_archimedes: scene.draft_archimedes,
-        drift,
+        drift: ((x1.x - x0.x).powi(2) + (x1.y - x0.y).powi(2)).sqrt(),
         jitter: (vz2 / cnt as f64).sqrt(),
-        substeps: f.substeps() as f64 / n as f64,
-        steps: f.substeps(),
+        steps: n,
         wall: start.elapsed().as_secs_f64(),
     })
 }
@@ -304,37 +338,18 @@ fn simulate_cfluid(
     };
     let mut scene = floating_cfluid(&fp, &c, solver)?;
     scene.fluid_mut().set_damping(p.damping)?;
-    let x0 = scene.system.body(scene.body)?.position();
-    let start = Instant::now();
-    let n = (p.t_end / p.coupling_step).round().max(1.0) as u64;
-    let from = ((1.0 - p.window) * n as f64) as u64;
-    let (mut sum, mut vz2, mut cnt) = (0.0, 0.0, 0usize);
-    for i in 1..=n {
-        scene.system.step(p.coupling_step)?;
-        let t = scene.system.time();
-        let draft = scene.draft(&fp);
-        let vz = scene.system.body(scene.body)?.linear_velocity().z;
-        if i > from {
-            sum += draft;
-            vz2 += vz * vz;
-            cnt += 1;
-        }
-        if i % 10 == 0 {
-            series.push(&[t, draft, scene.draft_archimedes, vz]);
-        }
-        ctx.progress_steps(i, n);
-    }
-    let x1 = scene.system.body(scene.body)?.position();
-    let drift = ((x1.x - x0.x).powi(2) + (x1.y - x0.y).powi(2)).sqrt();
+    let r = record(p, &mut scene, series, ctx, |s| {
+        [s.draft(&fp), f64::NAN, s.draft_archimedes]
+    })?;
     Ok(Outcome {
-        draft: sum / cnt as f64,
+        draft: r.draft,
         draft_pressure: f64::NAN,
         draft_archimedes: scene.draft_archimedes,
-        drift,
-        jitter: (vz2 / cnt as f64).sqrt(),
+        drift: r.drift,
+        jitter: r.jitter,
         substeps: 1.0,
-        steps: n,
-        wall: start.elapsed().as_secs_f64(),
+        steps: r.steps,
+        wall: r.wall,
     })
 }
 
