@@ -623,3 +623,47 @@ fn corrected_xsph_keeps_a_linear_field_and_damps_noise() {
         "corrected {rms_c} against plain {rms_p}"
     );
 }
+
+/// `set_damping`: a uniform stream through a triply periodic box (no gravity: no row and
+/// no smoothing acts on it) decays as `exp(-k t)` exactly per step; a negative rate is an
+/// error naming `damping`.
+#[test]
+fn damping_relaxes_a_uniform_stream_at_its_rate() {
+    let (dp, l) = (0.01, 0.06);
+    let settings = CfluidSettings {
+        spacing: dp,
+        domain_lower: [0.0; 3],
+        domain_upper: [l; 3],
+        periodic: [true; 3],
+        ..CfluidSettings::default()
+    };
+    let fluid = lattice_box([0.0; 3], [l; 3], dp).unwrap();
+    let mut item = ConstraintFluid::new("stream", settings, &fluid, &[]).unwrap();
+    item.set_velocities(&vec![[0.2, -0.1, 0.05]; fluid.len()])
+        .unwrap();
+    let e = item.set_damping(-1.0).unwrap_err().to_string();
+    assert!(e.contains("damping"), "{e}");
+    let k = 8.0;
+    item.set_damping(k).unwrap();
+    assert_eq!(item.damping(), k);
+    let mut sys = system(1e-10);
+    let mut st = sys.settings().clone();
+    st.gravity = Vector3::zeros();
+    sys.set_settings(st).unwrap();
+    let id = sys.add_item(Box::new(item));
+    let (h, n) = (2e-3, 25);
+    for _ in 0..n {
+        sys.step(h).unwrap();
+    }
+    let f = sys.item::<ConstraintFluid>(id).unwrap();
+    let expect = (-k * h * n as f64).exp();
+    for v in f.velocities() {
+        for (a, v0) in [0.2, -0.1, 0.05].iter().enumerate() {
+            assert!(
+                (v[a] / v0 - expect).abs() < 1e-9,
+                "{} against {expect}",
+                v[a] / v0
+            );
+        }
+    }
+}
