@@ -229,19 +229,8 @@ impl FloatingBox {
         // fixed tank colliders behind the marker walls (floor and the two side walls)
         let material = ContactMaterial::with_friction(0.3);
         let yc = 0.5 * ly;
-        let wall = |c: [f64; 3], half: [f64; 3]| {
-            RigidBodyBuilder::fixed().collider(
-                Shape::Box {
-                    half_extents: Vector3::from(half),
-                },
-                Isometry3::translation(c[0], c[1], c[2]),
-                material,
-            )
-        };
         let big = 4.0 * ly;
-        sys.add_body(wall([0.5 * len, yc, -t], [0.5 * len + 2.0 * t, big, t]))?;
-        sys.add_body(wall([-t, yc, 0.5 * top], [t, big, 0.5 * top + t]))?;
-        sys.add_body(wall([len + t, yc, 0.5 * top], [t, big, 0.5 * top + t]))?;
+        add_tank_colliders(&mut sys, [len, ly, top], t, material)?;
         // the box spans the slab; its collider is longer in y (no y faces near the fluid)
         // The box is a slice of a body infinitely long in y (the slab is periodic): it may
         // heave, sway and pitch (rotate about y), but a roll or yaw (about x or z) would tilt
@@ -279,6 +268,34 @@ impl FloatingBox {
         let id = sys.add_item(Box::new(item));
         Ok(FloatingScene { sys, id, body, ly })
     }
+}
+
+/// Fixed box colliders behind the floor and the two end walls of the slab tank
+/// `[0, len] x [0, ly] x [0, top]` (`dims`, m), `t` thick (m; the marker walls' depth), four
+/// times the slab's width across y (no faces near a periodic slab's fluid), of `material`:
+/// the fluid's contact spheres and a body that sinks land on them, whatever the marker
+/// walls' rows do.
+pub fn add_tank_colliders(
+    sys: &mut System,
+    dims: [f64; 3],
+    t: f64,
+    material: ContactMaterial,
+) -> Result<()> {
+    let [len, ly, top] = dims;
+    let (yc, big) = (0.5 * ly, 4.0 * ly);
+    let wall = |c: [f64; 3], half: [f64; 3]| {
+        RigidBodyBuilder::fixed().collider(
+            Shape::Box {
+                half_extents: Vector3::from(half),
+            },
+            Isometry3::translation(c[0], c[1], c[2]),
+            material,
+        )
+    };
+    sys.add_body(wall([0.5 * len, yc, -t], [0.5 * len + 2.0 * t, big, t]))?;
+    sys.add_body(wall([-t, yc, 0.5 * top], [t, big, 0.5 * top + t]))?;
+    sys.add_body(wall([len + t, yc, 0.5 * top], [t, big, 0.5 * top + t]))?;
+    Ok(())
 }
 
 /// A built [`FloatingBox`]: the system, the fluid's item index, the box handle, the slab

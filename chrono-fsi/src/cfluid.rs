@@ -31,6 +31,7 @@
 //! from the fluid's volume, `n dp^3` (the rows hold `rho_0`, so each particle stands for
 //! its lattice cell), as for SPH ([`volume_draft`]).
 
+use chrono_cfluid::floating_box::add_tank_colliders;
 use chrono_cfluid::{CfluidSettings, ConstraintFluid, tank_markers};
 use chrono_core::descriptor::CcpSolver;
 use chrono_core::item::ItemHandle;
@@ -332,19 +333,7 @@ pub fn floating_cfluid(
     )?;
     // fixed tank colliders behind the marker walls (floor, both ends): the fluid's contact
     // spheres and a sinking body land on them
-    let yc = 0.5 * width;
-    let wall = |c: [f64; 3], half: [f64; 3]| {
-        RigidBodyBuilder::fixed().collider(
-            Shape::Box {
-                half_extents: Vector3::from(half),
-            },
-            Isometry3::translation(c[0], c[1], c[2]),
-            material,
-        )
-    };
-    system.add_body(wall([0.5 * len, yc, -t], [0.5 * len + 2.0 * t, big, t]))?;
-    system.add_body(wall([-t, yc, 0.5 * top], [t, big, 0.5 * top + t]))?;
-    system.add_body(wall([len + t, yc, 0.5 * top], [t, big, 0.5 * top + t]))?;
+    add_tank_colliders(&mut system, [len, width, top], t, material)?;
     // the fluid lattice, carved around the body: a point closer to the surface than its
     // contact sphere's radius goes (on a curved surface the lattice comes anywhere from 0
     // to dp / 2 close; an overlapping contact sphere would be pushed out at the contact's

@@ -57,8 +57,8 @@
 use std::time::Instant;
 
 use chrono_cfluid::{CfluidSettings, ConstraintFluid};
-use chrono_core::math::{GRAVITY_MAGNITUDE, Isometry3, Vector3};
-use chrono_core::{ContactMaterial, RigidBodyBuilder, Shape, System};
+use chrono_core::math::GRAVITY_MAGNITUDE;
+use chrono_core::{ContactMaterial, System};
 use serde::{Deserialize, Serialize};
 
 use super::{left_tank, tank_scene};
@@ -260,22 +260,12 @@ pub fn add_wall_colliders(
     ly: f64,
     dp: f64,
 ) -> anyhow::Result<()> {
-    let t = 3.0 * dp;
-    let material = ContactMaterial::with_friction(0.0);
-    let yc = 0.5 * ly;
-    let big = 4.0 * ly;
-    let wall = |c: [f64; 3], half: [f64; 3]| {
-        RigidBodyBuilder::fixed().collider(
-            Shape::Box {
-                half_extents: Vector3::from(half),
-            },
-            Isometry3::translation(c[0], c[1], c[2]),
-            material,
-        )
-    };
-    sys.add_body(wall([0.5 * len, yc, -t], [0.5 * len + 2.0 * t, big, t]))?;
-    sys.add_body(wall([-t, yc, 0.5 * top], [t, big, 0.5 * top + t]))?;
-    sys.add_body(wall([len + t, yc, 0.5 * top], [t, big, 0.5 * top + t]))?;
+    chrono_cfluid::floating_box::add_tank_colliders(
+        sys,
+        [len, ly, top],
+        3.0 * dp,
+        ContactMaterial::with_friction(0.0),
+    )?;
     Ok(())
 }
 
