@@ -141,11 +141,12 @@ pub use schur::Schur;
 pub use two_phase::TwoPhase;
 
 /// The names accepted by [`by_name`]: the CCP solvers, then the bilateral-only ones.
-pub const SOLVER_NAMES: [&str; 12] = [
+pub const SOLVER_NAMES: [&str; 13] = [
     "jacobi",
     "psor",
     "psor-sym",
     "psor-par",
+    "apsor",
     "apgd",
     "bb",
     "two-phase",
@@ -157,7 +158,8 @@ pub const SOLVER_NAMES: [&str; 12] = [
 ];
 
 /// A solver by name (see [`SOLVER_NAMES`]; `psor-sym` is PSOR with symmetric sweeps,
-/// `psor-par` PSOR with parallel coloured sweeps) with
+/// `psor-par` PSOR with parallel coloured sweeps, `apsor` the accelerated PSOR of
+/// [`Psor::accelerated`]) with
 /// the given settings, or an error naming the unknown value.
 pub fn by_name(name: &str, settings: SolverSettings) -> Result<Box<dyn CcpSolver>, CcpError> {
     Ok(match name {
@@ -165,6 +167,7 @@ pub fn by_name(name: &str, settings: SolverSettings) -> Result<Box<dyn CcpSolver
         "psor" => Box::new(Psor::new(settings)),
         "psor-sym" => Box::new(Psor::new(settings).with_symmetric(true)),
         "psor-par" => Box::new(Psor::new(settings).with_parallel(true)),
+        "apsor" => Box::new(Psor::accelerated(settings)),
         "apgd" => Box::new(Apgd::new(settings)),
         "bb" => Box::new(BarzilaiBorwein::new(settings)),
         "two-phase" => Box::new(TwoPhase::new(settings)),

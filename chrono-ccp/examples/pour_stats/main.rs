@@ -15,7 +15,7 @@
 mod hooked;
 mod two_level;
 
-use chrono_ccp::{Apgd, BarzilaiBorwein, CcpSolver, Psor, SolverSettings};
+use chrono_ccp::{Apgd, BarzilaiBorwein, CcpSolver, Psor, SolverSettings, TripletStep};
 use chrono_core::granular::probe::max_penetration;
 use chrono_core::granular::{GrainBed, Region, add_box_container};
 use chrono_core::math::Vector3;
@@ -38,6 +38,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .ok()
         .and_then(|s| s.parse().ok())
         .unwrap_or(1e-5);
+    // `CHECK=k`: PSOR's residual check every k sweeps.
+    let check_every: Option<usize> = std::env::var("CHECK").ok().and_then(|s| s.parse().ok());
+    // `OMEGA=w`: PSOR's relaxation factor.
+    let omega: f64 = std::env::var("OMEGA")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(1.0);
     let settings = SolverSettings {
         tolerance,
         max_iterations: cap,
@@ -48,6 +55,36 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         "psor" => Box::new(Psor::new(settings)),
         "psor-par" => Box::new(Psor::new(settings).with_parallel(true)),
         "psor-sym" => Box::new(Psor::new(settings).with_symmetric(true)),
+        "psor-x" => Box::new(Psor::new(settings).with_triplet_step(TripletStep::Exact)),
+        "psor-xsym" => Box::new(
+            Psor::new(settings)
+                .with_triplet_step(TripletStep::Exact)
+                .with_symmetric(true)
+                .with_omega(omega)
+                .with_check_every(check_every.unwrap_or(1)),
+        ),
+        "apsor" | "apsor-serial" | "apsor-explicit" => {
+            let mut p = Psor::accelerated(settings).with_omega(omega);
+            p.options_mut().partitioned = which != "apsor-serial";
+            p.options_mut().matrix_free = which != "apsor-explicit";
+            if let Some(k) = check_every {
+                p = p.with_check_every(k);
+            }
+            Box::new(p)
+        }
+        "psor-xpar" => Box::new(
+            Psor::new(settings)
+                .with_triplet_step(TripletStep::Exact)
+                .with_parallel(true)
+                .with_check_every(check_every.unwrap_or(1)),
+        ),
+        "psor-xsympar" => Box::new(
+            Psor::new(settings)
+                .with_triplet_step(TripletStep::Exact)
+                .with_symmetric(true)
+                .with_parallel(true)
+                .with_check_every(check_every.unwrap_or(1)),
+        ),
         // `2l` / `2l:K`: APGD cycles of K iterations with a coarse correction between.
         w if w.starts_with("2l") => {
             let k = w
@@ -74,6 +111,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         }
         _ => Box::new(Apgd::new(settings)),
     };
+    let solve_time = std::sync::Arc::new(std::sync::Mutex::new(0.0f64));
+    let solver: Box<dyn CcpSolver> = Box::new(Timed {
+        inner: solver,
+        total: solve_time.clone(),
+    });
     let sys_settings = SystemSettings {
         envelope: 0.1 * radius,
         contact_method: ContactMethod::Nsc,
@@ -150,12 +192,41 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     });
     println!("state fingerprint {fp:016x}");
     println!(
-        "total: {steps} steps, {:.1} it/step, {:.1} apply_n/step, {capped} not converged, {:.2} s",
+        "total: {steps} steps, {:.1} it/step, {:.1} apply_n/step, {capped} not converged, {:.2} s (solver {:.2} s)",
         it_sum as f64 / steps as f64,
         an_sum as f64 / steps as f64,
-        t0.elapsed().as_secs_f64()
+        t0.elapsed().as_secs_f64(),
+        *solve_time.lock().expect("timer")
     );
     Ok(())
+}
+
+/// A solver that adds the wall time of its solves to `total` (s).
+struct Timed {
+    inner: Box<dyn CcpSolver>,
+    total: std::sync::Arc<std::sync::Mutex<f64>>,
+}
+
+impl CcpSolver for Timed {
+    fn name(&self) -> &'static str {
+        self.inner.name()
+    }
+    fn settings(&self) -> &SolverSettings {
+        self.inner.settings()
+    }
+    fn settings_mut(&mut self) -> &mut SolverSettings {
+        self.inner.settings_mut()
+    }
+    fn solve(
+        &mut self,
+        problem: &chrono_core::descriptor::CcpProblem,
+        gamma: &mut [f64],
+    ) -> chrono_ccp::SolveStats {
+        let t = std::time::Instant::now();
+        let s = self.inner.solve(problem, gamma);
+        *self.total.lock().expect("timer") += t.elapsed().as_secs_f64();
+        s
+    }
 }
 
 /// `STUDY_STEP=k`: solve step k's problem from a cold start by several solvers and print the

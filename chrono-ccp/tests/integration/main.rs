@@ -4,6 +4,7 @@
 
 mod analytic;
 mod apgd_fused;
+mod apsor;
 mod bilateral;
 mod cone;
 mod coulomb;

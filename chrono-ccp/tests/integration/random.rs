@@ -13,11 +13,12 @@ const SOLVE_TOL: f64 = 1e-11;
 const CHECK_TOL: f64 = 1e-9;
 
 /// The CCP solvers (CG and MINRES only take bilateral problems: see `bilateral.rs`).
-const SOLVERS: [&str; 10] = [
+const SOLVERS: [&str; 11] = [
     "jacobi",
     "psor",
     "psor-sym",
     "psor-par",
+    "apsor",
     "apgd",
     "bb",
     "two-phase",

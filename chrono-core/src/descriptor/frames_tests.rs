@@ -387,3 +387,95 @@ fn assemble_taking_equals_assemble_bit_for_bit() {
         same(&fresh, &taken);
     }
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(48))]
+
+    /// A fused triplet's three dot products and three `M^-1 D` updates are the bits of
+    /// the row-by-row methods, also through a window of the dof vector; triplets on the
+    /// particle or the bilateral-touched sphere are fused only where their rows allow.
+    #[test]
+    fn fused_triplets_match_the_row_by_row_path(
+        seed in any::<u64>(),
+        n_s in 2usize..30,
+        n_c in 1usize..60,
+    ) {
+        let (p, _, _) = scene(seed, n_s, n_c);
+        let mut rng = crate::rng::Rng::splitmix64(seed ^ 0xf05e);
+        let w: Vec<f64> = (0..p.ndof()).map(|_| rng.range(-1.0, 1.0)).collect();
+        let fr = p.sections().friction.clone();
+        let mut fused = 0;
+        for t in fr.step_by(3) {
+            let Some(f) = p.fused_triplet(t) else { continue };
+            fused += 1;
+            let dots = p.fused_dots_in(&f, &w, 0);
+            for r in 0..3 {
+                prop_assert_eq!(dots[r].to_bits(), p.row_dot(t + r, &w).to_bits());
+            }
+            // through the window from the triplet's lowest dof
+            let lo = p.row_entries(t).map(|(_, off, _, _)| off).min().unwrap_or(0);
+            prop_assert_eq!(p.fused_dots_in(&f, &w[lo..], lo), dots);
+            let mut dg = [rng.range(-1.0, 1.0), 0.0, rng.range(-1.0, 1.0)];
+            if t % 2 == 0 {
+                dg[1] = rng.range(-1.0, 1.0);
+            }
+            let (mut a, mut b) = (w.clone(), w.clone());
+            p.fused_add_minv_in(&f, &dg, &mut a[lo..], lo);
+            for r in 0..3 {
+                if dg[r] != 0.0 {
+                    p.row_add_minv(t + r, dg[r], &mut b);
+                }
+            }
+            let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+            prop_assert_eq!(bits(&a), bits(&b));
+        }
+        prop_assert!(fused > 0 || n_c < 3, "no triplet fused");
+    }
+
+    /// One contact at a time on the pure spheres' world-frame velocities
+    /// (`mf_dots_in`, `mf_add_in`, `mf_gather`): the rows of the dense `N g`, and an
+    /// impulse change moves the velocities as gathering the changed impulses does.
+    #[test]
+    fn matrix_free_contacts_one_at_a_time_equal_the_dense_product(
+        seed in any::<u64>(),
+        n_s in 2usize..30,
+        n_c in 1usize..60,
+    ) {
+        let (p, nn, _) = scene(seed, n_s, n_c);
+        let m = p.n_rows();
+        let mut rng = crate::rng::Rng::splitmix64(seed ^ 0x3a11);
+        let g: Vec<f64> = (0..m).map(|_| rng.range(-1.0, 1.0)).collect();
+        let mut ws = vec![0.0; 6 * p.mf_spheres()];
+        p.mf_gather(&g, &mut ws);
+        let gd = DVector::from_column_slice(&g);
+        let dense = &nn * &gd;
+        let mag = nn.abs() * gd.abs();
+        let fr = p.sections().friction.clone();
+        for (k, t) in fr.step_by(3).enumerate() {
+            let Some(c) = p.mf_contact(k) else { continue };
+            let d = p.mf_dots_in(c, &ws, 0);
+            for r in 0..3 {
+                let got = d[r] + p.eps()[t + r] * g[t + r];
+                let bound = 1e-13 * (mag[t + r] + 1.0);
+                prop_assert!((got - dense[t + r]).abs() <= bound, "row {}: {} vs {}", t + r, got, dense[t + r]);
+            }
+            let dg = [rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), rng.range(-1.0, 1.0)];
+            let mut moved = ws.clone();
+            p.mf_add_in(c, &dg, &mut moved, 0);
+            let mut g2 = g.clone();
+            for r in 0..3 {
+                g2[t + r] += dg[r];
+            }
+            let mut want = vec![0.0; ws.len()];
+            p.mf_gather(&g2, &mut want);
+            for (a, b) in moved.iter().zip(&want) {
+                prop_assert!((a - b).abs() <= 1e-12 * (1.0 + b.abs()), "{} vs {}", a, b);
+            }
+        }
+        // the spheres are numbered in block order: the count below a block is monotone
+        let nb = p.variables().len();
+        let counts: Vec<usize> = (0..=nb).map(|b| p.mf_spheres_before(b)).collect();
+        prop_assert!(counts.windows(2).all(|w| w[0] <= w[1]));
+        prop_assert_eq!(counts[nb], p.mf_spheres());
+    }
+}

@@ -27,7 +27,9 @@ mod frames;
 mod frames_simd;
 #[cfg(test)]
 mod frames_tests;
+mod fused;
 mod held;
+mod mf_sweep;
 mod n_plan;
 mod ops;
 mod packed;
@@ -46,6 +48,7 @@ pub use cone::{
 pub use cone_simd::{friction_residual_terms, project_friction_cones};
 pub use coupled::{CoupledMass, DenseMass, dense_matrix};
 pub use file::{FrameData, ProblemFile, ProblemFormat};
+pub use fused::FusedTriplet;
 pub use held::HeldSubproblem;
 pub use n_plan::NEntryPlan;
 pub use ops::UNIT_ROWS;

@@ -422,10 +422,20 @@ impl CcpProblem {
     /// `D_i' v` for one row.
     #[inline]
     pub fn row_dot(&self, i: usize, v: &[f64]) -> f64 {
+        self.row_dot_in(i, v, 0)
+    }
+
+    /// `D_i' v` for one row whose blocks all lie in `v`, a window of the dof vector that
+    /// starts at dof `base` (e.g. one part of a partitioned sweep).
+    ///
+    /// # Panics
+    /// If an entry of the row lies outside the window.
+    #[inline]
+    pub fn row_dot_in(&self, i: usize, v: &[f64], base: usize) -> f64 {
         let mut s = 0.0;
         for e in self.row_ptr[i] as usize..self.row_ptr[i + 1] as usize {
             let (c0, c1) = (self.ent_coef[e] as usize, self.ent_coef[e + 1] as usize);
-            let off = self.ent_off[e] as usize;
+            let off = self.ent_off[e] as usize - base;
             // A rigid body's 6 dof as fixed-size arrays (no per-coefficient bounds checks or
             // loop control); the same sums in the same order, so the same bits.
             if let (Some(c), Some(x)) = (
@@ -462,9 +472,19 @@ impl CcpProblem {
     /// `v += s M^-1 D_i` for one row (the velocity change caused by an impulse `s` on row `i`).
     #[inline]
     pub fn row_add_minv(&self, i: usize, s: f64, v: &mut [f64]) {
+        self.row_add_minv_in(i, s, v, 0)
+    }
+
+    /// `v += s M^-1 D_i` for one row whose blocks all lie in `v`, a window of the dof
+    /// vector that starts at dof `base`.
+    ///
+    /// # Panics
+    /// If an entry of the row lies outside the window.
+    #[inline]
+    pub fn row_add_minv_in(&self, i: usize, s: f64, v: &mut [f64], base: usize) {
         for e in self.row_ptr[i] as usize..self.row_ptr[i + 1] as usize {
             let (c0, c1) = (self.ent_coef[e] as usize, self.ent_coef[e + 1] as usize);
-            let off = self.ent_off[e] as usize;
+            let off = self.ent_off[e] as usize - base;
             if c1 - c0 == 6 {
                 let x: &mut [f64; 6] = (&mut v[off..off + 6]).try_into().expect("6");
                 let c: &[f64; 6] = self.minv[c0..c0 + 6].try_into().expect("6");

@@ -54,9 +54,11 @@ pub struct SettleParams {
     pub steps: u64,
     /// Bound on the kinetic energy per grain, in units of `m g d`.
     pub ke_bound: f64,
-    /// APGD tolerance (NSC), m/s.
+    /// CCP solver of the NSC step, by name (`chrono_ccp::SOLVER_NAMES`).
+    pub solver: String,
+    /// Solver tolerance (NSC), m/s.
     pub tolerance: f64,
-    /// APGD iteration cap (NSC).
+    /// Solver iteration cap (NSC).
     pub max_iterations: usize,
     /// Seed of the packing.
     pub seed: u64,
@@ -77,6 +79,7 @@ impl Default for SettleParams {
             t_end: 1.0,
             steps: 0,
             ke_bound: 1e-3,
+            solver: "apgd".into(),
             tolerance: 1e-5,
             max_iterations: 100,
             seed: 1,
@@ -97,8 +100,13 @@ const INFO: &[ParamInfo] = &[
     ParamInfo::new("t_end", "s", "simulated time"),
     ParamInfo::new("steps", "-", "steps to run (bench; 0 = t_end / h)"),
     ParamInfo::new("ke_bound", "m g d", "bound on the kinetic energy per grain"),
-    ParamInfo::new("tolerance", "m/s", "APGD tolerance (NSC)"),
-    ParamInfo::new("max_iterations", "-", "APGD iteration cap (NSC)"),
+    ParamInfo::new(
+        "solver",
+        "-",
+        "CCP solver (NSC): apgd | apsor (10 iterations suffice) | chrono_ccp::SOLVER_NAMES",
+    ),
+    ParamInfo::new("tolerance", "m/s", "solver tolerance (NSC)"),
+    ParamInfo::new("max_iterations", "-", "solver iteration cap (NSC)"),
     ParamInfo::new("seed", "-", "seed of the packing"),
 ];
 
@@ -168,7 +176,7 @@ pub(super) fn scene(p: &SettleParams) -> anyhow::Result<Scene> {
     };
     let mut sys = make_system(method, settings, p.tolerance, p.max_iterations)?;
     let nanos = Arc::new(AtomicU64::new(0));
-    let inner = super::make_solver(p.tolerance, p.max_iterations);
+    let inner = crate::cases::rigid::make_solver(&p.solver, p.tolerance, p.max_iterations)?;
     sys.set_solver(Box::new(TimedSolver {
         inner,
         nanos: nanos.clone(),

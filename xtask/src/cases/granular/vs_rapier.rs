@@ -52,9 +52,11 @@ pub struct VsRapierParams {
     pub threads: usize,
     /// Bound on the kinetic energy per grain over the last quarter, in units of `m g d`.
     pub ke_bound: f64,
-    /// APGD tolerance of our NSC step, m/s.
+    /// Our NSC step's CCP solver, by name (`chrono_ccp::SOLVER_NAMES`).
+    pub solver: String,
+    /// Our solver's tolerance, m/s.
     pub tolerance: f64,
-    /// APGD iteration cap of our NSC step.
+    /// Our solver's iteration cap.
     pub max_iterations: usize,
     /// Seed of the packing.
     pub seed: u64,
@@ -74,6 +76,7 @@ impl Default for VsRapierParams {
             t_end: 1.0,
             threads: 2,
             ke_bound: settle.ke_bound,
+            solver: settle.solver,
             tolerance: settle.tolerance,
             max_iterations: settle.max_iterations,
             seed: settle.seed,
@@ -98,8 +101,9 @@ const INFO: &[ParamInfo] = &[
         "m g d",
         "bound on the kinetic energy per grain (at rest)",
     ),
-    ParamInfo::new("tolerance", "m/s", "APGD tolerance (ours)"),
-    ParamInfo::new("max_iterations", "-", "APGD iteration cap (ours)"),
+    ParamInfo::new("solver", "-", "our CCP solver: apgd | apsor | ..."),
+    ParamInfo::new("tolerance", "m/s", "our solver's tolerance"),
+    ParamInfo::new("max_iterations", "-", "our solver's iteration cap"),
     ParamInfo::new("seed", "-", "seed of the packing"),
 ];
 
@@ -404,6 +408,7 @@ fn run_in_pool(p: &VsRapierParams, ctx: &RunContext) -> anyhow::Result<CaseOutpu
         mu: p.mu,
         h: p.h,
         t_end: p.t_end,
+        solver: p.solver.clone(),
         tolerance: p.tolerance,
         max_iterations: p.max_iterations,
         seed: p.seed,
