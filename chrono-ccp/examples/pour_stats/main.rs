@@ -6,7 +6,10 @@
 //! Run: `cargo run --release -p chrono-ccp --example pour_stats -- [n] [steps] [radius] [h]
 //! [solver] [cap]` (defaults: 2000 grains, 40 steps, r = 0.01 m, h = 1/240 s, `apgd`, 100;
 //! `TOL=x` sets the solver's tolerance, m/s, 1e-5 by default; `solver` is `apgd`, `bb`,
-//! `psor`, `psor-par` (coloured sweeps), `psor-sym`, `2l:K` (APGD cycles of K iterations
+//! `psor`, `psor-par` (coloured sweeps), `psor-sym`, `psor-x` / `psor-xsym` (the exact
+//! triplet step), `psor-xpar` / `psor-xsympar`, `apsor` (the accelerated PSOR;
+//! `apsor-serial` without parts, `apsor-explicit` without the matrix-free triplets;
+//! `CHECK=k` its residual check every k iterations, `OMEGA=w` its relaxation), `2l:K` (APGD cycles of K iterations
 //! with a coarse correction, [`two_level`]) or `study` (APGD, and on the warm start of solve
 //! `STUDY_STEP` the error study of docs/performance.md, "is the pour's slow error a smooth
 //! (coarse) mode?")).
@@ -201,7 +204,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     Ok(())
 }
 
-/// A solver that adds the wall time of its solves to `total` (s).
+/// A solver that adds the wall time of its solves to `total` (s, printed at the end).
 struct Timed {
     inner: Box<dyn CcpSolver>,
     total: std::sync::Arc<std::sync::Mutex<f64>>,

@@ -5,6 +5,8 @@ use chrono_core::descriptor::reduce::sum_by;
 use rayon::prelude::*;
 
 use super::Psor;
+use super::parts::apply_change;
+use super::unit::{SweepData, Vel};
 use crate::util::sanitize_and_project;
 
 impl Psor {
@@ -35,6 +37,7 @@ impl Psor {
                 *p = t;
                 *y = *g;
             });
+        let y = &mut self.y;
         for (w, p) in [
             (&mut self.w, &mut self.w_prev),
             (&mut self.ws, &mut self.ws_prev),
@@ -48,26 +51,30 @@ impl Psor {
                     *p = t;
                 });
         }
-        // the projection's changes, row by row (few: the extrapolation mostly stays in Y)
+        // the projection's changes, unit by unit (by parts when sweeping by parts)
         sanitize_and_project(problem, gamma);
-        let fs = problem.sections().friction.clone();
-        for (i, (g, y)) in gamma.iter().zip(y.iter_mut()).enumerate() {
-            if *g != *y {
-                let c = if fs.contains(&i) {
-                    self.mf_of.get((i - fs.start) / 3).copied()
-                } else {
-                    None
-                };
-                match c.filter(|&c| c != u32::MAX) {
-                    Some(c) => {
-                        let mut dg = [0.0; 3];
-                        dg[(i - fs.start) % 3] = *g - *y;
-                        problem.mf_add_in(c, &dg, &mut self.ws, 0);
-                    }
-                    None => problem.row_add_minv(i, *g - *y, &mut self.w),
+        let data = SweepData {
+            problem,
+            step: &self.step,
+            cone_scale: &self.cone_scale,
+            fused: &self.fused,
+            mf: &self.mf_of,
+            factors: &self.factors,
+            omega: self.options.omega,
+        };
+        let (w, ws) = (&mut self.w, &mut self.ws);
+        match &self.partition {
+            Some(part) => part.apply_changes(&data, &self.units, gamma, y, w, ws),
+            None => {
+                let mut vel = Vel::whole(w, ws);
+                for &unit in &self.units {
+                    apply_change(&data, unit, gamma, y, &mut vel);
                 }
-                *y = *g;
             }
         }
+        y.par_iter_mut()
+            .zip(gamma.par_iter())
+            .with_min_len(4096)
+            .for_each(|(y, g)| *y = *g);
     }
 }

@@ -21,7 +21,7 @@ use std::sync::atomic::{AtomicU64, Ordering::Relaxed};
 use chrono_core::descriptor::{BlockId, CcpProblem};
 use rayon::prelude::*;
 
-use super::{SweepData, Unit, Vel, apply_update, unit_update};
+use super::{SweepData, Unit, UnitUpdate, Vel, apply_update, unit_update};
 use crate::dense::MAX_BLOCK;
 
 /// Fewest units per part: below this, a part is too small to pay for its thread.
@@ -139,16 +139,47 @@ impl Partition {
         ws: &mut [f64],
         forward: bool,
     ) {
+        self.run(w, ws, !forward, |list, vel| {
+            if forward {
+                sweep_units(data, units, list.iter(), g, vel);
+            } else {
+                sweep_units(data, units, list.iter().rev(), g, vel);
+            }
+        });
+    }
+
+    /// `w += M^-1 D (g - y)` over every unit whose rows differ between `g` and `y` (the
+    /// momentum step's projection), each part's units on its thread, then the interface.
+    pub(super) fn apply_changes(
+        &self,
+        data: &SweepData,
+        units: &[Unit],
+        g: &[f64],
+        y: &[f64],
+        w: &mut [f64],
+        ws: &mut [f64],
+    ) {
+        self.run(w, ws, false, |list, vel| {
+            for &u in list {
+                apply_change(data, units[u as usize], g, y, vel);
+            }
+        });
+    }
+
+    /// `f(units, window)` for every part in parallel (each with its window of `w` and
+    /// `ws`), and for the interface units with the whole vectors, before the parts if
+    /// `interface_first`, else after.
+    fn run(
+        &self,
+        w: &mut [f64],
+        ws: &mut [f64],
+        interface_first: bool,
+        f: impl Fn(&[u32], &mut Vel) + Sync,
+    ) {
         let n = self.parts();
         let interface = &self.order[self.ptr[n]..];
-        if !forward {
-            sweep_units(
-                data,
-                units,
-                interface.iter().rev(),
-                g,
-                &mut Vel::whole(w, ws),
-            );
+        if interface_first {
+            f(interface, &mut Vel::whole(w, ws));
         }
         // split w and ws into the parts' windows (no sphere windows without matrix-free
         // sweeps)
@@ -172,18 +203,29 @@ impl Partition {
             (rest, srest) = (tail, stail);
             (at, sat) = (self.dof[k + 1], sph(k + 1));
         }
-        windows.into_par_iter().for_each(|(k, mut vel)| {
-            let list = &self.order[self.ptr[k]..self.ptr[k + 1]];
-            if forward {
-                sweep_units(data, units, list.iter(), g, &mut vel);
-            } else {
-                sweep_units(data, units, list.iter().rev(), g, &mut vel);
-            }
-        });
-        if forward {
-            sweep_units(data, units, interface.iter(), g, &mut Vel::whole(w, ws));
+        windows
+            .into_par_iter()
+            .for_each(|(k, mut vel)| f(&self.order[self.ptr[k]..self.ptr[k + 1]], &mut vel));
+        if !interface_first {
+            f(interface, &mut Vel::whole(w, ws));
         }
     }
+}
+
+/// `w += M^-1 D (g - y)` on `unit`'s rows if any of them differs.
+pub(super) fn apply_change(data: &SweepData, unit: Unit, g: &[f64], y: &[f64], vel: &mut Vel) {
+    let (start, len) = unit.rows();
+    if g[start..start + len]
+        .iter()
+        .zip(&y[start..start + len])
+        .all(|(a, b)| a.to_bits() == b.to_bits())
+    {
+        return;
+    }
+    let (mut cur, mut new) = ([0.0; MAX_BLOCK], [0.0; MAX_BLOCK]);
+    cur[..len].copy_from_slice(&y[start..start + len]);
+    new[..len].copy_from_slice(&g[start..start + len]);
+    apply_update(data, unit, &UnitUpdate { start, len, new }, &cur, vel);
 }
 
 /// Gauss–Seidel over `list` with `w` the window from dof `base`.

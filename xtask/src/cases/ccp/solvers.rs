@@ -68,6 +68,7 @@ impl Default for SolversParams {
                 "psor",
                 "psor-sym",
                 "psor-par",
+                "apsor",
                 "apgd",
                 "bb",
                 "two-phase",
@@ -96,7 +97,7 @@ impl CaseParams for SolversParams {
         ParamInfo::new(
             "solvers",
             "-",
-            "solvers: jacobi psor psor-sym psor-par apgd bb two-phase",
+            "solvers: jacobi psor psor-sym psor-par apsor apgd bb two-phase",
         ),
         ParamInfo::new("tolerance", "m/s", "residual to solve to"),
         ParamInfo::new("apply_n_budget", "-", "apply_n-equivalents per solve"),
@@ -130,7 +131,8 @@ impl CaseParams for SolversParams {
 fn cost_per_iteration(name: &str) -> usize {
     match name {
         "psor" | "psor-par" => 2,
-        "psor-sym" => 3,
+        // two sweeps and a residual check every 5 iterations
+        "psor-sym" | "apsor" => 3,
         _ => 1,
     }
 }
