@@ -9,6 +9,7 @@
 
 use chrono_core::descriptor::{
     CcpProblem, CcpSolver, CcpWork, FusedTriplet, PER_BODY_ROWS, SolveStats, SolverSettings,
+    SphereContact,
 };
 use serde::{Deserialize, Serialize};
 
@@ -22,8 +23,8 @@ use colour::Colouring;
 use parts::{Partition, Shared};
 pub(crate) use unit::sym3_max_eigen;
 use unit::{
-    SweepData, UnitUpdate, Vel, apply_update, current, diagonal_cone_scale, gershgorin_bound,
-    unit_update,
+    SweepData, UnitUpdate, Vel, apply_update, as_mf_triplet, current, diagonal_cone_scale,
+    gershgorin_bound, mf_triplet, unit_update,
 };
 
 use crate::util::{
@@ -229,8 +230,10 @@ pub struct Psor {
     /// Momentum: `T(y_{k-1})`, its `M^-1 D g`, and `y_k`.
     g_prev: Vec<f64>,
     w_prev: Vec<f64>,
-    /// Per friction triplet its matrix-free contact or `u32::MAX` (matrix-free sweeps).
+    /// Per friction triplet its index in `mf_contacts` or `u32::MAX` (matrix-free sweeps).
     mf_of: Vec<u32>,
+    /// The matrix-free contacts of the triplets, in triplet order.
+    mf_contacts: Vec<SphereContact>,
     /// The pure spheres' world-frame `M^-1 D g` (6 each), and its previous value.
     ws: Vec<f64>,
     ws_prev: Vec<f64>,
@@ -391,18 +394,46 @@ impl Psor {
         self.cone_scale.clear();
         self.fused.clear();
         self.mf_of.clear();
+        self.mf_contacts.clear();
         if self.options.matrix_free && problem.mf_spheres() > 0 {
-            let nt = s.friction.len() / 3;
-            self.mf_of
-                .extend((0..nt).map(|k| problem.mf_contact(k).unwrap_or(u32::MAX)));
+            for k in 0..s.friction.len() / 3 {
+                let at = match problem.mf_contact(k) {
+                    Some(c) => {
+                        self.mf_contacts.push(problem.mf_sphere_contact(c));
+                        self.mf_contacts.len() as u32 - 1
+                    }
+                    None => u32::MAX,
+                };
+                self.mf_of.push(at);
+            }
         }
+        let eps = problem.eps();
         for t in s.friction.clone().step_by(3) {
-            self.fused.push(problem.fused_triplet(t));
+            let contact = match self.mf_of.get((t - s.friction.start) / 3) {
+                Some(&c) if c != u32::MAX => Some(&self.mf_contacts[c as usize]),
+                _ => None,
+            };
+            self.fused.push(match contact {
+                Some(_) => None,
+                None => problem.fused_triplet(t),
+            });
             let mut k = 0.0;
             let lambda = match self.options.triplet_step {
                 TripletStep::Average => (diag[t] + diag[t + 1] + diag[t + 2]) / 3.0,
                 TripletStep::MaxEigen | TripletStep::Exact => {
-                    let b = problem.cone_block(t).expect("a triplet");
+                    // a matrix-free contact's block from its geometry (no explicit rows)
+                    let own;
+                    let b = match contact {
+                        Some(c) => {
+                            let mut x = c.block();
+                            x[0] += eps[t];
+                            x[3] += eps[t + 1];
+                            x[5] += eps[t + 2];
+                            own = x;
+                            &own[..]
+                        }
+                        None => problem.cone_block(t).expect("a triplet"),
+                    };
                     if self.options.triplet_step == TripletStep::Exact {
                         k = diagonal_cone_scale(b);
                         if k > 0.0 {
@@ -470,6 +501,7 @@ impl Psor {
             cone_scale: &self.cone_scale,
             fused: &self.fused,
             mf: &self.mf_of,
+            mf_contacts: &self.mf_contacts,
             factors: &self.factors,
             omega: self.options.omega,
         };
@@ -493,19 +525,26 @@ impl Psor {
             cone_scale: &self.cone_scale,
             fused: &self.fused,
             mf: &self.mf_of,
+            mf_contacts: &self.mf_contacts,
             factors: &self.factors,
             omega: self.options.omega,
         };
         let n = self.units.len();
         for k in 0..n {
             let unit = self.units[if forward { k } else { n - 1 - k }];
-            let cur = current(unit, g);
             let mut vel = Vel {
                 w: &mut self.w,
                 base: 0,
                 ws: &mut self.ws,
                 sbase: 0,
             };
+            if let Some((t, k, c)) = as_mf_triplet(&data, unit) {
+                let cur = [g[t], g[t + 1], g[t + 2]];
+                let new = mf_triplet(&data, t, k, c, cur, &mut vel);
+                g[t..t + 3].copy_from_slice(&new);
+                continue;
+            }
+            let cur = current(unit, g);
             let d = unit_update(&data, unit, &cur, &vel.read());
             apply_update(&data, unit, &d, &cur, &mut vel);
             g[d.start..d.start + d.len].copy_from_slice(&d.new[..d.len]);
@@ -534,8 +573,7 @@ impl CcpSolver for Psor {
         }
 
         sanitize_and_project(problem, gamma);
-        // the cone blocks are built lazily: once here, before the (parallel) sweeps
-        problem.prepare_cone_blocks();
+        // (the cone blocks are built lazily, by the serial setup, if a unit needs them)
         self.setup(problem);
         problem.minv_d(gamma, &mut self.w);
         let matrix_free = !self.mf_of.is_empty();

@@ -59,6 +59,7 @@ impl Psor {
             cone_scale: &self.cone_scale,
             fused: &self.fused,
             mf: &self.mf_of,
+            mf_contacts: &self.mf_contacts,
             factors: &self.factors,
             omega: self.options.omega,
         };

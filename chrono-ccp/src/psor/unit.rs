@@ -4,8 +4,8 @@
 //! sphere contact ([`CcpProblem::mf_contact`]); the triplet step sizes.
 
 use chrono_core::descriptor::{
-    CcpProblem, FusedTriplet, PER_BODY_ROWS, project_friction_cone, project_rolling_cone,
-    project_rolling_per_body_cone, upper_index,
+    CcpProblem, FusedTriplet, PER_BODY_ROWS, SphereContact, project_friction_cone,
+    project_rolling_cone, project_rolling_per_body_cone, upper_index,
 };
 
 use super::Unit;
@@ -44,7 +44,7 @@ pub(super) fn apply_update(
         ];
         if let Some(&c) = d.mf.get(k).filter(|&&c| c != u32::MAX) {
             if dg != [0.0; 3] {
-                problem.mf_add_in(c, &dg, vel.ws, vel.sbase);
+                d.mf_contacts[c as usize].add_in(&dg, vel.ws, vel.sbase);
             }
             return;
         }
@@ -130,6 +130,8 @@ pub(super) struct SweepData<'a> {
     pub(super) fused: &'a [Option<FusedTriplet>],
     /// Per friction triplet: its matrix-free contact or `u32::MAX` (empty: none).
     pub(super) mf: &'a [u32],
+    /// The matrix-free contacts `mf` points into.
+    pub(super) mf_contacts: &'a [SphereContact],
     pub(super) factors: &'a [f64],
     pub(super) omega: f64,
 }
@@ -198,7 +200,7 @@ pub(super) fn unit_update(
             };
             if fused.is_some() || mf.is_some() {
                 let dots = match (mf, fused) {
-                    (Some(c), _) => problem.mf_dots_in(c, vel.ws, vel.sbase),
+                    (Some(c), _) => d.mf_contacts[c as usize].dots_in(vel.ws, vel.sbase),
                     (None, Some(f)) => problem.fused_dots_in(f, w, base),
                     (None, None) => unreachable!("one of the two"),
                 };
@@ -290,4 +292,57 @@ pub(crate) fn sym3_max_eigen(a: &[[f64; 3]; 3]) -> f64 {
     let half_det = (det / (p * p * p) / 2.0).clamp(-1.0, 1.0);
     let phi = half_det.acos() / 3.0;
     q + 2.0 * p * phi.cos()
+}
+
+/// The matrix-free triplet at row `t` (triplet `k`, its contact `d.mf_contacts[c]`)
+/// relaxed in registers: the same operations as [`unit_update`] on it, without the
+/// generic unit's arrays (whose stores and wide reloads stalled the sweep), then its
+/// velocity change applied. Returns the new impulses.
+#[inline(always)]
+pub(super) fn mf_triplet(
+    d: &SweepData,
+    t: usize,
+    k: usize,
+    c: u32,
+    cur: [f64; 3],
+    vel: &mut Vel,
+) -> [f64; 3] {
+    let problem = d.problem;
+    let contact = &d.mf_contacts[c as usize];
+    let dots = contact.dots_in(vel.ws, vel.sbase);
+    let (eps, r) = (problem.eps(), problem.r());
+    let mut new = [0.0; 3];
+    for j in 0..3 {
+        let c = dots[j] + eps[t + j] * cur[j] + r[t + j];
+        new[j] = cur[j] - d.step[t + j] * c;
+    }
+    let mu = problem.friction_mu()[k];
+    let scale = d.cone_scale[k];
+    if scale > 0.0 {
+        new[1] *= scale;
+        new[2] *= scale;
+        project_friction_cone(mu * scale, &mut new);
+        new[1] /= scale;
+        new[2] /= scale;
+    } else {
+        project_friction_cone(mu, &mut new);
+    }
+    let dg = [new[0] - cur[0], new[1] - cur[1], new[2] - cur[2]];
+    if dg != [0.0; 3] {
+        contact.add_in(&dg, vel.ws, vel.sbase);
+    }
+    new
+}
+
+/// The matrix-free triplet of `unit`, if it is one: `(t, k, c)` for [`mf_triplet`].
+#[inline(always)]
+pub(super) fn as_mf_triplet(d: &SweepData, unit: Unit) -> Option<(usize, usize, u32)> {
+    let Unit::Triplet(t) = unit else {
+        return None;
+    };
+    let k = (t - d.problem.sections().friction.start) / 3;
+    match d.mf.get(k) {
+        Some(&c) if c != u32::MAX => Some((t, k, c)),
+        _ => None,
+    }
 }

@@ -453,6 +453,17 @@ proptest! {
         let fr = p.sections().friction.clone();
         for (k, t) in fr.step_by(3).enumerate() {
             let Some(c) = p.mf_contact(k) else { continue };
+            // the contact's block of N (with its compliance) against the dense one
+            let b = p.mf_sphere_contact(c).block();
+            let mut q = 0;
+            for i in 0..3 {
+                for j in i..3 {
+                    let e = if i == j { p.eps()[t + i] } else { 0.0 };
+                    let want = nn[(t + i, t + j)];
+                    prop_assert!((b[q] + e - want).abs() <= 1e-12 * (1.0 + want.abs()), "block {i}{j}: {} vs {want}", b[q] + e);
+                    q += 1;
+                }
+            }
             let d = p.mf_dots_in(c, &ws, 0);
             for r in 0..3 {
                 let got = d[r] + p.eps()[t + r] * g[t + r];

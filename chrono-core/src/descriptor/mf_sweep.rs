@@ -42,6 +42,30 @@ impl CcpProblem {
         }
     }
 
+    /// Contact `c`'s geometry and its spheres' inverse masses as one value
+    /// ([`SphereContact`]), for a solver that sweeps the contacts many times.
+    pub fn mf_sphere_contact(&self, c: u32) -> SphereContact {
+        let mf = &self.mf;
+        let c = c as usize;
+        let at = |x: &[Vec<f64>; 3]| [x[0][c], x[1][c], x[2][c]];
+        let n = at(&mf.c_n);
+        let (u, w) = frame_from(&n, mf.c_rc[c]);
+        let spheres = mf.c_body[c];
+        let inv = spheres.map(|s| {
+            if s == NONE {
+                [0.0; 2]
+            } else {
+                mf.b_inv[s as usize]
+            }
+        });
+        SphereContact {
+            spheres,
+            dirs: [n, u, w],
+            arms: [at(&mf.c_ra), at(&mf.c_rb)],
+            inv,
+        }
+    }
+
     /// Contact `c`'s rows of `D' ws` (normal, then the two tangents), `ws` the window of
     /// sphere velocities from sphere `base`.
     ///
@@ -49,31 +73,7 @@ impl CcpProblem {
     /// If a sphere of the contact lies outside the window.
     #[inline]
     pub fn mf_dots_in(&self, c: u32, ws: &[f64], base: usize) -> [f64; 3] {
-        let mf = &self.mf;
-        let c = c as usize;
-        let at = |x: &[Vec<f64>; 3]| [x[0][c], x[1][c], x[2][c]];
-        let mut rel = [0.0; 3];
-        let [sa, sb] = mf.c_body[c];
-        for (s, r, sign) in [(sa, &mf.c_ra, -1.0), (sb, &mf.c_rb, 1.0)] {
-            if s == NONE {
-                continue;
-            }
-            let o = 6 * (s as usize - base);
-            let x: &[f64; 6] = ws[o..o + 6].try_into().expect("6");
-            let r = at(r);
-            let vp = [
-                x[0] + (x[4] * r[2] - x[5] * r[1]),
-                x[1] + (x[5] * r[0] - x[3] * r[2]),
-                x[2] + (x[3] * r[1] - x[4] * r[0]),
-            ];
-            for k in 0..3 {
-                rel[k] += sign * vp[k];
-            }
-        }
-        let n = at(&mf.c_n);
-        let (u, v) = frame_from(&n, mf.c_rc[c]);
-        let dot = |a: &[f64; 3]| a[0] * rel[0] + a[1] * rel[1] + a[2] * rel[2];
-        [dot(&n), dot(&u), dot(&v)]
+        self.mf_sphere_contact(c).dots_in(ws, base)
     }
 
     /// `ws += M^-1 D' dg` for contact `c` (its impulse change `dg` along normal and
@@ -83,19 +83,98 @@ impl CcpProblem {
     /// If a sphere of the contact lies outside the window.
     #[inline]
     pub fn mf_add_in(&self, c: u32, dg: &[f64; 3], ws: &mut [f64], base: usize) {
-        let mf = &self.mf;
-        let c = c as usize;
-        let at = |x: &[Vec<f64>; 3]| [x[0][c], x[1][c], x[2][c]];
-        let n = at(&mf.c_n);
-        let (u, v) = frame_from(&n, mf.c_rc[c]);
-        let f: [f64; 3] = std::array::from_fn(|k| n[k] * dg[0] + u[k] * dg[1] + v[k] * dg[2]);
-        let [sa, sb] = mf.c_body[c];
-        for (s, r, sign) in [(sa, &mf.c_ra, -1.0), (sb, &mf.c_rb, 1.0)] {
+        self.mf_sphere_contact(c).add_in(dg, ws, base);
+    }
+}
+
+/// One matrix-free contact as a value: its spheres (or `u32::MAX` for a side without
+/// variables), its frame `[n, u, w]` (the tangents of [`crate::math::tangent_frame`]),
+/// the arms `r_A`, `r_B` from the spheres' centres to the contact point (world, m), and
+/// the spheres' `[1/m, 1/J]`. Its rows are `d . ((v_B + w_B x r_B) - (v_A + w_A x r_A))`
+/// for `d` in the frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SphereContact {
+    spheres: [u32; 2],
+    dirs: [[f64; 3]; 3],
+    arms: [[f64; 3]; 2],
+    inv: [[f64; 2]; 2],
+}
+
+impl SphereContact {
+    /// The contact's three rows of `D' ws`, `ws` the sphere velocities (world frame, 6
+    /// per sphere) from sphere `base`.
+    ///
+    /// # Panics
+    /// If a sphere of the contact lies outside the window.
+    #[inline]
+    pub fn dots_in(&self, ws: &[f64], base: usize) -> [f64; 3] {
+        let mut rel = [0.0; 3];
+        for (side, sign) in [(0, -1.0), (1, 1.0)] {
+            let s = self.spheres[side];
             if s == NONE {
                 continue;
             }
-            let [im, ij] = mf.b_inv[s as usize];
-            let r = at(r);
+            let o = 6 * (s as usize - base);
+            let x: &[f64; 6] = ws[o..o + 6].try_into().expect("6");
+            let r = &self.arms[side];
+            let vp = [
+                x[0] + (x[4] * r[2] - x[5] * r[1]),
+                x[1] + (x[5] * r[0] - x[3] * r[2]),
+                x[2] + (x[3] * r[1] - x[4] * r[0]),
+            ];
+            for k in 0..3 {
+                rel[k] += sign * vp[k];
+            }
+        }
+        let dot = |a: &[f64; 3]| a[0] * rel[0] + a[1] * rel[1] + a[2] * rel[2];
+        [dot(&self.dirs[0]), dot(&self.dirs[1]), dot(&self.dirs[2])]
+    }
+
+    /// The contact's 3x3 block of `D M^-1 D'` (without compliance) as the upper triangle
+    /// `[nn, nu, nw, uu, uw, ww]`: `sum over sides of (1/m) d.e + (1/J) (r x d).(r x e)`.
+    pub fn block(&self) -> [f64; 6] {
+        let cross = |a: &[f64; 3], b: &[f64; 3]| {
+            [
+                a[1] * b[2] - a[2] * b[1],
+                a[2] * b[0] - a[0] * b[2],
+                a[0] * b[1] - a[1] * b[0],
+            ]
+        };
+        let dot = |a: &[f64; 3], b: &[f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+        let mut out = [0.0; 6];
+        for side in 0..2 {
+            if self.spheres[side] == NONE {
+                continue;
+            }
+            let [im, ij] = self.inv[side];
+            let rd = self.dirs.map(|d| cross(&self.arms[side], &d));
+            let mut q = 0;
+            for a in 0..3 {
+                for b in a..3 {
+                    out[q] += im * dot(&self.dirs[a], &self.dirs[b]) + ij * dot(&rd[a], &rd[b]);
+                    q += 1;
+                }
+            }
+        }
+        out
+    }
+
+    /// `ws += M^-1 D' dg` for an impulse change `dg` along the frame, `ws` from sphere
+    /// `base`.
+    ///
+    /// # Panics
+    /// If a sphere of the contact lies outside the window.
+    #[inline]
+    pub fn add_in(&self, dg: &[f64; 3], ws: &mut [f64], base: usize) {
+        let [n, u, v] = &self.dirs;
+        let f: [f64; 3] = std::array::from_fn(|k| n[k] * dg[0] + u[k] * dg[1] + v[k] * dg[2]);
+        for (side, sign) in [(0, -1.0), (1, 1.0)] {
+            let s = self.spheres[side];
+            if s == NONE {
+                continue;
+            }
+            let [im, ij] = self.inv[side];
+            let r = &self.arms[side];
             let t = [
                 r[1] * f[2] - r[2] * f[1],
                 r[2] * f[0] - r[0] * f[2],

@@ -50,6 +50,7 @@ pub use coupled::{CoupledMass, DenseMass, dense_matrix};
 pub use file::{FrameData, ProblemFile, ProblemFormat};
 pub use fused::FusedTriplet;
 pub use held::HeldSubproblem;
+pub use mf_sweep::SphereContact;
 pub use n_plan::NEntryPlan;
 pub use ops::UNIT_ROWS;
 pub use packed::PackedRows;
