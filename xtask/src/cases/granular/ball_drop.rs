@@ -127,9 +127,11 @@ pub struct BallDropParams {
     /// The bed counts as settled when the kinetic energy per grain is below this, in units
     /// of `m g d`.
     pub settle_ke: f64,
-    /// APGD tolerance (NSC), m/s.
+    /// CCP solver of the NSC runs, by name (`chrono_ccp::SOLVER_NAMES`).
+    pub solver: String,
+    /// Solver tolerance (NSC), m/s.
     pub tolerance: f64,
-    /// APGD iteration cap (NSC).
+    /// Solver iteration cap (NSC).
     pub max_iterations: usize,
     /// Allowed absolute deviation of the fitted exponent from 1/3.
     pub exponent_tolerance: f64,
@@ -179,6 +181,7 @@ impl Default for BallDropParams {
             t_drop: 0.15,
             t_settle: 1.5,
             settle_ke: 1e-4,
+            solver: "apgd".into(),
             tolerance: 1e-4,
             max_iterations: 60,
             exponent_tolerance: 0.1,
@@ -236,8 +239,9 @@ impl CaseParams for BallDropParams {
         ),
         ParamInfo::new("t_settle", "s", "longest settling time of the bed"),
         ParamInfo::new("settle_ke", "m g d", "settled when KE per grain is below"),
-        ParamInfo::new("tolerance", "m/s", "APGD tolerance (NSC)"),
-        ParamInfo::new("max_iterations", "-", "APGD iteration cap (NSC)"),
+        ParamInfo::new("solver", "-", "CCP solver (NSC): apgd | apsor | ..."),
+        ParamInfo::new("tolerance", "m/s", "solver tolerance (NSC)"),
+        ParamInfo::new("max_iterations", "-", "solver iteration cap (NSC)"),
         ParamInfo::new(
             "exponent_tolerance",
             "-",

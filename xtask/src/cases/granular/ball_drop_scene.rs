@@ -80,7 +80,13 @@ fn impact_bed(p: &BallDropParams) -> ImpactBed {
 
 /// A system of `method` for the case's scenes (`v_max`: the fastest impact, m/s).
 fn system(p: &BallDropParams, method: ContactMethod, v_max: f64) -> anyhow::Result<System> {
-    make_system(method, settings(p, v_max), p.tolerance, p.max_iterations)
+    let mut sys = make_system(method, settings(p, v_max), p.tolerance, p.max_iterations)?;
+    sys.set_solver(crate::cases::rigid::make_solver(
+        &p.solver,
+        p.tolerance,
+        p.max_iterations,
+    )?);
+    Ok(sys)
 }
 
 /// Settle the bed from a jittered lattice; the grains at rest.
