@@ -8,7 +8,8 @@
 //! `TOL=x` sets the solver's tolerance, m/s, 1e-5 by default; `solver` is `apgd`, `bb`,
 //! `psor`, `psor-par` (coloured sweeps), `psor-sym`, `psor-x` / `psor-xsym` (the exact
 //! triplet step), `psor-xpar` / `psor-xsympar`, `apsor` (the accelerated PSOR;
-//! `apsor-serial` without parts, `apsor-explicit` without the matrix-free triplets;
+//! `apsor-serial` without parts, `apsor-explicit` without the matrix-free triplets,
+//! `apsor-sym` with symmetric sweeps;
 //! `CHECK=k` its residual check every k iterations, `OMEGA=w` its relaxation), `2l:K` (APGD cycles of K iterations
 //! with a coarse correction, [`two_level`]) or `study` (APGD, and on the warm start of solve
 //! `STUDY_STEP` the error study of docs/performance.md, "is the pour's slow error a smooth
@@ -66,8 +67,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 .with_omega(omega)
                 .with_check_every(check_every.unwrap_or(1)),
         ),
-        "apsor" | "apsor-serial" | "apsor-explicit" => {
+        "apsor" | "apsor-serial" | "apsor-explicit" | "apsor-sym" => {
             let mut p = Psor::accelerated(settings).with_omega(omega);
+            p.options_mut().symmetric = which == "apsor-sym";
             p.options_mut().partitioned = which != "apsor-serial";
             p.options_mut().matrix_free = which != "apsor-explicit";
             if let Some(k) = check_every {

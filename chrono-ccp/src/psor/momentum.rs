@@ -10,6 +10,25 @@ use super::unit::{SweepData, Vel};
 use crate::util::sanitize_and_project;
 
 impl Psor {
+    /// Back to the best iterate seen: `gamma`, its velocities and the momentum's history
+    /// (the next step starts without momentum).
+    pub(super) fn restart_from_best(
+        &mut self,
+        problem: &CcpProblem,
+        gamma: &mut [f64],
+        matrix_free: bool,
+    ) {
+        gamma.copy_from_slice(&self.best);
+        problem.minv_d(gamma, &mut self.w);
+        if matrix_free {
+            problem.mf_gather(gamma, &mut self.ws);
+        }
+        self.g_prev.copy_from_slice(gamma);
+        self.y.copy_from_slice(gamma);
+        self.w_prev.copy_from_slice(&self.w);
+        self.ws_prev.copy_from_slice(&self.ws);
+    }
+
     /// The momentum step of [`PsorOptions::momentum`]: `gamma` holds `T(y_k)`; it
     /// becomes `y_{k+1}` (projected onto `Y`), `w` its `M^-1 D g`.
     pub(super) fn extrapolate(&mut self, problem: &CcpProblem, gamma: &mut [f64], k: &mut f64) {

@@ -52,7 +52,14 @@ fn run(solver: &mut dyn CcpSolver, seed: u64) -> Result<(Vec<f64>, f64), TestCas
         )));
     }
     let f = objective(&problem, &gamma);
-    prop_assert!((f - stats.objective).abs() <= 1e-12 * (1.0 + f.abs()));
+    prop_assert!(
+        (f - stats.objective).abs() <= 1e-12 * (1.0 + f.abs()),
+        "{}: objective {} reported {} ({:?})",
+        solver.name(),
+        f,
+        stats.objective,
+        (stats.iterations, stats.residual, stats.converged)
+    );
     prop_assert!(
         stats.apply_n >= stats.iterations,
         "{}: apply_n {} < iterations {}",

@@ -131,8 +131,9 @@ impl CaseParams for SolversParams {
 fn cost_per_iteration(name: &str) -> usize {
     match name {
         "psor" | "psor-par" => 2,
-        // two sweeps and a residual check every 5 iterations
-        "psor-sym" | "apsor" => 3,
+        "psor-sym" => 3,
+        // a sweep, the momentum step and a residual check every 5 iterations
+        "apsor" => 2,
         _ => 1,
     }
 }

@@ -103,7 +103,7 @@ const INFO: &[ParamInfo] = &[
     ParamInfo::new(
         "solver",
         "-",
-        "CCP solver (NSC): apgd | apsor (10 iterations suffice) | chrono_ccp::SOLVER_NAMES",
+        "CCP solver (NSC): apgd | apsor (12 iterations suffice) | chrono_ccp::SOLVER_NAMES",
     ),
     ParamInfo::new("tolerance", "m/s", "solver tolerance (NSC)"),
     ParamInfo::new("max_iterations", "-", "solver iteration cap (NSC)"),
