@@ -676,7 +676,7 @@ impl CcpSolver for Psor {
                 if self.options.momentum {
                     if grad_is_best {
                         accelerating = true;
-                    } else if accelerating && !(res <= DIVERGED * best_res) {
+                    } else if accelerating && (!finite || res > DIVERGED * best_res) {
                         // the accelerated iterates ran away (momentum is not a descent
                         // method for Gauss-Seidel sweeps): back to the best one, plain
                         // sweeps until a check improves on it
