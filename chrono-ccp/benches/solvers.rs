@@ -41,7 +41,7 @@ fn bench(c: &mut Criterion) {
         b.iter(|| problem.project(black_box(&mut projected)))
     });
 
-    for name in ["jacobi", "psor", "apgd", "bb"] {
+    for name in ["jacobi", "psor", "apsor", "apgd", "bb"] {
         for k in [1, 11] {
             let settings = SolverSettings {
                 tolerance: 0.0,
