@@ -23,8 +23,8 @@ use colour::Colouring;
 use parts::{Partition, Shared};
 pub(crate) use unit::sym3_max_eigen;
 use unit::{
-    SweepData, UnitUpdate, Vel, apply_update, as_mf_triplet, current, diagonal_cone_scale,
-    gershgorin_bound, mf_triplet, unit_update,
+    SweepData, UnitUpdate, Vel, apply_update, as_triplet, current, diagonal_cone_scale,
+    gershgorin_bound, triplet, unit_update,
 };
 
 use crate::util::{
@@ -544,9 +544,9 @@ impl Psor {
                 ws: &mut self.ws,
                 sbase: 0,
             };
-            if let Some((t, k, c)) = as_mf_triplet(&data, unit) {
+            if let Some((t, k)) = as_triplet(&data, unit) {
                 let cur = [g[t], g[t + 1], g[t + 2]];
-                let new = mf_triplet(&data, t, k, c, cur, &mut vel);
+                let new = triplet(&data, t, k, cur, &mut vel);
                 g[t..t + 3].copy_from_slice(&new);
                 continue;
             }

@@ -21,7 +21,7 @@ use std::sync::atomic::{AtomicU64, Ordering::Relaxed};
 use chrono_core::descriptor::{BlockId, CcpProblem};
 use rayon::prelude::*;
 
-use super::unit::{as_mf_triplet, mf_triplet};
+use super::unit::{as_triplet, triplet};
 use super::{SweepData, Unit, UnitUpdate, Vel, apply_update, unit_update};
 use crate::dense::MAX_BLOCK;
 
@@ -239,9 +239,9 @@ fn sweep_units<'a>(
 ) {
     for &u in list {
         let unit = units[u as usize];
-        if let Some((t, k, c)) = as_mf_triplet(data, unit) {
+        if let Some((t, k)) = as_triplet(data, unit) {
             let cur = [0, 1, 2].map(|j| f64::from_bits(g[t + j].load(Relaxed)));
-            let new = mf_triplet(data, t, k, c, cur, vel);
+            let new = triplet(data, t, k, cur, vel);
             for j in 0..3 {
                 if new[j] != cur[j] {
                     g[t + j].store(new[j].to_bits(), Relaxed);

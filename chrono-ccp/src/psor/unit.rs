@@ -294,22 +294,23 @@ pub(crate) fn sym3_max_eigen(a: &[[f64; 3]; 3]) -> f64 {
     q + 2.0 * p * phi.cos()
 }
 
-/// The matrix-free triplet at row `t` (triplet `k`, its contact `d.mf_contacts[c]`)
-/// relaxed in registers: the same operations as [`unit_update`] on it, without the
-/// generic unit's arrays (whose stores and wide reloads stalled the sweep), then its
-/// velocity change applied. Returns the new impulses.
+/// The friction triplet at row `t` (triplet `k`) relaxed in registers: the same
+/// operations as [`unit_update`] and [`apply_update`] on it (matrix-free, fused or row by
+/// row), without the generic unit's 12-wide arrays, whose scalar stores and wide reloads
+/// stalled the sweep. Returns the new impulses; the velocity change is applied.
 #[inline(always)]
-pub(super) fn mf_triplet(
-    d: &SweepData,
-    t: usize,
-    k: usize,
-    c: u32,
-    cur: [f64; 3],
-    vel: &mut Vel,
-) -> [f64; 3] {
+pub(super) fn triplet(d: &SweepData, t: usize, k: usize, cur: [f64; 3], vel: &mut Vel) -> [f64; 3] {
     let problem = d.problem;
-    let contact = &d.mf_contacts[c as usize];
-    let dots = contact.dots_in(vel.ws, vel.sbase);
+    let contact = match d.mf.get(k) {
+        Some(&c) if c != u32::MAX => Some(&d.mf_contacts[c as usize]),
+        _ => None,
+    };
+    let fused = d.fused[k].as_ref();
+    let dots = match (contact, fused) {
+        (Some(c), _) => c.dots_in(vel.ws, vel.sbase),
+        (None, Some(f)) => problem.fused_dots_in(f, vel.w, vel.base),
+        (None, None) => [0, 1, 2].map(|j| problem.row_dot_in(t + j, vel.w, vel.base)),
+    };
     let (eps, r) = (problem.eps(), problem.r());
     let mut new = [0.0; 3];
     for j in 0..3 {
@@ -328,21 +329,29 @@ pub(super) fn mf_triplet(
         project_friction_cone(mu, &mut new);
     }
     let dg = [new[0] - cur[0], new[1] - cur[1], new[2] - cur[2]];
-    if dg != [0.0; 3] {
-        contact.add_in(&dg, vel.ws, vel.sbase);
+    match (contact, fused) {
+        (Some(c), _) => {
+            if dg != [0.0; 3] {
+                c.add_in(&dg, vel.ws, vel.sbase);
+            }
+        }
+        (None, Some(f)) => problem.fused_add_minv_in(f, &dg, vel.w, vel.base),
+        (None, None) => {
+            for j in 0..3 {
+                if dg[j] != 0.0 {
+                    problem.row_add_minv_in(t + j, dg[j], vel.w, vel.base);
+                }
+            }
+        }
     }
     new
 }
 
-/// The matrix-free triplet of `unit`, if it is one: `(t, k, c)` for [`mf_triplet`].
+/// `(t, k)` of `unit` if it is a friction triplet (for [`triplet`]).
 #[inline(always)]
-pub(super) fn as_mf_triplet(d: &SweepData, unit: Unit) -> Option<(usize, usize, u32)> {
+pub(super) fn as_triplet(d: &SweepData, unit: Unit) -> Option<(usize, usize)> {
     let Unit::Triplet(t) = unit else {
         return None;
     };
-    let k = (t - d.problem.sections().friction.start) / 3;
-    match d.mf.get(k) {
-        Some(&c) if c != u32::MAX => Some((t, k, c)),
-        _ => None,
-    }
+    Some((t, (t - d.problem.sections().friction.start) / 3))
 }
