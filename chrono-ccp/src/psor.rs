@@ -107,13 +107,14 @@ pub struct PsorOptions {
     /// `T(y_k) - y_k` points against the momentum `T(y_k) - T(y_{k-1})` (the gradient-free
     /// restart of O'Donoghue and Candès 2015, "Adaptive restart for accelerated gradient
     /// schemes", Found. Comput. Math. 15). A Gauss–Seidel sweep is not a gradient step, so
-    /// this is the accelerated-projection heuristic without its rate guarantee; at each
-    /// residual check a residual above the best one restarts the momentum, one above 10
-    /// times the best returns to the best iterate with plain sweeps until a check improves
-    /// on it (a random problem with rolling cones diverged to 1e153 m/s without), and
-    /// `w` is recomputed from `g` (the linear updates' rounding drifts); the solve returns
-    /// the best iterate seen. `M^-1 D y` follows by linearity
-    /// (vector updates, plus the rows the projection changed). Default `false`.
+    /// this is the accelerated-projection heuristic without its rate guarantee: a residual
+    /// check above 1e3 times the best one returns to the best iterate with plain sweeps
+    /// until a check improves on it (a random problem with rolling cones diverged to 1e153
+    /// m/s without), and the solve returns the best iterate seen. `M^-1 D y` follows by
+    /// linearity (vector updates, plus the rows the projection changed); the explicit part
+    /// is recomputed from `g` at every check (its rounding drifted over thousands of
+    /// iterations), the matrix-free spheres' part is not (docs/performance.md). Default
+    /// `false`.
     pub momentum: bool,
     /// Sweep the friction triplets between spheres matrix-free
     /// ([`CcpProblem::mf_contact`]): each reads and updates the world-frame velocities of
@@ -197,10 +198,11 @@ pub(super) enum Unit {
 /// returns the best finite one.
 ///
 /// Gauss–Seidel is inherently sequential (each row reads the velocity the previous rows just
-/// changed), so the sweep runs on one thread; the setup and the residual checks use the
-/// parallel problem operations. A graph-coloured parallel PSOR (rows of one colour share no
-/// variable block and can be relaxed concurrently) is future work. The result is bit-identical
-/// for any rayon thread count.
+/// changed), so the plain sweep runs on one thread; the setup and the residual checks use
+/// the parallel problem operations, and the result is bit-identical for any rayon thread
+/// count. Two parallel sweeps: by colours ([`PsorOptions::parallel`], Jacobi within a
+/// colour, bit-identical for any thread count) and by parts ([`PsorOptions::partitioned`],
+/// Gauss–Seidel within a part, bit-reproducible for a given thread count).
 ///
 /// Cost accounting ([`SolveStats::apply_n`]): a sweep counts as one `apply_n` (it streams the
 /// Jacobian once in each direction), a residual check as one more.
@@ -661,7 +663,8 @@ impl CcpSolver for Psor {
                 let finite = res.is_finite()
                     && self.w.iter().all(|x| x.is_finite())
                     && self.ws.iter().all(|x| x.is_finite());
-                if !finite && !self.options.momentum {
+                if !finite && !accelerating {
+                    // (an accelerated run that went non-finite restarts from the best below)
                     grad_is_best = false;
                     break;
                 }
