@@ -8,8 +8,7 @@
 //! with `v = M^-1 k + w` the new velocity) at the cost of one sparse row.
 
 use chrono_core::descriptor::{
-    CcpProblem, CcpSolver, CcpWork, FusedTriplet, PER_BODY_ROWS, SolveStats, SolverSettings,
-    SphereContact,
+    CcpProblem, CcpSolver, CcpWork, PER_BODY_ROWS, SolveStats, SolverSettings,
 };
 use serde::{Deserialize, Serialize};
 
@@ -23,7 +22,7 @@ use colour::Colouring;
 use parts::{Partition, Shared};
 pub(crate) use unit::sym3_max_eigen;
 use unit::{
-    SweepData, UnitUpdate, Vel, apply_update, as_triplet, current, diagonal_cone_scale,
+    Setup, SweepData, UnitUpdate, Vel, apply_update, as_triplet, current, diagonal_cone_scale,
     gershgorin_bound, triplet, unit_update,
 };
 
@@ -213,18 +212,11 @@ pub struct Psor {
     work: CcpWork,
     /// `M^-1 D g`, ndof.
     w: Vec<f64>,
-    /// Step per row (`omega / N_ii`; per cone block, one value on its rows).
-    step: Vec<f64>,
+    /// What the sweeps read, set up once per solve.
+    setup: Setup,
     grad: Vec<f64>,
     best: Vec<f64>,
     units: Vec<Unit>,
-    /// Factored dense blocks of the bilateral groups.
-    factors: Vec<f64>,
-    /// Per friction triplet, `k = sqrt(b / a)` of [`TripletStep::Exact`] (0: the block is
-    /// not `diag(a, b, b)`, or another step).
-    cone_scale: Vec<f64>,
-    /// Per friction triplet, its fused layout ([`CcpProblem::fused_triplet`]) if any.
-    fused: Vec<Option<FusedTriplet>>,
     /// The colouring, when sweeping in parallel.
     colouring: Option<Colouring>,
     /// Updates of the units of one colour (parallel sweep).
@@ -236,10 +228,6 @@ pub struct Psor {
     /// Momentum: `T(y_{k-1})`, its `M^-1 D g`, and `y_k`.
     g_prev: Vec<f64>,
     w_prev: Vec<f64>,
-    /// Per friction triplet its index in `mf_contacts` or `u32::MAX` (matrix-free sweeps).
-    mf_of: Vec<u32>,
-    /// The matrix-free contacts of the triplets, in triplet order.
-    mf_contacts: Vec<SphereContact>,
     /// The pure spheres' world-frame `M^-1 D g` (6 each), and its previous value.
     ws: Vec<f64>,
     ws_prev: Vec<f64>,
@@ -363,7 +351,7 @@ impl Psor {
         let s = problem.sections().clone();
         let inv = |d: f64| if d > 0.0 { omega / d } else { 0.0 };
         self.units.clear();
-        self.factors.clear();
+        self.setup.factors.clear();
         let mut i = s.bilateral.start;
         while i < s.bilateral.end {
             let mut len = 1;
@@ -378,13 +366,13 @@ impl Psor {
             if len == 1 {
                 self.units.push(Unit::Row(i));
             } else {
-                let factor = self.factors.len();
+                let factor = self.setup.factors.len();
                 for a in 0..len {
                     for b in 0..len {
-                        self.factors.push(problem.n_entry(i + a, i + b));
+                        self.setup.factors.push(problem.n_entry(i + a, i + b));
                     }
                 }
-                DenseLdl::factor(&mut self.factors[factor..], len);
+                DenseLdl::factor(&mut self.setup.factors[factor..], len);
                 self.units.push(Unit::Bilateral {
                     start: i,
                     len,
@@ -397,31 +385,31 @@ impl Psor {
             self.units.push(Unit::Row(i));
         }
         for i in 0..s.friction.start {
-            self.step[i] = inv(diag[i]);
+            self.setup.step[i] = inv(diag[i]);
         }
-        self.cone_scale.clear();
-        self.fused.clear();
-        self.mf_of.clear();
-        self.mf_contacts.clear();
+        self.setup.cone_scale.clear();
+        self.setup.fused.clear();
+        self.setup.mf.clear();
+        self.setup.mf_contacts.clear();
         if self.options.matrix_free && problem.mf_spheres() > 0 {
             for k in 0..s.friction.len() / 3 {
                 let at = match problem.mf_contact(k) {
                     Some(c) => {
-                        self.mf_contacts.push(problem.mf_sphere_contact(c));
-                        self.mf_contacts.len() as u32 - 1
+                        self.setup.mf_contacts.push(problem.mf_sphere_contact(c));
+                        self.setup.mf_contacts.len() as u32 - 1
                     }
                     None => u32::MAX,
                 };
-                self.mf_of.push(at);
+                self.setup.mf.push(at);
             }
         }
         let eps = problem.eps();
         for t in s.friction.clone().step_by(3) {
-            let contact = match self.mf_of.get((t - s.friction.start) / 3) {
-                Some(&c) if c != u32::MAX => Some(&self.mf_contacts[c as usize]),
+            let contact = match self.setup.mf.get((t - s.friction.start) / 3) {
+                Some(&c) if c != u32::MAX => Some(&self.setup.mf_contacts[c as usize]),
                 _ => None,
             };
-            self.fused.push(match contact {
+            self.setup.fused.push(match contact {
                 Some(_) => None,
                 None => problem.fused_triplet(t),
             });
@@ -445,17 +433,17 @@ impl Psor {
                     if self.options.triplet_step == TripletStep::Exact {
                         k = diagonal_cone_scale(b);
                         if k > 0.0 {
-                            self.step[t] = inv(b[0]);
-                            self.step[t + 1] = inv(b[3]);
-                            self.step[t + 2] = inv(b[3]);
+                            self.setup.step[t] = inv(b[0]);
+                            self.setup.step[t + 1] = inv(b[3]);
+                            self.setup.step[t + 2] = inv(b[3]);
                         }
                     }
                     sym3_max_eigen(&[[b[0], b[1], b[2]], [b[1], b[3], b[4]], [b[2], b[4], b[5]]])
                 }
             };
-            self.cone_scale.push(k);
+            self.setup.cone_scale.push(k);
             if k == 0.0 {
-                self.step[t..t + 3].fill(inv(lambda));
+                self.setup.step[t..t + 3].fill(inv(lambda));
             }
             self.units.push(Unit::Triplet(t));
         }
@@ -467,7 +455,7 @@ impl Psor {
                     gershgorin_bound(b, 6)
                 }
             };
-            self.step[t..t + 6].fill(inv(lambda));
+            self.setup.step[t..t + 6].fill(inv(lambda));
             self.units.push(Unit::Rolling(t));
         }
         let n = PER_BODY_ROWS;
@@ -479,7 +467,7 @@ impl Psor {
                     gershgorin_bound(b, n)
                 }
             };
-            self.step[t..t + n].fill(inv(lambda));
+            self.setup.step[t..t + n].fill(inv(lambda));
             self.units.push(Unit::RollingPerBody(t));
         }
         self.partition = if self.options.partitioned {
@@ -494,7 +482,7 @@ impl Psor {
         };
         if self.colouring.is_some() {
             // the coloured sweep writes the explicit velocities only
-            self.mf_of.clear();
+            self.setup.mf.clear();
         }
     }
 
@@ -505,12 +493,7 @@ impl Psor {
         self.shared.store(g);
         let data = SweepData {
             problem,
-            step: &self.step,
-            cone_scale: &self.cone_scale,
-            fused: &self.fused,
-            mf: &self.mf_of,
-            mf_contacts: &self.mf_contacts,
-            factors: &self.factors,
+            setup: &self.setup,
             omega: self.options.omega,
         };
         let shared = self.shared.rows();
@@ -529,12 +512,7 @@ impl Psor {
         }
         let data = SweepData {
             problem,
-            step: &self.step,
-            cone_scale: &self.cone_scale,
-            fused: &self.fused,
-            mf: &self.mf_of,
-            mf_contacts: &self.mf_contacts,
-            factors: &self.factors,
+            setup: &self.setup,
             omega: self.options.omega,
         };
         let n = self.units.len();
@@ -580,7 +558,7 @@ impl CcpSolver for Psor {
         let mut history = History::new(self.settings.record_history, max_it);
         self.work.resize(problem);
         self.w.resize(problem.ndof(), 0.0);
-        for v in [&mut self.step, &mut self.grad, &mut self.best] {
+        for v in [&mut self.setup.step, &mut self.grad, &mut self.best] {
             v.resize(m, 0.0);
         }
 
@@ -588,7 +566,7 @@ impl CcpSolver for Psor {
         // (the cone blocks are built lazily, by the serial setup, if a unit needs them)
         self.setup(problem);
         problem.minv_d(gamma, &mut self.w);
-        let matrix_free = !self.mf_of.is_empty();
+        let matrix_free = !self.setup.mf.is_empty();
         self.ws.clear();
         if matrix_free {
             self.ws.resize(6 * problem.mf_spheres(), 0.0);

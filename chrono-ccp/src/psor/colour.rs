@@ -16,12 +16,7 @@ impl Psor {
         let col = self.colouring.as_ref().expect("coloured sweep");
         let data = SweepData {
             problem,
-            step: &self.step,
-            cone_scale: &self.cone_scale,
-            fused: &self.fused,
-            mf: &self.mf_of,
-            mf_contacts: &self.mf_contacts,
-            factors: &self.factors,
+            setup: &self.setup,
             omega: self.options.omega,
         };
         let nc = col.ptr.len() - 1;

@@ -74,12 +74,7 @@ impl Psor {
         sanitize_and_project(problem, gamma);
         let data = SweepData {
             problem,
-            step: &self.step,
-            cone_scale: &self.cone_scale,
-            fused: &self.fused,
-            mf: &self.mf_of,
-            mf_contacts: &self.mf_contacts,
-            factors: &self.factors,
+            setup: &self.setup,
             omega: self.options.omega,
         };
         let (w, ws) = (&mut self.w, &mut self.ws);

@@ -42,13 +42,13 @@ pub(super) fn apply_update(
             upd.new[1] - cur[1],
             upd.new[2] - cur[2],
         ];
-        if let Some(&c) = d.mf.get(k).filter(|&&c| c != u32::MAX) {
+        if let Some(&c) = d.setup.mf.get(k).filter(|&&c| c != u32::MAX) {
             if dg != [0.0; 3] {
-                d.mf_contacts[c as usize].add_in(&dg, vel.ws, vel.sbase);
+                d.setup.mf_contacts[c as usize].add_in(&dg, vel.ws, vel.sbase);
             }
             return;
         }
-        if let Some(f) = &d.fused[k] {
+        if let Some(f) = &d.setup.fused[k] {
             problem.fused_add_minv_in(f, &dg, vel.w, vel.base);
             return;
         }
@@ -122,17 +122,30 @@ pub(super) fn current(unit: Unit, g: &[f64]) -> [f64; MAX_BLOCK] {
     cur
 }
 
+/// What the sweeps read besides `g` and the velocities, set up once per solve.
+#[derive(Debug, Clone, Default)]
+pub(super) struct Setup {
+    /// Step per row (`omega / N_ii`; per cone block, one value on its rows, or per row
+    /// for an exact triplet).
+    pub(super) step: Vec<f64>,
+    /// Per friction triplet, `k = sqrt(b / a)` of [`TripletStep::Exact`](super::TripletStep::Exact)
+    /// (0: the block is not `diag(a, b, b)`, or another step).
+    pub(super) cone_scale: Vec<f64>,
+    /// Per friction triplet, its fused layout ([`CcpProblem::fused_triplet`]) if any.
+    pub(super) fused: Vec<Option<FusedTriplet>>,
+    /// Per friction triplet its index in `mf_contacts` or `u32::MAX` (empty: no
+    /// matrix-free sweeps).
+    pub(super) mf: Vec<u32>,
+    /// The matrix-free contacts of the triplets, in triplet order.
+    pub(super) mf_contacts: Vec<SphereContact>,
+    /// Factored dense blocks of the bilateral groups.
+    pub(super) factors: Vec<f64>,
+}
+
 /// What a unit update reads besides `g` and `w`.
 pub(super) struct SweepData<'a> {
     pub(super) problem: &'a CcpProblem,
-    pub(super) step: &'a [f64],
-    pub(super) cone_scale: &'a [f64],
-    pub(super) fused: &'a [Option<FusedTriplet>],
-    /// Per friction triplet: its matrix-free contact or `u32::MAX` (empty: none).
-    pub(super) mf: &'a [u32],
-    /// The matrix-free contacts `mf` points into.
-    pub(super) mf_contacts: &'a [SphereContact],
-    pub(super) factors: &'a [f64],
+    pub(super) setup: &'a Setup,
     pub(super) omega: f64,
 }
 
@@ -168,7 +181,7 @@ pub(super) fn unit_update(
     let (start, len) = unit.rows();
     match unit {
         Unit::Row(i) => {
-            let z = cur[0] - d.step[i] * velocity(problem, i, cur[0], w, base);
+            let z = cur[0] - d.setup.step[i] * velocity(problem, i, cur[0], w, base);
             new[0] = if i < s.boxed.start {
                 z
             } else if i < s.unilateral.start {
@@ -184,7 +197,11 @@ pub(super) fn unit_update(
             for j in 0..len {
                 c[j] = velocity(problem, start + j, cur[j], w, base);
             }
-            DenseLdl::solve(&d.factors[factor..factor + len * len], len, &mut c[..len]);
+            DenseLdl::solve(
+                &d.setup.factors[factor..factor + len * len],
+                len,
+                &mut c[..len],
+            );
             for j in 0..len {
                 new[j] = cur[j] - d.omega * c[j];
             }
@@ -193,32 +210,33 @@ pub(super) fn unit_update(
             let k = (t - s.friction.start) / 3;
             let (fused, mf) = match unit {
                 Unit::Triplet(_) => (
-                    d.fused[k].as_ref(),
-                    d.mf.get(k).copied().filter(|&c| c != u32::MAX),
+                    d.setup.fused[k].as_ref(),
+                    d.setup.mf.get(k).copied().filter(|&c| c != u32::MAX),
                 ),
                 _ => (None, None),
             };
             if fused.is_some() || mf.is_some() {
                 let dots = match (mf, fused) {
-                    (Some(c), _) => d.mf_contacts[c as usize].dots_in(vel.ws, vel.sbase),
+                    (Some(c), _) => d.setup.mf_contacts[c as usize].dots_in(vel.ws, vel.sbase),
                     (None, Some(f)) => problem.fused_dots_in(f, w, base),
                     (None, None) => unreachable!("one of the two"),
                 };
                 let (eps, r) = (problem.eps(), problem.r());
                 for j in 0..3 {
                     let c = dots[j] + eps[t + j] * cur[j] + r[t + j];
-                    new[j] = cur[j] - d.step[t + j] * c;
+                    new[j] = cur[j] - d.setup.step[t + j] * c;
                 }
             } else {
                 for j in 0..len {
-                    new[j] = cur[j] - d.step[t + j] * velocity(problem, t + j, cur[j], w, base);
+                    new[j] =
+                        cur[j] - d.setup.step[t + j] * velocity(problem, t + j, cur[j], w, base);
                 }
             }
             match unit {
                 Unit::Triplet(_) => {
                     let c = (t - s.friction.start) / 3;
                     let mu = problem.friction_mu()[c];
-                    let k = d.cone_scale[c];
+                    let k = d.setup.cone_scale[c];
                     if k > 0.0 {
                         // the cone in N_tt's metric: (n, k u, k w) against mu k
                         new[1] *= k;
@@ -301,11 +319,11 @@ pub(crate) fn sym3_max_eigen(a: &[[f64; 3]; 3]) -> f64 {
 #[inline(always)]
 pub(super) fn triplet(d: &SweepData, t: usize, k: usize, cur: [f64; 3], vel: &mut Vel) -> [f64; 3] {
     let problem = d.problem;
-    let contact = match d.mf.get(k) {
-        Some(&c) if c != u32::MAX => Some(&d.mf_contacts[c as usize]),
+    let contact = match d.setup.mf.get(k) {
+        Some(&c) if c != u32::MAX => Some(&d.setup.mf_contacts[c as usize]),
         _ => None,
     };
-    let fused = d.fused[k].as_ref();
+    let fused = d.setup.fused[k].as_ref();
     let dots = match (contact, fused) {
         (Some(c), _) => c.dots_in(vel.ws, vel.sbase),
         (None, Some(f)) => problem.fused_dots_in(f, vel.w, vel.base),
@@ -315,10 +333,10 @@ pub(super) fn triplet(d: &SweepData, t: usize, k: usize, cur: [f64; 3], vel: &mu
     let mut new = [0.0; 3];
     for j in 0..3 {
         let c = dots[j] + eps[t + j] * cur[j] + r[t + j];
-        new[j] = cur[j] - d.step[t + j] * c;
+        new[j] = cur[j] - d.setup.step[t + j] * c;
     }
     let mu = problem.friction_mu()[k];
-    let scale = d.cone_scale[k];
+    let scale = d.setup.cone_scale[k];
     if scale > 0.0 {
         new[1] *= scale;
         new[2] *= scale;
