@@ -124,6 +124,7 @@ pub mod schur;
 mod sparse_bilateral;
 #[cfg(feature = "testing")]
 pub mod testing;
+mod timed;
 pub mod two_phase;
 mod util;
 
@@ -138,6 +139,7 @@ pub use local_direct::{LocalDirect, LocalDirectOptions};
 pub use minres::Minres;
 pub use psor::{Psor, PsorOptions, TripletStep};
 pub use schur::Schur;
+pub use timed::TimedSolver;
 pub use two_phase::TwoPhase;
 
 /// The names accepted by [`by_name`]: the CCP solvers, then the bilateral-only ones.

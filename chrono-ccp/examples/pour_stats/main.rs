@@ -19,7 +19,9 @@
 mod hooked;
 mod two_level;
 
-use chrono_ccp::{Apgd, BarzilaiBorwein, CcpSolver, Psor, SolverSettings, TripletStep};
+use chrono_ccp::{
+    Apgd, BarzilaiBorwein, CcpSolver, Psor, SolverSettings, TimedSolver, TripletStep,
+};
 use chrono_core::granular::probe::max_penetration;
 use chrono_core::granular::{GrainBed, Region, add_box_container};
 use chrono_core::math::Vector3;
@@ -116,10 +118,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         }
         _ => Box::new(Apgd::new(settings)),
     };
-    let solve_time = std::sync::Arc::new(std::sync::Mutex::new(0.0f64));
-    let solver: Box<dyn CcpSolver> = Box::new(Timed {
+    let solve_nanos = std::sync::Arc::new(std::sync::atomic::AtomicU64::new(0));
+    let solver: Box<dyn CcpSolver> = Box::new(TimedSolver {
         inner: solver,
-        total: solve_time.clone(),
+        nanos: solve_nanos.clone(),
     });
     let sys_settings = SystemSettings {
         envelope: 0.1 * radius,
@@ -201,37 +203,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         it_sum as f64 / steps as f64,
         an_sum as f64 / steps as f64,
         t0.elapsed().as_secs_f64(),
-        *solve_time.lock().expect("timer")
+        solve_nanos.load(std::sync::atomic::Ordering::Relaxed) as f64 * 1e-9
     );
     Ok(())
-}
-
-/// A solver that adds the wall time of its solves to `total` (s, printed at the end).
-struct Timed {
-    inner: Box<dyn CcpSolver>,
-    total: std::sync::Arc<std::sync::Mutex<f64>>,
-}
-
-impl CcpSolver for Timed {
-    fn name(&self) -> &'static str {
-        self.inner.name()
-    }
-    fn settings(&self) -> &SolverSettings {
-        self.inner.settings()
-    }
-    fn settings_mut(&mut self) -> &mut SolverSettings {
-        self.inner.settings_mut()
-    }
-    fn solve(
-        &mut self,
-        problem: &chrono_core::descriptor::CcpProblem,
-        gamma: &mut [f64],
-    ) -> chrono_ccp::SolveStats {
-        let t = std::time::Instant::now();
-        let s = self.inner.solve(problem, gamma);
-        *self.total.lock().expect("timer") += t.elapsed().as_secs_f64();
-        s
-    }
 }
 
 /// `STUDY_STEP=k`: solve step k's problem from a cold start by several solvers and print the
