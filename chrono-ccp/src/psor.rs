@@ -8,8 +8,10 @@
 //! with `v = M^-1 k + w` the new velocity) at the cost of one sparse row.
 
 use chrono_core::descriptor::{
-    CcpProblem, CcpSolver, CcpWork, PER_BODY_ROWS, SolveStats, SolverSettings,
+    CcpProblem, CcpSolver, CcpWork, FusedTriplet, PER_BODY_ROWS, SolveStats, SolverSettings,
+    SphereContact,
 };
+use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::dense::{DenseLdl, MAX_BLOCK};
@@ -387,66 +389,9 @@ impl Psor {
         for i in 0..s.friction.start {
             self.setup.step[i] = inv(diag[i]);
         }
-        self.setup.cone_scale.clear();
-        self.setup.fused.clear();
-        self.setup.mf.clear();
-        self.setup.mf_contacts.clear();
-        if self.options.matrix_free && problem.mf_spheres() > 0 {
-            for k in 0..s.friction.len() / 3 {
-                let at = match problem.mf_contact(k) {
-                    Some(c) => {
-                        self.setup.mf_contacts.push(problem.mf_sphere_contact(c));
-                        self.setup.mf_contacts.len() as u32 - 1
-                    }
-                    None => u32::MAX,
-                };
-                self.setup.mf.push(at);
-            }
-        }
-        let eps = problem.eps();
-        for t in s.friction.clone().step_by(3) {
-            let contact = match self.setup.mf.get((t - s.friction.start) / 3) {
-                Some(&c) if c != u32::MAX => Some(&self.setup.mf_contacts[c as usize]),
-                _ => None,
-            };
-            self.setup.fused.push(match contact {
-                Some(_) => None,
-                None => problem.fused_triplet(t),
-            });
-            let mut k = 0.0;
-            let lambda = match self.options.triplet_step {
-                TripletStep::Average => (diag[t] + diag[t + 1] + diag[t + 2]) / 3.0,
-                TripletStep::MaxEigen | TripletStep::Exact => {
-                    // a matrix-free contact's block from its geometry (no explicit rows)
-                    let own;
-                    let b = match contact {
-                        Some(c) => {
-                            let mut x = c.block();
-                            x[0] += eps[t];
-                            x[3] += eps[t + 1];
-                            x[5] += eps[t + 2];
-                            own = x;
-                            &own[..]
-                        }
-                        None => problem.cone_block(t).expect("a triplet"),
-                    };
-                    if self.options.triplet_step == TripletStep::Exact {
-                        k = diagonal_cone_scale(b);
-                        if k > 0.0 {
-                            self.setup.step[t] = inv(b[0]);
-                            self.setup.step[t + 1] = inv(b[3]);
-                            self.setup.step[t + 2] = inv(b[3]);
-                        }
-                    }
-                    sym3_max_eigen(&[[b[0], b[1], b[2]], [b[1], b[3], b[4]], [b[2], b[4], b[5]]])
-                }
-            };
-            self.setup.cone_scale.push(k);
-            if k == 0.0 {
-                self.setup.step[t..t + 3].fill(inv(lambda));
-            }
-            self.units.push(Unit::Triplet(t));
-        }
+        self.setup_triplets(problem);
+        self.units
+            .extend(s.friction.clone().step_by(3).map(Unit::Triplet));
         for t in s.rolling.clone().step_by(6) {
             let lambda = match self.options.triplet_step {
                 TripletStep::Average => diag[t..t + 6].iter().sum::<f64>() / 6.0,
@@ -483,6 +428,115 @@ impl Psor {
         if self.colouring.is_some() {
             // the coloured sweep writes the explicit velocities only
             self.setup.mf.clear();
+        }
+    }
+
+    /// The friction triplets' part of the setup, each triplet on its own (in parallel for
+    /// many): its matrix-free contact (if [`PsorOptions::matrix_free`]), its fused rows
+    /// otherwise, and its step: `omega / lambda_max(N_tt)` on its three rows, or for
+    /// [`TripletStep::Exact`] on a `diag(a, b, b)` block `omega / a`, `omega / b` and the
+    /// cone scale `sqrt(b / a)`. A matrix-free contact's block comes from its geometry.
+    fn setup_triplets(&mut self, problem: &CcpProblem) {
+        let (omega, step_kind) = (self.options.omega, self.options.triplet_step);
+        let inv = |d: f64| if d > 0.0 { omega / d } else { 0.0 };
+        let fr = problem.sections().friction.clone();
+        let nt = fr.len() / 3;
+        let (diag, eps) = (problem.diag(), problem.eps());
+        let matrix_free = self.options.matrix_free && problem.mf_spheres() > 0;
+        let setup = &mut self.setup;
+        setup.mf.clear();
+        setup.mf_contacts.clear();
+        if matrix_free {
+            // indexed by triplet (an unused default where a triplet is not matrix-free)
+            setup.mf.resize(nt, u32::MAX);
+            setup.mf_contacts.resize(nt, SphereContact::default());
+        }
+        setup.fused.clear();
+        setup.fused.resize(nt, None);
+        setup.cone_scale.clear();
+        setup.cone_scale.resize(nt, 0.0);
+        let one = |k: usize,
+                   (fused, (scale, (step, (mf, contact)))): (
+            &mut Option<FusedTriplet>,
+            (&mut f64, (&mut [f64], (&mut u32, &mut SphereContact))),
+        )| {
+            let t = fr.start + 3 * k;
+            let own = problem.mf_contact(k).filter(|_| matrix_free).map(|c| {
+                *mf = k as u32;
+                *contact = problem.mf_sphere_contact(c);
+                let mut x = contact.block();
+                x[0] += eps[t];
+                x[3] += eps[t + 1];
+                x[5] += eps[t + 2];
+                x
+            });
+            if own.is_none() {
+                *fused = problem.fused_triplet(t);
+            }
+            let b = match (step_kind, &own) {
+                (TripletStep::Average, _) => {
+                    step.fill(inv((diag[t] + diag[t + 1] + diag[t + 2]) / 3.0));
+                    return;
+                }
+                (_, Some(x)) => &x[..],
+                (_, None) => problem.cone_block(t).expect("a triplet"),
+            };
+            if step_kind == TripletStep::Exact {
+                *scale = diagonal_cone_scale(b);
+                if *scale > 0.0 {
+                    step.copy_from_slice(&[inv(b[0]), inv(b[3]), inv(b[3])]);
+                    return;
+                }
+            }
+            let m = [[b[0], b[1], b[2]], [b[1], b[3], b[4]], [b[2], b[4], b[5]]];
+            step.fill(inv(sym3_max_eigen(&m)));
+        };
+        let steps = &mut setup.step[fr.clone()];
+        // (the non-matrix-free runs zip with empty slices: give them scratch of the right
+        // length so every triplet gets its item)
+        let mut none_mf = Vec::new();
+        let mut none_c = Vec::new();
+        let (mf, contacts) = if matrix_free {
+            (&mut setup.mf[..], &mut setup.mf_contacts[..])
+        } else {
+            none_mf.resize(nt, u32::MAX);
+            none_c.resize(nt, SphereContact::default());
+            (&mut none_mf[..], &mut none_c[..])
+        };
+        if nt >= PAR_MIN_TRIPLETS {
+            if !matrix_free || problem.n_matrix_free() < nt {
+                // the explicit blocks are built lazily: once, before the parallel loop
+                problem.prepare_cone_blocks();
+            }
+            setup
+                .fused
+                .par_iter_mut()
+                .zip(
+                    setup.cone_scale.par_iter_mut().zip(
+                        steps
+                            .par_chunks_mut(3)
+                            .zip(mf.par_iter_mut().zip(contacts.par_iter_mut())),
+                    ),
+                )
+                .enumerate()
+                .for_each(|(k, x)| one(k, x));
+        } else {
+            setup
+                .fused
+                .iter_mut()
+                .zip(
+                    setup.cone_scale.iter_mut().zip(
+                        steps
+                            .chunks_mut(3)
+                            .zip(mf.iter_mut().zip(contacts.iter_mut())),
+                    ),
+                )
+                .enumerate()
+                .for_each(|(k, x)| one(k, x));
+        }
+        if !matrix_free {
+            setup.mf.clear();
+            setup.mf_contacts.clear();
         }
     }
 
@@ -537,6 +591,9 @@ impl Psor {
         }
     }
 }
+
+/// Friction triplets from which the setup runs in parallel.
+const PAR_MIN_TRIPLETS: usize = 2048;
 
 /// With momentum, a residual check this many times the best residual seen counts as
 /// running away (see [`PsorOptions::momentum`]).

@@ -92,7 +92,7 @@ impl CcpProblem {
 /// the arms `r_A`, `r_B` from the spheres' centres to the contact point (world, m), and
 /// the spheres' `[1/m, 1/J]`. Its rows are `d . ((v_B + w_B x r_B) - (v_A + w_A x r_A))`
 /// for `d` in the frame.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct SphereContact {
     spheres: [u32; 2],
     dirs: [[f64; 3]; 3],
