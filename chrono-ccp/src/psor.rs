@@ -455,11 +455,7 @@ impl Psor {
         setup.fused.resize(nt, None);
         setup.cone_scale.clear();
         setup.cone_scale.resize(nt, 0.0);
-        let one = |k: usize,
-                   (fused, (scale, (step, (mf, contact)))): (
-            &mut Option<FusedTriplet>,
-            (&mut f64, (&mut [f64], (&mut u32, &mut SphereContact))),
-        )| {
+        let one = |k: usize, (fused, (scale, (step, (mf, contact)))): TripletSlots| {
             let t = fr.start + 3 * k;
             let own = problem.mf_contact(k).filter(|_| matrix_free).map(|c| {
                 *mf = k as u32;
@@ -591,6 +587,16 @@ impl Psor {
         }
     }
 }
+
+/// One triplet's slots in the setup's arrays: its fused rows, cone scale, three steps,
+/// matrix-free index and contact.
+type TripletSlots<'a> = (
+    &'a mut Option<FusedTriplet>,
+    (
+        &'a mut f64,
+        (&'a mut [f64], (&'a mut u32, &'a mut SphereContact)),
+    ),
+);
 
 /// Friction triplets from which the setup runs in parallel.
 const PAR_MIN_TRIPLETS: usize = 2048;
