@@ -65,10 +65,14 @@ impl Partition {
             (lo, hi)
         };
         let spans: Vec<(u32, u32)> = units.iter().map(span).collect();
+        // each unit counted half at its lowest and half at its highest block, so the
+        // units that straddle a cut weigh on both sides (counted at the lowest only, the
+        // upper part of the 10 000-grain pour got 15.6k units against 13.1k)
         let mut count = vec![0usize; nb + 1];
-        for &(lo, _) in &spans {
+        for &(lo, hi) in &spans {
             if lo != u32::MAX {
                 count[lo as usize] += 1;
+                count[hi as usize] += 1;
             }
         }
         // cut[k]: the first block of part k
