@@ -224,7 +224,9 @@ pub struct Psor {
     /// Updates of the units of one colour (parallel sweep).
     deltas: Vec<UnitUpdate>,
     /// The parts, when sweeping by parts.
-    partition: Option<Partition>,
+    partition: Partition,
+    /// Whether this solve sweeps by parts (the problem had two parts' worth of units).
+    by_parts: bool,
     /// `g` shared by the parts (bits of each row).
     shared: Shared,
     /// Momentum: `T(y_{k-1})`, its `M^-1 D g`, and `y_k`.
@@ -415,12 +417,11 @@ impl Psor {
             self.setup.step[t..t + n].fill(inv(lambda));
             self.units.push(Unit::RollingPerBody(t));
         }
-        self.partition = if self.options.partitioned {
-            Partition::build(problem, &self.units, rayon::current_num_threads())
-        } else {
-            None
-        };
-        self.colouring = if self.options.parallel && self.partition.is_none() {
+        self.by_parts = self.options.partitioned
+            && self
+                .partition
+                .rebuild(problem, &self.units, rayon::current_num_threads());
+        self.colouring = if self.options.parallel && !self.by_parts {
             self.colour(problem)
         } else {
             None
@@ -443,6 +444,8 @@ impl Psor {
         let nt = fr.len() / 3;
         let (diag, eps) = (problem.diag(), problem.eps());
         let matrix_free = self.options.matrix_free && problem.mf_spheres() > 0;
+        // below PAR_MIN_TRIPLETS one rayon job: the calling thread
+        let len = PAR_MIN_TRIPLETS;
         let setup = &mut self.setup;
         setup.mf.clear();
         setup.mf_contacts.clear();
@@ -450,17 +453,32 @@ impl Psor {
             // indexed by triplet (an unused default where a triplet is not matrix-free)
             setup.mf.resize(nt, u32::MAX);
             setup.mf_contacts.resize(nt, SphereContact::default());
+            (setup
+                .mf
+                .par_iter_mut()
+                .zip(setup.mf_contacts.par_iter_mut()))
+            .with_min_len(len)
+            .enumerate()
+            .for_each(|(k, (mf, contact))| {
+                if let Some(c) = problem.mf_contact(k) {
+                    *mf = k as u32;
+                    *contact = problem.mf_sphere_contact(c);
+                }
+            });
+        }
+        if nt >= len && (!matrix_free || problem.n_matrix_free() < nt) {
+            // the explicit blocks are built lazily: once, before the parallel loop
+            problem.prepare_cone_blocks();
         }
         setup.fused.clear();
         setup.fused.resize(nt, None);
         setup.cone_scale.clear();
         setup.cone_scale.resize(nt, 0.0);
-        let one = |k: usize, (fused, (scale, (step, (mf, contact)))): TripletSlots| {
+        let (mf, contacts) = (&setup.mf, &setup.mf_contacts);
+        let one = |k: usize, (fused, (scale, step)): (&mut Option<FusedTriplet>, (&mut f64, &mut [f64]))| {
             let t = fr.start + 3 * k;
-            let own = problem.mf_contact(k).filter(|_| matrix_free).map(|c| {
-                *mf = k as u32;
-                *contact = problem.mf_sphere_contact(c);
-                let mut x = contact.block();
+            let own = mf.get(k).filter(|&&c| c != u32::MAX).map(|_| {
+                let mut x = contacts[k].block();
                 x[0] += eps[t];
                 x[3] += eps[t + 1];
                 x[5] += eps[t + 2];
@@ -488,58 +506,17 @@ impl Psor {
             step.fill(inv(sym3_max_eigen(&m)));
         };
         let steps = &mut setup.step[fr.clone()];
-        // (the non-matrix-free runs zip with empty slices: give them scratch of the right
-        // length so every triplet gets its item)
-        let mut none_mf = Vec::new();
-        let mut none_c = Vec::new();
-        let (mf, contacts) = if matrix_free {
-            (&mut setup.mf[..], &mut setup.mf_contacts[..])
-        } else {
-            none_mf.resize(nt, u32::MAX);
-            none_c.resize(nt, SphereContact::default());
-            (&mut none_mf[..], &mut none_c[..])
-        };
-        if nt >= PAR_MIN_TRIPLETS {
-            if !matrix_free || problem.n_matrix_free() < nt {
-                // the explicit blocks are built lazily: once, before the parallel loop
-                problem.prepare_cone_blocks();
-            }
-            setup
-                .fused
-                .par_iter_mut()
-                .zip(
-                    setup.cone_scale.par_iter_mut().zip(
-                        steps
-                            .par_chunks_mut(3)
-                            .zip(mf.par_iter_mut().zip(contacts.par_iter_mut())),
-                    ),
-                )
-                .enumerate()
-                .for_each(|(k, x)| one(k, x));
-        } else {
-            setup
-                .fused
-                .iter_mut()
-                .zip(
-                    setup.cone_scale.iter_mut().zip(
-                        steps
-                            .chunks_mut(3)
-                            .zip(mf.iter_mut().zip(contacts.iter_mut())),
-                    ),
-                )
-                .enumerate()
-                .for_each(|(k, x)| one(k, x));
-        }
-        if !matrix_free {
-            setup.mf.clear();
-            setup.mf_contacts.clear();
-        }
+        (setup.fused.par_iter_mut())
+            .zip(setup.cone_scale.par_iter_mut().zip(steps.par_chunks_mut(3)))
+            .with_min_len(len)
+            .enumerate()
+            .for_each(|(k, x)| one(k, x));
     }
 
     /// The sweeps of one iteration (forwards, then backwards if symmetric) by parts: `g`
     /// through its shared copy.
     fn sweep_parts(&mut self, problem: &CcpProblem, g: &mut [f64]) {
-        let part = self.partition.as_ref().expect("partitioned sweep");
+        let part = &self.partition;
         self.shared.store(g);
         let data = SweepData {
             problem,
@@ -587,16 +564,6 @@ impl Psor {
         }
     }
 }
-
-/// One triplet's slots in the setup's arrays: its fused rows, cone scale, three steps,
-/// matrix-free index and contact.
-type TripletSlots<'a> = (
-    &'a mut Option<FusedTriplet>,
-    (
-        &'a mut f64,
-        (&'a mut [f64], (&'a mut u32, &'a mut SphereContact)),
-    ),
-);
 
 /// Friction triplets from which the setup runs in parallel.
 const PAR_MIN_TRIPLETS: usize = 2048;
@@ -669,7 +636,7 @@ impl CcpSolver for Psor {
         let mut accelerating = self.options.momentum;
         for it in 1..=max_it {
             iterations = it;
-            if self.partition.is_some() {
+            if self.by_parts {
                 self.sweep_parts(problem, gamma);
             } else {
                 self.sweep(problem, gamma, true);

@@ -78,13 +78,12 @@ impl Psor {
             omega: self.options.omega,
         };
         let (w, ws) = (&mut self.w, &mut self.ws);
-        match &self.partition {
-            Some(part) => part.apply_changes(&data, &self.units, gamma, y, w, ws),
-            None => {
-                let mut vel = Vel::whole(w, ws);
-                for &unit in &self.units {
-                    apply_change(&data, unit, gamma, y, &mut vel);
-                }
+        if self.by_parts {
+            (self.partition).apply_changes(&data, &self.units, gamma, y, w, ws);
+        } else {
+            let mut vel = Vel::whole(w, ws);
+            for &unit in &self.units {
+                apply_change(&data, unit, gamma, y, &mut vel);
             }
         }
         y.par_iter_mut()

@@ -28,7 +28,8 @@ use crate::dense::MAX_BLOCK;
 /// Fewest units per part: below this, a part is too small to pay for its thread.
 pub(super) const MIN_UNITS_PER_PART: usize = 2048;
 
-/// The units of each part and of the interface, and each part's dof window.
+/// The units of each part and of the interface, and each part's dof window (rebuilt every
+/// solve into the same buffers: no allocation once they have grown).
 #[derive(Debug, Clone, Default)]
 pub(super) struct Partition {
     /// Part `k` owns the dof `dof[k]..dof[k + 1]` and the pure spheres
@@ -39,16 +40,22 @@ pub(super) struct Partition {
     /// storage order; the interface units are `order[ptr[parts]..]`.
     order: Vec<u32>,
     ptr: Vec<usize>,
+    /// Scratch: each unit's lowest and highest block, units per block, the cuts, each
+    /// unit's part.
+    spans: Vec<(u32, u32)>,
+    count: Vec<usize>,
+    cut: Vec<usize>,
+    part: Vec<u32>,
 }
 
 impl Partition {
     /// Cut the blocks into `parts` contiguous ranges holding about equal numbers of units
-    /// (counted by each unit's first block). `None` if fewer than two parts would have
-    /// [`MIN_UNITS_PER_PART`] units each.
-    pub(super) fn build(problem: &CcpProblem, units: &[Unit], parts: usize) -> Option<Self> {
+    /// (each unit counted half at its lowest and half at its highest block). False (and no
+    /// parts) if fewer than two parts would have [`MIN_UNITS_PER_PART`] units each.
+    pub(super) fn rebuild(&mut self, problem: &CcpProblem, units: &[Unit], parts: usize) -> bool {
         let parts = parts.min(units.len() / MIN_UNITS_PER_PART);
         if parts < 2 {
-            return None;
+            return false;
         }
         let vars = problem.variables();
         let nb = vars.len();
@@ -64,22 +71,26 @@ impl Partition {
             }
             (lo, hi)
         };
-        let spans: Vec<(u32, u32)> = units.iter().map(span).collect();
+        self.spans.clear();
+        self.spans.extend(units.iter().map(span));
         // each unit counted half at its lowest and half at its highest block, so the
         // units that straddle a cut weigh on both sides (counted at the lowest only, the
         // upper part of the 10 000-grain pour got 15.6k units against 13.1k)
-        let mut count = vec![0usize; nb + 1];
-        for &(lo, hi) in &spans {
+        self.count.clear();
+        self.count.resize(nb + 1, 0);
+        for &(lo, hi) in &self.spans {
             if lo != u32::MAX {
-                count[lo as usize] += 1;
-                count[hi as usize] += 1;
+                self.count[lo as usize] += 1;
+                self.count[hi as usize] += 1;
             }
         }
         // cut[k]: the first block of part k
-        let total: usize = count.iter().sum();
-        let mut cut = vec![0usize];
+        let total: usize = self.count.iter().sum();
+        let cut = &mut self.cut;
+        cut.clear();
+        cut.push(0);
         let mut acc = 0;
-        for (b, c) in count.iter().enumerate().take(nb) {
+        for (b, c) in self.count.iter().enumerate().take(nb) {
             // part k starts at the first block after k / parts of the units
             if cut.len() < parts && b > cut[cut.len() - 1] && acc * parts >= cut.len() * total {
                 cut.push(b);
@@ -87,30 +98,43 @@ impl Partition {
             acc += c;
         }
         if cut.len() < 2 {
-            return None;
+            return false;
         }
         cut.push(nb);
         let n_parts = cut.len() - 1;
         let part_of = |b: u32| cut.partition_point(|&c| c <= b as usize) - 1;
-        let mut lists = vec![Vec::new(); n_parts + 1];
-        for (u, &(lo, hi)) in spans.iter().enumerate() {
-            let k = if lo == u32::MAX {
+        // each unit's part (the interface is part n_parts), then a counting sort that keeps
+        // the storage order within a part
+        self.part.clear();
+        self.part.extend(self.spans.iter().map(|&(lo, hi)| {
+            if lo == u32::MAX {
                 // a unit without blocks (a row on fixed bodies only) touches no window
                 0
             } else if part_of(lo) == part_of(hi) {
-                part_of(lo)
+                part_of(lo) as u32
             } else {
-                n_parts
-            };
-            lists[k].push(u as u32);
+                n_parts as u32
+            }
+        }));
+        self.ptr.clear();
+        self.ptr.resize(n_parts + 2, 0);
+        for &k in &self.part {
+            self.ptr[k as usize + 1] += 1;
         }
-        let mut order = Vec::with_capacity(units.len());
-        let mut ptr = vec![0];
-        for l in &lists {
-            order.extend_from_slice(l);
-            ptr.push(order.len());
+        for k in 0..=n_parts {
+            self.ptr[k + 1] += self.ptr[k];
         }
-        ptr.pop();
+        self.order.clear();
+        self.order.resize(units.len(), 0);
+        // (`count` is done with: the next free slot of each part)
+        let next = &mut self.count;
+        next.clear();
+        next.extend_from_slice(&self.ptr);
+        for (u, &k) in self.part.iter().enumerate() {
+            self.order[next[k as usize]] = u as u32;
+            next[k as usize] += 1;
+        }
+        self.ptr.pop();
         let offset = |b: usize| {
             if b < nb {
                 vars.offset(BlockId(b as u32))
@@ -118,14 +142,12 @@ impl Partition {
                 problem.ndof()
             }
         };
-        let dof = cut.iter().map(|&b| offset(b)).collect();
-        let sph = cut.iter().map(|&b| problem.mf_spheres_before(b)).collect();
-        Some(Self {
-            dof,
-            sph,
-            order,
-            ptr,
-        })
+        self.dof.clear();
+        self.dof.extend(cut.iter().map(|&b| offset(b)));
+        self.sph.clear();
+        self.sph
+            .extend(cut.iter().map(|&b| problem.mf_spheres_before(b)));
+        true
     }
 
     /// The number of parts.
