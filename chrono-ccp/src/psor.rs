@@ -103,16 +103,21 @@ pub struct PsorOptions {
     /// `parallel`. Default `false`.
     pub partitioned: bool,
     /// Nesterov momentum over the iterations: after the sweeps of iteration `k` give
-    /// `T(y_k)`, `y_{k+1} = P_Y(T(y_k) + beta_k (T(y_k) - T(y_{k-1})))` with
+    /// `T(y_k)`, `y_{k+1} = T(y_k) + beta_k (T(y_k) - T(y_{k-1}))` with
     /// `beta_k = (k - 1) / (k + 2)`, restarted (`k = 1`) when the sweep's step
     /// `T(y_k) - y_k` points against the momentum `T(y_k) - T(y_{k-1})` (the gradient-free
     /// restart of O'Donoghue and Candès 2015, "Adaptive restart for accelerated gradient
     /// schemes", Found. Comput. Math. 15). A Gauss–Seidel sweep is not a gradient step, so
     /// this is the accelerated-projection heuristic without its rate guarantee: a residual
-    /// check above 1e3 times the best one returns to the best iterate with plain sweeps
-    /// until a check improves on it (a random problem with rolling cones diverged to 1e153
-    /// m/s without), and the solve returns the best iterate seen. `M^-1 D y` follows by
-    /// linearity (vector updates, plus the rows the projection changed); the explicit part
+    /// check above 1e3 times the best one, or three checks in a row without a new best,
+    /// return to the best iterate with plain sweeps until a check improves on it (a random
+    /// problem with rolling cones diverged to 1e153 m/s without the first; another
+    /// wandered between 2e-3 and 0.2 m/s for 200 000 sweeps without the second), and the
+    /// solve returns the best iterate seen. `y` is not projected
+    /// (as in FISTA): each unit of the next sweep projects its own update, so the checked
+    /// iterates are feasible; projecting `y` as well cost a third of the pour's solve and
+    /// converged more slowly (docs/performance.md). `M^-1 D y` follows by linearity
+    /// (vector updates); the explicit part
     /// is recomputed from `g` at every check (its rounding drifted over thousands of
     /// iterations), the matrix-free spheres' part is not (docs/performance.md). Default
     /// `false`.
@@ -450,21 +455,16 @@ impl Psor {
         setup.mf.clear();
         setup.mf_contacts.clear();
         if matrix_free {
-            // indexed by triplet (an unused default where a triplet is not matrix-free)
-            setup.mf.resize(nt, u32::MAX);
-            setup.mf_contacts.resize(nt, SphereContact::default());
-            (setup
-                .mf
-                .par_iter_mut()
-                .zip(setup.mf_contacts.par_iter_mut()))
-            .with_min_len(len)
-            .enumerate()
-            .for_each(|(k, (mf, contact))| {
-                if let Some(c) = problem.mf_contact(k) {
-                    *mf = k as u32;
-                    *contact = problem.mf_sphere_contact(c);
-                }
-            });
+            // indexed by triplet (an unused default where a triplet is not matrix-free),
+            // each value written once
+            (0..nt)
+                .into_par_iter()
+                .with_min_len(len)
+                .map(|k| match problem.mf_contact(k) {
+                    Some(c) => (k as u32, problem.mf_sphere_contact(c)),
+                    None => (u32::MAX, SphereContact::default()),
+                })
+                .unzip_into_vecs(&mut setup.mf, &mut setup.mf_contacts);
         }
         if nt >= len && (!matrix_free || problem.n_matrix_free() < nt) {
             // the explicit blocks are built lazily: once, before the parallel loop
@@ -572,6 +572,10 @@ const PAR_MIN_TRIPLETS: usize = 2048;
 /// running away (see [`PsorOptions::momentum`]).
 const DIVERGED: f64 = 1e3;
 
+/// With momentum, this many checks in a row without a new best residual count as
+/// stalled (see [`PsorOptions::momentum`]).
+const STALLED: usize = 3;
+
 impl CcpSolver for Psor {
     solver_accessors!("psor");
 
@@ -595,14 +599,22 @@ impl CcpSolver for Psor {
         sanitize_and_project(problem, gamma);
         // (the cone blocks are built lazily, by the serial setup, if a unit needs them)
         self.setup(problem);
-        problem.minv_d(gamma, &mut self.w);
         let matrix_free = !self.setup.mf.is_empty();
         self.ws.clear();
         if matrix_free {
+            // the two halves of the gradient kept: the explicit velocities (the spheres'
+            // blocks are not read by the sweeps) and the spheres' world-frame ones
+            problem.minv_d_explicit(gamma, &mut self.w);
             self.ws.resize(6 * problem.mf_spheres(), 0.0);
             problem.mf_gather(gamma, &mut self.ws);
+            self.work.resize(problem);
+            self.work.v.copy_from_slice(&self.w);
+            self.work.w.copy_from_slice(&self.ws);
+            problem.rows_from_velocity(gamma, &self.work, &mut self.grad, Some(problem.r()));
+        } else {
+            problem.minv_d(gamma, &mut self.w);
+            problem.gradient(gamma, &mut self.grad, &mut self.work);
         }
-        problem.gradient(gamma, &mut self.grad, &mut self.work);
         let mut n_apply = 1;
         let mut best_res = problem.residual(gamma, &self.grad, &mut self.work);
         self.best.copy_from_slice(gamma);
@@ -634,6 +646,8 @@ impl CcpSolver for Psor {
         }
         let mut k_mom = 1.0;
         let mut accelerating = self.options.momentum;
+        // checks in a row that did not improve on the best
+        let mut stalled = 0;
         for it in 1..=max_it {
             iterations = it;
             if self.by_parts {
@@ -685,12 +699,15 @@ impl CcpSolver for Psor {
                     break;
                 }
                 if self.options.momentum {
+                    stalled = if grad_is_best { 0 } else { stalled + 1 };
                     if grad_is_best {
                         accelerating = true;
-                    } else if accelerating && (!finite || res > DIVERGED * best_res) {
-                        // the accelerated iterates ran away (momentum is not a descent
-                        // method for Gauss-Seidel sweeps): back to the best one, plain
-                        // sweeps until a check improves on it
+                    } else if accelerating
+                        && (!finite || res > DIVERGED * best_res || stalled >= STALLED)
+                    {
+                        // the accelerated iterates ran away or wander without improving
+                        // (momentum is not a descent method for Gauss-Seidel sweeps):
+                        // back to the best one, plain sweeps until a check improves on it
                         self.restart_from_best(problem, gamma, matrix_free);
                         k_mom = 1.0;
                         accelerating = false;
@@ -698,7 +715,7 @@ impl CcpSolver for Psor {
                 }
             }
             if accelerating && it < max_it {
-                self.extrapolate(problem, gamma, &mut k_mom);
+                self.extrapolate(gamma, &mut k_mom);
             }
         }
         gamma.copy_from_slice(&self.best);

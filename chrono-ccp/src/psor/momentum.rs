@@ -5,9 +5,6 @@ use chrono_core::descriptor::reduce::sum_by;
 use rayon::prelude::*;
 
 use super::Psor;
-use super::parts::apply_change;
-use super::unit::{SweepData, Vel};
-use crate::util::sanitize_and_project;
 
 impl Psor {
     /// Back to the best iterate seen: `gamma`, its velocities and the momentum's history
@@ -19,9 +16,11 @@ impl Psor {
         matrix_free: bool,
     ) {
         gamma.copy_from_slice(&self.best);
-        problem.minv_d(gamma, &mut self.w);
         if matrix_free {
+            problem.minv_d_explicit(gamma, &mut self.w);
             problem.mf_gather(gamma, &mut self.ws);
+        } else {
+            problem.minv_d(gamma, &mut self.w);
         }
         self.g_prev.copy_from_slice(gamma);
         self.y.copy_from_slice(gamma);
@@ -30,8 +29,9 @@ impl Psor {
     }
 
     /// The momentum step of [`PsorOptions::momentum`]: `gamma` holds `T(y_k)`; it
-    /// becomes `y_{k+1}` (projected onto `Y`), `w` its `M^-1 D g`.
-    pub(super) fn extrapolate(&mut self, problem: &CcpProblem, gamma: &mut [f64], k: &mut f64) {
+    /// becomes `y_{k+1}` (not projected: each unit of the next sweep projects its own
+    /// update, from velocities consistent with `y`), `w` and `ws` its velocities.
+    pub(super) fn extrapolate(&mut self, gamma: &mut [f64], k: &mut f64) {
         let (g_prev, y) = (&mut self.g_prev, &mut self.y);
         let agree = {
             let (g, p, y) = (&*gamma, &*g_prev, &*y);
@@ -44,7 +44,8 @@ impl Psor {
         }
         let beta = (*k - 1.0) / (*k + 2.0);
         *k += 1.0;
-        // y_{k+1} before the projection (kept in `y`), and its velocities by linearity
+        // y_{k+1}, not projected: the next sweep starts from it (each unit's update
+        // projects), and its velocities follow by linearity
         gamma
             .par_iter_mut()
             .zip(g_prev.par_iter_mut())
@@ -56,7 +57,6 @@ impl Psor {
                 *p = t;
                 *y = *g;
             });
-        let y = &mut self.y;
         for (w, p) in [
             (&mut self.w, &mut self.w_prev),
             (&mut self.ws, &mut self.ws_prev),
@@ -70,25 +70,5 @@ impl Psor {
                     *p = t;
                 });
         }
-        // the projection's changes, unit by unit (by parts when sweeping by parts)
-        sanitize_and_project(problem, gamma);
-        let data = SweepData {
-            problem,
-            setup: &self.setup,
-            omega: self.options.omega,
-        };
-        let (w, ws) = (&mut self.w, &mut self.ws);
-        if self.by_parts {
-            (self.partition).apply_changes(&data, &self.units, gamma, y, w, ws);
-        } else {
-            let mut vel = Vel::whole(w, ws);
-            for &unit in &self.units {
-                apply_change(&data, unit, gamma, y, &mut vel);
-            }
-        }
-        y.par_iter_mut()
-            .zip(gamma.par_iter())
-            .with_min_len(4096)
-            .for_each(|(y, g)| *y = *g);
     }
 }

@@ -22,7 +22,7 @@ use chrono_core::descriptor::{BlockId, CcpProblem};
 use rayon::prelude::*;
 
 use super::unit::{as_triplet, triplet};
-use super::{SweepData, Unit, UnitUpdate, Vel, apply_update, unit_update};
+use super::{SweepData, Unit, Vel, apply_update, unit_update};
 use crate::dense::MAX_BLOCK;
 
 /// Fewest units per part: below this, a part is too small to pay for its thread.
@@ -72,7 +72,7 @@ impl Partition {
             (lo, hi)
         };
         self.spans.clear();
-        self.spans.extend(units.iter().map(span));
+        (self.spans).par_extend(units.par_iter().with_min_len(MIN_UNITS_PER_PART).map(span));
         // each unit counted half at its lowest and half at its highest block, so the
         // units that straddle a cut weigh on both sides (counted at the lowest only, the
         // upper part of the 10 000-grain pour got 15.6k units against 13.1k)
@@ -175,24 +175,6 @@ impl Partition {
         });
     }
 
-    /// `w += M^-1 D (g - y)` over every unit whose rows differ between `g` and `y` (the
-    /// momentum step's projection), each part's units on its thread, then the interface.
-    pub(super) fn apply_changes(
-        &self,
-        data: &SweepData,
-        units: &[Unit],
-        g: &[f64],
-        y: &[f64],
-        w: &mut [f64],
-        ws: &mut [f64],
-    ) {
-        self.run(w, ws, false, |list, vel| {
-            for &u in list {
-                apply_change(data, units[u as usize], g, y, vel);
-            }
-        });
-    }
-
     /// `f(units, window)` for every part in parallel (each with its window of `w` and
     /// `ws`), and for the interface units with the whole vectors, before the parts if
     /// `interface_first`, else after.
@@ -237,22 +219,6 @@ impl Partition {
             f(interface, &mut Vel::whole(w, ws));
         }
     }
-}
-
-/// `w += M^-1 D (g - y)` on `unit`'s rows if any of them differs.
-pub(super) fn apply_change(data: &SweepData, unit: Unit, g: &[f64], y: &[f64], vel: &mut Vel) {
-    let (start, len) = unit.rows();
-    if g[start..start + len]
-        .iter()
-        .zip(&y[start..start + len])
-        .all(|(a, b)| a.to_bits() == b.to_bits())
-    {
-        return;
-    }
-    let (mut cur, mut new) = ([0.0; MAX_BLOCK], [0.0; MAX_BLOCK]);
-    cur[..len].copy_from_slice(&y[start..start + len]);
-    new[..len].copy_from_slice(&g[start..start + len]);
-    apply_update(data, unit, &UnitUpdate { start, len, new }, &cur, vel);
 }
 
 /// Gauss–Seidel over `list` with `w` the window from dof `base`.

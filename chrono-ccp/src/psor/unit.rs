@@ -323,7 +323,11 @@ pub(super) fn triplet(d: &SweepData, t: usize, k: usize, cur: [f64; 3], vel: &mu
         Some(&c) if c != u32::MAX => Some(&d.setup.mf_contacts[c as usize]),
         _ => None,
     };
-    let fused = d.setup.fused[k].as_ref();
+    // (a matrix-free contact has no fused rows: not read)
+    let fused = match contact {
+        Some(_) => None,
+        None => d.setup.fused[k].as_ref(),
+    };
     let dots = match (contact, fused) {
         (Some(c), _) => c.dots_in(vel.ws, vel.sbase),
         (None, Some(f)) => problem.fused_dots_in(f, vel.w, vel.base),

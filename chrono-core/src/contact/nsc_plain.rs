@@ -58,6 +58,7 @@ fn sides_with_variables(cp: &ContactPoint, bodies: &[RigidBody]) -> usize {
 /// side without variables moved into `b`, `b_n = max(Phi / h, -v_rec)` plus the known
 /// normal velocity, the compliance `c / h^2` on the normal row, and the frame (normal and
 /// arms) the rows were built from. `None` if neither body has variables.
+#[inline(always)]
 pub(super) fn plain_triplet(
     settings: NscRowSettings,
     cp: &ContactPoint,
@@ -165,15 +166,13 @@ pub(super) fn add_plain_rows_par(
     out: &mut Vec<NscContact>,
 ) {
     // Triplets and entries per chunk, and the totals.
-    let counts: Vec<(usize, usize)> = points
-        .chunks(CHUNK)
-        .map(|ch| {
-            ch.iter().fold((0, 0), |(t, e), cp| {
-                let nb = sides_with_variables(cp, bodies);
-                (t + usize::from(nb > 0), e + 3 * nb)
-            })
+    let count = |ch: &[ContactPoint]| {
+        ch.iter().fold((0, 0), |(t, e), cp| {
+            let nb = sides_with_variables(cp, bodies);
+            (t + usize::from(nb > 0), e + 3 * nb)
         })
-        .collect();
+    };
+    let counts: Vec<(usize, usize)> = points.par_chunks(CHUNK).map(count).collect();
     let (nt, ne) = counts
         .iter()
         .fold((0, 0), |(t, e), &(ct, ce)| (t + ct, e + ce));

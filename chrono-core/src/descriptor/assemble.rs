@@ -235,6 +235,7 @@ impl CcpProblem {
             // columns: the passes one after the other.
             self.fill_minv();
             self.build_transpose(nblocks);
+            self.copy_transpose();
             self.build_diagonal();
             self.build_matrix_free(rows);
             self.set_free_velocity()
@@ -244,6 +245,11 @@ impl CcpProblem {
             self.build_transpose(nblocks);
             self.fill_scales();
             self.build_matrix_free(rows);
+            // Every block touched only by matrix-free triplets: products skip the
+            // explicit gather, and `minv_d` reads `M^-1 D` through the slots' entries.
+            if !self.mf.explicit_free {
+                self.copy_transpose();
+            }
             Ok(())
         }
     }
@@ -442,8 +448,8 @@ impl CcpProblem {
         self.minv = minv;
     }
 
-    /// The block-ordered copy of the Jacobian (counting sort of entries by block, stable:
-    /// row order kept within a block).
+    /// The block order of the Jacobian's entries (counting sort of entries by block,
+    /// stable: row order kept within a block): each slot's row and entry.
     fn build_transpose(&mut self, nblocks: usize) {
         self.tr_ptr.clear();
         self.tr_ptr.resize(nblocks + 1, 0);
@@ -478,8 +484,19 @@ impl CcpProblem {
                 tr_ent[t] = e as u32;
             }
         }
-        // ... then the coefficients, slot by slot over each run of equal-size blocks (a
-        // run's slots are contiguous and of one size), in parallel for large problems.
+        // (the coefficients: `copy_transpose`)
+        self.tr_ent = tr_ent;
+        self.tr_minv.clear();
+    }
+
+    /// The block-ordered copy of `M^-1 D` ([`build_transpose`](Self::build_transpose)'s
+    /// slots), which [`minv_d`](Self::minv_d) streams; without it, it reads `M^-1 D`
+    /// through each slot's entry (the same values in the same order). Slot by slot over
+    /// each run of equal-size blocks (a run's slots are contiguous and of one size), in
+    /// parallel for large problems.
+    fn copy_transpose(&mut self) {
+        let n_ent = self.ent_block.len();
+        let tr_ent = std::mem::take(&mut self.tr_ent);
         self.tr_minv.resize(self.minv.len(), 0.0);
         let par = n_ent >= PAR_MIN_ASSEMBLY_ROWS;
         for run in self.vars.runs() {

@@ -72,7 +72,8 @@ pub(super) struct MatrixFree {
     pub n_mf: usize,
     /// Scratch of [`CcpProblem::fill_matrix_free`] (kept so that a step allocates
     /// nothing): per block its isotropic `[1/m, 1/J]`, its entries, its entries hinted by
-    /// frames and in matrix-free triplets; per sphere its side count; the picked frames.
+    /// frames and in matrix-free triplets; per sphere its side count; the picked frames;
+    /// per side (sphere order) `2 c + side` of its contact `c`.
     scratch: FillScratch,
 }
 
@@ -85,6 +86,55 @@ pub(super) struct FillScratch {
     in_mf: Vec<u32>,
     count: Vec<u32>,
     picked: Vec<u32>,
+    side_of: Vec<u32>,
+}
+
+/// Arrays per task of [`fill_many`].
+const FILL_TASK: usize = 2048;
+
+/// `vs[j] = [f(0)[j], .., f(n - 1)[j]]` for every `j` (capacities kept): one pass over
+/// the inputs for all the arrays, in parallel over tasks if `par`.
+fn fill_many<const N: usize>(
+    vs: [&mut Vec<f64>; N],
+    n: usize,
+    par: bool,
+    f: impl Fn(usize) -> [f64; N] + Sync,
+) {
+    let mut chunks = vs.map(|v| {
+        v.clear();
+        v.resize(n, 0.0);
+        v.chunks_mut(FILL_TASK)
+    });
+    let tasks: Vec<[&mut [f64]; N]> = (0..n.div_ceil(FILL_TASK))
+        .map(|_| {
+            chunks
+                .each_mut()
+                .map(|c| c.next().expect("one chunk per task"))
+        })
+        .collect();
+    let task = |(t, mut out): (usize, [&mut [f64]; N])| {
+        for j in 0..out[0].len() {
+            let x = f(t * FILL_TASK + j);
+            for (o, x) in out.iter_mut().zip(x) {
+                o[j] = x;
+            }
+        }
+    };
+    if par {
+        tasks.into_par_iter().enumerate().for_each(task);
+    } else {
+        tasks.into_iter().enumerate().for_each(task);
+    }
+}
+
+/// `v = [f(0), .., f(n - 1)]` (its capacity kept), in parallel if `par`.
+fn fill<T: Send>(v: &mut Vec<T>, n: usize, par: bool, f: impl Fn(usize) -> T + Sync + Send) {
+    v.clear();
+    if par {
+        v.par_extend((0..n).into_par_iter().map(f));
+    } else {
+        v.extend((0..n).map(f));
+    }
 }
 
 impl MatrixFree {
@@ -377,50 +427,53 @@ impl CcpProblem {
             }
         }
         mf.of_triplet.resize(self.sections.friction.len() / 3, NONE);
+        // Per candidate (each value on its own, in parallel for many): its normal row, its
+        // spheres, its geometry.
+        let nc = picked.len();
+        let par = nc >= PAR_MIN_BODIES;
+        let frame_of = |c: usize| &frames[picked[c] as usize];
+        let block_sphere = &mf.block_sphere;
+        fill(&mut mf.c_row, nc, par, |c| {
+            (fs + 3 * frame_of(c).0 as usize) as u32
+        });
+        fill(&mut mf.c_body, nc, par, |c| {
+            (frame_of(c).1.blocks).map(|b| b.map_or(NONE, |b| block_sphere[b.0 as usize]))
+        });
+        {
+            let ([n0, n1, n2], [a0, a1, a2], [b0, b1, b2]) =
+                (&mut mf.c_n, &mut mf.c_ra, &mut mf.c_rb);
+            let outs = [n0, n1, n2, a0, a1, a2, b0, b1, b2, &mut mf.c_rc];
+            fill_many(outs, nc, par, |c| {
+                let f = &frame_of(c).1;
+                let ([a, b], n) = (f.arms, f.normal);
+                let rc = frame_recip(&n);
+                [n[0], n[1], n[2], a[0], a[1], a[2], b[0], b[1], b[2], rc]
+            });
+        }
         // Entries of each block in matrix-free triplets: a block all of whose entries are
-        // needs no explicit velocity.
+        // needs no explicit velocity. A triplet is matrix-free if all its spheres are pure.
         let mut in_mf = std::mem::take(&mut sc.in_mf);
         in_mf.clear();
         in_mf.resize(nblocks, 0);
         let mut count = std::mem::take(&mut sc.count);
         count.clear();
         count.resize(mf.b_inv.len() + 1, 0);
-        mf.c_row.reserve(picked.len());
-        mf.c_body.reserve(picked.len());
-        for x in mf.c_n.iter_mut().chain(&mut mf.c_ra).chain(&mut mf.c_rb) {
-            x.reserve(picked.len());
-        }
-        mf.c_rc.reserve(picked.len());
-        for (k, f) in cand() {
-            let c = mf.c_row.len();
-            let body = f
-                .blocks
-                .map(|b| b.map_or(NONE, |b| mf.block_sphere[b.0 as usize]));
-            let pure = f
+        for (c, (body, &f)) in mf.c_body.iter().zip(&picked).enumerate() {
+            let (k, fr) = &frames[f as usize];
+            let pure = fr
                 .blocks
                 .iter()
                 .flatten()
                 .all(|b| mf.block_sphere[b.0 as usize] != NONE);
             if pure {
                 mf.of_triplet[*k as usize] = c as u32;
-                for b in f.blocks.iter().flatten() {
+                for b in fr.blocks.iter().flatten() {
                     in_mf[b.0 as usize] += 3;
                 }
             }
-            mf.c_row.push((fs + 3 * *k as usize) as u32);
             for &s in body.iter().filter(|&&s| s != NONE) {
                 count[s as usize + 1] += 1;
             }
-            mf.c_body.push(body);
-            let [a, b] = f.arms;
-            let n = f.normal;
-            let rc = frame_recip(&n);
-            for k in 0..3 {
-                mf.c_n[k].push(n[k]);
-                mf.c_ra[k].push(a[k]);
-                mf.c_rb[k].push(b[k]);
-            }
-            mf.c_rc.push(rc);
         }
         mf.n_mf = mf.of_triplet.iter().filter(|&&c| c != NONE).count();
         mf.skip_block.clear();
@@ -431,32 +484,40 @@ impl CcpProblem {
         }
         mf.b_ptr.extend_from_slice(&count);
         let n_sides = count[mf.b_inv.len()] as usize;
+        // The sides in sphere order (a counting sort: `count` becomes the cursor of each
+        // sphere's next side), then their geometry gathered from the contacts.
+        let mut side_of = std::mem::take(&mut sc.side_of);
+        side_of.resize(n_sides, 0);
         mf.s_row.resize(n_sides, 0);
-        for x in mf.s_n.iter_mut().chain(&mut mf.s_r) {
-            x.resize(n_sides, 0.0);
-        }
-        mf.s_rc.resize(n_sides, 0.0);
-        // (`count` becomes the cursor of each sphere's next side.)
         let cursor = &mut count;
         for (c, body) in mf.c_body.iter().enumerate() {
             for (side, &s) in body.iter().enumerate() {
                 if s != NONE {
                     let slot = &mut cursor[s as usize];
                     let q = *slot as usize;
-                    let arm = if side == 0 { &mf.c_ra } else { &mf.c_rb };
                     mf.s_row[q] = 2 * mf.c_row[c] + side as u32;
-                    for k in 0..3 {
-                        mf.s_n[k][q] = mf.c_n[k][c];
-                        mf.s_r[k][q] = arm[k][c];
-                    }
-                    mf.s_rc[q] = mf.c_rc[c];
+                    side_of[q] = 2 * c as u32 + side as u32;
                     *slot += 1;
                 }
             }
         }
+        let par = n_sides >= PAR_MIN_BODIES;
+        let (c_n, c_ra, c_rb, c_rc) = (&mf.c_n, &mf.c_ra, &mf.c_rb, &mf.c_rc);
+        let at = |q: usize| ((side_of[q] / 2) as usize, side_of[q] % 2);
+        {
+            let ([n0, n1, n2], [r0, r1, r2]) = (&mut mf.s_n, &mut mf.s_r);
+            let outs = [n0, n1, n2, r0, r1, r2, &mut mf.s_rc];
+            fill_many(outs, n_sides, par, |q| {
+                let (c, side) = at(q);
+                let r = if side == 0 { c_ra } else { c_rb };
+                let n = [c_n[0][c], c_n[1][c], c_n[2][c]];
+                [n[0], n[1], n[2], r[0][c], r[1][c], r[2][c], c_rc[c]]
+            });
+        }
         mf.frames = frames;
-        (sc.total, sc.hinted, sc.in_mf, sc.count, sc.picked) =
-            (total, hinted, in_mf, count, picked);
+        (
+            sc.total, sc.hinted, sc.in_mf, sc.count, sc.picked, sc.side_of,
+        ) = (total, hinted, in_mf, count, picked, side_of);
         mf.scratch = sc;
     }
 }

@@ -40,6 +40,20 @@ impl CcpProblem {
         self.minv_d_blocks(gamma, v, false);
     }
 
+    /// [`minv_d`](Self::minv_d) on every block but the matrix-free spheres' (zero there:
+    /// their velocities live in world frame, [`mf_gather`](Self::mf_gather)), for a
+    /// solver that keeps both: the other blocks get the same bits as from `minv_d`.
+    pub fn minv_d_explicit(&self, gamma: &[f64], v: &mut [f64]) {
+        assert_eq!(gamma.len(), self.n_rows, "gamma has the wrong length");
+        assert_eq!(v.len(), self.ndof(), "v has the wrong length");
+        for (b, &skip) in self.mf.skip_block.iter().enumerate() {
+            if skip {
+                v[self.vars.range(super::BlockId(b as u32))].fill(0.0);
+            }
+        }
+        self.minv_d_blocks(gamma, v, true);
+    }
+
     /// [`minv_d`](Self::minv_d); with `skip_spheres` the blocks of the matrix-free spheres
     /// are left untouched (only matrix-free triplets touch them, and those read `work.w`).
     fn minv_d_blocks(&self, gamma: &[f64], v: &mut [f64], skip_spheres: bool) {
@@ -47,6 +61,9 @@ impl CcpProblem {
             return;
         }
         let skip = &self.mf.skip_block;
+        // Without the block-ordered copy of `M^-1 D` (every block with rows is a
+        // matrix-free sphere's, see the assembly) its entries are read in place.
+        let copied = self.tr_minv.len() == self.minv.len();
         let gather = |block: usize, out: &mut [f64]| {
             if skip_spheres && skip[block] {
                 return;
@@ -54,6 +71,26 @@ impl CcpProblem {
             out.fill(0.0);
             let nd = out.len();
             let (t0, t1) = (self.tr_ptr[block] as usize, self.tr_ptr[block + 1] as usize);
+            if !copied {
+                // A sphere's entries read through the slots' entries (the same values in
+                // the same order as from the copy).
+                if t0 == t1 {
+                    return;
+                }
+                let out: &mut [f64; 6] = out.try_into().expect("a matrix-free sphere");
+                for t in t0..t1 {
+                    let g = gamma[self.tr_row[t] as usize];
+                    if g == 0.0 {
+                        continue;
+                    }
+                    let src = self.ent_coef[self.tr_ent[t] as usize] as usize;
+                    let col: &[f64; 6] = self.minv[src..src + 6].try_into().expect("6");
+                    for k in 0..6 {
+                        out[k] += g * col[k];
+                    }
+                }
+                return;
+            }
             let c = &self.tr_minv[self.tr_cptr[block] as usize..self.tr_cptr[block + 1] as usize];
             if let Ok(out) = <&mut [f64; 6]>::try_from(&mut *out) {
                 // A rigid body: fixed-size columns, the same sums in the same order.

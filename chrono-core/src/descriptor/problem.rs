@@ -124,12 +124,13 @@ pub struct CcpProblem {
     pub(super) coefs: Vec<f64>,
     pub(super) minv: Vec<f64>,
     // By block: entries of block b are tr_ptr[b]..tr_ptr[b+1] (row order), their M^-1 D
-    // coefficients tr_minv[tr_cptr[b]..] contiguous.
+    // coefficients tr_minv[tr_cptr[b]..] contiguous (tr_minv empty when every block with
+    // rows is a matrix-free sphere's: read through tr_ent instead).
     pub(super) tr_ptr: Vec<u32>,
     pub(super) tr_cptr: Vec<u32>,
     pub(super) tr_row: Vec<u32>,
     pub(super) tr_minv: Vec<f64>,
-    /// Scratch of the assembly: the entry of each slot of the block order.
+    /// The entry of each slot of the block order.
     pub(super) tr_ent: Vec<u32>,
     pub(super) k: Vec<f64>,
     pub(super) b: Vec<f64>,
