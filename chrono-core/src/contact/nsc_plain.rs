@@ -132,6 +132,20 @@ pub(super) fn push_plain(rows: &mut ConstraintRows, t: &PlainTriplet) -> RowId {
     row
 }
 
+/// The contact out of `cp` (tangents `u`, `w`) whose triplet is the group's `k`-th.
+#[inline]
+fn contact_out(cp: &ContactPoint, u: Vector3<f64>, w: Vector3<f64>, k: usize) -> NscContact {
+    NscContact {
+        point: *cp,
+        u,
+        w,
+        row: RowId {
+            group: RowGroup::Friction,
+            index: (3 * k) as u32,
+        },
+    }
+}
+
 /// One task's share of the friction group's arrays (and of the contacts out).
 struct Part<'a> {
     /// The first contact of the task.
@@ -147,7 +161,8 @@ struct Part<'a> {
     eps: &'a mut [f64],
     mu: &'a mut [f64],
     frames: &'a mut [(u32, ContactFrame)],
-    out: &'a mut [NscContact],
+    /// `None` when every contact gets a triplet (the contacts out are written after).
+    out: Option<&'a mut [NscContact]>,
 }
 
 /// The next part of a split (there is one per chunk).
@@ -215,7 +230,12 @@ pub(super) fn add_plain_rows_par(
     grow(&mut g.mu, k0 + nt, 0.0);
     grow(&mut g.frames, f0 + nt, empty_frame);
     grow(&mut g.frames_built, f0 + nt, true);
-    grow(out, o0 + nt, placeholder);
+    // Every contact with a triplet (a bed of spheres): the contacts out in one indexed
+    // pass after the rows, without placeholders.
+    let every = nt == points.len();
+    if !every {
+        grow(out, o0 + nt, placeholder);
+    }
 
     let ts = || counts.iter().map(|c| c.0);
     let es = || counts.iter().map(|c| c.1);
@@ -228,7 +248,7 @@ pub(super) fn add_plain_rows_par(
     let mut eps = split_parts(&mut g.eps[r0..], ts().map(|t| 3 * t)).into_iter();
     let mut mu = split_parts(&mut g.mu[k0..], ts()).into_iter();
     let mut frames = split_parts(&mut g.frames[f0..], ts()).into_iter();
-    let mut outs = split_parts(&mut out[o0..], ts()).into_iter();
+    let mut outs = (!every).then(|| split_parts(&mut out[o0..], ts()).into_iter());
     let (mut t, mut e) = (k0, e0);
     for (i, &(ct, ce)) in counts.iter().enumerate() {
         parts.push(Part {
@@ -243,13 +263,13 @@ pub(super) fn add_plain_rows_par(
             eps: next(&mut eps),
             mu: next(&mut mu),
             frames: next(&mut frames),
-            out: next(&mut outs),
+            out: outs.as_mut().map(next),
         });
         (t, e) = (t + ct, e + ce);
     }
     // Coefficient offsets: the group's coefficients before, then 6 per new entry.
     let coef_at = |entry: usize| (c0 + 6 * (entry - e0)) as u32;
-    let fill = |p: Part| {
+    let fill = |mut p: Part| {
         let chunk = &points[p.c0..(p.c0 + CHUNK).min(points.len())];
         let (mut t, mut e) = (0, 0);
         for cp in chunk {
@@ -273,17 +293,18 @@ pub(super) fn add_plain_rows_par(
             let k = p.t0 + t;
             p.mu[t] = tr.mu;
             p.frames[t] = (k as u32, tr.frame);
-            p.out[t] = NscContact {
-                point: *cp,
-                u,
-                w,
-                row: RowId {
-                    group: RowGroup::Friction,
-                    index: (3 * k) as u32,
-                },
-            };
+            if let Some(out) = p.out.as_deref_mut() {
+                out[t] = contact_out(cp, u, w, k);
+            }
             t += 1;
         }
     };
     parts.into_par_iter().for_each(fill);
+    drop(outs);
+    if every {
+        (out).par_extend(points.par_iter().enumerate().map(|(i, cp)| {
+            let (u, w) = crate::math::tangent_frame(&cp.normal);
+            contact_out(cp, u, w, k0 + i)
+        }));
+    }
 }

@@ -49,7 +49,6 @@ impl CcpProblem {
         let c = c as usize;
         let at = |x: &[Vec<f64>; 3]| [x[0][c], x[1][c], x[2][c]];
         let n = at(&mf.c_n);
-        let (u, w) = frame_from(&n, mf.c_rc[c]);
         let spheres = mf.c_body[c];
         let inv = spheres.map(|s| {
             if s == NONE {
@@ -60,7 +59,8 @@ impl CcpProblem {
         });
         SphereContact {
             spheres,
-            dirs: [n, u, w],
+            normal: n,
+            rc: mf.c_rc[c],
             arms: [at(&mf.c_ra), at(&mf.c_rb)],
             inv,
         }
@@ -95,12 +95,22 @@ impl CcpProblem {
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct SphereContact {
     spheres: [u32; 2],
-    dirs: [[f64; 3]; 3],
+    /// The normal and its frame's division ([`frame_from`]): the tangents are rebuilt
+    /// where used (a smaller value for the sweeps to stream; the same bits).
+    normal: [f64; 3],
+    rc: f64,
     arms: [[f64; 3]; 2],
     inv: [[f64; 2]; 2],
 }
 
 impl SphereContact {
+    /// The frame `[n, u, w]`.
+    #[inline(always)]
+    fn dirs(&self) -> [[f64; 3]; 3] {
+        let (u, w) = frame_from(&self.normal, self.rc);
+        [self.normal, u, w]
+    }
+
     /// The contact's three rows of `D' ws`, `ws` the sphere velocities (world frame, 6
     /// per sphere) from sphere `base`.
     ///
@@ -127,7 +137,8 @@ impl SphereContact {
             }
         }
         let dot = |a: &[f64; 3]| a[0] * rel[0] + a[1] * rel[1] + a[2] * rel[2];
-        [dot(&self.dirs[0]), dot(&self.dirs[1]), dot(&self.dirs[2])]
+        let [n, u, w] = self.dirs();
+        [dot(&n), dot(&u), dot(&w)]
     }
 
     /// The contact's 3x3 block of `D M^-1 D'` (without compliance) as the upper triangle
@@ -147,11 +158,12 @@ impl SphereContact {
                 continue;
             }
             let [im, ij] = self.inv[side];
-            let rd = self.dirs.map(|d| cross(&self.arms[side], &d));
+            let dirs = self.dirs();
+            let rd = dirs.map(|d| cross(&self.arms[side], &d));
             let mut q = 0;
             for a in 0..3 {
                 for b in a..3 {
-                    out[q] += im * dot(&self.dirs[a], &self.dirs[b]) + ij * dot(&rd[a], &rd[b]);
+                    out[q] += im * dot(&dirs[a], &dirs[b]) + ij * dot(&rd[a], &rd[b]);
                     q += 1;
                 }
             }
@@ -166,7 +178,7 @@ impl SphereContact {
     /// If a sphere of the contact lies outside the window.
     #[inline]
     pub fn add_in(&self, dg: &[f64; 3], ws: &mut [f64], base: usize) {
-        let [n, u, v] = &self.dirs;
+        let [n, u, v] = &self.dirs();
         let f: [f64; 3] = std::array::from_fn(|k| n[k] * dg[0] + u[k] * dg[1] + v[k] * dg[2]);
         for (side, sign) in [(0, -1.0), (1, 1.0)] {
             let s = self.spheres[side];
