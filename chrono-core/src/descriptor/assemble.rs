@@ -125,12 +125,19 @@ impl CcpProblem {
             // checked again for its error), then copy the group's arrays in bulk.
             let n = g.n_rows();
             if n >= PAR_MIN_ASSEMBLY_ROWS {
-                let bad = (0..n)
-                    .into_par_iter()
-                    .with_min_len(1024)
-                    .find_first(|&i| check_row(g, i, vars, name).is_err());
-                if let Some(i) = bad {
-                    check_row(g, i, vars, name)?;
+                // All rows at once (streaming passes); only a group that fails is searched
+                // row by row for its first bad field.
+                let ndof = &mut self.block_ndof;
+                ndof.clear();
+                ndof.extend((0..vars.len()).map(|b| vars.block_ndof(BlockId(b as u32)) as u32));
+                if !rows_ok(g, ndof) {
+                    let bad = (0..n)
+                        .into_par_iter()
+                        .with_min_len(1024)
+                        .find_first(|&i| check_row(g, i, vars, name).is_err());
+                    if let Some(i) = bad {
+                        check_row(g, i, vars, name)?;
+                    }
                 }
             } else {
                 for i in 0..n {
@@ -699,6 +706,34 @@ fn check_row(g: &GroupRows, i: usize, vars: &Variables, name: &str) -> Result<()
         ));
     }
     Ok(())
+}
+
+/// Every row of `g` passes [`check_row`] (`ndof`: each block's dof count): each entry's
+/// block exists and has as many coefficients as dof, every coefficient and `b` is finite,
+/// every `eps` finite and `>= 0`; in parallel over chunks, branch-free within one.
+fn rows_ok(g: &GroupRows, ndof: &[u32]) -> bool {
+    const CHUNK: usize = 8192;
+    let n_ent = g.row_ptr.get(g.n_rows()).map_or(0, |&p| p as usize);
+    let entries_ok = (0..n_ent.div_ceil(CHUNK)).into_par_iter().all(|k| {
+        (k * CHUNK..((k + 1) * CHUNK).min(n_ent)).fold(true, |ok, e| {
+            let c1 = g.ent_coef.get(e + 1).map_or(g.coefs.len(), |&c| c as usize);
+            let count = c1.wrapping_sub(g.ent_coef[e] as usize);
+            let want = ndof
+                .get(g.ent_block[e] as usize)
+                .map_or(usize::MAX, |&d| d as usize);
+            ok & (count == want)
+        })
+    });
+    let n_coef = if n_ent == 0 { 0 } else { g.coefs.len() };
+    let finite = |x: &[f64]| {
+        x.par_chunks(CHUNK)
+            .all(|c| c.iter().fold(true, |ok, v| ok & v.is_finite()))
+    };
+    let eps_ok = g.eps.par_chunks(CHUNK).all(|c| {
+        c.iter()
+            .fold(true, |ok, v| ok & (v.is_finite() & (*v >= 0.0)))
+    });
+    entries_ok && finite(&g.coefs[..n_coef]) && finite(&g.b) && eps_ok
 }
 
 /// `[lo, hi)`: the span of `c` outside which every coefficient is zero (`[0, 0]` if all

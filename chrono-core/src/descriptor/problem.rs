@@ -132,6 +132,8 @@ pub struct CcpProblem {
     pub(super) tr_minv: Vec<f64>,
     /// The entry of each slot of the block order.
     pub(super) tr_ent: Vec<u32>,
+    /// Scratch of the assembly's row checks: each block's dof count.
+    pub(super) block_ndof: Vec<u32>,
     pub(super) k: Vec<f64>,
     pub(super) b: Vec<f64>,
     pub(super) eps: Vec<f64>,

@@ -332,23 +332,28 @@ fn the_first_bad_row_of_many_is_named() {
         (vec![(7000, 1), (8000, 0)], "rows.bilateral[7000].coefs[1]"),
         (vec![(8999, 2), (6000, 4)], "rows.bilateral[6000].b"),
         (vec![(4500, 5)], "rows.bilateral[4500].eps"),
+        (vec![(8500, 6), (5000, 7)], "rows.bilateral[5000]"),
+        (vec![(4200, 8)], "rows.bilateral[4200].coefs.len()"),
     ] {
         let mut rows = ConstraintRows::new();
         for i in 0..n {
             let mut c = [0.0, 0.0, 1.0];
-            let (mut b, mut eps) = (0.0, 0.0);
+            let (mut b, mut eps, mut block, mut len) = (0.0, -0.0, a, 3);
             for &(r, what) in &bad_rows {
                 if r == i {
                     match what {
                         0..=2 => c[what] = f64::NAN,
                         4 => b = f64::INFINITY,
-                        _ => eps = -1.0,
+                        5 => eps = -1.0,
+                        6 => eps = f64::NAN,
+                        7 => block = BlockId(3),
+                        _ => len = 2,
                     }
                 }
             }
             let e = [RowEntry {
-                block: a,
-                coefs: &c,
+                block,
+                coefs: &c[..len],
             }];
             rows.push_bilateral(&e, b, eps);
         }
@@ -358,6 +363,17 @@ fn the_first_bad_row_of_many_is_named() {
             .to_string();
         assert!(err.contains(want), "{err} (want {want})");
     }
+    // and the same many rows, all good (`eps = -0.0` among them), assemble
+    let mut rows = ConstraintRows::new();
+    for i in 0..n {
+        let c = [0.0, 1.0, i as f64];
+        let e = [RowEntry {
+            block: a,
+            coefs: &c,
+        }];
+        rows.push_bilateral(&e, 0.5, if i % 2 == 0 { -0.0 } else { 1e-6 });
+    }
+    CcpProblem::new().assemble(&vars, &rows, &[0.0; 3]).unwrap();
 }
 
 /// A coupled 5-dof SPD block and a particle, rows touching both: `N` against the dense
