@@ -241,7 +241,8 @@ impl CcpProblem {
             // `M^-1 D` of the coupled blocks' entries is solved per block, in batches of
             // columns: the passes one after the other.
             self.fill_minv();
-            self.build_transpose(nblocks);
+            self.count_blocks(nblocks);
+            self.sort_entries();
             self.copy_transpose();
             self.build_diagonal();
             self.build_matrix_free(rows);
@@ -249,12 +250,14 @@ impl CcpProblem {
         } else {
             self.fill_v_free()?;
             self.fill_rows_fused();
-            self.build_transpose(nblocks);
+            self.count_blocks(nblocks);
             self.fill_scales();
             self.build_matrix_free(rows);
             // Every block touched only by matrix-free triplets: products skip the
-            // explicit gather, and `minv_d` reads `M^-1 D` through the slots' entries.
+            // explicit gather, and `minv_d` reads `M^-1 D` through the spheres' contact
+            // sides (no block order needed).
             if !self.mf.explicit_free {
+                self.sort_entries();
                 self.copy_transpose();
             }
             Ok(())
@@ -456,8 +459,9 @@ impl CcpProblem {
     }
 
     /// The block order of the Jacobian's entries (counting sort of entries by block,
-    /// stable: row order kept within a block): each slot's row and entry.
-    fn build_transpose(&mut self, nblocks: usize) {
+    /// stable: row order kept within a block): each block's slots and coefficient range
+    /// (the slots themselves: [`sort_entries`](Self::sort_entries)).
+    fn count_blocks(&mut self, nblocks: usize) {
         self.tr_ptr.clear();
         self.tr_ptr.resize(nblocks + 1, 0);
         for &blk in &self.ent_block {
@@ -474,14 +478,24 @@ impl CcpProblem {
             c += n * self.vars.block_ndof(BlockId(i as u32)) as u32;
         }
         self.tr_cptr.push(c);
+        self.tr_row.clear();
+        self.tr_ent.clear();
+        self.tr_minv.clear();
+    }
+
+    /// The slots of the block order ([`count_blocks`](Self::count_blocks)'s): each one's
+    /// row and entry (a counting sort, u32 work only).
+    fn sort_entries(&mut self) {
         let n_ent = self.ent_block.len();
-        // Every slot of `tr_row`, `tr_ent` and `tr_minv` is written below: the previous
-        // assembly's values are not cleared first.
+        // Every slot of `tr_row` and `tr_ent` is written below: the previous assembly's
+        // values are not cleared first.
         self.tr_row.resize(n_ent, 0);
-        // Per slot of the block order: its entry (the counting sort, u32 work only) ...
         let mut tr_ent = std::mem::take(&mut self.tr_ent);
         tr_ent.resize(n_ent, 0);
-        let mut cursor: Vec<u32> = self.tr_ptr[..nblocks].to_vec();
+        // (`tr_minv` is not built yet: its length serves as the cursor store)
+        let mut cursor = std::mem::take(&mut self.tr_cursor);
+        cursor.clear();
+        cursor.extend_from_slice(&self.tr_ptr[..self.tr_ptr.len() - 1]);
         for i in 0..self.n_rows {
             for e in self.row_ptr[i] as usize..self.row_ptr[i + 1] as usize {
                 let blk = self.ent_block[e] as usize;
@@ -493,12 +507,13 @@ impl CcpProblem {
         }
         // (the coefficients: `copy_transpose`)
         self.tr_ent = tr_ent;
-        self.tr_minv.clear();
+        self.tr_cursor = cursor;
     }
 
-    /// The block-ordered copy of `M^-1 D` ([`build_transpose`](Self::build_transpose)'s
-    /// slots), which [`minv_d`](Self::minv_d) streams; without it, it reads `M^-1 D`
-    /// through each slot's entry (the same values in the same order). Slot by slot over
+    /// The block-ordered copy of `M^-1 D` ([`sort_entries`](Self::sort_entries)'s
+    /// slots), which [`minv_d`](Self::minv_d) streams (without it, every block being a
+    /// matrix-free sphere's, it reads `M^-1 D` through the spheres' contact sides, the
+    /// same values in the same order). Slot by slot over
     /// each run of equal-size blocks (a run's slots are contiguous and of one size), in
     /// parallel for large problems.
     fn copy_transpose(&mut self) {

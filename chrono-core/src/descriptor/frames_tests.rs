@@ -175,6 +175,68 @@ proptest! {
     }
 }
 
+/// `minv_d` equals the row-order sums of `g_i M^-1 D_i` bit for bit (each block's terms
+/// in row order, zero impulses skipped), whether the problem keeps the block order (a joint
+/// row on a sphere) or reads `M^-1 D` through the spheres' contact sides (friction triplets
+/// on spheres only: no block order is built); some impulses zero.
+#[test]
+fn minv_d_equals_the_row_sums_with_or_without_the_block_order() {
+    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    for (seed, all) in [(3, false), (5, true), (9, false), (11, true)] {
+        let (p, _, _) = scene(seed, 20, 30 + seed as usize);
+        let mut rows = ConstraintRows::new();
+        let fs = p.sections().friction.start;
+        if all {
+            rows = p.constraint_rows();
+        } else {
+            // the matrix-free triplets alone: every block with rows a pure sphere's
+            for k in (0..p.sections().friction.len() / 3).filter(|&k| p.mf_contact(k).is_some()) {
+                p.push_rows(fs + 3 * k..fs + 3 * k + 3, &mut rows);
+            }
+        }
+        let mut q = CcpProblem::new();
+        q.assemble(p.variables(), &rows, p.momentum()).unwrap();
+        let nt = q.sections().friction.len() / 3;
+        assert!(nt > 0, "seed {seed}");
+        assert_eq!(q.n_matrix_free() == nt, !all, "seed {seed}");
+        let g: Vec<f64> = (0..q.n_rows())
+            .map(|i| {
+                if i % 5 == 2 {
+                    0.0
+                } else {
+                    (i as f64 * 0.7).sin()
+                }
+            })
+            .collect();
+        let mut want = vec![0.0; q.ndof()];
+        for (i, &gi) in g.iter().enumerate() {
+            if gi == 0.0 {
+                continue;
+            }
+            for (_, off, _, minv) in q.row_entries(i) {
+                for (k, m) in minv.iter().enumerate() {
+                    want[off + k] += gi * m;
+                }
+            }
+        }
+        let mut v = vec![f64::NAN; q.ndof()];
+        q.minv_d(&g, &mut v);
+        assert_eq!(bits(&v), bits(&want), "seed {seed}, joint row {all}");
+        // and `minv_d_explicit`: the same on every block but the matrix-free spheres' (0)
+        let mut x = vec![f64::NAN; q.ndof()];
+        q.minv_d_explicit(&g, &mut x);
+        for b in 0..q.variables().len() {
+            let r = q.variables().range(BlockId(b as u32));
+            let (xb, vb) = (&x[r.clone()], &v[r]);
+            let zero = xb.iter().all(|y| y.to_bits() == 0);
+            assert!(
+                bits(xb) == bits(vb) || zero,
+                "seed {seed}, block {b}: {xb:?}"
+            );
+        }
+    }
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(48))]
 

@@ -46,6 +46,11 @@ impl CcpProblem {
     pub fn minv_d_explicit(&self, gamma: &[f64], v: &mut [f64]) {
         assert_eq!(gamma.len(), self.n_rows, "gamma has the wrong length");
         assert_eq!(v.len(), self.ndof(), "v has the wrong length");
+        if self.mf.explicit_free {
+            // (every block with rows is a matrix-free sphere's)
+            v.fill(0.0);
+            return;
+        }
         for (b, &skip) in self.mf.skip_block.iter().enumerate() {
             if skip {
                 v[self.vars.range(super::BlockId(b as u32))].fill(0.0);
@@ -61,8 +66,8 @@ impl CcpProblem {
             return;
         }
         let skip = &self.mf.skip_block;
-        // Without the block-ordered copy of `M^-1 D` (every block with rows is a
-        // matrix-free sphere's, see the assembly) its entries are read in place.
+        // Without the block order (every block with rows is a matrix-free sphere's, see
+        // the assembly) `M^-1 D` is read through the spheres' contact sides.
         let copied = self.tr_minv.len() == self.minv.len();
         let gather = |block: usize, out: &mut [f64]| {
             if skip_spheres && skip[block] {
@@ -72,23 +77,10 @@ impl CcpProblem {
             let nd = out.len();
             let (t0, t1) = (self.tr_ptr[block] as usize, self.tr_ptr[block + 1] as usize);
             if !copied {
-                // A sphere's entries read through the slots' entries (the same values in
-                // the same order as from the copy).
                 if t0 == t1 {
                     return;
                 }
-                let out: &mut [f64; 6] = out.try_into().expect("a matrix-free sphere");
-                for t in t0..t1 {
-                    let g = gamma[self.tr_row[t] as usize];
-                    if g == 0.0 {
-                        continue;
-                    }
-                    let src = self.ent_coef[self.tr_ent[t] as usize] as usize;
-                    let col: &[f64; 6] = self.minv[src..src + 6].try_into().expect("6");
-                    for k in 0..6 {
-                        out[k] += g * col[k];
-                    }
-                }
+                self.sphere_minv_d(block, gamma, out.try_into().expect("a sphere"));
                 return;
             }
             let c = &self.tr_minv[self.tr_cptr[block] as usize..self.tr_cptr[block + 1] as usize];
@@ -138,6 +130,34 @@ impl CcpProblem {
             } else {
                 for (i, o) in v[range].chunks_mut(run.ndof).enumerate() {
                     gather(run.first_block + i, o);
+                }
+            }
+        }
+    }
+
+    /// `out = M^-1 D g` on the block of a matrix-free sphere, its entries read through
+    /// its contact sides (in contact order, each contact's three rows in order: the
+    /// block order's sums in the same order, so the same bits as from it).
+    fn sphere_minv_d(&self, block: usize, gamma: &[f64], out: &mut [f64; 6]) {
+        let mf = &self.mf;
+        let s = mf.block_sphere[block] as usize;
+        for q in mf.b_ptr[s] as usize..mf.b_ptr[s + 1] as usize {
+            let (i, side) = ((mf.s_row[q] / 2) as usize, mf.s_row[q] % 2);
+            for row in i..i + 3 {
+                let g = gamma[row];
+                // (a zero impulse adds nothing, as in the block order)
+                if g == 0.0 {
+                    continue;
+                }
+                // side B is the row's second entry if side A has one too
+                let e0 = self.row_ptr[row] as usize;
+                let two = self.row_ptr[row + 1] as usize - e0 == 2;
+                let e = e0 + usize::from(side == 1 && two);
+                debug_assert_eq!(self.ent_block[e] as usize, block);
+                let src = self.ent_coef[e] as usize;
+                let col: &[f64; 6] = self.minv[src..src + 6].try_into().expect("6");
+                for k in 0..6 {
+                    out[k] += g * col[k];
                 }
             }
         }

@@ -124,8 +124,9 @@ pub struct CcpProblem {
     pub(super) coefs: Vec<f64>,
     pub(super) minv: Vec<f64>,
     // By block: entries of block b are tr_ptr[b]..tr_ptr[b+1] (row order), their M^-1 D
-    // coefficients tr_minv[tr_cptr[b]..] contiguous (tr_minv empty when every block with
-    // rows is a matrix-free sphere's: read through tr_ent instead).
+    // coefficients tr_minv[tr_cptr[b]..] contiguous (tr_row, tr_ent and tr_minv empty
+    // when every block with rows is a matrix-free sphere's: M^-1 D is then read through
+    // the spheres' contact sides).
     pub(super) tr_ptr: Vec<u32>,
     pub(super) tr_cptr: Vec<u32>,
     pub(super) tr_row: Vec<u32>,
@@ -134,6 +135,8 @@ pub struct CcpProblem {
     pub(super) tr_ent: Vec<u32>,
     /// Scratch of the assembly's row checks: each block's dof count.
     pub(super) block_ndof: Vec<u32>,
+    /// Scratch of the counting sort of the block order: each block's next slot.
+    pub(super) tr_cursor: Vec<u32>,
     pub(super) k: Vec<f64>,
     pub(super) b: Vec<f64>,
     pub(super) eps: Vec<f64>,
