@@ -241,6 +241,9 @@ pub struct Psor {
     ws: Vec<f64>,
     ws_prev: Vec<f64>,
     y: Vec<f64>,
+    /// This solve's explicit `M^-1 D g` stays zero (only matrix-free spheres have rows):
+    /// the momentum step leaves it.
+    w_zero: bool,
     /// Scratch of the fixed-order sums.
     partials: Vec<f64>,
 }
@@ -600,6 +603,7 @@ impl CcpSolver for Psor {
         // (the cone blocks are built lazily, by the serial setup, if a unit needs them)
         self.setup(problem);
         let matrix_free = !self.setup.mf.is_empty();
+        self.w_zero = matrix_free && problem.explicit_free();
         self.ws.clear();
         if matrix_free {
             // the two halves of the gradient kept: the explicit velocities (the spheres'

@@ -57,10 +57,16 @@ impl Psor {
                 *p = t;
                 *y = *g;
             });
-        for (w, p) in [
-            (&mut self.w, &mut self.w_prev),
-            (&mut self.ws, &mut self.ws_prev),
-        ] {
+        // (the explicit velocities stay zero where only matrix-free spheres have rows)
+        let explicit = if self.w_zero {
+            None
+        } else {
+            Some((&mut self.w, &mut self.w_prev))
+        };
+        for (w, p) in explicit
+            .into_iter()
+            .chain([(&mut self.ws, &mut self.ws_prev)])
+        {
             w.par_iter_mut()
                 .zip(p.par_iter_mut())
                 .with_min_len(4096)

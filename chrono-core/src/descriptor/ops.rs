@@ -535,6 +535,12 @@ impl CcpProblem {
         self.mf.n_mf
     }
 
+    /// True if every block with rows is a matrix-free sphere's (only matrix-free triplets
+    /// touch it): then [`minv_d_explicit`](Self::minv_d_explicit) is zero for any `g`.
+    pub fn explicit_free(&self) -> bool {
+        self.mf.explicit_free
+    }
+
     /// The bytes one [`apply_n`](Self::apply_n) must move at least: every stored array it
     /// reads once and every vector read or written once (gathers of `g` and `v` counted
     /// once, as if cached). Explicit rows: block pass `tr_ptr`, `tr_cptr` (8 B per block),
