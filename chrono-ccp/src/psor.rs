@@ -113,14 +113,14 @@ pub struct PsorOptions {
     /// return to the best iterate with plain sweeps until a check improves on it (a random
     /// problem with rolling cones diverged to 1e153 m/s without the first; another
     /// wandered between 2e-3 and 0.2 m/s for 200 000 sweeps without the second), and the
-    /// solve returns the best iterate seen. `y` is not projected
-    /// (as in FISTA): each unit of the next sweep projects its own update, so the checked
-    /// iterates are feasible; projecting `y` as well cost a third of the pour's solve and
-    /// converged more slowly (docs/performance.md). `M^-1 D y` follows by linearity
-    /// (vector updates); the explicit part
-    /// is recomputed from `g` at every check (its rounding drifted over thousands of
-    /// iterations), the matrix-free spheres' part is not (docs/performance.md). Default
-    /// `false`.
+    /// solve returns the best iterate seen. `y` is not projected (as in FISTA): each unit
+    /// of the next sweep projects its own update, so the checked iterates are feasible;
+    /// projecting `y` as well cost a third of the pour's solve (at the pour's 12 sweeps
+    /// the unprojected step also ends closer to the solution, at other caps either may:
+    /// docs/performance.md). `M^-1 D y` follows by linearity (vector updates); the
+    /// explicit part is recomputed from `g` at every check (its rounding drifted over
+    /// thousands of iterations), the matrix-free spheres' part is not (docs/performance.md).
+    /// Default `false`.
     pub momentum: bool,
     /// Sweep the friction triplets between spheres matrix-free
     /// ([`CcpProblem::mf_contact`]): each reads and updates the world-frame velocities of

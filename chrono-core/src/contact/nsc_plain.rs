@@ -58,7 +58,6 @@ fn sides_with_variables(cp: &ContactPoint, bodies: &[RigidBody]) -> usize {
 /// side without variables moved into `b`, `b_n = max(Phi / h, -v_rec)` plus the known
 /// normal velocity, the compliance `c / h^2` on the normal row, and the frame (normal and
 /// arms) the rows were built from. `None` if neither body has variables.
-#[inline(always)]
 pub(super) fn plain_triplet(
     settings: NscRowSettings,
     cp: &ContactPoint,
