@@ -464,8 +464,8 @@ impl Psor {
                 .into_par_iter()
                 .with_min_len(len)
                 .map(|k| match problem.mf_contact(k) {
-                    Some(c) => (k as u32, problem.mf_sphere_contact(c)),
-                    None => (u32::MAX, SphereContact::default()),
+                    Some(c) => (true, problem.mf_sphere_contact(c)),
+                    None => (false, SphereContact::default()),
                 })
                 .unzip_into_vecs(&mut setup.mf, &mut setup.mf_contacts);
         }
@@ -480,7 +480,7 @@ impl Psor {
         let (mf, contacts) = (&setup.mf, &setup.mf_contacts);
         let one = |k: usize, (fused, (scale, step)): (&mut Option<FusedTriplet>, (&mut f64, &mut [f64]))| {
             let t = fr.start + 3 * k;
-            let own = mf.get(k).filter(|&&c| c != u32::MAX).map(|_| {
+            let own = mf.get(k).copied().unwrap_or(false).then(|| {
                 let mut x = contacts[k].block();
                 x[0] += eps[t];
                 x[3] += eps[t + 1];
@@ -607,14 +607,13 @@ impl CcpSolver for Psor {
         self.ws.clear();
         if matrix_free {
             // the two halves of the gradient kept: the explicit velocities (the spheres'
-            // blocks are not read by the sweeps) and the spheres' world-frame ones
-            problem.minv_d_explicit(gamma, &mut self.w);
-            self.ws.resize(6 * problem.mf_spheres(), 0.0);
-            problem.mf_gather(gamma, &mut self.ws);
-            self.work.resize(problem);
-            self.work.v.copy_from_slice(&self.w);
-            self.work.w.copy_from_slice(&self.ws);
+            // blocks are not read by the sweeps) and the spheres' world-frame ones, computed
+            // in the scratch (sized above) and kept by swapping
+            problem.minv_d_explicit(gamma, &mut self.work.v);
+            problem.mf_gather(gamma, &mut self.work.w);
             problem.rows_from_velocity(gamma, &self.work, &mut self.grad, Some(problem.r()));
+            std::mem::swap(&mut self.w, &mut self.work.v);
+            std::mem::swap(&mut self.ws, &mut self.work.w);
         } else {
             problem.minv_d(gamma, &mut self.w);
             problem.gradient(gamma, &mut self.grad, &mut self.work);

@@ -42,9 +42,9 @@ pub(super) fn apply_update(
             upd.new[1] - cur[1],
             upd.new[2] - cur[2],
         ];
-        if let Some(&c) = d.setup.mf.get(k).filter(|&&c| c != u32::MAX) {
+        if let Some(c) = d.setup.mf_contact(k) {
             if dg != [0.0; 3] {
-                d.setup.mf_contacts[c as usize].add_in(&dg, vel.ws, vel.sbase);
+                c.add_in(&dg, vel.ws, vel.sbase);
             }
             return;
         }
@@ -133,13 +133,23 @@ pub(super) struct Setup {
     pub(super) cone_scale: Vec<f64>,
     /// Per friction triplet, its fused layout ([`CcpProblem::fused_triplet`]) if any.
     pub(super) fused: Vec<Option<FusedTriplet>>,
-    /// Per friction triplet its index in `mf_contacts` or `u32::MAX` (empty: no
-    /// matrix-free sweeps).
-    pub(super) mf: Vec<u32>,
-    /// The matrix-free contacts of the triplets, in triplet order.
+    /// Per friction triplet: swept matrix-free (empty: no matrix-free sweeps).
+    pub(super) mf: Vec<bool>,
+    /// Per friction triplet its matrix-free contact (a default where `mf` is false).
     pub(super) mf_contacts: Vec<SphereContact>,
     /// Factored dense blocks of the bilateral groups.
     pub(super) factors: Vec<f64>,
+}
+
+impl Setup {
+    /// Friction triplet `k`'s matrix-free contact, if it is swept matrix-free.
+    #[inline(always)]
+    pub(super) fn mf_contact(&self, k: usize) -> Option<&SphereContact> {
+        match self.mf.get(k) {
+            Some(true) => Some(&self.mf_contacts[k]),
+            _ => None,
+        }
+    }
 }
 
 /// What a unit update reads besides `g` and `w`.
@@ -209,15 +219,12 @@ pub(super) fn unit_update(
         Unit::Triplet(t) | Unit::Rolling(t) | Unit::RollingPerBody(t) => {
             let k = (t - s.friction.start) / 3;
             let (fused, mf) = match unit {
-                Unit::Triplet(_) => (
-                    d.setup.fused[k].as_ref(),
-                    d.setup.mf.get(k).copied().filter(|&c| c != u32::MAX),
-                ),
+                Unit::Triplet(_) => (d.setup.fused[k].as_ref(), d.setup.mf_contact(k)),
                 _ => (None, None),
             };
             if fused.is_some() || mf.is_some() {
                 let dots = match (mf, fused) {
-                    (Some(c), _) => d.setup.mf_contacts[c as usize].dots_in(vel.ws, vel.sbase),
+                    (Some(c), _) => c.dots_in(vel.ws, vel.sbase),
                     (None, Some(f)) => problem.fused_dots_in(f, w, base),
                     (None, None) => unreachable!("one of the two"),
                 };
@@ -319,10 +326,7 @@ pub(crate) fn sym3_max_eigen(a: &[[f64; 3]; 3]) -> f64 {
 #[inline(always)]
 pub(super) fn triplet(d: &SweepData, t: usize, k: usize, cur: [f64; 3], vel: &mut Vel) -> [f64; 3] {
     let problem = d.problem;
-    let contact = match d.setup.mf.get(k) {
-        Some(&c) if c != u32::MAX => Some(&d.setup.mf_contacts[c as usize]),
-        _ => None,
-    };
+    let contact = d.setup.mf_contact(k);
     // (a matrix-free contact has no fused rows: not read)
     let fused = match contact {
         Some(_) => None,

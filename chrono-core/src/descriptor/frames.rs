@@ -356,13 +356,12 @@ impl CcpProblem {
         let nblocks = self.vars.len();
         let mut sc = std::mem::take(&mut mf.scratch);
         let isotropic_of = |b: usize| isotropic(self.vars.mass(BlockId(b as u32)));
-        sc.inv.clear();
-        if nblocks >= PAR_MIN_BODIES {
-            sc.inv
-                .par_extend((0..nblocks).into_par_iter().map(isotropic_of));
-        } else {
-            sc.inv.extend((0..nblocks).map(isotropic_of));
-        }
+        fill(
+            &mut sc.inv,
+            nblocks,
+            nblocks >= PAR_MIN_BODIES,
+            isotropic_of,
+        );
         let inv = &sc.inv;
         let fs = self.sections.friction.start;
         // Candidates: frames whose rows match and whose blocks are spheres (each frame

@@ -43,6 +43,9 @@ impl CcpProblem {
     /// [`minv_d`](Self::minv_d) on every block but the matrix-free spheres' (zero there:
     /// their velocities live in world frame, [`mf_gather`](Self::mf_gather)), for a
     /// solver that keeps both: the other blocks get the same bits as from `minv_d`.
+    ///
+    /// # Panics
+    /// If `gamma` does not have one entry per row or `v` one per dof (as `minv_d`).
     pub fn minv_d_explicit(&self, gamma: &[f64], v: &mut [f64]) {
         assert_eq!(gamma.len(), self.n_rows, "gamma has the wrong length");
         assert_eq!(v.len(), self.ndof(), "v has the wrong length");
