@@ -1,6 +1,8 @@
-//! The NSC rows of sphere pairs, built with their frames ([`super::nsc::add_contact_rows`]):
-//! the coefficients are `RigidBody::point_jacobian`'s, and trusting their frames (no check
-//! at assembly) selects the same matrix-free triplets with the same bits as checking them.
+//! The NSC rows of contacts between rigid bodies, stored as their frames
+//! ([`super::nsc::add_contact_rows`]): the coefficients the assembly builds are
+//! `RigidBody::point_jacobian`'s, the same rows given explicitly with checked frames select
+//! the same matrix-free triplets with the same bits, and a problem of spheres alone (its
+//! coefficients deferred) agrees with its explicit form to rounding.
 
 use nalgebra::{UnitQuaternion, Vector3};
 
@@ -9,7 +11,9 @@ use super::nsc_plain::{add_plain_rows_par, plain_triplet, push_plain};
 use crate::body::{RigidBody, RigidBodyBuilder};
 use crate::collision::{ColliderId, ContactKey, ContactPoint};
 use crate::contact::smc::RollingModel;
-use crate::descriptor::{CcpProblem, CcpWork, ConstraintRows, RowGroup, Variables};
+use crate::descriptor::{
+    CcpProblem, CcpWork, ConstraintRows, FrameKind, RowEntry, RowGroup, Variables,
+};
 use crate::material::ContactMaterial;
 use crate::rng::Rng;
 
@@ -22,6 +26,16 @@ fn scene(seed: u64) -> (Vec<RigidBody>, Variables, Vec<ContactPoint>) {
 /// [`scene`] with `n` contacts; with `no_vars` the fixed–kinematic pair (no variables, so
 /// no rows) is kept where it is drawn.
 fn scene_with(seed: u64, n: u32, no_vars: bool) -> (Vec<RigidBody>, Variables, Vec<ContactPoint>) {
+    scene_full(seed, n, no_vars, false)
+}
+
+/// [`scene_with`]; with `spheres_only` the anisotropic body is a sphere too.
+fn scene_full(
+    seed: u64,
+    n: u32,
+    no_vars: bool,
+    spheres_only: bool,
+) -> (Vec<RigidBody>, Variables, Vec<ContactPoint>) {
     let mut rng = Rng::splitmix64(seed);
     let mut bodies = Vec::new();
     let rot = |rng: &mut Rng| {
@@ -39,7 +53,7 @@ fn scene_with(seed: u64, n: u32, no_vars: bool) -> (Vec<RigidBody>, Variables, V
             11 => RigidBodyBuilder::kinematic()
                 .linear_velocity(v3(&mut rng, 1.0))
                 .angular_velocity(v3(&mut rng, 2.0)),
-            9 => RigidBodyBuilder::dynamic()
+            9 if !spheres_only => RigidBodyBuilder::dynamic()
                 .mass(2.0)
                 .inertia_diagonal(Vector3::new(0.1, 0.2, 0.3)),
             _ => RigidBodyBuilder::dynamic()
@@ -55,7 +69,7 @@ fn scene_with(seed: u64, n: u32, no_vars: bool) -> (Vec<RigidBody>, Variables, V
     }
     let mut vars = Variables::new();
     for b in bodies.iter_mut().filter(|b| b.is_dynamic()) {
-        b.block = Some(vars.add(b.mass_operator().unwrap()));
+        b.block = Some(vars.add_oriented(b.mass_operator().unwrap(), b.rotation));
     }
     let mut points = Vec::new();
     for c in 0..n {
@@ -144,16 +158,20 @@ fn trusted_frames_select_what_the_check_selects_bit_for_bit() {
     for seed in 0..8 {
         let (bodies, vars, points) = scene(seed);
         let rows = rows_of(&bodies, &points);
-        let mut checked = rows.clone();
-        let g = &mut checked.groups[RowGroup::Friction as usize];
-        assert_eq!(g.frames_built.len(), points.len());
-        assert!(g.frames_built.iter().all(|&b| b));
-        g.frames_built.fill(false);
+        let g = &rows.groups[RowGroup::Friction as usize];
+        assert_eq!(g.frame_kind.len(), points.len());
+        assert!(g.frame_kind.iter().all(|&k| k == FrameKind::Only));
+        assert!(g.coefs.is_empty(), "frame-only rows store no coefficients");
         let mut rng = Rng::splitmix64(100 + seed);
         let k: Vec<f64> = (0..vars.ndof()).map(|_| rng.range(-1.0, 1.0)).collect();
         let (mut p, mut q) = (CcpProblem::new(), CcpProblem::new());
         p.assemble(&vars, &rows, &k).unwrap();
+        // the same rows given explicitly, with frames the assembly checks
+        let checked = p.constraint_rows();
+        let g = &checked.groups[RowGroup::Friction as usize];
+        assert!(g.frame_kind.iter().all(|&k| k == FrameKind::Checked));
         q.assemble(&vars, &checked, &k).unwrap();
+        assert_eq!(p.coefficients_deferred(), (false, false), "seed {seed}");
         assert!(p.n_matrix_free() > 0, "seed {seed}: no sphere pair");
         assert!(p.n_matrix_free() < points.len(), "seed {seed}: no fallback");
         assert_eq!(p.n_matrix_free(), q.n_matrix_free(), "seed {seed}");
@@ -226,8 +244,132 @@ fn plain_rows_in_parallel_are_the_pushed_rows_bit_for_bit() {
         assert_eq!(bits(&gs.eps), bits(&gp.eps), "seed {seed}");
         assert_eq!(bits(&gs.mu), bits(&gp.mu), "seed {seed}");
         assert_eq!(gs.frames, gp.frames, "seed {seed}");
-        assert_eq!(gs.frames_built, gp.frames_built, "seed {seed}");
+        assert_eq!(gs.frame_kind, gp.frame_kind, "seed {seed}");
         assert_eq!(out_s, out_p, "seed {seed}");
         assert_eq!(out_p.len() + skipped, points.len());
     }
+}
+
+#[test]
+fn spheres_alone_defer_their_coefficients_and_agree_with_explicit_rows() {
+    let bits = |x: &[f64]| x.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+    let close = |a: &[f64], b: &[f64], what: &str| {
+        let scale = b.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        for (i, (x, y)) in a.iter().zip(b).enumerate() {
+            assert!((x - y).abs() <= 1e-13 * scale, "{what}[{i}]: {x} vs {y}");
+        }
+    };
+    for seed in 0..6 {
+        let (bodies, vars, points) = scene_full(seed, 3000, false, true);
+        let rows = rows_of(&bodies, &points);
+        let mut rng = Rng::splitmix64(200 + seed);
+        let k: Vec<f64> = (0..vars.ndof()).map(|_| rng.range(-1.0, 1.0)).collect();
+        let (mut p, mut q) = (CcpProblem::new(), CcpProblem::new());
+        p.assemble(&vars, &rows, &k).unwrap();
+        assert!(p.explicit_free(), "seed {seed}");
+        assert_eq!(p.coefficients_deferred(), (true, false), "seed {seed}");
+        // the explicit form: rows built from the bodies, frames checked
+        let mut explicit = ConstraintRows::new();
+        for cp in &points {
+            let (a, b) = (&bodies[cp.owner_a as usize], &bodies[cp.owner_b as usize]);
+            let (u, w) = crate::math::tangent_frame(&cp.normal);
+            let dirs = [cp.normal, u, w];
+            let Some(t) = plain_triplet(
+                NscRowSettings {
+                    h: 1e-3,
+                    max_recovery_speed: 0.5,
+                    rolling_model: RollingModel::default(),
+                },
+                cp,
+                a,
+                b,
+                &dirs,
+            ) else {
+                continue;
+            };
+            let entries = |d: &Vector3<f64>| {
+                let mut e = Vec::new();
+                if let Some(blk) = a.block {
+                    e.push((blk, a.point_jacobian(&cp.point_a, &-d)));
+                }
+                if let Some(blk) = b.block {
+                    e.push((blk, b.point_jacobian(&cp.point_b, d)));
+                }
+                e
+            };
+            let e: Vec<_> = dirs.iter().map(entries).collect();
+            let re: Vec<Vec<RowEntry>> = (e.iter())
+                .map(|r| {
+                    (r.iter())
+                        .map(|(block, c)| RowEntry {
+                            block: *block,
+                            coefs: c,
+                        })
+                        .collect()
+                })
+                .collect();
+            let id =
+                explicit.push_friction(t.mu_of(), [&re[0], &re[1], &re[2]], t.b_of(), t.eps_of());
+            explicit.set_contact_frame(id, t.frame_of());
+        }
+        q.assemble(&vars, &explicit, &k).unwrap();
+        assert_eq!(q.coefficients_deferred(), (false, false));
+        assert_eq!(p.n_matrix_free(), q.n_matrix_free(), "seed {seed}");
+        assert_eq!(p.n_coefs(), q.n_coefs(), "seed {seed}");
+        close(p.diag(), q.diag(), "diag");
+        close(p.r(), q.r(), "r");
+        close(p.scales(), q.scales(), "scales");
+        let gamma: Vec<f64> = (0..p.n_rows()).map(|_| rng.range(-1.0, 1.0)).collect();
+        let (mut np, mut nq) = (vec![0.0; p.n_rows()], vec![0.0; p.n_rows()]);
+        p.apply_n(&gamma, &mut np, &mut CcpWork::for_problem(&p));
+        q.apply_n(&gamma, &mut nq, &mut CcpWork::for_problem(&q));
+        assert_eq!(
+            bits(&np),
+            bits(&nq),
+            "seed {seed}: the same matrix-free product"
+        );
+        let (mut vp, mut vq) = (vec![0.0; vars.ndof()], vec![0.0; vars.ndof()]);
+        p.velocities(&gamma, &mut vp);
+        q.velocities(&gamma, &mut vq);
+        close(&vp, &vq, "velocities");
+        assert_eq!(
+            p.coefficients_deferred(),
+            (true, false),
+            "no row-level access yet"
+        );
+        // a row-level access builds the coefficients: the explicit rows' bits
+        for i in 0..p.n_rows() {
+            let (a, b): (Vec<_>, Vec<_>) = (p.row_entries(i).collect(), q.row_entries(i).collect());
+            assert_eq!(a.len(), b.len());
+            for (x, y) in a.iter().zip(&b) {
+                assert_eq!((x.0, x.1), (y.0, y.1));
+                assert_eq!(bits(x.2), bits(y.2), "seed {seed} row {i}: D");
+                assert_eq!(bits(x.3), bits(y.3), "seed {seed} row {i}: M^-1 D");
+            }
+        }
+        assert_eq!(p.coefficients_deferred(), (true, true));
+        // the same momentum again: the same problem
+        let (r, d) = (p.r().to_vec(), p.diag().to_vec());
+        p.set_momentum(&k).unwrap();
+        assert_eq!((bits(p.r()), bits(p.diag())), (bits(&r), bits(&d)));
+    }
+}
+
+#[test]
+fn frame_only_rows_need_oriented_blocks() {
+    let (bodies, _, points) = scene(3);
+    let rows = rows_of(&bodies, &points);
+    let mut vars = Variables::new();
+    for b in bodies.iter().filter(|b| b.is_dynamic()) {
+        vars.add(b.mass_operator().unwrap());
+    }
+    let k = vec![0.0; vars.ndof()];
+    let e = CcpProblem::new()
+        .assemble(&vars, &rows, &k)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("rows.friction[") && e.contains("frame.blocks") && e.contains("rotation"),
+        "{e}"
+    );
 }

@@ -6,6 +6,7 @@
 
 use rayon::prelude::*;
 
+use super::frame_rows::{all_frame_only, has_frame_only};
 use super::problem::{CcpProblem, GROUP_ORDER, Sections, group_name};
 use super::rows::{ConstraintRows, GroupRows, N_GROUPS, PER_BODY_ROWS, RowGroup};
 use super::variables::{BlockId, MassOperator, Variables, rigid_inverse};
@@ -21,9 +22,9 @@ impl CcpProblem {
     /// numbers, negative compliance or friction, `lo > hi`, a non-finite `M^-1 k`) with an
     /// error naming the row or field.
     pub fn assemble(&mut self, vars: &Variables, rows: &ConstraintRows, k: &[f64]) -> Result<()> {
-        self.load_rows(vars, rows, k, None)?;
-        self.ent_coef.push(self.coefs.len() as u32);
-        self.finish_assembly(rows)
+        let (n_coef, all_only) = self.load_rows(vars, rows, k, None)?;
+        self.ent_coef.push(n_coef as u32);
+        self.finish_assembly(rows, all_only)
     }
 
     /// [`assemble`](Self::assemble) (the same problem, bit for bit) that may take the rows'
@@ -39,11 +40,12 @@ impl CcpProblem {
         k: &[f64],
     ) -> Result<()> {
         let mut full = (0..N_GROUPS).filter(|&g| rows.groups[g].n_rows() > 0);
+        // (a group with frame-only triplets gets its entries from the assembly)
         let single = match (full.next(), full.next()) {
-            (Some(g), None) => Some(g),
+            (Some(g), None) if !has_frame_only(&rows.groups[g]) => Some(g),
             _ => None,
         };
-        self.load_rows(vars, rows, k, single)?;
+        let (n_coef, all_only) = self.load_rows(vars, rows, k, single)?;
         if let Some(g) = single {
             // The only group with rows starts at row 0, entry 0 and coefficient 0: its
             // arrays are the problem's (`load_rows` left these empty).
@@ -55,8 +57,10 @@ impl CcpProblem {
             std::mem::swap(&mut self.b, &mut g.b);
             std::mem::swap(&mut self.eps, &mut g.eps);
         }
-        self.ent_coef.push(self.coefs.len() as u32);
-        let done = self.finish_assembly(rows);
+        // (a taken group's coefficients were swapped in after `load_rows` counted them)
+        let n_coef = if all_only { n_coef } else { self.coefs.len() };
+        self.ent_coef.push(n_coef as u32);
+        let done = self.finish_assembly(rows, all_only);
         rows.clear();
         done
     }
@@ -64,14 +68,20 @@ impl CcpProblem {
     /// The checks and the copy of the rows (all but the final sentinel of `ent_coef`);
     /// the group `taken` (the only one with rows) is checked and indexed but its
     /// `row_ptr`, `ent_block`, `ent_coef`, `coefs`, `b` and `eps` are not copied (left
-    /// empty, with `row_ptr` empty too, for the caller to swap in).
+    /// empty, with `row_ptr` empty too, for the caller to swap in). Returns the number of
+    /// coefficients the entries span (the sentinel) and whether every row is a
+    /// frame-only triplet (then their coefficients are not built yet: `coefs` is empty).
     fn load_rows(
         &mut self,
         vars: &Variables,
         rows: &ConstraintRows,
         k: &[f64],
         taken: Option<usize>,
-    ) -> Result<()> {
+    ) -> Result<(usize, bool)> {
+        self.deferred = false;
+        self.lazy.take();
+        let all_only = all_frame_only(rows);
+        let mut n_frame_coefs = 0;
         if k.len() != vars.ndof() {
             return Err(ChronoError::invalid(
                 "k.len()",
@@ -144,12 +154,31 @@ impl CcpProblem {
                     check_row(g, i, vars, name)?;
                 }
             }
+            if has_frame_only(g) {
+                n_frame_coefs = self.load_frame_group(vars, g, !all_only)?;
+            } else {
+                self.copy_group(vars, g, taken != Some(group as usize));
+            }
+            row += g.n_rows();
+            self.load_bounds(g, group)?;
+        }
+        self.n_rows = row;
+        Ok(if all_only {
+            (n_frame_coefs, true)
+        } else {
+            (self.coefs.len(), false)
+        })
+    }
+
+    /// Append group `g`'s entries (the offsets and spans built here) and, if `copy`, its
+    /// `row_ptr`, `ent_block`, `ent_coef`, coefficients, `b` and `eps`.
+    fn copy_group(&mut self, vars: &Variables, g: &GroupRows, copy: bool) {
+        {
             // The group's entries are those of its rows, and its coefficients those of its
             // entries, in order (`GroupRows::push`).
             let n_ent = g.row_ptr.get(g.n_rows()).map_or(0, |&p| p as usize);
             let (ent_base, coef_base) = (self.ent_block.len() as u32, self.coefs.len() as u32);
             let n_coef = if n_ent == 0 { 0 } else { g.coefs.len() };
-            let copy = taken != Some(group as usize);
             if copy {
                 self.ent_block.extend_from_slice(&g.ent_block[..n_ent]);
             }
@@ -174,7 +203,13 @@ impl CcpProblem {
                 self.b.extend_from_slice(&g.b);
                 self.eps.extend_from_slice(&g.eps);
             }
-            row += g.n_rows();
+        }
+    }
+
+    /// Check and append group `g`'s bounds (box rows) or friction coefficients.
+    fn load_bounds(&mut self, g: &GroupRows, group: RowGroup) -> Result<()> {
+        let name = group_name(group);
+        {
             let bad_mu = |i: usize, m: f64| {
                 ChronoError::invalid(format!("rows.{name}[{i}].mu"), m, "must be finite and >= 0")
             };
@@ -215,14 +250,13 @@ impl CcpProblem {
                 _ => {}
             }
         }
-        self.n_rows = row;
         Ok(())
     }
 
     /// The rest of an assembly after [`load_rows`](Self::load_rows) (and the sentinel of
     /// `ent_coef`): the sections, `M^-1 D`, `diag(N)`, the scales, the block-ordered copy,
     /// the matrix-free triplets (from `rows`' frames) and `r`.
-    fn finish_assembly(&mut self, rows: &ConstraintRows) -> Result<()> {
+    fn finish_assembly(&mut self, rows: &ConstraintRows, all_only: bool) -> Result<()> {
         let (row, nblocks) = (self.n_rows, self.vars.len());
         let vars = &self.vars;
         let gs = self.group_start;
@@ -236,8 +270,13 @@ impl CcpProblem {
         };
         let coupled =
             (0..nblocks).any(|b| matches!(vars.mass(BlockId(b as u32)), MassOperator::Coupled(_)));
-
+        let frames = &rows.groups[RowGroup::Friction as usize].frames;
         if coupled {
+            if all_only {
+                let mut coefs = std::mem::take(&mut self.coefs);
+                self.fill_frame_coefs(frames, &mut coefs, None);
+                self.coefs = coefs;
+            }
             // `M^-1 D` of the coupled blocks' entries is solved per block, in batches of
             // columns: the passes one after the other.
             self.fill_minv();
@@ -249,10 +288,22 @@ impl CcpProblem {
             self.set_free_velocity()
         } else {
             self.fill_v_free()?;
-            self.fill_rows_fused();
             self.count_blocks(nblocks);
-            self.fill_scales();
             self.build_matrix_free(rows);
+            if all_only {
+                if self.mf.explicit_free {
+                    // Nothing of a step reads the explicit coefficients (`frame_rows`).
+                    self.deferred_diag_r();
+                    self.fill_scales();
+                    self.deferred = true;
+                    return Ok(());
+                }
+                let mut coefs = std::mem::take(&mut self.coefs);
+                self.fill_frame_coefs(frames, &mut coefs, None);
+                self.coefs = coefs;
+            }
+            self.fill_rows_fused();
+            self.fill_scales();
             // Every block touched only by matrix-free triplets: products skip the
             // explicit gather, and `minv_d` reads `M^-1 D` through the spheres' contact
             // sides (no block order needed).
@@ -352,6 +403,11 @@ impl CcpProblem {
     /// `v_free = M^-1 k` and `r = b + D' v_free` from the stored `k`.
     fn set_free_velocity(&mut self) -> Result<()> {
         self.fill_v_free()?;
+        if self.deferred {
+            // (`diag` is recomputed with `r`: the same values)
+            self.deferred_diag_r();
+            return Ok(());
+        }
         // Every value is written below: the previous assembly's are not cleared first.
         let mut r = std::mem::take(&mut self.r);
         r.resize(self.n_rows, 0.0);
@@ -754,7 +810,7 @@ fn rows_ok(g: &GroupRows, ndof: &[u32]) -> bool {
 /// `[lo, hi)`: the span of `c` outside which every coefficient is zero (`[0, 0]` if all
 /// are); the whole range for up to 6 coefficients (a body's or a particle's block, summed
 /// unrolled). See [`CcpProblem::nonzero_span`].
-fn nonzero_span(c: &[f64]) -> [u32; 2] {
+pub(super) fn nonzero_span(c: &[f64]) -> [u32; 2] {
     if c.len() <= 6 {
         return [0, c.len() as u32];
     }

@@ -13,7 +13,7 @@
 use rayon::prelude::*;
 
 use super::problem::CcpProblem;
-use super::rows::{ConstraintRows, ContactFrame, RowGroup};
+use super::rows::{ConstraintRows, ContactFrame, FrameKind, RowGroup};
 use super::variables::{BlockId, MassOperator};
 use crate::math::Vector3;
 
@@ -62,6 +62,8 @@ pub(super) struct MatrixFree {
     pub s_rc: Vec<f64>,
     /// Per variable block: its sphere, or [`NONE`].
     pub block_sphere: Vec<u32>,
+    /// Per sphere: its variable block.
+    pub sphere_block: Vec<u32>,
     /// Per variable block: true if only matrix-free triplets touch it (its explicit
     /// velocity is not needed by `apply_n`).
     pub skip_block: Vec<bool>,
@@ -168,6 +170,7 @@ impl MatrixFree {
         self.b_ptr.clear();
         self.clear_sides();
         self.block_sphere.clear();
+        self.sphere_block.clear();
         self.skip_block.clear();
         self.explicit_free = false;
         self.n_mf = 0;
@@ -309,7 +312,7 @@ impl CcpProblem {
             }
             // `s_row` packs `2 row + side` in 32 bits.
             if self.n_rows < 1 << 31 {
-                self.fill_matrix_free(&mut mf, &group.frames_built);
+                self.fill_matrix_free(&mut mf, &group.frame_kind);
                 filled = true;
             }
         }
@@ -350,9 +353,9 @@ impl CcpProblem {
         e == e1
     }
 
-    /// `built[f]`: frame `f`'s rows were built from it (see
-    /// [`ConstraintRows::set_contact_frame_of_built_rows`]), so they are not checked.
-    fn fill_matrix_free(&self, mf: &mut MatrixFree, built: &[bool]) {
+    /// `kind[f]`: how frame `f`'s rows relate to it; only [`FrameKind::Checked`] rows are
+    /// checked against it (frame-only triplets have their rows built from it).
+    fn fill_matrix_free(&self, mf: &mut MatrixFree, kind: &[FrameKind]) {
         let nblocks = self.vars.len();
         let mut sc = std::mem::take(&mut mf.scratch);
         let isotropic_of = |b: usize| isotropic(self.vars.mass(BlockId(b as u32)));
@@ -380,7 +383,7 @@ impl CcpProblem {
             if !spheres {
                 return None;
             }
-            if built.get(f).copied().unwrap_or(false) {
+            if kind.get(f).is_some_and(|&k| k != FrameKind::Checked) {
                 return Some(f as u32);
             }
             let (u, w) = frame(&fr.normal);
@@ -422,6 +425,7 @@ impl CcpProblem {
         for b in 0..nblocks {
             if hinted[b] > 0 && hinted[b] == total[b] {
                 mf.block_sphere[b] = mf.b_inv.len() as u32;
+                mf.sphere_block.push(b as u32);
                 mf.b_inv.push(inv[b].expect("checked isotropic"));
             }
         }

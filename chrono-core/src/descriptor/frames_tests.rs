@@ -517,6 +517,8 @@ proptest! {
             let Some(c) = p.mf_contact(k) else { continue };
             // the contact's block of N (with its compliance) against the dense one
             let b = p.mf_sphere_contact(c).block();
+            let diag = p.mf_sphere_contact(c).block_diagonal();
+            prop_assert_eq!([b[0], b[3], b[5]].map(f64::to_bits), diag.map(f64::to_bits));
             let mut q = 0;
             for i in 0..3 {
                 for j in i..3 {

@@ -60,7 +60,7 @@ impl CcpProblem {
     #[inline]
     pub fn fused_dots_in(&self, f: &FusedTriplet, v: &[f64], base: usize) -> [f64; 3] {
         let n = f.blocks as usize;
-        let c = &self.coefs[f.coef as usize..f.coef as usize + 18 * n];
+        let c = &self.coefs()[f.coef as usize..f.coef as usize + 18 * n];
         let mut out = [0.0; 3];
         for (r, o) in out.iter_mut().enumerate() {
             let mut s = 0.0;
@@ -88,7 +88,7 @@ impl CcpProblem {
     #[inline]
     pub fn fused_add_minv_in(&self, f: &FusedTriplet, dg: &[f64; 3], v: &mut [f64], base: usize) {
         let n = f.blocks as usize;
-        let m = &self.minv[f.coef as usize..f.coef as usize + 18 * n];
+        let m = &self.minv()[f.coef as usize..f.coef as usize + 18 * n];
         for (r, &s) in dg.iter().enumerate() {
             if s == 0.0 {
                 continue;

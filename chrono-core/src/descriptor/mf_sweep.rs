@@ -171,6 +171,31 @@ impl SphereContact {
         out
     }
 
+    /// The diagonal `[nn, uu, ww]` of [`block`](Self::block), by the same operations
+    /// (the same bits).
+    pub fn block_diagonal(&self) -> [f64; 3] {
+        let dirs = self.dirs();
+        let mut out = [0.0; 3];
+        for side in 0..2 {
+            if self.spheres[side] == NONE {
+                continue;
+            }
+            let [im, ij] = self.inv[side];
+            let r = &self.arms[side];
+            for (o, d) in out.iter_mut().zip(&dirs) {
+                let rd = [
+                    r[1] * d[2] - r[2] * d[1],
+                    r[2] * d[0] - r[0] * d[2],
+                    r[0] * d[1] - r[1] * d[0],
+                ];
+                let dd = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+                let rr = rd[0] * rd[0] + rd[1] * rd[1] + rd[2] * rd[2];
+                *o += im * dd + ij * rr;
+            }
+        }
+        out
+    }
+
     /// `ws += M^-1 D' dg` for an impulse change `dg` along the frame, `ws` from sphere
     /// `base`.
     ///

@@ -23,6 +23,7 @@ mod coupled;
 mod file;
 #[cfg(test)]
 mod file_fuzz;
+mod frame_rows;
 mod frames;
 mod frames_simd;
 #[cfg(test)]
@@ -55,6 +56,7 @@ pub use n_plan::NEntryPlan;
 pub use ops::UNIT_ROWS;
 pub use packed::PackedRows;
 pub use problem::{CcpProblem, CcpWork, Sections, upper_index};
+pub(crate) use rows::FrameKind;
 pub use rows::{ConstraintRows, ContactFrame, N_GROUPS, PER_BODY_ROWS, RowEntry, RowGroup, RowId};
 pub use solver::{CcpSolver, IterationRecord, SolveStats, SolverSettings};
 pub use variables::{BlockId, MassOperator, Run, Variables};

@@ -175,7 +175,7 @@ impl CcpProblem {
             let mut s = if i == j { self.eps[i as usize] } else { 0.0 };
             for &[c0, m0, len] in &plan.pairs[plan.start[k] as usize..plan.start[k + 1] as usize] {
                 let (c0, m0, len) = (c0 as usize, m0 as usize, len as usize);
-                let (a, b) = (&self.coefs[c0..c0 + len], &self.minv[m0..m0 + len]);
+                let (a, b) = (&self.coefs()[c0..c0 + len], &self.minv()[m0..m0 + len]);
                 if let (Ok(a), Ok(b)) = (<&[f64; 6]>::try_from(a), <&[f64; 6]>::try_from(b)) {
                     // A rigid body's block, unrolled (the same sequential sum).
                     for t in 0..6 {

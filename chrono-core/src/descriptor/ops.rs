@@ -37,6 +37,11 @@ impl CcpProblem {
     pub fn minv_d(&self, gamma: &[f64], v: &mut [f64]) {
         assert_eq!(gamma.len(), self.n_rows, "gamma has the wrong length");
         assert_eq!(v.len(), self.ndof(), "v has the wrong length");
+        if self.deferred {
+            // (every block with rows is a matrix-free sphere's)
+            self.minv_d_deferred(gamma, v);
+            return;
+        }
         self.minv_d_blocks(gamma, v, false);
     }
 
@@ -158,7 +163,7 @@ impl CcpProblem {
                 let e = e0 + usize::from(side == 1 && two);
                 debug_assert_eq!(self.ent_block[e] as usize, block);
                 let src = self.ent_coef[e] as usize;
-                let col: &[f64; 6] = self.minv[src..src + 6].try_into().expect("6");
+                let col: &[f64; 6] = self.minv()[src..src + 6].try_into().expect("6");
                 for k in 0..6 {
                     out[k] += g * col[k];
                 }
@@ -403,7 +408,7 @@ impl CcpProblem {
             .get(off[0] as usize..off[0] as usize + 6)?
             .try_into()
             .ok()?;
-        let c = self.coefs.get(c0..c0 + 18 * n)?;
+        let c = self.coefs().get(c0..c0 + 18 * n)?;
         if n == 1 {
             return Some(std::array::from_fn(|j| {
                 let c: &[f64; 6] = c[6 * j..6 * j + 6].try_into().expect("6");

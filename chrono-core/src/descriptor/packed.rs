@@ -53,8 +53,8 @@ impl PackedRows {
                 for (k, e) in entries.enumerate() {
                     let c0 = problem.ent_coef[e] as usize;
                     off[k] = problem.ent_off[e];
-                    coef[6 * k..6 * k + 6].copy_from_slice(&problem.coefs[c0..c0 + 6]);
-                    minv[6 * k..6 * k + 6].copy_from_slice(&problem.minv[c0..c0 + 6]);
+                    coef[6 * k..6 * k + 6].copy_from_slice(&problem.coefs()[c0..c0 + 6]);
+                    minv[6 * k..6 * k + 6].copy_from_slice(&problem.minv()[c0..c0 + 6]);
                 }
             }
             self.rows.push(i);

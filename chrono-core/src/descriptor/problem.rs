@@ -105,6 +105,12 @@ impl CcpWork {
 /// reference for every row-level access (`row_dot`, `row_add_minv`, `n_entry`,
 /// `constraint_rows`, `velocities`), and the two agree to rounding.
 ///
+/// The crate's own contacts between rigid bodies come as their geometry alone
+/// (`ConstraintRows::push_friction_frame`); when every row is such a triplet applied
+/// matrix-free (a granular bed), the explicit coefficients are built only on the first
+/// row-level access, and `diag(N)`, `r` and `velocities` come from the geometry
+/// (`frame_rows.rs`; [`coefficients_deferred`](Self::coefficients_deferred)).
+///
 /// Row-wise and block-wise loops are rayon-parallel for large problems and every reduction
 /// is done in a fixed order ([`reduce`](super::reduce)), so results are bit-identical for
 /// any thread count.
@@ -157,6 +163,15 @@ pub struct CcpProblem {
     pub(super) group_start: [usize; N_GROUPS],
     /// The triplets applied matrix-free ([`super::ContactFrame`]).
     pub(super) mf: super::frames::MatrixFree,
+    /// True if every row is a frame-only triplet applied matrix-free
+    /// ([`super::frame_rows`]): `coefs` and `minv` are then empty, built on first use
+    /// into `lazy`.
+    pub(super) deferred: bool,
+    pub(super) lazy: std::sync::OnceLock<super::frame_rows::LazyCoefs>,
+    /// Scratch of the assembly of frame-only triplets: per triplet its frame or `NONE`.
+    pub(super) only_of: Vec<u32>,
+    /// Scratch of a deferred assembly: the spheres' free velocities, world frame.
+    pub(super) v_free_w: Vec<f64>,
 }
 
 pub(super) const GROUP_ORDER: [RowGroup; N_GROUPS] = [
@@ -214,7 +229,41 @@ impl CcpProblem {
     /// Number of stored Jacobian coefficients, `nnz(D)`.
     #[inline]
     pub fn n_coefs(&self) -> usize {
-        self.coefs.len()
+        self.ent_coef.last().map_or(0, |&c| c as usize)
+    }
+
+    /// The coefficients of `D` by entry (`ent_coef`): built on first use in a deferred
+    /// problem ([`super::frame_rows`]).
+    #[inline]
+    pub(super) fn coefs(&self) -> &[f64] {
+        if self.deferred {
+            &self.lazy_coefs().coefs
+        } else {
+            &self.coefs
+        }
+    }
+
+    /// The coefficients of `M^-1 D`, laid out as [`coefs`](Self::coefs).
+    #[inline]
+    pub(super) fn minv(&self) -> &[f64] {
+        if self.deferred {
+            &self.lazy_coefs().minv
+        } else {
+            &self.minv
+        }
+    }
+
+    /// A deferred problem's coefficients, built on the first call.
+    fn lazy_coefs(&self) -> &super::frame_rows::LazyCoefs {
+        self.lazy.get_or_init(|| self.build_lazy())
+    }
+
+    /// Whether this problem's explicit coefficients are deferred (every row a frame-only
+    /// triplet applied matrix-free, see `ConstraintRows::push_friction_frame`), and if so
+    /// whether a row-level access has built them: for tests and benches that check a path
+    /// does not need them.
+    pub fn coefficients_deferred(&self) -> (bool, bool) {
+        (self.deferred, self.lazy.get().is_some())
     }
 
     /// The variables this problem was assembled from.
@@ -336,7 +385,7 @@ impl CcpProblem {
         (self.row_ptr[i] as usize..self.row_ptr[i + 1] as usize).map(|e| {
             (
                 BlockId(self.ent_block[e]),
-                &self.minv[self.ent_coef[e] as usize..self.ent_coef[e + 1] as usize],
+                &self.minv()[self.ent_coef[e] as usize..self.ent_coef[e + 1] as usize],
             )
         })
     }
@@ -353,8 +402,8 @@ impl CcpProblem {
             (
                 BlockId(self.ent_block[e]),
                 self.ent_off[e] as usize,
-                &self.coefs[c0..c1],
-                &self.minv[c0..c1],
+                &self.coefs()[c0..c1],
+                &self.minv()[c0..c1],
             )
         })
     }
@@ -381,7 +430,7 @@ impl CcpProblem {
                 if self.ent_block[e] == self.ent_block[f] {
                     let (c0, c1) = self.nonzero_span(e);
                     let m0 = self.ent_coef[f] as usize + (c0 - self.ent_coef[e] as usize);
-                    for (a, b) in self.coefs[c0..c1].iter().zip(&self.minv[m0..]) {
+                    for (a, b) in self.coefs()[c0..c1].iter().zip(&self.minv()[m0..]) {
                         s += a * b;
                     }
                 }
@@ -445,7 +494,7 @@ impl CcpProblem {
             // A rigid body's 6 dof as fixed-size arrays (no per-coefficient bounds checks or
             // loop control); the same sums in the same order, so the same bits.
             if let (Some(c), Some(x)) = (
-                self.coefs.get(c0..c0 + 6).filter(|_| c1 - c0 == 6),
+                self.coefs().get(c0..c0 + 6).filter(|_| c1 - c0 == 6),
                 v.get(off..off + 6),
             ) {
                 let (c, x): (&[f64; 6], &[f64; 6]) =
@@ -459,7 +508,7 @@ impl CcpProblem {
             // markers): unrolled, the same sums in the same order as below.
             if c1 - c0 == 3
                 && self.ent_span[e] == [0, 3]
-                && let (Some(c), Some(x)) = (self.coefs.get(c0..c0 + 3), v.get(off..off + 3))
+                && let (Some(c), Some(x)) = (self.coefs().get(c0..c0 + 3), v.get(off..off + 3))
             {
                 s += c[0] * x[0];
                 s += c[1] * x[1];
@@ -468,7 +517,7 @@ impl CcpProblem {
             }
             let (a0, a1) = self.nonzero_span(e);
             let x = &v[off + (a0 - c0)..off + (a1 - c0)];
-            for (c, x) in self.coefs[a0..a1].iter().zip(x) {
+            for (c, x) in self.coefs()[a0..a1].iter().zip(x) {
                 s += c * x;
             }
         }
@@ -493,14 +542,14 @@ impl CcpProblem {
             let off = self.ent_off[e] as usize - base;
             if c1 - c0 == 6 {
                 let x: &mut [f64; 6] = (&mut v[off..off + 6]).try_into().expect("6");
-                let c: &[f64; 6] = self.minv[c0..c0 + 6].try_into().expect("6");
+                let c: &[f64; 6] = self.minv()[c0..c0 + 6].try_into().expect("6");
                 for k in 0..6 {
                     x[k] += s * c[k];
                 }
                 continue;
             }
             let x = &mut v[off..off + (c1 - c0)];
-            for (x, c) in x.iter_mut().zip(&self.minv[c0..c1]) {
+            for (x, c) in x.iter_mut().zip(&self.minv()[c0..c1]) {
                 *x += s * c;
             }
         }
@@ -511,7 +560,7 @@ impl CcpProblem {
         (self.row_ptr[i] as usize..self.row_ptr[i + 1] as usize).map(|e| {
             (
                 self.ent_block[e],
-                &self.coefs[self.ent_coef[e] as usize..self.ent_coef[e + 1] as usize],
+                &self.coefs()[self.ent_coef[e] as usize..self.ent_coef[e + 1] as usize],
             )
         })
     }
@@ -519,7 +568,10 @@ impl CcpProblem {
     /// Rebuild the rows this problem was assembled from (same groups, order, entries, `b`,
     /// `eps`, bounds and friction coefficients), e.g. to save it ([`super::ProblemFile`]) or
     /// to assemble a sub-problem. `assemble(variables(), &rows, momentum())` reproduces this
-    /// problem bit for bit.
+    /// problem bit for bit, except a problem whose coefficients were deferred
+    /// ([`coefficients_deferred`](Self::coefficients_deferred)): the rows come back explicit
+    /// (the same coefficients, bit for bit), and `diag(N)` and `r`, which the deferred
+    /// problem took from the contacts' geometry, agree to rounding.
     pub fn constraint_rows(&self) -> ConstraintRows {
         let mut rows = ConstraintRows::new();
         self.push_rows(0..self.n_rows, &mut rows);
@@ -544,7 +596,7 @@ impl CcpProblem {
             (self.row_ptr[i] as usize..self.row_ptr[i + 1] as usize)
                 .map(|e| super::RowEntry {
                     block: block(self.ent_block[e]),
-                    coefs: &self.coefs[self.ent_coef[e] as usize..self.ent_coef[e + 1] as usize],
+                    coefs: &self.coefs()[self.ent_coef[e] as usize..self.ent_coef[e + 1] as usize],
                 })
                 .collect()
         };
@@ -698,7 +750,10 @@ impl CcpProblem {
                 for e in self.row_ptr[i] as usize..self.row_ptr[i + 1] as usize {
                     let (c0, c1) = (self.ent_coef[e] as usize, self.ent_coef[e + 1] as usize);
                     let off = self.ent_off[e] as usize;
-                    for (x, c) in dv[off..off + (c1 - c0)].iter_mut().zip(&self.coefs[c0..c1]) {
+                    for (x, c) in dv[off..off + (c1 - c0)]
+                        .iter_mut()
+                        .zip(&self.coefs()[c0..c1])
+                    {
                         *x += gamma[i] * c;
                     }
                 }

@@ -71,10 +71,19 @@ pub(crate) struct GroupRows {
     /// Friction group: the contact frames given with
     /// [`ConstraintRows::set_contact_frame`], by triplet index (increasing).
     pub frames: Vec<(u32, ContactFrame)>,
-    /// Per entry of `frames`: true if its rows were built from the frame by
-    /// [`ConstraintRows::set_contact_frame_of_built_rows`]'s caller (they match it by
-    /// construction, so the assembly does not check them).
-    pub frames_built: Vec<bool>,
+    /// Per entry of `frames`: how its rows relate to it ([`FrameKind`]).
+    pub frame_kind: Vec<FrameKind>,
+}
+
+/// How a friction triplet's rows relate to its [`ContactFrame`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum FrameKind {
+    /// Explicit rows given with the frame: the assembly checks that they match it.
+    Checked,
+    /// No explicit rows: the frame alone ([`ConstraintRows::push_friction_frame`]); the
+    /// rows are `[∓d; (R' r) x (R' (∓d))]` on each side's rigid-body block, with `R` the
+    /// block's rotation ([`Variables::add_oriented`](super::Variables::add_oriented)).
+    Only,
 }
 
 impl GroupRows {
@@ -90,7 +99,7 @@ impl GroupRows {
         self.hi.clear();
         self.mu.clear();
         self.frames.clear();
-        self.frames_built.clear();
+        self.frame_kind.clear();
     }
 
     pub fn n_rows(&self) -> usize {
@@ -132,8 +141,9 @@ impl GroupRows {
 /// linear coefficients exactly, the angular ones' norms to 1e-9) and uses the
 /// matrix-free path only for triplets that pass and whose blocks are rigid bodies with
 /// isotropic inertia touched by no other kind of row; the others use the explicit rows.
-/// (The crate's own NSC contact rows are built from their frames and skip the check, see
-/// `ConstraintRows::set_contact_frame_of_built_rows`; the other conditions still apply.)
+/// (The crate's own NSC contact rows between rigid bodies are frame-only,
+/// `ConstraintRows::push_friction_frame`: no explicit rows to check; the other conditions
+/// still apply.)
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ContactFrame {
     /// Unit contact normal `n` (world, from A to B).
@@ -239,23 +249,40 @@ impl ConstraintRows {
     /// for it (see [`ContactFrame`]). Triplets must be given in the order they were pushed;
     /// a frame for another group's row, or out of order, is ignored.
     pub fn set_contact_frame(&mut self, row: RowId, frame: ContactFrame) {
-        self.push_frame(row, frame, false);
+        self.push_frame(row, frame, FrameKind::Checked);
     }
 
-    /// [`set_contact_frame`](Self::set_contact_frame) for a triplet whose rows the caller
-    /// built from this very frame: row `d` of `(n, u, w)` (`(u, w)` =
-    /// [`tangent_frame`](crate::math::tangent_frame)`(n)`) is
-    /// [`RigidBody::point_jacobians`](crate::RigidBody::point_jacobians) of `-d` at A's
-    /// contact point on A's block, then of `d` at B's on B's, with the arms `p - x` of the
-    /// frame. Such rows match the frame by construction, so the assembly skips the check of
-    /// [`ContactFrame`] for them (the NSC contact rows of sphere pairs); the other
-    /// conditions of the matrix-free path (spheres, no other rows on the blocks) are still
-    /// checked.
-    pub(crate) fn set_contact_frame_of_built_rows(&mut self, row: RowId, frame: ContactFrame) {
-        self.push_frame(row, frame, true);
+    /// Add a frictional contact between rigid bodies given by its geometry alone: the
+    /// three rows `n, u, w` (`(u, w)` = [`tangent_frame`](crate::math::tangent_frame)`(n)`)
+    /// are those [`ContactFrame`] describes (the arms `p - x` as
+    /// [`RigidBody::point_jacobians`](crate::RigidBody::point_jacobians) takes them: the
+    /// same coefficients, bit for bit), on blocks added with
+    /// [`Variables::add_oriented`](super::Variables::add_oriented) (the assembly rejects
+    /// a block without a rotation or with other than 6 dof, naming the row). No
+    /// coefficients are stored: the assembly builds them only if a row-level access needs
+    /// them (between spheres applied matrix-free, none does). Returns the id of the normal
+    /// row.
+    pub(crate) fn push_friction_frame(
+        &mut self,
+        mu: f64,
+        frame: ContactFrame,
+        b: [f64; 3],
+        eps: [f64; 3],
+    ) -> RowId {
+        let g = &mut self.groups[RowGroup::Friction as usize];
+        let index = g.push(&[], b[0], eps[0]);
+        g.push(&[], b[1], eps[1]);
+        g.push(&[], b[2], eps[2]);
+        g.mu.push(mu);
+        let row = RowId {
+            group: RowGroup::Friction,
+            index,
+        };
+        self.push_frame(row, frame, FrameKind::Only);
+        row
     }
 
-    fn push_frame(&mut self, row: RowId, frame: ContactFrame, built: bool) {
+    fn push_frame(&mut self, row: RowId, frame: ContactFrame, kind: FrameKind) {
         let g = &mut self.groups[RowGroup::Friction as usize];
         let k = row.index / 3;
         let in_order = g.frames.last().is_none_or(|&(last, _)| last < k);
@@ -265,7 +292,7 @@ impl ConstraintRows {
             && in_order
         {
             g.frames.push((k, frame));
-            g.frames_built.push(built);
+            g.frame_kind.push(kind);
         }
     }
 

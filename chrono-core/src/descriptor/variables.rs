@@ -2,7 +2,7 @@
 
 use std::sync::Arc;
 
-use nalgebra::{Matrix3, Vector3};
+use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 use rayon::prelude::*;
 
 use super::coupled::CoupledMass;
@@ -207,6 +207,8 @@ pub(crate) fn check_inertia(field: &str, j: &Matrix3<f64>) -> Result<Matrix3<f64
 struct Block {
     offset: usize,
     mass: MassOperator,
+    /// A rigid body's orientation (body to world), if given ([`Variables::add_oriented`]).
+    rotation: Option<UnitQuaternion<f64>>,
 }
 
 /// A run of consecutive blocks with the same number of dof, so that block-wise operations
@@ -263,6 +265,25 @@ impl Variables {
 
     /// Append a block; returns its id.
     pub fn add(&mut self, mass: MassOperator) -> BlockId {
+        self.push_block(mass, None)
+    }
+
+    /// Append a rigid body's block with its orientation `R` (body to world: the angular
+    /// velocity of the block is `R' w_world`); returns its id. With it the rows of the
+    /// crate's contacts on the block can be stored as their geometry alone and rebuilt
+    /// when needed (`[d; (R' r) x (R' d)]`, see `ContactFrame`). Also valid for any
+    /// other block (the rotation is then ignored).
+    pub fn add_oriented(&mut self, mass: MassOperator, rotation: UnitQuaternion<f64>) -> BlockId {
+        self.push_block(mass, Some(rotation))
+    }
+
+    /// The orientation given with [`add_oriented`](Self::add_oriented), if any.
+    #[inline]
+    pub fn rotation(&self, id: BlockId) -> Option<&UnitQuaternion<f64>> {
+        self.blocks[id.0 as usize].rotation.as_ref()
+    }
+
+    fn push_block(&mut self, mass: MassOperator, rotation: Option<UnitQuaternion<f64>>) -> BlockId {
         let ndof = mass.ndof();
         let id = self.blocks.len();
         match self.runs.last_mut() {
@@ -277,6 +298,7 @@ impl Variables {
         self.blocks.push(Block {
             offset: self.ndof,
             mass,
+            rotation,
         });
         self.ndof += ndof;
         BlockId(id as u32)

@@ -29,7 +29,7 @@ impl System {
         self.vars.clear();
         for b in &mut self.bodies {
             b.block = match b.motion {
-                BodyMotion::Dynamic => Some(self.vars.add(b.mass_operator()?)),
+                BodyMotion::Dynamic => Some(self.vars.add_oriented(b.mass_operator()?, b.rotation)),
                 _ => None,
             };
         }

@@ -77,3 +77,36 @@ fn a_shear_test_sizes_its_sample_to_twice_the_lower_half() {
     let e = bad.build(&mut nsc_system(d)).unwrap_err().to_string();
     assert!(e.contains("shear_test.gap"), "{e}");
 }
+
+#[test]
+fn a_bed_of_spheres_steps_without_building_its_explicit_rows() {
+    // Every contact of a bed of spheres is a frame-only triplet applied matrix-free: with
+    // APGD and with the accelerated PSOR a step never needs the explicit coefficients
+    // (`CcpProblem::coefficients_deferred`), and they are still there on demand.
+    let d = 0.005;
+    let mat = ContactMaterial::smc(1e7, 0.3, 0.5, 0.5);
+    let bed = ImpactBed {
+        settle_ke: 1e-3,
+        ..ImpactBed::new(4.0 * d, 3.0 * d, d, 2500.0, mat)
+    };
+    let apsor = chrono_ccp::Psor::accelerated(SolverSettings {
+        tolerance: 1e-4,
+        max_iterations: 30,
+        record_history: false,
+    });
+    for solver in [
+        None,
+        Some(Box::new(apsor) as Box<dyn chrono_core::descriptor::CcpSolver>),
+    ] {
+        let mut sys = nsc_system(d);
+        if let Some(s) = solver {
+            sys.set_solver(s);
+        }
+        bed.settle(&mut sys).unwrap();
+        let p = sys.last_problem();
+        assert!(p.n_rows() > 300, "{}", p.n_rows());
+        assert_eq!(p.coefficients_deferred(), (true, false));
+        assert_eq!(p.row_entries(0).count(), p.row_blocks(0).count());
+        assert_eq!(p.coefficients_deferred(), (true, true));
+    }
+}
