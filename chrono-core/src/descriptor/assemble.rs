@@ -99,15 +99,19 @@ impl CcpProblem {
         self.vars.copy_from(vars);
         self.k.clear();
         self.k.extend_from_slice(k);
-        for v in [
-            &mut self.row_ptr,
-            &mut self.ent_block,
-            &mut self.ent_off,
-            &mut self.ent_coef,
-        ] {
-            v.clear();
+        // Every row a frame-only triplet: the friction group is built in place, each value
+        // written (`load_frame_group`), so the entry arrays keep their length (not zeroed).
+        if !all_only {
+            for v in [
+                &mut self.row_ptr,
+                &mut self.ent_block,
+                &mut self.ent_off,
+                &mut self.ent_coef,
+            ] {
+                v.clear();
+            }
+            self.ent_span.clear();
         }
-        self.ent_span.clear();
         // (`minv` is resized and overwritten by `fill_minv`.)
         for v in [
             &mut self.coefs,
@@ -121,7 +125,7 @@ impl CcpProblem {
         }
         self.mu_rolling.clear();
         self.mu_per_body.clear();
-        if taken.is_none() {
+        if taken.is_none() && !all_only {
             self.row_ptr.push(0);
         }
 

@@ -75,17 +75,32 @@ pub(super) fn all_frame_only(rows: &ConstraintRows) -> bool {
         && g.frame_kind.iter().all(|&k| k == FrameKind::Only)
 }
 
-/// Does `frame` pass [`CcpProblem::check_frame_only`]? (no error built)
-fn frame_only_ok(vars: &Variables, frame: &ContactFrame) -> bool {
-    let block_ok = |b: &BlockId| {
-        (b.0 as usize) < vars.len() && vars.block_ndof(*b) == 6 && vars.rotation(*b).is_some()
-    };
+/// Does `frame` pass [`CcpProblem::check_frame_only`]? (no error built; `offsets` from
+/// [`oriented_offsets`])
+fn frame_only_ok(offsets: &[u32], frame: &ContactFrame) -> bool {
+    let block_ok = |b: &BlockId| offsets.get(b.0 as usize).is_some_and(|&o| o != NONE);
     frame.blocks.iter().flatten().all(block_ok)
         && frame
             .normal
             .iter()
             .chain(frame.arms.iter().flatten())
             .all(|x| x.is_finite())
+}
+
+/// Per block of `vars`: its first dof if it is a rigid body's (6 dof) with a rotation, else
+/// `NONE` (a compact table: the frames' checks and entries read it, not the blocks).
+fn oriented_offsets(vars: &Variables, out: &mut Vec<u32>) {
+    out.clear();
+    let one = |b: usize| {
+        let blk = BlockId(b as u32);
+        let ok = vars.block_ndof(blk) == 6 && vars.rotation(blk).is_some();
+        if ok { vars.offset(blk) as u32 } else { NONE }
+    };
+    if vars.len() >= PAR_MIN_TRIPLETS {
+        out.par_extend((0..vars.len()).into_par_iter().map(one));
+    } else {
+        out.extend((0..vars.len()).map(one));
+    }
 }
 
 impl CcpProblem {
@@ -150,14 +165,16 @@ impl CcpProblem {
                 only[k as usize] = f as u32;
             }
         }
+        let mut offsets = std::mem::take(&mut self.block_offsets);
+        oriented_offsets(vars, &mut offsets);
         let bad = (0..g.frames.len())
             .into_par_iter()
             .with_min_len(TASK)
             .find_first(|&f| {
-                g.frame_kind[f] == FrameKind::Only && !frame_only_ok(vars, &g.frames[f].1)
+                g.frame_kind[f] == FrameKind::Only && !frame_only_ok(&offsets, &g.frames[f].1)
             });
         if let Some(f) = bad {
-            self.only_of = only;
+            (self.only_of, self.block_offsets) = (only, offsets);
             let (k, frame) = &g.frames[f];
             return Self::check_frame_only(vars, *k as usize, frame).map(|_| 0);
         }
@@ -188,12 +205,16 @@ impl CcpProblem {
         let (ne, nc) = sizes
             .iter()
             .fold((0, 0), |(e, c), &(de, dc)| (e + de, c + dc));
-        let (r0, e0) = (self.b.len(), self.ent_block.len());
+        // Not `eager`: every row is a frame-only triplet, this group is the only one, and
+        // the entry arrays kept their old length (`load_rows`): resized, not zeroed, as
+        // every value is written below.
+        let r0 = self.b.len();
+        let e0 = if eager { self.ent_block.len() } else { 0 };
         let c0 = if eager { self.coefs.len() } else { 0 };
-        let grow = |v: &mut Vec<u32>, n: usize| v.resize(v.len() + n, 0);
-        grow(&mut self.row_ptr, 3 * nt);
+        self.row_ptr.resize(r0 + 1 + 3 * nt, 0);
+        self.row_ptr[r0] = e0 as u32;
         for v in [&mut self.ent_block, &mut self.ent_off, &mut self.ent_coef] {
-            grow(v, ne);
+            v.resize(e0 + ne, 0);
         }
         self.ent_span.resize(e0 + ne, [0, 0]);
         if eager {
@@ -279,7 +300,7 @@ impl CcpProblem {
                         for r in 0..3 {
                             for (s, blk, _) in sides(frame) {
                                 bl[e] = blk.0;
-                                of[e] = vars.offset(blk) as u32;
+                                of[e] = offsets[blk.0 as usize];
                                 ci[e] = (c_at + c) as u32;
                                 sp[e] = [0, 6];
                                 if let Some(co) = co.as_deref_mut() {
@@ -300,7 +321,7 @@ impl CcpProblem {
         }
         self.b.extend_from_slice(&g.b);
         self.eps.extend_from_slice(&g.eps);
-        self.only_of = only;
+        (self.only_of, self.block_offsets) = (only, offsets);
         Ok(c0 + nc)
     }
 

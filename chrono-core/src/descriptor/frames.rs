@@ -102,8 +102,9 @@ fn fill_many<const N: usize>(
     par: bool,
     f: impl Fn(usize) -> [f64; N] + Sync,
 ) {
+    // Every value is written below: the old ones are kept, not zeroed (only a longer
+    // array's new tail is).
     let mut chunks = vs.map(|v| {
-        v.clear();
         v.resize(n, 0.0);
         v.chunks_mut(FILL_TASK)
     });
@@ -293,15 +294,23 @@ impl CcpProblem {
     /// storage, whose entries it checks the frames against).
     pub(super) fn build_matrix_free(&mut self, rows: &ConstraintRows) {
         let mut mf = std::mem::take(&mut self.mf);
-        // The sides keep their length: `fill_matrix_free` resizes and overwrites them.
+        // The sides and the contacts' geometry keep their length: `fill_matrix_free`
+        // resizes and overwrites them (no zeroing of what is overwritten).
         let sides = (
             std::mem::take(&mut mf.s_row),
             std::mem::take(&mut mf.s_n),
             std::mem::take(&mut mf.s_r),
             std::mem::take(&mut mf.s_rc),
         );
+        let contacts = (
+            std::mem::take(&mut mf.c_n),
+            std::mem::take(&mut mf.c_ra),
+            std::mem::take(&mut mf.c_rb),
+            std::mem::take(&mut mf.c_rc),
+        );
         mf.clear();
         (mf.s_row, mf.s_n, mf.s_r, mf.s_rc) = sides;
+        (mf.c_n, mf.c_ra, mf.c_rb, mf.c_rc) = contacts;
         let mut filled = false;
         let group = &rows.groups[RowGroup::Friction as usize];
         if !group.frames.is_empty() {
@@ -318,6 +327,10 @@ impl CcpProblem {
         }
         if !filled {
             mf.clear_sides();
+            for x in mf.c_n.iter_mut().chain(&mut mf.c_ra).chain(&mut mf.c_rb) {
+                x.clear();
+            }
+            mf.c_rc.clear();
         }
         self.mf = mf;
     }

@@ -170,6 +170,9 @@ pub struct CcpProblem {
     pub(super) lazy: std::sync::OnceLock<super::frame_rows::LazyCoefs>,
     /// Scratch of the assembly of frame-only triplets: per triplet its frame or `NONE`.
     pub(super) only_of: Vec<u32>,
+    /// Scratch of the assembly of frame-only triplets: per block its first dof if it is
+    /// an oriented rigid body's, else `NONE`.
+    pub(super) block_offsets: Vec<u32>,
     /// Scratch of a deferred assembly: the spheres' free velocities, world frame.
     pub(super) v_free_w: Vec<f64>,
 }
