@@ -677,8 +677,27 @@ impl CcpProblem {
         // Every value is written below (by cone block).
         self.scale.resize(self.n_rows, 0.0);
         let inv = |d: f64| if d > 0.0 { 1.0 / d } else { 0.0 };
+        // The friction triplets (most rows of a granular problem) in parallel, each on its
+        // own (the same values).
+        let fr = self.sections.friction.clone();
+        let (diag, scale) = (&self.diag, &mut self.scale);
+        let triplet = |(d, s): (&[f64], &mut [f64])| s.fill(inv((d[0] + d[1] + d[2]) / 3.0));
+        if fr.len() >= PAR_MIN_ASSEMBLY_ROWS {
+            (diag[fr.clone()].par_chunks(3))
+                .zip(scale[fr.clone()].par_chunks_mut(3))
+                .with_min_len(1024)
+                .for_each(triplet);
+        } else {
+            (diag[fr.clone()].chunks(3))
+                .zip(scale[fr.clone()].chunks_mut(3))
+                .for_each(triplet);
+        }
         let mut i = 0;
         while i < self.n_rows {
+            if i == fr.start && !fr.is_empty() {
+                i = fr.end;
+                continue;
+            }
             let (start, n) = self.sections.block_of(i);
             let mean = self.diag[start..start + n].iter().sum::<f64>() / n as f64;
             self.scale[start..start + n].fill(inv(mean));
