@@ -36,6 +36,7 @@ mod ops;
 mod packed;
 mod problem;
 pub mod reduce;
+mod row_checks;
 mod rows;
 mod solver;
 #[cfg(test)]

@@ -235,40 +235,6 @@ impl CcpProblem {
         self.ent_coef.last().map_or(0, |&c| c as usize)
     }
 
-    /// The coefficients of `D` by entry (`ent_coef`): built on first use in a deferred
-    /// problem ([`super::frame_rows`]).
-    #[inline]
-    pub(super) fn coefs(&self) -> &[f64] {
-        if self.deferred {
-            &self.lazy_coefs().coefs
-        } else {
-            &self.coefs
-        }
-    }
-
-    /// The coefficients of `M^-1 D`, laid out as [`coefs`](Self::coefs).
-    #[inline]
-    pub(super) fn minv(&self) -> &[f64] {
-        if self.deferred {
-            &self.lazy_coefs().minv
-        } else {
-            &self.minv
-        }
-    }
-
-    /// A deferred problem's coefficients, built on the first call.
-    fn lazy_coefs(&self) -> &super::frame_rows::LazyCoefs {
-        self.lazy.get_or_init(|| self.build_lazy())
-    }
-
-    /// Whether this problem's explicit coefficients are deferred (every row a frame-only
-    /// triplet applied matrix-free, see `ConstraintRows::push_friction_frame`), and if so
-    /// whether a row-level access has built them: for tests and benches that check a path
-    /// does not need them.
-    pub fn coefficients_deferred(&self) -> (bool, bool) {
-        (self.deferred, self.lazy.get().is_some())
-    }
-
     /// The variables this problem was assembled from.
     pub fn variables(&self) -> &Variables {
         &self.vars
