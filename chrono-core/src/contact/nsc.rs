@@ -33,6 +33,7 @@
 //! resistance acts on the moving body only, and not against a kinematic body's own spin.
 
 use nalgebra::Vector3;
+use rayon::prelude::*;
 
 use crate::body::RigidBody;
 use crate::collision::{ContactKey, ContactPoint, ProxyContact, ProxyKey};
@@ -116,6 +117,8 @@ struct Impulses {
 pub struct WarmStartCache {
     map: SortedMap<ContactKey, Impulses>,
     proxies: SortedMap<ProxyKey, Impulses>,
+    /// Scratch of a parallel warm start: each contact's three friction rows.
+    rows: Vec<[f64; 3]>,
 }
 
 impl WarmStartCache {
@@ -503,20 +506,19 @@ pub fn add_proxy_contact_rows(
 }
 
 /// Fill the contacts' part of `gamma` from `map` (keys not found start at zero).
-fn warm_start_from<P: HasNormal, K: Ord + Copy>(
+fn warm_start_from<P: HasNormal + Sync, K: Ord + Copy + Send + Sync>(
     contacts: &[NscContact<P>],
-    key: impl Fn(&P) -> K,
+    key: impl Fn(&P) -> K + Sync,
     map: &SortedMap<K, Impulses>,
+    scratch: &mut Vec<[f64; 3]>,
     problem: &CcpProblem,
     gamma: &mut [f64],
 ) {
-    let mut cursor = 0;
-    for c in contacts {
-        let i = problem.row_index(c.row);
-        let g = map.get(&key(&c.point), &mut cursor).unwrap_or_default();
-        gamma[i] = g.normal;
-        gamma[i + 1] = g.tangential.dot(&c.u);
-        gamma[i + 2] = g.tangential.dot(&c.w);
+    let three = |c: &NscContact<P>, g: &Impulses| {
+        [g.normal, g.tangential.dot(&c.u), g.tangential.dot(&c.w)]
+    };
+    // The rows after the three of a contact with rolling friction.
+    let rest = |c: &NscContact<P>, g: &Impulses, i: usize, gamma: &mut [f64]| {
         let dirs = [c.normal(), c.u, c.w];
         match c.row.group {
             RowGroup::Rolling => {
@@ -533,19 +535,51 @@ fn warm_start_from<P: HasNormal, K: Ord + Copy>(
             }
             _ => {}
         }
+    };
+    if contacts.len() >= nsc_plain::PAR_MIN_CONTACTS {
+        // The three rows of every contact in parallel (each on its own; a chunk's lookups
+        // follow the keys from a binary search, as `get`'s hint does), written in order
+        // after: the same values.
+        const CHUNK: usize = 2048;
+        scratch.resize(contacts.len(), [0.0; 3]);
+        (scratch.par_chunks_mut(CHUNK))
+            .zip(contacts.par_chunks(CHUNK))
+            .for_each(|(o, cs)| {
+                let mut cursor = 0;
+                for (x, c) in o.iter_mut().zip(cs) {
+                    let g = map.get(&key(&c.point), &mut cursor).unwrap_or_default();
+                    *x = three(c, &g);
+                }
+            });
+        let mut cursor = 0;
+        for (c, x) in contacts.iter().zip(scratch.iter()) {
+            let i = problem.row_index(c.row);
+            gamma[i..i + 3].copy_from_slice(x);
+            if c.row.group != RowGroup::Friction {
+                let g = map.get(&key(&c.point), &mut cursor).unwrap_or_default();
+                rest(c, &g, i, gamma);
+            }
+        }
+        return;
+    }
+    let mut cursor = 0;
+    for c in contacts {
+        let i = problem.row_index(c.row);
+        let g = map.get(&key(&c.point), &mut cursor).unwrap_or_default();
+        gamma[i..i + 3].copy_from_slice(&three(c, &g));
+        rest(c, &g, i, gamma);
     }
 }
 
 /// Replace `map` by the contacts' impulses.
-fn store_into<P: HasNormal, K: Ord + Copy>(
+fn store_into<P: HasNormal + Sync, K: Ord + Copy + Send + Sync>(
     contacts: &[NscContact<P>],
-    key: impl Fn(&P) -> K,
+    key: impl Fn(&P) -> K + Sync,
     problem: &CcpProblem,
     gamma: &[f64],
     map: &mut SortedMap<K, Impulses>,
 ) {
-    map.clear();
-    for c in contacts {
+    let one = |c: &NscContact<P>| {
         let i = problem.row_index(c.row);
         let n = c.normal();
         let at = |j: usize| n * gamma[j] + c.u * gamma[j + 1] + c.w * gamma[j + 2];
@@ -562,7 +596,17 @@ fn store_into<P: HasNormal, K: Ord + Copy>(
             }
             _ => {}
         }
-        map.push(key(&c.point), g);
+        (key(&c.point), g)
+    };
+    // Each entry on its own (in parallel for a bed): the same map.
+    if contacts.len() >= nsc_plain::PAR_MIN_CONTACTS {
+        map.fill_par(contacts.len(), |k| one(&contacts[k]));
+        return;
+    }
+    map.clear();
+    for c in contacts {
+        let (k, g) = one(c);
+        map.push(k, g);
     }
     map.finish();
 }
@@ -570,11 +614,12 @@ fn store_into<P: HasNormal, K: Ord + Copy>(
 /// Fill the body contacts' part of `gamma` from the cache (keys not found start at zero).
 pub fn warm_start(
     contacts: &[NscContact],
-    cache: &WarmStartCache,
+    cache: &mut WarmStartCache,
     problem: &CcpProblem,
     gamma: &mut [f64],
 ) {
-    warm_start_from(contacts, |p| p.key, &cache.map, problem, gamma);
+    let c = cache;
+    warm_start_from(contacts, |p| p.key, &c.map, &mut c.rows, problem, gamma);
 }
 
 /// Store the body contacts' impulses for the next step (replacing that part of the cache).
@@ -590,11 +635,12 @@ pub fn store(
 /// Fill the proxy contacts' part of `gamma` from the cache (keys not found start at zero).
 pub fn warm_start_proxies(
     contacts: &[NscProxyContact],
-    cache: &WarmStartCache,
+    cache: &mut WarmStartCache,
     problem: &CcpProblem,
     gamma: &mut [f64],
 ) {
-    warm_start_from(contacts, |p| p.key, &cache.proxies, problem, gamma);
+    let c = cache;
+    warm_start_from(contacts, |p| p.key, &c.proxies, &mut c.rows, problem, gamma);
 }
 
 /// Store the proxy contacts' impulses for the next step (replacing that part of the cache).

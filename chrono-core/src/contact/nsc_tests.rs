@@ -373,3 +373,45 @@ fn frame_only_rows_need_oriented_blocks() {
         "{e}"
     );
 }
+
+#[test]
+fn a_bed_is_warm_started_and_stored_in_parallel_as_one_contact_at_a_time() {
+    use super::nsc::{WarmStartCache, store, warm_start};
+    let bits = |x: &[f64]| x.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+    let (bodies, vars, points) = scene_with(11, 5000, false);
+    let settings = NscRowSettings {
+        h: 1e-3,
+        max_recovery_speed: 0.5,
+        rolling_model: RollingModel::default(),
+    };
+    let mut rows = ConstraintRows::new();
+    let mut contacts = Vec::new();
+    add_contact_rows(
+        &points,
+        &bodies,
+        settings,
+        &mut rows,
+        &mut TripletScratch::default(),
+        &mut contacts,
+    )
+    .unwrap();
+    let mut p = CcpProblem::new();
+    p.assemble(&vars, &rows, &vec![0.0; vars.ndof()]).unwrap();
+    let mut rng = Rng::splitmix64(5);
+    let gamma: Vec<f64> = (0..p.n_rows()).map(|_| rng.range(-1.0, 1.0)).collect();
+    // stored all at once (parallel) and one contact at a time (serial, pushed in order)
+    let mut cache = WarmStartCache::default();
+    store(&contacts, &p, &gamma, &mut cache);
+    assert_eq!(cache.len(), contacts.len());
+    let mut all = vec![0.0; p.n_rows()];
+    warm_start(&contacts, &mut cache, &p, &mut all);
+    let mut one = vec![0.0; p.n_rows()];
+    for c in &contacts {
+        warm_start(std::slice::from_ref(c), &mut cache, &p, &mut one);
+    }
+    assert_eq!(bits(&all), bits(&one));
+    // the impulses come back (the tangents projected on the same frame)
+    for (a, b) in all.iter().zip(&gamma) {
+        assert!((a - b).abs() <= 1e-14, "{a} vs {b}");
+    }
+}

@@ -36,6 +36,21 @@ impl<K: Ord + Copy, V: Copy> SortedMap<K, V> {
         self.entries.push((key, value));
     }
 
+    /// Replace the entries by `f(0), .., f(n - 1)` (in that order, computed in parallel;
+    /// capacity kept), then [`finish`](Self::finish): the same map as clearing and pushing
+    /// them one by one.
+    pub fn fill_par(&mut self, n: usize, f: impl Fn(usize) -> (K, V) + Sync + Send)
+    where
+        K: Send + Sync,
+        V: Send + Sync,
+    {
+        use rayon::prelude::*;
+        self.entries.clear();
+        self.entries
+            .par_extend((0..n).into_par_iter().with_min_len(1024).map(f));
+        self.finish();
+    }
+
     /// Restore the order after [`push`](Self::push)es: sort by key and, of equal keys,
     /// keep the last pushed (what a map's insert would keep). Free when already sorted.
     pub fn finish(&mut self) {
@@ -144,5 +159,18 @@ mod tests {
         m.clear();
         assert_eq!(m.len(), 0);
         assert_eq!(m.get(&4, &mut 0), None);
+    }
+
+    #[test]
+    fn a_parallel_fill_equals_the_serial_pushes() {
+        // Keys out of order with repeats.
+        let key = |i: usize| ((i * 7919) % 5003) as u32;
+        let (mut serial, mut par) = (SortedMap::default(), SortedMap::default());
+        for i in 0..6000 {
+            serial.push(key(i), i);
+        }
+        serial.finish();
+        par.fill_par(6000, |i| (key(i), i));
+        assert_eq!(serial.entries, par.entries);
     }
 }

@@ -181,10 +181,15 @@ impl System {
         self.gamma.clear();
         self.gamma.resize(m, 0.0);
         if self.settings.warm_start {
-            nsc::warm_start(&self.contacts, &self.cache, &self.problem, &mut self.gamma);
+            nsc::warm_start(
+                &self.contacts,
+                &mut self.cache,
+                &self.problem,
+                &mut self.gamma,
+            );
             nsc::warm_start_proxies(
                 &self.proxy_contacts,
-                &self.cache,
+                &mut self.cache,
                 &self.problem,
                 &mut self.gamma,
             );
