@@ -124,6 +124,49 @@ fn rows_of(bodies: &[RigidBody], points: &[ContactPoint]) -> ConstraintRows {
     rows
 }
 
+/// The rows of `points` given explicitly (built from the bodies, `point_jacobian`) with
+/// frames the assembly checks: the same triplets as the frame-only rows of [`rows_of`].
+fn explicit_rows_of(bodies: &[RigidBody], points: &[ContactPoint]) -> ConstraintRows {
+    let settings = NscRowSettings {
+        h: 1e-3,
+        max_recovery_speed: 0.5,
+        rolling_model: RollingModel::default(),
+    };
+    let mut explicit = ConstraintRows::new();
+    for cp in points {
+        let (a, b) = (&bodies[cp.owner_a as usize], &bodies[cp.owner_b as usize]);
+        let (u, w) = crate::math::tangent_frame(&cp.normal);
+        let dirs = [cp.normal, u, w];
+        let Some(t) = plain_triplet(settings, cp, a, b, &dirs) else {
+            continue;
+        };
+        let entries = |d: &Vector3<f64>| {
+            let mut e = Vec::new();
+            if let Some(blk) = a.block {
+                e.push((blk, a.point_jacobian(&cp.point_a, &-d)));
+            }
+            if let Some(blk) = b.block {
+                e.push((blk, b.point_jacobian(&cp.point_b, d)));
+            }
+            e
+        };
+        let e: Vec<_> = dirs.iter().map(entries).collect();
+        let re: Vec<Vec<RowEntry>> = (e.iter())
+            .map(|r| {
+                (r.iter())
+                    .map(|(block, c)| RowEntry {
+                        block: *block,
+                        coefs: c,
+                    })
+                    .collect()
+            })
+            .collect();
+        let id = explicit.push_friction(t.mu_of(), [&re[0], &re[1], &re[2]], t.b_of(), t.eps_of());
+        explicit.set_contact_frame(id, t.frame_of());
+    }
+    explicit
+}
+
 #[test]
 fn sphere_pair_rows_are_point_jacobians() {
     let (bodies, vars, points) = scene(7);
@@ -167,7 +210,7 @@ fn trusted_frames_select_what_the_check_selects_bit_for_bit() {
         let (mut p, mut q) = (CcpProblem::new(), CcpProblem::new());
         p.assemble(&vars, &rows, &k).unwrap();
         // the same rows given explicitly, with frames the assembly checks
-        let checked = p.constraint_rows();
+        let checked = explicit_rows_of(&bodies, &points);
         let g = &checked.groups[RowGroup::Friction as usize];
         assert!(g.frame_kind.iter().all(|&k| k == FrameKind::Checked));
         q.assemble(&vars, &checked, &k).unwrap();
@@ -269,49 +312,7 @@ fn spheres_alone_defer_their_coefficients_and_agree_with_explicit_rows() {
         assert!(p.explicit_free(), "seed {seed}");
         assert_eq!(p.coefficients_deferred(), (true, false), "seed {seed}");
         // the explicit form: rows built from the bodies, frames checked
-        let mut explicit = ConstraintRows::new();
-        for cp in &points {
-            let (a, b) = (&bodies[cp.owner_a as usize], &bodies[cp.owner_b as usize]);
-            let (u, w) = crate::math::tangent_frame(&cp.normal);
-            let dirs = [cp.normal, u, w];
-            let Some(t) = plain_triplet(
-                NscRowSettings {
-                    h: 1e-3,
-                    max_recovery_speed: 0.5,
-                    rolling_model: RollingModel::default(),
-                },
-                cp,
-                a,
-                b,
-                &dirs,
-            ) else {
-                continue;
-            };
-            let entries = |d: &Vector3<f64>| {
-                let mut e = Vec::new();
-                if let Some(blk) = a.block {
-                    e.push((blk, a.point_jacobian(&cp.point_a, &-d)));
-                }
-                if let Some(blk) = b.block {
-                    e.push((blk, b.point_jacobian(&cp.point_b, d)));
-                }
-                e
-            };
-            let e: Vec<_> = dirs.iter().map(entries).collect();
-            let re: Vec<Vec<RowEntry>> = (e.iter())
-                .map(|r| {
-                    (r.iter())
-                        .map(|(block, c)| RowEntry {
-                            block: *block,
-                            coefs: c,
-                        })
-                        .collect()
-                })
-                .collect();
-            let id =
-                explicit.push_friction(t.mu_of(), [&re[0], &re[1], &re[2]], t.b_of(), t.eps_of());
-            explicit.set_contact_frame(id, t.frame_of());
-        }
+        let explicit = explicit_rows_of(&bodies, &points);
         q.assemble(&vars, &explicit, &k).unwrap();
         assert_eq!(q.coefficients_deferred(), (false, false));
         assert_eq!(p.n_matrix_free(), q.n_matrix_free(), "seed {seed}");
@@ -414,4 +415,77 @@ fn a_bed_is_warm_started_and_stored_in_parallel_as_one_contact_at_a_time() {
     for (a, b) in all.iter().zip(&gamma) {
         assert!((a - b).abs() <= 1e-14, "{a} vs {b}");
     }
+}
+
+#[test]
+fn a_deferred_problem_survives_its_file_and_its_sub_problems() {
+    use crate::descriptor::{HeldSubproblem, ProblemFile, ProblemFormat};
+    let bits = |x: &[f64]| x.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+    let (bodies, vars, points) = scene_full(4, 3000, false, true);
+    let rows = rows_of(&bodies, &points);
+    let mut rng = Rng::splitmix64(41);
+    let k: Vec<f64> = (0..vars.ndof()).map(|_| rng.range(-1.0, 1.0)).collect();
+    let mut p = CcpProblem::new();
+    p.assemble(&vars, &rows, &k).unwrap();
+    assert_eq!(p.coefficients_deferred(), (true, false));
+    let g: Vec<f64> = (0..p.n_rows()).map(|_| rng.range(0.0, 1.0)).collect();
+    let summary = |q: &CcpProblem| {
+        let mut n = vec![0.0; q.n_rows()];
+        q.apply_n(&g, &mut n, &mut CcpWork::for_problem(q));
+        let mut v = vec![0.0; q.ndof()];
+        q.velocities(&g, &mut v);
+        [n, v, q.r().to_vec(), q.diag().to_vec(), q.scales().to_vec()].map(|x| bits(&x))
+    };
+    let want = summary(&p);
+    // its rows again, and its file in both encodings: the same problem, deferred
+    let mut again = CcpProblem::new();
+    again
+        .assemble(p.variables(), &p.constraint_rows(), p.momentum())
+        .unwrap();
+    assert_eq!(again.coefficients_deferred(), (true, false));
+    assert_eq!(summary(&again), want);
+    let file = ProblemFile::from_problem(&p, "deferred");
+    assert!(file.frames.iter().all(|f| f.only));
+    assert_eq!(file.rotations.len(), vars.len());
+    let dir = std::env::temp_dir();
+    for (name, format) in [
+        ("ccp", ProblemFormat::Binary),
+        ("json", ProblemFormat::Json),
+    ] {
+        let path = dir.join(format!("{}_deferred.{name}", std::process::id()));
+        file.save(&path, format).unwrap();
+        let q = ProblemFile::load_problem(&path).unwrap();
+        std::fs::remove_file(&path).ok();
+        assert_eq!(q.coefficients_deferred(), (true, false), "{name}");
+        assert_eq!(summary(&q), want, "{name}");
+    }
+    assert_eq!(
+        p.coefficients_deferred(),
+        (true, false),
+        "nothing above built them"
+    );
+    // a held sub-problem (every other contact) keeps the blocks' rotations
+    let fr = p.sections().friction.clone();
+    let sub_rows: Vec<usize> = fr.step_by(6).flat_map(|i| i..i + 3).collect();
+    let mut h = HeldSubproblem::new();
+    h.build(&p, &sub_rows, &g).unwrap();
+    assert_eq!(h.problem().coefficients_deferred(), (true, false));
+    assert_eq!(h.problem().n_rows(), sub_rows.len());
+    // a file without the rotations, or marking a triplet with entries frame-only, is
+    // refused naming the field
+    let mut no_rot = file.clone();
+    no_rot.rotations.clear();
+    let e = no_rot.to_problem().unwrap_err().to_string();
+    assert!(e.contains("frame.blocks") && e.contains("rotation"), "{e}");
+    let mut q = CcpProblem::new();
+    q.assemble(&vars, &explicit_rows_of(&bodies, &points), &k)
+        .unwrap();
+    let mut marked = ProblemFile::from_problem(&q, "explicit");
+    assert!(marked.frames.iter().all(|f| !f.only));
+    marked.frames[3].only = true;
+    let e = marked.to_problem().unwrap_err().to_string();
+    assert!(
+        e.contains("frames[3].only") && e.contains("no entries"),
+        "{e}"
+    );
 }

@@ -81,6 +81,8 @@ impl CcpProblem {
     ) -> Result<(usize, bool)> {
         self.deferred = false;
         self.lazy.take();
+        // (filled again by `load_frame_group` if the friction group has frame-only triplets)
+        self.only_of.clear();
         let all_only = all_frame_only(rows);
         let mut n_frame_coefs = 0;
         if k.len() != vars.ndof() {

@@ -14,11 +14,13 @@
 use std::io::{Read, Write};
 use std::path::Path;
 
-use nalgebra::Matrix3;
+use nalgebra::{Matrix3, Quaternion, UnitQuaternion};
 use serde::{Deserialize, Serialize};
 
 use super::problem::{CcpProblem, GROUP_ORDER, group_name};
-use super::rows::{ConstraintRows, ContactFrame, N_GROUPS, PER_BODY_ROWS, RowGroup, RowId};
+use super::rows::{
+    ConstraintRows, ContactFrame, FrameKind, N_GROUPS, PER_BODY_ROWS, RowGroup, RowId,
+};
 use super::variables::{BlockId, MassOperator, Variables};
 use crate::error::{ChronoError, Result};
 
@@ -126,6 +128,12 @@ pub struct ProblemFile {
     /// bit-for-bit the saved one; empty in files written before frames existed.
     #[serde(default)]
     pub frames: Vec<FrameData>,
+    /// The rotations of the blocks given with one
+    /// ([`Variables::add_oriented`](super::Variables::add_oriented)): block and unit
+    /// quaternion `(x, y, z, w)`, which frame-only triplets' rows are built from; empty in
+    /// files written before them.
+    #[serde(default)]
+    pub rotations: Vec<(u32, [f64; 4])>,
 }
 
 /// A stored [`ContactFrame`] of the friction triplet `triplet` (its index in the friction
@@ -140,6 +148,11 @@ pub struct FrameData {
     pub blocks: [Option<u32>; 2],
     /// Lever arms of A and B (world, m).
     pub arms: [[f64; 3]; 2],
+    /// A frame-only triplet (its rows have no entries: they are built from the frame and
+    /// the blocks' rotations, `ConstraintRows::push_friction_frame`); false in files
+    /// written before them.
+    #[serde(default)]
+    pub only: bool,
 }
 
 impl ProblemFile {
@@ -191,12 +204,20 @@ impl ProblemFile {
                 }
             })
             .collect();
-        let frames = (rows.groups[RowGroup::Friction as usize].frames.iter())
-            .map(|&(triplet, f)| FrameData {
+        let g = &rows.groups[RowGroup::Friction as usize];
+        let frames = (g.frames.iter().zip(&g.frame_kind))
+            .map(|(&(triplet, f), &kind)| FrameData {
                 triplet,
                 normal: f.normal,
                 blocks: f.blocks.map(|b| b.map(|b| b.0)),
                 arms: f.arms,
+                only: kind == FrameKind::Only,
+            })
+            .collect();
+        let rotations = (0..vars.len() as u32)
+            .filter_map(|b| {
+                let q = vars.rotation(BlockId(b))?;
+                Some((b, [q.i, q.j, q.k, q.w]))
             })
             .collect();
         Self {
@@ -206,6 +227,7 @@ impl ProblemFile {
             groups,
             k: problem.momentum().to_vec(),
             frames,
+            rotations,
         }
     }
 
@@ -218,6 +240,28 @@ impl ProblemFile {
                 format!("expected `{FORMAT_TAG}`"),
             ));
         }
+        let mut rotation = vec![None; self.masses.len()];
+        for (i, &(b, q)) in self.rotations.iter().enumerate() {
+            let slot = rotation.get_mut(b as usize).ok_or_else(|| {
+                ChronoError::invalid(
+                    format!("rotations[{i}].block"),
+                    b,
+                    format!("must name one of the {} variable blocks", self.masses.len()),
+                )
+            })?;
+            let norm = q.iter().map(|x| x * x).sum::<f64>().sqrt();
+            if !q.iter().all(|x| x.is_finite()) || (norm - 1.0).abs() > 1e-9 {
+                return Err(ChronoError::invalid(
+                    format!("rotations[{i}].quaternion"),
+                    format!("{q:?}"),
+                    "must be a finite unit quaternion",
+                ));
+            }
+            // (kept as stored, not renormalized: the same rows, bit for bit)
+            *slot = Some(UnitQuaternion::new_unchecked(Quaternion::new(
+                q[3], q[0], q[1], q[2],
+            )));
+        }
         let mut vars = Variables::new();
         for (i, m) in self.masses.iter().enumerate() {
             let op = match m {
@@ -229,7 +273,10 @@ impl ProblemFile {
                 MassData::Dense { ndof, matrix } => dense_block(*ndof, matrix),
             }
             .map_err(|e| ChronoError::invalid(format!("masses[{i}]"), e, "invalid mass"))?;
-            vars.add(op);
+            match rotation[i] {
+                Some(q) => vars.add_oriented(op, q),
+                None => vars.add(op),
+            };
         }
         // Five groups: a file from before the per-body rolling group (which is then empty).
         if self.groups.len() != N_GROUPS && self.groups.len() != N_GROUPS - 1 {
@@ -303,14 +350,34 @@ impl ProblemFile {
                 group: RowGroup::Friction,
                 index: 3 * f.triplet,
             };
-            rows.set_contact_frame(
-                id,
-                ContactFrame {
-                    normal: f.normal,
-                    blocks: f.blocks.map(|b| b.map(BlockId)),
-                    arms: f.arms,
-                },
-            );
+            let frame = ContactFrame {
+                normal: f.normal,
+                blocks: f.blocks.map(|b| b.map(BlockId)),
+                arms: f.arms,
+            };
+            if f.only {
+                // its rows are the frame's: they must have no entries of their own
+                let g = &rows.groups[RowGroup::Friction as usize];
+                let t = 3 * f.triplet as usize;
+                if g.row_ptr[t + 3] != g.row_ptr[t] {
+                    return Err(ChronoError::invalid(
+                        format!("frames[{i}].only"),
+                        true,
+                        "a frame-only triplet's rows must have no entries",
+                    ));
+                }
+                let before = rows.groups[RowGroup::Friction as usize].frames.len();
+                rows.push_frame(id, frame, FrameKind::Only);
+                if rows.groups[RowGroup::Friction as usize].frames.len() == before {
+                    return Err(ChronoError::invalid(
+                        format!("frames[{i}].triplet"),
+                        f.triplet,
+                        "frames must come in increasing triplet order",
+                    ));
+                }
+            } else {
+                rows.set_contact_frame(id, frame);
+            }
         }
         let mut p = CcpProblem::new();
         p.assemble(&vars, &rows, &self.k)?;
@@ -409,8 +476,14 @@ impl ProblemFile {
             }
         }
         write_f64s(w, &self.k)?;
-        // Frames: an optional trailing section (absent in older files).
-        if !self.frames.is_empty() {
+        // Frames: an optional trailing section (absent in older files); written (maybe
+        // empty) whenever the section after it is.
+        let frame_only: Vec<u32> = (self.frames.iter().enumerate())
+            .filter(|(_, f)| f.only)
+            .map(|(i, _)| i as u32)
+            .collect();
+        let second = !self.rotations.is_empty() || !frame_only.is_empty();
+        if !self.frames.is_empty() || second {
             w.write_all(&(self.frames.len() as u64).to_le_bytes())?;
             for f in &self.frames {
                 w.write_all(&f.triplet.to_le_bytes())?;
@@ -421,6 +494,19 @@ impl ProblemFile {
                     w.write_all(&x.to_le_bytes())?;
                 }
             }
+        }
+        // Rotations and frame-only triplets: a second optional section (absent in older
+        // files): the rotations (block, x, y, z, w), then the indices of the frame-only
+        // frames.
+        if second {
+            w.write_all(&(self.rotations.len() as u64).to_le_bytes())?;
+            for (b, q) in &self.rotations {
+                w.write_all(&b.to_le_bytes())?;
+                for x in q {
+                    w.write_all(&x.to_le_bytes())?;
+                }
+            }
+            write_u32s(w, &frame_only)?;
         }
         Ok(())
     }
@@ -509,12 +595,40 @@ impl ProblemFile {
                     blocks: [side(u[1]), side(u[2])],
                     normal: [v[0], v[1], v[2]],
                     arms: [[v[3], v[4], v[5]], [v[6], v[7], v[8]]],
+                    only: false,
                 });
+            }
+        }
+        let mut rotations = Vec::new();
+        if !r.is_empty() {
+            let n = read_len_of(r, 4 + 32).map_err(at("rotations.len()"))?;
+            for i in 0..n {
+                let field = || at(format!("rotations[{i}]"));
+                let mut b = [0u8; 4];
+                r.read_exact(&mut b).map_err(field())?;
+                let mut q = [0.0; 4];
+                for x in &mut q {
+                    *x = read_f64(r).map_err(field())?;
+                }
+                rotations.push((u32::from_le_bytes(b), q));
+            }
+            let nf = frames.len();
+            for (i, f) in read_u32s(r)
+                .map_err(at("frame_only"))?
+                .into_iter()
+                .enumerate()
+            {
+                let frame = frames.get_mut(f as usize).ok_or_else(|| {
+                    at(format!("frame_only[{i}]"))(std::io::Error::other(format!(
+                        "{f} is not one of the {nf} frames"
+                    )))
+                })?;
+                frame.only = true;
             }
         }
         if !r.is_empty() {
             return Err(std::io::Error::other(format!(
-                "{} bytes after the last field `frames`",
+                "{} bytes after the last field `frame_only`",
                 r.len()
             )));
         }
@@ -525,6 +639,7 @@ impl ProblemFile {
             groups,
             k,
             frames,
+            rotations,
         })
     }
 }

@@ -462,6 +462,8 @@ impl CcpProblem {
         let one = |(k, (d, rr)): (usize, (&mut [f64], &mut [f64]))| {
             let t = fs + 3 * k;
             let c = this.mf.of_triplet[k];
+            // (deferred: every triplet is matrix-free)
+            debug_assert_ne!(c, NONE, "triplet {k} is not matrix-free");
             let sc = this.mf_sphere_contact(c);
             let blk = sc.block_diagonal();
             let rel = sc.dots_in(&vw, 0);

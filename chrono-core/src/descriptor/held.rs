@@ -76,7 +76,13 @@ impl HeldSubproblem {
             if *m == 0 {
                 *m = self.blocks.len() as u32;
                 self.blocks.push(b as u32);
-                sub_vars.add(vars.mass(BlockId(b as u32)).clone());
+                let blk = BlockId(b as u32);
+                let mass = vars.mass(blk).clone();
+                // (a frame-only triplet's rows are built from its blocks' rotations)
+                match vars.rotation(blk) {
+                    Some(q) => sub_vars.add_oriented(mass, *q),
+                    None => sub_vars.add(mass),
+                };
             }
         }
         self.coupling.clear();

@@ -537,10 +537,9 @@ impl CcpProblem {
     /// Rebuild the rows this problem was assembled from (same groups, order, entries, `b`,
     /// `eps`, bounds and friction coefficients), e.g. to save it ([`super::ProblemFile`]) or
     /// to assemble a sub-problem. `assemble(variables(), &rows, momentum())` reproduces this
-    /// problem bit for bit, except a problem whose coefficients were deferred
-    /// ([`coefficients_deferred`](Self::coefficients_deferred)): the rows come back explicit
-    /// (the same coefficients, bit for bit), and `diag(N)` and `r`, which the deferred
-    /// problem took from the contacts' geometry, agree to rounding.
+    /// problem bit for bit (frame-only triplets come back as frame-only triplets, so a
+    /// problem whose coefficients were deferred is deferred again; the variables carry the
+    /// rotations they need).
     pub fn constraint_rows(&self) -> ConstraintRows {
         let mut rows = ConstraintRows::new();
         self.push_rows(0..self.n_rows, &mut rows);
@@ -583,8 +582,24 @@ impl CcpProblem {
                 rows.push_unilateral(&entries(i), self.b[i], self.eps[i]);
                 i += 1;
             } else if s.friction.contains(&i) {
-                let (e0, e1, e2) = (entries(i), entries(i + 1), entries(i + 2));
                 let k = (i - s.friction.start) / 3;
+                // A frame-only triplet goes back as one (its blocks renumbered), so that
+                // the rows assemble to the same problem, bit for bit.
+                if let Some(&f) = self.only_of.get(k).filter(|&&f| f != super::frames::NONE) {
+                    let mut frame = self.mf.frames[f as usize].1;
+                    for b in frame.blocks.iter_mut().flatten() {
+                        *b = block(b.0);
+                    }
+                    rows.push_friction_frame(
+                        self.mu[k],
+                        frame,
+                        [self.b[i], self.b[i + 1], self.b[i + 2]],
+                        [self.eps[i], self.eps[i + 1], self.eps[i + 2]],
+                    );
+                    i += 3;
+                    continue;
+                }
+                let (e0, e1, e2) = (entries(i), entries(i + 1), entries(i + 2));
                 let id = rows.push_friction(
                     self.mu[k],
                     [&e0, &e1, &e2],

@@ -282,7 +282,7 @@ impl ConstraintRows {
         row
     }
 
-    fn push_frame(&mut self, row: RowId, frame: ContactFrame, kind: FrameKind) {
+    pub(super) fn push_frame(&mut self, row: RowId, frame: ContactFrame, kind: FrameKind) {
         let g = &mut self.groups[RowGroup::Friction as usize];
         let k = row.index / 3;
         let in_order = g.frames.last().is_none_or(|&(last, _)| last < k);
