@@ -132,11 +132,20 @@ fn corrupt_files_are_errors_naming_the_problem() {
     f.groups[3].mu.pop();
     let e = f.to_problem().unwrap_err().to_string();
     assert!(e.contains("friction") && e.contains("mu"), "{e}");
+    // (the friction triplets are frame-only: their blocks are the frames')
     let mut f = ProblemFile::from_problem(&p, "x");
-    f.groups[3].ent_block[0] = 100_000;
+    assert!(f.groups[3].ent_block.is_empty() && f.frames.iter().all(|fr| fr.only));
+    f.frames[0].blocks[1] = Some(100_000);
     let e = f.to_problem().unwrap_err().to_string();
     assert!(
-        e.contains("friction") && e.contains("variable block"),
+        e.contains("frames[0].blocks") && e.contains("variable blocks"),
+        "{e}"
+    );
+    let mut f = ProblemFile::from_problem(&p, "x");
+    f.groups[5].ent_block[0] = 100_000;
+    let e = f.to_problem().unwrap_err().to_string();
+    assert!(
+        e.contains("rolling_per_body") && e.contains("variable block"),
         "{e}"
     );
     let mut f = ProblemFile::from_problem(&p, "x");
