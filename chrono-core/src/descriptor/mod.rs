@@ -21,6 +21,7 @@ mod cone;
 mod cone_simd;
 mod coupled;
 mod file;
+mod file_binary;
 #[cfg(test)]
 mod file_fuzz;
 mod frame_rows;
