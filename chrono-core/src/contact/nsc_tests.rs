@@ -373,6 +373,17 @@ fn frame_only_rows_need_oriented_blocks() {
         e.contains("rows.friction[") && e.contains("frame.blocks") && e.contains("rotation"),
         "{e}"
     );
+    // a non-finite rotation is named too
+    let mut vars = Variables::new();
+    let nan = UnitQuaternion::new_unchecked(nalgebra::Quaternion::new(f64::NAN, 0.0, 0.0, 0.0));
+    for b in bodies.iter().filter(|b| b.is_dynamic()) {
+        vars.add_oriented(b.mass_operator().unwrap(), nan);
+    }
+    let e = CcpProblem::new()
+        .assemble(&vars, &rows, &k)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("frame.blocks") && e.contains("finite"), "{e}");
 }
 
 #[test]

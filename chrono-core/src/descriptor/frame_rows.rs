@@ -87,13 +87,19 @@ fn frame_only_ok(offsets: &[u32], frame: &ContactFrame) -> bool {
             .all(|x| x.is_finite())
 }
 
+/// Has block `blk` a finite rotation (the rows of a frame-only triplet are built from it)?
+fn oriented(vars: &Variables, blk: BlockId) -> bool {
+    vars.rotation(blk)
+        .is_some_and(|q| q.coords.iter().all(|x| x.is_finite()))
+}
+
 /// Per block of `vars`: its first dof if it is a rigid body's (6 dof) with a rotation, else
 /// `NONE` (a compact table: the frames' checks and entries read it, not the blocks).
 fn oriented_offsets(vars: &Variables, out: &mut Vec<u32>) {
     out.clear();
     let one = |b: usize| {
         let blk = BlockId(b as u32);
-        let ok = vars.block_ndof(blk) == 6 && vars.rotation(blk).is_some();
+        let ok = vars.block_ndof(blk) == 6 && oriented(vars, blk);
         if ok { vars.offset(blk) as u32 } else { NONE }
     };
     if vars.len() >= PAR_MIN_TRIPLETS {
@@ -151,12 +157,12 @@ impl CcpProblem {
                     field: format!("{row}.blocks[{s}]"),
                 });
             }
-            if vars.block_ndof(blk) != 6 || vars.rotation(blk).is_none() {
+            if vars.block_ndof(blk) != 6 || !oriented(vars, blk) {
                 return Err(ChronoError::invalid(
                     format!("{row}.blocks[{s}]"),
                     b,
-                    "a frame-only triplet needs a rigid body's block with its rotation \
-                     (Variables::add_oriented)",
+                    "a frame-only triplet needs a rigid body's block with its rotation, \
+                     finite (Variables::add_oriented)",
                 ));
             }
         }
