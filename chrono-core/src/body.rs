@@ -248,12 +248,7 @@ impl RigidBody {
         p: &Vector3<f64>,
         dirs: &[Vector3<f64>; K],
     ) -> [[f64; 6]; K] {
-        let rinv = self.rotation.inverse();
-        let rb = rinv * (p - self.position);
-        dirs.map(|d| {
-            let a = rb.cross(&(rinv * d));
-            [d.x, d.y, d.z, a.x, a.y, a.z]
-        })
+        arm_jacobians(&self.rotation, &(p - self.position), dirs)
     }
 
     /// The 6 Jacobian coefficients of `a . w_world`: `[0; R' a]`.
@@ -538,6 +533,24 @@ impl RigidBodyBuilder {
             cached,
         })
     }
+}
+
+/// The rows `[d; (R' r) x (R' d)]` of the directions `dirs` at the world arm `r` (from the
+/// centre of mass to the point) of a rigid body with rotation `R`: the Jacobian of
+/// `d . (v + w x r)` with respect to `[v; w_body]` ([`RigidBody::point_jacobians`], and the
+/// frame-only contact rows built from their geometry: the same operations, so the same bits).
+#[inline]
+pub(crate) fn arm_jacobians<const K: usize>(
+    rotation: &UnitQuaternion<f64>,
+    arm: &Vector3<f64>,
+    dirs: &[Vector3<f64>; K],
+) -> [[f64; 6]; K] {
+    let rinv = rotation.inverse();
+    let rb = rinv * arm;
+    dirs.map(|d| {
+        let a = rb.cross(&(rinv * d));
+        [d.x, d.y, d.z, a.x, a.y, a.z]
+    })
 }
 
 #[cfg(test)]

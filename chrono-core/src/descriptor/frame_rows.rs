@@ -19,6 +19,7 @@ use super::frames::NONE;
 use super::problem::CcpProblem;
 use super::rows::{ConstraintRows, ContactFrame, FrameKind, GroupRows, RowGroup};
 use super::variables::{BlockId, Variables};
+use crate::body::arm_jacobians;
 use crate::error::{ChronoError, Result};
 use crate::parallel::split_parts;
 
@@ -37,20 +38,14 @@ pub(super) struct LazyCoefs {
 }
 
 /// The rows `n, u, w` of one side of a frame-only triplet on its rigid body's 6 dof:
-/// `[s d; (R' r) x (R' s d)]` — the operations of
-/// [`RigidBody::point_jacobians`](crate::RigidBody::point_jacobians), so the same bits as
-/// rows built from the body.
+/// `[s d; (R' r) x (R' s d)]` ([`arm_jacobians`], as
+/// [`RigidBody::point_jacobians`](crate::RigidBody::point_jacobians): the same bits as rows
+/// built from the body).
 #[inline]
 fn side_coefs(rot: &UnitQuaternion<f64>, arm: &[f64; 3], n: &[f64; 3], sign: f64) -> [[f64; 6]; 3] {
     let n = Vector3::from(*n);
     let (u, w) = crate::math::tangent_frame(&n);
-    let rinv = rot.inverse();
-    let rb = rinv * Vector3::from(*arm);
-    [n, u, w].map(|d| {
-        let d = d * sign;
-        let a = rb.cross(&(rinv * d));
-        [d.x, d.y, d.z, a.x, a.y, a.z]
-    })
+    arm_jacobians(rot, &Vector3::from(*arm), &[n, u, w].map(|d| d * sign))
 }
 
 /// The sides of `frame` with variables, in order (A, then B), with their signs.
