@@ -105,6 +105,9 @@ pub struct GranularParams {
     /// elimination, contacts by APGD) or `local-direct` (the rows around the heavy bodies
     /// by ADMM, the rest by APGD: the NSC heavy-on-light path).
     pub solver: String,
+    /// `local-direct` only: contact hops around the heavy bodies in the direct block
+    /// (`chrono_ccp::LocalDirectOptions::hops`).
+    pub local_hops: usize,
     /// Tire model: `rigid` (cylinders) or `ancf` (the pressurized shell carcass; NSC only:
     /// the SMC stepper does not take items' collision proxies).
     pub tire: TireKind,
@@ -138,6 +141,7 @@ impl Default for GranularParams {
             tolerance: 1e-3,
             max_iterations: 60,
             solver: "schur".into(),
+            local_hops: chrono_ccp::LocalDirectOptions::default().hops,
             tire: TireKind::Rigid,
             tire_damping: -1.0,
         }
@@ -197,6 +201,11 @@ impl CaseParams for GranularParams {
             "CCP solver: schur | local-direct | any of chrono_ccp::SOLVER_NAMES",
         ),
         ParamInfo::new(
+            "local_hops",
+            "-",
+            "local-direct: contact hops around the heavy bodies solved directly",
+        ),
+        ParamInfo::new(
             "tire",
             "-",
             "tire model: rigid | ancf (ancf needs method = nsc)",
@@ -241,7 +250,15 @@ fn run(p: &GranularParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         contact_method: method,
         ..SystemSettings::default()
     };
-    let solver = make_solver(&p.solver, p.tolerance, p.max_iterations)?;
+    let mut solver = make_solver(&p.solver, p.tolerance, p.max_iterations)?;
+    if p.solver == "local-direct" {
+        let options = chrono_ccp::LocalDirectOptions {
+            hops: p.local_hops,
+            ..chrono_ccp::LocalDirectOptions::default()
+        };
+        solver =
+            Box::new(chrono_ccp::LocalDirect::new(solver.settings().clone()).with_options(options));
+    }
     let mut sys = System::new(sys_settings, solver)?;
     anyhow::ensure!(
         p.tire != TireKind::Handling,
