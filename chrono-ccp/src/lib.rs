@@ -112,6 +112,7 @@ macro_rules! settings_builders {
 pub mod admm;
 pub mod apgd;
 pub mod bb;
+pub mod capture;
 pub mod cg;
 mod dense;
 pub mod error;
@@ -131,6 +132,7 @@ mod util;
 pub use admm::{Admm, AdmmOptions};
 pub use apgd::{Apgd, ApgdOptions};
 pub use bb::BarzilaiBorwein;
+pub use capture::{Capture, load_capture};
 pub use cg::{Cg, KrylovOptions, NotBilateral, check_bilateral, relative_residual};
 pub use chrono_core::descriptor::{CcpSolver, IterationRecord, SolveStats, SolverSettings};
 pub use error::CcpError;

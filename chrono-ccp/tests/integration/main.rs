@@ -6,6 +6,7 @@ mod analytic;
 mod apgd_fused;
 mod apsor;
 mod bilateral;
+mod capture;
 mod cone;
 mod coulomb;
 mod determinism;

@@ -108,6 +108,10 @@ pub struct GranularParams {
     /// `local-direct` only: contact hops around the heavy bodies in the direct block
     /// (`chrono_ccp::LocalDirectOptions::hops`).
     pub local_hops: usize,
+    /// Solves (counted from 0, the bed's settling included) whose problem and warm start
+    /// are saved to the case's output directory as `capture_n.ccpb` / `capture_n.warm`
+    /// (`chrono_ccp::Capture`; replay with `chrono-ccp`'s example `replay_step`).
+    pub capture: Vec<usize>,
     /// Tire model: `rigid` (cylinders) or `ancf` (the pressurized shell carcass; NSC only:
     /// the SMC stepper does not take items' collision proxies).
     pub tire: TireKind,
@@ -142,6 +146,7 @@ impl Default for GranularParams {
             max_iterations: 60,
             solver: "schur".into(),
             local_hops: chrono_ccp::LocalDirectOptions::default().hops,
+            capture: Vec::new(),
             tire: TireKind::Rigid,
             tire_damping: -1.0,
         }
@@ -206,6 +211,11 @@ impl CaseParams for GranularParams {
             "local-direct: contact hops around the heavy bodies solved directly",
         ),
         ParamInfo::new(
+            "capture",
+            "-",
+            "solves whose problem and warm start are saved (capture_n.* in the output directory)",
+        ),
+        ParamInfo::new(
             "tire",
             "-",
             "tire model: rigid | ancf (ancf needs method = nsc)",
@@ -258,6 +268,13 @@ fn run(p: &GranularParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         };
         solver =
             Box::new(chrono_ccp::LocalDirect::new(solver.settings().clone()).with_options(options));
+    }
+    if !p.capture.is_empty() {
+        let prefix = ctx.out_dir.join("capture");
+        solver = Box::new(
+            chrono_ccp::Capture::new(solver, &p.capture, &prefix)
+                .map_err(|e| anyhow::anyhow!("parameter `capture`: {}: {e}", prefix.display()))?,
+        );
     }
     let mut sys = System::new(sys_settings, solver)?;
     anyhow::ensure!(
