@@ -34,7 +34,7 @@ impl Capture {
         prefix: impl AsRef<Path>,
     ) -> std::io::Result<Self> {
         let prefix = prefix.as_ref().to_path_buf();
-        let probe = with_suffix(&prefix, "probe");
+        let probe = appended(&prefix, "_probe");
         std::fs::write(&probe, b"")?;
         std::fs::remove_file(&probe)?;
         let mut at = at.to_vec();
@@ -55,29 +55,20 @@ impl Capture {
     }
 
     fn save(&self, n: usize, problem: &CcpProblem, gamma: &[f64]) -> chrono_core::Result<()> {
-        let base = with_suffix(&self.prefix, &n.to_string());
+        let base = appended(&self.prefix, &format!("_{n}"));
         ProblemFile::save_problem(
             problem,
             &format!("capture: solve {n} of {}", self.inner.name()),
             appended(&base, ".ccpb"),
         )?;
         let bytes: Vec<u8> = gamma.iter().flat_map(|x| x.to_le_bytes()).collect();
-        std::fs::write(appended(&base, ".warm"), bytes).map_err(|e| {
-            chrono_core::ChronoError::InvalidParameter {
-                field: "capture warm start".into(),
-                value: base.display().to_string(),
-                reason: e.to_string(),
-            }
+        let warm = appended(&base, ".warm");
+        std::fs::write(&warm, bytes).map_err(|e| chrono_core::ChronoError::InvalidParameter {
+            field: "capture warm start".into(),
+            value: warm.display().to_string(),
+            reason: e.to_string(),
         })
     }
-}
-
-/// `PREFIX_s` as a path (the suffix joined to the file name with `_`).
-fn with_suffix(prefix: &Path, s: &str) -> PathBuf {
-    let mut name = prefix.file_name().unwrap_or_default().to_os_string();
-    name.push("_");
-    name.push(s);
-    prefix.with_file_name(name)
 }
 
 /// `base` with `tail` appended to its file name (not `with_extension`, which would cut a
