@@ -14,8 +14,8 @@
 //! ```
 //!
 //! Environment: `SOLVER` (a `chrono_ccp::SOLVER_NAMES` name, default `local-direct`),
-//! `TOL` (1e-3 m/s), `CAP` (60), `HOPS` and `RELAX` (local-direct's `hops` and
-//! `admm_relaxation`), `REPS` (3), `HEAVY_KG` (10), `REF` (set: compare with the reference).
+//! `TOL` (1e-3 m/s), `CAP` (60), `HOPS`, `RELAX` and `FAR` (local-direct's `hops`,
+//! `admm_relaxation` and `far_solver`: `apgd` or `apsor`), `REPS` (3), `HEAVY_KG` (10), `REF` (set: compare with the reference).
 
 use std::time::Instant;
 
@@ -29,7 +29,29 @@ fn env<T: std::str::FromStr>(name: &str, default: T) -> T {
         .unwrap_or(default)
 }
 
-fn solver() -> Box<dyn CcpSolver> {
+/// The solver; local-direct kept by type so its local block's size can be reported.
+enum Solver {
+    Local(Box<LocalDirect>),
+    Other(Box<dyn CcpSolver>),
+}
+
+impl Solver {
+    fn solve(&mut self, p: &CcpProblem, g: &mut [f64]) -> chrono_ccp::SolveStats {
+        match self {
+            Solver::Local(s) => s.solve(p, g),
+            Solver::Other(s) => s.solve(p, g),
+        }
+    }
+
+    fn local_rows(&self) -> Option<usize> {
+        match self {
+            Solver::Local(s) => Some(s.local_rows().len()),
+            Solver::Other(_) => None,
+        }
+    }
+}
+
+fn solver() -> Solver {
     let settings = SolverSettings {
         tolerance: env("TOL", 1e-3),
         max_iterations: env("CAP", 60),
@@ -41,11 +63,13 @@ fn solver() -> Box<dyn CcpSolver> {
         let options = LocalDirectOptions {
             hops: env("HOPS", d.hops),
             admm_relaxation: env("RELAX", d.admm_relaxation),
+            far_solver: chrono_ccp::FarSolver::from_name(&env("FAR", "apgd".to_string()))
+                .expect("FAR: apgd or apsor"),
             ..d
         };
-        Box::new(LocalDirect::new(settings).with_options(options))
+        Solver::Local(Box::new(LocalDirect::new(settings).with_options(options)))
     } else {
-        chrono_ccp::by_name(&name, settings).expect("SOLVER")
+        Solver::Other(chrono_ccp::by_name(&name, settings).expect("SOLVER"))
     }
 }
 
@@ -109,13 +133,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             .is_ok()
             .then(|| reference(base, &p, &warm));
         let heavy = heavy_dofs(&p, env("HEAVY_KG", 10.0));
-        let (mut best, mut g, mut stats) = (f64::INFINITY, Vec::new(), None);
+        let (mut best, mut g, mut stats, mut local) = (f64::INFINITY, Vec::new(), None, None);
         for _ in 0..reps.max(1) {
             let mut s = solver();
             g = warm.clone();
             let t = Instant::now();
             stats = Some(s.solve(&p, &mut g));
             best = best.min(t.elapsed().as_secs_f64());
+            local = s.local_rows();
         }
         let st = stats.expect("one solve");
         let mut work = CcpWork::default();
@@ -128,8 +153,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             p.minv_d(&e, &mut dv);
             heavy.iter().map(|&k| dv[k].abs()).fold(0.0, f64::max)
         });
+        let local = local.map_or(String::new(), |n| format!(" ({n} local)"));
         println!(
-            "{base}: {} rows, {} iterations, residual {:.3e}, objective {:.9e}, heavy dv {dv:.2e}, best {:.1} ms",
+            "{base}: {} rows{local}, {} iterations, residual {:.3e}, objective {:.9e}, heavy dv {dv:.2e}, best {:.1} ms",
             p.n_rows(),
             st.iterations,
             st.residual,

@@ -137,7 +137,7 @@ pub use cg::{Cg, KrylovOptions, NotBilateral, check_bilateral, relative_residual
 pub use chrono_core::descriptor::{CcpSolver, IterationRecord, SolveStats, SolverSettings};
 pub use error::CcpError;
 pub use jacobi::{Jacobi, JacobiOptions};
-pub use local_direct::{LocalDirect, LocalDirectOptions};
+pub use local_direct::{FarSolver, LocalDirect, LocalDirectOptions};
 pub use minres::Minres;
 pub use psor::{Psor, PsorOptions, TripletStep};
 pub use schur::Schur;

@@ -30,13 +30,16 @@
 //!          g_F <- APGD( N_FF g_F + r_F + N_FL g_L ), a few iterations
 //! ```
 //!
+//! (or accelerated PSOR on the far block: [`LocalDirectOptions::far_solver`]).
+//!
 //! Block Gauss–Seidel on a convex QP over a product of cones (each block's feasible set a
 //! product of the rows' cones) decreases the objective at each block solve and converges
 //! (Tseng, "Convergence of a block coordinate descent method for nondifferentiable
 //! minimization", J. Optim. Theory Appl. 109(3), 2001). The sweep always ends with the local
 //! solve, so the heavy bodies' rows are exact for the far impulses returned.
 //!
-//! Without heavy bodies the problem goes to APGD unchanged (same result bit for bit); when
+//! Without heavy bodies the problem goes to the far solver unchanged (same result bit for
+//! bit); when
 //! every row is local, to ADMM. Cost: `settings.max_iterations` caps the APGD iterations
 //! summed over the sweeps; `apply_n` counts the far APGD products, one full gradient per
 //! sweep, and the local ADMM products scaled by the local block's share of the rows.
@@ -48,7 +51,7 @@ use chrono_core::descriptor::{
 use serde::{Deserialize, Serialize};
 
 use crate::util::{check_gamma_len, empty_stats, final_stats, sanitize_and_project};
-use crate::{Admm, AdmmOptions, Apgd};
+use crate::{Admm, AdmmOptions, Apgd, Psor};
 
 /// Options of [`LocalDirect`] beyond the common [`SolverSettings`].
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -74,6 +77,38 @@ pub struct LocalDirectOptions {
     /// ADMM (1) stays the default of [`Admm`] itself, which it does not help on the heavy
     /// box stack.
     pub admm_relaxation: f64,
+    /// The far block's iterative solver (also the whole problem's when no body is heavy).
+    /// Default [`FarSolver::Apgd`].
+    pub far_solver: FarSolver,
+}
+
+/// The iterative solver of [`LocalDirect`]'s far block.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum FarSolver {
+    /// Accelerated projected gradient ([`Apgd`]).
+    Apgd,
+    /// Accelerated projected SOR ([`Psor::accelerated`]: sweeps over the cone blocks with
+    /// momentum and a stall restart), the granular pour's fastest solver (issue 23).
+    Apsor,
+}
+
+impl FarSolver {
+    /// By name: `apgd` or `apsor`.
+    pub fn from_name(name: &str) -> Option<Self> {
+        match name {
+            "apgd" => Some(Self::Apgd),
+            "apsor" => Some(Self::Apsor),
+            _ => None,
+        }
+    }
+
+    fn make(self, settings: SolverSettings) -> Box<dyn CcpSolver> {
+        match self {
+            Self::Apgd => Box::new(Apgd::new(settings)),
+            Self::Apsor => Box::new(Psor::accelerated(settings)),
+        }
+    }
 }
 
 impl Default for LocalDirectOptions {
@@ -85,6 +120,7 @@ impl Default for LocalDirectOptions {
             far_iterations: 20,
             local_iterations: 500,
             admm_relaxation: 1.6,
+            far_solver: FarSolver::Apgd,
         }
     }
 }
@@ -102,7 +138,7 @@ pub struct LocalDirect {
     settings: SolverSettings,
     options: LocalDirectOptions,
     local_solver: Admm,
-    far_solver: Apgd,
+    far_solver: Box<dyn CcpSolver>,
     local: Vec<usize>,
     far: Vec<usize>,
     /// The two blocks' sub-problems, assembled once per solve and updated per sweep.
@@ -126,7 +162,7 @@ impl LocalDirect {
         let options = LocalDirectOptions::default();
         Self {
             local_solver: local_admm(sub_settings.clone(), &options),
-            far_solver: Apgd::new(sub_settings),
+            far_solver: options.far_solver.make(sub_settings.clone()),
             settings,
             options,
             local: Vec::new(),
@@ -147,6 +183,9 @@ impl LocalDirect {
     /// If `admm_relaxation` is outside `(0, 2)` (as [`Admm::with_options`]): a caller's bug.
     pub fn with_options(mut self, options: LocalDirectOptions) -> Self {
         self.local_solver = local_admm(self.local_solver.settings().clone(), &options);
+        if options.far_solver != self.options.far_solver {
+            self.far_solver = options.far_solver.make(self.far_solver.settings().clone());
+        }
         self.options = options;
         self
     }
@@ -310,7 +349,7 @@ impl LocalDirect {
         let solver: &mut dyn CcpSolver = if local {
             &mut self.local_solver
         } else {
-            &mut self.far_solver
+            self.far_solver.as_mut()
         };
         let st = solver.settings_mut();
         st.max_iterations = cap;

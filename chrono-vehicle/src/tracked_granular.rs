@@ -28,7 +28,7 @@
 //! let patch = GranularPatchParams {
 //!     length: 6.0, width: 3.0, depth: 0.16, grain_radius: 0.04, density: 2500.0,
 //!     friction: 0.8, young_modulus: 2e7, restitution: 0.3, rolling_friction: 0.2, compliance: 0.0,
-//!     slab: 0.6, seed: 7,
+//!     slab: 0.6, seed: 7, lanes: Vec::new(),
 //! };
 //! let settings = SystemSettings { contact_method: ContactMethod::Smc, ..Default::default() };
 //! let solver = Box::new(chrono_ccp::Schur::new(Default::default()));
@@ -305,6 +305,7 @@ mod tests {
             compliance: 0.0,
             slab: 0.6,
             seed: 7,
+            lanes: Vec::new(),
         }
     }
 

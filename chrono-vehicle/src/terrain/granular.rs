@@ -9,10 +9,33 @@
 //! ahead is always an undisturbed settled bed (not the rutted slab the wheels left behind).
 //! The box's floor and side walls are planes along X, so moving the container forward by
 //! the slab length changes only its front and rear walls.
+//!
+//! With `lanes`, the bed is one strip of `width` under each wheel track, each between its
+//! own side walls, and nothing between them: for small grains this is a fraction of the
+//! full-width bed (the HMMWV's 0.5 m lanes are 38 % of its 2.6 m patch).
+//!
+//! ```
+//! use chrono_core::{System, SystemSettings};
+//! use chrono_vehicle::terrain::{GranularPatch, GranularPatchParams};
+//!
+//! let params = GranularPatchParams {
+//!     length: 2.0, width: 0.5, depth: 0.1, grain_radius: 0.02, density: 2500.0,
+//!     friction: 0.8, young_modulus: 2e7, restitution: 0.3, rolling_friction: 0.2,
+//!     compliance: 0.0, slab: 0.2, seed: 7,
+//!     lanes: vec![-0.91, 0.91], // under the HMMWV's wheels
+//! };
+//! let solver = chrono_ccp::Apgd::new(chrono_ccp::SolverSettings::default());
+//! let mut sys = System::new(SystemSettings::default(), Box::new(solver))?;
+//! let patch = GranularPatch::build(&mut sys, &params, -1.0)?;
+//! // Step the system to settle the bed, then `patch.capture_settled(&sys)?` and, as the
+//! // vehicle drives, `patch.advance(&mut sys, x)?`.
+//! println!("{} grains in two lanes", patch.grains().len());
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
 
 use chrono_core::granular::{LatticeFill, Region, add_box_container, add_grains};
-use chrono_core::math::{UnitQuaternion, Vector3};
-use chrono_core::{BodyHandle, ContactMaterial, System};
+use chrono_core::math::{Isometry3, UnitQuaternion, Vector3};
+use chrono_core::{BodyHandle, ContactMaterial, RigidBodyBuilder, Shape, System};
 use serde::{Deserialize, Serialize};
 
 use crate::error::{Result, VehicleError, check_positive};
@@ -58,6 +81,12 @@ pub struct GranularPatchParams {
     pub slab: f64,
     /// Seed of the lattice jitter.
     pub seed: u64,
+    /// Lanes: the Y of each lane's centre line, m. Empty (the default): one bed of
+    /// `width` centred on `y = 0`. Otherwise one bed of `width` per lane, each between its
+    /// own side walls, and nothing between the lanes: strips under the wheel tracks, so a
+    /// bed of small grains costs only the ground the tires can reach.
+    #[serde(default)]
+    pub lanes: Vec<f64>,
 }
 
 fn default_restitution() -> f64 {
@@ -99,6 +128,31 @@ impl GranularPatchParams {
                 ),
             ));
         }
+        let mut sorted = self.lanes.clone();
+        sorted.sort_by(f64::total_cmp);
+        for (k, &c) in self.lanes.iter().enumerate() {
+            if !c.is_finite() {
+                return Err(VehicleError::invalid(
+                    &format!("granular_patch.lanes[{k}]"),
+                    c,
+                    "must be finite",
+                ));
+            }
+        }
+        for pair in sorted.windows(2) {
+            // Two side walls between neighbouring lanes.
+            let needed = self.width + 2.0 * self.lane_wall_thickness();
+            if pair[1] - pair[0] < needed {
+                return Err(VehicleError::invalid(
+                    "granular_patch.lanes",
+                    format!("{:?}", self.lanes),
+                    format!(
+                        "lanes {} and {} m overlap: centres must be at least width plus two walls ({needed} m) apart",
+                        pair[0], pair[1]
+                    ),
+                ));
+            }
+        }
         if self.depth < 4.0 * self.grain_radius {
             return Err(VehicleError::invalid(
                 "granular_patch.depth",
@@ -111,6 +165,24 @@ impl GranularPatchParams {
 }
 
 impl GranularPatchParams {
+    /// Thickness of a lane's side walls, m: four grain radii, at least 2 cm (thick against
+    /// a grain's travel in one step, so no grain passes through).
+    pub fn lane_wall_thickness(&self) -> f64 {
+        (4.0 * self.grain_radius).max(0.02)
+    }
+
+    /// The lanes' `(low y, high y)` spans, m: the one bed `[-width/2, width/2]` without
+    /// lanes.
+    pub fn lane_spans(&self) -> Vec<(f64, f64)> {
+        if self.lanes.is_empty() {
+            vec![(-0.5 * self.width, 0.5 * self.width)]
+        } else {
+            (self.lanes.iter())
+                .map(|&c| (c - 0.5 * self.width, c + 0.5 * self.width))
+                .collect()
+        }
+    }
+
     /// Check that a vehicle whose front tires reach `front_reach` m ahead of its
     /// reference point ([`front_reach`](crate::scene::front_reach)), set down with its
     /// reference in the middle of the patch, stays clear of the front wall until the first
@@ -149,8 +221,9 @@ pub struct GranularPatch {
 }
 
 impl GranularPatch {
-    /// Fill a box `[rear, rear + length] x [-width/2, width/2]` on the floor `z = 0` with a
-    /// jittered lattice of grains (they fall and settle when the system steps).
+    /// Fill a box `[rear, rear + length] x [-width/2, width/2]` on the floor `z = 0` (or one
+    /// such box of `width` around each of `lanes`) with a jittered lattice of grains (they
+    /// fall and settle when the system steps).
     pub fn build(sys: &mut System, params: &GranularPatchParams, rear: f64) -> Result<Self> {
         params.validate()?;
         let p = params;
@@ -161,22 +234,32 @@ impl GranularPatch {
             young_modulus: p.young_modulus,
             ..ContactMaterial::with_friction(p.friction)
         };
-        let lower = Vector3::new(rear, -0.5 * p.width, 0.0);
-        let upper = Vector3::new(rear + p.length, 0.5 * p.width, p.depth);
-        let fill = LatticeFill {
-            region: Region::Box { lower, upper },
-            r_min: p.grain_radius,
-            r_max: p.grain_radius,
-            gap: 0.05 * p.grain_radius,
-            jitter: 0.5,
-            max_count: usize::MAX,
-            seed: p.seed,
+        let spans = p.lane_spans();
+        let mut sites = Vec::new();
+        for (k, &(y0, y1)) in spans.iter().enumerate() {
+            let fill = LatticeFill {
+                region: Region::Box {
+                    lower: Vector3::new(rear, y0, 0.0),
+                    upper: Vector3::new(rear + p.length, y1, p.depth),
+                },
+                r_min: p.grain_radius,
+                r_max: p.grain_radius,
+                gap: 0.05 * p.grain_radius,
+                jitter: 0.5,
+                max_count: usize::MAX,
+                seed: p.seed.wrapping_add(k as u64),
+            };
+            sites.extend(fill.generate()?);
+        }
+        let container = if p.lanes.is_empty() {
+            // The walls are taller than the bed so grains thrown up by the wheels stay in.
+            let lower = Vector3::new(rear, -0.5 * p.width, 0.0);
+            let top = Vector3::new(rear + p.length, 0.5 * p.width, 10.0 * p.depth + 1.0);
+            add_box_container(sys, "granular patch", lower, top, material)?
+        } else {
+            add_lane_container(sys, p, rear, &spans, material)?
         };
-        let grains = fill.generate()?;
-        // The walls are taller than the bed so grains thrown up by the wheels stay in.
-        let top = Vector3::new(upper.x, upper.y, 10.0 * p.depth + 1.0);
-        let container = add_box_container(sys, "granular patch", lower, top, material)?;
-        let grains = add_grains(sys, &grains, p.density, material)?;
+        let grains = add_grains(sys, &sites, p.density, material)?;
         let n = grains.len();
         Ok(Self {
             params: p.clone(),
@@ -312,4 +395,43 @@ impl GranularPatch {
     pub fn params(&self) -> &GranularPatchParams {
         &self.params
     }
+}
+
+/// The lanes' container: one fixed body with the floor `z = 0` and the rear and front walls
+/// as half-spaces (they span every lane) and two box walls beside each lane, as tall as
+/// the box container's (grains thrown up by the wheels stay in their lane).
+fn add_lane_container(
+    sys: &mut System,
+    p: &GranularPatchParams,
+    rear: f64,
+    spans: &[(f64, f64)],
+    material: ContactMaterial,
+) -> Result<BodyHandle> {
+    let mut b = RigidBodyBuilder::fixed().name("granular patch");
+    for (normal, at) in [
+        (Vector3::z(), Vector3::new(rear, 0.0, 0.0)),
+        (Vector3::x(), Vector3::new(rear, 0.0, 0.0)),
+        (-Vector3::x(), Vector3::new(rear + p.length, 0.0, 0.0)),
+    ] {
+        b = b.collider(
+            Shape::HalfSpace { normal },
+            Isometry3::translation(at.x, at.y, at.z),
+            material,
+        );
+    }
+    let t = p.lane_wall_thickness();
+    let height = 10.0 * p.depth + 1.0;
+    // The walls reach a thickness past the front and rear walls, so no grain slips
+    // between a side wall's end and a half-space.
+    let half = Vector3::new(0.5 * p.length + t, 0.5 * t, 0.5 * height);
+    for &(y0, y1) in spans {
+        for y in [y0 - 0.5 * t, y1 + 0.5 * t] {
+            b = b.collider(
+                Shape::Box { half_extents: half },
+                Isometry3::translation(rear + 0.5 * p.length, y, 0.5 * height),
+                material,
+            );
+        }
+    }
+    Ok(sys.add_body(b)?)
 }

@@ -269,6 +269,24 @@ mod tests {
         assert!(g.bead_angle > 0.5 * std::f64::consts::PI);
     }
 
+    /// The section width is the carcass' widest axial extent: the undeformed mesh's
+    /// outer surface spans it.
+    #[test]
+    fn the_section_width_is_the_meshs_axial_extent() {
+        let d = AncfTireData::hmmwv();
+        let w = crate::tire::Tire::Ancf(d.clone()).section_width();
+        let g = d.geometry(Vector3::zeros()).unwrap();
+        // Sample the section circle from bead to bead: its widest point, plus the shell.
+        let widest = (0..=1000)
+            .map(|k| {
+                let a = -g.bead_angle + 2.0 * g.bead_angle * k as f64 / 1000.0;
+                2.0 * g.section_radius * a.sin().abs()
+            })
+            .fold(0.0, f64::max);
+        assert!((w - (widest + d.thickness)).abs() < 1e-6, "{w} vs {widest}");
+        assert!(w > d.rim_width, "the carcass bulges past its rim: {w}");
+    }
+
     #[test]
     fn the_inflated_tire_has_the_mass_and_about_the_size() {
         let mut d = AncfTireData::hmmwv();

@@ -92,6 +92,29 @@ impl Tire {
         }
     }
 
+    /// Section width, m: the widest axial extent of the tire (a rigid or handling tire's
+    /// `width`; an ANCF carcass' section circle where it bulges past its beads, plus the
+    /// carcass thickness).
+    pub fn section_width(&self) -> f64 {
+        match self {
+            Tire::Rigid(t) => t.width,
+            Tire::TMeasy(p) => p.width,
+            Tire::Ancf(a) => {
+                let bulge = a
+                    .geometry(Vector3::zeros())
+                    .map(|g| {
+                        if g.bead_angle > std::f64::consts::FRAC_PI_2 {
+                            2.0 * g.section_radius
+                        } else {
+                            a.rim_width
+                        }
+                    })
+                    .unwrap_or(a.rim_width);
+                bulge + a.thickness
+            }
+        }
+    }
+
     /// Tire mass, kg (a part of the vehicle's mass: on the wheel body for a rigid or
     /// handling tire, in the carcass' own nodes for an ANCF tire).
     pub fn mass(&self) -> f64 {

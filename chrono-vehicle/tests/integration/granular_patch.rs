@@ -19,6 +19,7 @@ fn params() -> GranularPatchParams {
         compliance: 0.0,
         slab: 0.2,
         seed: 3,
+        lanes: Vec::new(),
     }
 }
 
@@ -87,4 +88,66 @@ fn bad_patch_parameters_name_the_field() {
             .to_string()
             .contains("grain_radius")
     );
+}
+
+/// Two lanes: grains only inside the lanes (between their side walls) after settling and
+/// after a relocation, nothing between them, the count kept.
+#[test]
+fn lanes_hold_their_grains_and_relocate() {
+    let s = SolverSettings {
+        tolerance: 1e-4,
+        max_iterations: 200,
+        record_history: false,
+    };
+    let mut sys = System::new(SystemSettings::default(), Box::new(Apgd::new(s))).unwrap();
+    let p = GranularPatchParams {
+        width: 0.24,
+        // A tall, slippery bed: without its side walls it spreads.
+        depth: 0.4,
+        friction: 0.1,
+        lanes: vec![-0.3, 0.3],
+        ..params()
+    };
+    let mut patch = GranularPatch::build(&mut sys, &p, -0.6).unwrap();
+    let n = patch.grains().len();
+    let inside = |sys: &System, patch: &GranularPatch| -> (usize, usize) {
+        let mut count = [0usize; 2];
+        for &g in patch.grains() {
+            let y = sys.body(g).unwrap().position().y;
+            let k = usize::from(y > 0.0);
+            let c = p.lanes[k];
+            assert!(
+                (y - c).abs() <= 0.5 * p.width - p.grain_radius + 1e-6,
+                "grain at y = {y} outside lane {c}"
+            );
+            count[k] += 1;
+        }
+        (count[0], count[1])
+    };
+    let (a, b) = inside(&sys, &patch);
+    assert!(a > 10 && a == b, "lanes hold {a} and {b} grains");
+    for _ in 0..300 {
+        sys.step(2e-3).unwrap();
+    }
+    inside(&sys, &patch);
+    patch.capture_settled(&sys).unwrap();
+    assert!(patch.surface() > 0.0 && patch.surface() < p.depth + 0.01);
+    assert_eq!(patch.advance(&mut sys, 0.35).unwrap(), 1);
+    for _ in 0..100 {
+        sys.step(2e-3).unwrap();
+    }
+    let (a, b) = inside(&sys, &patch);
+    assert_eq!(a + b, n);
+    assert!(a > 10 && b > 10, "after the relocation {a} and {b}");
+}
+
+#[test]
+fn overlapping_or_bad_lanes_are_refused() {
+    let mut p = params();
+    p.lanes = vec![0.0, 0.3];
+    let e = p.validate().unwrap_err().to_string();
+    assert!(e.contains("granular_patch.lanes"), "{e}");
+    p.lanes = vec![0.0, f64::NAN];
+    let e = p.validate().unwrap_err().to_string();
+    assert!(e.contains("granular_patch.lanes[1]"), "{e}");
 }

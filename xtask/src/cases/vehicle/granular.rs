@@ -59,12 +59,18 @@ pub struct GranularParams {
     pub mu: f64,
     /// Grain density, kg/m^3.
     pub grain_density: f64,
+    /// Young's modulus of the grains (SMC Hertz contact; NSC ignores it), Pa.
+    pub grain_young_modulus: f64,
     /// Patch length (X), m.
     pub patch_length: f64,
     /// Patch width (Y), m.
     pub patch_width: f64,
     /// Bed depth before settling, m.
     pub depth: f64,
+    /// Width of the two lanes of grains under the wheel tracks, m (`GranularPatchParams::
+    /// lanes`, centred on the wheels); 0 = one bed of `patch_width`. A bed of small grains
+    /// then costs only the ground the tires reach.
+    pub lane_width: f64,
     /// Distance to drive, m.
     pub distance: f64,
     /// Target speed, m/s.
@@ -108,6 +114,9 @@ pub struct GranularParams {
     /// `local-direct` only: contact hops around the heavy bodies in the direct block
     /// (`chrono_ccp::LocalDirectOptions::hops`).
     pub local_hops: usize,
+    /// `local-direct` only: the far block's solver, `apgd` or `apsor`
+    /// (`chrono_ccp::LocalDirectOptions::far_solver`).
+    pub far_solver: String,
     /// Solves (counted from 0, the bed's settling included) whose problem and warm start
     /// are saved to the case's output directory as `capture_n.ccpb` / `capture_n.warm`
     /// (`chrono_ccp::Capture`; replay with `chrono-ccp`'s example `replay_step`).
@@ -126,9 +135,11 @@ impl Default for GranularParams {
             grain_diameter: 0.08,
             mu: 0.8,
             grain_density: 2500.0,
+            grain_young_modulus: 2e7,
             patch_length: 7.0,
             patch_width: 2.6,
             depth: 0.24,
+            lane_width: 0.0,
             distance: 20.0,
             speed: 2.0,
             initial_speed: 2.0,
@@ -146,6 +157,7 @@ impl Default for GranularParams {
             max_iterations: 60,
             solver: "schur".into(),
             local_hops: chrono_ccp::LocalDirectOptions::default().hops,
+            far_solver: "apgd".into(),
             capture: Vec::new(),
             tire: TireKind::Rigid,
             tire_damping: -1.0,
@@ -158,9 +170,19 @@ impl CaseParams for GranularParams {
         ParamInfo::new("grain_diameter", "m", "grain diameter"),
         ParamInfo::new("mu", "-", "friction coefficient of grains, walls and tires"),
         ParamInfo::new("grain_density", "kg/m^3", "grain density"),
+        ParamInfo::new(
+            "grain_young_modulus",
+            "Pa",
+            "grain Young's modulus (SMC Hertz contact)",
+        ),
         ParamInfo::new("patch_length", "m", "length of the moving patch"),
         ParamInfo::new("patch_width", "m", "width of the patch"),
         ParamInfo::new("depth", "m", "bed depth before settling"),
+        ParamInfo::new(
+            "lane_width",
+            "m",
+            "width of a lane of grains under each wheel track (0 = one bed of patch_width)",
+        ),
         ParamInfo::new("distance", "m", "distance to drive"),
         ParamInfo::new("speed", "m/s", "target speed of the speed controller"),
         ParamInfo::new("initial_speed", "m/s", "speed the vehicle starts at"),
@@ -209,6 +231,11 @@ impl CaseParams for GranularParams {
             "local_hops",
             "-",
             "local-direct: contact hops around the heavy bodies solved directly",
+        ),
+        ParamInfo::new(
+            "far_solver",
+            "-",
+            "local-direct: the far block's solver, apgd | apsor",
         ),
         ParamInfo::new(
             "capture",
@@ -262,8 +289,15 @@ fn run(p: &GranularParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     };
     let mut solver = make_solver(&p.solver, p.tolerance, p.max_iterations)?;
     if p.solver == "local-direct" {
+        let far_solver = chrono_ccp::FarSolver::from_name(&p.far_solver).ok_or_else(|| {
+            anyhow::anyhow!(
+                "parameter `far_solver` = {}: expected apgd or apsor",
+                p.far_solver
+            )
+        })?;
         let options = chrono_ccp::LocalDirectOptions {
             hops: p.local_hops,
+            far_solver,
             ..chrono_ccp::LocalDirectOptions::default()
         };
         solver =
@@ -291,19 +325,43 @@ fn run(p: &GranularParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         lock_differentials(&mut data, p.diff_lock_torque)?;
     }
     let radius = data.wheel.tire.radius();
+    let lanes = if p.lane_width > 0.0 {
+        // The tire and two grains either side of it must fit in a lane.
+        let needed = data.wheel.tire.section_width() + 4.0 * p.grain_diameter;
+        anyhow::ensure!(
+            p.lane_width >= needed,
+            "parameter `lane_width` = {} m: a lane must hold the tire ({} m wide) and two grains either side ({needed} m)",
+            p.lane_width,
+            data.wheel.tire.section_width()
+        );
+        let y = wheel_track_half_width(&data);
+        vec![-y, y]
+    } else {
+        anyhow::ensure!(
+            p.lane_width == 0.0,
+            "parameter `lane_width` must be 0 (one bed) or > 0, got {}",
+            p.lane_width
+        );
+        Vec::new()
+    };
     let patch_params = GranularPatchParams {
         length: p.patch_length,
-        width: p.patch_width,
+        width: if lanes.is_empty() {
+            p.patch_width
+        } else {
+            p.lane_width
+        },
         depth: p.depth,
         grain_radius: 0.5 * p.grain_diameter,
         density: p.grain_density,
         friction: p.mu,
-        young_modulus: chrono_core::ContactMaterial::default().young_modulus,
+        young_modulus: p.grain_young_modulus,
         restitution: 0.3,
         rolling_friction: p.rolling_friction,
         compliance: p.compliance,
         slab: (0.1 * p.patch_length).max(2.0 * p.grain_diameter),
         seed: 7,
+        lanes,
     };
     let mut patch = GranularPatch::build(&mut sys, &patch_params, -0.5 * p.patch_length)?;
     let n_settle = n_steps(p.h, p.settle)?;
@@ -470,6 +528,13 @@ pub fn case() -> Box<dyn Case> {
         "HMMWV holding 2 m/s with a speed controller on a moving granular patch (SMC grains by default): mean speed within 10 %, grains bounded over the distance.",
         run,
     )
+}
+
+/// Half the wheel track, m: the largest `|y|` of the axles' spindle points.
+fn wheel_track_half_width(data: &chrono_vehicle::VehicleData) -> f64 {
+    (data.axles.iter())
+        .map(|a| a.suspension.points.spindle[1].abs())
+        .fold(0.0, f64::max)
 }
 
 /// Grains whose centre lies inside an ANCF carcass

@@ -339,6 +339,7 @@ fn run(p: &M113GranularParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         compliance: 0.0,
         slab: (0.1 * p.patch_length).max(2.0 * p.grain_diameter),
         seed: 7,
+        lanes: Vec::new(),
     };
     let settings = SystemSettings {
         contact_method: p.method,
