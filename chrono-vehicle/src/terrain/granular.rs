@@ -133,7 +133,7 @@ impl GranularPatchParams {
         for (k, &c) in self.lanes.iter().enumerate() {
             if !c.is_finite() {
                 return Err(VehicleError::invalid(
-                    &format!("granular_patch.lanes[{k}]"),
+                    format!("granular_patch.lanes[{k}]"),
                     c,
                     "must be finite",
                 ));
