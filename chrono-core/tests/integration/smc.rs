@@ -158,6 +158,57 @@ fn rolling_resistance_decelerates_at_five_sevenths_mu_r_g() {
     );
 }
 
+/// The rolling resistance's limiter (`|M_r| <= I |w_r| / h`) makes it a viscous torque
+/// below its cap, so it cannot hold a static moment: a sphere on a slope with `tan(theta)
+/// < mu_r` (which the rigid-limit model, NSC's rolling rows, holds at rest) rolls down
+/// steadily at the fixed point `M_r = m g sin(theta) R = I w / h`, i.e. `v = w R = 5/2 g
+/// sin(theta) h`: a creep proportional to the step (docs/validation-vehicle.md, "Small
+/// grains in lanes"; under a loaded tire the moment, and the creep, are hundreds of times
+/// larger).
+#[test]
+fn rolling_resistance_below_its_cap_creeps_at_five_halves_g_sin_theta_h() {
+    let (r, mu_r, g, theta) = (0.01, 0.1, crate::common::g(), 0.05_f64);
+    let mat = ContactMaterial::smc(1e7, 0.3, 0.8, 0.5).with_rolling_friction(mu_r);
+    let mut speeds = Vec::new();
+    let mut steps = Vec::new();
+    for divide in [5.0, 10.0] {
+        let settings = SystemSettings {
+            gravity: Vector3::new(g * theta.sin(), 0.0, -g * theta.cos()),
+            envelope: 0.0,
+            contact_method: ContactMethod::Smc,
+            ..SystemSettings::default()
+        };
+        let mut sys =
+            System::new(settings, Box::new(Apgd::new(SolverSettings::default()))).unwrap();
+        plate(&mut sys, mat);
+        let b = ball(&mut sys, r, r, Vector3::zeros(), mat);
+        let h = sys.smc_max_step().unwrap().0 / divide;
+        for _ in 0..(0.05 / h) as usize {
+            sys.step(h).unwrap();
+        }
+        let x0 = sys.body(b).unwrap().position().x;
+        let t0 = sys.time();
+        for _ in 0..(0.2 / h) as usize {
+            sys.step(h).unwrap();
+        }
+        let v = (sys.body(b).unwrap().position().x - x0) / (sys.time() - t0);
+        let expect = 2.5 * g * theta.sin() * h;
+        assert!(
+            (v - expect).abs() < 0.05 * expect,
+            "h = {h}: creep {v} m/s vs {expect}"
+        );
+        speeds.push(v);
+        steps.push(h);
+    }
+    // Proportional to the step.
+    let ratio = speeds[1] / speeds[0];
+    assert!(
+        (ratio - steps[1] / steps[0]).abs() < 0.05,
+        "creep ratio {ratio} for a step ratio {}",
+        steps[1] / steps[0]
+    );
+}
+
 #[test]
 fn smc_runs_are_deterministic() {
     let run = || {
