@@ -17,10 +17,6 @@ fn settings(tolerance: f64, max_iterations: usize) -> SolverSettings {
     }
 }
 
-fn forced_split(tolerance: f64) -> LocalDirect {
-    forced_split_with(tolerance, FarSolver::Apgd)
-}
-
 fn forced_split_with(tolerance: f64, far_solver: FarSolver) -> LocalDirect {
     LocalDirect::new(settings(tolerance, 200_000)).with_options(LocalDirectOptions {
         heavy_ratio: 1.0,
@@ -30,44 +26,39 @@ fn forced_split_with(tolerance: f64, far_solver: FarSolver) -> LocalDirect {
     })
 }
 
+/// The forced split with the far solver `far` on the random problem of `seed`: converged,
+/// complementary, and APGD's objective.
+fn check_forced_split(seed: u64, far: FarSolver) -> Result<(), TestCaseError> {
+    let problem = random_problem(seed).unwrap();
+    let mut s = forced_split_with(1e-11, far);
+    let mut g = vec![0.0; problem.n_rows()];
+    let stats = s.solve(&problem, &mut g);
+    prop_assert!(stats.converged, "{stats:?}");
+    if let Err(e) = check_complementarity(&problem, &g, 1e-9) {
+        return Err(TestCaseError::fail(format!("{e}\ngamma = {g:?}")));
+    }
+    let mut ga = vec![0.0; problem.n_rows()];
+    let sa = Apgd::new(settings(1e-11, 200_000)).solve(&problem, &mut ga);
+    prop_assert!(sa.converged);
+    let (f, fa) = (objective(&problem, &g), objective(&problem, &ga));
+    prop_assert!((f - fa).abs() <= 1e-8 * (1.0 + fa.abs()), "{f} vs {fa}");
+    prop_assert!((f - stats.objective).abs() <= 1e-12 * (1.0 + f.abs()));
+    Ok(())
+}
+
 proptest! {
     #![proptest_config(ProptestConfig { cases: 256, ..ProptestConfig::default() })]
 
     #[test]
     fn forced_split_satisfies_complementarity_and_matches_apgd(seed in any::<u64>()) {
-        let problem = random_problem(seed).unwrap();
-        let mut s = forced_split(1e-11);
-        let mut g = vec![0.0; problem.n_rows()];
-        let stats = s.solve(&problem, &mut g);
-        prop_assert!(stats.converged, "{stats:?}");
-        if let Err(e) = check_complementarity(&problem, &g, 1e-9) {
-            return Err(TestCaseError::fail(format!("{e}\ngamma = {g:?}")));
-        }
-        let mut ga = vec![0.0; problem.n_rows()];
-        let sa = Apgd::new(settings(1e-11, 200_000)).solve(&problem, &mut ga);
-        prop_assert!(sa.converged);
-        let (f, fa) = (objective(&problem, &g), objective(&problem, &ga));
-        prop_assert!((f - fa).abs() <= 1e-8 * (1.0 + fa.abs()), "{f} vs {fa}");
-        prop_assert!((f - stats.objective).abs() <= 1e-12 * (1.0 + f.abs()));
+        check_forced_split(seed, FarSolver::Apgd)?;
     }
 
     /// The same with accelerated PSOR on the far block: the block Gauss-Seidel's answer
     /// does not depend on the far block's solver.
     #[test]
     fn forced_split_with_apsor_far_satisfies_complementarity_and_matches_apgd(seed in any::<u64>()) {
-        let problem = random_problem(seed).unwrap();
-        let mut s = forced_split_with(1e-11, FarSolver::Apsor);
-        let mut g = vec![0.0; problem.n_rows()];
-        let stats = s.solve(&problem, &mut g);
-        prop_assert!(stats.converged, "{stats:?}");
-        if let Err(e) = check_complementarity(&problem, &g, 1e-9) {
-            return Err(TestCaseError::fail(format!("{e}\ngamma = {g:?}")));
-        }
-        let mut ga = vec![0.0; problem.n_rows()];
-        let sa = Apgd::new(settings(1e-11, 200_000)).solve(&problem, &mut ga);
-        prop_assert!(sa.converged);
-        let (f, fa) = (objective(&problem, &g), objective(&problem, &ga));
-        prop_assert!((f - fa).abs() <= 1e-8 * (1.0 + fa.abs()), "{f} vs {fa}");
+        check_forced_split(seed, FarSolver::Apsor)?;
     }
 }
 
