@@ -14,13 +14,16 @@
 //! time, grains, kinetic energy, top), `--compare FILE` (rank 0 checks the grain count of
 //! every step exactly and the kinetic energy and top within `--tol`, default 1e-9
 //! relative; exit status 1 on a mismatch), `--skin S` (the Verlet skin in grain radii,
-//! 0.5), `--rebalance K` (cuts moved every K rebuilds). Each rank prints its counters at
+//! 0.5), `--rebalance K` (cuts moved every K rebuilds), `--rolling-friction MU` (0),
+//! `--spring` (the rolling spring, `RollingModel::Spring`, whose angle the ranks exchange
+//! with the tangential history). Each rank prints its counters at
 //! the end. A rank whose step fails prints the error and exits with status 1.
 
 use std::io::Write;
 use std::time::Instant;
 
 use chrono_ccp::{Apgd, SolverSettings};
+use chrono_core::contact::smc::RollingModel;
 use chrono_core::distributed::granular::{GrainRankSettings, GrainRanks, GrainSummary};
 use chrono_core::distributed::{MpiTransport, Transport};
 use chrono_core::granular::KickedBox;
@@ -35,6 +38,8 @@ struct Args {
     tol: f64,
     skin: f64,
     rebalance: u32,
+    rolling_friction: f64,
+    spring: bool,
 }
 
 fn args() -> Args {
@@ -48,6 +53,8 @@ fn args() -> Args {
         tol: 1e-9,
         skin: d.skin_radii,
         rebalance: d.rebalance_every,
+        rolling_friction: 0.0,
+        spring: false,
     };
     let v: Vec<String> = std::env::args().skip(1).collect();
     let val = |i: usize| -> String {
@@ -70,6 +77,12 @@ fn args() -> Args {
                 i += 1;
                 continue;
             }
+            "--spring" => {
+                r.spring = true;
+                i += 1;
+                continue;
+            }
+            "--rolling-friction" => r.rolling_friction = num(val(i), "--rolling-friction"),
             "--grains" => r.grains = num(val(i), "--grains") as usize,
             "--steps" => r.steps = num(val(i), "--steps") as usize,
             "--out" => r.out = Some(val(i)),
@@ -90,10 +103,17 @@ fn args() -> Args {
 fn scene(a: &Args) -> Result<(System, f64)> {
     // 6 x 14 pitches across; long enough for the grains in the lower 10 layers
     let across = 6 * 10;
+    let d = KickedBox::default();
     KickedBox {
         grains: a.grains,
         pitches: [a.grains.div_ceil(across).max(8), 6, 14],
-        ..KickedBox::default()
+        material: d.material.with_rolling_friction(a.rolling_friction),
+        rolling_model: if a.spring {
+            RollingModel::Spring
+        } else {
+            RollingModel::Relative
+        },
+        ..d
     }
     .build(Box::new(Apgd::new(SolverSettings::default())))
 }

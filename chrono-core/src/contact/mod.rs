@@ -12,4 +12,6 @@ mod nsc_plain;
 #[cfg(test)]
 mod nsc_tests;
 pub mod smc;
+#[cfg(test)]
+mod smc_tests;
 mod sorted_map;

@@ -31,6 +31,9 @@
 //! bounded by `|g_a| <= mu_r g_n`, `|g_b| <= mu_r g_n`; the spinning rows stay relative. A
 //! side without variables (fixed or kinematic body) leaves its three rows empty: the
 //! resistance acts on the moving body only, and not against a kinematic body's own spin.
+//!
+//! [`RollingModel::Spring`] (SMC's elastic-plastic rolling spring) gets the relative rows:
+//! they already hold a static moment up to `mu_r R g_n`, the spring's rigid limit.
 
 use nalgebra::Vector3;
 use rayon::prelude::*;

@@ -63,7 +63,32 @@
 //!   heap of 400 grains at `mu_r = 0.02` then collapsed to 7 degrees at the SMC step limit
 //!   and stood at 16 degrees at `h = 1e-5` s (measured while this was written).
 //!
-//! The spinning torque `mu_s R F_n` about the normal opposes the relative spin in both.
+//! - [`RollingModel::Spring`]: an elastic-plastic rolling spring with a dashpot on the
+//!   relative rolling rotation (Ai et al. 2011, "model type C"). The contact stores its
+//!   rolling angle `theta_r` (rad, world, in the tangent plane; rotated into the current
+//!   tangent plane like `xi`, magnitude kept) and advances it by `w_r h`; the spring moment
+//!   `M_k = -k_r theta_r`, `k_r = 2.25 S_n mu_r^2 R^2` (`S_n` the normal contact
+//!   stiffness), is capped at `mu_r R F_n` (then `theta_r = -M_k / k_r`, no wind-up, and
+//!   the dashpot is off, Ai's `f = 0`); below the cap the dashpot adds `-C_r w_r`,
+//!   `C_r = 2 eta_r sqrt(I_r k_r)` with `eta_r` = [`SmcSettings::rolling_damping_ratio`]
+//!   and `I_r` the pair's effective inertia about the contact point
+//!   ([`SmcPair::rolling_inertia`]). Unlike the two models above it holds a static moment
+//!   below the cap: a sphere on a slope steeper than its rolling resistance angle rolls, on
+//!   a gentler one it stops (a couple: angular momentum is conserved). The relative model's
+//!   limiter instead leaves a steady creep `w_r = tau h / I` under a held moment `tau`,
+//!   which grows as `1/d^2` for grains of diameter `d`. The explicit step bounds both
+//!   coefficients: `k_r <= I (0.5 / h)^2` and `C_r <= 0.25 I / h` with `I` the centroidal
+//!   effective inertia ([`MAX_ROLLING_OMEGA_H`], [`MAX_ROLLING_DAMPING_H`]). They bind only
+//!   where the contact radius is large against the body (a flat contact of a small box,
+//!   `R` = `flat_contact_radius`), not for spheres (`k_r h^2 / I` is at most
+//!   `5.6 mu_r^2 (omega_n h)^2`, a sphere on a plane, with `omega_n h` ~ 0.3 at the step
+//!   limit).
+//!
+//! For NSC contact `Spring` acts as `Relative`: the rolling rows are rigid-plastic, the
+//! spring's limit of infinite stiffness.
+//!
+//! The spinning torque `mu_s R F_n` about the normal opposes the relative spin in all
+//! three, with the limiter.
 
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
@@ -102,6 +127,9 @@ pub enum RollingModel {
     Relative,
     /// Each body's own angular velocity (Zhou et al. 1999, 2002).
     PerBody,
+    /// An elastic-plastic spring-dashpot on the relative rolling rotation (Ai et al. 2011,
+    /// model type C; SMC only, NSC treats it as [`RollingModel::Relative`]).
+    Spring,
 }
 
 /// Settings of SMC contact.
@@ -126,6 +154,10 @@ pub struct SmcSettings {
     /// the sphere pairs are searched again only after a sphere moved more than half of
     /// it. The contacts do not depend on it (only the cost does); 0 searches every step.
     pub grid_skin: f64,
+    /// Damping ratio `eta_r` of the rolling spring's dashpot ([`RollingModel::Spring`]):
+    /// `C_r = 2 eta_r sqrt(I_r k_r)`. 0.3 is the value Ai et al. (Powder Technol. 206,
+    /// 2011) use in their tests of model type C.
+    pub rolling_damping_ratio: f64,
 }
 
 impl Default for SmcSettings {
@@ -136,6 +168,7 @@ impl Default for SmcSettings {
             min_steps_per_contact: 10.0,
             flat_contact_radius: 1.0,
             grid_skin: 0.25,
+            rolling_damping_ratio: 0.3,
         }
     }
 }
@@ -147,6 +180,7 @@ impl SmcSettings {
         check_positive("smc.min_steps_per_contact", self.min_steps_per_contact)?;
         check_positive("smc.flat_contact_radius", self.flat_contact_radius)?;
         crate::error::check_non_negative("smc.grid_skin", self.grid_skin)?;
+        crate::error::check_non_negative("smc.rolling_damping_ratio", self.rolling_damping_ratio)?;
         Ok(())
     }
 }
@@ -158,8 +192,12 @@ pub struct SmcPair {
     pub radius: f64,
     /// Effective mass `m` (kg).
     pub mass: f64,
-    /// Effective rotational inertia for the rolling limiter (kg m^2).
+    /// Effective rotational inertia for the rolling and spinning limiters (kg m^2).
     pub inertia: f64,
+    /// Effective rolling inertia about the contact point for the rolling spring's dashpot
+    /// (kg m^2): `1 / sum_i 1/(I_i + m_i d_i^2)`, `d_i` the distance of body `i`'s centre of
+    /// mass from the contact point (Ai et al. 2011; [`RollingModel::Spring`] only).
+    pub rolling_inertia: f64,
     /// Effective Young's modulus `E*` (Pa).
     pub young: f64,
     /// Effective shear modulus `G*` (Pa).
@@ -174,6 +212,18 @@ pub struct SmcPair {
     pub spinning_friction: f64,
     /// The rolling resistance model.
     pub rolling_model: RollingModel,
+    /// The rolling spring's damping ratio `eta_r` ([`SmcSettings::rolling_damping_ratio`]).
+    pub rolling_damping: f64,
+}
+
+/// The history of one persistent SMC contact, carried from step to step.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct SmcHistory {
+    /// Tangential displacement `xi` (m, world).
+    pub tangential: Vector3<f64>,
+    /// Rolling angle `theta_r` of [`RollingModel::Spring`] (rad, world; 0 for the other
+    /// models).
+    pub rolling: Vector3<f64>,
 }
 
 /// The kinematics of one contact at the current step.
@@ -206,8 +256,8 @@ pub struct SmcForce {
     /// not turn, and for the relative model); sum per body and apply with
     /// [`per_body_rolling_torque`].
     pub rolling: [f64; 2],
-    /// The updated tangential displacement `xi` (m, world) to store for the next step.
-    pub history: Vector3<f64>,
+    /// The updated history to store for the next step.
+    pub history: SmcHistory,
 }
 
 /// One SMC contact of the last step (for output and measurements).
@@ -275,15 +325,36 @@ pub fn contact_duration(model: SmcModel, pair: &SmcPair, v: f64) -> f64 {
     }
 }
 
-/// The force of one contact, updating its tangential history `xi` (see the module docs).
-/// `v_c` is the characteristic speed (Hooke stiffness), `h` the step (s). Pure function.
+/// The rolling spring's stiffness is capped at `I (w h / h)^2` with this `w h` (`I` the
+/// pair's centroidal effective inertia, [`SmcPair::inertia`]): the explicit step needs
+/// `omega h < 2` for the sum of a body's contacts, so 0.5 holds for up to 16 binding ones.
+pub const MAX_ROLLING_OMEGA_H: f64 = 0.5;
+
+/// The rolling dashpot's coefficient is capped at this fraction of `I / h`: the explicit
+/// step needs `C h / I < 2` for the sum of a body's contacts.
+pub const MAX_ROLLING_DAMPING_H: f64 = 0.25;
+
+/// Rotate a stored history vector into the tangent plane of `n`, keeping its length.
+#[inline]
+fn into_tangent_plane(v: &Vector3<f64>, n: &Vector3<f64>) -> Vector3<f64> {
+    let mut t = v - n * v.dot(n);
+    let (len0, len1) = (v.norm(), t.norm());
+    if len1 > 0.0 {
+        t *= len0 / len1;
+    }
+    t
+}
+
+/// The force of one contact, updating its history (tangential displacement `xi`, rolling
+/// angle; see the module docs). `v_c` is the characteristic speed (Hooke stiffness), `h` the
+/// step (s). Pure function.
 #[inline]
 pub fn contact_force(
     model: SmcModel,
     pair: &SmcPair,
     v_c: f64,
     kin: &SmcKinematics,
-    history: &Vector3<f64>,
+    history: &SmcHistory,
     h: f64,
 ) -> SmcForce {
     let n = kin.normal;
@@ -294,7 +365,7 @@ pub fn contact_force(
             force: Vector3::zeros(),
             torque: Vector3::zeros(),
             rolling: [0.0; 2],
-            history: Vector3::zeros(),
+            history: SmcHistory::default(),
         };
     }
     let vr = kin.relative_velocity;
@@ -310,11 +381,7 @@ pub fn contact_force(
         SmcModel::Hooke => 2.0 / 7.0 * s_n,
     };
     let c_t = c_n * (k_t / s_n).sqrt();
-    let mut xi = history - n * history.dot(&n);
-    let (len0, len1) = (history.norm(), xi.norm());
-    if len1 > 0.0 {
-        xi *= len0 / len1;
-    }
+    let mut xi = into_tangent_plane(&history.tangential, &n);
     xi += vt * h;
     let mut f_t = -k_t * xi - c_t * vt;
     let cap = pair.friction * f_n;
@@ -328,12 +395,38 @@ pub fn contact_force(
     // per-body rolling model, the magnitudes of each body's own torque.
     let mut torque = Vector3::zeros();
     let mut rolling = [0.0; 2];
+    let mut theta = Vector3::zeros();
     if (pair.rolling_friction > 0.0 || pair.spinning_friction > 0.0) && f_n > 0.0 {
         let w = kin.angular_velocity_b - kin.angular_velocity_a;
         let ws = n * w.dot(&n);
         let full = pair.rolling_friction * pair.radius * f_n;
         let couples = match pair.rolling_model {
             RollingModel::Relative => [(full, w - ws), (pair.spinning_friction, ws)],
+            RollingModel::Spring
+                if pair.rolling_friction > 0.0 && pair.rolling_inertia.is_finite() =>
+            {
+                let wr = w - ws;
+                theta = into_tangent_plane(&history.rolling, &n) + wr * h;
+                // Only as stiff and damped as the step resolves: a flat contact (`R` =
+                // `flat_contact_radius`) of a small body would exceed both at the normal
+                // law's step. Against the centroidal inertia: a body's contacts add up
+                // about its centre.
+                let k_r = (2.25 * s_n * (pair.rolling_friction * pair.radius).powi(2))
+                    .min((MAX_ROLLING_OMEGA_H / h).powi(2) * pair.inertia);
+                let mut m_k = -k_r * theta;
+                let len = m_k.norm();
+                if len > full {
+                    m_k *= full / len;
+                    theta = -m_k / k_r;
+                    torque += m_k;
+                } else {
+                    let c_r = (2.0 * pair.rolling_damping * (pair.rolling_inertia * k_r).sqrt())
+                        .min(MAX_ROLLING_DAMPING_H * pair.inertia / h);
+                    torque += m_k - c_r * wr;
+                }
+                [(0.0, Vector3::zeros()), (pair.spinning_friction, ws)]
+            }
+            RollingModel::Spring => [(0.0, Vector3::zeros()), (pair.spinning_friction, ws)],
             RollingModel::PerBody => {
                 for (k, omega) in [kin.angular_velocity_a, kin.angular_velocity_b]
                     .iter()
@@ -360,7 +453,10 @@ pub fn contact_force(
         force: n * f_n + f_t,
         torque,
         rolling,
-        history: xi,
+        history: SmcHistory {
+            tangential: xi,
+            rolling: theta,
+        },
     }
 }
 
@@ -471,169 +567,4 @@ fn bisect_damping(model: SmcModel, e: f64) -> f64 {
         }
     }
     0.5 * (lo + hi)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn pair(alpha: f64) -> SmcPair {
-        SmcPair {
-            radius: 0.01,
-            mass: 0.01,
-            inertia: 1e-7,
-            young: 1e7,
-            shear: 4e6,
-            alpha,
-            friction: 0.5,
-            rolling_friction: 0.0,
-            spinning_friction: 0.0,
-            rolling_model: RollingModel::Relative,
-        }
-    }
-
-    #[test]
-    fn undamped_contacts_are_elastic() {
-        for m in [SmcModel::Hooke, SmcModel::Hertz] {
-            assert!((restitution_of_damping(m, 0.0) - 1.0).abs() < 1e-6, "{m:?}");
-        }
-    }
-
-    #[test]
-    fn linear_model_matches_closed_form_for_light_damping() {
-        // Without the clamp, e = exp(-pi zeta / sqrt(1 - zeta^2)), zeta = alpha / 2. The
-        // clamp only acts at the end of the contact, where the force is small for light
-        // damping, so the two agree to ~1e-3 at zeta = 0.05.
-        let alpha = 0.1;
-        let zeta: f64 = alpha / 2.0;
-        let closed = (-std::f64::consts::PI * zeta / (1.0 - zeta * zeta).sqrt()).exp();
-        let e = restitution_of_damping(SmcModel::Hooke, alpha);
-        assert!((e - closed).abs() < 5e-3 && e > closed, "{e} {closed}");
-    }
-
-    #[test]
-    fn damping_mapping_round_trips() {
-        for m in [SmcModel::Hooke, SmcModel::Hertz] {
-            for e in [0.1, 0.5, 0.9] {
-                let a = damping_for_restitution(m, e).unwrap();
-                assert!((restitution_of_damping(m, a) - e).abs() < 1e-6, "{m:?} {e}");
-            }
-        }
-        assert!(damping_for_restitution(SmcModel::Hertz, 1.5).is_err());
-    }
-
-    #[test]
-    fn coulomb_cap_and_history_reset() {
-        let p = pair(0.0);
-        let kin = SmcKinematics {
-            normal: Vector3::z(),
-            overlap: 1e-5,
-            relative_velocity: Vector3::new(1.0, 0.0, 0.0),
-            angular_velocity_a: Vector3::zeros(),
-            angular_velocity_b: Vector3::zeros(),
-        };
-        let f = contact_force(SmcModel::Hertz, &p, 1.0, &kin, &Vector3::zeros(), 1e-3);
-        let ft = f.force - Vector3::z() * f.normal;
-        assert!((ft.norm() - 0.5 * f.normal).abs() < 1e-12 * f.normal);
-        assert!(ft.x < 0.0);
-        // The stored displacement carries exactly the capped force.
-        let kt = 8.0 * p.shear * (p.radius * kin.overlap).sqrt();
-        assert!((f.history * -kt - ft).norm() < 1e-12 * f.normal);
-    }
-
-    #[test]
-    fn history_is_rotated_into_the_tangent_plane() {
-        let p = pair(0.0);
-        let n = Vector3::new(0.0, 0.6, 0.8);
-        let kin = SmcKinematics {
-            normal: n,
-            overlap: 1e-4,
-            relative_velocity: Vector3::zeros(),
-            angular_velocity_a: Vector3::zeros(),
-            angular_velocity_b: Vector3::zeros(),
-        };
-        let xi0 = Vector3::new(1e-7, 0.0, 0.0) + Vector3::new(0.0, 1e-7, 0.0);
-        let f = contact_force(SmcModel::Hertz, &p, 1.0, &kin, &xi0, 1e-3);
-        assert!(f.history.dot(&n).abs() < 1e-20);
-        assert!((f.history.norm() - xi0.norm()).abs() < 1e-18);
-    }
-
-    #[test]
-    fn rolling_torque_opposes_rolling_and_is_limited() {
-        let mut p = pair(0.0);
-        p.rolling_friction = 0.1;
-        let kin = SmcKinematics {
-            normal: Vector3::z(),
-            overlap: 1e-4,
-            relative_velocity: Vector3::zeros(),
-            angular_velocity_a: Vector3::zeros(),
-            angular_velocity_b: Vector3::new(0.0, 2.0, 0.0),
-        };
-        let f = contact_force(SmcModel::Hooke, &p, 1.0, &kin, &Vector3::zeros(), 1e-4);
-        assert!(f.torque.y < 0.0 && f.torque.x == 0.0);
-        let full = 0.1 * p.radius * f.normal;
-        assert!(f.torque.norm() <= full * (1.0 + 1e-12));
-        let tiny = SmcKinematics {
-            angular_velocity_b: Vector3::new(0.0, 1e-9, 0.0),
-            ..kin
-        };
-        let f = contact_force(SmcModel::Hooke, &p, 1.0, &tiny, &Vector3::zeros(), 1e-4);
-        assert!((f.torque.y + p.inertia * 1e-9 / 1e-4).abs() < 1e-20);
-    }
-    #[test]
-    fn relative_rolling_is_a_couple_and_ignores_a_common_rotation() {
-        let mut p = pair(0.0);
-        p.rolling_friction = 0.1;
-        let mut kin = SmcKinematics {
-            normal: Vector3::z(),
-            overlap: 1e-4,
-            relative_velocity: Vector3::zeros(),
-            angular_velocity_a: Vector3::new(0.0, -1.0, 0.0),
-            angular_velocity_b: Vector3::new(0.0, 1.0, 0.0),
-        };
-        let f = contact_force(SmcModel::Hooke, &p, 1.0, &kin, &Vector3::zeros(), 1e-6);
-        let full = 0.1 * p.radius * f.normal;
-        assert!((f.torque.y + full).abs() < 1e-12 * full && f.rolling == [0.0; 2]);
-        kin.angular_velocity_a = kin.angular_velocity_b;
-        let f = contact_force(SmcModel::Hooke, &p, 1.0, &kin, &Vector3::zeros(), 1e-6);
-        assert!(f.torque == Vector3::zeros());
-    }
-
-    #[test]
-    fn per_body_rolling_opposes_each_bodys_own_rotation() {
-        let mut p = pair(0.0);
-        p.rolling_friction = 0.1;
-        p.rolling_model = RollingModel::PerBody;
-        // Two grains turning together: each gets the full magnitude, no couple.
-        let w = Vector3::new(0.0, 3.0, 4.0);
-        let kin = SmcKinematics {
-            normal: Vector3::z(),
-            overlap: 1e-4,
-            relative_velocity: Vector3::zeros(),
-            angular_velocity_a: w,
-            angular_velocity_b: w,
-        };
-        let f = contact_force(SmcModel::Hooke, &p, 1.0, &kin, &Vector3::zeros(), 1e-6);
-        let full = 0.1 * p.radius * f.normal;
-        assert!(f.torque == Vector3::zeros());
-        assert!(f.rolling.iter().all(|m| (m - full).abs() < 1e-12 * full));
-        let t = per_body_rolling_torque(&w, f.rolling[1], 1e-7, 1e-6);
-        assert!((t + w.normalize() * full).norm() < 1e-12 * full);
-        // A body at rest (a grain on a fixed plane) gets none; the turning one the same
-        // torque as from the relative model.
-        let on_plane = SmcKinematics {
-            angular_velocity_a: Vector3::zeros(),
-            angular_velocity_b: Vector3::new(0.0, 2.0, 0.0),
-            ..kin
-        };
-        let f = contact_force(SmcModel::Hooke, &p, 1.0, &on_plane, &Vector3::zeros(), 1e-6);
-        p.rolling_model = RollingModel::Relative;
-        let g = contact_force(SmcModel::Hooke, &p, 1.0, &on_plane, &Vector3::zeros(), 1e-6);
-        let t = per_body_rolling_torque(&on_plane.angular_velocity_b, f.rolling[1], 1.0, 1e-6);
-        assert!(f.rolling[0] == 0.0 && (t - g.torque).norm() < 1e-12 * full);
-        // The limit applies to the sum: three contacts cannot reverse the rotation.
-        let tiny = Vector3::new(1e-9, 0.0, 0.0);
-        let t = per_body_rolling_torque(&tiny, 3.0 * full, 1e-7, 1e-4);
-        assert!((t.x + 1e-7 * 1e-9 / 1e-4).abs() < 1e-22 && t.y == 0.0);
-    }
 }

@@ -44,6 +44,7 @@ use nalgebra::{Isometry3, Matrix3, Quaternion, Translation3, UnitQuaternion, Vec
 use super::{Slabs, Transport};
 use crate::body::{BodyHandle, BodyMotion, RigidBody, RigidBodyBuilder};
 use crate::collision::ContactKey;
+use crate::contact::smc::SmcHistory;
 use crate::error::{ChronoError, Result};
 use crate::material::ContactMaterial;
 use crate::shape::Shape;
@@ -53,8 +54,9 @@ use crate::system::{ContactMethod, StepReport, System};
 const RECORD: usize = 46;
 /// Values per ghost refresh: position, rotation, velocity, angular velocity.
 const STATE: usize = 13;
-/// Values per history entry: two global collider ids, two features, `xi`.
-const HISTORY: usize = 7;
+/// Values per history entry: two global collider ids, two features, `xi`, the rolling
+/// angle.
+const HISTORY: usize = 10;
 
 /// Settings of a granular decomposition.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -353,7 +355,8 @@ impl GrainRanks {
                     c < base_colliders || keep[c - base_colliders]
                 })
             })
-            .flat_map(|(k, xi)| {
+            .flat_map(|(k, h)| {
+                let (xi, th) = (h.tangential, h.rolling);
                 [
                     k.collider_a as f64,
                     k.collider_b as f64,
@@ -362,6 +365,9 @@ impl GrainRanks {
                     xi.x,
                     xi.y,
                     xi.z,
+                    th.x,
+                    th.y,
+                    th.z,
                 ]
             })
             .collect();
@@ -594,7 +600,8 @@ impl GrainRanks {
         // that will hold both sides
         let base = self.base_colliders;
         let local = |c: u32| -> Option<usize> { (c as usize).checked_sub(base) };
-        for (key, xi) in self.system.smc.history() {
+        for (key, h) in self.system.smc.history() {
+            let (xi, th) = (h.tangential, h.rolling);
             let (a, b) = (local(key.collider_a), local(key.collider_b));
             let mine = [a, b].iter().flatten().any(|&k| self.owns(k));
             if !mine {
@@ -612,6 +619,9 @@ impl GrainRanks {
                 xi.x,
                 xi.y,
                 xi.z,
+                th.x,
+                th.y,
+                th.z,
             ];
             for (q, hq) in hist.iter_mut().enumerate() {
                 let there = |s: Option<usize>| s.is_none_or(|k| self.presence(coords[k], q));
@@ -698,7 +708,7 @@ impl GrainRanks {
         }
         // history: global collider ids -> this rank's (monotone: the order is kept)
         let base = self.base_colliders as u64;
-        let mut entries: Vec<(ContactKey, Vector3<f64>)> = Vec::new();
+        let mut entries: Vec<(ContactKey, SmcHistory)> = Vec::new();
         for h in history.iter().flat_map(|h| h.chunks_exact(HISTORY)) {
             let map = |g: f64| -> Result<u32> {
                 let g = g as u64;
@@ -719,7 +729,13 @@ impl GrainRanks {
                 feature_a: h[2] as u32,
                 feature_b: h[3] as u32,
             };
-            entries.push((key, v3(&h[4..7])));
+            entries.push((
+                key,
+                SmcHistory {
+                    tangential: v3(&h[4..7]),
+                    rolling: v3(&h[7..10]),
+                },
+            ));
         }
         // a contact between grains of two owners came from both, with the same values
         entries.sort_by_key(|e| e.0);

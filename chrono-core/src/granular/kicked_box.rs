@@ -5,6 +5,7 @@
 use nalgebra::Vector3;
 
 use super::{GrainBed, Kick, Region, add_box_container};
+use crate::contact::smc::RollingModel;
 use crate::descriptor::CcpSolver;
 use crate::error::{ChronoError, Result};
 use crate::material::ContactMaterial;
@@ -35,6 +36,8 @@ pub struct KickedBox {
     pub seed: u64,
     /// Contact method.
     pub method: ContactMethod,
+    /// Rolling resistance model (with the material's rolling friction).
+    pub rolling_model: RollingModel,
 }
 
 impl Default for KickedBox {
@@ -49,6 +52,7 @@ impl Default for KickedBox {
             gravity: 9.81,
             seed: 7,
             method: ContactMethod::Smc,
+            rolling_model: RollingModel::Relative,
         }
     }
 }
@@ -84,6 +88,7 @@ impl KickedBox {
             gravity: Vector3::new(0.0, 0.0, -self.gravity),
             envelope: 0.1 * self.radius,
             contact_method: self.method,
+            rolling_model: self.rolling_model,
             smc: SmcSettings::default(),
             ..SystemSettings::default()
         };

@@ -88,7 +88,9 @@ pub struct SystemSettings {
     #[serde(default)]
     pub friction_law: FrictionLaw,
     /// Which rotation rolling resistance opposes, for both methods: the relative rotation
-    /// of the two bodies (default) or each body's own (Zhou et al. 1999) ([`RollingModel`]).
+    /// of the two bodies (default) or each body's own (Zhou et al. 1999); or, in SMC, an
+    /// elastic-plastic spring on the relative rotation that holds a static moment (Ai et
+    /// al. 2011, type C; NSC treats it as relative) ([`RollingModel`]).
     #[serde(default)]
     pub rolling_model: RollingModel,
 }

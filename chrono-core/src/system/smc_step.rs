@@ -8,7 +8,7 @@ use super::{BODY_CHUNK, PARALLEL_MIN_BODIES, StepReport, System};
 use crate::body::{BodyHandle, BodyMotion, RigidBody};
 use crate::collision::{CollisionWorld, ContactKey, ContactPoint};
 use crate::contact::smc::{
-    self, RollingModel, SmcContact, SmcKinematics, SmcModel, SmcPair, SmcSettings,
+    self, RollingModel, SmcContact, SmcHistory, SmcKinematics, SmcModel, SmcPair, SmcSettings,
     damping_for_restitution,
 };
 use crate::error::{ChronoError, Result};
@@ -17,13 +17,13 @@ use crate::material::{effective_shear_modulus, effective_young_modulus};
 /// Contacts per rayon task.
 const CHUNK: usize = 256;
 
-/// Tangential displacement of one persistent contact.
+/// The history (tangential displacement, rolling angle) of one persistent contact.
 #[derive(Debug, Clone, Copy)]
 struct HistoryEntry {
     key: ContactKey,
     /// Position in its step's contact list (tie-break for duplicate keys: deterministic).
     index: u32,
-    xi: Vector3<f64>,
+    history: SmcHistory,
 }
 
 /// Per-step buffers and caches of the SMC stepper.
@@ -71,24 +71,24 @@ impl SmcState {
         self.touched_all = false;
     }
 
-    /// The tangential history: each persistent contact's key and displacement `xi` (m,
-    /// world), in key order (for moving contacts between systems: a distributed run).
-    pub(crate) fn history(&self) -> impl Iterator<Item = (ContactKey, Vector3<f64>)> + '_ {
-        self.history.iter().map(|e| (e.key, e.xi))
+    /// The contact history: each persistent contact's key, tangential displacement and
+    /// rolling angle, in key order (for moving contacts between systems: a distributed run).
+    pub(crate) fn history(&self) -> impl Iterator<Item = (ContactKey, SmcHistory)> + '_ {
+        self.history.iter().map(|e| (e.key, e.history))
     }
 
     /// Adds history entries (keys not already present, each once; the caller maps the
     /// colliders) and restores the key order.
     pub(crate) fn import_history(
         &mut self,
-        entries: impl IntoIterator<Item = (ContactKey, Vector3<f64>)>,
+        entries: impl IntoIterator<Item = (ContactKey, SmcHistory)>,
     ) {
         self.history
-            .extend(
-                entries
-                    .into_iter()
-                    .map(|(key, xi)| HistoryEntry { key, index: 0, xi }),
-            );
+            .extend(entries.into_iter().map(|(key, history)| HistoryEntry {
+                key,
+                index: 0,
+                history,
+            }));
         self.history.sort_by_key(|e| (e.key, e.index));
     }
 
@@ -166,6 +166,7 @@ fn step_limit(
             radius,
             mass: 0.5 * b.mass,
             inertia: 0.0,
+            rolling_inertia: 0.0,
             young: effective_young_modulus(&c.material(), &stiffest),
             shear: 0.0,
             alpha: 0.0,
@@ -174,6 +175,7 @@ fn step_limit(
             spinning_friction: 0.0,
             // No rolling friction in the step estimate: the model does not matter.
             rolling_model: RollingModel::default(),
+            rolling_damping: 0.0,
         };
         let tc = smc::contact_duration(s.model, &pair, s.characteristic_velocity);
         let h = tc / s.min_steps_per_contact;
@@ -388,7 +390,7 @@ impl System {
             HistoryEntry {
                 key: blank.key,
                 index: 0,
-                xi: Vector3::zeros(),
+                history: SmcHistory::default(),
             },
         );
         let ctx = ForceContext {
@@ -410,12 +412,12 @@ impl System {
             .enumerate()
             .with_min_len(CHUNK)
             .for_each(|(i, ((cp, out), hist))| {
-                let (c, xi) = ctx.force(cp);
+                let (c, history) = ctx.force(cp);
                 *out = c;
                 *hist = HistoryEntry {
                     key: cp.key,
                     index: i as u32,
-                    xi,
+                    history,
                 };
             });
         st.next_history
@@ -659,7 +661,7 @@ struct ForceContext<'a> {
 }
 
 impl ForceContext<'_> {
-    fn force(&self, cp: &ContactPoint) -> (SmcContact, Vector3<f64>) {
+    fn force(&self, cp: &ContactPoint) -> (SmcContact, SmcHistory) {
         let (a, b) = (cp.owner_a as usize, cp.owner_b as usize);
         let (ba, bb) = (&self.bodies[a], &self.bodies[b]);
         let (ca, cb) = (cp.collider_a.0 as usize, cp.collider_b.0 as usize);
@@ -675,10 +677,26 @@ impl ForceContext<'_> {
             Ok(i) => self.alphas[i].1,
             Err(_) => 0.0,
         };
+        let point = 0.5 * (cp.point_a + cp.point_b);
+        let rolling_inertia = if self.rolling_model == RollingModel::Spring {
+            // 1/(I + m d^2) per body, 0 for a fixed or kinematic one.
+            let inv = |k: usize, body: &RigidBody| {
+                let (im, ii) = (self.inv_mass[k], self.inv_inertia[k]);
+                if im > 0.0 {
+                    im * ii / (im + (point - body.position).norm_squared() * ii)
+                } else {
+                    0.0
+                }
+            };
+            1.0 / (inv(a, ba) + inv(b, bb))
+        } else {
+            0.0
+        };
         let pair = SmcPair {
             radius,
             mass: 1.0 / (self.inv_mass[a] + self.inv_mass[b]),
             inertia: 1.0 / (self.inv_inertia[a] + self.inv_inertia[b]),
+            rolling_inertia,
             young: effective_young_modulus(&ma, &mb),
             shear: effective_shear_modulus(&ma, &mb),
             alpha,
@@ -686,8 +704,8 @@ impl ForceContext<'_> {
             rolling_friction: cp.material.rolling_friction,
             spinning_friction: cp.material.spinning_friction,
             rolling_model: self.rolling_model,
+            rolling_damping: self.settings.rolling_damping_ratio,
         };
-        let point = 0.5 * (cp.point_a + cp.point_b);
         let kin = SmcKinematics {
             normal: cp.normal,
             overlap: -cp.distance,
@@ -696,16 +714,16 @@ impl ForceContext<'_> {
             angular_velocity_b: bb.angular_velocity(),
         };
         let at = self.history.partition_point(|e| e.key < cp.key);
-        let xi = match self.history.get(at) {
-            Some(e) if e.key == cp.key => e.xi,
-            _ => Vector3::zeros(),
+        let history = match self.history.get(at) {
+            Some(e) if e.key == cp.key => e.history,
+            _ => SmcHistory::default(),
         };
         let f = smc::contact_force(
             self.settings.model,
             &pair,
             self.settings.characteristic_velocity,
             &kin,
-            &xi,
+            &history,
             self.h,
         );
         (

@@ -2,6 +2,7 @@
 //! threads ([`LocalTransport`]): the same grains, energies and heights as one process.
 
 use chrono_ccp::{Apgd, SolverSettings};
+use chrono_core::contact::smc::RollingModel;
 use chrono_core::distributed::granular::{GrainRankSettings, GrainRanks, GrainSummary};
 use chrono_core::distributed::{LocalTransport, Transport};
 use chrono_core::granular::KickedBox;
@@ -13,12 +14,25 @@ const R: f64 = 0.01;
 
 /// The kicked box, 24 x 4 x 10 pitches; `(system, step)`.
 fn scene(n: usize, method: ContactMethod) -> (System, f64) {
+    scene_with(n, method, RollingModel::Relative, 0.0)
+}
+
+/// The kicked box with rolling friction `mu_r` under `rolling_model`.
+fn scene_with(
+    n: usize,
+    method: ContactMethod,
+    rolling_model: RollingModel,
+    mu_r: f64,
+) -> (System, f64) {
+    let d = KickedBox::default();
     KickedBox {
         grains: n,
         radius: R,
         pitches: [24, 4, 10],
         method,
-        ..KickedBox::default()
+        material: d.material.with_rolling_friction(mu_r),
+        rolling_model,
+        ..d
     }
     .build(Box::new(Apgd::new(SolverSettings::default())))
     .unwrap()
@@ -38,8 +52,8 @@ fn on_ranks<T: Send>(r: usize, f: impl Fn(LocalTransport) -> T + Sync) -> Vec<T>
 /// Per step the summary; at the end `(id, position, velocity)` of every grain.
 type Run = (Vec<GrainSummary>, Vec<(u64, Vector3<f64>, Vector3<f64>)>);
 
-fn whole(n: usize, steps: usize) -> Run {
-    let (mut sys, h) = scene(n, ContactMethod::Smc);
+fn whole(n: usize, steps: usize, rolling: (RollingModel, f64)) -> Run {
+    let (mut sys, h) = scene_with(n, ContactMethod::Smc, rolling.0, rolling.1);
     let first = sys.bodies().iter().position(|b| b.is_dynamic()).unwrap();
     let summary = |sys: &System| GrainSummary {
         grains: sys.bodies().len() - first,
@@ -70,9 +84,10 @@ fn ranks(
     steps: usize,
     r: usize,
     settings: GrainRankSettings,
+    rolling: (RollingModel, f64),
 ) -> (Run, Vec<chrono_core::distributed::granular::GrainRankStats>) {
     let out = on_ranks(r, |mut t| {
-        let (sys, h) = scene(n, ContactMethod::Smc);
+        let (sys, h) = scene_with(n, ContactMethod::Smc, rolling.0, rolling.1);
         let mut g = GrainRanks::new(sys, settings, &mut t).unwrap();
         let mut hist = Vec::new();
         for _ in 0..steps {
@@ -116,14 +131,15 @@ fn compare(a: &Run, b: &Run) -> f64 {
 #[test]
 fn two_to_four_ranks_reproduce_one_process() {
     let (n, steps) = (600, 200);
-    let reference = whole(n, steps);
+    let plain = (RollingModel::Relative, 0.0);
+    let reference = whole(n, steps, plain);
     let settings = GrainRankSettings {
         skin_radii: 0.05,
         rebalance_every: 2,
         ..GrainRankSettings::default()
     };
     for r in [1, 2, 3, 4] {
-        let (run, stats) = ranks(n, steps, r, settings);
+        let (run, stats) = ranks(n, steps, r, settings, plain);
         let worst = compare(&reference, &run);
         let rebuilds = stats[0].rebuilds;
         let migrated: u64 = stats.iter().map(|s| s.migrated_in).sum();
@@ -142,14 +158,15 @@ fn two_to_four_ranks_reproduce_one_process() {
 fn horizontal_slabs_reproduce_one_process_while_grains_fall_through_them() {
     // cut along z: the falling grains migrate down through the cuts
     let (n, steps) = (600, 200);
-    let reference = whole(n, steps);
+    let plain = (RollingModel::Relative, 0.0);
+    let reference = whole(n, steps, plain);
     let settings = GrainRankSettings {
         axis: 2,
         skin_radii: 0.05,
         rebalance_every: 3,
         ..GrainRankSettings::default()
     };
-    let (run, stats) = ranks(n, steps, 3, settings);
+    let (run, stats) = ranks(n, steps, 3, settings, plain);
     let worst = compare(&reference, &run);
     let migrated: u64 = stats.iter().map(|s| s.migrated_in).sum();
     eprintln!(
@@ -158,6 +175,31 @@ fn horizontal_slabs_reproduce_one_process_while_grains_fall_through_them() {
     );
     assert!(worst <= 1e-9, "{worst:e}");
     assert!(migrated > 0, "{stats:?}");
+}
+
+/// The rolling spring's angle is contact history: it must travel with the tangential
+/// displacement when grains migrate and ghosts are made, or the ranks part from the whole
+/// run (checked to fail with the angle dropped on import).
+#[test]
+fn the_rolling_springs_angles_travel_between_ranks() {
+    let (n, steps) = (600, 200);
+    let spring = (RollingModel::Spring, 0.2);
+    let reference = whole(n, steps, spring);
+    let settings = GrainRankSettings {
+        skin_radii: 0.05,
+        rebalance_every: 2,
+        ..GrainRankSettings::default()
+    };
+    for r in [2, 3] {
+        let (run, stats) = ranks(n, steps, r, settings, spring);
+        let worst = compare(&reference, &run);
+        eprintln!("rolling spring, {r} ranks: worst relative difference {worst:.3e}");
+        assert!(worst <= 1e-9, "{r} ranks: {worst:e}");
+        assert!(
+            stats.iter().map(|s| s.migrated_in).sum::<u64>() > 0,
+            "{stats:?}"
+        );
+    }
 }
 
 #[test]

@@ -43,6 +43,7 @@ fn elastic_hertz_impact_has_hertz_contact_time_and_keeps_energy() {
         radius: r,
         mass: m,
         inertia: 0.0,
+        rolling_inertia: 0.0,
         young: effective_young_modulus(&mat, &mat),
         shear: 0.0,
         alpha: 0.0,
@@ -50,6 +51,7 @@ fn elastic_hertz_impact_has_hertz_contact_time_and_keeps_energy() {
         rolling_friction: 0.0,
         spinning_friction: 0.0,
         rolling_model: RollingModel::Relative,
+        rolling_damping: 0.0,
     };
     let tc = contact_duration(SmcModel::Hertz, &pair, v);
     let h = tc / 1000.0;
@@ -207,6 +209,124 @@ fn rolling_resistance_below_its_cap_creeps_at_five_halves_g_sin_theta_h() {
         "creep ratio {ratio} for a step ratio {}",
         steps[1] / steps[0]
     );
+}
+
+/// A sphere on a plane tilted by `theta` with rolling friction `mu_r` under `model`, stepped
+/// at the SMC step limit over `divide`: its mean speed (m/s) and mean acceleration (m/s^2)
+/// down the slope over 0.2 s after `settle` s.
+fn rolling_speed_on_a_slope(
+    model: RollingModel,
+    theta: f64,
+    mu_r: f64,
+    divide: f64,
+    settle: f64,
+) -> (f64, f64) {
+    let (r, g) = (0.01, crate::common::g());
+    let mat = ContactMaterial::smc(1e7, 0.3, 0.8, 0.5).with_rolling_friction(mu_r);
+    let settings = SystemSettings {
+        gravity: Vector3::new(g * theta.sin(), 0.0, -g * theta.cos()),
+        envelope: 0.0,
+        contact_method: ContactMethod::Smc,
+        rolling_model: model,
+        ..SystemSettings::default()
+    };
+    let mut sys = System::new(settings, Box::new(Apgd::new(SolverSettings::default()))).unwrap();
+    plate(&mut sys, mat);
+    let b = ball(&mut sys, r, r, Vector3::zeros(), mat);
+    let h = sys.smc_max_step().unwrap().0 / divide;
+    for _ in 0..(settle / h) as usize {
+        sys.step(h).unwrap();
+    }
+    let (x0, v0, t0) = {
+        let body = sys.body(b).unwrap();
+        (body.position().x, body.linear_velocity().x, sys.time())
+    };
+    for _ in 0..(0.2 / h) as usize {
+        sys.step(h).unwrap();
+    }
+    let body = sys.body(b).unwrap();
+    let dt = sys.time() - t0;
+    (
+        (body.position().x - x0) / dt,
+        (body.linear_velocity().x - v0) / dt,
+    )
+}
+
+/// The elastic-plastic rolling spring (Ai et al. 2011, type C) holds a sphere on a slope
+/// gentler than its rolling resistance (`tan(theta) < mu_r`) at every step, where the
+/// limited model creeps at `5/2 g sin(theta) h`; on a steeper slope both roll with
+/// `a = 5/7 g (sin(theta) - mu_r cos(theta))` (rolling without slip, `I = 2/5 m r^2`).
+/// The spring's rocking mode (`sqrt(k_r / I_r)` ~ 90 rad/s here, damping ratio 0.3) has
+/// died out after 0.5 s.
+#[test]
+fn the_rolling_spring_holds_a_gentle_slope_and_rolls_down_a_steep_one() {
+    let (mu_r, g) = (0.1, crate::common::g());
+    let gentle = 0.05_f64;
+    for divide in [5.0, 10.0] {
+        let (v, _) = rolling_speed_on_a_slope(RollingModel::Spring, gentle, mu_r, divide, 0.5);
+        let (creep, _) =
+            rolling_speed_on_a_slope(RollingModel::Relative, gentle, mu_r, divide, 0.05);
+        assert!(
+            v.abs() < 1e-3 * creep,
+            "spring: {v} m/s on a slope it should hold (the limiter creeps at {creep})"
+        );
+    }
+    let steep = 0.2_f64;
+    let expect = 5.0 / 7.0 * g * (steep.sin() - mu_r * steep.cos());
+    for model in [RollingModel::Spring, RollingModel::Relative] {
+        let (_, a) = rolling_speed_on_a_slope(model, steep, mu_r, 5.0, 0.05);
+        assert!(
+            (a - expect).abs() < 0.01 * expect,
+            "{model:?}: acceleration {a} m/s^2 vs {expect}"
+        );
+    }
+}
+
+/// A 1 cm box on the ground with the rolling spring: its four corner contacts are flat
+/// (`R` = `flat_contact_radius`, 1 m), where the uncapped spring's rocking mode (`omega_r h`
+/// ~ 7 at the SMC step limit) would blow the box up; the step's cap on `k_r` keeps it at
+/// rest (checked to fail without the cap).
+#[test]
+fn a_small_box_rests_on_flat_rolling_springs() {
+    let mat = ContactMaterial::smc(1e7, 0.3, 0.5, 0.3).with_rolling_friction(0.3);
+    let settings = SystemSettings {
+        gravity: Vector3::new(0.0, 0.0, -crate::common::g()),
+        envelope: 0.0,
+        contact_method: ContactMethod::Smc,
+        rolling_model: RollingModel::Spring,
+        ..SystemSettings::default()
+    };
+    let mut sys = System::new(settings, Box::new(Apgd::new(SolverSettings::default()))).unwrap();
+    plate(&mut sys, mat);
+    let shape = chrono_core::Shape::Box {
+        half_extents: Vector3::new(0.005, 0.005, 0.005),
+    };
+    let b = sys
+        .add_body(
+            chrono_core::RigidBodyBuilder::dynamic()
+                .name("box")
+                .mass_from_shape(&shape, 1000.0)
+                .unwrap()
+                .position(Vector3::new(0.0, 0.0, 0.005))
+                // a rocking disturbance
+                .angular_velocity(Vector3::new(0.3, -0.2, 0.0))
+                .collider(shape, Default::default(), mat),
+        )
+        .unwrap();
+    let h = sys.smc_max_step().unwrap().0;
+    for _ in 0..(0.3 / h) as usize {
+        sys.step(h).unwrap();
+    }
+    let body = sys.body(b).unwrap();
+    let (v, w) = (
+        body.linear_velocity().norm(),
+        body.angular_velocity().norm(),
+    );
+    assert!(
+        v < 1e-3 && w < 1e-2,
+        "box at {v} m/s, {w} rad/s after 0.3 s"
+    );
+    assert!((body.position().z - 0.005).abs() < 1e-4);
 }
 
 #[test]

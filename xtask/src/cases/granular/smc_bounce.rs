@@ -138,6 +138,7 @@ fn bounce(p: &BounceParams, model: SmcModel, e: f64) -> anyhow::Result<Bounce> {
         radius: p.radius,
         mass,
         inertia: 0.0,
+        rolling_inertia: 0.0,
         young: effective_young_modulus(&mat, &mat),
         shear: 0.0,
         alpha: 0.0,
@@ -145,6 +146,7 @@ fn bounce(p: &BounceParams, model: SmcModel, e: f64) -> anyhow::Result<Bounce> {
         rolling_friction: 0.0,
         spinning_friction: 0.0,
         rolling_model: RollingModel::Relative,
+        rolling_damping: 0.0,
     };
     let tc = contact_duration(model, &pair, p.impact_velocity);
     let h = tc / p.steps_per_contact;

@@ -94,6 +94,15 @@ pub struct GranularParams {
     pub method: chrono_core::ContactMethod,
     /// Rolling friction coefficient of the grains.
     pub rolling_friction: f64,
+    /// Rolling resistance model (`chrono_core::contact::smc::RollingModel`): `relative`
+    /// (Ai et al.'s type A with a limiter), `per_body` or `spring` (type C, an
+    /// elastic-plastic spring that holds a static moment; SMC only, NSC's rolling rows act
+    /// as `relative`).
+    pub rolling_model: chrono_core::contact::smc::RollingModel,
+    /// NSC only: 0 = the relaxed cone (one solve a step; a sliding or rolling contact
+    /// separates at `mu |u_t| + mu_r |u_r|`); `n` > 0 = Coulomb's law by up to `n`
+    /// de Saxcé passes (`chrono_core::FrictionLaw::Coulomb`).
+    pub coulomb_passes: usize,
     /// Largest wheel slip `s = (w R - v) / (w R)` the driver's traction control allows
     /// (the throttle is cut in proportion to the excess: `throttle *= 1 - 5 (s - s_max)`,
     /// clamped to [0, 1]); 0 = no traction control.
@@ -150,6 +159,8 @@ impl Default for GranularParams {
             vehicle_settle: 0.3,
             method: chrono_core::ContactMethod::Smc,
             rolling_friction: 0.2,
+            rolling_model: chrono_core::contact::smc::RollingModel::Relative,
+            coulomb_passes: 0,
             diff_lock_torque: 3e4,
             max_slip: 0.4,
             compliance: 0.0,
@@ -204,6 +215,16 @@ impl CaseParams for GranularParams {
             "rolling_friction",
             "-",
             "rolling friction coefficient of the grains",
+        ),
+        ParamInfo::new(
+            "rolling_model",
+            "-",
+            "rolling resistance model: relative | per_body | spring (SMC)",
+        ),
+        ParamInfo::new(
+            "coulomb_passes",
+            "-",
+            "NSC: de Saxce passes of Coulomb's law per step (0 = the relaxed cone)",
         ),
         ParamInfo::new(
             "max_slip",
@@ -285,6 +306,14 @@ fn run(p: &GranularParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     }
     let sys_settings = SystemSettings {
         contact_method: method,
+        rolling_model: p.rolling_model,
+        friction_law: if p.coulomb_passes > 0 {
+            chrono_core::FrictionLaw::Coulomb {
+                passes: p.coulomb_passes,
+            }
+        } else {
+            chrono_core::FrictionLaw::Relaxed
+        },
         ..SystemSettings::default()
     };
     let mut solver = make_solver(&p.solver, p.tolerance, p.max_iterations)?;
