@@ -88,6 +88,9 @@ pub struct GranularParams {
     pub settle: f64,
     /// Time the vehicle rests on the bed, braked, before it starts rolling, s.
     pub vehicle_settle: f64,
+    /// Height of the tires' lowest points above the bed's surface when the vehicle is set
+    /// down, m (the landing's drop).
+    pub drop_height: f64,
     /// Contact method of the grains and tires: `nsc` or `smc` (penalty; the joints and
     /// shafts stay rows of the CCP). SMC needs `h` below the contact-duration limit the
     /// system checks (about 1.2 ms for the quick grains).
@@ -157,6 +160,7 @@ impl Default for GranularParams {
             h: 2.5e-4,
             settle: 0.6,
             vehicle_settle: 0.3,
+            drop_height: 0.01,
             method: chrono_core::ContactMethod::Smc,
             rolling_friction: 0.2,
             rolling_model: chrono_core::contact::smc::RollingModel::Relative,
@@ -209,6 +213,11 @@ impl CaseParams for GranularParams {
             "vehicle_settle",
             "s",
             "time the braked vehicle rests on the bed before it rolls",
+        ),
+        ParamInfo::new(
+            "drop_height",
+            "m",
+            "height of the tires above the bed when the vehicle is set down",
         ),
         ParamInfo::new("method", "-", "grain contact method: nsc | smc"),
         ParamInfo::new(
@@ -298,6 +307,7 @@ fn run(p: &GranularParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         ("max_slip", p.max_slip),
         ("diff_lock_torque", p.diff_lock_torque),
         ("vehicle_settle", p.vehicle_settle),
+        ("drop_height", p.drop_height),
     ] {
         anyhow::ensure!(
             value.is_finite() && value >= 0.0,
@@ -400,7 +410,7 @@ fn run(p: &GranularParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
     }
     patch.capture_settled(&sys)?;
     let surface = patch.surface();
-    let z0 = start_height(&data, surface, 0.01);
+    let z0 = start_height(&data, surface, p.drop_height);
     // The handling-tire terrain is not used by rigid tires; a flat one stands in.
     let flat = std::sync::Arc::new(FlatTerrain::new(surface, p.mu)?);
     let mut v =
