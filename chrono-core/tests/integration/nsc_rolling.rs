@@ -276,3 +276,29 @@ fn per_body_rolling_resists_two_spheres_turning_together_and_the_relative_model_
         );
     }
 }
+
+/// NSC has no rolling spring: `RollingModel::Spring` (SMC's type C) gets the relative rows,
+/// bit for bit, on a sphere rolling, slowing and spinning on an incline.
+#[test]
+fn nsc_treats_the_rolling_spring_as_the_relative_rows() {
+    let mat = ContactMaterial::with_friction(0.6)
+        .with_rolling_friction(0.05)
+        .with_spinning_friction(0.02);
+    let (v, w) = (Vector3::new(0.3, 0.1, 0.0), Vector3::new(-1.0, 6.0, 4.0));
+    let run = |model| {
+        let (mut sys, b) = scene_with(model, 0.02, mat, v, w);
+        for _ in 0..200 {
+            sys.step(H).unwrap();
+        }
+        let body = sys.body(b).unwrap();
+        (
+            body.position(),
+            body.linear_velocity(),
+            body.angular_velocity(),
+        )
+    };
+    let relative = run(RollingModel::Relative);
+    assert_eq!(relative, run(RollingModel::Spring));
+    // and the spin and roll were resisted (the test is not about a body at rest)
+    assert!(relative.2.norm() > 0.1 && relative.2.norm() < w.norm());
+}
