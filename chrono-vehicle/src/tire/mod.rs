@@ -166,6 +166,17 @@ pub struct RigidTire {
     /// NSC normal compliance of the contact, m/N (0 = rigid).
     #[serde(default)]
     pub compliance: f64,
+    /// Young's modulus of the tread for SMC (penalty) contact, Pa (the contact's effective
+    /// modulus combines it with the other body's: `1/E* = (1 - nu_1^2)/E_1 + (1 - nu_2^2)/E_2`,
+    /// so a tire as soft as the grains halves the contact's stiffness, and stiffening the
+    /// grains alone never makes the contact rigid). NSC ignores it. Default 2e7 Pa (the
+    /// contact material's default, and Chrono's rigid-tire data).
+    #[serde(default = "default_tread_young_modulus")]
+    pub young_modulus: f64,
+}
+
+fn default_tread_young_modulus() -> f64 {
+    ContactMaterial::default().young_modulus
 }
 
 impl RigidTire {
@@ -181,6 +192,7 @@ impl RigidTire {
             friction: 0.9,
             rolling_friction: 0.0,
             compliance: 0.0,
+            young_modulus: default_tread_young_modulus(),
         }
     }
 
@@ -195,6 +207,7 @@ impl RigidTire {
         check_non_negative("rigid_tire.friction", self.friction)?;
         check_non_negative("rigid_tire.rolling_friction", self.rolling_friction)?;
         check_non_negative("rigid_tire.compliance", self.compliance)?;
+        check_positive("rigid_tire.young_modulus", self.young_modulus)?;
         Ok(())
     }
 
@@ -206,12 +219,13 @@ impl RigidTire {
         }
     }
 
-    /// The tread material (NSC friction, rolling friction, compliance).
+    /// The tread material (friction, rolling friction, NSC compliance, SMC modulus).
     pub fn material(&self) -> ContactMaterial {
         ContactMaterial {
             friction: self.friction,
             rolling_friction: self.rolling_friction,
             compliance: self.compliance,
+            young_modulus: self.young_modulus,
             ..ContactMaterial::default()
         }
     }

@@ -355,6 +355,23 @@ fn rigid_tire_rolls_on_flat_and_heightmap_terrains_through_contacts() {
     }
 }
 
+/// The rigid tire's SMC tread modulus: carried by its contact material, 2e7 Pa when a
+/// description predates the field, and a bad value is named.
+#[test]
+fn a_rigid_tires_tread_modulus_reaches_its_material() {
+    let mut t = RigidTire::hmmwv();
+    assert_eq!(t.material().young_modulus, 2e7);
+    t.young_modulus = 2e9;
+    assert_eq!(t.collider().unwrap().2.young_modulus, 2e9);
+    let mut json = serde_json::to_value(Tire::Rigid(RigidTire::hmmwv())).unwrap();
+    json.as_object_mut().unwrap().remove("young_modulus").unwrap();
+    let old: Tire = serde_json::from_value(json).unwrap();
+    assert_eq!(old, Tire::Rigid(RigidTire::hmmwv()));
+    t.young_modulus = 0.0;
+    let e = t.validate().unwrap_err().to_string();
+    assert!(e.contains("rigid_tire.young_modulus"), "{e}");
+}
+
 #[test]
 fn tire_descriptions_round_trip_and_bad_data_is_named() {
     let t = Tire::TMeasy(TMeasyParams::hmmwv());

@@ -61,6 +61,10 @@ pub struct GranularParams {
     pub grain_density: f64,
     /// Young's modulus of the grains (SMC Hertz contact; NSC ignores it), Pa.
     pub grain_young_modulus: f64,
+    /// Young's modulus of the rigid tires' tread for SMC contact, Pa (`RigidTire::
+    /// young_modulus`); 0 = the grains' (a tire softer than the grains would carry the
+    /// contact's compliance itself). The data's value is 2e7 Pa, the grains' default.
+    pub tire_young_modulus: f64,
     /// Patch length (X), m.
     pub patch_length: f64,
     /// Patch width (Y), m.
@@ -148,6 +152,7 @@ impl Default for GranularParams {
             mu: 0.8,
             grain_density: 2500.0,
             grain_young_modulus: 2e7,
+            tire_young_modulus: 0.0,
             patch_length: 7.0,
             patch_width: 2.6,
             depth: 0.24,
@@ -189,6 +194,11 @@ impl CaseParams for GranularParams {
             "grain_young_modulus",
             "Pa",
             "grain Young's modulus (SMC Hertz contact)",
+        ),
+        ParamInfo::new(
+            "tire_young_modulus",
+            "Pa",
+            "rigid tires' tread Young's modulus (SMC; 0 = the grains')",
         ),
         ParamInfo::new("patch_length", "m", "length of the moving patch"),
         ParamInfo::new("patch_width", "m", "width of the patch"),
@@ -308,6 +318,7 @@ fn run(p: &GranularParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         ("diff_lock_torque", p.diff_lock_torque),
         ("vehicle_settle", p.vehicle_settle),
         ("drop_height", p.drop_height),
+        ("tire_young_modulus", p.tire_young_modulus),
     ] {
         anyhow::ensure!(
             value.is_finite() && value >= 0.0,
@@ -359,6 +370,13 @@ fn run(p: &GranularParams, ctx: &RunContext) -> anyhow::Result<CaseOutput> {
         "parameter `tire` = ancf needs `method` = nsc: the SMC stepper does not take the carcass' node spheres"
     );
     let mut data = hmmwv_data_with(p.tire)?;
+    if let chrono_vehicle::tire::Tire::Rigid(t) = &mut data.wheel.tire {
+        t.young_modulus = if p.tire_young_modulus > 0.0 {
+            p.tire_young_modulus
+        } else {
+            p.grain_young_modulus
+        };
+    }
     super::scene::set_tire_damping(&mut data, p.tire_damping)?;
     if p.diff_lock_torque > 0.0 {
         lock_differentials(&mut data, p.diff_lock_torque)?;
