@@ -193,16 +193,13 @@ fn per_body_rolling_opposes_each_bodys_own_rotation() {
     let t = per_body_rolling_torque(&tiny, 3.0 * full, 1e-7, 1e-4);
     assert!((t.x + 1e-7 * 1e-9 / 1e-4).abs() < 1e-22 && t.y == 0.0);
 }
-/// Ai et al.'s type C: the moment follows the stored angle through `k_r`, the dashpot
-/// acts below the cap only, and at the cap the angle is cut back to it.
-#[test]
-fn rolling_spring_winds_up_then_caps_without_wind_up() {
+/// A pair with the rolling spring (`mu_r`, damping ratio `eta`) and a contact along `z` whose
+/// body B turns at `w`.
+fn spring_contact(mu_r: f64, eta: f64, w: Vector3<f64>) -> (SmcPair, SmcKinematics) {
     let mut p = pair(0.0);
-    p.rolling_friction = 0.1;
+    p.rolling_friction = mu_r;
     p.rolling_model = RollingModel::Spring;
-    p.rolling_damping = 0.3;
-    let h = 1e-5;
-    let w = Vector3::new(0.0, 2.0, 0.0);
+    p.rolling_damping = eta;
     let kin = SmcKinematics {
         normal: Vector3::z(),
         overlap: 1e-5,
@@ -210,6 +207,16 @@ fn rolling_spring_winds_up_then_caps_without_wind_up() {
         angular_velocity_a: Vector3::zeros(),
         angular_velocity_b: w,
     };
+    (p, kin)
+}
+
+/// Ai et al.'s type C: the moment follows the stored angle through `k_r`, the dashpot
+/// acts below the cap only, and at the cap the angle is cut back to it.
+#[test]
+fn rolling_spring_winds_up_then_caps_without_wind_up() {
+    let h = 1e-5;
+    let w = Vector3::new(0.0, 2.0, 0.0);
+    let (p, kin) = spring_contact(0.1, 0.3, w);
     let f = contact_force(SmcModel::Hooke, &p, 1.0, &kin, &SmcHistory::default(), h);
     let s_n = hooke_stiffness(&p, 1.0);
     let k_r = 2.25 * s_n * (0.1 * p.radius).powi(2);
@@ -253,23 +260,14 @@ fn rolling_spring_winds_up_then_caps_without_wind_up() {
 }
 
 /// On a flat contact (`R` = 1 m) of a light body the spring would be far stiffer than the
-/// step resolves: its stiffness is capped at `I (MAX_ROLLING_OMEGA_H / h)^2`, `I` the centroidal inertia.
+/// step resolves: its stiffness is capped at `I (MAX_ROLLING_OMEGA_H / h)^2`, `I` the
+/// centroidal inertia.
 #[test]
 fn rolling_spring_stiffness_is_capped_by_the_step() {
-    let mut p = pair(0.0);
-    p.radius = 1.0;
-    p.rolling_friction = 0.2;
-    p.rolling_model = RollingModel::Spring;
-    p.rolling_damping = 0.0;
     let h = 1e-4;
     let w = Vector3::new(1e-3, 0.0, 0.0);
-    let kin = SmcKinematics {
-        normal: Vector3::z(),
-        overlap: 1e-5,
-        relative_velocity: Vector3::zeros(),
-        angular_velocity_a: Vector3::zeros(),
-        angular_velocity_b: w,
-    };
+    let (mut p, kin) = spring_contact(0.2, 0.0, w);
+    p.radius = 1.0;
     let f = contact_force(SmcModel::Hooke, &p, 1.0, &kin, &SmcHistory::default(), h);
     let uncapped = 2.25 * hooke_stiffness(&p, 1.0) * 0.2f64.powi(2);
     let cap = (MAX_ROLLING_OMEGA_H / h).powi(2) * p.inertia;

@@ -364,7 +364,10 @@ fn a_rigid_tires_tread_modulus_reaches_its_material() {
     t.young_modulus = 2e9;
     assert_eq!(t.collider().unwrap().2.young_modulus, 2e9);
     let mut json = serde_json::to_value(Tire::Rigid(RigidTire::hmmwv())).unwrap();
-    json.as_object_mut().unwrap().remove("young_modulus").unwrap();
+    json.as_object_mut()
+        .unwrap()
+        .remove("young_modulus")
+        .unwrap();
     let old: Tire = serde_json::from_value(json).unwrap();
     assert_eq!(old, Tire::Rigid(RigidTire::hmmwv()));
     t.young_modulus = 0.0;
