@@ -38,10 +38,11 @@
 //!
 //! # Rolling and spinning resistance
 //!
-//! Two models, chosen by [`SystemSettings::rolling_model`](crate::SystemSettings)
-//! ([`RollingModel`], shared with NSC contact); both are a
-//! constant-magnitude torque `mu_r R F_n` (`R` the contact's effective radius, so the
-//! rolling-friction length of the literature is `mu_r R`):
+//! Three models, chosen by [`SystemSettings::rolling_model`](crate::SystemSettings)
+//! ([`RollingModel`], shared with NSC contact); the first two are a constant-magnitude
+//! torque `mu_r R F_n` while the bodies roll, the third a spring capped at it (`R` the
+//! contact's effective radius, so the rolling-friction length of the literature is
+//! `mu_r R`):
 //!
 //! - [`RollingModel::Relative`] (default): opposes the *relative* rolling velocity
 //!   `w_r = (omega_B - omega_A)` minus its normal part (J. Ai, J.-F. Chen, J. M. Rotter and
