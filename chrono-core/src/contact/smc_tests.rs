@@ -169,23 +169,10 @@ fn per_body_rolling_opposes_each_bodys_own_rotation() {
         angular_velocity_b: Vector3::new(0.0, 2.0, 0.0),
         ..kin
     };
-    let f = contact_force(
-        SmcModel::Hooke,
-        &p,
-        1.0,
-        &on_plane,
-        &SmcHistory::default(),
-        1e-6,
-    );
+    let none = SmcHistory::default();
+    let f = contact_force(SmcModel::Hooke, &p, 1.0, &on_plane, &none, 1e-6);
     p.rolling_model = RollingModel::Relative;
-    let g = contact_force(
-        SmcModel::Hooke,
-        &p,
-        1.0,
-        &on_plane,
-        &SmcHistory::default(),
-        1e-6,
-    );
+    let g = contact_force(SmcModel::Hooke, &p, 1.0, &on_plane, &none, 1e-6);
     let t = per_body_rolling_torque(&on_plane.angular_velocity_b, f.rolling[1], 1.0, 1e-6);
     assert!(f.rolling[0] == 0.0 && (t - g.torque).norm() < 1e-12 * full);
     // The limit applies to the sum: three contacts cannot reverse the rotation.
@@ -193,6 +180,7 @@ fn per_body_rolling_opposes_each_bodys_own_rotation() {
     let t = per_body_rolling_torque(&tiny, 3.0 * full, 1e-7, 1e-4);
     assert!((t.x + 1e-7 * 1e-9 / 1e-4).abs() < 1e-22 && t.y == 0.0);
 }
+
 /// A pair with the rolling spring (`mu_r`, damping ratio `eta`) and a contact along `z` whose
 /// body B turns at `w`.
 fn spring_contact(mu_r: f64, eta: f64, w: Vector3<f64>) -> (SmcPair, SmcKinematics) {
